@@ -1,0 +1,42 @@
+# Thin wrapper over CMake. `make demo` and `make test` do all the set-up on Debian 12.
+BUILD    ?= build
+JOBS     ?= $(shell nproc)
+PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev \
+            nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libgmock-dev \
+            glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers \
+            vulkan-validationlayers vulkan-tools
+SUDO     := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
+
+.PHONY: all deps configure build demo test clean format
+
+all: build
+
+# Installs only what is missing; a no-op when everything is there.
+deps:
+	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+	if [ -n "$$missing" ]; then \
+	  echo "installing:" $$missing; \
+	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+$(BUILD)/CMakeCache.txt: | deps
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo
+
+configure: deps $(BUILD)/CMakeCache.txt
+
+build: configure
+	cmake --build $(BUILD) -j $(JOBS)
+
+demo: build
+	@mkdir -p out
+	$(BUILD)/cli/stsv render fence -o out/fence.png --visibility out/fence_visibility.png
+	@echo "wrote out/fence.png"
+
+test: build
+	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+format:
+	git ls-files '*.cpp' '*.h' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD) out

@@ -1,0 +1,58 @@
+// Images in memory and on disk: 8-bit PNG (stb) and NumPy .npy (raw buffers).
+// Row 0 is the top row everywhere in stsv.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+/// Interleaved 8-bit image, `channels` values per pixel, rows top to bottom.
+struct Image8 {
+    int width = 0;
+    int height = 0;
+    int channels = 4;
+    std::vector<std::uint8_t> pixels;
+
+    std::uint8_t& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+    std::uint8_t at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+};
+
+/// Interleaved float image (linear values), rows top to bottom.
+struct ImageF {
+    int width = 0;
+    int height = 0;
+    int channels = 3;
+    std::vector<float> pixels;
+
+    ImageF() = default;
+    ImageF(int w, int h, int c) : width(w), height(h), channels(c), pixels(std::size_t(w) * h * c, 0.0f) {}
+    float& at(int x, int y, int c) { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+    float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
+};
+
+/// Reads a PNG (any bit depth/colour type stb accepts) expanded to RGBA8.
+/// Throws InputError naming the file when it is missing or not a readable image.
+Image8 readPngRgba(const std::string& path);
+
+/// Writes an 8-bit PNG; throws Error on failure.
+void writePng(const std::string& path, const Image8& image);
+
+/// Converts linear floats to 8 bits: optional sRGB encoding, clamped to [0, 1].
+Image8 toImage8(const ImageF& image, bool srgb);
+
+/// Writes a C-order NumPy array. `dtype` is a NumPy descriptor such as "|u1", "<u2", "<f4";
+/// `bytes` must hold product(shape) elements of that type.
+void writeNpy(const std::string& path, const std::string& dtype, const std::vector<std::size_t>& shape,
+              const void* bytes, std::size_t byteCount);
+
+/// A NumPy array read back (used by tests and the compare tool).
+struct NpyArray {
+    std::string dtype;
+    std::vector<std::size_t> shape;
+    std::vector<std::uint8_t> bytes;
+};
+NpyArray readNpy(const std::string& path);
+
+} // namespace stsv

@@ -1,0 +1,25 @@
+// Pinhole camera conventions shared by the rasteriser (clipFromWorld) and the ray tracers
+// (primaryRay): pixel (x, y) with row 0 at the top, rays through pixel centres, Vulkan clip
+// space (y down, depth in [0, 1]).
+#pragma once
+
+#include "scene/scene.h"
+
+namespace stsv {
+
+struct Ray {
+    vec3 origin;    ///< world units
+    vec3 direction; ///< unit
+};
+
+/// World → view (right-handed, camera looks along −z).
+mat4 viewFromWorld(const Camera& camera);
+
+/// View → Vulkan clip space for a width/height aspect ratio; y points down in framebuffer.
+mat4 clipFromView(const Camera& camera, float aspect, float zNear, float zFar);
+
+/// Ray from the eye through the centre of pixel (x, y) of a width × height image; agrees with
+/// rasterising through clipFromView(...) · viewFromWorld(...).
+Ray primaryRay(const Camera& camera, int x, int y, int width, int height);
+
+} // namespace stsv

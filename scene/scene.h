@@ -1,0 +1,83 @@
+// The scene model: triangles with per-triangle materials, textures, a pinhole camera, lights.
+#pragma once
+
+#include "core/dh.h"
+#include "scene/light_dh.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+enum class WrapMode : std::uint32_t { Repeat = 0, Clamp = 1 };
+
+/// RGBA8 texture; the alpha channel is the transmittance mask of perforated materials.
+struct Texture {
+    std::string name; ///< file path, or a generator name for procedural textures
+    int width = 0;
+    int height = 0;
+    std::vector<std::uint8_t> rgba; ///< width·height·4 bytes, row 0 = v = 0
+
+    std::uint8_t alpha(int x, int y) const { return rgba[(std::size_t(y) * width + x) * 4 + 3]; }
+};
+
+struct Material {
+    std::string name;
+    vec3 albedo{0.8f};        ///< linear RGB diffuse reflectance
+    int alphaTexture = -1;    ///< index into Scene::textures; -1 = opaque (not an S-triangle)
+    WrapMode wrap = WrapMode::Repeat;
+    bool doubleSided = false; ///< shadow volumes on both sides (STSV §6 fix) and lit from both sides
+
+    bool perforated() const { return alphaTexture >= 0; }
+};
+
+struct Camera {
+    vec3 eye{0.0f, 1.0f, 5.0f};    ///< world units
+    vec3 target{0.0f};             ///< world units
+    vec3 up{0.0f, 1.0f, 0.0f};
+    float fovY = 45.0f;            ///< degrees, vertical
+};
+
+/// A named range of consecutive triangles (one loaded or generated object).
+struct Mesh {
+    std::string name;
+    std::uint32_t firstTriangle = 0;
+    std::uint32_t triangleCount = 0;
+};
+
+struct Bounds {
+    vec3 lo{1e30f};
+    vec3 hi{-1e30f};
+    void extend(vec3 p) { lo = min(lo, p); hi = max(hi, p); }
+    vec3 center() const { return 0.5f * (lo + hi); }
+    vec3 extent() const { return hi - lo; }
+    bool empty() const { return lo.x > hi.x; }
+};
+
+struct Scene {
+    std::string source;                  ///< file or built-in name it came from
+    std::vector<vec3> positions;         ///< world units
+    std::vector<vec2> texcoords;         ///< one per position
+    std::vector<uvec3> triangles;        ///< indices into positions
+    std::vector<std::uint32_t> triangleMaterial; ///< one per triangle, index into materials
+    std::vector<Material> materials;
+    std::vector<Texture> textures;
+    std::vector<Mesh> meshes;
+    Camera camera;
+    std::vector<Light> lights;
+
+    std::size_t triangleCount() const { return triangles.size(); }
+    const Material& materialOf(std::size_t tri) const { return materials[triangleMaterial[tri]]; }
+    bool perforated(std::size_t tri) const { return materialOf(tri).perforated(); }
+    Bounds bounds() const;
+
+    /// Appends a triangle (positions and texcoords copied, unindexed) with a material index.
+    void addTriangle(vec3 a, vec3 b, vec3 c, vec2 ta, vec2 tb, vec2 tc, std::uint32_t material);
+
+    /// Checks indices, finite coordinates, materials and textures; throws InputError naming
+    /// `source` on the first problem. Loaders call it before returning.
+    void validate() const;
+};
+
+} // namespace stsv

@@ -1,0 +1,68 @@
+#include "core/error.h"
+#include "core/image.h"
+#include "core/parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cstring>
+#include <filesystem>
+
+namespace stsv {
+namespace {
+
+std::string tempPath(const std::string& name) {
+    return (std::filesystem::temp_directory_path() / ("stsv_core_" + name)).string();
+}
+
+TEST(Image, PngRoundTripIsExact) {
+    Image8 image;
+    image.width = 5;
+    image.height = 3;
+    image.channels = 4;
+    for (int i = 0; i < 5 * 3 * 4; ++i) image.pixels.push_back(static_cast<std::uint8_t>(i * 13 + 7));
+    writePng(tempPath("rt.png"), image);
+    const Image8 back = readPngRgba(tempPath("rt.png"));
+    EXPECT_EQ(back.width, 5);
+    EXPECT_EQ(back.height, 3);
+    EXPECT_EQ(back.pixels, image.pixels);
+}
+
+TEST(Image, MissingPngNamesTheFile) {
+    try {
+        readPngRgba("/nonexistent/texture.png");
+        FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("/nonexistent/texture.png"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Image, NpyHeaderIsAlignedAndRoundTrips) {
+    std::vector<std::uint16_t> data = {1, 2, 3, 65535, 7, 9};
+    writeNpy(tempPath("a.npy"), "<u2", {2, 3}, data.data(), data.size() * 2);
+    const NpyArray back = readNpy(tempPath("a.npy"));
+    EXPECT_EQ(back.dtype, "<u2");
+    EXPECT_EQ(back.shape, (std::vector<std::size_t>{2, 3}));
+    ASSERT_EQ(back.bytes.size(), 12u);
+    EXPECT_EQ(std::filesystem::file_size(tempPath("a.npy")) % 64, 12u); // data starts 64-byte aligned
+    EXPECT_EQ(std::memcmp(back.bytes.data(), data.data(), 12), 0);
+}
+
+TEST(Image, SrgbEncodingOfKnownValues) {
+    ImageF f(3, 1, 1);
+    f.pixels = {0.0f, 1.0f, 0.5f};
+    const Image8 e = toImage8(f, true);
+    EXPECT_EQ(e.pixels[0], 0);
+    EXPECT_EQ(e.pixels[1], 255);
+    EXPECT_EQ(e.pixels[2], 188); // sRGB(0.5) = 0.7354 → 187.5, rounds to 188
+}
+
+TEST(Parallel, VisitsEveryIndexOnceAndRethrows) {
+    std::vector<std::atomic<int>> hits(10007);
+    parallelFor(hits.size(), [&](std::size_t i) { hits[i]++; }, 17);
+    for (std::size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << "index " << i;
+    EXPECT_THROW(parallelFor(100, [](std::size_t i) { if (i == 42) throw Error("boom"); }), Error);
+}
+
+} // namespace
+} // namespace stsv

@@ -1,0 +1,13 @@
+// Host-side helpers around the STSV device/host math.
+#pragma once
+
+#include "scene/scene.h"
+#include "volumes/stsv_dh.h"
+
+namespace stsv {
+
+/// The StsvTriangle of scene triangle `tri` for a light centred at `lightCenter`. Opaque
+/// materials become constant-opacity S-triangles (STSV_FLAG_OPAQUE).
+StsvTriangle stsvTriangleFor(const Scene& scene, std::size_t tri, vec3 lightCenter);
+
+} // namespace stsv

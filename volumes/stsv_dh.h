@@ -1,0 +1,164 @@
+// Soft Textured Shadow Volumes: projective transmittance lookup (STSV paper §2.4, Eq. 1–5)
+// and the texel rule shared by every method. Compiles as C++ and as GLSL (see core/dh.h).
+//
+// Formulation (DESIGN §4.3). For an S-triangle (v0, v1, v2) with unit normal n oriented
+// towards the light centre:
+//   M = [v1−v0 | v2−v0 | n]⁻¹                                   (Eq. 2, with −n → n)
+//   (pu, pv, pw) = M·(p − v0),  e = −pw                          (e > 0: p behind the triangle)
+//   W = [[e, 0, pu], [0, e, pv], [0, 0, 1]],  J = W·M            (Eq. 3: p is the projective centre)
+//   h = J·(s − p)                                                (Eq. 1 without S)
+// h.xy / h.z are the barycentrics (b1, b2) of the point where the line p→s meets the plane,
+// at parameter t = e / h.z along p→s. The segment crosses the plane iff t ∈ (tMin, 1); the
+// sample is blocked by the triangle's extent iff, with h' = h·sign(h.z),
+//   h'.x ≥ 0, h'.y ≥ 0, h'.x + h'.y ≤ h'.z                       (the paper's test, §2.4)
+// and the texel at uv = t0 + (t1−t0)·b1 + (t2−t0)·b2 (Eq. 4–5, the matrix S) is opaque.
+// This test is two-sided: it is exact for either side of the plane, so it serves both
+// volumes of the double-sided construction.
+#ifndef STSV_VOLUMES_STSV_DH_H
+#define STSV_VOLUMES_STSV_DH_H
+
+#include "core/dh.h"
+
+DH_BEGIN
+
+/// Shadow segments start at t = SHADOW_T_MIN (fraction of p→s) in every method, so a receiver
+/// touching an occluder (a shared mesh edge) is not shadowed by it through round-off.
+DH_CONST float SHADOW_T_MIN = 1e-4f;
+
+/// Texture addressing, as Material::wrap.
+DH_CONST uint WRAP_REPEAT = 0u;
+DH_CONST uint WRAP_CLAMP = 1u;
+
+/// StsvTriangle::flags bits.
+DH_CONST uint STSV_FLAG_CLAMP = 1u;      ///< texture wrap mode is clamp (else repeat)
+DH_CONST uint STSV_FLAG_OPAQUE = 2u;     ///< no texture: every covered sample is blocked
+DH_CONST uint STSV_FLAG_DEGENERATE = 4u; ///< zero-area triangle: blocks nothing
+
+/// Per-triangle constants (computed once per triangle and light). std430: 7 × 16 bytes.
+struct StsvTriangle {
+    vec4 m0;      ///< row 0 of M (xyz) and −row0·v0 (w): M(p − v0).x = dot(m0.xyz, p) + m0.w
+    vec4 m1;      ///< row 1 of M, same convention
+    vec4 m2;      ///< row 2 of M = unit normal towards the light centre; w = −n·v0
+    vec2 uv0;     ///< texture coordinates of v0 (S, Eq. 4)
+    vec2 uvE1;    ///< t1 − t0
+    vec2 uvE2;    ///< t2 − t0
+    uint texture; ///< texture index (meaningless with STSV_FLAG_OPAQUE)
+    uint flags;   ///< STSV_FLAG_*
+    uint triangle; ///< index of the triangle in the scene (self-shadowing rule)
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+#ifdef __cplusplus
+DH_STATIC_ASSERT(sizeof(StsvTriangle) == 96);
+#endif
+
+/// Per-pixel, per-triangle state: J applied to the light frame, so that a light sample at
+/// s = c + a·T + b·B costs h = h0 + a·hT + b·hB (two FMAs per component).
+struct StsvPixel {
+    vec3 h0; ///< J·(c − p)
+    float e; ///< signed distance from p to the plane, positive behind the triangle (Eq. 3's e)
+    vec3 hT; ///< J·T
+    float pad0;
+    vec3 hB; ///< J·B
+    float pad1;
+};
+
+/// Builds the per-triangle constants. `lightCenter` orients the normal (towards the light).
+DH_FUNC StsvTriangle stsvSetupTriangle(vec3 v0, vec3 v1, vec3 v2, vec2 t0, vec2 t1, vec2 t2, vec3 lightCenter,
+                                       uint textureIndex, uint flags, uint triangleIndex) {
+    StsvTriangle t;
+    vec3 e1 = v1 - v0;
+    vec3 e2 = v2 - v0;
+    vec3 nRaw = cross(e1, e2);
+    float area2 = length(nRaw);
+    float scale = max(max(length(e1), length(e2)), 1e-30f);
+    t.uv0 = t0;
+    t.uvE1 = t1 - t0;
+    t.uvE2 = t2 - t0;
+    t.texture = textureIndex;
+    t.triangle = triangleIndex;
+    t.pad0 = 0u;
+    t.pad1 = 0u;
+    t.pad2 = 0u;
+    if (!(area2 > 1e-7f * scale * scale)) {
+        // Degenerate (or non-finite): blocks nothing. Rows chosen so every test fails.
+        t.m0 = vec4(0.0f);
+        t.m1 = vec4(0.0f);
+        t.m2 = vec4(0.0f);
+        t.flags = flags | STSV_FLAG_DEGENERATE;
+        return t;
+    }
+    vec3 n = nRaw / area2;
+    if (dot(n, lightCenter - v0) < 0.0f) n = -n;
+    // M = [e1 | e2 | n]⁻¹ (Eq. 2); glm and GLSL matrices are column-major, so the columns
+    // are e1, e2, n, and transpose(inverse) gives the rows.
+    mat3 minv = inverse(mat3(e1, e2, n));
+    vec3 r0 = vec3(minv[0][0], minv[1][0], minv[2][0]);
+    vec3 r1 = vec3(minv[0][1], minv[1][1], minv[2][1]);
+    t.m0 = vec4(r0, -dot(r0, v0));
+    t.m1 = vec4(r1, -dot(r1, v0));
+    t.m2 = vec4(n, -dot(n, v0));
+    t.flags = flags;
+    return t;
+}
+
+/// Per-pixel setup for visible point p and the light frame (c, T, B) of this pixel
+/// (s = c + a·T + b·B). Builds J = W·M (Eq. 3) and applies it to the frame.
+DH_FUNC StsvPixel stsvSetupPixel(StsvTriangle t, vec3 p, vec3 c, vec3 T, vec3 B) {
+    float pu = dot(t.m0.xyz, p) + t.m0.w;
+    float pv = dot(t.m1.xyz, p) + t.m1.w;
+    float pw = dot(t.m2.xyz, p) + t.m2.w;
+    float e = -pw;
+    // Rows of J = W·M: J0 = e·M0 + pu·M2, J1 = e·M1 + pv·M2, J2 = M2.
+    vec3 j0 = e * t.m0.xyz + pu * t.m2.xyz;
+    vec3 j1 = e * t.m1.xyz + pv * t.m2.xyz;
+    vec3 j2 = t.m2.xyz;
+    vec3 d = c - p;
+    StsvPixel px;
+    px.h0 = vec3(dot(j0, d), dot(j1, d), dot(j2, d));
+    px.hT = vec3(dot(j0, T), dot(j1, T), dot(j2, T));
+    px.hB = vec3(dot(j0, B), dot(j1, B), dot(j2, B));
+    px.e = e;
+    px.pad0 = 0.0f;
+    px.pad1 = 0.0f;
+    return px;
+}
+
+/// Homogeneous barycentrics of light sample (a, b) of the frame: h = J·(s − p).
+DH_FUNC vec3 stsvSampleH(StsvPixel px, vec2 ab) { return px.h0 + ab.x * px.hT + ab.y * px.hB; }
+
+/// True iff the segment p→s (from t = SHADOW_T_MIN to 1) crosses the triangle's extent;
+/// `bary` gets (b1, b2) of the crossing. Texture not consulted.
+DH_FUNC bool stsvSegmentHitsTriangle(vec3 h, float e, DH_OUT(vec2) bary) {
+    float sgn = h.z < 0.0f ? -1.0f : 1.0f;
+    vec3 hs = h * sgn;
+    float es = e * sgn;
+    bary = vec2(0.0f);
+    // t = es / hs.z must lie in (SHADOW_T_MIN, 1): crossing between p and s.
+    if (!(es > SHADOW_T_MIN * hs.z && es < hs.z)) return false;
+    // Inside the triangle (the paper's three comparisons).
+    if (hs.x < 0.0f || hs.y < 0.0f || hs.x + hs.y > hs.z) return false;
+    bary = hs.xy / hs.z;
+    return true;
+}
+
+/// Texture coordinates of the crossing (Eq. 4–5: S applied, then the projection).
+DH_FUNC vec2 stsvTexcoord(StsvTriangle t, vec2 bary) { return t.uv0 + bary.x * t.uvE1 + bary.y * t.uvE2; }
+
+/// The texel rule shared by GPU, CPU mirror and Embree: nearest texel of mip 0 at uv, with
+/// the material's wrap mode. Row 0 of the texture is v = 0.
+DH_FUNC ivec2 texelAt(vec2 uv, ivec2 size, uint wrap) {
+    ivec2 texel = ivec2(floor(uv * vec2(size)));
+    if (wrap == WRAP_CLAMP) return clamp(texel, ivec2(0), size - ivec2(1));
+    // Repeat: a non-negative modulo.
+    return texel - size * ivec2(floor(vec2(texel) / vec2(size)));
+}
+
+/// Binary transmittance: alpha below one half (alpha8 < 128) is a hole.
+DH_FUNC bool alphaBlocks(uint alpha8) { return alpha8 >= 128u; }
+
+DH_END
+
+#endif // STSV_VOLUMES_STSV_DH_H
