@@ -5,6 +5,7 @@
 //  - include guards, not #pragma once (GLSL has none);
 //  - open with DH_BEGIN and close with DH_END; mark functions DH_FUNC;
 //  - parameters: DH_OUT(T) name / DH_INOUT(T) name for outputs, plain T for inputs;
+//  - no swizzles (GLM has no .xyz members): truncate with constructors, vec3(v4), vec2(v3);
 //  - float literals with a trailing f (1.0f), unsigned with u; no templates, references,
 //    pointers, overloads on int/uint, recursion or C++-only library calls;
 //  - structs shared with the GPU are std430-friendly (vec4-aligned vec3 + scalar pairs);

@@ -107,14 +107,14 @@ DH_FUNC StsvTriangle stsvSetupTriangle(vec3 v0, vec3 v1, vec3 v2, vec2 t0, vec2 
 /// Per-pixel setup for visible point p and the light frame (c, T, B) of this pixel
 /// (s = c + a·T + b·B). Builds J = W·M (Eq. 3) and applies it to the frame.
 DH_FUNC StsvPixel stsvSetupPixel(StsvTriangle t, vec3 p, vec3 c, vec3 T, vec3 B) {
-    float pu = dot(t.m0.xyz, p) + t.m0.w;
-    float pv = dot(t.m1.xyz, p) + t.m1.w;
-    float pw = dot(t.m2.xyz, p) + t.m2.w;
+    float pu = dot(vec3(t.m0), p) + t.m0.w;
+    float pv = dot(vec3(t.m1), p) + t.m1.w;
+    float pw = dot(vec3(t.m2), p) + t.m2.w;
     float e = -pw;
     // Rows of J = W·M: J0 = e·M0 + pu·M2, J1 = e·M1 + pv·M2, J2 = M2.
-    vec3 j0 = e * t.m0.xyz + pu * t.m2.xyz;
-    vec3 j1 = e * t.m1.xyz + pv * t.m2.xyz;
-    vec3 j2 = t.m2.xyz;
+    vec3 j0 = e * vec3(t.m0) + pu * vec3(t.m2);
+    vec3 j1 = e * vec3(t.m1) + pv * vec3(t.m2);
+    vec3 j2 = vec3(t.m2);
     vec3 d = c - p;
     StsvPixel px;
     px.h0 = vec3(dot(j0, d), dot(j1, d), dot(j2, d));
@@ -140,7 +140,7 @@ DH_FUNC bool stsvSegmentHitsTriangle(vec3 h, float e, DH_OUT(vec2) bary) {
     if (!(es > SHADOW_T_MIN * hs.z && es < hs.z)) return false;
     // Inside the triangle (the paper's three comparisons).
     if (hs.x < 0.0f || hs.y < 0.0f || hs.x + hs.y > hs.z) return false;
-    bary = hs.xy / hs.z;
+    bary = vec2(hs) / hs.z;
     return true;
 }
 
