@@ -159,6 +159,18 @@ DH_FUNC ivec2 texelAt(vec2 uv, ivec2 size, uint wrap) {
 /// Binary transmittance: alpha below one half (alpha8 < 128) is a hole.
 DH_FUNC bool alphaBlocks(uint alpha8) { return alpha8 >= 128u; }
 
+/// One light sample against one S-triangle, as the fragment shader and the CPU mirror run it:
+/// true iff the segment p→s crosses the triangle's extent. `texel` gets the texel to test with
+/// alphaBlocks (only meaningful for textured triangles, i.e. without STSV_FLAG_OPAQUE).
+DH_FUNC bool stsvSampleCrosses(StsvTriangle t, StsvPixel px, vec2 ab, ivec2 textureSize, DH_OUT(ivec2) texel) {
+    vec2 bary;
+    texel = ivec2(0);
+    if (!stsvSegmentHitsTriangle(stsvSampleH(px, ab), px.e, bary)) return false;
+    if ((t.flags & STSV_FLAG_OPAQUE) == 0u)
+        texel = texelAt(stsvTexcoord(t, bary), textureSize, (t.flags & STSV_FLAG_CLAMP) != 0u ? WRAP_CLAMP : WRAP_REPEAT);
+    return true;
+}
+
 DH_END
 
 #endif // STSV_VOLUMES_STSV_DH_H

@@ -1,0 +1,184 @@
+#include "reference/embree_scene.h"
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "volumes/stsv_dh.h"
+
+#include <algorithm>
+#include <string>
+
+namespace stsv {
+
+namespace {
+
+/// Intersection context carrying what the filter needs (Embree 3 idiom: the context struct
+/// is the first member, so the filter can cast back).
+struct FilterContext {
+    RTCIntersectContext rtc;
+    const Scene* scene;
+    std::uint32_t ignoreTriangle;
+    std::vector<std::uint32_t>* collect; ///< when set: record every blocking triangle and go on
+};
+
+/// The texel rule at the hit: transparent texels and the ignored triangle reject the hit.
+void alphaFilter(const RTCFilterFunctionNArguments* args) {
+    const auto* ctx = reinterpret_cast<const FilterContext*>(args->context);
+    const Scene& scene = *ctx->scene;
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        const std::uint32_t tri = RTCHitN_primID(args->hit, args->N, i);
+        if (tri == ctx->ignoreTriangle) {
+            args->valid[i] = 0;
+            continue;
+        }
+        const Material& material = scene.materialOf(tri);
+        if (!material.perforated()) continue;
+        const uvec3 idx = scene.triangles[tri];
+        const vec2 bary(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+        const vec2 uv = scene.texcoords[idx.x] + bary.x * (scene.texcoords[idx.y] - scene.texcoords[idx.x]) +
+                        bary.y * (scene.texcoords[idx.z] - scene.texcoords[idx.x]);
+        const Texture& texture = scene.textures[static_cast<std::size_t>(material.alphaTexture)];
+        const ivec2 texel = texelAt(uv, ivec2(texture.width, texture.height),
+                                    material.wrap == WrapMode::Clamp ? WRAP_CLAMP : WRAP_REPEAT);
+        if (!alphaBlocks(texture.alpha(texel.x, texel.y))) args->valid[i] = 0;
+    }
+    if (ctx->collect) {
+        for (unsigned i = 0; i < args->N; ++i) {
+            if (args->valid[i] != -1) continue;
+            ctx->collect->push_back(RTCHitN_primID(args->hit, args->N, i));
+            args->valid[i] = 0;
+        }
+    }
+}
+
+void checkDevice(RTCDevice device, const char* what) {
+    const RTCError code = rtcGetDeviceError(device);
+    if (code != RTC_ERROR_NONE) throw Error(std::string("Embree: ") + what + " failed (error " + std::to_string(int(code)) + ")");
+}
+
+} // namespace
+
+EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
+    m_device = rtcNewDevice(nullptr);
+    if (!m_device) throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    m_rtcScene = rtcNewScene(m_device);
+    rtcSetSceneFlags(m_rtcScene, RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(m_rtcScene, RTC_BUILD_QUALITY_HIGH);
+
+    RTCGeometry geometry = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), scene.positions.size()));
+    for (std::size_t i = 0; i < scene.positions.size(); ++i)
+        for (int c = 0; c < 3; ++c) vertices[3 * i + c] = scene.positions[i][c];
+    auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), scene.triangles.size()));
+    for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+        for (int c = 0; c < 3; ++c) indices[3 * t + c] = scene.triangles[t][c];
+    rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
+    rtcSetGeometryOccludedFilterFunction(geometry, alphaFilter);
+    rtcCommitGeometry(geometry);
+    rtcAttachGeometryByID(m_rtcScene, geometry, 0);
+    rtcReleaseGeometry(geometry);
+    rtcCommitScene(m_rtcScene);
+    checkDevice(m_device, "building the scene");
+}
+
+EmbreeScene::~EmbreeScene() {
+    if (m_rtcScene) rtcReleaseScene(m_rtcScene);
+    if (m_device) rtcReleaseDevice(m_device);
+}
+
+bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
+    FilterContext ctx{};
+    rtcInitIntersectContext(&ctx.rtc);
+    ctx.scene = &m_scene;
+    ctx.ignoreTriangle = NO_TRIANGLE;
+    RTCRayHit rh{};
+    rh.ray.org_x = ray.origin.x;
+    rh.ray.org_y = ray.origin.y;
+    rh.ray.org_z = ray.origin.z;
+    rh.ray.dir_x = ray.direction.x;
+    rh.ray.dir_y = ray.direction.y;
+    rh.ray.dir_z = ray.direction.z;
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = 1e30f;
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(m_rtcScene, &ctx.rtc, &rh);
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
+    hit.t = rh.ray.tfar;
+    hit.triangle = rh.hit.primID;
+    hit.bary = vec2(rh.hit.u, rh.hit.v);
+    return true;
+}
+
+static RTCRay shadowRay(vec3 p, vec3 s) {
+    const vec3 d = s - p;
+    RTCRay ray{};
+    ray.org_x = p.x;
+    ray.org_y = p.y;
+    ray.org_z = p.z;
+    ray.dir_x = d.x;
+    ray.dir_y = d.y;
+    ray.dir_z = d.z;
+    ray.tnear = SHADOW_T_MIN;
+    ray.tfar = 1.0f;
+    ray.mask = 0xffffffffu;
+    return ray;
+}
+
+bool EmbreeScene::occluded(vec3 p, vec3 s, std::uint32_t ignoreTriangle) const {
+    FilterContext ctx{};
+    rtcInitIntersectContext(&ctx.rtc);
+    ctx.scene = &m_scene;
+    ctx.ignoreTriangle = ignoreTriangle;
+    RTCRay ray = shadowRay(p, s);
+    rtcOccluded1(m_rtcScene, &ctx.rtc, &ray);
+    return ray.tfar < 0.0f; // Embree sets tfar to −inf on occlusion
+}
+
+std::uint32_t EmbreeScene::countLayers(vec3 p, vec3 s, std::uint32_t ignoreTriangle,
+                                       std::vector<std::uint32_t>& scratch) const {
+    scratch.clear();
+    FilterContext ctx{};
+    rtcInitIntersectContext(&ctx.rtc);
+    ctx.scene = &m_scene;
+    ctx.ignoreTriangle = ignoreTriangle;
+    ctx.collect = &scratch;
+    RTCRay ray = shadowRay(p, s);
+    rtcOccluded1(m_rtcScene, &ctx.rtc, &ray);
+    // A primitive referenced by several BVH leaves (spatial splits) may be reported twice.
+    std::sort(scratch.begin(), scratch.end());
+    return static_cast<std::uint32_t>(std::unique(scratch.begin(), scratch.end()) - scratch.begin());
+}
+
+vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary) {
+    const uvec3 idx = scene.triangles[tri];
+    const vec3 v0 = scene.positions[idx.x];
+    return v0 + bary.x * (scene.positions[idx.y] - v0) + bary.y * (scene.positions[idx.z] - v0);
+}
+
+vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p) {
+    const uvec3 idx = scene.triangles[tri];
+    const vec3 v0 = scene.positions[idx.x];
+    vec3 n = normalize(cross(scene.positions[idx.y] - v0, scene.positions[idx.z] - v0));
+    if (scene.materialOf(tri).doubleSided && dot(n, eye - p) < 0.0f) n = -n;
+    return n;
+}
+
+GBuffer EmbreeScene::traceGBuffer(int width, int height) const {
+    GBuffer g(width, height);
+    parallelFor(std::size_t(width) * height, [&](std::size_t i) {
+        const int x = static_cast<int>(i % std::size_t(width));
+        const int y = static_cast<int>(i / std::size_t(width));
+        Hit hit;
+        if (!intersect(primaryRay(m_scene.camera, x, y, width, height), hit)) return;
+        // p from the barycentrics, not origin + t·d: it lies on the triangle's plane to round-off.
+        g.position[i] = pointOnTriangle(m_scene, hit.triangle, hit.bary);
+        g.normal[i] = shadingNormal(m_scene, hit.triangle, m_scene.camera.eye, g.position[i]);
+        g.triangle[i] = hit.triangle;
+    }, 256);
+    return g;
+}
+
+} // namespace stsv

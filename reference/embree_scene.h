@@ -1,0 +1,55 @@
+// Embree 3 view of a Scene: the independent oracle (DESIGN §4.7). Primary rays and shadow
+// segments both apply the texel rule of volumes/stsv_dh.h, so rays see through holes.
+#pragma once
+
+#include "core/gbuffer.h"
+#include "scene/camera.h"
+#include "scene/scene.h"
+
+#include <embree3/rtcore.h>
+
+#include <vector>
+
+namespace stsv {
+
+struct Hit {
+    float t = 0.0f;            ///< ray parameter (world units for unit directions)
+    std::uint32_t triangle = NO_TRIANGLE;
+    vec2 bary{0.0f};           ///< (b1, b2): weights of the triangle's second and third vertex
+};
+
+class EmbreeScene {
+  public:
+    explicit EmbreeScene(const Scene& scene);
+    ~EmbreeScene();
+    EmbreeScene(const EmbreeScene&) = delete;
+    EmbreeScene& operator=(const EmbreeScene&) = delete;
+
+    /// Closest non-transparent hit along the ray; false on a miss.
+    bool intersect(const Ray& ray, Hit& hit) const;
+
+    /// True iff the segment p → s, from t = SHADOW_T_MIN to 1 of (s − p), meets a triangle
+    /// whose texel there is opaque. `ignoreTriangle` never blocks (self-shadowing rule).
+    bool occluded(vec3 p, vec3 s, std::uint32_t ignoreTriangle) const;
+
+    /// Number of distinct triangles blocking the segment p → s (its depth complexity), with
+    /// the same rules as occluded(). `scratch` is reused storage.
+    std::uint32_t countLayers(vec3 p, vec3 s, std::uint32_t ignoreTriangle, std::vector<std::uint32_t>& scratch) const;
+
+    /// Visible point per pixel centre through the scene camera (row 0 at the top).
+    GBuffer traceGBuffer(int width, int height) const;
+
+    const Scene& scene() const { return m_scene; }
+
+  private:
+    const Scene& m_scene;
+    RTCDevice m_device = nullptr;
+    RTCScene m_rtcScene = nullptr;
+};
+
+/// The point on triangle `tri` at barycentrics (b1, b2), and the shading normal a viewer at
+/// `eye` sees there (faces the viewer for double-sided materials, the winding normal otherwise).
+vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary);
+vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p);
+
+} // namespace stsv

@@ -1,0 +1,37 @@
+#include "reference/reference_visibility.h"
+
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "reference/pixel_samples.h"
+
+namespace stsv {
+
+void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, const Light& light,
+                           const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
+    const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
+    Progress progress("reference rays", std::size_t(gbuffer.height));
+    parallelForChunks(std::size_t(gbuffer.height), 1, [&](std::size_t rowBegin, std::size_t rowEnd) {
+        std::vector<std::uint32_t> scratch;
+        for (std::size_t row = rowBegin; row < rowEnd; ++row) {
+            const int y = static_cast<int>(row);
+            for (int x = 0; x < gbuffer.width; ++x) {
+                const std::size_t i = gbuffer.index(x, y);
+                if (!gbuffer.covered(i)) continue;
+                const vec3 p = gbuffer.position[i];
+                const LightFrame frame = lightFrame(light, p, farDistance);
+                for (int k = 0; k < plan.count; ++k) {
+                    const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
+                    if (counting) {
+                        const std::uint32_t layers = scene.countLayers(p, s, gbuffer.triangle[i], scratch);
+                        if (layers) out.addCount(x, y, k, static_cast<int>(layers));
+                    } else if (scene.occluded(p, s, gbuffer.triangle[i])) {
+                        out.setOccluded(x, y, k);
+                    }
+                }
+            }
+            progress.advance();
+        }
+    });
+}
+
+} // namespace stsv

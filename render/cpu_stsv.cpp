@@ -1,0 +1,159 @@
+#include "render/cpu_stsv.h"
+
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "reference/pixel_samples.h"
+#include "sampling/light_bounds.h"
+#include "scene/camera.h"
+#include "volumes/extrusion_dh.h"
+#include "volumes/stsv.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+
+namespace stsv {
+
+namespace {
+
+constexpr int TILE = 16;
+
+struct VolumeRecord {
+    StsvVolume volume;
+    std::uint32_t triangle; ///< index into the StsvTriangle table
+    std::uint32_t side;     ///< 0: shadows cast towards the far side of the light centre; 1: flipped
+};
+
+/// Screen-space pixel rectangle that may be covered by the convex volume: the projection of its
+/// vertices and of its edges' crossings with the near plane (so volumes reaching behind the eye
+/// are bounded correctly). Returns false when nothing of it lies in front of the camera.
+bool screenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect) {
+    constexpr float NEAR_W = 1e-4f;
+    vec4 clip[10];
+    for (int i = 0; i < 10; ++i) clip[i] = clipFromWorld * vec4(vec3(v.vertices[i]), 1.0f);
+    vec2 lo(1e30f), hi(-1e30f);
+    bool any = false;
+    auto add = [&](vec4 c) {
+        const vec2 ndc = vec2(c) / c.w;
+        lo = min(lo, ndc);
+        hi = max(hi, ndc);
+        any = true;
+    };
+    for (int i = 0; i < 10; ++i) {
+        if (clip[i].w > NEAR_W) add(clip[i]);
+        // Strip edges (i, i+1) and (i, i+2) cover every edge of the closed surface.
+        for (int j = i + 1; j <= std::min(i + 2, 9); ++j) {
+            const float wa = clip[i].w - NEAR_W, wb = clip[j].w - NEAR_W;
+            if ((wa > 0.0f) != (wb > 0.0f)) {
+                const float t = wa / (wa - wb);
+                vec4 c = clip[i] + t * (clip[j] - clip[i]);
+                c.w = NEAR_W;
+                add(c);
+            }
+        }
+    }
+    if (!any) return false;
+    lo = clamp(lo, vec2(-1.0f), vec2(1.0f));
+    hi = clamp(hi, vec2(-1.0f), vec2(1.0f));
+    rect = ivec4(int(std::floor((lo.x * 0.5f + 0.5f) * float(width))), int(std::floor((lo.y * 0.5f + 0.5f) * float(height))),
+                 int(std::ceil((hi.x * 0.5f + 0.5f) * float(width))), int(std::ceil((hi.y * 0.5f + 0.5f) * float(height))));
+    rect = clamp(rect, ivec4(0), ivec4(width - 1, height - 1, width - 1, height - 1));
+    return true;
+}
+
+} // namespace
+
+StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
+    StsvCpuStats stats;
+    Timer timer;
+    const Bounds bounds = scene.bounds();
+    const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
+    const vec3 lightCenter = vec3(sphere);
+
+    // Per-triangle constants and volumes (the geometry shader's work).
+    std::vector<StsvTriangle> triangles(scene.triangleCount());
+    std::vector<VolumeRecord> volumes;
+    volumes.reserve(scene.triangleCount());
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        triangles[t] = stsvTriangleFor(scene, t, lightCenter);
+        if (triangles[t].flags & STSV_FLAG_DEGENERATE) {
+            ++stats.degenerateSkipped;
+            continue;
+        }
+        const uvec3 idx = scene.triangles[t];
+        const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
+        const uint sides = stsvSideCount(v0, v1, v2, sphere);
+        for (uint side = 0; side < sides; ++side)
+            volumes.push_back({stsvBuildVolume(v0, v1, v2, sphere, bounds.lo, bounds.hi, side),
+                               static_cast<std::uint32_t>(t), side});
+    }
+    stats.volumes = volumes.size();
+
+    // Bin volumes to screen tiles (the rasteriser's coverage, conservatively).
+    const mat4 clipFromWorld = clipFromView(scene.camera, float(gbuffer.width) / float(gbuffer.height), 0.01f, 1e4f) *
+                               viewFromWorld(scene.camera);
+    const int tilesX = (gbuffer.width + TILE - 1) / TILE, tilesY = (gbuffer.height + TILE - 1) / TILE;
+    std::vector<std::vector<std::uint32_t>> tiles(std::size_t(tilesX) * tilesY);
+    for (std::size_t v = 0; v < volumes.size(); ++v) {
+        ivec4 rect;
+        if (!screenRect(volumes[v].volume, clipFromWorld, gbuffer.width, gbuffer.height, rect)) continue;
+        for (int ty = rect.y / TILE; ty <= rect.w / TILE; ++ty)
+            for (int tx = rect.x / TILE; tx <= rect.z / TILE; ++tx) {
+                tiles[std::size_t(ty) * tilesX + tx].push_back(static_cast<std::uint32_t>(v));
+                ++stats.tileEntries;
+            }
+    }
+    stats.bin_ms = timer.milliseconds();
+    timer.reset();
+
+    // The fragment shader's work, per tile and pixel.
+    const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
+    std::atomic<std::size_t> tests{0}, hits{0};
+    Progress progress("stsv (cpu)", tiles.size());
+    parallelFor(tiles.size(), [&](std::size_t tileIndex) {
+        std::size_t localTests = 0, localHits = 0;
+        const int tx = static_cast<int>(tileIndex % std::size_t(tilesX)), ty = static_cast<int>(tileIndex / std::size_t(tilesX));
+        const std::vector<std::uint32_t>& candidates = tiles[tileIndex];
+        for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
+            for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
+                const std::size_t i = gbuffer.index(x, y);
+                if (!gbuffer.covered(i) || candidates.empty()) continue;
+                const vec3 p = gbuffer.position[i];
+                const LightFrame frame = lightFrame(light, p, farDistance);
+                for (std::uint32_t v : candidates) {
+                    const VolumeRecord& record = volumes[v];
+                    if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
+                    ++localTests;
+                    if (!stsvPointInVolume(record.volume, p)) continue;
+                    ++localHits;
+                    const StsvTriangle& tri = triangles[record.triangle];
+                    const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B);
+                    // Each side's volume owns the crossings whose receiver lies on its shadow side,
+                    // so a triangle counts at most once per sample even when both volumes hold p.
+                    if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;
+                    const Texture* texture = (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
+                    const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
+                    for (int k = 0; k < plan.count; ++k) {
+                        ivec2 texel;
+                        if (!stsvSampleCrosses(tri, px, pixelSamplePoint(plan, x, y, k, frame.domain), size, texel)) continue;
+                        if (texture && !alphaBlocks(texture->alpha(texel.x, texel.y))) continue;
+                        if (counting)
+                            out.addCount(x, y, k, 1);
+                        else
+                            out.setOccluded(x, y, k);
+                    }
+                }
+            }
+        tests += localTests;
+        hits += localHits;
+        progress.advance();
+    }, 1);
+    stats.pixelVolumeTests = tests;
+    stats.pixelVolumeHits = hits;
+    stats.shade_ms = timer.milliseconds();
+    return stats;
+}
+
+} // namespace stsv

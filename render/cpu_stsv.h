@@ -1,0 +1,31 @@
+// The CPU mirror of the STSV pass (DESIGN §3): the same device/host functions the fragment
+// shader runs, over the pixels, with volumes binned to screen tiles the way the rasteriser
+// would cover them.
+#pragma once
+
+#include "core/gbuffer.h"
+#include "sampling/ls_buffer.h"
+#include "sampling/pattern.h"
+#include "scene/scene.h"
+
+#include <cstddef>
+
+namespace stsv {
+
+struct StsvCpuStats {
+    std::size_t volumes = 0;            ///< volumes built (one or two per non-degenerate triangle)
+    std::size_t degenerateSkipped = 0;  ///< zero-area triangles, no volume
+    std::size_t tileEntries = 0;        ///< (tile, volume) pairs after binning
+    std::size_t pixelVolumeTests = 0;   ///< point-in-volume tests run
+    std::size_t pixelVolumeHits = 0;    ///< of those, points inside (the "fragments" that run the sample loop)
+    double bin_ms = 0.0;
+    double shade_ms = 0.0;
+};
+
+/// Light-sample buffer of `light` for every triangle of the scene treated as an S-triangle
+/// (opaque ones with constant opacity). Bitmask buffers get OR'ed bits; counter buffers get
+/// one increment per blocking triangle and sample (exact depth complexity).
+StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out);
+
+} // namespace stsv

@@ -1,0 +1,44 @@
+// Every knob of a frame, declared once with its default (STYLE §8). Filled by the CLI and
+// written into --stats so an output says how it was made.
+#pragma once
+
+#include "sampling/pattern.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstdint>
+#include <string>
+
+namespace stsv {
+
+enum class Method { Reference, Stsv };
+enum class Backend { Cpu };
+enum class BufferKind { Bitmask, Counters };
+
+struct RenderOptions {
+    Method method = Method::Stsv;
+    Backend backend = Backend::Cpu;
+    int width = 512;                         ///< pixels, 1 … 16384
+    int height = 512;                        ///< pixels, 1 … 16384
+    int samples = 64;                        ///< light samples per pixel: 16, 32, 64, 128 or 256
+    PatternKind pattern = PatternKind::Poisson;
+    std::uint32_t seed = 1;                  ///< sample patterns and per-pixel decorrelation
+    int interleave = 1;                      ///< K of K×K interleaved sampling (1 = off), 1 … 8
+    bool decorrelate = true;                 ///< per-pixel rotation of the pattern
+    BufferKind buffer = BufferKind::Bitmask; ///< light-sample buffer: occlusion bits or depth-complexity counters
+    float ambient = 0.05f;                   ///< ambient term, fraction of albedo
+};
+
+Method parseMethod(const std::string& name);
+Backend parseBackend(const std::string& name);
+BufferKind parseBufferKind(const std::string& name);
+std::string toString(Method method);
+std::string toString(Backend backend);
+std::string toString(BufferKind kind);
+
+/// Throws UsageError naming the first option out of range.
+void validate(const RenderOptions& options);
+
+nlohmann::json toJson(const RenderOptions& options);
+
+} // namespace stsv
