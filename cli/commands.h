@@ -1,0 +1,20 @@
+// The `stsv` subcommands. Argument parsing lives here and only here; every command returns a
+// process exit code and reports errors as one line on stderr.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+/// Runs the command line (argv without the program name is parsed by CLI11). Never throws.
+int runCli(int argc, char** argv);
+
+/// Parses "WxH" (e.g. "512x512"); throws UsageError on anything else.
+void parseSize(const std::string& text, int& width, int& height);
+
+/// Path for the output of light `light` of several: `path` itself for light 0, and
+/// "stem_light<i>.ext" for the others.
+std::string perLightPath(const std::string& path, std::size_t light);
+
+} // namespace stsv
