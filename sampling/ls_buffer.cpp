@@ -1,0 +1,176 @@
+#include "sampling/ls_buffer.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <bit>
+
+namespace stsv {
+
+LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, Kind kind)
+    : m_width(width), m_height(height), m_samples(samples), m_kind(kind) {
+    if (width < 1 || height < 1 || samples < 1 || samples > 4096 ||
+        std::size_t(width) * std::size_t(height) > (1u << 28))
+        throw UsageError("light-sample buffer of " + std::to_string(width) + "x" + std::to_string(height) +
+                         " pixels × " + std::to_string(samples) + " samples is out of range");
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    if (kind == Kind::Bitmask)
+        m_words.assign(pixels * std::size_t(wordsPerPixel()), 0u);
+    else
+        m_counters.assign(pixels * std::size_t(samples), 0u);
+}
+
+void LightSampleBuffer::setOccluded(int x, int y, int k) {
+    if (m_kind == Kind::Bitmask) {
+        m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(k / 32)] |= 1u << (k % 32);
+    } else {
+        std::uint16_t& c = m_counters[pixelIndex(x, y) * std::size_t(m_samples) + std::size_t(k)];
+        if (c == 0) c = 1;
+    }
+}
+
+bool LightSampleBuffer::occluded(int x, int y, int k) const {
+    return count(x, y, k) != 0;
+}
+
+void LightSampleBuffer::addCount(int x, int y, int k, int delta) {
+    if (m_kind != Kind::Counters) throw UsageError("addCount on a bitmask light-sample buffer");
+    std::uint16_t& c = m_counters[pixelIndex(x, y) * std::size_t(m_samples) + std::size_t(k)];
+    c = std::uint16_t(unsigned(c) + unsigned(delta)); // modulo 2^16 (see the header)
+}
+
+int LightSampleBuffer::count(int x, int y, int k) const {
+    if (m_kind == Kind::Bitmask)
+        return int(
+            (m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(k / 32)] >> (k % 32)) &
+            1u);
+    return m_counters[pixelIndex(x, y) * std::size_t(m_samples) + std::size_t(k)];
+}
+
+float LightSampleBuffer::visibleFraction(int x, int y) const {
+    int occludedCount = 0;
+    if (m_kind == Kind::Bitmask) {
+        const std::uint32_t* w = &m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel())];
+        for (int i = 0; i < wordsPerPixel(); ++i) {
+            const int valid = std::min(32, m_samples - 32 * i);
+            const std::uint32_t mask = valid == 32 ? ~0u : ((1u << valid) - 1u);
+            occludedCount += std::popcount(w[i] & mask);
+        }
+    } else {
+        const std::uint16_t* c = &m_counters[pixelIndex(x, y) * std::size_t(m_samples)];
+        for (int k = 0; k < m_samples; ++k) occludedCount += c[k] != 0 ? 1 : 0;
+    }
+    return float(m_samples - occludedCount) / float(m_samples);
+}
+
+std::size_t LightSampleBuffer::memoryBytes() const {
+    const std::size_t pixelSamples = std::size_t(m_width) * std::size_t(m_height) * std::size_t(m_samples);
+    return m_kind == Kind::Bitmask ? pixelSamples / 8 : pixelSamples * 2;
+}
+
+std::size_t LightSampleBuffer::storageBytes() const {
+    return m_kind == Kind::Bitmask ? m_words.size() * 4 : m_counters.size() * 2;
+}
+
+void LightSampleBuffer::writeNpy(const std::string& path) const {
+    const auto h = std::size_t(m_height);
+    const auto w = std::size_t(m_width);
+    const auto n = std::size_t(m_samples);
+    if (m_kind == Kind::Bitmask) {
+        if (m_samples % 8 != 0)
+            throw UsageError("--dump-ls needs a sample count that is a multiple of 8, not " +
+                             std::to_string(m_samples));
+        const std::size_t bytesPerPixel = n / 8;
+        std::vector<std::uint8_t> bytes(h * w * bytesPerPixel);
+        const auto wpp = std::size_t(wordsPerPixel());
+        for (std::size_t p = 0; p < h * w; ++p)
+            for (std::size_t j = 0; j < bytesPerPixel; ++j)
+                bytes[p * bytesPerPixel + j] = std::uint8_t(m_words[p * wpp + j / 4] >> (8 * (j % 4)));
+        stsv::writeNpy(path, "|u1", {h, w, bytesPerPixel}, bytes.data(), bytes.size());
+        return;
+    }
+    const std::uint16_t maxCount =
+        m_counters.empty() ? 0 : *std::max_element(m_counters.begin(), m_counters.end());
+    if (maxCount < 256) {
+        std::vector<std::uint8_t> bytes(m_counters.size());
+        std::transform(m_counters.begin(), m_counters.end(), bytes.begin(),
+                       [](std::uint16_t c) { return std::uint8_t(c); });
+        stsv::writeNpy(path, "|u1", {h, w, n}, bytes.data(), bytes.size());
+    } else {
+        std::vector<std::uint8_t> bytes(m_counters.size() * 2);
+        for (std::size_t i = 0; i < m_counters.size(); ++i) {
+            bytes[2 * i] = std::uint8_t(m_counters[i] & 0xFFu);
+            bytes[2 * i + 1] = std::uint8_t(m_counters[i] >> 8u);
+        }
+        stsv::writeNpy(path, "<u2", {h, w, n}, bytes.data(), bytes.size());
+    }
+}
+
+LightSampleBuffer LightSampleBuffer::readNpy(const std::string& path, std::optional<Kind> kind) {
+    const NpyArray array = stsv::readNpy(path);
+    const bool u8 = array.dtype == "|u1" || array.dtype == "<u1";
+    const bool u16 = array.dtype == "<u2";
+    if (!u8 && !u16)
+        throw InputError(path, "light-sample buffer must be uint8 or uint16, not " + array.dtype);
+    if (array.shape.size() != 3 || array.shape[0] == 0 || array.shape[1] == 0 || array.shape[2] == 0)
+        throw InputError(path, "light-sample buffer must have shape [H, W, N/8] or [H, W, N]");
+    const Kind k = kind ? *kind : (u16 ? Kind::Counters : Kind::Bitmask);
+    if (k == Kind::Bitmask && !u8) throw InputError(path, "a light-sample bitmask must be uint8");
+    const std::size_t h = array.shape[0];
+    const std::size_t w = array.shape[1];
+    const std::size_t depth = array.shape[2];
+    const std::size_t samples = k == Kind::Bitmask ? depth * 8 : depth;
+    if (h > (1u << 16) || w > (1u << 16) || samples > 4096)
+        throw InputError(path, "light-sample buffer shape is out of range");
+    const std::size_t elementBytes = u16 ? 2 : 1;
+    if (array.bytes.size() != h * w * depth * elementBytes)
+        throw InputError(path, "light-sample buffer is truncated");
+    LightSampleBuffer buffer(int(w), int(h), int(samples), k);
+    if (k == Kind::Bitmask) {
+        const auto wpp = std::size_t(buffer.wordsPerPixel());
+        for (std::size_t p = 0; p < h * w; ++p)
+            for (std::size_t j = 0; j < depth; ++j)
+                buffer.m_words[p * wpp + j / 4] |= std::uint32_t(array.bytes[p * depth + j]) << (8 * (j % 4));
+    } else {
+        for (std::size_t i = 0; i < buffer.m_counters.size(); ++i)
+            buffer.m_counters[i] = u16 ? std::uint16_t(array.bytes[2 * i] | (array.bytes[2 * i + 1] << 8u))
+                                       : std::uint16_t(array.bytes[i]);
+    }
+    return buffer;
+}
+
+LightSampleDiff compareLightSamples(const LightSampleBuffer& a, const LightSampleBuffer& b,
+                                    std::size_t maxPixels, bool compareCounts) {
+    if (a.width() != b.width() || a.height() != b.height() || a.samples() != b.samples())
+        throw UsageError("cannot compare light-sample buffers of " + std::to_string(a.width()) + "x" +
+                         std::to_string(a.height()) + "x" + std::to_string(a.samples()) + " and " +
+                         std::to_string(b.width()) + "x" + std::to_string(b.height()) + "x" +
+                         std::to_string(b.samples()));
+    const bool counts = compareCounts && a.kind() == LightSampleBuffer::Kind::Counters &&
+                        b.kind() == LightSampleBuffer::Kind::Counters;
+    LightSampleDiff diff;
+    diff.comparedSamples = std::size_t(a.width()) * std::size_t(a.height()) * std::size_t(a.samples());
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x) {
+            std::size_t here = 0;
+            for (int k = 0; k < a.samples(); ++k) {
+                const bool differ = counts ? a.count(x, y, k) != b.count(x, y, k)
+                                           : a.occluded(x, y, k) != b.occluded(x, y, k);
+                here += differ ? 1 : 0;
+            }
+            if (here == 0) continue;
+            diff.differingSamples += here;
+            ++diff.differingPixels;
+            if (diff.firstPixels.size() < maxPixels) diff.firstPixels.push_back(ivec2(x, y));
+        }
+    return diff;
+}
+
+ImageF resolveVisibility(const LightSampleBuffer& buffer) {
+    ImageF image(buffer.width(), buffer.height(), 1);
+    for (int y = 0; y < buffer.height(); ++y)
+        for (int x = 0; x < buffer.width(); ++x) image.at(x, y, 0) = buffer.visibleFraction(x, y);
+    return image;
+}
+
+} // namespace stsv

@@ -1,0 +1,95 @@
+// Light-sample buffers (DESIGN §4.4): per pixel, one occlusion bit or one depth-complexity
+// counter per light sample, and their resolve to the visibility coefficient v_coef.
+#pragma once
+
+#include "core/dh.h"
+#include "core/image.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+class LightSampleBuffer {
+  public:
+    enum class Kind { Bitmask, Counters };
+
+    LightSampleBuffer() = default;
+    /// UsageError unless width, height ≥ 1 and samples ∈ [1, 4096] (a multiple of 8 for
+    /// writeNpy of a bitmask).
+    LightSampleBuffer(int width, int height, int samples, Kind kind);
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+    int samples() const { return m_samples; }
+    Kind kind() const { return m_kind; }
+    /// Bitmask: 32-bit words per pixel, ceil(N/32); sample k is bit k%32 of word k/32 — the
+    /// GPU layout (RG32UI attachments: word 2i in .x, 2i+1 in .y of attachment i).
+    int wordsPerPixel() const { return (m_samples + 31) / 32; }
+
+    /// Bitmask: sets the bit. Counters: raises a zero count to 1.
+    void setOccluded(int x, int y, int k);
+    /// Bit set, or count ≠ 0.
+    bool occluded(int x, int y, int k) const;
+    bool visible(int x, int y, int k) const { return !occluded(x, y, k); }
+    /// Counters only (UsageError on a bitmask). Arithmetic is modulo 2^16 like the GPU's
+    /// unsigned atomics, so intermediate negative sums (DCS's ±1 edge crossings) are exact as
+    /// long as the final count lies in [0, 65535].
+    void addCount(int x, int y, int k, int delta);
+    /// Counters: the count; bitmask: 0 or 1.
+    int count(int x, int y, int k) const;
+    /// Visible samples / N: the paper's v_coef.
+    float visibleFraction(int x, int y) const;
+
+    /// Raw storage for GPU readback: pixel (x, y) starts at (y·width + x)·wordsPerPixel()
+    /// (bitmask) or (y·width + x)·samples (counters); row 0 is the top image row.
+    std::vector<std::uint32_t>& words() { return m_words; }
+    const std::vector<std::uint32_t>& words() const { return m_words; }
+    std::vector<std::uint16_t>& counters() { return m_counters; }
+    const std::vector<std::uint16_t>& counters() const { return m_counters; }
+
+    /// Payload size: N·W·H/8 bytes for a bitmask (the paper's §5.1 figure: 8 MiB at 1024² × 64),
+    /// 2·N·W·H for counters. The bitmask storage rounds N up to 32 bits (storageBytes()).
+    std::size_t memoryBytes() const;
+    std::size_t storageBytes() const;
+
+    /// The `--dump-ls` format of issue 2. Bitmask: uint8 [H, W, N/8], sample k in bit k%8 of
+    /// byte k/8, 1 = occluded (UsageError if N is not a multiple of 8). Counters: uint8 if every
+    /// count < 256, else uint16 (little endian), shape [H, W, N]. Row 0 = top image row.
+    void writeNpy(const std::string& path) const;
+    /// Inverse of writeNpy. The file does not say whether a uint8 array is a bitmask or
+    /// counters: `kind` decides; without it, uint8 means bitmask and uint16 means counters.
+    /// InputError naming the file on any other dtype or shape.
+    static LightSampleBuffer readNpy(const std::string& path, std::optional<Kind> kind = std::nullopt);
+
+  private:
+    std::size_t pixelIndex(int x, int y) const {
+        return std::size_t(y) * std::size_t(m_width) + std::size_t(x);
+    }
+
+    int m_width = 0;
+    int m_height = 0;
+    int m_samples = 0;
+    Kind m_kind = Kind::Bitmask;
+    std::vector<std::uint32_t> m_words;
+    std::vector<std::uint16_t> m_counters;
+};
+
+/// Sample-by-sample comparison of the occlusion state (occluded vs visible) of two buffers of
+/// the same size and N; with `compareCounts` and two counter buffers, of the exact counts.
+struct LightSampleDiff {
+    std::size_t differingSamples = 0; ///< (pixel, sample) pairs that differ
+    std::size_t differingPixels = 0;
+    std::size_t comparedSamples = 0; ///< W·H·N
+    std::vector<ivec2> firstPixels;  ///< up to maxPixels differing pixels, in row order
+};
+LightSampleDiff compareLightSamples(const LightSampleBuffer& a, const LightSampleBuffer& b,
+                                    std::size_t maxPixels = 16, bool compareCounts = false);
+
+/// v_coef per pixel (one channel): visible samples / N.
+ImageF resolveVisibility(const LightSampleBuffer& buffer);
+
+} // namespace stsv
