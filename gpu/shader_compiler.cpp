@@ -1,0 +1,173 @@
+#include "gpu/shader_compiler.h"
+
+#include <glslang/Public/ResourceLimits.h>
+#include <glslang/Public/ShaderLang.h>
+#include <glslang/SPIRV/GlslangToSpv.h>
+
+#include <cstdlib>
+#include <fstream>
+#include <mutex>
+#include <optional>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace stsv {
+namespace {
+
+std::optional<std::string> readText(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) return std::nullopt;
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+EShLanguage toLanguage(VkShaderStageFlagBits stage) {
+    switch (stage) {
+    case VK_SHADER_STAGE_VERTEX_BIT:
+        return EShLangVertex;
+    case VK_SHADER_STAGE_GEOMETRY_BIT:
+        return EShLangGeometry;
+    case VK_SHADER_STAGE_FRAGMENT_BIT:
+        return EShLangFragment;
+    case VK_SHADER_STAGE_COMPUTE_BIT:
+        return EShLangCompute;
+    case VK_SHADER_STAGE_MESH_BIT_EXT:
+        return EShLangMesh;
+    case VK_SHADER_STAGE_TASK_BIT_EXT:
+        return EShLangTask;
+    default:
+        throw UsageError("unsupported shader stage " + std::to_string(int(stage)));
+    }
+}
+
+/// Resolves #include "x" against the including file's folder, then the search folders;
+/// #include <x> against the search folders only.
+class Includer : public glslang::TShader::Includer {
+  public:
+    explicit Includer(std::vector<fs::path> searchDirectories) : m_search(std::move(searchDirectories)) {}
+
+    IncludeResult* includeLocal(const char* header, const char* includer, size_t /*depth*/) override {
+        std::vector<fs::path> candidates;
+        if (includer != nullptr && *includer != '\0')
+            candidates.push_back(fs::path(includer).parent_path() / header);
+        for (const fs::path& dir : m_search) candidates.push_back(dir / header);
+        return resolve(header, candidates);
+    }
+
+    IncludeResult* includeSystem(const char* header, const char* /*includer*/, size_t /*depth*/) override {
+        std::vector<fs::path> candidates;
+        for (const fs::path& dir : m_search) candidates.push_back(dir / header);
+        return resolve(header, candidates);
+    }
+
+    void releaseInclude(IncludeResult* result) override {
+        if (result == nullptr) return;
+        delete static_cast<std::string*>(result->userData);
+        delete result;
+    }
+
+  private:
+    std::vector<fs::path> m_search;
+
+    IncludeResult* resolve(const char* header, const std::vector<fs::path>& candidates) {
+        for (const fs::path& candidate : candidates) {
+            std::error_code error;
+            if (!fs::is_regular_file(candidate, error)) continue;
+            std::optional<std::string> text = readText(candidate);
+            if (!text) continue;
+            auto* data = new std::string(std::move(*text));
+            return new IncludeResult(candidate.lexically_normal().string(), data->data(), data->size(), data);
+        }
+        // An empty header name tells glslang the include failed; the data is its message.
+        std::string message = std::string("cannot find '") + header + "' (searched";
+        for (const fs::path& candidate : candidates) message += " " + candidate.lexically_normal().string();
+        message += ")";
+        auto* data = new std::string(std::move(message));
+        return new IncludeResult("", data->data(), data->size(), data);
+    }
+};
+
+std::string trimmed(std::string s) {
+    while (!s.empty() && (s.back() == '\n' || s.back() == ' ' || s.back() == '\0')) s.pop_back();
+    return s;
+}
+
+} // namespace
+
+ShaderError::ShaderError(const std::string& file, const std::string& log)
+    : Error("GLSL compile error in " + file + ":\n" + trimmed(log)), m_file(file), m_log(log) {}
+
+VkShaderStageFlagBits shaderStageFromPath(const fs::path& path) {
+    const std::string ext = path.extension().string();
+    if (ext == ".vert") return VK_SHADER_STAGE_VERTEX_BIT;
+    if (ext == ".geom") return VK_SHADER_STAGE_GEOMETRY_BIT;
+    if (ext == ".frag") return VK_SHADER_STAGE_FRAGMENT_BIT;
+    if (ext == ".comp") return VK_SHADER_STAGE_COMPUTE_BIT;
+    if (ext == ".mesh") return VK_SHADER_STAGE_MESH_BIT_EXT;
+    if (ext == ".task") return VK_SHADER_STAGE_TASK_BIT_EXT;
+    throw UsageError("cannot tell the shader stage of '" + path.string() +
+                     "' (expected .vert, .geom, .frag, .comp, .mesh or .task)");
+}
+
+fs::path defaultShaderDirectory() {
+    const char* dir = std::getenv("STSV_SHADER_DIR");
+    if (dir != nullptr && *dir != '\0') return dir;
+    return fs::path(STSV_SOURCE_DIR) / "shaders";
+}
+
+ShaderCompiler::ShaderCompiler(fs::path shaderDirectory, fs::path sourceRoot)
+    : m_shaderDirectory(std::move(shaderDirectory)), m_sourceRoot(std::move(sourceRoot)) {
+    // glslang keeps process-wide tables; initialised once and never finalised (finalising
+    // while another compiler object lives would break it).
+    static std::once_flag once;
+    std::call_once(once, [] { glslang::InitializeProcess(); });
+}
+
+std::vector<uint32_t> ShaderCompiler::compileFile(const fs::path& name,
+                                                  const std::vector<ShaderDefine>& defines) const {
+    const fs::path path = name.is_absolute() ? name : m_shaderDirectory / name;
+    const VkShaderStageFlagBits stage = shaderStageFromPath(path);
+    std::optional<std::string> source = readText(path);
+    if (!source) throw InputError(path.string(), "cannot read shader file");
+    return compileSource(*source, stage, path.lexically_normal().string(), defines);
+}
+
+std::vector<uint32_t> ShaderCompiler::compileSource(const std::string& source, VkShaderStageFlagBits stage,
+                                                    const std::string& virtualPath,
+                                                    const std::vector<ShaderDefine>& defines) const {
+    const EShLanguage language = toLanguage(stage);
+    std::string preamble;
+    for (const ShaderDefine& define : defines)
+        preamble += "#define " + define.name + " " + define.value + "\n";
+
+    glslang::TShader shader(language);
+    const char* strings[] = {source.c_str()};
+    const int lengths[] = {int(source.size())};
+    const char* names[] = {virtualPath.c_str()};
+    shader.setStringsWithLengthsAndNames(strings, lengths, names, 1);
+    shader.setPreamble(preamble.c_str());
+    shader.setEnvInput(glslang::EShSourceGlsl, language, glslang::EShClientVulkan, 100);
+    shader.setEnvClient(glslang::EShClientVulkan, glslang::EShTargetVulkan_1_3);
+    shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_6);
+    const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules);
+
+    Includer includer({m_sourceRoot, m_shaderDirectory});
+    if (!shader.parse(GetDefaultResources(), 450, false, messages, includer))
+        throw ShaderError(virtualPath, shader.getInfoLog());
+
+    glslang::TProgram program;
+    program.addShader(&shader);
+    if (!program.link(messages)) throw ShaderError(virtualPath, program.getInfoLog());
+
+    std::vector<uint32_t> spirv;
+    spv::SpvBuildLogger logger;
+    glslang::SpvOptions options;
+    options.disableOptimizer = true; // the driver optimises; keeps compile time low
+    glslang::GlslangToSpv(*program.getIntermediate(language), spirv, &logger, &options);
+    if (spirv.empty()) throw ShaderError(virtualPath, "SPIR-V generation failed: " + logger.getAllMessages());
+    return spirv;
+}
+
+} // namespace stsv
