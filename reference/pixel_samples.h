@@ -10,8 +10,7 @@ namespace stsv {
 /// Frame-domain point (a, b) of sample k of pixel (x, y): the pattern point of the pixel's
 /// interleaved set, decorrelated per pixel, mapped to the frame's domain.
 inline vec2 pixelSamplePoint(const SamplePlan& plan, int x, int y, int k, uint domain) {
-    const int set = (y % plan.interleave) * plan.interleave + (x % plan.interleave);
-    const vec2 u = plan.points[std::size_t(set) * plan.count + k];
+    const vec2 u = plan.points[std::size_t(plan.setIndex(x, y)) * plan.count + k];
     return samplePoint(u, uvec2(uint(x), uint(y)), plan.seed, plan.decorrelate, domain);
 }
 
