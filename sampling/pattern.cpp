@@ -276,8 +276,9 @@ SamplePlan makeSamplePlan(PatternKind kind, int count, std::uint32_t seed, int i
             // centre ((sx + ½)/K, (sy + ½)/K) of every cell.
             const auto sx = std::uint32_t(set % interleave);
             const auto sy = std::uint32_t(set / interleave);
-            points = makeGrid(count, std::uint32_t((std::uint64_t(2 * sx + 1) * cellW) / (2 * k)),
-                              std::uint32_t((std::uint64_t(2 * sy + 1) * cellH) / (2 * k)));
+            points =
+                makeGrid(count, std::uint32_t((std::uint64_t(2 * sx + 1) * cellW) / (2 * std::uint64_t(k))),
+                         std::uint32_t((std::uint64_t(2 * sy + 1) * cellH) / (2 * std::uint64_t(k))));
         } else {
             points = makePattern(kind, count, hashU32(seed + hashU32(std::uint32_t(set) + 0x1234567u)));
         }

@@ -211,7 +211,8 @@ TEST(DomainMap, ConcentricMapIsAreaPreserving) {
             double a = std::atan2(double(d.y), double(d.x)) + 0.3; // sector edges off the map's seams
             if (a < 0.0) a += 2.0 * M_PI;
             const int sector = std::min(sectors - 1, int(a / (2.0 * M_PI) * sectors));
-            ++bins[std::size_t(ring * sectors + sector)];
+            const int bin = ring * sectors + sector;
+            ++bins[std::size_t(bin)];
         }
     const double expected = double(res) * res / (rings * sectors);
     for (int b = 0; b < rings * sectors; ++b)
@@ -243,6 +244,7 @@ std::vector<vec3> samplesOf(const Light& light, vec3 p, float far, unsigned px) 
     const SamplePlan plan = makeSamplePlan(PatternKind::Stratified, 64, 21u, 1, true);
     const LightFrame f = lightFrame(light, p, far);
     std::vector<vec3> out;
+    out.reserve(64);
     for (int k = 0; k < 64; ++k) out.push_back(pixelLightSample(plan, int(px), 0, k, f));
     return out;
 }
@@ -378,27 +380,28 @@ float estimateIrradiance16(const Light& light, vec3 p, vec3 n, PatternKind kind,
 
 TEST(DirectLighting, MatchesAnalyticIrradiance) {
     const float pi = float(M_PI);
-    const float L = 2.0f;
+    const float radiance = 2.0f;
     // Disk light facing down at height h over p, on axis: E = πL·r²/(r² + h²).
     for (float h : {0.5f, 2.0f, 10.0f}) {
         const float r = 1.0f;
-        const Light disk = makeDisk(vec3(0, h, 0), vec3(0, -1, 0), r, L);
-        const float exact = pi * L * r * r / (r * r + h * h);
+        const Light disk = makeDisk(vec3(0, h, 0), vec3(0, -1, 0), r, radiance);
+        const float exact = pi * radiance * r * r / (r * r + h * h);
         // 1 %: the measured per-pixel relative RMS error of 256 decorrelated stratified samples
         // is 1.2 % at h = 0.5 (the peaked case), so ~0.3 % over 16 pixels; 1 % is > 3σ.
         const float est = estimateIrradiance16(disk, vec3(0.0f), vec3(0, 1, 0), PatternKind::Stratified, 256);
         EXPECT_NEAR(est, exact, 0.01f * exact) << "h=" << h;
     }
     // Rectangle 2a × 2b facing down at height h, on axis: 4 × the corner formula
-    // E = L/2·[a/√(a²+h²)·atan(b/√(a²+h²)) + b/√(b²+h²)·atan(a/√(b²+h²))].
+    // E = radiance/2·[a/√(a²+h²)·atan(b/√(a²+h²)) + b/√(b²+h²)·atan(a/√(b²+h²))].
     for (float h : {0.7f, 3.0f}) {
         const float a = 1.0f;
         const float b = 0.5f;
-        const Light rect = makeRect(vec3(0, h, 0), vec3(b, 0, 0), vec3(0, 0, a), L); // normal (0,-1,0)
+        const Light rect = makeRect(vec3(0, h, 0), vec3(b, 0, 0), vec3(0, 0, a), radiance); // normal (0,-1,0)
         ASSERT_NEAR(rect.normal.y, -1.0f, 1e-6f);
         const float ca = std::sqrt(a * a + h * h);
         const float cb = std::sqrt(b * b + h * h);
-        const float exact = 4.0f * 0.5f * L * (a / ca * std::atan(b / ca) + b / cb * std::atan(a / cb));
+        const float exact =
+            4.0f * 0.5f * radiance * (a / ca * std::atan(b / ca) + b / cb * std::atan(a / cb));
         const float est = estimateIrradiance16(rect, vec3(0.0f), vec3(0, 1, 0), PatternKind::Stratified, 256);
         EXPECT_NEAR(est, exact, 0.01f * exact) << "h=" << h; // as for the disk
     }
@@ -408,12 +411,12 @@ TEST(DirectLighting, MatchesAnalyticIrradiance) {
     {
         const float r = 0.5f;
         const float d = 5.0f;
-        const Light sphere = makeSphere(vec3(0, d, 0), r, L);
-        const float limit = 2.0f * pi * L * (1.0f - d / std::sqrt(d * d + r * r));
+        const Light sphere = makeSphere(vec3(0, d, 0), r, radiance);
+        const float limit = 2.0f * pi * radiance * (1.0f - d / std::sqrt(d * d + r * r));
         const float est =
             estimateIrradiance(sphere, vec3(0.0f), vec3(0, 1, 0), PatternKind::LowDiscrepancy, 256, 1);
         EXPECT_NEAR(est, limit, 0.002f * limit);
-        EXPECT_NEAR(est, pi * L * r * r / (d * d), 0.01f * pi * L * r * r / (d * d));
+        EXPECT_NEAR(est, pi * radiance * r * r / (d * d), 0.01f * pi * radiance * r * r / (d * d));
     }
     // Directional light: E·cosθ of the light direction (cos varies by < α·sinθ over the cone).
     {

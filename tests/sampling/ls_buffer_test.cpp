@@ -140,7 +140,8 @@ TEST(LightSampleBuffer, BitmaskNpyAcrossWordsRoundTrips) {
     for (int y = 0; y < 3; ++y)
         for (int x = 0; x < 5; ++x)
             for (int k = 0; k < 128; ++k) {
-                const bool bit = (data[std::size_t((y * 5 + x) * 16 + k / 8)] >> (k % 8)) & 1u;
+                const int byte = (y * 5 + x) * 16 + k / 8;
+                const bool bit = (data[std::size_t(byte)] >> (k % 8)) & 1u;
                 ASSERT_EQ(bit, ls.occluded(x, y, k)) << "x=" << x << " y=" << y << " k=" << k;
             }
     const LightSampleBuffer back = LightSampleBuffer::readNpy(path);
