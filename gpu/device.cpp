@@ -63,7 +63,7 @@ VkDebugUtilsMessengerCreateInfoEXT messengerInfo(ValidationLog* log) {
 }
 
 /// A Vulkan 1.3 instance without surface extensions; `log` non-null enables validation.
-VkInstance createInstance(ValidationLog* log) {
+VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
     app.pApplicationName = "stsv";
@@ -76,19 +76,27 @@ VkInstance createInstance(ValidationLog* log) {
     info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
     info.pApplicationInfo = &app;
     const char* layers[] = {kValidationLayer};
-    const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME};
+    const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
     VkDebugUtilsMessengerCreateInfoEXT messenger{};
+    // VkValidationFeaturesEXT needs VK_EXT_validation_features, which the layer provides.
+    const VkValidationFeatureEnableEXT enables[] = {
+        VK_VALIDATION_FEATURE_ENABLE_SYNCHRONIZATION_VALIDATION_EXT};
+    VkValidationFeaturesEXT features{};
+    features.sType = VK_STRUCTURE_TYPE_VALIDATION_FEATURES_EXT;
+    features.enabledValidationFeatureCount = 1;
+    features.pEnabledValidationFeatures = enables;
     if (log != nullptr) {
         if (!hasLayer(kValidationLayer))
             throw Error("validation requested but VK_LAYER_KHRONOS_validation is not installed "
                         "(Debian package vulkan-validationlayers)");
         info.enabledLayerCount = 1;
         info.ppEnabledLayerNames = layers;
-        info.enabledExtensionCount = 1;
+        info.enabledExtensionCount = synchronizationValidation ? 2 : 1;
         info.ppEnabledExtensionNames = extensions;
         // Chained so instance creation and destruction are reported too.
         messenger = messengerInfo(log);
         info.pNext = &messenger;
+        if (synchronizationValidation) messenger.pNext = &features;
     }
     VkInstance instance = VK_NULL_HANDLE;
     STSV_VK_CHECK(vkCreateInstance(&info, nullptr, &instance));
@@ -276,7 +284,7 @@ std::string describe(const DeviceInfo& info) {
 }
 
 std::vector<DeviceInfo> listDevices() {
-    VkInstance instance = createInstance(nullptr);
+    VkInstance instance = createInstance(nullptr, false);
     std::vector<DeviceInfo> infos;
     try {
         const std::vector<VkPhysicalDevice> devices = physicalDevices(instance);
@@ -311,12 +319,14 @@ void ValidationLog::clear() {
 }
 
 Device::Device(const DeviceOptions& options) {
+    const char* env = std::getenv("STSV_VALIDATION");
+    const bool envSync = env != nullptr && std::strcmp(env, "sync") == 0;
     if (options.validation || envFlag("STSV_VALIDATION")) {
         m_validationLog = std::make_shared<ValidationLog>();
         m_validationLog->print = options.printValidation;
     }
     try {
-        m_instance = createInstance(m_validationLog.get());
+        m_instance = createInstance(m_validationLog.get(), options.synchronizationValidation || envSync);
         if (m_validationLog) {
             auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
                 vkGetInstanceProcAddr(m_instance, "vkCreateDebugUtilsMessengerEXT"));

@@ -56,8 +56,11 @@ struct DeviceOptions {
     /// index in listDevices(). Otherwise a case-insensitive substring of the device name.
     std::string select;
     /// VK_LAYER_KHRONOS_validation with a recording debug messenger. The environment variable
-    /// STSV_VALIDATION=1 forces it on.
+    /// STSV_VALIDATION=1 forces it on; STSV_VALIDATION=sync also turns on synchronizationValidation.
     bool validation = false;
+    /// With validation: also the layer's synchronisation validation (hazards between commands
+    /// missing a barrier). Slower; on in the GPU tests.
+    bool synchronizationValidation = false;
     /// Echo each recorded validation message to stderr as it arrives.
     bool printValidation = false;
 };

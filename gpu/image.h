@@ -49,9 +49,10 @@ class Image {
         return std::size_t(m_desc.width) * m_desc.height * texelSize(m_desc.format);
     }
 
-    /// Records a layout transition with a conservative full dependency (all prior accesses
-    /// before all later ones). No-op when the layout already matches, unless GENERAL (then it
-    /// still records the memory dependency).
+    /// Records a layout transition whose scopes are the typical uses of the old and the new
+    /// layout (GENERAL: any use). No-op when the layout already matches, unless GENERAL (then
+    /// it still records a full memory dependency). Passes that reuse an image in the same
+    /// layout with a hazard (e.g. storage writes then reads) add their own barrier.
     void transition(VkCommandBuffer cmd, VkImageLayout newLayout);
 
     /// Tightly packed texels, rows top to bottom; waits for the GPU. Leaves the image in

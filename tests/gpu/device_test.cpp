@@ -1,5 +1,6 @@
 #include "gpu/buffer.h"
 #include "gpu/check.h"
+#include "gpu/commands.h"
 #include "gpu/device.h"
 #include "gpu_fixture.h"
 
@@ -87,6 +88,23 @@ TEST_F(DeviceTest, ValidationRecordsInvalidUsage) {
     EXPECT_EQ(device().validationMessageCount(), messages.size());
     device().clearValidationMessages();
     EXPECT_EQ(device().validationMessageCount(), 0u);
+}
+
+TEST_F(DeviceTest, SynchronizationValidationReportsMissingBarrier) {
+    // Fill then copy from the same buffer with no barrier in between: a read-after-write
+    // hazard only synchronisation validation sees. Proves the tests' device checks barriers.
+    Buffer a(device(), 256, VK_BUFFER_USAGE_TRANSFER_SRC_BIT, MemoryUsage::DeviceLocal);
+    Buffer b(device(), 256, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceLocal);
+    submitOnce(device(), [&](VkCommandBuffer cmd) {
+        vkCmdFillBuffer(cmd, a.handle(), 0, 256, 1u);
+        const VkBufferCopy region{0, 0, 256};
+        vkCmdCopyBuffer(cmd, a.handle(), b.handle(), 1, &region);
+    });
+    const std::vector<ValidationMessage> messages = device().validationMessages();
+    ASSERT_GE(messages.size(), 1u);
+    EXPECT_NE(messages[0].text.find("SYNC-HAZARD-READ-AFTER-WRITE"), std::string::npos)
+        << formatMessages(messages);
+    device().clearValidationMessages();
 }
 
 TEST_F(DeviceTest, FindsHostVisibleAndDeviceLocalMemory) {

@@ -15,10 +15,12 @@ inline DeviceOptions deviceOptions(std::string select, bool validation) {
     DeviceOptions options;
     options.select = std::move(select);
     options.validation = validation;
+    options.synchronizationValidation = validation; // missing barriers fail the tests too
     return options;
 }
 
-/// The device every test shares: validation on, messages recorded (not printed).
+/// The device every test shares: validation (with synchronisation validation) on, messages
+/// recorded (not printed).
 inline Device& sharedDevice() {
     static Device device(deviceOptions("", true));
     return device;
