@@ -66,6 +66,7 @@ struct Scene {
     std::vector<Mesh> meshes;
     Camera camera;
     std::vector<Light> lights;
+    std::size_t skippedFaces = 0; ///< input faces the loaders dropped as degenerate (repeated vertex index)
 
     std::size_t triangleCount() const { return triangles.size(); }
     const Material& materialOf(std::size_t tri) const { return materials[triangleMaterial[tri]]; }

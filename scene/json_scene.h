@@ -1,0 +1,16 @@
+// JSON scene files (format documented in the README, example in tests/data/scene/example.json).
+#pragma once
+
+#include "scene/scene.h"
+
+#include <string>
+
+namespace stsv {
+
+/// Reads a JSON scene: materials, meshes (inline quads/triangles or .obj/.off files relative to
+/// the JSON file) placed with transforms, camera, lights. Unknown keys, missing or mistyped
+/// fields, non-finite numbers, non-positive sizes, zero normals and missing files throw
+/// InputError naming the file and the JSON path of the value (syntax errors: line and column).
+Scene loadJsonScene(const std::string& path);
+
+} // namespace stsv

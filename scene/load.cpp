@@ -1,0 +1,172 @@
+#include "scene/load.h"
+
+#include "core/error.h"
+#include "scene/geometry.h"
+#include "scene/json_scene.h"
+#include "scene/mesh_io.h"
+#include "scene/procedural.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+
+namespace stsv {
+
+namespace {
+
+struct Builtin {
+    const char* name;
+    const char* description;
+    std::vector<SceneKnob> knobs;
+};
+
+const std::vector<Builtin>& builtins() {
+    static const std::vector<Builtin> list = {
+        {"fence",
+         "a 4 m x 2 m chain-link fence (2 perforated triangles) on a ground plane under a square light",
+         {{"light_size", "1", "edge of the square light, metres, (0, 100]"},
+          {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
+          {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"}}},
+        {"foliage",
+         "a square patch of plants (2 crossed leaf quads = 4 perforated triangles each) on a ground plane",
+         {{"count", "64", "number of plants (S-triangles = 4 x count), [1, 1000000]"},
+          {"seed", "1", "seed of placement, size and orientation, unsigned 64-bit integer"},
+          {"spacing", "0.75", "metres between neighbouring plants (the patch grows with count), (0, 100]"},
+          {"light_size", "0", "edge of the square light, metres; 0 = a quarter of the patch edge, [0, 1000]"},
+          {"texture_size", "128", "texels per edge of the leaf texture, [8, 8192]"}}},
+    };
+    return list;
+}
+
+const Builtin* findBuiltin(const std::string& name) {
+    for (const Builtin& b : builtins())
+        if (name == b.name) return &b;
+    return nullptr;
+}
+
+std::string joinNames(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out.empty() ? "none" : out;
+}
+
+/// Knob values of one scene: unknown keys rejected up front, typed getters with ranges.
+class Knobs {
+  public:
+    Knobs(const std::string& scene, const SceneOptions& options, const std::vector<SceneKnob>& accepted)
+        : m_scene(scene), m_options(options) {
+        std::vector<std::string> names;
+        for (const SceneKnob& k : accepted) names.push_back(k.name);
+        for (const auto& [key, value] : options.set)
+            if (std::find(names.begin(), names.end(), key) == names.end())
+                throw UsageError("scene '" + scene + "' has no knob '" + key +
+                                 "' (accepted: " + joinNames(names) + ")");
+    }
+
+    long long integer(const std::string& name, long long fallback, long long lo, long long hi) const {
+        const auto it = m_options.set.find(name);
+        if (it == m_options.set.end()) return fallback;
+        long long value = 0;
+        const std::string& text = it->second;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec != std::errc() || ptr != text.data() + text.size() || value < lo || value > hi)
+            throw UsageError("scene '" + m_scene + "': knob " + name + "=" + text +
+                             " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
+                             "]");
+        return value;
+    }
+
+    std::uint64_t unsigned64(const std::string& name, std::uint64_t fallback) const {
+        const auto it = m_options.set.find(name);
+        if (it == m_options.set.end()) return fallback;
+        std::uint64_t value = 0;
+        const std::string& text = it->second;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        if (ec != std::errc() || ptr != text.data() + text.size())
+            throw UsageError("scene '" + m_scene + "': knob " + name + "=" + text +
+                             " must be an unsigned integer");
+        return value;
+    }
+
+    /// A number in (lo, hi] if `openLow`, else [lo, hi].
+    float real(const std::string& name, float fallback, float lo, float hi, bool openLow) const {
+        const auto it = m_options.set.find(name);
+        if (it == m_options.set.end()) return fallback;
+        double value = 0.0;
+        const std::string& text = it->second;
+        const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+        const bool inRange = openLow ? value > lo && value <= hi : value >= lo && value <= hi;
+        if (ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(value) || !inRange)
+            throw UsageError("scene '" + m_scene + "': knob " + name + "=" + text + " must be a number in " +
+                             (openLow ? "(" : "[") + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return float(value);
+    }
+
+  private:
+    std::string m_scene;
+    const SceneOptions& m_options;
+};
+
+std::string lowerExtension(const std::string& path) {
+    std::string ext = std::filesystem::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
+} // namespace
+
+std::vector<std::string> builtinSceneNames() {
+    std::vector<std::string> names;
+    for (const Builtin& b : builtins()) names.emplace_back(b.name);
+    return names;
+}
+
+std::vector<SceneKnob> builtinSceneKnobs(const std::string& name) {
+    const Builtin* b = findBuiltin(name);
+    if (!b)
+        throw UsageError("unknown built-in scene '" + name +
+                         "' (built-ins: " + joinNames(builtinSceneNames()) + ")");
+    return b->knobs;
+}
+
+std::string describeBuiltinScene(const std::string& name) {
+    const Builtin* b = findBuiltin(name);
+    if (!b)
+        throw UsageError("unknown built-in scene '" + name +
+                         "' (built-ins: " + joinNames(builtinSceneNames()) + ")");
+    return b->description;
+}
+
+Scene loadScene(const std::string& spec, const SceneOptions& options) {
+    if (const Builtin* b = findBuiltin(spec)) {
+        const Knobs knobs(spec, options, b->knobs);
+        if (spec == "fence") {
+            FenceParams p;
+            p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 100.0f, true);
+            p.repeat = int(knobs.integer("repeat", p.repeat, 1, 4096));
+            p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
+            return makeFenceScene(p);
+        }
+        FoliageParams p;
+        p.count = int(knobs.integer("count", p.count, 1, 1000000));
+        p.seed = knobs.unsigned64("seed", p.seed);
+        p.spacing = knobs.real("spacing", p.spacing, 0.0f, 100.0f, true);
+        p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 1000.0f, false);
+        p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
+        return makeFoliageScene(p);
+    }
+    const std::string ext = lowerExtension(spec);
+    if (ext.empty())
+        throw UsageError("unknown scene '" + spec + "': expected a built-in name (" +
+                         joinNames(builtinSceneNames()) + ") or a .json, .obj or .off file");
+    if (ext != ".json" && ext != ".obj" && ext != ".off")
+        throw UsageError("scene file '" + spec + "' has an unsupported extension '" + ext +
+                         "' (expected .json, .obj or .off)");
+    const Knobs knobs(spec, options, {}); // files take no knobs
+    if (ext == ".json") return loadJsonScene(spec);
+    return makeMeshScene(loadMeshFile(spec), spec);
+}
+
+} // namespace stsv

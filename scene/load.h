@@ -1,0 +1,39 @@
+// The one entry point the CLI uses: a scene from a built-in name, a .json scene or a bare mesh.
+#pragma once
+
+#include "scene/scene.h"
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+/// Scene knobs from the command line (`--set key=value`), as given.
+struct SceneOptions {
+    std::map<std::string, std::string> set;
+};
+
+/// One knob a built-in scene accepts (for `stsv info` and error messages).
+struct SceneKnob {
+    std::string name;
+    std::string defaultValue;
+    std::string description; ///< includes the unit and the accepted range
+};
+
+/// `spec` is a built-in name (see builtinSceneNames()), a `.json` scene file, or a bare `.obj` /
+/// `.off` mesh (placed on a ground plane under a default light, with a camera that frames it).
+/// Unknown names, unknown extensions and unknown or malformed knobs throw UsageError; bad files
+/// throw InputError naming the file (and line). The returned scene has passed Scene::validate().
+Scene loadScene(const std::string& spec, const SceneOptions& options = {});
+
+/// "fence", "foliage".
+std::vector<std::string> builtinSceneNames();
+
+/// The knobs of a built-in scene, in a stable order; UsageError for an unknown name.
+std::vector<SceneKnob> builtinSceneKnobs(const std::string& name);
+
+/// One-line description of a built-in scene; UsageError for an unknown name.
+std::string describeBuiltinScene(const std::string& name);
+
+} // namespace stsv
