@@ -2,7 +2,7 @@
 
 #include "core/parallel.h"
 #include "core/progress.h"
-#include "reference/pixel_samples.h"
+#include "sampling/light_sampling.h"
 
 namespace stsv {
 

@@ -3,7 +3,7 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "core/timer.h"
-#include "reference/pixel_samples.h"
+#include "sampling/light_sampling.h"
 #include "sampling/light_bounds.h"
 #include "scene/camera.h"
 #include "volumes/extrusion_dh.h"

@@ -3,12 +3,11 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "reference/embree_scene.h"
-#include "reference/pixel_samples.h"
+#include "sampling/light_sampling.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_stsv.h"
 #include "sampling/light_bounds.h"
 
-#include <glm/gtc/constants.hpp>
 
 namespace stsv {
 
@@ -25,16 +24,9 @@ void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light
             visibility.at(x, y, 0) += weight;
             return;
         }
-        const vec3 p = gbuffer.position[i], n = gbuffer.normal[i];
-        const LightFrame frame = lightFrame(light, p, farDistance);
-        vec3 sum(0.0f);
-        for (int k = 0; k < plan.count; ++k) {
-            if (!samples.visible(x, y, k)) continue;
-            const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
-            sum += sampleContribution(light, frame, p, n, s);
-        }
         const vec3 albedo = scene.materialOf(gbuffer.triangle[i]).albedo;
-        const vec3 direct = albedo / glm::pi<float>() * sum / float(plan.count);
+        const vec3 direct =
+            resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i], albedo, farDistance);
         for (int c = 0; c < 3; ++c) color.at(x, y, c) += direct[c];
         visibility.at(x, y, 0) += weight * samples.visibleFraction(x, y);
     }, 256);
