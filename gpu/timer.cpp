@@ -15,6 +15,21 @@ GpuTimer::GpuTimer(const Device& device, uint32_t maxScopes) : m_device(&device)
     info.queryType = VK_QUERY_TYPE_TIMESTAMP;
     info.queryCount = 2 * maxScopes;
     STSV_VK_CHECK(vkCreateQueryPool(device.handle(), &info, nullptr, &m_pool));
+    if (device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU)
+        m_fence = Buffer(device, 2 * maxScopes * sizeof(uint64_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                         MemoryUsage::DeviceLocal);
+}
+
+void GpuTimer::writeTimestamp(VkCommandBuffer cmd, uint32_t query) {
+    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m_pool, query);
+    if (m_fence.handle() == VK_NULL_HANDLE) return;
+    // lavapipe (Mesa 22.3) runs rasterisation on worker threads behind the command stream and
+    // takes a timestamp when the workers reach it, so without a wait a scope measures only
+    // part of its pass (and compute, which runs on other threads, not at all). Copying the
+    // result with WAIT_BIT makes the command stream wait until the timestamp exists, so each
+    // scope covers exactly its own commands. Real GPUs do not need (or get) this.
+    vkCmdCopyQueryPoolResults(cmd, m_pool, query, 1, m_fence.handle(), query * sizeof(uint64_t),
+                              sizeof(uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT);
 }
 
 GpuTimer::~GpuTimer() {
@@ -24,7 +39,7 @@ GpuTimer::~GpuTimer() {
 GpuTimer::GpuTimer(GpuTimer&& other) noexcept
     : m_device(std::exchange(other.m_device, nullptr)), m_pool(std::exchange(other.m_pool, VK_NULL_HANDLE)),
       m_maxScopes(other.m_maxScopes), m_scopes(std::move(other.m_scopes)), m_open(std::move(other.m_open)),
-      m_nextQuery(other.m_nextQuery) {}
+      m_nextQuery(other.m_nextQuery), m_fence(std::move(other.m_fence)) {}
 
 GpuTimer& GpuTimer::operator=(GpuTimer&& other) noexcept {
     if (this != &other) {
@@ -35,6 +50,7 @@ GpuTimer& GpuTimer::operator=(GpuTimer&& other) noexcept {
         m_scopes = std::move(other.m_scopes);
         m_open = std::move(other.m_open);
         m_nextQuery = other.m_nextQuery;
+        m_fence = std::move(other.m_fence);
     }
     return *this;
 }
@@ -58,7 +74,7 @@ void GpuTimer::begin(VkCommandBuffer cmd, std::string name) {
         throw UsageError("GpuTimer: more than " + std::to_string(m_maxScopes) + " scopes in one frame");
     // The begin stamp waits for everything before it (ALL_COMMANDS), so the scope measures
     // the commands between begin and end, not overlap with earlier work.
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m_pool, m_nextQuery);
+    writeTimestamp(cmd, m_nextQuery);
     m_scopes.push_back({std::move(name), m_nextQuery, false});
     m_open.push_back(m_scopes.size() - 1);
     m_nextQuery += 2;
@@ -68,7 +84,7 @@ void GpuTimer::end(VkCommandBuffer cmd) {
     if (m_open.empty()) throw UsageError("GpuTimer::end without begin");
     Scope& scope = m_scopes[m_open.back()];
     m_open.pop_back();
-    vkCmdWriteTimestamp2(cmd, VK_PIPELINE_STAGE_2_ALL_COMMANDS_BIT, m_pool, scope.beginQuery + 1);
+    writeTimestamp(cmd, scope.beginQuery + 1);
     scope.ended = true;
 }
 

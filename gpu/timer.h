@@ -1,6 +1,8 @@
 // GPU timestamps: named scopes in a command buffer → milliseconds (per-pass timings).
 #pragma once
 
+#include "gpu/buffer.h"
+
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
@@ -18,6 +20,11 @@ struct GpuTiming {
 
 /// Usage per frame: reset(cmd) first, then begin(cmd, "pass") … end(cmd) around each pass
 /// (scopes may nest), submit and wait, then results(). Move-only.
+/// begin/end must be recorded outside dynamic rendering (between passes, not inside one).
+/// On CPU devices (lavapipe) each timestamp is followed by a waiting query copy so that a
+/// scope measures its own pass: without it lavapipe's timestamps run ahead of the worker
+/// threads (a compute dispatch after a draw read ~0 ms). The waits serialise passes there,
+/// which the per-pass numbers then reflect.
 class GpuTimer {
   public:
     GpuTimer() = default;
@@ -45,6 +52,9 @@ class GpuTimer {
     std::vector<Scope> m_scopes;
     std::vector<std::size_t> m_open; ///< indices into m_scopes of scopes not yet ended
     uint32_t m_nextQuery = 0;
+    Buffer m_fence; ///< CPU devices only: target of the waiting query copies (see writeTimestamp)
+
+    void writeTimestamp(VkCommandBuffer cmd, uint32_t query);
 
     void destroy() noexcept;
 };

@@ -2,6 +2,7 @@
 // (the light-sample bitmask, DESIGN §4.4), geometry shaders, mesh shaders.
 #include "gpu/buffer.h"
 #include "gpu/commands.h"
+#include "gpu/descriptors.h"
 #include "gpu/image.h"
 #include "gpu/pipeline.h"
 #include "gpu/rendering.h"
@@ -32,16 +33,17 @@ struct Rect {
 struct RectPush {
     std::array<float, 4> ndc; ///< x0, y0, x1, y1 in normalised device coordinates
     std::array<uint32_t, 2> bits;
-    uint32_t pad[2];
+    float z = 0.5f; ///< clip-space depth of the rectangle (w = 1)
+    uint32_t pad = 0;
 };
 
 const char* kRectVert = R"(#version 450
-layout(push_constant) uniform Push { vec4 rect; uvec2 bits; } pc;
+layout(push_constant) uniform Push { vec4 rect; uvec2 bits; float z; } pc;
 void main() {
     // Triangle strip over the rectangle: (x0,y0) (x1,y0) (x0,y1) (x1,y1).
     float x = (gl_VertexIndex & 1) != 0 ? pc.rect.z : pc.rect.x;
     float y = (gl_VertexIndex & 2) != 0 ? pc.rect.w : pc.rect.y;
-    gl_Position = vec4(x, y, 0.5, 1.0);
+    gl_Position = vec4(x, y, pc.z, 1.0);
 }
 )";
 
@@ -103,7 +105,7 @@ TEST_F(RasterTest, LogicOpOrAccumulatesBitsInRG32UintAttachment) {
         beginRendering(cmd, std::span(&target, 1));
         pipeline.bind(cmd);
         for (const Rect& r : rects) {
-            const RectPush push{r.ndc(), r.bits, {0, 0}};
+            const RectPush push{r.ndc(), r.bits};
             layout.push(cmd, &push, sizeof(push));
             vkCmdDraw(cmd, 4, 1, 0, 0);
         }
@@ -135,13 +137,135 @@ TEST_F(RasterTest, LoadKeepsBitsOfAnEarlierPass) {
         beginRendering(cmd, std::span(&target, 1));
         pipeline.bind(cmd);
         const Rect& r = pass == 0 ? a : b;
-        const RectPush push{r.ndc(), r.bits, {0, 0}};
+        const RectPush push{r.ndc(), r.bits};
         layout.push(cmd, &push, sizeof(push));
         vkCmdDraw(cmd, 4, 1, 0, 0);
         endRendering(cmd);
         cmdBuffer.submitAndWait();
     }
     expectSameBits(bits.readback<uint32_t>(), expectedBits({a, b}));
+}
+
+TEST_F(RasterTest, DepthClampedVolumeBehindVisiblePointPassesOnlyThere) {
+    // The STSV pass's depth set-up (DESIGN §4.2): a G-buffer depth is written first; then a
+    // far face at z = 1.5 (beyond the far plane, so clipped without depth clamp) is drawn
+    // with depth clamp, test GREATER ("behind the visible point") and no depth write.
+    ASSERT_TRUE(device().info().depthClamp);
+    const std::vector<uint32_t> vert =
+        compiler().compileSource(kRectVert, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert");
+    const std::vector<uint32_t> frag =
+        compiler().compileSource(kBitsFrag, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag");
+    PipelineLayout layout(device(), {}, sizeof(RectPush));
+    GraphicsPipelineDesc gbufferDesc;
+    gbufferDesc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, vert}, {VK_SHADER_STAGE_FRAGMENT_BIT, frag}};
+    gbufferDesc.colorFormats = {VK_FORMAT_R32G32_UINT};
+    gbufferDesc.depthFormat = VK_FORMAT_D32_SFLOAT;
+    gbufferDesc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+    gbufferDesc.depthTest = true;
+    gbufferDesc.depthWrite = true;
+    gbufferDesc.depthCompare = VK_COMPARE_OP_LESS;
+    Pipeline gbuffer = createGraphicsPipeline(device(), layout, gbufferDesc);
+    GraphicsPipelineDesc volumeDesc = gbufferDesc;
+    volumeDesc.depthWrite = false;
+    volumeDesc.depthCompare = VK_COMPARE_OP_GREATER;
+    volumeDesc.depthClamp = true;
+    volumeDesc.logicOpEnable = true;
+    volumeDesc.logicOp = VK_LOGIC_OP_OR;
+    Pipeline volume = createGraphicsPipeline(device(), layout, volumeDesc);
+
+    Image bits(device(), {kSize, kSize, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
+    Image depth(device(), {kSize, kSize, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT});
+    const Rect surface{0, 0, 9, kSize, {0x0u, 0x0u}}; // visible points at depth 0.25 on the left
+    const Rect far{2, 3, 14, 12, {0x8u, 0x100u}};     // the volume's far face, z = 1.5 → clamped to 1
+    submitOnce(device(), [&](VkCommandBuffer cmd) {
+        const ColorTarget target{&bits, true, {}};
+        beginRendering(cmd, std::span(&target, 1), DepthTarget{&depth, true, 1.0f, false});
+        gbuffer.bind(cmd);
+        const RectPush surfacePush{surface.ndc(), surface.bits, 0.25f};
+        layout.push(cmd, &surfacePush, sizeof(surfacePush));
+        vkCmdDraw(cmd, 4, 1, 0, 0);
+        endRendering(cmd);
+
+        const ColorTarget load{&bits, false, {}};
+        beginRendering(cmd, std::span(&load, 1), DepthTarget{&depth, false, 1.0f, true});
+        volume.bind(cmd);
+        const RectPush farPush{far.ndc(), far.bits, 1.5f};
+        layout.push(cmd, &farPush, sizeof(farPush));
+        vkCmdDraw(cmd, 4, 1, 0, 0);
+        endRendering(cmd);
+    });
+    // Passes where the far face covers a visible point of the surface (1 > 0.25); fails on
+    // the cleared background (1 > 1 is false).
+    const Rect expectedArea{2, 3, 9, 12, far.bits};
+    expectSameBits(bits.readback<uint32_t>(), expectedBits({expectedArea}));
+    const std::vector<float> depths = depth.readback<float>();
+    for (uint32_t y = 0; y < kSize; ++y)
+        for (uint32_t x = 0; x < kSize; ++x)
+            ASSERT_EQ(depths[y * kSize + x], surface.covers(x, y) ? 0.25f : 1.0f)
+                << "depth at " << x << "," << y;
+}
+
+TEST_F(RasterTest, FragmentAtomicsWithEarlyTestsCountOnlyPassingFragments) {
+    // The depth-complexity counter mechanism (DESIGN §4.4): storage-buffer atomics in the
+    // fragment shader, with early fragment tests so depth-failing fragments do not count.
+    ASSERT_TRUE(device().info().fragmentStoresAndAtomics);
+    const char* frag = R"(#version 450
+layout(early_fragment_tests) in;
+layout(std430, binding = 0) buffer Counters { uint counters[]; };
+layout(push_constant) uniform Push { vec4 rect; uvec2 bits; float z; } pc;
+void main() {
+    uint pixel = uint(gl_FragCoord.y) * 16u + uint(gl_FragCoord.x);
+    atomicAdd(counters[pixel], pc.bits.x);
+}
+)";
+    DescriptorSetLayout setLayout(device(),
+                                  {{0, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_FRAGMENT_BIT}});
+    PipelineLayout layout(device(), {setLayout.handle()}, sizeof(RectPush));
+    GraphicsPipelineDesc desc;
+    desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT,
+                    compiler().compileSource(kRectVert, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert")},
+                   {VK_SHADER_STAGE_FRAGMENT_BIT,
+                    compiler().compileSource(frag, VK_SHADER_STAGE_FRAGMENT_BIT, "count.frag")}};
+    desc.depthFormat = VK_FORMAT_D32_SFLOAT;
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
+    desc.depthTest = true;
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    Pipeline pipeline = createGraphicsPipeline(device(), layout, desc);
+
+    const std::vector<uint32_t> zeros(kSize * kSize, 0u);
+    Buffer counters =
+        createBuffer(device(), std::span<const uint32_t>(zeros), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    DescriptorSet set(device(), setLayout);
+    set.writeBuffer(0, counters);
+    Image depth(device(), {kSize, kSize, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT});
+    // Depth cleared to 0.5; rects at z 0.75 pass GREATER, rects at z 0.25 fail it. The
+    // "count" of each rect goes in bits.x: 1 for passing rects, 100 for failing ones, so any
+    // failing fragment that counted shows up as ≥ 100.
+    const std::vector<std::pair<Rect, float>> rects = {{{0, 0, 10, 10, {1u, 0u}}, 0.75f},
+                                                       {{5, 5, 16, 16, {1u, 0u}}, 0.75f},
+                                                       {{0, 0, 16, 16, {100u, 0u}}, 0.25f},
+                                                       {{3, 3, 8, 8, {1u, 0u}}, 0.75f}};
+    submitOnce(device(), [&](VkCommandBuffer cmd) {
+        beginRendering(cmd, {}, DepthTarget{&depth, true, 0.5f, false});
+        pipeline.bind(cmd);
+        VkDescriptorSet handle = set.handle();
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, layout.handle(), 0, 1, &handle, 0,
+                                nullptr);
+        for (const auto& [rect, z] : rects) {
+            const RectPush push{rect.ndc(), rect.bits, z};
+            layout.push(cmd, &push, sizeof(push));
+            vkCmdDraw(cmd, 4, 1, 0, 0);
+        }
+        endRendering(cmd);
+    });
+    const std::vector<uint32_t> counts = counters.download<uint32_t>();
+    for (uint32_t y = 0; y < kSize; ++y)
+        for (uint32_t x = 0; x < kSize; ++x) {
+            uint32_t expected = 0;
+            for (const auto& [rect, z] : rects)
+                if (z > 0.5f && rect.covers(x, y)) expected += rect.bits[0];
+            ASSERT_EQ(counts[y * kSize + x], expected) << "pixel " << x << "," << y;
+        }
 }
 
 TEST_F(RasterTest, GeometryShaderPassesTrianglesThroughWithPrimitiveIds) {
@@ -247,7 +371,7 @@ void main() {
         beginRendering(cmd, std::span(&target, 1));
         pipeline.bind(cmd);
         for (const Rect& r : rects) {
-            const RectPush push{r.ndc(), r.bits, {0, 0}};
+            const RectPush push{r.ndc(), r.bits};
             layout.push(cmd, &push, sizeof(push));
             device().cmdDrawMeshTasks()(cmd, 1, 1, 1);
         }
