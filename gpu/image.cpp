@@ -228,4 +228,43 @@ void Image::upload(const void* data, std::size_t bytes, VkImageLayout finalLayou
     });
 }
 
+Sampler::Sampler(const Device& device, VkFilter filter, VkSamplerAddressMode addressMode)
+    : m_device(&device) {
+    VkSamplerCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_SAMPLER_CREATE_INFO;
+    info.magFilter = filter;
+    info.minFilter = filter;
+    info.mipmapMode = VK_SAMPLER_MIPMAP_MODE_NEAREST;
+    info.addressModeU = addressMode;
+    info.addressModeV = addressMode;
+    info.addressModeW = addressMode;
+    info.maxLod = 0.0f;
+    info.borderColor = VK_BORDER_COLOR_FLOAT_TRANSPARENT_BLACK;
+    STSV_VK_CHECK(vkCreateSampler(device.handle(), &info, nullptr, &m_sampler));
+}
+
+Sampler::~Sampler() {
+    destroy();
+}
+
+Sampler::Sampler(Sampler&& other) noexcept
+    : m_device(std::exchange(other.m_device, nullptr)),
+      m_sampler(std::exchange(other.m_sampler, VK_NULL_HANDLE)) {}
+
+Sampler& Sampler::operator=(Sampler&& other) noexcept {
+    if (this != &other) {
+        destroy();
+        m_device = std::exchange(other.m_device, nullptr);
+        m_sampler = std::exchange(other.m_sampler, VK_NULL_HANDLE);
+    }
+    return *this;
+}
+
+void Sampler::destroy() noexcept {
+    if (m_device != nullptr && m_sampler != VK_NULL_HANDLE)
+        vkDestroySampler(m_device->handle(), m_sampler, nullptr);
+    m_sampler = VK_NULL_HANDLE;
+    m_device = nullptr;
+}
+
 } // namespace stsv

@@ -78,4 +78,23 @@ class Image {
     void destroy() noexcept;
 };
 
+/// Move-only VkSampler (no mipmaps, no anisotropy). Alpha textures are read with texelFetch
+/// and the shared texel rule (volumes/stsv_dh.h texelAt), so NEAREST is the usual choice.
+class Sampler {
+  public:
+    Sampler() = default;
+    Sampler(const Device& device, VkFilter filter, VkSamplerAddressMode addressMode);
+    ~Sampler();
+    Sampler(Sampler&& other) noexcept;
+    Sampler& operator=(Sampler&& other) noexcept;
+
+    VkSampler handle() const { return m_sampler; }
+
+  private:
+    const Device* m_device = nullptr;
+    VkSampler m_sampler = VK_NULL_HANDLE;
+
+    void destroy() noexcept;
+};
+
 } // namespace stsv

@@ -1,6 +1,8 @@
 #include "gpu/buffer.h"
 #include "gpu/commands.h"
+#include "gpu/descriptors.h"
 #include "gpu/image.h"
+#include "gpu/pipeline.h"
 #include "gpu_fixture.h"
 
 #include <gtest/gtest.h>
@@ -116,6 +118,51 @@ TEST_F(ResourcesTest, ImageRejectsBadInput) {
     Image image(device(), {4, 4, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT});
     uint32_t data[4] = {};
     EXPECT_THROW(image.upload(data, sizeof(data), VK_IMAGE_LAYOUT_GENERAL), UsageError);
+}
+
+TEST_F(ResourcesTest, ComputeReadsSampledTextureAndWritesStorageImage) {
+    // texelFetch from an RGBA8 texture (combined image sampler) into an R32G32_UINT storage
+    // image: the descriptor and layout paths an alpha-texture lookup and a bitmask clear use.
+    const char* source = R"(#version 450
+layout(local_size_x = 8, local_size_y = 8) in;
+layout(binding = 0) uniform sampler2D alphaTexture;
+layout(binding = 1, rg32ui) uniform writeonly uimage2D result;
+void main() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.xy);
+    vec4 texel = texelFetch(alphaTexture, p, 0);
+    imageStore(result, p, uvec4(uint(round(texel.a * 255.0)), uint(round(texel.r * 255.0)), 0u, 0u));
+}
+)";
+    const uint32_t size = 8;
+    DescriptorSetLayout setLayout(
+        device(), {{0, VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, VK_SHADER_STAGE_COMPUTE_BIT},
+                   {1, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_COMPUTE_BIT}});
+    PipelineLayout layout(device(), {setLayout.handle()});
+    Pipeline pipeline = createComputePipeline(
+        device(), layout, compiler().compileSource(source, VK_SHADER_STAGE_COMPUTE_BIT, "fetch.comp"));
+
+    std::vector<uint8_t> rgba(size * size * 4);
+    for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = uint8_t((i * 37u + 11u) % 256u);
+    Image texture(device(), {size, size, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT});
+    texture.upload(rgba.data(), rgba.size(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
+    Sampler sampler(device(), VK_FILTER_NEAREST, VK_SAMPLER_ADDRESS_MODE_REPEAT);
+    Image result(device(), {size, size, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_STORAGE_BIT});
+    DescriptorSet set(device(), setLayout);
+    set.writeSampledImage(0, texture.view(), sampler.handle());
+    set.writeStorageImage(1, result);
+    submitOnce(device(), [&](VkCommandBuffer cmd) {
+        result.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+        pipeline.bind(cmd);
+        VkDescriptorSet handle = set.handle();
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout.handle(), 0, 1, &handle, 0,
+                                nullptr);
+        vkCmdDispatch(cmd, 1, 1, 1);
+    });
+    const std::vector<uint32_t> words = result.readback<uint32_t>();
+    for (uint32_t i = 0; i < size * size; ++i) {
+        ASSERT_EQ(words[2 * i], rgba[4 * i + 3]) << "alpha of texel " << i;
+        ASSERT_EQ(words[2 * i + 1], rgba[4 * i + 0]) << "red of texel " << i;
+    }
 }
 
 } // namespace

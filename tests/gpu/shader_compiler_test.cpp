@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 namespace fs = std::filesystem;
 
@@ -16,13 +17,19 @@ void writeFile(const fs::path& path, const std::string& text) {
     std::ofstream(path) << text;
 }
 
-/// A fresh folder per test under the system temp dir.
-fs::path scratchDirectory(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() / ("stsv_gpu_test_" + name);
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
+/// A fresh folder per test and process under the system temp dir, removed afterwards.
+struct ScratchDirectory {
+    fs::path path;
+    explicit ScratchDirectory(const std::string& name)
+        : path(fs::temp_directory_path() / ("stsv_gpu_test_" + name + "_" + std::to_string(getpid()))) {
+        fs::remove_all(path);
+        fs::create_directories(path);
+    }
+    ~ScratchDirectory() {
+        std::error_code ignored;
+        fs::remove_all(path, ignored);
+    }
+};
 
 TEST(ShaderStage, FromExtension) {
     EXPECT_EQ(shaderStageFromPath("a/stsv.geom"), VK_SHADER_STAGE_GEOMETRY_BIT);
@@ -61,7 +68,8 @@ TEST(ShaderCompiler, ErrorNamesFileAndLine) {
 }
 
 TEST(ShaderCompiler, ErrorInIncludedHeaderNamesTheHeader) {
-    const fs::path dir = scratchDirectory("include_error");
+    const ScratchDirectory scratch("include_error");
+    const fs::path& dir = scratch.path;
     writeFile(dir / "lib" / "broken.glsl", "// comment\nfloat f() { return missingSymbol; }\n");
     writeFile(dir / "main.frag", "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
                                  "#include \"lib/broken.glsl\"\nlayout(location = 0) out vec4 o;\n"
@@ -78,7 +86,8 @@ TEST(ShaderCompiler, ErrorInIncludedHeaderNamesTheHeader) {
 }
 
 TEST(ShaderCompiler, ResolvesIncludesRelativeToFileAndRepositoryRoot) {
-    const fs::path dir = scratchDirectory("includes");
+    const ScratchDirectory scratch("includes");
+    const fs::path& dir = scratch.path;
     // main.comp → "sub/a.glsl" (relative to main), which → "b.glsl" (relative to sub/) and
     // "volumes/stsv_dh.h" (repository root), which → "core/dh.h".
     writeFile(dir / "sub" / "a.glsl", "#include \"b.glsl\"\n#include \"volumes/stsv_dh.h\"\n"
