@@ -1,6 +1,7 @@
 #include "scene/geometry.h"
 
 #include "core/error.h"
+#include "scene/camera.h"
 
 #include <algorithm>
 #include <cmath>
@@ -134,6 +135,42 @@ Camera frameSphere(vec3 target, float radius, vec3 fromTarget, float fovY) {
     return camera;
 }
 
+Camera framePoints(const std::vector<vec3>& points, vec3 target, vec3 fromTarget, float fovY, float fill) {
+    Bounds box;
+    for (const vec3& p : points) box.extend(p);
+    const float size = std::max(length(box.extent()), 1e-6f);
+    Camera camera = frameSphere(target, 1.0f, fromTarget, fovY);
+    const vec3 dir = normalize(fromTarget);
+    auto fits = [&](float distance) {
+        camera.eye = target + dir * distance;
+        const mat4 clipFromWorld =
+            clipFromView(camera, 1.0f, 1e-4f * size, 1e4f * size) * viewFromWorld(camera);
+        for (const vec3& p : points) {
+            const vec4 clip = clipFromWorld * vec4(p, 1.0f);
+            if (clip.w <= 1e-4f * size) return false;
+            if (std::abs(clip.x) > fill * clip.w || std::abs(clip.y) > fill * clip.w) return false;
+        }
+        return true;
+    };
+    // Once every point is in front, projected extents shrink with distance: bisect.
+    float lo = 0.0f, hi = size + length(target - box.center());
+    for (int i = 0; i < 60 && !fits(hi); ++i) hi *= 2.0f;
+    for (int i = 0; i < 40; ++i) {
+        const float mid = 0.5f * (lo + hi);
+        (fits(mid) ? hi : lo) = mid;
+    }
+    camera.eye = target + dir * hi;
+    return camera;
+}
+
+Camera frameBox(const Bounds& box, vec3 target, vec3 fromTarget, float fovY, float fill) {
+    std::vector<vec3> corners;
+    for (int c = 0; c < 8; ++c)
+        corners.emplace_back((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y,
+                             (c & 4) ? box.hi.z : box.lo.z);
+    return framePoints(corners, target, fromTarget, fovY, fill);
+}
+
 Scene makeMeshScene(const MeshData& mesh, const std::string& source) {
     Bounds b;
     for (const vec3& p : mesh.positions) b.extend(p);
@@ -166,7 +203,7 @@ Scene makeMeshScene(const MeshData& mesh, const std::string& source) {
     const float size = 0.3f * d;
     const float radiance =
         radianceForOutgoing(lightCenter, lightNormal, size * size, vec3(c.x + 0.8f * d, groundY, c.z),
-                            vec3(0.0f, 1.0f, 0.0f), 0.7f, 0.8f);
+                            vec3(0.0f, 1.0f, 0.0f), 0.7f, 0.5f);
     scene.lights.push_back(
         makeRectangleLight(lightCenter, lightNormal, vec2(size), vec3(radiance), vec3(1.0f, 0.0f, 0.0f)));
 

@@ -60,6 +60,15 @@ float radianceForOutgoing(vec3 lightCenter, vec3 lightNormal, float area, vec3 p
 /// where a sphere of `radius` around the target fills the vertical field of view `fovY` (degrees).
 Camera frameSphere(vec3 target, float radius, vec3 fromTarget, float fovY = 40.0f);
 
+/// A camera looking at `target` from direction `fromTarget`, at the smallest distance where all
+/// eight corners of `box` project inside the central `fill` fraction of a square image
+/// (aspect 1; wider images show more). Vulkan clip conventions of camera.h.
+Camera frameBox(const Bounds& box, vec3 target, vec3 fromTarget, float fovY = 40.0f, float fill = 0.95f);
+
+/// As frameBox, for a set of points (all of them inside the central `fill` fraction).
+Camera framePoints(const std::vector<vec3>& points, vec3 target, vec3 fromTarget, float fovY = 40.0f,
+                   float fill = 0.95f);
+
 /// Places a loaded mesh as a whole scene (the `stsv render mesh.obj` case, +y up): the mesh as is,
 /// an opaque ground plane just below its lowest point, a square light above, behind and to the
 /// side of it sized relative to the mesh, and a camera framing the mesh and its shadow.

@@ -170,7 +170,7 @@ Scene makeFenceScene(const FenceParams& params) {
     const float area = params.lightSize * params.lightSize;
     // Radiance such that the unshadowed ground beside the shadow reflects ≈ 0.8.
     const float radiance = radianceForOutgoing(lightCenter, lightNormal, area, vec3(3.0f, 0.0f, 1.0f),
-                                               vec3(0.0f, 1.0f, 0.0f), 0.7f, 0.8f);
+                                               vec3(0.0f, 1.0f, 0.0f), 0.7f, 0.5f);
     scene.lights.push_back(makeRectangleLight(lightCenter, lightNormal, vec2(params.lightSize),
                                               vec3(radiance), vec3(1.0f, 0.0f, 0.0f)));
 
@@ -217,8 +217,8 @@ Scene makeFoliageScene(const FoliageParams& params) {
         const float cz = (float(cell / g) + 0.5f) * params.spacing - 0.5f * side;
         const vec3 base(cx + rng.uniform(-0.3f, 0.3f) * params.spacing, 0.0f,
                         cz + rng.uniform(-0.3f, 0.3f) * params.spacing);
-        const float height = rng.uniform(0.55f, 1.0f) * std::min(1.0f, params.spacing / 0.75f + 0.25f);
-        const float halfWidth = 0.42f * height;
+        const float height = rng.uniform(0.7f, 1.2f) * std::min(1.0f, params.spacing / 0.75f);
+        const float halfWidth = 0.45f * height;
         const float yaw = rng.uniform(0.0f, kPi);
         for (int q = 0; q < 2; ++q) { // two crossed quads
             const float a = yaw + float(q) * 0.5f * kPi;
@@ -234,20 +234,24 @@ Scene makeFoliageScene(const FoliageParams& params) {
 
     // Light behind the patch (−z), high and to the left; shadows fall towards the camera.
     const float lightSize = params.lightSize > 0.0f ? params.lightSize : std::max(1.0f, 0.25f * side);
-    const vec3 lightCenter(-0.35f * side - 1.0f, 1.1f * side + 3.0f, -0.6f * side - 1.5f);
+    const vec3 lightCenter(-0.45f * side - 1.0f, 0.6f * side + 3.0f, -0.7f * side - 1.5f);
     const vec3 lightNormal = normalize(vec3(0.0f, 0.0f, 0.1f * side) - lightCenter);
     const float radiance = radianceForOutgoing(lightCenter, lightNormal, lightSize * lightSize, vec3(0.0f),
                                                vec3(0.0f, 1.0f, 0.0f), 0.45f, 0.7f);
     scene.lights.push_back(makeRectangleLight(lightCenter, lightNormal, vec2(lightSize), vec3(radiance),
                                               vec3(1.0f, 0.0f, 0.0f)));
 
-    const float fovY = 45.0f;
-    const float radius = 0.62f * side + 0.8f; // patch seen obliquely, plus plant height
-    scene.camera.target = vec3(0.0f, 0.2f, 0.08f * side);
-    scene.camera.eye = scene.camera.target +
-                       normalize(vec3(0.35f, 0.62f, 1.0f)) * radius / std::sin(0.5f * fovY * kPi / 180.0f);
-    scene.camera.up = vec3(0.0f, 1.0f, 0.0f);
-    scene.camera.fovY = fovY;
+    // Frame the plants and the darker half of their shadows (the shadows of the plants' lower
+    // halves, seen from the light centre) tightly; the ground is larger.
+    std::vector<vec3> framed(scene.positions.begin() + scene.triangles[first].x, scene.positions.end());
+    for (std::size_t v = scene.triangles[first].x; v < scene.positions.size(); ++v) {
+        const vec3 p = scene.positions[v] * vec3(1.0f, 0.5f, 1.0f);
+        if (p.y > 0.0f)
+            framed.push_back(lightCenter + (lightCenter.y / (lightCenter.y - p.y)) * (p - lightCenter));
+    }
+    Bounds framedBox;
+    for (const vec3& p : framed) framedBox.extend(p);
+    scene.camera = framePoints(framed, framedBox.center(), vec3(0.35f, 0.62f, 1.0f), 45.0f, 0.95f);
     scene.validate();
     return scene;
 }

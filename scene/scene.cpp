@@ -6,6 +6,12 @@
 
 namespace stsv {
 
+namespace {
+bool finite(vec3 v) {
+    return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+} // namespace
+
 Bounds Scene::bounds() const {
     Bounds b;
     for (const vec3& p : positions) b.extend(p);
@@ -28,6 +34,8 @@ void Scene::validate() const {
         const vec3 p = positions[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             throw InputError(source, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+        if (!std::isfinite(texcoords[i].x) || !std::isfinite(texcoords[i].y))
+            throw InputError(source, "vertex " + std::to_string(i) + " has a non-finite texture coordinate");
     }
     if (triangleMaterial.size() != triangles.size())
         throw InputError(source, "internal: material count differs from triangle count");
@@ -39,10 +47,37 @@ void Scene::validate() const {
         if (triangleMaterial[t] >= materials.size())
             throw InputError(source, "triangle " + std::to_string(t) + " has an unknown material");
     }
-    for (const Material& m : materials)
+    for (const Material& m : materials) {
         if (m.alphaTexture >= static_cast<int>(textures.size()))
             throw InputError(source, "material '" + m.name + "' refers to a missing texture");
+        if (!(finite(m.albedo) && m.albedo.x >= 0.0f && m.albedo.y >= 0.0f && m.albedo.z >= 0.0f))
+            throw InputError(source, "material '" + m.name + "' has a negative or non-finite albedo");
+    }
+    for (const Texture& t : textures)
+        if (t.width <= 0 || t.height <= 0 || t.rgba.size() != std::size_t(t.width) * t.height * 4)
+            throw InputError(source, "texture '" + t.name + "' is empty or has the wrong byte count");
     if (lights.empty()) throw InputError(source, "scene has no lights");
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const Light& l = lights[i];
+        const std::string which = "light " + std::to_string(i);
+        if (l.type > LIGHT_DIRECTIONAL) throw InputError(source, which + " has an unknown type");
+        if (!(finite(l.position) && finite(l.normal) && finite(l.axisU) && finite(l.axisV) &&
+              finite(l.radiance) && std::isfinite(l.radius) && std::isfinite(l.angularRadius)))
+            throw InputError(source, which + " has a non-finite parameter");
+        if (std::abs(length(l.normal) - 1.0f) > 1e-3f)
+            throw InputError(source, which + " has a non-unit normal");
+        if (l.radiance.x < 0.0f || l.radiance.y < 0.0f || l.radiance.z < 0.0f)
+            throw InputError(source, which + " has a negative radiance");
+        if (l.type != LIGHT_DIRECTIONAL && !(l.radius > 0.0f))
+            throw InputError(source, which + " has no extent");
+        if (l.type == LIGHT_DIRECTIONAL && !(l.angularRadius >= 0.0f && l.angularRadius < 1.5707963f))
+            throw InputError(source, which + " has an angular radius outside [0, 90) degrees");
+    }
+    const vec3 forward = camera.target - camera.eye;
+    if (!(finite(camera.eye) && finite(camera.target) && finite(camera.up) && length(forward) > 0.0f &&
+          length(cross(forward, camera.up)) > 0.0f && camera.fovY > 0.0f && camera.fovY < 180.0f))
+        throw InputError(source,
+                         "camera is degenerate (eye = target, up along the view, or fovY outside (0, 180))");
 }
 
 } // namespace stsv

@@ -170,18 +170,18 @@ INSTANTIATE_TEST_SUITE_P(
             "lights[0].position", "expected an array of 3 numbers"},
         BadJson{"Overflow",
                 "{" MAT ", " TRI ", \"lights\": [{\"type\": \"sphere\", \"position\": [0, 1e999, 0], "
-                                 "\"radius\": 1, \"radiance\": 1}]}",
+                "\"radius\": 1, \"radiance\": 1}]}",
                 "invalid JSON", "1e999"},
         BadJson{"NegativeSize",
                 "{" MAT ", \"meshes\": [{\"quad\": {\"size\": [1, -2]}, \"material\": \"m\"}], " LIGHT "}",
                 "meshes[0].quad.size", "> 0"},
         BadJson{"NegativeRadius",
                 "{" MAT ", " TRI ", \"lights\": [{\"type\": \"disk\", \"position\": [0,5,0], \"normal\": "
-                                 "[0,-1,0], \"radius\": -1, \"radiance\": 1}]}",
+                "[0,-1,0], \"radius\": -1, \"radiance\": 1}]}",
                 "lights[0].radius", "> 0"},
         BadJson{"ZeroNormal",
                 "{" MAT ", " TRI ", \"lights\": [{\"type\": \"rectangle\", \"position\": [0,5,0], "
-                                 "\"normal\": [0,0,0], \"size\": 1, \"radiance\": 1}]}",
+                "\"normal\": [0,0,0], \"size\": 1, \"radiance\": 1}]}",
                 "lights[0].normal", "zero vector"},
         BadJson{"UnknownLightType", "{" MAT ", " TRI ", \"lights\": [{\"type\": \"spot\"}]}",
                 "lights[0].type", "spot"},
@@ -190,7 +190,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "meshes[0].material", "unknown material 'steel'"},
         BadJson{"IndexOutOfRange",
                 "{" MAT ", \"meshes\": [{\"vertices\": [[0,0,0],[1,0,0],[0,1,0]], \"triangles\": [[0,1,3]], "
-                        "\"material\": \"m\"}], " LIGHT "}",
+                "\"material\": \"m\"}], " LIGHT "}",
                 "meshes[0].triangles[0][2]", "out of range"},
         BadJson{"MissingTexture",
                 "{\"materials\": [{\"name\": \"m\", \"alphaTexture\": \"holes.png\"}], " TRI ", " LIGHT "}",

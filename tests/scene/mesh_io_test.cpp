@@ -330,3 +330,42 @@ TEST(MeshFile, UnknownExtensionIsAUsageError) {
 
 } // namespace
 } // namespace stsv
+
+namespace stsv {
+namespace {
+
+TEST(Obj, AcceptsCommonSyntaxVariants) {
+    // CRLF, tabs, groups, smoothing groups, vertex colours, normals, v//vn and v/vt/vn corners,
+    // negative (relative) indices, a polyline, 3-component vt: all must read like plain faces.
+    TempDir dir;
+    const MeshData mesh =
+        loadObj(dir.write("v.obj", "# exported\r\no thing\r\ng part\r\ns 1\r\n"
+                                   "v 0 0 0 1 0 0\r\nv 1 0 0 0 1 0\r\nv\t1 1 0\t0 0 1\r\nv 0 1 0 1 1 1\r\n"
+                                   "vn 0 0 1\r\nvt 0 0 0\r\nvt 1 0 0\r\nvt 1 1 0\r\nvt 0 1 0\r\n"
+                                   "f 1/1/1 2/2/1 3/3/1\r\n"
+                                   "f -4//-1 -2//-1 -1//-1\r\n"
+                                   "l 1 2 3\r\n"));
+    ASSERT_EQ(mesh.triangles.size(), 2u);
+    EXPECT_EQ(mesh.skippedFaces, 0u);
+    // Triangle 0 carries texcoords (flipped), triangle 1 has none (all corners 0).
+    const uvec3 t0 = mesh.triangles[0];
+    EXPECT_EQ(mesh.positions[t0.z], vec3(1, 1, 0));
+    EXPECT_EQ(mesh.texcoords[t0.z], vec2(1, 0));
+    const uvec3 t1 = mesh.triangles[1];
+    EXPECT_EQ(mesh.positions[t1.x], vec3(0, 0, 0));
+    EXPECT_EQ(mesh.positions[t1.y], vec3(1, 1, 0));
+    EXPECT_EQ(mesh.positions[t1.z], vec3(0, 1, 0));
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(mesh.texcoords[t1[k]], vec2(0, 0));
+}
+
+TEST(Obj, UsemtlWithoutLibraryGroupsFaces) {
+    TempDir dir;
+    const MeshData mesh = loadObj(dir.write(
+        "g.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\nusemtl b\nf 1 3 2\nusemtl a\nf 2 1 3\n"));
+    ASSERT_EQ(mesh.triangles.size(), 3u);
+    EXPECT_EQ(mesh.materials.size(), 2u);
+    EXPECT_EQ(mesh.triangleMaterial, (std::vector<std::uint32_t>{0, 1, 0}));
+}
+
+} // namespace
+} // namespace stsv

@@ -157,7 +157,9 @@ TEST(Fence, ShadowFallsOnTheGroundInView) {
         EXPECT_GT(dot(light.normal, s - light.position), 0.0f);
     }
     for (vec3 corner : {vec3(-2, 0, 0), vec3(2, 0, 0), vec3(-2, 2, 0), vec3(2, 2, 0)})
-        EXPECT_TRUE(insideFrustum(scene.camera, corner, 1.0f)) << corner.x << "," << corner.y;
+        for (float aspect : {1.0f, 16.0f / 9.0f})
+            EXPECT_TRUE(insideFrustum(scene.camera, corner, aspect))
+                << corner.x << "," << corner.y << " aspect " << aspect;
 }
 
 TEST(Fence, LightSizeKnobSetsTheRectangle) {
@@ -197,6 +199,18 @@ TEST(Foliage, DefaultHasAFewHundredSTrianglesInView) {
     EXPECT_GT(light.position.y, 3.0f);
     const vec3 s = shadowOnGround(light, vec3(0.0f, 0.8f, 0.0f));
     EXPECT_TRUE(insideFrustum(scene.camera, s, 1.0f)) << s.x << "," << s.z;
+}
+
+TEST(Foliage, LargePatchStaysInView) {
+    SceneOptions options;
+    options.set["count"] = "4000";
+    const Scene scene = loadScene("foliage", options);
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        if (!scene.perforated(t)) continue;
+        for (int k = 0; k < 3; ++k)
+            ASSERT_TRUE(insideFrustum(scene.camera, scene.positions[scene.triangles[t][k]], 1.0f))
+                << "t=" << t;
+    }
 }
 
 TEST(Foliage, SeedIsDeterministic) {
