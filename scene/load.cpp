@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <ostream>
 
 namespace stsv {
 
@@ -116,6 +117,8 @@ std::string lowerExtension(const std::string& path) {
 }
 
 } // namespace
+
+std::ostream& operator<<(std::ostream& out, const SceneKnob& knob) { return out << knob.name << '=' << knob.defaultValue; }
 
 std::vector<std::string> builtinSceneNames() {
     std::vector<std::string> names;

@@ -3,6 +3,7 @@
 
 #include "scene/scene.h"
 
+#include <iosfwd>
 #include <map>
 #include <string>
 #include <vector>
@@ -20,6 +21,9 @@ struct SceneKnob {
     std::string defaultValue;
     std::string description; ///< includes the unit and the accepted range
 };
+
+/// Prints "name=default" (the form `--set` takes).
+std::ostream& operator<<(std::ostream& out, const SceneKnob& knob);
 
 /// `spec` is a built-in name (see builtinSceneNames()), a `.json` scene file, or a bare `.obj` /
 /// `.off` mesh (placed on a ground plane under a default light, with a camera that frames it).

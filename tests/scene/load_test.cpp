@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
+
 namespace stsv {
 namespace {
 
@@ -138,6 +140,18 @@ TEST(Load, BareObjWithExampleCrate) {
     const Scene scene = loadScene(dataPath("crate.obj"));
     EXPECT_EQ(scene.triangleCount(), 14u);
     expectFramed(scene, Bounds{vec3(-0.5f, 0, -0.5f), vec3(0.5f, 1, 0.5f)});
+}
+
+} // namespace
+} // namespace stsv
+
+namespace stsv {
+namespace {
+
+TEST(Load, KnobPrintsAsSetSyntax) {
+    std::ostringstream out;
+    out << SceneKnob{"count", "64", "plants"};
+    EXPECT_EQ(out.str(), "count=64");
 }
 
 } // namespace
