@@ -1,0 +1,409 @@
+// Soft Textured Shadow Volume extrusion (STSV paper §2.2–2.3, §4.2, Fig. 6; DESIGN §4.2) and the
+// point-in-volume test. Compiles as C++ and as GLSL 4.50 (see core/dh.h): the geometry shader calls
+// stsvBuildVolume per S-triangle and emits `vertices` as one ten-vertex strip, the CPU mirror calls
+// the same function.
+//
+// Construction, for an S-triangle t = (v0, v1, v2), a light bounding sphere (c, r) and one side σ
+// of the triangle (σ = 0: the side of c; σ = 1: the other side, the paper's §6 double-sided fix):
+//  1. n_σ: unit normal of t towards the lit side. Only light points x with n_σ·(x − v0) ≥ 0 shadow
+//     through side σ; their region is bounded by the sphere (ĉ, r̂): (c, r) when c is on side σ,
+//     else the disk where the sphere crosses the plane (ĉ = projection of c, r̂ = √(r² − d²)).
+//  2. Front cap t' (§2.2, after [AAM03]): keep the vertex closest to ĉ, pull the others along their
+//     rays from ĉ to the same distance R. t lies behind t' as seen from ĉ.
+//  3. Outer plane of each edge of t' (the penumbra wedge's outer quad): through the edge, tangent
+//     to the sphere, sphere on the negative side and t' on the positive side. Every segment from a
+//     light point (negative side) through t (non-negative side, because t lies beyond t' on rays
+//     from ĉ) ends on the positive side: the planes are conservative.
+//  4. Side edges along the intersection of adjacent outer planes (cross(n_a, n_b), away from ĉ);
+//     back cap parallel to the front cap, beyond the scene box; ten-vertex strip (Fig. 6).
+// Conservative fallbacks, never NaN: an edge of t' whose line meets the sphere, or with the sphere
+// across it on the triangle's side, has no outer plane: it is left out of `planes` and bounded in
+// the strip by a plane outside the box (STSV_VOLUME_NO_TANGENT). When the sphere crosses the plane
+// of t', the front cap lies in the triangle's plane instead (STSV_VOLUME_TRIANGLE_CAP). When the
+// prism cannot be closed, the strip is a prism around the whole box behind the triangle
+// (STSV_VOLUME_BOX). Degenerate triangles and sides without light give empty volumes.
+//
+// `planes` always hold the triangle's plane (p behind t, side σ), then the plane of t' when it is
+// the front cap, then the outer planes that exist; all shifted outwards by a small slack (rounding)
+// so that the volume is conservative in float. The strip encloses {p in every plane} ∩ box.
+#ifndef STSV_VOLUMES_EXTRUSION_DH_H
+#define STSV_VOLUMES_EXTRUSION_DH_H
+
+#include "core/dh.h"
+
+DH_BEGIN
+
+/// StsvVolume::flags bits.
+DH_CONST uint STSV_VOLUME_EMPTY = 1u; ///< contains no point (degenerate triangle, or no light on this side)
+DH_CONST uint STSV_VOLUME_DEGENERATE = 2u; ///< zero-area or non-finite input (with STSV_VOLUME_EMPTY)
+DH_CONST uint STSV_VOLUME_NO_TANGENT =
+    4u; ///< an edge of t' has no outer plane: its side is not bounded by `planes`
+DH_CONST uint STSV_VOLUME_TRIANGLE_CAP = 8u; ///< sphere crosses t''s plane: front cap in the triangle's plane
+DH_CONST uint STSV_VOLUME_BOX = 16u;         ///< strip is the prism around the box behind the triangle
+
+DH_CONST uint STSV_VOLUME_MAX_PLANES = 5u;
+DH_CONST uint STSV_STRIP_VERTEX_COUNT = 10u;
+
+/// Outward slack of the stored planes, in units of the scene box diagonal (plus a term for the
+/// distance of the box from the origin): float rounding of the construction and of the plane test
+/// stays far below it.
+DH_CONST float STSV_VOLUME_SLACK = 1e-5f;
+
+/// One STSV (one side of one S-triangle). std430: 16 × 16 bytes.
+struct StsvVolume {
+    vec4
+        planes[5]; ///< world space (n, d), unit n: p is inside iff dot(n, p) + d ≥ 0 for the first planeCount
+    vec4 vertices[10]; ///< world space, w = 1: triangle strip (STSV Fig. 6), front cap first, faces outward
+                       ///< (CCW)
+    uint planeCount;   ///< 0…5
+    uint flags;        ///< STSV_VOLUME_*
+    uint pad0;
+    uint pad1;
+};
+
+#ifdef __cplusplus
+DH_STATIC_ASSERT(sizeof(StsvVolume) == 256);
+#endif
+
+/// Strip order: F_i is front-cap vertex i, B_i the back-cap vertex on the same side edge. With
+/// F0 F1 F2 counter-clockwise seen from the light, every strip triangle (odd ones with their first
+/// two vertices swapped, as Vulkan/GL rasterise strips) is counter-clockwise seen from outside:
+/// F0 F1 F2 | B2 F0 B0 F1 B1 B2 B0 → front cap, the three side quads, back cap last.
+DH_FUNC bool stsvFiniteVec(vec3 v) {
+    return !(any(isnan(v)) || any(isinf(v)));
+}
+
+DH_FUNC vec3 stsvBoxCorner(vec3 lo, vec3 hi, uint i) {
+    return vec3((i & 1u) != 0u ? hi.x : lo.x, (i & 2u) != 0u ? hi.y : lo.y, (i & 4u) != 0u ? hi.z : lo.z);
+}
+
+/// The point common to three planes (n·x + d = 0, unit normals); false if they are (nearly)
+/// dependent or the point is not finite.
+DH_FUNC bool stsvIntersectPlanes(vec4 a, vec4 b, vec4 c, DH_OUT(vec3) x) {
+    vec3 na = vec3(a);
+    vec3 nb = vec3(b);
+    vec3 nc = vec3(c);
+    vec3 bc = cross(nb, nc);
+    float det = dot(na, bc);
+    x = vec3(0.0f);
+    if (!(abs(det) > 1e-7f)) return false;
+    x = -(a.w * bc + b.w * cross(nc, na) + c.w * cross(na, nb)) / det;
+    return stsvFiniteVec(x);
+}
+
+/// Outer plane of the penumbra wedge of edge (a, b) ([AAM03], STSV §2.2): contains the edge, is
+/// tangent to the sphere (center, radius) with the sphere on its negative side, and has `inner` (the
+/// third vertex) strictly on its positive side. When both tangent planes qualify (sphere beyond the
+/// edge line), the one whose normal leans most towards `towardLight` bounds the shadow behind the
+/// triangle more tightly. False when none exists: the edge line meets the sphere, or the sphere
+/// reaches across the edge on the triangle's side.
+DH_FUNC bool stsvOuterPlane(vec3 a, vec3 b, vec3 inner, vec3 center, float radius, vec3 towardLight,
+                            DH_OUT(vec4) plane) {
+    plane = vec4(0.0f);
+    vec3 e = b - a;
+    float len = length(e);
+    if (!(len > 0.0f)) return false;
+    vec3 dir = e / len;
+    vec3 w = center - a;
+    vec3 q = w - dot(w, dir) * dir; // centre relative to the edge line, perpendicular part
+    float ql = length(q);
+    if (!(ql > radius)) return false;
+    vec3 u = q / ql;
+    vec3 v = cross(dir, u);
+    // Unit normals n ⊥ dir with n·q = −radius: the sphere touches the plane from the negative side.
+    float alpha = -radius / ql;
+    float beta = sqrt(max(1.0f - alpha * alpha, 0.0f));
+    vec3 n1 = alpha * u + beta * v;
+    vec3 n2 = alpha * u - beta * v;
+    vec3 toInner = inner - a;
+    float minSide = 1e-6f * length(toInner);
+    bool ok1 = dot(n1, toInner) > minSide;
+    bool ok2 = dot(n2, toInner) > minSide;
+    if (!ok1 && !ok2) return false;
+    vec3 n = ok1 ? n1 : n2;
+    if (ok1 && ok2 && dot(n2, towardLight) > dot(n1, towardLight)) n = n2;
+    plane = vec4(n, -dot(n, a));
+    return true;
+}
+
+/// A volume that contains nothing (every point fails planes[0]); the strip collapses to `at`.
+DH_FUNC StsvVolume stsvEmptyVolume(vec3 at, uint flags) {
+    StsvVolume v;
+    for (uint i = 0u; i < 5u; ++i) v.planes[i] = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    for (uint i = 0u; i < 10u; ++i) v.vertices[i] = vec4(at, 1.0f);
+    v.planeCount = 1u;
+    v.flags = flags | STSV_VOLUME_EMPTY;
+    v.pad0 = 0u;
+    v.pad1 = 0u;
+    return v;
+}
+
+/// Writes the strip of Fig. 6 from front cap (f0, f1, f2) and back cap (b0, b1, b2), b_i behind f_i.
+/// `toLight` is the outward normal of the front cap; the order is swapped if (f0, f1, f2) is clockwise.
+DH_FUNC void stsvWriteStrip(DH_INOUT(StsvVolume) v, vec3 f0, vec3 f1, vec3 f2, vec3 b0, vec3 b1, vec3 b2,
+                            vec3 toLight) {
+    if (dot(cross(f1 - f0, f2 - f0), toLight) < 0.0f) {
+        vec3 t = f1;
+        f1 = f2;
+        f2 = t;
+        t = b1;
+        b1 = b2;
+        b2 = t;
+    }
+    v.vertices[0] = vec4(f0, 1.0f);
+    v.vertices[1] = vec4(f1, 1.0f);
+    v.vertices[2] = vec4(f2, 1.0f);
+    v.vertices[3] = vec4(b2, 1.0f);
+    v.vertices[4] = vec4(f0, 1.0f);
+    v.vertices[5] = vec4(b0, 1.0f);
+    v.vertices[6] = vec4(f1, 1.0f);
+    v.vertices[7] = vec4(b1, 1.0f);
+    v.vertices[8] = vec4(b2, 1.0f);
+    v.vertices[9] = vec4(b0, 1.0f);
+}
+
+/// Number of volumes the triangle needs for this light: 2 when the light's bounding sphere
+/// (centre xyz, radius w) straddles the triangle's plane — both sides are lit (STSV §6) — else 1.
+/// Degenerate triangles: 1 (an empty volume). A sphere touching the plane within float rounding
+/// counts as straddling (conservative).
+DH_FUNC uint stsvSideCount(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere) {
+    vec3 nRaw = cross(v1 - v0, v2 - v0);
+    float area2 = length(nRaw);
+    if (!(area2 > 0.0f) || !stsvFiniteVec(nRaw)) return 1u;
+    vec3 n = nRaw / area2;
+    vec3 c = vec3(lightSphere);
+    float d = abs(dot(n, c - v0));
+    float slack = 1e-6f * (length(c - v0) + abs(lightSphere.w));
+    return d < lightSphere.w + slack ? 2u : 1u;
+}
+
+/// Builds the volume of one side of triangle (v0, v1, v2): side 0 faces the light centre, side 1
+/// is the opposite face (only meaningful when stsvSideCount is 2; otherwise it is empty). The box
+/// [boundsLo, boundsHi] (the scene's bounds; grown to hold the triangle) limits the extrusion.
+DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, vec3 boundsLo, vec3 boundsHi,
+                                   uint side) {
+    // Degeneracy as in stsvSetupTriangle, so an empty volume goes with a triangle that blocks nothing.
+    vec3 e1 = v1 - v0;
+    vec3 e2 = v2 - v0;
+    vec3 nRaw = cross(e1, e2);
+    float area2 = length(nRaw);
+    float edgeScale = max(max(length(e1), length(e2)), 1e-30f);
+    bool finiteInput = stsvFiniteVec(v0) && stsvFiniteVec(v1) && stsvFiniteVec(v2) &&
+                       stsvFiniteVec(vec3(lightSphere)) && !isnan(lightSphere.w) && !isinf(lightSphere.w) &&
+                       stsvFiniteVec(boundsLo) && stsvFiniteVec(boundsHi);
+    if (!finiteInput || !(area2 > 1e-7f * edgeScale * edgeScale))
+        return stsvEmptyVolume(finiteInput ? v0 : vec3(0.0f), STSV_VOLUME_DEGENERATE);
+
+    // Work relative to v0 in units of the box diagonal: thresholds become absolute and nothing
+    // overflows at huge or tiny scene scales.
+    vec3 boxLoW = min(min(boundsLo, v0), min(v1, v2));
+    vec3 boxHiW = max(max(boundsHi, v0), max(v1, v2));
+    float scaleW = max(length(boxHiW - boxLoW), 1e-30f);
+    float invScale = 1.0f / scaleW;
+    vec3 farW = max(abs(boxLoW), abs(boxHiW));
+    float slack = STSV_VOLUME_SLACK * (1.0f + max(max(farW.x, farW.y), farW.z) * invScale);
+    float margin = 1e-3f; // strip planes beyond the box, in box diagonals
+    vec3 boxLo = (boxLoW - v0) * invScale;
+    vec3 boxHi = (boxHiW - v0) * invScale;
+    vec3 p0 = vec3(0.0f);
+    vec3 p1 = e1 * invScale;
+    vec3 p2 = e2 * invScale;
+    vec3 cc = (vec3(lightSphere) - v0) * invScale;
+    float rr = abs(lightSphere.w) * invScale;
+
+    // 1. Side normal and the light region that shines on this side.
+    vec3 n = normalize(cross(p1, p2));
+    float dc = dot(n, cc);
+    if (dc < 0.0f) {
+        n = -n;
+        dc = -dc;
+    }
+    if (side == 1u) {
+        n = -n;
+        dc = -dc;
+        if (!(dc > -rr)) return stsvEmptyVolume(v0, 0u);
+    }
+    vec3 ch = cc;
+    float rh = rr;
+    if (dc < 0.0f) {
+        ch = cc - dc * n; // the disk where the sphere crosses the plane bounds the lit part
+        rh = sqrt(max(rr * rr - dc * dc, 0.0f));
+    }
+    rh = rh * (1.0f + 1e-5f) + slack;
+
+    StsvVolume vol;
+    vol.flags = 0u;
+    vol.pad0 = 0u;
+    vol.pad1 = 0u;
+    vec4 triPlane = vec4(-n, slack); // behind t (p0 = 0), STSV §2.3
+    vol.planes[0] = triPlane;
+    uint count = 1u;
+
+    // 2. Front cap t': the vertex closest to ĉ is kept, the others pulled towards ĉ (§2.2).
+    float d0 = length(p0 - ch);
+    float d1 = length(p1 - ch);
+    float d2 = length(p2 - ch);
+    float R = min(d0, min(d1, d2));
+    bool tPrimeOk = R > rh;
+    vec3 q[3];
+    q[0] = p0;
+    q[1] = p1;
+    q[2] = p2;
+    if (tPrimeOk) {
+        if (d0 > R) q[0] = ch + (p0 - ch) * (R / d0);
+        if (d1 > R) q[1] = ch + (p1 - ch) * (R / d1);
+        if (d2 > R) q[2] = ch + (p2 - ch) * (R / d2);
+    }
+
+    // 3. Outer planes of the edges of t' (edge i runs from q[i] to q[i+1]).
+    vec4 outer[3];
+    bool hasOuter[3];
+    for (uint i = 0u; i < 3u; ++i) {
+        hasOuter[i] =
+            tPrimeOk && stsvOuterPlane(q[i], q[(i + 1u) % 3u], q[(i + 2u) % 3u], ch, rh, n, outer[i]);
+        if (!hasOuter[i]) {
+            outer[i] = vec4(0.0f);
+            vol.flags |= STSV_VOLUME_NO_TANGENT;
+        }
+    }
+
+    // Front cap: the plane of t' if the whole sphere is in front of it, else the triangle's plane.
+    vec4 front = triPlane;
+    vec3 nT = cross(q[1] - q[0], q[2] - q[0]);
+    float nTLength = length(nT);
+    float qScale = max(length(q[1] - q[0]), length(q[2] - q[0]));
+    bool capTPrime = false;
+    if (tPrimeOk && nTLength > 1e-7f * qScale * qScale) {
+        nT = nT / nTLength;
+        float dT = dot(nT, ch - q[0]);
+        if (dT < 0.0f) {
+            nT = -nT;
+            dT = -dT;
+        }
+        if (dT > rh) {
+            front = vec4(-nT, dot(nT, q[0]) + slack);
+            capTPrime = true;
+            vol.planes[count] = front;
+            count += 1u;
+        }
+    }
+    if (!capTPrime) vol.flags |= STSV_VOLUME_TRIANGLE_CAP;
+    for (uint i = 0u; i < 3u; ++i) {
+        if (hasOuter[i]) {
+            vol.planes[count] = outer[i] + vec4(0.0f, 0.0f, 0.0f, slack);
+            count += 1u;
+        }
+    }
+    vol.planeCount = count;
+    for (uint i = count; i < 5u; ++i) vol.planes[i] = vec4(0.0f);
+
+    // 4. The strip's prism: front cap, three side planes, back cap, each one more slack outwards
+    // so that it strictly encloses the stored planes' region inside the box.
+    vec3 toLight = -vec3(front);
+    vec4 stripFront = front + vec4(0.0f, 0.0f, 0.0f, slack);
+    vec4 lateral[3];
+    bool ok = true;
+    for (uint i = 0u; i < 3u; ++i) {
+        if (hasOuter[i]) {
+            lateral[i] = outer[i] + vec4(0.0f, 0.0f, 0.0f, 2.0f * slack);
+        } else {
+            // No outer plane: a plane perpendicular to the front cap along the edge, outside the box.
+            vec3 a = q[i];
+            vec3 m = cross(toLight, q[(i + 1u) % 3u] - a);
+            float ml = length(m);
+            if (!(ml > 0.0f)) {
+                ok = false;
+                m = toLight;
+            } else {
+                m = m / ml;
+            }
+            if (dot(m, q[(i + 2u) % 3u] - a) < 0.0f) m = -m;
+            float lowest = min(dot(m, a), dot(m, q[(i + 1u) % 3u]));
+            for (uint k = 0u; k < 8u; ++k) lowest = min(lowest, dot(m, stsvBoxCorner(boxLo, boxHi, k)));
+            lateral[i] = vec4(m, margin - lowest);
+        }
+    }
+    float frontLevel = stripFront.w; // front cap: dot(toLight, x) ≤ frontLevel
+    float backLevel = frontLevel - 0.01f;
+    for (uint k = 0u; k < 8u; ++k) backLevel = min(backLevel, dot(toLight, stsvBoxCorner(boxLo, boxHi, k)));
+    vec4 back = vec4(toLight, margin - backLevel);
+
+    vec3 f[3];
+    vec3 b[3];
+    for (uint i = 0u; i < 3u; ++i) {
+        vec4 before = lateral[(i + 2u) % 3u];
+        ok = ok && stsvIntersectPlanes(stripFront, before, lateral[i], f[i]);
+        ok = ok && stsvIntersectPlanes(back, before, lateral[i], b[i]);
+    }
+    // A closed triangular prism iff all six corners lie in all five half-spaces and both caps keep
+    // their orientation (otherwise the side planes cross between the caps).
+    if (ok) {
+        for (uint i = 0u; i < 3u; ++i) {
+            for (uint j = 0u; j < 5u; ++j) {
+                vec4 pl = j == 0u ? stripFront : (j == 1u ? back : lateral[j - 2u]);
+                float tol = 1e-4f * (1.0f + length(f[i]));
+                ok = ok && dot(vec3(pl), f[i]) + pl.w >= -tol;
+                tol = 1e-4f * (1.0f + length(b[i]));
+                ok = ok && dot(vec3(pl), b[i]) + pl.w >= -tol;
+            }
+            ok = ok && length(f[i]) < 1e6f && length(b[i]) < 1e6f;
+        }
+        float frontTurn = dot(cross(f[1] - f[0], f[2] - f[0]), toLight);
+        float backTurn = dot(cross(b[1] - b[0], b[2] - b[0]), toLight);
+        ok = ok && abs(frontTurn) > 1e-12f && frontTurn * backTurn > 0.0f;
+    }
+    if (!ok) {
+        // Fallback: a prism around the whole box behind the triangle's plane.
+        vol.flags |= STSV_VOLUME_BOX;
+        vec3 u = normalize(cross(n, abs(n.x) < 0.6f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
+        vec3 w = cross(n, u);
+        vec2 lo2 = vec2(min(min(dot(u, p1), dot(u, p2)), 0.0f), min(min(dot(w, p1), dot(w, p2)), 0.0f));
+        vec2 hi2 = vec2(max(max(dot(u, p1), dot(u, p2)), 0.0f), max(max(dot(w, p1), dot(w, p2)), 0.0f));
+        float depthFront = 2.0f * slack;
+        float depthBack = depthFront - 0.01f;
+        for (uint k = 0u; k < 8u; ++k) {
+            vec3 corner = stsvBoxCorner(boxLo, boxHi, k);
+            vec2 uw = vec2(dot(u, corner), dot(w, corner));
+            lo2 = min(lo2, uw);
+            hi2 = max(hi2, uw);
+            depthBack = min(depthBack, dot(n, corner));
+        }
+        lo2 -= vec2(margin);
+        hi2 += vec2(margin);
+        depthBack -= margin;
+        vec2 span = 2.0f * (hi2 - lo2); // triangle (0,0), (2W,0), (0,2H) holds the rectangle W×H
+        vec3 base = lo2.x * u + lo2.y * w;
+        vec3 c0 = base;
+        vec3 c1 = base + span.x * u;
+        vec3 c2 = base + span.y * w;
+        f[0] = c0 + depthFront * n;
+        f[1] = c1 + depthFront * n;
+        f[2] = c2 + depthFront * n;
+        b[0] = c0 + depthBack * n;
+        b[1] = c1 + depthBack * n;
+        b[2] = c2 + depthBack * n;
+        toLight = n;
+    }
+    stsvWriteStrip(vol, f[0], f[1], f[2], b[0], b[1], b[2], toLight);
+
+    // Back to world space: x_world = v0 + scaleW·x; a plane (m, d) becomes (m, d·scaleW − m·v0).
+    for (uint i = 0u; i < 5u; ++i) {
+        vec3 m = vec3(vol.planes[i]);
+        vol.planes[i] = vec4(m, vol.planes[i].w * scaleW - dot(m, v0));
+    }
+    for (uint i = 0u; i < 10u; ++i) vol.vertices[i] = vec4(v0 + scaleW * vec3(vol.vertices[i]), 1.0f);
+    return vol;
+}
+
+/// STSV §2.3: p is inside iff it is on the inner side of every plane of the volume.
+DH_FUNC bool stsvPointInVolume(StsvVolume v, vec3 p) {
+    uint count = min(v.planeCount, 5u);
+    for (uint i = 0u; i < count; ++i) {
+        if (dot(vec3(v.planes[i]), p) + v.planes[i].w < 0.0f) return false;
+    }
+    return true;
+}
+
+DH_END
+
+#endif // STSV_VOLUMES_EXTRUSION_DH_H
