@@ -59,6 +59,7 @@ DescriptorSet::DescriptorSet(const Device& device, const DescriptorSetLayout& la
     std::map<VkDescriptorType, uint32_t> counts;
     for (const DescriptorBinding& b : layout.bindings()) counts[b.type] += b.count;
     std::vector<VkDescriptorPoolSize> sizes;
+    sizes.reserve(counts.size());
     for (const auto& [type, count] : counts) sizes.push_back({type, count});
     VkDescriptorPoolCreateInfo poolInfo{};
     poolInfo.sType = VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -225,7 +226,7 @@ std::size_t selectDevice(const std::vector<DeviceInfo>& infos, const std::string
         return chosen;
     }
     if (std::all_of(select.begin(), select.end(), [](unsigned char c) { return std::isdigit(c); })) {
-        const unsigned long index = std::stoul(select);
+        const unsigned long index = select.size() > 9 ? ULONG_MAX : std::stoul(select);
         if (index >= infos.size())
             throw UsageError("device index " + select + " out of range (devices: " + names() + ")");
         chosen = index;

@@ -34,6 +34,8 @@ void beginRendering(VkCommandBuffer cmd, std::span<const ColorTarget> colors,
     depthInfo.sType = VK_STRUCTURE_TYPE_RENDERING_ATTACHMENT_INFO;
     if (depth) {
         if (depth->image == nullptr) throw UsageError("null depth attachment");
+        if (depth->readOnly && depth->clear)
+            throw UsageError("a read-only depth attachment cannot be cleared");
         takeExtent(*depth->image);
         const VkImageLayout layout = depth->readOnly ? VK_IMAGE_LAYOUT_DEPTH_READ_ONLY_OPTIMAL
                                                      : VK_IMAGE_LAYOUT_DEPTH_ATTACHMENT_OPTIMAL;

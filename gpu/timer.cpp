@@ -16,8 +16,8 @@ GpuTimer::GpuTimer(const Device& device, uint32_t maxScopes) : m_device(&device)
     info.queryCount = 2 * maxScopes;
     STSV_VK_CHECK(vkCreateQueryPool(device.handle(), &info, nullptr, &m_pool));
     if (device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU)
-        m_fence = Buffer(device, 2 * maxScopes * sizeof(uint64_t), VK_BUFFER_USAGE_TRANSFER_DST_BIT,
-                         MemoryUsage::DeviceLocal);
+        m_fence = Buffer(device, VkDeviceSize(2) * maxScopes * sizeof(uint64_t),
+                         VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceLocal);
 }
 
 void GpuTimer::writeTimestamp(VkCommandBuffer cmd, uint32_t query) {

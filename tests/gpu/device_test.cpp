@@ -134,6 +134,7 @@ TEST(DeviceSelection, ByNameSubstringAndIndexAndRejectsUnknown) {
     }
     EXPECT_THROW(Device(deviceOptions("no-such-gpu-xyz", false)), UsageError);
     EXPECT_THROW(Device(deviceOptions("99", false)), UsageError);
+    EXPECT_THROW(Device(deviceOptions("123456789012345678901234567890", false)), UsageError);
     try {
         Device bad(deviceOptions("no-such-gpu-xyz", false));
     } catch (const UsageError& e) {

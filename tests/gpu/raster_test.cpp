@@ -55,7 +55,7 @@ void main() { outBits = pc.bits; }
 
 /// Expected OR of the bits of every rect covering each pixel, computed on the CPU.
 std::vector<uint32_t> expectedBits(const std::vector<Rect>& rects) {
-    std::vector<uint32_t> expected(kSize * kSize * 2, 0u);
+    std::vector<uint32_t> expected(std::size_t(kSize) * kSize * 2, 0u);
     for (uint32_t y = 0; y < kSize; ++y)
         for (uint32_t x = 0; x < kSize; ++x)
             for (const Rect& r : rects)
@@ -232,7 +232,7 @@ void main() {
     desc.depthCompare = VK_COMPARE_OP_GREATER;
     Pipeline pipeline = createGraphicsPipeline(device(), layout, desc);
 
-    const std::vector<uint32_t> zeros(kSize * kSize, 0u);
+    const std::vector<uint32_t> zeros(std::size_t(kSize) * kSize, 0u);
     Buffer counters =
         createBuffer(device(), std::span<const uint32_t>(zeros), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     DescriptorSet set(device(), setLayout);

@@ -51,7 +51,8 @@ TEST_F(ResourcesTest, BufferRejectsBadSizes) {
     EXPECT_THROW(buffer.download(data, 4, 16), UsageError);
     Buffer moved = std::move(buffer);
     EXPECT_EQ(moved.size(), 16u);
-    EXPECT_THROW(buffer.upload(data, 4), UsageError); // moved-from
+    // Using the moved-from buffer is the point of this check.
+    EXPECT_THROW(buffer.upload(data, 4), UsageError); // NOLINT(bugprone-use-after-move)
 }
 
 TEST_F(ResourcesTest, GpuCopyBetweenBuffers) {
@@ -104,7 +105,7 @@ TEST_F(ResourcesTest, ImageClearAndReadbackRowOrder) {
     // Rows come back top (y = 0) first: write row index into each texel by clearing row by row.
     const uint32_t width = 5, height = 4;
     Image image(device(), {width, height, VK_FORMAT_R32_UINT, VK_IMAGE_USAGE_STORAGE_BIT});
-    std::vector<uint32_t> texels(width * height);
+    std::vector<uint32_t> texels(std::size_t(width) * height);
     for (uint32_t y = 0; y < height; ++y)
         for (uint32_t x = 0; x < width; ++x) texels[y * width + x] = y * 100 + x;
     image.upload(texels.data(), texels.size() * 4, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
@@ -141,7 +142,7 @@ void main() {
     Pipeline pipeline = createComputePipeline(
         device(), layout, compiler().compileSource(source, VK_SHADER_STAGE_COMPUTE_BIT, "fetch.comp"));
 
-    std::vector<uint8_t> rgba(size * size * 4);
+    std::vector<uint8_t> rgba(std::size_t(size) * size * 4);
     for (std::size_t i = 0; i < rgba.size(); ++i) rgba[i] = uint8_t((i * 37u + 11u) % 256u);
     Image texture(device(), {size, size, VK_FORMAT_R8G8B8A8_UNORM, VK_IMAGE_USAGE_SAMPLED_BIT});
     texture.upload(rgba.data(), rgba.size(), VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL);
@@ -160,8 +161,8 @@ void main() {
     });
     const std::vector<uint32_t> words = result.readback<uint32_t>();
     for (uint32_t i = 0; i < size * size; ++i) {
-        ASSERT_EQ(words[2 * i], rgba[4 * i + 3]) << "alpha of texel " << i;
-        ASSERT_EQ(words[2 * i + 1], rgba[4 * i + 0]) << "red of texel " << i;
+        ASSERT_EQ(words[2 * std::size_t(i)], rgba[4 * std::size_t(i) + 3]) << "alpha of texel " << i;
+        ASSERT_EQ(words[2 * std::size_t(i) + 1], rgba[4 * std::size_t(i) + 0]) << "red of texel " << i;
     }
 }
 

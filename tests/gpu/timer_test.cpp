@@ -56,7 +56,7 @@ void main() {
     desc.colorFormats = {VK_FORMAT_R32_SFLOAT};
     Pipeline drawPipeline = createGraphicsPipeline(device(), drawLayout, desc);
     Image target(device(), {64, 64, VK_FORMAT_R32_SFLOAT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
-    Buffer data(device(), 64 * 64 * sizeof(float), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+    Buffer data(device(), sizeof(float) * 64 * 64, VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                 MemoryUsage::DeviceLocal);
     DescriptorSet set(device(), setLayout);
     set.writeBuffer(0, data);
