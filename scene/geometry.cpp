@@ -165,6 +165,7 @@ Camera framePoints(const std::vector<vec3>& points, vec3 target, vec3 fromTarget
 
 Camera frameBox(const Bounds& box, vec3 target, vec3 fromTarget, float fovY, float fill) {
     std::vector<vec3> corners;
+    corners.reserve(8);
     for (int c = 0; c < 8; ++c)
         corners.emplace_back((c & 1) ? box.hi.x : box.lo.x, (c & 2) ? box.hi.y : box.lo.y,
                              (c & 4) ? box.hi.z : box.lo.z);

@@ -466,9 +466,9 @@ Scene loadJsonScene(const std::string& path) {
         // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
         std::string message = e.what();
         if (const auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
-        const std::string text_ = text.str();
+        const std::string source = text.str();
         std::size_t line = 1;
-        for (std::size_t i = 0; i < std::min(e.byte, text_.size()); ++i) line += text_[i] == '\n' ? 1 : 0;
+        for (std::size_t i = 0; i < std::min(e.byte, source.size()); ++i) line += source[i] == '\n' ? 1 : 0;
         throw InputError(path, line, "invalid JSON: " + message);
     }
     return SceneBuilder(path).build(root);

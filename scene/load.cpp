@@ -58,11 +58,17 @@ class Knobs {
     Knobs(const std::string& scene, const SceneOptions& options, const std::vector<SceneKnob>& accepted)
         : m_scene(scene), m_options(options) {
         std::vector<std::string> names;
+        names.reserve(accepted.size());
         for (const SceneKnob& k : accepted) names.push_back(k.name);
         for (const auto& [key, value] : options.set)
-            if (std::find(names.begin(), names.end(), key) == names.end())
-                throw UsageError("scene '" + scene + "' has no knob '" + key +
-                                 "' (accepted: " + joinNames(names) + ")");
+            if (std::find(names.begin(), names.end(), key) == names.end()) {
+                std::string message = "scene '" + scene + "' has no knob '";
+                message += key;
+                message += "' (accepted: ";
+                message += joinNames(names);
+                message += ")";
+                throw UsageError(message);
+            }
     }
 
     long long integer(const std::string& name, long long fallback, long long lo, long long hi) const {
@@ -118,7 +124,9 @@ std::string lowerExtension(const std::string& path) {
 
 } // namespace
 
-std::ostream& operator<<(std::ostream& out, const SceneKnob& knob) { return out << knob.name << '=' << knob.defaultValue; }
+std::ostream& operator<<(std::ostream& out, const SceneKnob& knob) {
+    return out << knob.name << '=' << knob.defaultValue;
+}
 
 std::vector<std::string> builtinSceneNames() {
     std::vector<std::string> names;

@@ -214,7 +214,8 @@ Scene makeFoliageScene(const FoliageParams& params) {
     for (int i = 0; i < params.count; ++i) {
         const int cell = cells[std::size_t(i)];
         const float cx = (float(cell % g) + 0.5f) * params.spacing - 0.5f * side;
-        const float cz = (float(cell / g) + 0.5f) * params.spacing - 0.5f * side;
+        const float cz = (float(cell / g) + 0.5f) * params.spacing -
+                         0.5f * side; // NOLINT(bugprone-integer-division): row index
         const vec3 base(cx + rng.uniform(-0.3f, 0.3f) * params.spacing, 0.0f,
                         cz + rng.uniform(-0.3f, 0.3f) * params.spacing);
         const float height = rng.uniform(0.7f, 1.2f) * std::min(1.0f, params.spacing / 0.75f);

@@ -131,6 +131,23 @@ TEST(JsonScene, DirectionalLightAngleIsInDegrees) {
     EXPECT_NEAR(scene.lights[1].radius, std::sqrt(0.25f + 0.0625f), 1e-6f);
 }
 
+TEST(JsonScene, RotationListsApplyInOrderAndCommentsAreAllowed) {
+    TempDir dir;
+    const std::string path = dir.write("r.json", R"({
+      // rotations: first about z, then about x
+      "materials": [{"name": "m", "albedo": 0.5}],
+      "meshes": [{"vertices": [[1, 0, 0], [0, 1, 0], [0, 0, 1]], "triangles": [[0, 1, 2]], "material": "m",
+                  "transform": {"rotate": [{"axis": [0, 0, 1], "degrees": 90}, {"axis": [1, 0, 0], "degrees": 90}]}}],
+      /* one light */
+      "lights": [{"type": "sphere", "position": [0, 5, 0], "radius": 0.5, "radiance": 1}]
+    })");
+    const Scene scene = loadJsonScene(path);
+    // (1,0,0) → z 90° → (0,1,0) → x 90° → (0,0,1).
+    const vec3 p = scene.positions[scene.triangles[0][0]];
+    EXPECT_LT(length(p - vec3(0, 0, 1)), 1e-5f)
+        << p.x << "," << p.y << "," << p.z << " (float sin/cos of 90°)";
+}
+
 struct BadJson {
     const char* name;
     const char* text;
