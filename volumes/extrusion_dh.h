@@ -162,15 +162,24 @@ DH_FUNC void stsvWriteStrip(DH_INOUT(StsvVolume) v, vec3 f0, vec3 f1, vec3 f2, v
     v.vertices[9] = vec4(b0, 1.0f);
 }
 
+/// Zero-area or non-finite triangle, by the criterion of stsvSetupTriangle (stsv_dh.h), so that a
+/// triangle without volume is also one that blocks nothing.
+DH_FUNC bool stsvTriangleIsDegenerate(vec3 v0, vec3 v1, vec3 v2) {
+    vec3 e1 = v1 - v0;
+    vec3 e2 = v2 - v0;
+    float area2 = length(cross(e1, e2));
+    float edgeScale = max(max(length(e1), length(e2)), 1e-30f);
+    return !(area2 > 1e-7f * edgeScale * edgeScale) || !stsvFiniteVec(v0) || !stsvFiniteVec(v1) ||
+           !stsvFiniteVec(v2);
+}
+
 /// Number of volumes the triangle needs for this light: 2 when the light's bounding sphere
 /// (centre xyz, radius w) straddles the triangle's plane — both sides are lit (STSV §6) — else 1.
 /// Degenerate triangles: 1 (an empty volume). A sphere touching the plane within float rounding
 /// counts as straddling (conservative).
 DH_FUNC uint stsvSideCount(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere) {
-    vec3 nRaw = cross(v1 - v0, v2 - v0);
-    float area2 = length(nRaw);
-    if (!(area2 > 0.0f) || !stsvFiniteVec(nRaw)) return 1u;
-    vec3 n = nRaw / area2;
+    if (stsvTriangleIsDegenerate(v0, v1, v2)) return 1u;
+    vec3 n = normalize(cross(v1 - v0, v2 - v0));
     vec3 c = vec3(lightSphere);
     float d = abs(dot(n, c - v0));
     float slack = 1e-6f * (length(c - v0) + abs(lightSphere.w));
@@ -182,16 +191,12 @@ DH_FUNC uint stsvSideCount(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere) {
 /// [boundsLo, boundsHi] (the scene's bounds; grown to hold the triangle) limits the extrusion.
 DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, vec3 boundsLo, vec3 boundsHi,
                                    uint side) {
-    // Degeneracy as in stsvSetupTriangle, so an empty volume goes with a triangle that blocks nothing.
     vec3 e1 = v1 - v0;
     vec3 e2 = v2 - v0;
-    vec3 nRaw = cross(e1, e2);
-    float area2 = length(nRaw);
-    float edgeScale = max(max(length(e1), length(e2)), 1e-30f);
     bool finiteInput = stsvFiniteVec(v0) && stsvFiniteVec(v1) && stsvFiniteVec(v2) &&
                        stsvFiniteVec(vec3(lightSphere)) && !isnan(lightSphere.w) && !isinf(lightSphere.w) &&
                        stsvFiniteVec(boundsLo) && stsvFiniteVec(boundsHi);
-    if (!finiteInput || !(area2 > 1e-7f * edgeScale * edgeScale))
+    if (!finiteInput || stsvTriangleIsDegenerate(v0, v1, v2))
         return stsvEmptyVolume(finiteInput ? v0 : vec3(0.0f), STSV_VOLUME_DEGENERATE);
 
     // Work relative to v0 in units of the box diagonal: thresholds become absolute and nothing

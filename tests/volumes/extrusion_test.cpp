@@ -1,0 +1,707 @@
+// STSV extrusion (DESIGN §4.2, volumes/extrusion_dh.h): conservativeness against Embree, tightness,
+// the edge cases, and the ten-vertex strip as a closed, outward-oriented convex surface.
+#include "core/error.h"
+#include "volume_test_util.h"
+#include "volumes/extrusion.h"
+#include "volumes/stsv_dh.h"
+
+#include <embree3/rtcore.h>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+namespace stsv {
+namespace {
+
+using test::Rng;
+using test::str;
+
+// ---------------------------------------------------------------------------------------------
+// Embree: one triangle, occlusion of segment p → s exactly as the reference renderer casts it.
+
+class EmbreeTriangle {
+  public:
+    EmbreeTriangle(RTCDevice device, vec3 v0, vec3 v1, vec3 v2, bool robust) {
+        m_scene = rtcNewScene(device);
+        if (robust) rtcSetSceneFlags(m_scene, RTC_SCENE_FLAG_ROBUST);
+        RTCGeometry geom = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+        auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), 3));
+        const vec3 v[3] = {v0, v1, v2};
+        for (int i = 0; i < 3; ++i)
+            for (int k = 0; k < 3; ++k) vertices[3 * i + k] = v[i][k];
+        auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+            geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), 1));
+        indices[0] = 0;
+        indices[1] = 1;
+        indices[2] = 2;
+        rtcCommitGeometry(geom);
+        rtcAttachGeometry(m_scene, geom);
+        rtcReleaseGeometry(geom);
+        rtcCommitScene(m_scene);
+    }
+    ~EmbreeTriangle() { rtcReleaseScene(m_scene); }
+    EmbreeTriangle(const EmbreeTriangle&) = delete;
+    EmbreeTriangle& operator=(const EmbreeTriangle&) = delete;
+
+    /// rtcOccluded1 from p along the unnormalised s − p, t ∈ [SHADOW_T_MIN, 1].
+    bool occluded(vec3 p, vec3 s) const {
+        RTCIntersectContext context;
+        rtcInitIntersectContext(&context);
+        RTCRay ray{};
+        ray.org_x = p.x;
+        ray.org_y = p.y;
+        ray.org_z = p.z;
+        const vec3 d = s - p;
+        ray.dir_x = d.x;
+        ray.dir_y = d.y;
+        ray.dir_z = d.z;
+        ray.tnear = SHADOW_T_MIN;
+        ray.tfar = 1.0f;
+        ray.mask = 0xFFFFFFFFu;
+        ray.flags = 0;
+        ray.time = 0.0f;
+        rtcOccluded1(m_scene, &context, &ray);
+        return ray.tfar == -std::numeric_limits<float>::infinity();
+    }
+
+  private:
+    RTCScene m_scene = nullptr;
+};
+
+class EmbreeDevice {
+  public:
+    EmbreeDevice() : m_device(rtcNewDevice(nullptr)) {}
+    ~EmbreeDevice() { rtcReleaseDevice(m_device); }
+    EmbreeDevice(const EmbreeDevice&) = delete;
+    EmbreeDevice& operator=(const EmbreeDevice&) = delete;
+    RTCDevice get() const { return m_device; }
+
+  private:
+    RTCDevice m_device;
+};
+
+// ---------------------------------------------------------------------------------------------
+// Random configurations.
+
+enum Family : int {
+    FarLight,        ///< light 3–10 triangle sizes away
+    NearLight,       ///< light close and large: vertices in the sphere, edge lines through it
+    Straddling,      ///< centre within ±r/2 of the plane: two volumes
+    CentreInPlane,   ///< centre on the plane (up to float rounding)
+    PointLight,      ///< r = 0
+    EdgeTowardLight, ///< the light sits on the extension of an edge
+    Scaled,          ///< far light at scale 1e-3…1e3 with an offset of 10⁴ scales
+    FamilyCount
+};
+const char* const kFamilyNames[] = {"far light",   "near light",        "straddling", "centre in plane",
+                                    "point light", "edge toward light", "scaled"};
+
+struct Config {
+    vec3 v0, v1, v2;
+    vec4 light; ///< centre, radius
+    Bounds bounds;
+    int family;
+    float scale; ///< length scale of the configuration
+};
+
+std::ostream& operator<<(std::ostream& os, const Config& c) {
+    return os << "family=" << kFamilyNames[c.family] << " v0=" << str(c.v0) << " v1=" << str(c.v1)
+              << " v2=" << str(c.v2) << " light=" << str(c.light) << " box=" << str(c.bounds.lo) << ".."
+              << str(c.bounds.hi);
+}
+
+Config makeConfig(Rng& rng, int family) {
+    Config c{};
+    c.family = family;
+    float scale = 1.0f;
+    vec3 offset(0.0f);
+    if (family == Scaled) {
+        scale = rng.logUniform(1e-3f, 1e3f);
+        offset = rng.inCube(1e4f) * scale;
+    }
+    c.scale = scale;
+    c.v0 = offset + rng.inCube(1.0f) * scale;
+    c.v1 = offset + rng.inCube(1.0f) * scale;
+    c.v2 = offset + rng.inCube(1.0f) * scale;
+    const vec3 centroid = (c.v0 + c.v1 + c.v2) / 3.0f;
+    const vec3 n = normalize(cross(c.v1 - c.v0, c.v2 - c.v0));
+    float r = rng.logUniform(0.01f, 2.0f) * scale;
+    vec3 centre = centroid + rng.onSphere() * rng.uniformf(3.0f, 10.0f) * scale;
+    switch (family) {
+    case NearLight:
+        centre = centroid + rng.onSphere() * rng.uniformf(0.3f, 2.0f) * scale;
+        r = rng.uniformf(0.1f, 1.5f) * scale;
+        break;
+    case Straddling:
+        centre = centroid + rng.inCube(2.0f) * scale;
+        centre += n * (rng.uniformf(-0.5f, 0.5f) * r - dot(n, centre - c.v0));
+        break;
+    case CentreInPlane:
+        centre = centroid + rng.inCube(3.0f) * scale;
+        centre -= n * dot(n, centre - c.v0);
+        break;
+    case PointLight:
+        r = 0.0f;
+        break;
+    case EdgeTowardLight: {
+        const vec3 a = rng.chance(0.5) ? c.v0 : c.v1;
+        const vec3 b = a == c.v0 ? c.v1 : c.v2;
+        centre = b + (b - a) * rng.uniformf(0.5f, 3.0f) + rng.inCube(0.01f) * scale;
+        r = rng.logUniform(0.01f, 0.5f) * scale;
+        break;
+    }
+    default:
+        break;
+    }
+    c.light = vec4(centre, r);
+    c.bounds.extend(offset - vec3(5.0f * scale));
+    c.bounds.extend(offset + vec3(5.0f * scale));
+    for (vec3 v : {c.v0, c.v1, c.v2}) c.bounds.extend(v);
+    return c;
+}
+
+std::vector<StsvVolume> volumesOf(const Config& c) {
+    return buildTriangleVolumes(c.v0, c.v1, c.v2, c.light, c.bounds, true);
+}
+
+bool finiteVolume(const StsvVolume& v) {
+    for (const vec4& p : v.planes)
+        if (!stsvFiniteVec(vec3(p)) || !std::isfinite(p.w)) return false;
+    for (const vec4& p : v.vertices)
+        if (!stsvFiniteVec(vec3(p)) || !std::isfinite(p.w)) return false;
+    return true;
+}
+
+/// A point of the light: in the ball, or (half the time) on its surface.
+vec3 lightPoint(Rng& rng, vec4 light) {
+    const vec3 u = rng.chance(0.5) ? rng.onSphere() : rng.inBall();
+    return vec3(light) + u * light.w;
+}
+
+vec3 trianglePoint(Rng& rng, const Config& c) {
+    vec2 b = rng.barycentric();
+    const double pick = rng.uniform();
+    if (pick < 0.1)
+        b = vec2(b.x, 0.0f); // on edge v0v1
+    else if (pick < 0.2)
+        b = vec2(0.0f, b.y); // on edge v0v2
+    else if (pick < 0.3)
+        b = vec2(b.x, 1.0f - b.x); // on edge v1v2
+    else if (pick < 0.35)
+        b = vec2(float(rng.index(2)), 0.0f); // a vertex
+    return c.v0 + b.x * (c.v1 - c.v0) + b.y * (c.v2 - c.v0);
+}
+
+bool inBox(const Bounds& b, vec3 p) {
+    return all(lessThanEqual(b.lo, p)) && all(lessThanEqual(p, b.hi));
+}
+
+// ---------------------------------------------------------------------------------------------
+// (b) Conservativeness and tightness.
+
+struct FamilyStats {
+    long configs = 0, volumes = 0, noTangent = 0, triangleCap = 0, box = 0;
+    long pairs = 0, occludedPairs = 0, misses = 0;
+    long uniformInVolume = 0, uniformInVolumeShadowed = 0;
+};
+
+TEST(Extrusion, ConservativeAgainstEmbree) {
+    EmbreeDevice device;
+    Rng rng(4242);
+    std::array<FamilyStats, FamilyCount> stats{};
+    constexpr int kConfigsPerFamily = 500;
+    constexpr int kConstructed = 30; // receivers behind the triangle, p = y + λ(y − x)
+    constexpr int kUniform = 30;     // receivers uniform in the box (tightness)
+    constexpr int kSamples = 8;
+    int printed = 0;
+    for (int family = 0; family < FamilyCount; ++family) {
+        FamilyStats& st = stats[family];
+        for (int config = 0; config < kConfigsPerFamily; ++config) {
+            const Config c = makeConfig(rng, family);
+            const std::vector<StsvVolume> volumes = volumesOf(c);
+            if (volumes[0].flags & STSV_VOLUME_DEGENERATE) continue;
+            ++st.configs;
+            for (const StsvVolume& v : volumes) {
+                ASSERT_TRUE(finiteVolume(v)) << c;
+                ++st.volumes;
+                st.noTangent += (v.flags & STSV_VOLUME_NO_TANGENT) != 0;
+                st.triangleCap += (v.flags & STSV_VOLUME_TRIANGLE_CAP) != 0;
+                st.box += (v.flags & STSV_VOLUME_BOX) != 0;
+            }
+            const EmbreeTriangle embree(device.get(), c.v0, c.v1, c.v2, config % 2 == 0);
+            for (int i = 0; i < kConstructed + kUniform; ++i) {
+                const bool constructed = i < kConstructed;
+                vec3 p;
+                vec3 x(0.0f);
+                if (constructed) {
+                    const vec3 y = trianglePoint(rng, c);
+                    x = lightPoint(rng, c.light);
+                    p = y + rng.logUniform(1e-4f, 20.0f) * (y - x);
+                    if (!inBox(c.bounds, p)) continue;
+                } else {
+                    p = rng.inBox(c.bounds.lo, c.bounds.hi);
+                }
+                const bool inside = pointInAnyVolume(volumes, p);
+                bool shadowed = false;
+                const int sampleCount = constructed ? kSamples : 4 * kSamples;
+                for (int k = 0; k < sampleCount; ++k) {
+                    const vec3 s = constructed && k == 0 ? x : lightPoint(rng, c.light);
+                    ++st.pairs;
+                    if (!embree.occluded(p, s)) continue;
+                    ++st.occludedPairs;
+                    shadowed = true;
+                    if (!inside) {
+                        ++st.misses;
+                        if (printed++ < 10)
+                            ADD_FAILURE() << "Embree occludes p→s but p is in no volume: p=" << str(p)
+                                          << " s=" << str(s) << " flags=" << volumes[0].flags
+                                          << " sides=" << volumes.size() << " " << c;
+                    }
+                }
+                if (!constructed && inside) {
+                    ++st.uniformInVolume;
+                    st.uniformInVolumeShadowed += shadowed;
+                }
+            }
+        }
+    }
+    FamilyStats total;
+    for (int f = 0; f < FamilyCount; ++f) {
+        const FamilyStats& s = stats[f];
+        std::printf(
+            "[conservative] %-18s configs %4ld volumes %4ld (no-tangent %4ld, triangle cap %4ld, box %4ld)  "
+            "pairs %7ld occluded %7ld misses %ld  tightness: %5ld/%5ld = %.2f of uniform p in a volume are "
+            "shadowed\n",
+            kFamilyNames[f], s.configs, s.volumes, s.noTangent, s.triangleCap, s.box, s.pairs,
+            s.occludedPairs, s.misses, s.uniformInVolumeShadowed, s.uniformInVolume,
+            s.uniformInVolume ? double(s.uniformInVolumeShadowed) / double(s.uniformInVolume) : 0.0);
+        total.occludedPairs += s.occludedPairs;
+        total.misses += s.misses;
+    }
+    EXPECT_GE(total.occludedPairs, 100'000);
+    EXPECT_EQ(total.misses, 0);
+    // Tightness sanity where the paper's construction applies (far lights: fallbacks only for the
+    // few that straddle the plane): half the volume points see the triangle over part of the light.
+    const FamilyStats& far = stats[FarLight];
+    EXPECT_GT(double(far.uniformInVolumeShadowed), 0.4 * double(far.uniformInVolume));
+    EXPECT_LT(double(far.box), 0.1 * double(far.volumes));
+    const FamilyStats& point = stats[PointLight];
+    EXPECT_GT(double(point.uniformInVolumeShadowed), 0.9 * double(point.uniformInVolume));
+}
+
+// ---------------------------------------------------------------------------------------------
+// (e) The strip: closed, outward, convex, enclosing the plane region inside the box.
+
+struct Strip {
+    std::vector<std::array<dvec3, 3>> triangles; ///< the eight strip triangles, strip winding applied
+    std::vector<std::array<int, 3>> ids;         ///< distinct-vertex ids of each triangle
+    int distinct = 0;
+};
+
+Strip stripOf(const StsvVolume& v) {
+    Strip s;
+    std::vector<vec3> unique;
+    std::array<int, 10> id{};
+    for (int i = 0; i < 10; ++i) {
+        const vec3 p(v.vertices[i]);
+        int k = 0;
+        while (k < int(unique.size()) && unique[k] != p) ++k;
+        if (k == int(unique.size())) unique.push_back(p);
+        id[i] = k;
+    }
+    s.distinct = int(unique.size());
+    for (int k = 0; k < 8; ++k) {
+        int a = k, b = k + 1;
+        if (k % 2 == 1) std::swap(a, b); // odd strip triangles are wound (k+1, k, k+2)
+        s.triangles.push_back(
+            {dvec3(vec3(v.vertices[a])), dvec3(vec3(v.vertices[b])), dvec3(vec3(v.vertices[k + 2]))});
+        s.ids.push_back({id[a], id[b], id[k + 2]});
+    }
+    return s;
+}
+
+TEST(Extrusion, StripIsClosedOutwardAndEnclosesTheVolume) {
+    Rng rng(99);
+    long checked = 0, boxes = 0, pointsInside = 0;
+    for (int family = 0; family < FamilyCount; ++family) {
+        for (int config = 0; config < 300; ++config) {
+            const Config c = makeConfig(rng, family);
+            for (const StsvVolume& v : volumesOf(c)) {
+                if (v.flags & STSV_VOLUME_EMPTY) continue;
+                ++checked;
+                boxes += (v.flags & STSV_VOLUME_BOX) != 0;
+                const Strip s = stripOf(v);
+                ASSERT_EQ(s.distinct, 6) << "a prism has six distinct corners; flags=" << v.flags << " " << c;
+                // Closed and consistently oriented: every directed edge once, its reverse once.
+                std::map<std::pair<int, int>, int> edges;
+                for (const auto& t : s.ids)
+                    for (int e = 0; e < 3; ++e) ++edges[{t[e], t[(e + 1) % 3]}];
+                // 9 prism edges + 3 quad diagonals, each in both directions.
+                ASSERT_EQ(edges.size(), 24u) << c;
+                for (const auto& [edge, count] : edges) {
+                    EXPECT_EQ(count, 1) << c;
+                    EXPECT_EQ(edges.count({edge.second, edge.first}), 1u) << c;
+                }
+                // Outward: positive signed volume, each face's normal away from the centroid.
+                dvec3 centroid(0.0);
+                for (int i = 0; i < 10; ++i) centroid += dvec3(vec3(v.vertices[i]));
+                centroid /= 10.0; // F0, F1, B0, B2 appear twice: still strictly inside the convex hull
+                double volume = 0.0;
+                double extent = 0.0;
+                for (const auto& t : s.triangles) {
+                    volume += dot(t[0] - centroid, cross(t[1] - centroid, t[2] - centroid)) / 6.0;
+                    extent = std::max({extent, length(t[0] - centroid), length(t[1] - centroid)});
+                }
+                EXPECT_GT(volume, 0.0) << "flags=" << v.flags << " " << c;
+                std::vector<dvec4> facePlanes; // outward unit normal, offset
+                for (const auto& t : s.triangles) {
+                    const dvec3 nRaw = cross(t[1] - t[0], t[2] - t[0]);
+                    if (length(nRaw) <= 1e-9 * extent * extent)
+                        continue; // sliver from a near-degenerate side
+                    const dvec3 n = normalize(nRaw);
+                    EXPECT_GT(dot(n, (t[0] + t[1] + t[2]) / 3.0 - centroid), 0.0)
+                        << "flags=" << v.flags << " " << c;
+                    facePlanes.push_back(dvec4(n, -dot(n, t[0])));
+                }
+                // Encloses {points passing the planes} ∩ box, up to float rounding of the vertices.
+                for (int i = 0; i < 200; ++i) {
+                    const vec3 p =
+                        i < 100 ? rng.inBox(c.bounds.lo, c.bounds.hi)
+                                : trianglePoint(rng, c) + (trianglePoint(rng, c) - lightPoint(rng, c.light)) *
+                                                              rng.uniformf(0.0f, 3.0f);
+                    if (!inBox(c.bounds, p) || !stsvPointInVolume(v, p)) continue;
+                    ++pointsInside;
+                    for (const dvec4& f : facePlanes)
+                        EXPECT_LE(dot(dvec3(f), dvec3(p)) + f.w, 1e-6 * extent)
+                            << "p=" << str(p) << " outside the strip; flags=" << v.flags << " " << c;
+                }
+            }
+        }
+    }
+    std::printf("[strip] %ld volumes checked (%ld box fallbacks), %ld in-volume points inside their strip\n",
+                checked, boxes, pointsInside);
+    EXPECT_GT(checked, 2000);
+    EXPECT_GT(pointsInside, 10000);
+}
+
+// ---------------------------------------------------------------------------------------------
+// The paper's construction where it applies (STSV §2.2).
+
+/// The smallest angle (radians) of the triangle t' (vertices pulled to the nearest vertex's
+/// distance from `centre`, STSV §2.2), computed in double.
+double minAngleOfTPrime(const Config& c) {
+    const dvec3 centre(vec3(c.light));
+    dvec3 v[3] = {dvec3(c.v0), dvec3(c.v1), dvec3(c.v2)};
+    const double R = std::min({distance(v[0], centre), distance(v[1], centre), distance(v[2], centre)});
+    for (dvec3& p : v) p = centre + (p - centre) * (R / distance(p, centre));
+    double smallest = 4.0;
+    for (int i = 0; i < 3; ++i)
+        smallest = std::min(smallest, std::acos(std::clamp(dot(normalize(v[(i + 1) % 3] - v[i]),
+                                                               normalize(v[(i + 2) % 3] - v[i])),
+                                                           -1.0, 1.0)));
+    return smallest;
+}
+
+TEST(Extrusion, FarLightFollowsThePaper) {
+    Rng rng(5);
+    int checked = 0;
+    for (int i = 0; i < 500; ++i) {
+        const Config c = makeConfig(rng, FarLight);
+        const StsvVolume v = stsvBuildVolume(c.v0, c.v1, c.v2, c.light, c.bounds.lo, c.bounds.hi, 0u);
+        if (v.flags != 0u) continue;
+        // The front vertices are intersections of the slack-shifted planes: a shift ε moves them by
+        // up to ε / sin(angle between adjacent side planes) — the angles of t' as seen from the light.
+        // Thin ones (< 20°) are left out of this structural check.
+        if (minAngleOfTPrime(c) < 20.0 * 3.14159265 / 180.0) continue;
+        ++checked;
+        const float diag = length(c.bounds.extent());
+        const float tol = 5e-4f * diag; // 2 slacks (2e-5 diag) amplified ≤ 1/sin 10° ≈ 6, and rounding
+        // Front cap t' (Fig. 6: vertices 0, 1, 2): one vertex of t kept, all three at the same distance
+        // from the centre, each on the ray from the centre through a vertex of t.
+        const vec3 centre(c.light);
+        const float R = std::min({distance(c.v0, centre), distance(c.v1, centre), distance(c.v2, centre)});
+        int kept = 0;
+        for (int k = 0; k < 3; ++k) {
+            const vec3 f(v.vertices[k]);
+            EXPECT_NEAR(distance(f, centre), R, tol) << c;
+            float bestSine = 1.0f;
+            for (vec3 t : {c.v0, c.v1, c.v2}) {
+                bestSine = std::min(bestSine, length(cross(normalize(f - centre), normalize(t - centre))));
+                kept += distance(f, t) < tol;
+            }
+            EXPECT_LT(bestSine * R, tol) << "front vertex " << k << " is on no ray centre→vertex; " << c;
+        }
+        EXPECT_GE(kept, 1) << c;
+        // planes: triangle plane, t' plane, three outer planes tangent to the light sphere.
+        ASSERT_EQ(v.planeCount, 5u) << c;
+        for (uint k = 2; k < 5; ++k) {
+            const float signedDistance = dot(vec3(v.planes[k]), centre) + v.planes[k].w;
+            EXPECT_NEAR(signedDistance, -c.light.w, tol) << "plane " << k << " not tangent; " << c;
+            EXPECT_NEAR(length(vec3(v.planes[k])), 1.0f, 1e-5f);
+        }
+        // Back cap beyond the box: every box corner in front of it (strip vertices 3, 5, 7 are B2, B0, B1).
+        const vec3 b0(v.vertices[5]), b1(v.vertices[7]), b2(v.vertices[3]);
+        const vec3 backOut =
+            normalize(cross(b1 - b0, b2 - b0)) * -1.0f; // back cap faces away: B wound CW from the light
+        for (uint k = 0; k < 8; ++k) {
+            const vec3 corner = stsvBoxCorner(c.bounds.lo, c.bounds.hi, k);
+            EXPECT_LT(dot(backOut, corner - b0), 0.0f)
+                << "corner " << str(corner) << " beyond the back cap; " << c;
+        }
+    }
+    EXPECT_GT(checked, 200);
+}
+
+TEST(Extrusion, PointLightVolumeIsTheHardShadow) {
+    // r = 0: the outer planes are the shadow frustum's sides (through the centre and an edge), so a
+    // point 1e-3 box diagonals outside a side of the hard shadow (5× the planes' slack and radius
+    // inflation, 2e-4) is outside the volume, and the hard shadow itself is inside.
+    Rng rng(6);
+    int outsideChecked = 0;
+    for (int i = 0; i < 300; ++i) {
+        const Config c = makeConfig(rng, PointLight);
+        const StsvVolume v = stsvBuildVolume(c.v0, c.v1, c.v2, c.light, c.bounds.lo, c.bounds.hi, 0u);
+        if (v.flags & STSV_VOLUME_EMPTY) continue;
+        const dvec3 centre(vec3(c.light));
+        const dvec3 t[3] = {dvec3(c.v0), dvec3(c.v1), dvec3(c.v2)};
+        const dvec3 centroid = (t[0] + t[1] + t[2]) / 3.0;
+        const double delta = 1e-3 * length(c.bounds.extent());
+        for (int e = 0; e < 3; ++e) {
+            const dvec3 a = t[e], b = t[(e + 1) % 3];
+            dvec3 out = normalize(cross(a - centre, b - centre)); // frustum side through the edge
+            if (dot(out, centroid - a) > 0.0) out = -out;
+            const dvec3 mid = 0.5 * (a + b);
+            for (double lambda : {0.1, 1.0, 3.0}) {
+                const vec3 shadowed(centroid + lambda * (centroid - centre));
+                const vec3 lit(mid + lambda * (mid - centre) + delta * out);
+                if (inBox(c.bounds, shadowed)) {
+                    EXPECT_TRUE(stsvPointInVolume(v, shadowed)) << c;
+                }
+                if (inBox(c.bounds, lit)) {
+                    EXPECT_FALSE(stsvPointInVolume(v, lit)) << "lit point " << str(lit) << " inside; " << c;
+                    ++outsideChecked;
+                }
+            }
+        }
+    }
+    EXPECT_GT(outsideChecked, 1000);
+}
+
+// ---------------------------------------------------------------------------------------------
+// (d) Edge cases.
+
+void expectContainsNothing(const StsvVolume& v, Rng& rng, const std::string& what) {
+    EXPECT_TRUE(v.flags & STSV_VOLUME_EMPTY) << what;
+    EXPECT_TRUE(finiteVolume(v)) << what;
+    for (int i = 0; i < 100; ++i) EXPECT_FALSE(stsvPointInVolume(v, rng.inCube(10.0f))) << what;
+}
+
+TEST(ExtrusionEdgeCases, DegenerateTrianglesAreEmpty) {
+    Rng rng(7);
+    const vec4 light(0.0f, 5.0f, 0.0f, 1.0f);
+    const vec3 lo(-10.0f), hi(10.0f);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const float inf = std::numeric_limits<float>::infinity();
+    struct Tri {
+        const char* name;
+        vec3 a, b, c;
+    };
+    const Tri tris[] = {
+        {"collinear", vec3(0, 0, 0), vec3(1, 0, 0), vec3(2, 0, 0)},
+        {"repeated vertex", vec3(0, 0, 0), vec3(1, 0, 1), vec3(0, 0, 0)},
+        {"point", vec3(1, 2, 3), vec3(1, 2, 3), vec3(1, 2, 3)},
+        {"needle below 1e-7", vec3(0, 0, 0), vec3(1, 0, 0), vec3(0.5f, 1e-9f, 0)},
+        {"NaN vertex", vec3(0, 0, 0), vec3(nan, 0, 0), vec3(0, 0, 1)},
+        {"infinite vertex", vec3(0, 0, 0), vec3(inf, 0, 0), vec3(0, 0, 1)},
+    };
+    for (const Tri& t : tris) {
+        for (uint side = 0; side < 2; ++side) {
+            const StsvVolume v = stsvBuildVolume(t.a, t.b, t.c, light, lo, hi, side);
+            expectContainsNothing(v, rng, t.name);
+            EXPECT_TRUE(v.flags & STSV_VOLUME_DEGENERATE) << t.name;
+        }
+        EXPECT_EQ(stsvSideCount(t.a, t.b, t.c, light), 1u) << t.name;
+        // The transmittance setup agrees: a degenerate triangle blocks nothing.
+        const StsvTriangle s =
+            stsvSetupTriangle(t.a, t.b, t.c, vec2(0), vec2(1, 0), vec2(0, 1), vec3(light), 0, 0, 0);
+        EXPECT_TRUE(s.flags & STSV_FLAG_DEGENERATE) << t.name;
+    }
+    // NaN light or bounds: empty, never NaN.
+    const vec3 a(0, 0, 0), b(1, 0, 0), c(0, 0, 1);
+    expectContainsNothing(stsvBuildVolume(a, b, c, vec4(nan), lo, hi, 0u), rng, "NaN light");
+    expectContainsNothing(stsvBuildVolume(a, b, c, light, vec3(nan), hi, 0u), rng, "NaN bounds");
+}
+
+TEST(ExtrusionEdgeCases, SideCount) {
+    const vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);                          // plane z = 0
+    EXPECT_EQ(stsvSideCount(a, b, c, vec4(0.3f, 0.3f, 2.0f, 1.0f)), 1u);    // above, clear of the plane
+    EXPECT_EQ(stsvSideCount(a, b, c, vec4(0.3f, 0.3f, -2.0f, 1.0f)), 1u);   // below, clear
+    EXPECT_EQ(stsvSideCount(a, b, c, vec4(0.3f, 0.3f, 0.5f, 1.0f)), 2u);    // straddles
+    EXPECT_EQ(stsvSideCount(a, b, c, vec4(5.0f, 5.0f, -0.99f, 1.0f)), 2u);  // straddles, far to the side
+    EXPECT_EQ(stsvSideCount(a, b, c, vec4(0.3f, 0.3f, 0.0f, 0.5f)), 2u);    // centre in the plane
+    EXPECT_EQ(stsvSideCount(a, b, c, vec4(0.3f, 0.3f, 1.0001f, 1.0f)), 1u); // just clear
+    EXPECT_EQ(stsvSideCount(a, b, c, vec4(0.3f, 0.3f, 0.9999f, 1.0f)), 2u); // just crossing
+    // Winding does not matter.
+    EXPECT_EQ(stsvSideCount(a, c, b, vec4(0.3f, 0.3f, 0.5f, 1.0f)), 2u);
+    EXPECT_EQ(stsvSideCount(a, c, b, vec4(0.3f, 0.3f, 2.0f, 1.0f)), 1u);
+    // Side 1 of a light that does not straddle is empty (no light on that side), not degenerate.
+    const StsvVolume v = stsvBuildVolume(a, b, c, vec4(0.3f, 0.3f, 2.0f, 1.0f), vec3(-5), vec3(5), 1u);
+    EXPECT_EQ(v.flags, STSV_VOLUME_EMPTY);
+    EXPECT_FALSE(stsvPointInVolume(v, vec3(0.2f, 0.2f, -1.0f)));
+    // Side 0 of it contains the umbra below the triangle, side 0 never the lit side above.
+    const StsvVolume v0 = stsvBuildVolume(a, b, c, vec4(0.3f, 0.3f, 2.0f, 1.0f), vec3(-5), vec3(5), 0u);
+    EXPECT_TRUE(stsvPointInVolume(v0, vec3(0.25f, 0.25f, -0.01f)));
+    EXPECT_FALSE(stsvPointInVolume(v0, vec3(0.25f, 0.25f, 0.01f)));
+}
+
+TEST(ExtrusionEdgeCases, CentreInPlaneGivesTwoMirroredVolumes) {
+    const vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+    const vec4 light(2.0f, 0.5f, 0.0f, 0.5f); // beside the triangle, in its plane
+    ASSERT_EQ(stsvSideCount(a, b, c, light), 2u);
+    const StsvVolume up = stsvBuildVolume(a, b, c, light, vec3(-5), vec3(5), 0u);
+    const StsvVolume down = stsvBuildVolume(a, b, c, light, vec3(-5), vec3(5), 1u);
+    EXPECT_TRUE(finiteVolume(up));
+    EXPECT_TRUE(finiteVolume(down));
+    EXPECT_FALSE(up.flags & STSV_VOLUME_EMPTY);
+    EXPECT_FALSE(down.flags & STSV_VOLUME_EMPTY);
+    // A ray from the light's upper half grazing over the triangle shadows a point below it towards
+    // −x, and symmetrically: each side's volume holds its own shadow and not the other's.
+    const vec3 below(-1.0f, 0.4f, -0.2f), above(-1.0f, 0.4f, 0.2f);
+    EXPECT_TRUE(stsvPointInVolume(up, below) || stsvPointInVolume(down, below));
+    EXPECT_TRUE(stsvPointInVolume(up, above) || stsvPointInVolume(down, above));
+    EXPECT_NE(stsvPointInVolume(up, below), stsvPointInVolume(up, above));
+    EXPECT_NE(stsvPointInVolume(down, below), stsvPointInVolume(down, above));
+}
+
+TEST(ExtrusionEdgeCases, EdgeLineThroughTheLightIsFlaggedAndConservative) {
+    // t' = t (vertices equidistant from the centre); the line of edge v1v2 passes 0.3 from the
+    // centre, inside the sphere of radius 0.5: that edge has no outer plane.
+    const vec3 a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
+    const vec4 light(1.0f, 1.0f, 0.3f, 0.5f);
+    const StsvVolume v = stsvBuildVolume(a, b, c, light, vec3(-5), vec3(5), 0u);
+    EXPECT_TRUE(finiteVolume(v));
+    EXPECT_TRUE(v.flags & STSV_VOLUME_NO_TANGENT) << v.flags;
+    EXPECT_FALSE(v.flags & STSV_VOLUME_EMPTY);
+    // A light point just above the plane beyond edge v1v2 (the sphere reaches z = −0.2) casts a
+    // shadow of a triangle point far along −(1,1) behind the plane.
+    const vec3 x(1.3f, 1.3f, 0.05f), y(0.9f, 0.9f, 0.0f);
+    const vec3 p = y + 3.0f * (y - x);
+    EXPECT_TRUE(stsvPointInVolume(v, p)) << str(p);
+}
+
+TEST(ExtrusionEdgeCases, VertexInsideTheLight) {
+    const vec3 a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
+    const vec4 light(0.1f, 0.1f, 0.2f, 0.5f); // contains vertex a
+    for (uint side = 0; side < stsvSideCount(a, b, c, light); ++side) {
+        const StsvVolume v = stsvBuildVolume(a, b, c, light, vec3(-5), vec3(5), side);
+        EXPECT_TRUE(finiteVolume(v));
+        EXPECT_TRUE(v.flags & STSV_VOLUME_NO_TANGENT);
+        // Everything just behind the triangle (on the side away from the light) may be shadowed.
+        const float z = side == 0 ? -0.01f : 0.01f;
+        for (vec3 p : {vec3(0.5f, 0.5f, z), vec3(-4.0f, 3.0f, 4 * z), vec3(4.0f, -4.0f, 300 * z)})
+            EXPECT_TRUE(stsvPointInVolume(v, p)) << "side " << side << " p=" << str(p);
+    }
+}
+
+TEST(ExtrusionEdgeCases, ExtremeScalesStayFiniteAndExact) {
+    // The same configuration at scales 1e-4 … 1e4, shifted by 10 scales: identical inside/outside
+    // answers for points well away from the boundaries (relative positions are scale-free).
+    const vec3 a(0, 0, 0), b(1, 0, 0.2f), c(0.1f, 1, 0);
+    const vec4 light(0.3f, 0.4f, 3.0f, 0.4f);
+    Rng rng(8);
+    std::vector<vec3> probes;
+    for (int i = 0; i < 200; ++i) probes.push_back(rng.inCube(4.0f));
+    const StsvVolume unit = stsvBuildVolume(a, b, c, light, vec3(-5), vec3(5), 0u);
+    for (float scale : {1e-4f, 1e-2f, 1e2f, 1e4f}) {
+        const vec3 o(10.0f * scale, -20.0f * scale, 5.0f * scale);
+        const StsvVolume v = stsvBuildVolume(o + a * scale, o + b * scale, o + c * scale,
+                                             vec4(o + vec3(light) * scale, light.w * scale),
+                                             o + vec3(-5 * scale), o + vec3(5 * scale), 0u);
+        EXPECT_TRUE(finiteVolume(v)) << scale;
+        EXPECT_EQ(v.flags, unit.flags) << scale;
+        EXPECT_EQ(v.planeCount, unit.planeCount) << scale;
+        for (vec3 p : probes) {
+            // Skip probes within 1e-3 of a plane of the unit volume: the slack (≈ 2e-4 here) and
+            // rounding may decide those.
+            bool nearBoundary = false;
+            for (uint k = 0; k < unit.planeCount; ++k)
+                nearBoundary |= std::abs(dot(vec3(unit.planes[k]), p) + unit.planes[k].w) < 1e-3f;
+            if (nearBoundary) continue;
+            EXPECT_EQ(stsvPointInVolume(v, o + p * scale), stsvPointInVolume(unit, p))
+                << "scale " << scale << " p=" << str(p);
+        }
+    }
+    // Absurd magnitudes (products overflow): finite output; the triangle counts as degenerate, as
+    // for stsvSetupTriangle, so it blocks nothing anywhere.
+    const StsvVolume huge =
+        stsvBuildVolume(a * 1e30f, b * 1e30f, c * 1e30f, light * 1e30f, vec3(-5e30f), vec3(5e30f), 0u);
+    EXPECT_TRUE(finiteVolume(huge) || (huge.flags & STSV_VOLUME_EMPTY));
+}
+
+TEST(ExtrusionEdgeCases, TriangleBehindTheLight) {
+    // A one-sided emitter facing −y at y = 5, a triangle above it: the extrusion does not know the
+    // emission and stays conservative (a volume away from the light, above the triangle).
+    const vec3 a(-1, 8, -1), b(1, 8, -1), c(0, 8, 1);
+    const vec4 light(0.0f, 5.0f, 0.0f, 1.0f);
+    const StsvVolume v = stsvBuildVolume(a, b, c, light, vec3(-10), vec3(10), 0u);
+    EXPECT_EQ(v.flags, 0u);
+    EXPECT_TRUE(stsvPointInVolume(v, vec3(0.0f, 9.0f, -0.2f)));
+    EXPECT_FALSE(stsvPointInVolume(v, vec3(0.0f, 7.0f, -0.2f)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Host builder.
+
+TEST(ExtrusionHost, BuildsPerforatedTrianglesWithTheSidePolicy) {
+    Scene scene;
+    Material opaque;
+    Material fence;
+    fence.alphaTexture = 0;
+    Material leaf = fence;
+    leaf.doubleSided = true;
+    scene.materials = {opaque, fence, leaf};
+    scene.textures.resize(1);
+    // Light straddles every triangle's plane (vertical triangles, light at their height).
+    const vec4 light(0.0f, 1.0f, 3.0f, 0.5f);
+    scene.addTriangle(vec3(-1, 0, 0), vec3(1, 0, 0), vec3(0, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
+                      0); // opaque
+    scene.addTriangle(vec3(-1, 0, 0), vec3(0, 2, 0), vec3(-1, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
+                      1); // fence
+    scene.addTriangle(vec3(2, 0, 0), vec3(2, 0, 2), vec3(2, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
+                      2); // leaf, plane x = 2
+    scene.addTriangle(vec3(0, 0, 0), vec3(0, 0, 0), vec3(1, 1, 1), vec2(0), vec2(1, 0), vec2(0, 1),
+                      1); // degenerate
+    scene.addTriangle(vec3(-3, 0, -1), vec3(-3, 0, 1), vec3(-3, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
+                      2); // leaf, x = −3
+    Bounds bounds = scene.bounds();
+    bounds.extend(vec3(-6));
+    bounds.extend(vec3(6));
+
+    const StsvVolumeSet perforated = buildStsvVolumes(scene, light, bounds);
+    // fence: 1 (single-sided); leaf at x = 2: does not straddle (|2| > 0.5) → 1; leaf at x = −3 → 1.
+    EXPECT_EQ(perforated.triangleOf, (std::vector<std::uint32_t>{1, 2, 4}));
+    EXPECT_EQ(perforated.degenerate, 1u);
+
+    // Move the light into the plane x = 2 ± 0.3: the leaf there gets both sides.
+    const StsvVolumeSet straddled = buildStsvVolumes(scene, vec4(2.3f, 1.0f, 0.5f, 0.5f), bounds);
+    EXPECT_EQ(straddled.triangleOf, (std::vector<std::uint32_t>{1, 2, 2, 4}));
+    EXPECT_EQ(straddled.sideOf, (std::vector<std::uint32_t>{0, 0, 1, 0}));
+
+    StsvVolumeOptions all;
+    all.perforatedOnly = false;
+    all.allDoubleSided = true;
+    const StsvVolumeSet everything = buildStsvVolumes(scene, light, bounds, all);
+    // Triangles 0 and 1 lie in z = 0 and the light at z = 3 ± 0.5 does not straddle it.
+    EXPECT_EQ(everything.triangleOf, (std::vector<std::uint32_t>{0, 1, 2, 4}));
+    for (const StsvVolume& v : everything.volumes) EXPECT_TRUE(finiteVolume(v));
+    EXPECT_THROW(buildStsvVolumes(scene, light, Bounds{}), UsageError);
+}
+
+} // namespace
+} // namespace stsv
