@@ -23,7 +23,7 @@ void addHorizontalQuad(Scene& s, float y, float x0, float x1, float z0, float z1
 
 /// Ground at y = 0 seen from below an occluder layer at height 1, rectangular light of
 /// `lightSize` at height 4 facing down, centred above the origin.
-Scene baseScene(float lightSize) {
+Scene baseScene(float lightSize, float fovY) {
     Scene s;
     s.source = "analytic";
     s.materials.push_back({"ground", vec3(0.8f), -1, WrapMode::Repeat, false});
@@ -41,7 +41,7 @@ Scene baseScene(float lightSize) {
     s.camera.eye = vec3(0.0f, 0.8f, 0.0f);
     s.camera.target = vec3(0.0f);
     s.camera.up = vec3(0.0f, 0.0f, -1.0f);
-    s.camera.fovY = 60.0f;
+    s.camera.fovY = fovY;
     return s;
 }
 
@@ -65,7 +65,8 @@ TEST(Analytic, PenumbraWidthUnderStraightEdge) {
     // Opaque half-plane x < 0 at h_o = 1, light of width w = 1 at h_l = 4: the penumbra on the
     // ground spans w·h_o/(h_l − h_o) = 1/3, centred on x = 0; with light coordinate l uniform in
     // [−½, ½], the point x sees l ≥ −3x, so v(x) = clamp(½ + 3x, 0, 1).
-    Scene scene = baseScene(1.0f);
+    // fovY 9° at 0.8 m with aspect 8: the row spans ±0.8·tan(4.5°)·8 ≈ ±0.504 m, 3.9 mm a pixel.
+    Scene scene = baseScene(1.0f, 9.0f);
     scene.materials.push_back({"edge", vec3(0.5f), -1, WrapMode::Repeat, false});
     addHorizontalQuad(scene, 1.0f, -20.0f, 0.0f, -20.0f, 20.0f, 1.0f, 1);
     // A uniform 16×16 grid without decorrelation: v(x) is the analytic fraction quantised to
@@ -87,8 +88,9 @@ TEST(Analytic, PenumbraWidthUnderStraightEdge) {
         if (vStsv < 1.0f) lastShadowed = std::max(lastShadowed, p.x);
     }
     // Measured penumbra extent against [−w·h_o/(2(h_l − h_o)), +…], within a pixel's footprint
-    // (ground width 2·0.8·tan 30°·8 / 256 ≈ 0.0072) and a sixteenth of the width.
-    const float slack = 0.0072f + hw / 16.0f;
+    // (3.9 mm) and a sixteenth of the width (the outermost grid columns sit 1/32 of the light's
+    // width inside its edges, so the sampled penumbra is 15/16 of the analytic one).
+    const float slack = 0.0040f + hw / 16.0f;
     EXPECT_NEAR(firstLit, -hw / 2.0f, slack);
     EXPECT_NEAR(lastShadowed, hw / 2.0f, slack);
     EXPECT_NEAR(lastShadowed - firstLit, hw, 2.0f * slack);
@@ -98,7 +100,7 @@ TEST(Analytic, FineFenceConvergesToOpenFraction) {
     // A chain-link canopy repeated 100 times per metre: the light (2 m at 4 m) covers a 0.5 m
     // footprint on it from the ground, ≈ 50 periods, so the visible fraction of every receiver
     // converges to the texture's open fraction.
-    Scene scene = baseScene(2.0f);
+    Scene scene = baseScene(2.0f, 60.0f);
     scene.textures.push_back(makeChainLinkTexture(64));
     scene.materials.push_back({"fence", vec3(0.5f), 0, WrapMode::Repeat, true});
     addHorizontalQuad(scene, 1.0f, -20.0f, 20.0f, -20.0f, 20.0f, 4000.0f, 1);

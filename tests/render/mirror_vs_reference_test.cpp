@@ -122,7 +122,7 @@ void compareOnScene(const std::string& name, int samples) {
                 }
             }
         const double agreement = 1.0 - double(differing) / double(total);
-        RecordProperty(name + "_agreement", std::to_string(agreement));
+        ::testing::Test::RecordProperty(name + "_agreement", std::to_string(agreement));
         std::cout << name << " light " << l << ": " << total << " pairs, " << occludedRef << " occluded, "
                   << differing << " differ (" << 100.0 * (1.0 - agreement) << " %), " << unexplained
                   << " away from boundaries\n";
