@@ -150,10 +150,14 @@ DH_FUNC vec2 stsvTexcoord(StsvTriangle t, vec2 bary) { return t.uv0 + bary.x * t
 /// The texel rule shared by GPU, CPU mirror and Embree: nearest texel of mip 0 at uv, with
 /// the material's wrap mode. Row 0 of the texture is v = 0.
 DH_FUNC ivec2 texelAt(vec2 uv, ivec2 size, uint wrap) {
-    ivec2 texel = ivec2(floor(uv * vec2(size)));
-    if (wrap == WRAP_CLAMP) return clamp(texel, ivec2(0), size - ivec2(1));
+    // Index arithmetic in float, clamped before the conversion to int: beyond |uv·size| = 2^24
+    // texel/size rounds (the modulo could come out negative) and beyond 2^31 an int overflows.
+    // Below 2^24 every step is exact, so the result is the exact floor-and-wrap.
+    vec2 sizeF = vec2(size);
+    vec2 texel = floor(uv * sizeF);
     // Repeat: a non-negative modulo.
-    return texel - size * ivec2(floor(vec2(texel) / vec2(size)));
+    if (wrap != WRAP_CLAMP) texel = texel - sizeF * floor(texel / sizeF);
+    return ivec2(clamp(texel, vec2(0.0f), sizeF - vec2(1.0f)));
 }
 
 /// Binary transmittance: alpha below one half (alpha8 < 128) is a hole.
