@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <memory>
 #include <vector>
 
 namespace stsv {
@@ -19,15 +20,33 @@ struct Frame {
     std::vector<LightSampleBuffer> lightSamples; ///< one per scene light
     ImageF color;      ///< linear RGB: ambient + Σ lights direct lighting
     ImageF visibility; ///< one channel: v_coef averaged over the lights (1 on background)
+    /// options, scene counts, "startup_ms" (acceleration structures, devices, shader
+    /// compilation), "frame_ms" (one frame without start-up) and "passes" (name → ms).
     nlohmann::json stats;
 };
 
+/// Renders frames of one scene with one set of options; start-up work (BVH, device,
+/// pipelines, uploads) happens once in the constructor, so repeated frames measure the frame.
+class FrameRenderer {
+  public:
+    virtual ~FrameRenderer() = default;
+    virtual Frame render() = 0;
+};
+
+/// The renderer for options.backend. `scene` must outlive it.
+std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOptions& options);
+
+/// One frame with a fresh renderer (start-up included in the call, not in frame_ms).
 Frame renderFrame(const Scene& scene, const RenderOptions& options);
 
 /// Resolve of one light's buffer: adds albedo/π · (1/N) Σ_k V_k · L_k G_k A to `color`
-/// (the paper's "Direct MC") and v_coef/lightCount to `visibility`.
+/// (the paper's "Direct MC") and v_coef·weight to `visibility`.
 void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light, const SamplePlan& plan,
                   float farDistance, const LightSampleBuffer& samples, float weight, ImageF& color,
                   ImageF& visibility);
+
+/// Shared by every backend: ambient colour / background of a fresh frame, and scene counts.
+void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, Frame& frame);
+nlohmann::json sceneStats(const Scene& scene);
 
 } // namespace stsv
