@@ -12,7 +12,8 @@ Method parseMethod(const std::string& name) {
 
 Backend parseBackend(const std::string& name) {
     if (name == "cpu") return Backend::Cpu;
-    throw UsageError("unknown backend '" + name + "' (expected cpu)");
+    if (name == "vulkan") return Backend::Vulkan;
+    throw UsageError("unknown backend '" + name + "' (expected vulkan or cpu)");
 }
 
 BufferKind parseBufferKind(const std::string& name) {
@@ -22,7 +23,7 @@ BufferKind parseBufferKind(const std::string& name) {
 }
 
 std::string toString(Method method) { return method == Method::Reference ? "reference" : "stsv"; }
-std::string toString(Backend) { return "cpu"; }
+std::string toString(Backend backend) { return backend == Backend::Cpu ? "cpu" : "vulkan"; }
 std::string toString(BufferKind kind) { return kind == BufferKind::Bitmask ? "bitmask" : "counters"; }
 
 void validate(const RenderOptions& o) {
@@ -43,7 +44,8 @@ nlohmann::json toJson(const RenderOptions& o) {
             {"samples", o.samples},           {"pattern", toString(o.pattern)},
             {"seed", o.seed},                 {"interleave", o.interleave},
             {"decorrelate", o.decorrelate},   {"buffer", toString(o.buffer)},
-            {"ambient", o.ambient}};
+            {"ambient", o.ambient},           {"device", o.device},
+            {"validation", o.validation}};
 }
 
 } // namespace stsv

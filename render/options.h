@@ -12,7 +12,7 @@
 namespace stsv {
 
 enum class Method { Reference, Stsv };
-enum class Backend { Cpu };
+enum class Backend { Cpu, Vulkan };
 enum class BufferKind { Bitmask, Counters };
 
 struct RenderOptions {
@@ -27,6 +27,8 @@ struct RenderOptions {
     bool decorrelate = true;                 ///< per-pixel rotation of the pattern
     BufferKind buffer = BufferKind::Bitmask; ///< light-sample buffer: occlusion bits or depth-complexity counters
     float ambient = 0.05f;                   ///< ambient term, fraction of albedo
+    std::string device;                      ///< Vulkan device: "" = best, an index, or a name substring
+    bool validation = false;                 ///< Vulkan validation layers (always on in tests)
 };
 
 Method parseMethod(const std::string& name);
