@@ -15,17 +15,23 @@
 //     light point (negative side) through t (non-negative side, because t lies beyond t' on rays
 //     from ĉ) ends on the positive side: the planes are conservative.
 //  4. Side edges along the intersection of adjacent outer planes (cross(n_a, n_b), away from ĉ);
-//     back cap parallel to the front cap, beyond the scene box; ten-vertex strip (Fig. 6).
+//     back cap parallel to the front cap, beyond the scene box; ten-vertex strip (Fig. 6). When the
+//     side planes meet between the caps (their apex), the prism ends there: one cap collapses to
+//     the apex and the strip is a tetrahedron (its collapsed triangles rasterise nothing).
 // Conservative fallbacks, never NaN: an edge of t' whose line meets the sphere, or with the sphere
 // across it on the triangle's side, has no outer plane: it is left out of `planes` and bounded in
 // the strip by a plane outside the box (STSV_VOLUME_NO_TANGENT). When the sphere crosses the plane
 // of t', the front cap lies in the triangle's plane instead (STSV_VOLUME_TRIANGLE_CAP). When the
-// prism cannot be closed, the strip is a prism around the whole box behind the triangle
-// (STSV_VOLUME_BOX). Degenerate triangles and sides without light give empty volumes.
+// side planes lean both ways across the caps, the strip closes them across the whole box along
+// their cone's axis (STSV_VOLUME_CONE_STRIP); when even that fails, it is a prism around the whole
+// box behind the triangle (STSV_VOLUME_BOX). Degenerate triangles and unlit sides: empty volumes.
 //
 // `planes` always hold the triangle's plane (p behind t, side σ), then the plane of t' when it is
 // the front cap, then the outer planes that exist; all shifted outwards by a small slack (rounding)
-// so that the volume is conservative in float. The strip encloses {p in every plane} ∩ box.
+// so that the volume is conservative in float. The strip encloses {p in every plane} ∩ box, so a
+// fragment of the strip's back faces behind the visible point p is produced for every p inside
+// (DESIGN §4.2: one fragment per pixel and volume, as the strip is convex), and the fragment
+// shader's stsvPointInVolume(p) removes the rest.
 #ifndef STSV_VOLUMES_EXTRUSION_DH_H
 #define STSV_VOLUMES_EXTRUSION_DH_H
 
@@ -34,12 +40,14 @@
 DH_BEGIN
 
 /// StsvVolume::flags bits.
-DH_CONST uint STSV_VOLUME_EMPTY = 1u; ///< contains no point (degenerate triangle, or no light on this side)
-DH_CONST uint STSV_VOLUME_DEGENERATE = 2u; ///< zero-area or non-finite input (with STSV_VOLUME_EMPTY)
-DH_CONST uint STSV_VOLUME_NO_TANGENT =
-    4u; ///< an edge of t' has no outer plane: its side is not bounded by `planes`
-DH_CONST uint STSV_VOLUME_TRIANGLE_CAP = 8u; ///< sphere crosses t''s plane: front cap in the triangle's plane
-DH_CONST uint STSV_VOLUME_BOX = 16u;         ///< strip is the prism around the box behind the triangle
+// clang-format off
+DH_CONST uint STSV_VOLUME_EMPTY = 1u;          ///< contains no point (degenerate triangle, or no light on this side)
+DH_CONST uint STSV_VOLUME_DEGENERATE = 2u;     ///< zero-area or non-finite input (with STSV_VOLUME_EMPTY)
+DH_CONST uint STSV_VOLUME_NO_TANGENT = 4u;     ///< an edge of t' has no outer plane: that side is open in `planes`
+DH_CONST uint STSV_VOLUME_TRIANGLE_CAP = 8u;   ///< sphere crosses the plane of t': front cap in the triangle's plane
+DH_CONST uint STSV_VOLUME_BOX = 16u;           ///< strip is the prism around the box behind the triangle
+DH_CONST uint STSV_VOLUME_CONE_STRIP = 32u;    ///< strip closes the side planes across the box, not at the front cap
+// clang-format on
 
 DH_CONST uint STSV_VOLUME_MAX_PLANES = 5u;
 DH_CONST uint STSV_STRIP_VERTEX_COUNT = 10u;
@@ -139,10 +147,11 @@ DH_FUNC StsvVolume stsvEmptyVolume(vec3 at, uint flags) {
 }
 
 /// Writes the strip of Fig. 6 from front cap (f0, f1, f2) and back cap (b0, b1, b2), b_i behind f_i.
-/// `toLight` is the outward normal of the front cap; the order is swapped if (f0, f1, f2) is clockwise.
+/// `toLight` is the outward normal of the front cap; the order is swapped if the caps run clockwise
+/// around it (judged on the larger cap: one of them may have collapsed to a point).
 DH_FUNC void stsvWriteStrip(DH_INOUT(StsvVolume) v, vec3 f0, vec3 f1, vec3 f2, vec3 b0, vec3 b1, vec3 b2,
                             vec3 toLight) {
-    if (dot(cross(f1 - f0, f2 - f0), toLight) < 0.0f) {
+    if (dot(cross(f1 - f0, f2 - f0) + cross(b1 - b0, b2 - b0), toLight) < 0.0f) {
         vec3 t = f1;
         f1 = f2;
         f2 = t;
@@ -160,6 +169,77 @@ DH_FUNC void stsvWriteStrip(DH_INOUT(StsvVolume) v, vec3 f0, vec3 f1, vec3 f2, v
     v.vertices[7] = vec4(b1, 1.0f);
     v.vertices[8] = vec4(b2, 1.0f);
     v.vertices[9] = vec4(b0, 1.0f);
+}
+
+/// Corners of the convex solid {s0, s1, s2 ≥ 0} ∩ {backLevel ≤ axis·x ≤ frontLevel} (unit `axis`),
+/// written as a prism f_i (front cap) / b_i (back cap), corner i on s_{i−1} ∩ s_i. The side planes
+/// bound a cone with apex A = s0 ∩ s1 ∩ s2 whose edges r_i run along s_{i−1} ∩ s_i. When all edges
+/// lean the same way along `axis` and A lies between the caps, the solid ends at A: the cap on
+/// A's side collapses to A (a tetrahedron). Without an apex the edges are parallel and every cross
+/// section is the same triangle. False when the solid is not such a closed prism (edges leaning
+/// both ways, caps crossing, corners outside the half-spaces beyond rounding).
+DH_FUNC bool stsvClosePrism(vec4 s0, vec4 s1, vec4 s2, vec3 axis, float frontLevel, float backLevel,
+                            DH_OUT(vec3) f0, DH_OUT(vec3) f1, DH_OUT(vec3) f2, DH_OUT(vec3) b0,
+                            DH_OUT(vec3) b1, DH_OUT(vec3) b2) {
+    vec3 apex;
+    bool hasApex = stsvIntersectPlanes(s0, s1, s2, apex);
+    vec3 n0 = vec3(s0);
+    vec3 n1 = vec3(s1);
+    vec3 n2 = vec3(s2);
+    vec3 r0 = cross(n2, n0); // edge at corner 0, oriented into the cone below
+    vec3 r1 = cross(n0, n1);
+    vec3 r2 = cross(n1, n2);
+    if (dot(r0, n1) < 0.0f) r0 = -r0;
+    if (dot(r1, n2) < 0.0f) r1 = -r1;
+    if (dot(r2, n0) < 0.0f) r2 = -r2;
+    bool towards = dot(axis, r0) > 0.0f && dot(axis, r1) > 0.0f && dot(axis, r2) > 0.0f;
+    bool away = dot(axis, r0) < 0.0f && dot(axis, r1) < 0.0f && dot(axis, r2) < 0.0f;
+    float apexLevel = dot(axis, apex);
+    bool between = hasApex && apexLevel < frontLevel && apexLevel > backLevel;
+    bool frontAtApex = between && away;   // nothing in front of the apex
+    bool backAtApex = between && towards; // nothing behind the apex
+    bool ok = !(hasApex && !towards && !away);
+    ok = ok && !(hasApex && towards && apexLevel >= frontLevel); // cone entirely in front of the slab
+    ok = ok && !(hasApex && away && apexLevel <= backLevel);     // cone entirely behind it
+    vec4 front = vec4(-axis, frontLevel);
+    vec4 back = vec4(axis, -backLevel);
+    f0 = apex;
+    f1 = apex;
+    f2 = apex;
+    b0 = apex;
+    b1 = apex;
+    b2 = apex;
+    if (!frontAtApex) {
+        ok = ok && stsvIntersectPlanes(front, s2, s0, f0);
+        ok = ok && stsvIntersectPlanes(front, s0, s1, f1);
+        ok = ok && stsvIntersectPlanes(front, s1, s2, f2);
+    }
+    if (!backAtApex) {
+        ok = ok && stsvIntersectPlanes(back, s2, s0, b0);
+        ok = ok && stsvIntersectPlanes(back, s0, s1, b1);
+        ok = ok && stsvIntersectPlanes(back, s1, s2, b2);
+    }
+    if (!ok) return false;
+    // Every corner in every half-space, up to rounding (~1e-7·|corner|; lengths here are in box
+    // diagonals), and caps turning the same way unless one collapsed.
+    for (uint j = 0u; j < 5u; ++j) {
+        vec4 pl = j == 0u ? front : (j == 1u ? back : (j == 2u ? s0 : (j == 3u ? s1 : s2)));
+        vec3 n = vec3(pl);
+        ok = ok && dot(n, f0) + pl.w >= -(1e-4f + 1e-6f * length(f0));
+        ok = ok && dot(n, f1) + pl.w >= -(1e-4f + 1e-6f * length(f1));
+        ok = ok && dot(n, f2) + pl.w >= -(1e-4f + 1e-6f * length(f2));
+        ok = ok && dot(n, b0) + pl.w >= -(1e-4f + 1e-6f * length(b0));
+        ok = ok && dot(n, b1) + pl.w >= -(1e-4f + 1e-6f * length(b1));
+        ok = ok && dot(n, b2) + pl.w >= -(1e-4f + 1e-6f * length(b2));
+    }
+    float extent =
+        max(max(max(length(f0), length(f1)), max(length(f2), length(b0))), max(length(b1), length(b2)));
+    ok = ok && extent < 1e6f;
+    float frontTurn = dot(cross(f1 - f0, f2 - f0), axis);
+    float backTurn = dot(cross(b1 - b0, b2 - b0), axis);
+    if (backAtApex) return ok && abs(frontTurn) > 1e-12f;
+    if (frontAtApex) return ok && abs(backTurn) > 1e-12f;
+    return ok && abs(frontTurn) > 1e-12f && frontTurn * backTurn > 0.0f;
 }
 
 /// Zero-area or non-finite triangle, by the criterion of stsvSetupTriangle (stsv_dh.h), so that a
@@ -278,7 +358,9 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     float nTLength = length(nT);
     float qScale = max(length(q[1] - q[0]), length(q[2] - q[0]));
     bool capTPrime = false;
-    if (tPrimeOk && nTLength > 1e-7f * qScale * qScale) {
+    // (A thin t' — two vertices on nearly one ray from ĉ, an edge pointing at the light — has a
+    // plane dominated by rounding: still a valid bound, but a useless one; keep the triangle's.)
+    if (tPrimeOk && nTLength > 1e-3f * qScale * qScale) {
         nT = nT / nTLength;
         float dT = dot(nT, ch - q[0]);
         if (dT < 0.0f) {
@@ -307,7 +389,7 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     vec3 toLight = -vec3(front);
     vec4 stripFront = front + vec4(0.0f, 0.0f, 0.0f, slack);
     vec4 lateral[3];
-    bool ok = true;
+    bool hasLateral = true; // false if an artificial side plane could not be oriented
     for (uint i = 0u; i < 3u; ++i) {
         if (hasOuter[i]) {
             lateral[i] = outer[i] + vec4(0.0f, 0.0f, 0.0f, 2.0f * slack);
@@ -317,7 +399,7 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
             vec3 m = cross(toLight, q[(i + 1u) % 3u] - a);
             float ml = length(m);
             if (!(ml > 0.0f)) {
-                ok = false;
+                hasLateral = false;
                 m = toLight;
             } else {
                 m = m / ml;
@@ -328,38 +410,55 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
             lateral[i] = vec4(m, margin - lowest);
         }
     }
+    // The paper's prism: front cap t' (or the triangle's plane), back cap parallel to it beyond the
+    // box. Corners on the side edges, i.e. along cross(n_a, n_b) of adjacent side planes (§2.2).
     float frontLevel = stripFront.w; // front cap: dot(toLight, x) ≤ frontLevel
     float backLevel = frontLevel - 0.01f;
     for (uint k = 0u; k < 8u; ++k) backLevel = min(backLevel, dot(toLight, stsvBoxCorner(boxLo, boxHi, k)));
-    vec4 back = vec4(toLight, margin - backLevel);
-
     vec3 f[3];
     vec3 b[3];
-    for (uint i = 0u; i < 3u; ++i) {
-        vec4 before = lateral[(i + 2u) % 3u];
-        ok = ok && stsvIntersectPlanes(stripFront, before, lateral[i], f[i]);
-        ok = ok && stsvIntersectPlanes(back, before, lateral[i], b[i]);
-    }
-    // A closed triangular prism iff all six corners lie in all five half-spaces and both caps keep
-    // their orientation (otherwise the side planes cross between the caps).
-    if (ok) {
-        for (uint i = 0u; i < 3u; ++i) {
-            for (uint j = 0u; j < 5u; ++j) {
-                vec4 pl = j == 0u ? stripFront : (j == 1u ? back : lateral[j - 2u]);
-                float tol = 1e-4f * (1.0f + length(f[i]));
-                ok = ok && dot(vec3(pl), f[i]) + pl.w >= -tol;
-                tol = 1e-4f * (1.0f + length(b[i]));
-                ok = ok && dot(vec3(pl), b[i]) + pl.w >= -tol;
-            }
-            ok = ok && length(f[i]) < 1e6f && length(b[i]) < 1e6f;
+    bool ok = hasLateral && stsvClosePrism(lateral[0], lateral[1], lateral[2], toLight, frontLevel,
+                                           backLevel - margin, f[0], f[1], f[2], b[0], b[1], b[2]);
+    if (!ok && hasLateral) {
+        // The side planes lean both ways across the caps (light grazing the plane, an edge pointing
+        // at it): close them across the whole box along the axis of their cone instead.
+        vol.flags |= STSV_VOLUME_CONE_STRIP;
+        vec3 axis = vec3(0.0f);
+        vec3 apex;
+        vec3 n0 = vec3(lateral[0]);
+        vec3 n1 = vec3(lateral[1]);
+        vec3 n2 = vec3(lateral[2]);
+        if (stsvIntersectPlanes(lateral[0], lateral[1], lateral[2], apex)) {
+            // Opposite of the mean edge direction (edges oriented into the cone).
+            vec3 r0 = cross(n2, n0);
+            vec3 r1 = cross(n0, n1);
+            vec3 r2 = cross(n1, n2);
+            if (dot(r0, n1) < 0.0f) r0 = -r0;
+            if (dot(r1, n2) < 0.0f) r1 = -r1;
+            if (dot(r2, n0) < 0.0f) r2 = -r2;
+            axis = -(normalize(r0) + normalize(r1) + normalize(r2));
+        } else {
+            // Parallel edges: along them (either way).
+            vec3 r0 = cross(n2, n0);
+            vec3 r1 = cross(n0, n1);
+            axis = length(r0) > length(r1) ? r0 : r1;
         }
-        float frontTurn = dot(cross(f[1] - f[0], f[2] - f[0]), toLight);
-        float backTurn = dot(cross(b[1] - b[0], b[2] - b[0]), toLight);
-        ok = ok && abs(frontTurn) > 1e-12f && frontTurn * backTurn > 0.0f;
+        float axisLength = length(axis);
+        ok = axisLength > 1e-6f;
+        axis = ok ? axis / axisLength : toLight;
+        float hi = dot(axis, stsvBoxCorner(boxLo, boxHi, 0u));
+        float lo = hi;
+        for (uint k = 1u; k < 8u; ++k) {
+            hi = max(hi, dot(axis, stsvBoxCorner(boxLo, boxHi, k)));
+            lo = min(lo, dot(axis, stsvBoxCorner(boxLo, boxHi, k)));
+        }
+        ok = ok && stsvClosePrism(lateral[0], lateral[1], lateral[2], axis, hi + margin, lo - margin, f[0],
+                                  f[1], f[2], b[0], b[1], b[2]);
+        toLight = axis;
     }
     if (!ok) {
         // Fallback: a prism around the whole box behind the triangle's plane.
-        vol.flags |= STSV_VOLUME_BOX;
+        vol.flags = (vol.flags & ~STSV_VOLUME_CONE_STRIP) | STSV_VOLUME_BOX;
         vec3 u = normalize(cross(n, abs(n.x) < 0.6f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
         vec3 w = cross(n, u);
         vec2 lo2 = vec2(min(min(dot(u, p1), dot(u, p2)), 0.0f), min(min(dot(w, p1), dot(w, p2)), 0.0f));

@@ -328,22 +328,29 @@ Strip stripOf(const StsvVolume& v) {
 
 TEST(Extrusion, StripIsClosedOutwardAndEnclosesTheVolume) {
     Rng rng(99);
-    long checked = 0, boxes = 0, pointsInside = 0;
+    long checked = 0, apexes = 0, pointsInside = 0;
+    long kinds[3] = {}, boxSamples[3] = {}, stripHits[3] = {}, planeHits[3] = {};
     for (int family = 0; family < FamilyCount; ++family) {
         for (int config = 0; config < 300; ++config) {
             const Config c = makeConfig(rng, family);
             for (const StsvVolume& v : volumesOf(c)) {
                 if (v.flags & STSV_VOLUME_EMPTY) continue;
                 ++checked;
-                boxes += (v.flags & STSV_VOLUME_BOX) != 0;
                 const Strip s = stripOf(v);
-                ASSERT_EQ(s.distinct, 6) << "a prism has six distinct corners; flags=" << v.flags << " " << c;
-                // Closed and consistently oriented: every directed edge once, its reverse once.
+                // A prism has six distinct corners; a volume closed at the apex of its side planes
+                // is a tetrahedron (the back cap collapses to one point).
+                ASSERT_TRUE(s.distinct == 6 || s.distinct == 4)
+                    << s.distinct << " corners; flags=" << v.flags << " " << c;
+                apexes += s.distinct == 4;
+                // Closed and consistently oriented: after dropping the collapsed triangles, every
+                // directed edge once and its reverse once (prism: 9 edges + 3 quad diagonals;
+                // tetrahedron: 6 edges).
                 std::map<std::pair<int, int>, int> edges;
-                for (const auto& t : s.ids)
+                for (const auto& t : s.ids) {
+                    if (t[0] == t[1] || t[1] == t[2] || t[2] == t[0]) continue;
                     for (int e = 0; e < 3; ++e) ++edges[{t[e], t[(e + 1) % 3]}];
-                // 9 prism edges + 3 quad diagonals, each in both directions.
-                ASSERT_EQ(edges.size(), 24u) << c;
+                }
+                ASSERT_EQ(edges.size(), s.distinct == 6 ? 24u : 12u) << c;
                 for (const auto& [edge, count] : edges) {
                     EXPECT_EQ(count, 1) << c;
                     EXPECT_EQ(edges.count({edge.second, edge.first}), 1u) << c;
@@ -370,22 +377,42 @@ TEST(Extrusion, StripIsClosedOutwardAndEnclosesTheVolume) {
                     facePlanes.push_back(dvec4(n, -dot(n, t[0])));
                 }
                 // Encloses {points passing the planes} ∩ box, up to float rounding of the vertices.
+                // Also measures how much of the box the strip and the planes take (rasterisation and
+                // fragment cost), by strip kind.
+                const int kind = (v.flags & STSV_VOLUME_BOX) ? 2 : (v.flags & STSV_VOLUME_CONE_STRIP) ? 1 : 0;
+                ++kinds[kind];
                 for (int i = 0; i < 200; ++i) {
+                    const bool uniform = i < 100;
                     const vec3 p =
-                        i < 100 ? rng.inBox(c.bounds.lo, c.bounds.hi)
+                        uniform ? rng.inBox(c.bounds.lo, c.bounds.hi)
                                 : trianglePoint(rng, c) + (trianglePoint(rng, c) - lightPoint(rng, c.light)) *
                                                               rng.uniformf(0.0f, 3.0f);
-                    if (!inBox(c.bounds, p) || !stsvPointInVolume(v, p)) continue;
-                    ++pointsInside;
+                    if (!inBox(c.bounds, p)) continue;
+                    bool inStrip = true;
                     for (const dvec4& f : facePlanes)
-                        EXPECT_LE(dot(dvec3(f), dvec3(p)) + f.w, 1e-6 * extent)
-                            << "p=" << str(p) << " outside the strip; flags=" << v.flags << " " << c;
+                        inStrip = inStrip && dot(dvec3(f), dvec3(p)) + f.w <= 1e-6 * extent;
+                    const bool inPlanes = stsvPointInVolume(v, p);
+                    if (uniform) {
+                        ++boxSamples[kind];
+                        stripHits[kind] += inStrip;
+                        planeHits[kind] += inPlanes;
+                    }
+                    if (!inPlanes) continue;
+                    ++pointsInside;
+                    EXPECT_TRUE(inStrip)
+                        << "p=" << str(p) << " outside the strip; flags=" << v.flags << " " << c;
                 }
             }
         }
     }
-    std::printf("[strip] %ld volumes checked (%ld box fallbacks), %ld in-volume points inside their strip\n",
-                checked, boxes, pointsInside);
+    std::printf(
+        "[strip] %ld volumes checked (%ld closed at an apex), %ld in-volume points inside their strip\n",
+        checked, apexes, pointsInside);
+    const char* const kindNames[] = {"paper prism", "cone strip", "box fallback"};
+    for (int k = 0; k < 3; ++k)
+        std::printf("[strip] %-12s %5ld volumes: strip covers %.3f of the box, planes %.3f\n", kindNames[k],
+                    kinds[k], boxSamples[k] ? double(stripHits[k]) / double(boxSamples[k]) : 0.0,
+                    boxSamples[k] ? double(planeHits[k]) / double(boxSamples[k]) : 0.0);
     EXPECT_GT(checked, 2000);
     EXPECT_GT(pointsInside, 10000);
 }
