@@ -33,6 +33,7 @@ StsvVolumeSet buildStsvVolumes(const Scene& scene, vec4 lightSphere, const Bound
             }
             if (v.flags & STSV_VOLUME_EMPTY) continue;
             if (v.flags & STSV_VOLUME_NO_TANGENT) ++set.noTangent;
+            if (v.flags & STSV_VOLUME_CONE_STRIP) ++set.coneStrip;
             if (v.flags & STSV_VOLUME_BOX) ++set.boxFallback;
             set.volumes.push_back(v);
             set.triangleOf.push_back(static_cast<std::uint32_t>(tri));

@@ -25,6 +25,7 @@ struct StsvVolumeSet {
     std::vector<std::uint32_t> sideOf;     ///< 0 or 1, the `side` argument of stsvBuildVolume
     std::size_t degenerate = 0;            ///< triangles skipped as degenerate (empty volumes not stored)
     std::size_t noTangent = 0;             ///< volumes with STSV_VOLUME_NO_TANGENT
+    std::size_t coneStrip = 0;             ///< volumes with STSV_VOLUME_CONE_STRIP
     std::size_t boxFallback = 0;           ///< volumes with STSV_VOLUME_BOX
 };
 

@@ -206,7 +206,7 @@ bool inBox(const Bounds& b, vec3 p) {
 // (b) Conservativeness and tightness.
 
 struct FamilyStats {
-    long configs = 0, volumes = 0, noTangent = 0, triangleCap = 0, box = 0;
+    long configs = 0, volumes = 0, noTangent = 0, triangleCap = 0, cone = 0, box = 0;
     long pairs = 0, occludedPairs = 0, misses = 0;
     long uniformInVolume = 0, uniformInVolumeShadowed = 0;
 };
@@ -232,6 +232,7 @@ TEST(Extrusion, ConservativeAgainstEmbree) {
                 ++st.volumes;
                 st.noTangent += (v.flags & STSV_VOLUME_NO_TANGENT) != 0;
                 st.triangleCap += (v.flags & STSV_VOLUME_TRIANGLE_CAP) != 0;
+                st.cone += (v.flags & STSV_VOLUME_CONE_STRIP) != 0;
                 st.box += (v.flags & STSV_VOLUME_BOX) != 0;
             }
             const EmbreeTriangle embree(device.get(), c.v0, c.v1, c.v2, config % 2 == 0);
@@ -275,10 +276,11 @@ TEST(Extrusion, ConservativeAgainstEmbree) {
     for (int f = 0; f < FamilyCount; ++f) {
         const FamilyStats& s = stats[f];
         std::printf(
-            "[conservative] %-18s configs %4ld volumes %4ld (no-tangent %4ld, triangle cap %4ld, box %4ld)  "
-            "pairs %7ld occluded %7ld misses %ld  tightness: %5ld/%5ld = %.2f of uniform p in a volume are "
-            "shadowed\n",
-            kFamilyNames[f], s.configs, s.volumes, s.noTangent, s.triangleCap, s.box, s.pairs,
+            "[conservative] %-17s configs %3ld volumes %4ld (no tangent %3ld, triangle cap %3ld, cone strip "
+            "%3ld, "
+            "box %2ld)  pairs %6ld, occluded %5ld, misses %ld; tightness: %4ld/%4ld = %.2f of uniform p in a "
+            "volume are shadowed\n",
+            kFamilyNames[f], s.configs, s.volumes, s.noTangent, s.triangleCap, s.cone, s.box, s.pairs,
             s.occludedPairs, s.misses, s.uniformInVolumeShadowed, s.uniformInVolume,
             s.uniformInVolume ? double(s.uniformInVolumeShadowed) / double(s.uniformInVolume) : 0.0);
         total.occludedPairs += s.occludedPairs;
