@@ -65,7 +65,8 @@ bool screenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int h
 } // namespace
 
 StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
-                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out,
+                            const TriangleFilter& include) {
     StsvCpuStats stats;
     Timer timer;
     const Bounds bounds = scene.bounds();
@@ -77,6 +78,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     std::vector<VolumeRecord> volumes;
     volumes.reserve(scene.triangleCount());
     for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        if (include && !include(t)) continue;
         triangles[t] = stsvTriangleFor(scene, t, lightCenter);
         if (triangles[t].flags & STSV_FLAG_DEGENERATE) {
             ++stats.degenerateSkipped;

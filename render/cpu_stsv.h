@@ -9,6 +9,7 @@
 #include "scene/scene.h"
 
 #include <cstddef>
+#include <functional>
 
 namespace stsv {
 
@@ -22,10 +23,15 @@ struct StsvCpuStats {
     double shade_ms = 0.0;
 };
 
-/// Light-sample buffer of `light` for every triangle of the scene treated as an S-triangle
-/// (opaque ones with constant opacity). Bitmask buffers get OR'ed bits; counter buffers get
-/// one increment per blocking triangle and sample (exact depth complexity).
+/// Which scene triangles a pass treats (all when empty).
+using TriangleFilter = std::function<bool(std::size_t triangle)>;
+
+/// Adds to the light-sample buffer of `light` the occlusion by every triangle of the scene
+/// accepted by `include`, each treated as an S-triangle (opaque ones with constant opacity).
+/// Bitmask buffers get OR'ed bits; counter buffers get one increment per blocking triangle
+/// and sample (exact depth complexity), so DCS+STSV can add to DCS counters.
 StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
-                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out);
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out,
+                            const TriangleFilter& include = {});
 
 } // namespace stsv
