@@ -52,9 +52,9 @@ DH_CONST uint STSV_VOLUME_CONE_STRIP = 32u;    ///< strip closes the side planes
 DH_CONST uint STSV_VOLUME_MAX_PLANES = 5u;
 DH_CONST uint STSV_STRIP_VERTEX_COUNT = 10u;
 
-/// Outward slack of the stored planes, in units of the scene box diagonal (plus a term for the
-/// distance of the box from the origin): float rounding of the construction and of the plane test
-/// stays far below it.
+/// Outward slack of the stored planes, in units of the scene box diagonal, plus 0.2 × as much per
+/// unit of the box's largest coordinate magnitude: float rounding of the construction and of the
+/// world-space plane test (a few 1e-7 of |p|) stays well below it.
 DH_CONST float STSV_VOLUME_SLACK = 1e-5f;
 
 /// One STSV (one side of one S-triangle). std430: 16 × 16 bytes.
@@ -234,7 +234,7 @@ DH_FUNC bool stsvClosePrism(vec4 s0, vec4 s1, vec4 s2, vec3 axis, float frontLev
     }
     float extent =
         max(max(max(length(f0), length(f1)), max(length(f2), length(b0))), max(length(b1), length(b2)));
-    ok = ok && extent < 1e6f;
+    ok = ok && extent < 100.0f; // corners within 100 box diagonals: nearly parallel planes give up
     float frontTurn = dot(cross(f1 - f0, f2 - f0), axis);
     float backTurn = dot(cross(b1 - b0, b2 - b0), axis);
     if (backAtApex) return ok && abs(frontTurn) > 1e-12f;
@@ -286,8 +286,11 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     float scaleW = max(length(boxHiW - boxLoW), 1e-30f);
     float invScale = 1.0f / scaleW;
     vec3 farW = max(abs(boxLoW), abs(boxHiW));
-    float slack = STSV_VOLUME_SLACK * (1.0f + max(max(farW.x, farW.y), farW.z) * invScale);
+    float slack = STSV_VOLUME_SLACK * (1.0f + 0.2f * max(max(farW.x, farW.y), farW.z) * invScale);
     float margin = 1e-3f; // strip planes beyond the box, in box diagonals
+    // The strip's planes lie this much (box diagonals) outside the stored ones: more than the
+    // rounding stsvClosePrism tolerates in its corners (≤ 2e-4), so the strip encloses the volume.
+    float stripExpansion = slack + 4e-4f;
     vec3 boxLo = (boxLoW - v0) * invScale;
     vec3 boxHi = (boxHiW - v0) * invScale;
     vec3 p0 = vec3(0.0f);
@@ -387,12 +390,12 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     // 4. The strip's prism: front cap, three side planes, back cap, each one more slack outwards
     // so that it strictly encloses the stored planes' region inside the box.
     vec3 toLight = -vec3(front);
-    vec4 stripFront = front + vec4(0.0f, 0.0f, 0.0f, slack);
+    vec4 stripFront = front + vec4(0.0f, 0.0f, 0.0f, stripExpansion - slack);
     vec4 lateral[3];
     bool hasLateral = true; // false if an artificial side plane could not be oriented
     for (uint i = 0u; i < 3u; ++i) {
         if (hasOuter[i]) {
-            lateral[i] = outer[i] + vec4(0.0f, 0.0f, 0.0f, 2.0f * slack);
+            lateral[i] = outer[i] + vec4(0.0f, 0.0f, 0.0f, stripExpansion);
         } else {
             // No outer plane: a plane perpendicular to the front cap along the edge, outside the box.
             vec3 a = q[i];
@@ -463,7 +466,7 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
         vec3 w = cross(n, u);
         vec2 lo2 = vec2(min(min(dot(u, p1), dot(u, p2)), 0.0f), min(min(dot(w, p1), dot(w, p2)), 0.0f));
         vec2 hi2 = vec2(max(max(dot(u, p1), dot(u, p2)), 0.0f), max(max(dot(w, p1), dot(w, p2)), 0.0f));
-        float depthFront = 2.0f * slack;
+        float depthFront = stripExpansion;
         float depthBack = depthFront - 0.01f;
         for (uint k = 0u; k < 8u; ++k) {
             vec3 corner = stsvBoxCorner(boxLo, boxHi, k);

@@ -96,7 +96,7 @@ enum Family : int {
     CentreInPlane,   ///< centre on the plane (up to float rounding)
     PointLight,      ///< r = 0
     EdgeTowardLight, ///< the light sits on the extension of an edge
-    Scaled,          ///< far light at scale 1e-3…1e3 with an offset of 10⁴ scales
+    Scaled,          ///< far light at scale 1e-3…1e3, 1…10⁵ scales away from the origin
     FamilyCount
 };
 const char* const kFamilyNames[] = {"far light",   "near light",        "straddling", "centre in plane",
@@ -123,7 +123,7 @@ Config makeConfig(Rng& rng, int family) {
     vec3 offset(0.0f);
     if (family == Scaled) {
         scale = rng.logUniform(1e-3f, 1e3f);
-        offset = rng.inCube(1e4f) * scale;
+        offset = rng.onSphere() * rng.logUniform(1.0f, 1e5f) * scale; // up to 10⁵ sizes from the origin
     }
     c.scale = scale;
     c.v0 = offset + rng.inCube(1.0f) * scale;
@@ -333,7 +333,7 @@ TEST(Extrusion, StripIsClosedOutwardAndEnclosesTheVolume) {
     long checked = 0, apexes = 0, pointsInside = 0;
     long kinds[3] = {}, boxSamples[3] = {}, stripHits[3] = {}, planeHits[3] = {};
     for (int family = 0; family < FamilyCount; ++family) {
-        for (int config = 0; config < 300; ++config) {
+        for (int config = 0; config < 2000; ++config) {
             const Config c = makeConfig(rng, family);
             for (const StsvVolume& v : volumesOf(c)) {
                 if (v.flags & STSV_VOLUME_EMPTY) continue;
@@ -439,52 +439,69 @@ double minAngleOfTPrime(const Config& c) {
 
 TEST(Extrusion, FarLightFollowsThePaper) {
     Rng rng(5);
-    int checked = 0;
+    int checked = 0, stripChecked = 0;
     for (int i = 0; i < 500; ++i) {
         const Config c = makeConfig(rng, FarLight);
         const StsvVolume v = stsvBuildVolume(c.v0, c.v1, c.v2, c.light, c.bounds.lo, c.bounds.hi, 0u);
         if (v.flags != 0u) continue;
-        // The front vertices are intersections of the slack-shifted planes: a shift ε moves them by
-        // up to ε / sin(angle between adjacent side planes) — the angles of t' as seen from the light.
-        // Thin ones (< 20°) are left out of this structural check.
-        if (minAngleOfTPrime(c) < 20.0 * 3.14159265 / 180.0) continue;
         ++checked;
-        const float diag = length(c.bounds.extent());
-        const float tol = 5e-4f * diag; // 2 slacks (2e-5 diag) amplified ≤ 1/sin 10° ≈ 6, and rounding
-        // Front cap t' (Fig. 6: vertices 0, 1, 2): one vertex of t kept, all three at the same distance
-        // from the centre, each on the ray from the centre through a vertex of t.
-        const vec3 centre(c.light);
-        const float R = std::min({distance(c.v0, centre), distance(c.v1, centre), distance(c.v2, centre)});
-        int kept = 0;
-        for (int k = 0; k < 3; ++k) {
-            const vec3 f(v.vertices[k]);
-            EXPECT_NEAR(distance(f, centre), R, tol) << c;
-            float bestSine = 1.0f;
-            for (vec3 t : {c.v0, c.v1, c.v2}) {
-                bestSine = std::min(bestSine, length(cross(normalize(f - centre), normalize(t - centre))));
-                kept += distance(f, t) < tol;
-            }
-            EXPECT_LT(bestSine * R, tol) << "front vertex " << k << " is on no ray centre→vertex; " << c;
-        }
-        EXPECT_GE(kept, 1) << c;
-        // planes: triangle plane, t' plane, three outer planes tangent to the light sphere.
+        const double diag = length(c.bounds.extent());
+        const double planeTol = 1e-4 * diag; // the planes' slack (1e-5 diag) and float rounding
+        // t' in double (§2.2): the vertex closest to the centre kept, the others pulled along their
+        // rays from the centre to the same distance.
+        const dvec3 centre(vec3(c.light));
+        dvec3 q[3] = {dvec3(c.v0), dvec3(c.v1), dvec3(c.v2)};
+        const double R = std::min({distance(q[0], centre), distance(q[1], centre), distance(q[2], centre)});
+        for (dvec3& p : q) p = centre + (p - centre) * (R / distance(p, centre));
+        // Thin t' (an angle below 20°): its third vertex may lie within the tolerance of an edge's plane.
+        const bool thin = minAngleOfTPrime(c) < 20.0 * 3.14159265 / 180.0;
+        auto value = [&](uint k, dvec3 p) {
+            return dot(dvec3(vec3(v.planes[k])), p) + double(v.planes[k].w);
+        };
+        // planes: [0] triangle plane, [1] t' plane (front cap), [2..4] outer planes.
         ASSERT_EQ(v.planeCount, 5u) << c;
+        for (const dvec3& p : q)
+            EXPECT_NEAR(value(1, p), 0.0, planeTol) << "t' vertex off the front cap; " << c;
+        EXPECT_LT(value(1, centre), -double(c.light.w)) << "light not in front of t'; " << c;
         for (uint k = 2; k < 5; ++k) {
-            const float signedDistance = dot(vec3(v.planes[k]), centre) + v.planes[k].w;
-            EXPECT_NEAR(signedDistance, -c.light.w, tol) << "plane " << k << " not tangent; " << c;
+            // Through an edge of t' (two vertices on it, the third inside), tangent to the sphere.
+            int onPlane = 0, inside = 0;
+            for (const dvec3& p : q) {
+                onPlane += std::abs(value(k, p)) < planeTol;
+                inside += value(k, p) > planeTol;
+            }
+            EXPECT_GE(onPlane, 2) << "plane " << k << "; " << c;
+            if (!thin) {
+                EXPECT_EQ(onPlane, 2) << "plane " << k << "; " << c;
+                EXPECT_EQ(inside, 1) << "plane " << k << "; " << c;
+            }
+            EXPECT_NEAR(value(k, centre), -double(c.light.w), planeTol)
+                << "plane " << k << " not tangent; " << c;
             EXPECT_NEAR(length(vec3(v.planes[k])), 1.0f, 1e-5f);
+        }
+        // The strip's front cap (Fig. 6: vertices 0, 1, 2) is t', up to the strip's expansion (4.2e-4
+        // diag) amplified by 1/sin(half the angle between adjacent side planes): checked where t''s
+        // angles are ≥ 20° (≤ 1/sin 10° ≈ 5.8, so < 2.5e-3 diag; 5e-3 allowed).
+        if (!thin) {
+            ++stripChecked;
+            for (int k = 0; k < 3; ++k) {
+                double nearest = 1e30;
+                for (const dvec3& p : q) nearest = std::min(nearest, distance(dvec3(vec3(v.vertices[k])), p));
+                EXPECT_LT(nearest, 5e-3 * diag) << "front vertex " << k << "; " << c;
+            }
         }
         // Back cap beyond the box: every box corner in front of it (strip vertices 3, 5, 7 are B2, B0, B1).
         const vec3 b0(v.vertices[5]), b1(v.vertices[7]), b2(v.vertices[3]);
         const vec3 backOut =
-            normalize(cross(b1 - b0, b2 - b0)) * -1.0f; // back cap faces away: B wound CW from the light
+            -normalize(cross(b1 - b0, b2 - b0)); // back cap faces away: B wound CW from the light
         for (uint k = 0; k < 8; ++k) {
             const vec3 corner = stsvBoxCorner(c.bounds.lo, c.bounds.hi, k);
             EXPECT_LT(dot(backOut, corner - b0), 0.0f)
                 << "corner " << str(corner) << " beyond the back cap; " << c;
         }
     }
-    EXPECT_GT(checked, 200);
+    EXPECT_GT(checked, 400);
+    EXPECT_GT(stripChecked, 200);
 }
 
 TEST(Extrusion, PointLightVolumeIsTheHardShadow) {
