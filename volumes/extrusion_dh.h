@@ -21,10 +21,12 @@
 // Conservative fallbacks, never NaN: an edge of t' whose line meets the sphere, or with the sphere
 // across it on the triangle's side, has no outer plane: it is left out of `planes` and bounded in
 // the strip by a plane outside the box (STSV_VOLUME_NO_TANGENT). When the sphere crosses the plane
-// of t', the front cap lies in the triangle's plane instead (STSV_VOLUME_TRIANGLE_CAP). When the
-// side planes lean both ways across the caps, the strip closes them across the whole box along
-// their cone's axis (STSV_VOLUME_CONE_STRIP); when even that fails, it is a prism around the whole
-// box behind the triangle (STSV_VOLUME_BOX). Degenerate triangles and unlit sides: empty volumes.
+// of t', the front cap lies in the triangle's plane instead (STSV_VOLUME_TRIANGLE_CAP). Outer
+// planes nearly parallel to the caps (corners far outside the box) are replaced in the strip by
+// upright planes outside the box. When the side planes lean both ways across the caps, the strip
+// closes them across the whole box along their cone's axis (STSV_VOLUME_CONE_STRIP); when even
+// that fails, it is a prism around the whole box behind the triangle (STSV_VOLUME_BOX). Degenerate
+// triangles and unlit sides give empty volumes.
 //
 // `planes` always hold the triangle's plane (p behind t, side σ), then the plane of t' when it is
 // the front cap, then the outer planes that exist; all shifted outwards by a small slack (rounding)
@@ -391,27 +393,26 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     // so that it strictly encloses the stored planes' region inside the box.
     vec3 toLight = -vec3(front);
     vec4 stripFront = front + vec4(0.0f, 0.0f, 0.0f, stripExpansion - slack);
+    // Side planes: the outer planes, and for each edge a plane perpendicular to the front cap along
+    // it, outside the box (used where the outer plane is missing, or too flat to close a prism).
     vec4 lateral[3];
-    bool hasLateral = true; // false if an artificial side plane could not be oriented
+    vec4 upright[3];
+    bool hasLateral = true; // false if an upright plane could not be oriented (degenerate t')
     for (uint i = 0u; i < 3u; ++i) {
-        if (hasOuter[i]) {
-            lateral[i] = outer[i] + vec4(0.0f, 0.0f, 0.0f, stripExpansion);
+        vec3 a = q[i];
+        vec3 m = cross(toLight, q[(i + 1u) % 3u] - a);
+        float ml = length(m);
+        if (!(ml > 0.0f)) {
+            hasLateral = false;
+            m = toLight;
         } else {
-            // No outer plane: a plane perpendicular to the front cap along the edge, outside the box.
-            vec3 a = q[i];
-            vec3 m = cross(toLight, q[(i + 1u) % 3u] - a);
-            float ml = length(m);
-            if (!(ml > 0.0f)) {
-                hasLateral = false;
-                m = toLight;
-            } else {
-                m = m / ml;
-            }
-            if (dot(m, q[(i + 2u) % 3u] - a) < 0.0f) m = -m;
-            float lowest = min(dot(m, a), dot(m, q[(i + 1u) % 3u]));
-            for (uint k = 0u; k < 8u; ++k) lowest = min(lowest, dot(m, stsvBoxCorner(boxLo, boxHi, k)));
-            lateral[i] = vec4(m, margin - lowest);
+            m = m / ml;
         }
+        if (dot(m, q[(i + 2u) % 3u] - a) < 0.0f) m = -m;
+        float lowest = min(dot(m, a), dot(m, q[(i + 1u) % 3u]));
+        for (uint k = 0u; k < 8u; ++k) lowest = min(lowest, dot(m, stsvBoxCorner(boxLo, boxHi, k)));
+        upright[i] = vec4(m, margin - lowest);
+        lateral[i] = hasOuter[i] ? outer[i] + vec4(0.0f, 0.0f, 0.0f, stripExpansion) : upright[i];
     }
     // The paper's prism: front cap t' (or the triangle's plane), back cap parallel to it beyond the
     // box. Corners on the side edges, i.e. along cross(n_a, n_b) of adjacent side planes (§2.2).
@@ -422,6 +423,21 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     vec3 b[3];
     bool ok = hasLateral && stsvClosePrism(lateral[0], lateral[1], lateral[2], toLight, frontLevel,
                                            backLevel - margin, f[0], f[1], f[2], b[0], b[1], b[2]);
+    if (!ok && hasLateral) {
+        // Outer planes nearly parallel to the caps (the sphere reaching close to the plane of t')
+        // put the corners far outside the box: bound those sides by the upright planes instead.
+        bool changed = false;
+        vec4 sides[3];
+        for (uint i = 0u; i < 3u; ++i) {
+            sides[i] = lateral[i];
+            if (hasOuter[i] && abs(dot(vec3(outer[i]), toLight)) > 0.8f) {
+                sides[i] = upright[i];
+                changed = true;
+            }
+        }
+        ok = changed && stsvClosePrism(sides[0], sides[1], sides[2], toLight, frontLevel, backLevel - margin,
+                                       f[0], f[1], f[2], b[0], b[1], b[2]);
+    }
     if (!ok && hasLateral) {
         // The side planes lean both ways across the caps (light grazing the plane, an edge pointing
         // at it): close them across the whole box along the axis of their cone instead.
