@@ -97,10 +97,11 @@ enum Family : int {
     PointLight,      ///< r = 0
     EdgeTowardLight, ///< the light sits on the extension of an edge
     Scaled,          ///< far light at scale 1e-3…1e3, 1…10⁵ scales away from the origin
+    Directional, ///< a directional light's bounding sphere (sampling/light_bounds.h): 100 box diagonals away
     FamilyCount
 };
 const char* const kFamilyNames[] = {"far light",   "near light",        "straddling", "centre in plane",
-                                    "point light", "edge toward light", "scaled"};
+                                    "point light", "edge toward light", "scaled",     "directional"};
 
 struct Config {
     vec3 v0, v1, v2;
@@ -149,6 +150,14 @@ Config makeConfig(Rng& rng, int family) {
     case PointLight:
         r = 0.0f;
         break;
+    case Directional: {
+        // As lightBoundingSphere places it for a box of diagonal 10√3 ≈ 17.3: far distance F = 100
+        // diagonals, radius F·tan(angular radius) + the box's half diagonal.
+        const float far = 100.0f * 17.32f * scale;
+        centre = rng.onSphere() * far;
+        r = far * std::tan(rng.uniformf(0.005f, 0.1f)) + 8.66f * scale;
+        break;
+    }
     case EdgeTowardLight: {
         const vec3 a = rng.chance(0.5) ? c.v0 : c.v1;
         const vec3 b = a == c.v0 ? c.v1 : c.v2;
