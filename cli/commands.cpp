@@ -1,22 +1,15 @@
 #include "cli/commands.h"
 
+#include "cli/cli_util.h"
+#include "cli/subcommands.h"
 #include "core/error.h"
-#include "core/image.h"
-#include "core/progress.h"
-#include "core/timer.h"
-#include "render/frame.h"
-#include "scene/load.h"
 
 #include <CLI/CLI.hpp>
-#include <embree3/rtcore.h>
-#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <iostream>
+#include <new>
 #include <regex>
-#include <thread>
 
 namespace stsv {
 
@@ -27,95 +20,51 @@ void parseSize(const std::string& text, int& width, int& height) {
         throw UsageError("--size '" + text + "' is not of the form WIDTHxHEIGHT (e.g. 512x512)");
     width = std::stoi(match[1]);
     height = std::stoi(match[2]);
+    if (width < 1 || height < 1 || width > 16384 || height > 16384)
+        throw UsageError("--size " + text + " is out of range (1 to 16384 pixels per side)");
 }
 
 std::string perLightPath(const std::string& path, std::size_t light) {
     if (light == 0) return path;
     const std::filesystem::path p(path);
-    return (p.parent_path() / (p.stem().string() + "_light" + std::to_string(light) + p.extension().string())).string();
+    return (p.parent_path() / (p.stem().string() + "_light" + std::to_string(light) + p.extension().string()))
+        .string();
 }
 
 namespace {
 
-struct RenderArgs {
-    std::string scene;
-    std::string method = "stsv";
-    std::string backend = "cpu";
-    std::string pattern = "poisson";
-    std::string buffer = "bitmask";
-    std::string size = "512x512";
-    std::string output;
-    std::string visibility;
-    std::string dumpLs;
-    std::string stats;
-    std::vector<std::string> sets;
-    RenderOptions options;
-    bool quiet = false;
-};
-
-void writeJson(const std::string& path, const nlohmann::json& json) {
-    std::ofstream out(path);
-    if (!out) throw Error(path + ": cannot open for writing");
-    out << json.dump(2) << '\n';
+/// Options shared by render, bench and compare.
+void addFrameOptions(CLI::App* command, FrameArgs& a) {
+    command->add_option("--pattern", a.pattern, "uniform | stratified | poisson | lowdisc")
+        ->capture_default_str();
+    command->add_option("--seed", a.options.seed, "seed of the sample patterns and decorrelation")
+        ->capture_default_str();
+    command->add_option("--interleave", a.options.interleave, "K for K×K interleaved sample sets (1 to 8)")
+        ->capture_default_str();
+    command->add_flag("!--no-decorrelate", a.options.decorrelate, "same sample set for every pixel");
+    command->add_option("--buffer", a.buffer, "light-sample buffer: bitmask | counters")
+        ->capture_default_str();
+    command->add_option("--ambient", a.options.ambient, "ambient light, fraction of albedo")
+        ->capture_default_str();
+    command->add_option("--size", a.size, "image size WIDTHxHEIGHT")->capture_default_str();
+    command->add_option("--set", a.sets, "scene knob key=value (repeatable), e.g. --set count=256");
+    command->add_option("--device", a.options.device,
+                        "Vulkan device: index or name substring (see stsv info)");
+    command->add_flag("--validation", a.options.validation, "Vulkan validation layers (messages on stderr)");
+    command->add_flag("-q,--quiet", a.quiet, "no progress display or summary line");
 }
 
-int runRender(RenderArgs& args) {
-    if (args.quiet) Progress::setEnabled(false);
-    RenderOptions& o = args.options;
-    o.method = parseMethod(args.method);
-    o.backend = parseBackend(args.backend);
-    o.pattern = parsePatternKind(args.pattern);
-    o.buffer = parseBufferKind(args.buffer);
-    parseSize(args.size, o.width, o.height);
-    validate(o);
-
-    SceneOptions sceneOptions;
-    for (const std::string& s : args.sets) {
-        const auto eq = s.find('=');
-        if (eq == std::string::npos || eq == 0) throw UsageError("--set '" + s + "' is not of the form key=value");
-        sceneOptions.set[s.substr(0, eq)] = s.substr(eq + 1);
+/// Names of the options given on the command line ("scene", "--size", ...).
+std::vector<std::string> givenOptions(const CLI::App* command) {
+    std::vector<std::string> names;
+    for (const CLI::Option* o : command->get_options()) {
+        if (o->count() == 0) continue;
+        if (o->get_lnames().empty())
+            names.push_back(o->get_name());
+        else
+            for (const std::string& l : o->get_lnames()) names.push_back("--" + l);
     }
-    Timer loadTimer;
-    const Scene scene = loadScene(args.scene, sceneOptions);
-    const double loadMs = loadTimer.milliseconds();
-
-    Frame frame = renderFrame(scene, o);
-    frame.stats["scene_load_ms"] = loadMs;
-
-    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty())
-        args.output = std::filesystem::path(args.scene).stem().string() + ".png";
-    if (!args.output.empty()) writePng(args.output, toImage8(frame.color, true));
-    if (!args.visibility.empty()) writePng(args.visibility, toImage8(frame.visibility, false));
-    if (!args.dumpLs.empty())
-        for (std::size_t l = 0; l < frame.lightSamples.size(); ++l)
-            frame.lightSamples[l].writeNpy(perLightPath(args.dumpLs, l));
-    frame.stats["outputs"] = {{"image", args.output}, {"visibility", args.visibility}, {"light_samples", args.dumpLs}};
-    if (!args.stats.empty()) writeJson(args.stats, frame.stats);
-    if (!args.quiet)
-        std::fprintf(stderr, "%s: %s, %d samples, %dx%d: frame %.1f ms\n", scene.source.c_str(),
-                     toString(o.method).c_str(), o.samples, o.width, o.height, frame.stats["frame_ms"].get<double>());
-    return 0;
-}
-
-int runInfo() {
-    std::cout << "stsv " << STSV_VERSION << " — soft shadows from area lights with soft textured shadow volumes\n\n";
-    std::cout << "methods:  reference (Embree ray tracing), stsv (soft textured shadow volumes)\n";
-    std::cout << "backends: cpu\n";
-    std::cout << "patterns: uniform, stratified, poisson, lowdisc; samples 16, 32, 64, 128, 256\n";
-    std::cout << "built-in scenes:\n";
-    for (const std::string& name : builtinSceneNames()) {
-        std::cout << "  " << name;
-        const auto knobs = builtinSceneKnobs(name);
-        if (!knobs.empty()) {
-            std::cout << "  (--set";
-            for (const auto& k : knobs) std::cout << ' ' << k;
-            std::cout << ')';
-        }
-        std::cout << '\n';
-    }
-    std::cout << "cpu threads: " << std::thread::hardware_concurrency() << '\n';
-    std::cout << "embree: " << RTC_VERSION_STRING << '\n';
-    return 0;
+    return names;
 }
 
 } // namespace
@@ -126,37 +75,94 @@ int runCli(int argc, char** argv) {
     app.set_version_flag("--version", std::string(STSV_VERSION));
 
     RenderArgs r;
-    CLI::App* render = app.add_subcommand("render", "render a scene: image, visibility, light-sample buffers, stats");
-    render->add_option("scene", r.scene, "a .json scene, an .obj/.off mesh, or a built-in name (fence, foliage)")
+    r.options.samples = 64;
+    CLI::App* render =
+        app.add_subcommand("render", "render a scene: image, visibility, light-sample buffers, stats");
+    render
+        ->add_option("scene", r.scene,
+                     "a .json scene, an .obj/.off mesh, or a built-in name (fence, foliage)")
         ->required();
     render->add_option("--method", r.method, "reference | stsv")->capture_default_str();
-    render->add_option("--backend", r.backend, "cpu")->capture_default_str();
+    render->add_option("--backend", r.backend,
+                       "vulkan | cpu (default " + toString(defaultBackend()) +
+                           "; the reference is cpu only)");
     render->add_option("--samples", r.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
         ->capture_default_str();
-    render->add_option("--pattern", r.pattern, "uniform | stratified | poisson | lowdisc")->capture_default_str();
-    render->add_option("--seed", r.options.seed, "seed of the sample patterns and decorrelation")->capture_default_str();
-    render->add_option("--interleave", r.options.interleave, "K for K×K interleaved sample sets")->capture_default_str();
-    render->add_flag("!--no-decorrelate", r.options.decorrelate, "same sample set for every pixel");
-    render->add_option("--buffer", r.buffer, "light-sample buffer: bitmask | counters")->capture_default_str();
-    render->add_option("--ambient", r.options.ambient, "ambient light, fraction of albedo")->capture_default_str();
-    render->add_option("--size", r.size, "image size WIDTHxHEIGHT")->capture_default_str();
-    render->add_option("-o,--output", r.output, "lit image (PNG, sRGB)");
+    addFrameOptions(render, r);
+    render->add_option("-o,--output", r.output,
+                       "lit image (PNG, sRGB); default SCENE.png when no output is given");
     render->add_option("--visibility", r.visibility, "visibility v_coef image (PNG, linear gray)");
     render->add_option("--dump-ls", r.dumpLs, "light-sample buffer as NumPy .npy (one file per light)");
-    render->add_option("--stats", r.stats, "parameters, timings and counts as JSON");
-    render->add_option("--set", r.sets, "scene knob key=value (repeatable), e.g. --set count=256");
-    render->add_flag("-q,--quiet", r.quiet, "no progress display or summary line");
+    render->add_option("--stats", r.stats, "parameters, counts, timings and buffer memory as JSON");
 
-    CLI::App* info = app.add_subcommand("info", "list methods, built-in scenes and the machine's capabilities");
+    CLI::App* info =
+        app.add_subcommand("info", "list methods, built-in scenes and the machine's capabilities");
+
+    BenchArgs b;
+    CLI::App* bench = app.add_subcommand("bench", "time frames per method, backend and sample count");
+    bench->add_option("scene", b.scene, "a .json scene, an .obj/.off mesh, or a built-in name");
+    bench->add_option("--methods", b.methods, "comma-separated: stsv,reference")->capture_default_str();
+    bench->add_option("--backends", b.backends,
+                      "comma-separated: vulkan,cpu (default: " +
+                          std::string(defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") +
+                          "; the reference runs on cpu only)");
+    bench->add_option("--samples", b.samples, "comma-separated sample counts, e.g. 16,64,256")
+        ->capture_default_str();
+    bench->add_option("--vary", b.vary, "one scene per value of a knob, e.g. count=250,1000,4000");
+    bench->add_option("--repeat", b.repeat, "timed frames per configuration")->capture_default_str();
+    bench->add_option("--warmup", b.warmup, "untimed frames before them")->capture_default_str();
+    bench->add_flag("--check", b.check,
+                    "compare each configuration's light-sample bits with the reference's");
+    bench->add_option("--json", b.json, "write the results as JSON");
+    bench->add_option("--preset", b.preset,
+                      "named configuration from bench/presets.json (see --list-presets)");
+    bench->add_option("--presets", b.presetsFile,
+                      "read presets from this JSON file instead of the built-in ones");
+    bench->add_flag("--list-presets", b.listPresets, "print the presets and exit");
+    addFrameOptions(bench, b);
+
+    CompareArgs c;
+    c.options.samples = 64;
+    CLI::App* compare =
+        app.add_subcommand("compare", "error tables and images of methods against the reference, "
+                                      "or of two --dump-ls .npy files");
+    compare->add_option("inputs", c.inputs, "SCENE, or A.npy B.npy")->required()->expected(1, 2);
+    compare->add_option("--methods", c.methods, "comma-separated, each method[/backend], e.g. stsv,stsv/cpu")
+        ->capture_default_str();
+    compare->add_option("--backend", c.backend,
+                        "backend of methods without one (default " + toString(defaultBackend()) + ")");
+    compare->add_option("--against", c.against, "method[/backend] the others are compared with")
+        ->capture_default_str();
+    compare->add_option("--samples", c.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
+        ->capture_default_str();
+    compare->add_option("--out", c.out,
+                        "directory for the images (visibility, |difference| heat map, lit image)");
+    compare->add_option("--json", c.json, "write the error table as JSON");
+    compare->add_option("--heat-scale", c.heatScale, "difference shown yellow in the heat maps")
+        ->capture_default_str();
+    addFrameOptions(compare, c);
 
     try {
         app.parse(argc, argv);
-        if (*render) return runRender(r);
+        if (*render) {
+            r.argv.assign(argv, argv + argc);
+            return runRender(r);
+        }
         if (*info) return runInfo();
+        if (*bench) {
+            b.given = givenOptions(bench);
+            return runBench(b);
+        }
+        if (*compare) return runCompare(c);
     } catch (const CLI::ParseError& e) {
-        return app.exit(e);
+        if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
+        std::fprintf(stderr, "stsv: error: %s (see stsv --help)\n", e.what());
+        return 1;
     } catch (const Error& e) {
         std::fprintf(stderr, "stsv: error: %s\n", e.what());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(stderr, "stsv: error: out of memory (try a smaller --size or fewer --samples)\n");
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "stsv: internal error: %s\n", e.what());

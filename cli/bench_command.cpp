@@ -1,0 +1,458 @@
+// `stsv bench`: frame times per configuration (scene variant × method × backend × samples),
+// start-up excluded, warm-up frames discarded, K timed frames summarised as median/min/max.
+#include "cli/cli_util.h"
+#include "cli/commands.h"
+#include "cli/subcommands.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "gpu/device.h"
+#include "render/frame.h"
+#include "scene/load.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <new>
+#include <thread>
+#include <unistd.h>
+
+namespace stsv {
+
+// bench/presets.json, compiled in by cli/CMakeLists.txt.
+extern const char* const BENCH_PRESETS_JSON;
+
+namespace {
+
+struct Variant {
+    std::string label; ///< "" or "count=250"
+    SceneOptions sceneOptions;
+};
+
+struct Config {
+    Method method;
+    Backend backend;
+    int samples;
+    std::size_t variant;
+    std::string label() const {
+        return toString(method) + "/" + toString(backend) + " " + std::to_string(samples);
+    }
+};
+
+struct Result {
+    Config config;
+    nlohmann::json scene;
+    double startupMs = 0.0;
+    std::vector<double> frameMs;
+    std::map<std::string, std::vector<double>> passes;
+    std::vector<LightSampleBuffer> lightSamples; ///< of the last timed frame (for --check)
+    nlohmann::json lastStats;
+    std::string error;
+    std::optional<double> speedup;
+    std::optional<double> agreementPercent;
+    std::size_t differingSamples = 0;
+};
+
+/// Adds every number under `passes` to `out`, nested objects as "outer/inner".
+void collectPasses(const nlohmann::json& passes, const std::string& prefix,
+                   std::map<std::string, std::vector<double>>& out) {
+    if (!passes.is_object()) return;
+    for (const auto& [name, value] : passes.items()) {
+        if (value.is_number())
+            out[prefix + name].push_back(value.get<double>());
+        else if (value.is_object())
+            collectPasses(value, prefix + name + "/", out);
+    }
+}
+
+/// The name of the device the Vulkan backend picks (DeviceOptions::select's rule), or a
+/// short reason why there is none.
+std::string vulkanDeviceName(const std::string& select, nlohmann::json& allNames) {
+    try {
+        const std::vector<DeviceInfo> devices = listDevices();
+        for (const DeviceInfo& d : devices) allNames.push_back(d.name);
+        if (!select.empty() &&
+            std::all_of(select.begin(), select.end(), [](unsigned char c) { return std::isdigit(c); })) {
+            const unsigned long index = select.size() > 9 ? ~0ul : std::stoul(select);
+            return index < devices.size() ? devices[index].name : "no device " + select;
+        }
+        if (!select.empty()) {
+            auto lower = [](std::string s) {
+                for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+                return s;
+            };
+            for (const DeviceInfo& d : devices)
+                if (lower(d.name).find(lower(select)) != std::string::npos) return d.name;
+            return "no device matching " + select;
+        }
+        for (VkPhysicalDeviceType type :
+             {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU,
+              VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU, VK_PHYSICAL_DEVICE_TYPE_CPU,
+              VK_PHYSICAL_DEVICE_TYPE_OTHER})
+            for (const DeviceInfo& d : devices)
+                if (d.type == type && d.vulkan13) return d.name;
+        return "no Vulkan 1.3 device";
+    } catch (const Error& e) {
+        return std::string("vulkan unavailable: ") + e.what();
+    }
+}
+
+std::vector<Variant> makeVariants(const FrameArgs& args, const std::string& vary) {
+    const SceneOptions base = parseSets(args.sets);
+    if (vary.empty()) return {{"", base}};
+    const auto eq = vary.find('=');
+    if (eq == std::string::npos || eq == 0)
+        throw UsageError("--vary '" + vary + "' is not of the form key=value1,value2,...");
+    const std::string key = vary.substr(0, eq);
+    const std::vector<std::string> values = splitList(vary.substr(eq + 1));
+    if (values.empty()) throw UsageError("--vary '" + vary + "' lists no values");
+    std::vector<Variant> variants;
+    for (const std::string& v : values) {
+        Variant variant{key + "=" + v, base};
+        variant.sceneOptions.set[key] = v;
+        variants.push_back(variant);
+    }
+    return variants;
+}
+
+/// Runs one configuration: the renderer is built once (start-up), then warm-up and timed frames.
+void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repeat, bool progressOn,
+                      const std::function<void(const std::string&, bool)>& onFrame, Result& result) {
+    o.method = result.config.method;
+    o.backend = result.config.backend;
+    o.samples = result.config.samples;
+    const std::string label = result.config.label();
+    // The bar of this configuration is decided now; renderers' own bars stay off meanwhile.
+    Progress::setEnabled(progressOn);
+    Progress progress(label, std::size_t(warmup + repeat) + 1);
+    Progress::setEnabled(false);
+
+    Timer startup;
+    const std::unique_ptr<FrameRenderer> renderer = makeRenderer(scene, o);
+    result.startupMs = startup.milliseconds();
+    progress.advance();
+    for (int i = 0; i < warmup + repeat; ++i) {
+        const bool timed = i >= warmup;
+        Timer wall;
+        Frame frame = renderer->render();
+        const double wallMs = wall.milliseconds();
+        progress.advance();
+        if (onFrame) onFrame(label, timed);
+        if (i == 0 && frame.stats.contains("startup_ms") && frame.stats["startup_ms"].is_number())
+            result.startupMs = frame.stats["startup_ms"].get<double>();
+        if (!timed) continue;
+        const nlohmann::json& ms = frame.stats["frame_ms"];
+        result.frameMs.push_back(ms.is_number() ? ms.get<double>() : wallMs);
+        collectPasses(frame.stats.value("passes", nlohmann::json::object()), "", result.passes);
+        if (i + 1 == warmup + repeat) {
+            result.lightSamples = std::move(frame.lightSamples);
+            result.lastStats = std::move(frame.stats);
+        }
+    }
+    progress.finish();
+}
+
+void printTable(const std::string& scene, const std::vector<Result>& results,
+                const std::vector<Variant>& variants, bool check) {
+    std::printf("%-24s %-10s %-8s %7s %11s %11s %11s %11s %9s%s\n", "scene", "method", "backend", "samples",
+                "startup ms", "median ms", "min ms", "max ms", "speed-up", check ? "  identical bits" : "");
+    for (const Result& r : results) {
+        const Config& c = r.config;
+        const std::string name =
+            variants[c.variant].label.empty() ? scene : scene + " " + variants[c.variant].label;
+        if (!r.error.empty()) {
+            std::printf("%-24s %-10s %-8s %7d  failed: %s\n", name.c_str(), toString(c.method).c_str(),
+                        toString(c.backend).c_str(), c.samples, r.error.c_str());
+            continue;
+        }
+        const Summary f = summarize(r.frameMs);
+        char speedup[32] = "-";
+        if (r.speedup) std::snprintf(speedup, sizeof speedup, "%.1fx", *r.speedup);
+        char agreement[48] = "";
+        if (check && r.agreementPercent)
+            std::snprintf(agreement, sizeof agreement, "  %12.4f %%", *r.agreementPercent);
+        else if (check)
+            std::snprintf(agreement, sizeof agreement, "  %14s", "-");
+        std::printf("%-24s %-10s %-8s %7d %11.1f %11.2f %11.2f %11.2f %9s%s\n", name.c_str(),
+                    toString(c.method).c_str(), toString(c.backend).c_str(), c.samples, r.startupMs, f.median,
+                    f.min, f.max, speedup, agreement);
+        for (const auto& [pass, values] : r.passes) {
+            const Summary p = summarize(values);
+            std::printf("  %-62s %11.2f %11.2f %11.2f\n", pass.c_str(), p.median, p.min, p.max);
+        }
+    }
+}
+
+} // namespace
+
+nlohmann::json loadBenchPresets(const std::string& file) {
+    std::string text = BENCH_PRESETS_JSON;
+    std::string source = "bench/presets.json (built in)";
+    if (!file.empty()) {
+        std::ifstream in(file);
+        if (!in) throw InputError(file, "cannot open the presets file");
+        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        source = file;
+    }
+    nlohmann::json presets;
+    try {
+        presets = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(source, std::string("not valid JSON: ") + e.what());
+    }
+    if (!presets.is_object()) throw InputError(source, "presets must be a JSON object of name → preset");
+    return presets;
+}
+
+void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std::string& name) {
+    if (!presets.contains(name)) {
+        std::string names;
+        for (const auto& [n, p] : presets.items()) names += (names.empty() ? "" : ", ") + n;
+        throw UsageError("unknown preset '" + name + "' (presets: " + names + ")");
+    }
+    const nlohmann::json& p = presets.at(name);
+    auto given = [&](const std::string& option) {
+        return std::find(args.given.begin(), args.given.end(), option) != args.given.end();
+    };
+    try {
+        for (const auto& [key, value] : p.items()) {
+            if (key == "description") continue;
+            const std::string option = key == "scene" ? "scene" : "--" + key;
+            if (given(option)) continue;
+            if (key == "scene")
+                args.scene = value.get<std::string>();
+            else if (key == "size")
+                args.size = value.get<std::string>();
+            else if (key == "samples")
+                args.samples = value.get<std::string>();
+            else if (key == "methods")
+                args.methods = value.get<std::string>();
+            else if (key == "backends")
+                args.backends = value.get<std::string>();
+            else if (key == "vary")
+                args.vary = value.get<std::string>();
+            else if (key == "repeat")
+                args.repeat = value.get<int>();
+            else if (key == "warmup")
+                args.warmup = value.get<int>();
+            else if (key == "check")
+                args.check = value.get<bool>();
+            else if (key == "pattern")
+                args.pattern = value.get<std::string>();
+            else if (key == "buffer")
+                args.buffer = value.get<std::string>();
+            else if (key == "seed")
+                args.options.seed = value.get<std::uint32_t>();
+            else if (key == "set")
+                args.sets = value.get<std::vector<std::string>>();
+            else
+                throw UsageError("preset '" + name + "': unknown key '" + key + "'");
+        }
+    } catch (const nlohmann::json::exception& e) {
+        throw UsageError("preset '" + name + "': a value has the wrong type (" + e.what() + ")");
+    }
+}
+
+int runBench(BenchArgs& args) {
+    const bool progressOn = !args.quiet && isatty(fileno(stderr));
+    if (args.listPresets || !args.preset.empty()) {
+        const nlohmann::json presets = loadBenchPresets(args.presetsFile);
+        if (args.listPresets) {
+            for (const auto& [name, p] : presets.items()) {
+                std::printf("%s: %s\n  ", name.c_str(), p.value("description", "").c_str());
+                for (const auto& [key, value] : p.items())
+                    if (key != "description") std::printf(" %s=%s", key.c_str(), value.dump().c_str());
+                std::printf("\n");
+            }
+            return 0;
+        }
+        applyBenchPreset(args, presets, args.preset);
+    }
+    if (args.scene.empty()) throw UsageError("bench needs a SCENE or --preset NAME (see --list-presets)");
+    if (args.repeat < 1 || args.repeat > 10000) throw UsageError("--repeat must lie in [1, 10000]");
+    if (args.warmup < 0 || args.warmup > 1000) throw UsageError("--warmup must lie in [0, 1000]");
+
+    RenderOptions base = resolveFrameOptions(args);
+    std::vector<Method> methods;
+    for (const std::string& m : splitList(args.methods)) methods.push_back(parseMethod(m));
+    std::vector<Backend> backends;
+    const std::string backendList =
+        args.backends.empty() ? (defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") : args.backends;
+    for (const std::string& b : splitList(backendList)) backends.push_back(parseBackend(b));
+    if (methods.empty()) throw UsageError("--methods is empty");
+    if (backends.empty()) throw UsageError("--backends is empty");
+    const std::vector<int> samples = parseIntList(args.samples, "--samples");
+    for (int n : samples) {
+        RenderOptions probe = base;
+        probe.samples = n;
+        validate(probe);
+    }
+    const std::vector<Variant> variants = makeVariants(args, args.vary);
+    if (!args.json.empty()) checkWritableFile(args.json, "--json");
+
+    // Method × backend pairs; the reference runs on the CPU only (once, whatever --backends says).
+    std::vector<std::pair<Method, Backend>> pairs;
+    nlohmann::json skipped = nlohmann::json::array();
+    bool referenceWanted = false;
+    for (Method m : methods)
+        for (Backend b : backends) {
+            const auto pair = std::make_pair(m, b);
+            if (std::find(pairs.begin(), pairs.end(), pair) != pairs.end()) continue;
+            if (m == Method::Reference && b != Backend::Cpu) {
+                referenceWanted = true;
+                skipped.push_back({{"method", toString(m)},
+                                   {"backend", toString(b)},
+                                   {"reason", "the reference (Embree) runs on the CPU only"}});
+                std::fprintf(stderr, "note: skipping reference/%s: the reference runs on the CPU only\n",
+                             toString(b).c_str());
+                continue;
+            }
+            pairs.push_back(pair);
+        }
+    const auto referenceCpu = std::make_pair(Method::Reference, Backend::Cpu);
+    if (referenceWanted && std::find(pairs.begin(), pairs.end(), referenceCpu) == pairs.end()) {
+        std::fprintf(stderr, "note: the reference runs on the cpu backend\n");
+        pairs.push_back(referenceCpu);
+    }
+    // The reference first, so --check and the speed-ups have it when the others run.
+    std::stable_partition(pairs.begin(), pairs.end(),
+                          [](const auto& p) { return p.first == Method::Reference; });
+    const bool haveReference = !pairs.empty() && pairs.front().first == Method::Reference;
+    if (args.check && !haveReference) throw UsageError("--check needs the reference among --methods");
+
+    std::vector<Result> results;
+    bool failed = false;
+    for (std::size_t v = 0; v < variants.size(); ++v) {
+        Timer loadTimer;
+        const Scene scene = loadScene(args.scene, variants[v].sceneOptions);
+        const double loadMs = loadTimer.milliseconds();
+        checkFrameMemory(base, scene.lights.size());
+        nlohmann::json counts = sceneStats(scene);
+        counts["load_ms"] = loadMs;
+        if (!args.quiet)
+            std::fprintf(stderr, "%s%s%s: %zu triangles (%zu perforated), %zu light(s), %dx%d\n",
+                         args.scene.c_str(), variants[v].label.empty() ? "" : " ", variants[v].label.c_str(),
+                         counts["triangles"].get<std::size_t>(),
+                         counts["perforated_triangles"].get<std::size_t>(),
+                         counts["lights"].get<std::size_t>(), base.width, base.height);
+        for (int n : samples) {
+            std::optional<std::size_t> referenceIndex;
+            const std::size_t groupStart = results.size();
+            for (const auto& [method, backend] : pairs) {
+                Result r;
+                r.config = {method, backend, n, v};
+                r.scene = counts;
+                try {
+                    runConfiguration(scene, base, args.warmup, args.repeat, progressOn, args.onFrame, r);
+                } catch (const std::bad_alloc&) {
+                    r.error = "out of memory";
+                } catch (const Error& e) {
+                    r.error = e.what();
+                }
+                Progress::setEnabled(progressOn);
+                if (!r.error.empty()) {
+                    failed = true;
+                    std::fprintf(stderr, "stsv: error: %s: %s\n", r.config.label().c_str(), r.error.c_str());
+                }
+                results.push_back(std::move(r));
+                if (method == Method::Reference && results.back().error.empty())
+                    referenceIndex = results.size() - 1;
+            }
+            for (std::size_t i = groupStart; i < results.size(); ++i) {
+                Result& r = results[i];
+                if (!referenceIndex || !r.error.empty()) continue;
+                const Result* reference = &results[*referenceIndex];
+                r.speedup = summarize(reference->frameMs).median / summarize(r.frameMs).median;
+                if (args.check) {
+                    std::size_t differing = 0, compared = 0;
+                    for (std::size_t l = 0; l < r.lightSamples.size() && l < reference->lightSamples.size();
+                         ++l) {
+                        const LightSampleDiff d =
+                            compareLightSamples(r.lightSamples[l], reference->lightSamples[l], 0);
+                        differing += d.differingSamples;
+                        compared += d.comparedSamples;
+                    }
+                    r.differingSamples = differing;
+                    r.agreementPercent =
+                        compared ? 100.0 * double(compared - differing) / double(compared) : 0.0;
+                }
+            }
+            // Buffers are only kept for the check within one group.
+            for (std::size_t i = groupStart; i < results.size(); ++i) results[i].lightSamples.clear();
+        }
+    }
+
+    printTable(args.scene, results, variants, args.check);
+    if (!skipped.empty())
+        for (const auto& s : skipped)
+            std::printf("skipped %s/%s: %s\n", s["method"].get<std::string>().c_str(),
+                        s["backend"].get<std::string>().c_str(), s["reason"].get<std::string>().c_str());
+
+    if (!args.json.empty()) {
+        nlohmann::json deviceNames = nlohmann::json::array();
+        std::string device;
+        for (const Result& r : results)
+            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("device")) {
+                const nlohmann::json& d = r.lastStats["device"];
+                device = d.is_string() ? d.get<std::string>() : d.value("name", std::string());
+            }
+        const bool vulkanAsked = std::any_of(pairs.begin(), pairs.end(),
+                                             [](const auto& p) { return p.second == Backend::Vulkan; });
+        if (device.empty() && vulkanAsked) device = vulkanDeviceName(base.device, deviceNames);
+        nlohmann::json configurations = nlohmann::json::array();
+        for (const Result& r : results) {
+            const Config& c = r.config;
+            RenderOptions o = base;
+            o.method = c.method;
+            o.backend = c.backend;
+            o.samples = c.samples;
+            nlohmann::json j = {{"method", toString(c.method)},
+                                {"backend", toString(c.backend)},
+                                {"samples", c.samples},
+                                {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
+                                {"set", variants[c.variant].sceneOptions.set},
+                                {"variant", variants[c.variant].label},
+                                {"scene", r.scene},
+                                {"options", toJson(o)},
+                                {"warmup", args.warmup},
+                                {"repeat", r.frameMs.size()}};
+            if (!r.error.empty()) {
+                j["error"] = r.error;
+                configurations.push_back(j);
+                continue;
+            }
+            j["startup_ms"] = r.startupMs;
+            j["frame_ms"] = toJson(summarize(r.frameMs));
+            j["frame_ms_samples"] = r.frameMs;
+            nlohmann::json passes = nlohmann::json::object();
+            for (const auto& [name, values] : r.passes) passes[name] = toJson(summarize(values));
+            j["passes"] = passes;
+            j["speedup_vs_reference"] = r.speedup ? nlohmann::json(*r.speedup) : nlohmann::json(nullptr);
+            if (args.check && r.agreementPercent) {
+                j["identical_bits_percent"] = *r.agreementPercent;
+                j["differing_samples"] = r.differingSamples;
+            }
+            for (const char* key : {"light_sample_buffer_bytes", "stsv", "device"})
+                if (r.lastStats.contains(key)) j[key] = r.lastStats[key];
+            configurations.push_back(j);
+        }
+        nlohmann::json out = {
+            {"scene", args.scene},
+            {"preset", args.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.preset)},
+            {"version", STSV_VERSION},
+            {"machine",
+             {{"cpu_threads", std::thread::hardware_concurrency()},
+              {"device", device.empty() ? nlohmann::json(nullptr) : nlohmann::json(device)},
+              {"vulkan_devices", deviceNames}}},
+            {"configurations", configurations},
+            {"skipped", skipped}};
+        writeJson(args.json, out);
+    }
+    return failed ? 1 : 0;
+}
+
+} // namespace stsv

@@ -1,0 +1,230 @@
+#include "cli/cli_util.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <unistd.h>
+
+namespace stsv {
+
+namespace fs = std::filesystem;
+
+std::vector<std::string> splitList(const std::string& text) {
+    std::vector<std::string> items;
+    std::size_t start = 0;
+    while (start <= text.size()) {
+        const std::size_t comma = std::min(text.find(',', start), text.size());
+        std::string item = text.substr(start, comma - start);
+        const auto first = item.find_first_not_of(" \t");
+        const auto last = item.find_last_not_of(" \t");
+        if (first != std::string::npos) items.push_back(item.substr(first, last - first + 1));
+        start = comma + 1;
+    }
+    return items;
+}
+
+std::vector<int> parseIntList(const std::string& text, const std::string& option) {
+    std::vector<int> values;
+    for (const std::string& item : splitList(text)) {
+        const bool digits = item.size() <= 9 && std::all_of(item.begin(), item.end(), [](unsigned char c) {
+                                return std::isdigit(c) != 0;
+                            });
+        if (!digits || std::stoi(item) <= 0)
+            throw UsageError(option + " '" + text + "': '" + item + "' is not a positive integer");
+        values.push_back(std::stoi(item));
+    }
+    if (values.empty()) throw UsageError(option + " is empty");
+    return values;
+}
+
+SceneOptions parseSets(const std::vector<std::string>& sets) {
+    SceneOptions options;
+    for (const std::string& s : sets) {
+        const auto eq = s.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw UsageError("--set '" + s + "' is not of the form key=value");
+        options.set[s.substr(0, eq)] = s.substr(eq + 1);
+    }
+    return options;
+}
+
+Backend defaultBackend() {
+    // Vulkan becomes the default once render/'s makeRenderer implements Backend::Vulkan.
+    return Backend::Cpu;
+}
+
+void checkBackendSupports(Method method, Backend backend) {
+    if (method == Method::Reference && backend != Backend::Cpu)
+        throw UsageError("the reference (Embree ray tracing) runs on the CPU only: use --backend cpu");
+}
+
+MethodBackend parseMethodBackend(const std::string& text, Backend fallback) {
+    const auto slash = text.find('/');
+    MethodBackend mb;
+    mb.method = parseMethod(text.substr(0, slash));
+    if (slash == std::string::npos) {
+        mb.backend = mb.method == Method::Reference ? Backend::Cpu : fallback;
+    } else {
+        mb.backend = parseBackend(text.substr(slash + 1));
+        checkBackendSupports(mb.method, mb.backend);
+    }
+    return mb;
+}
+
+std::string toString(const MethodBackend& mb) {
+    return toString(mb.method) + "/" + toString(mb.backend);
+}
+
+void checkWritableFile(const std::string& path, const std::string& what) {
+    if (path.empty()) throw UsageError(what + ": empty path");
+    std::error_code ec;
+    if (fs::is_directory(path, ec)) throw UsageError(what + " " + path + ": is a directory, not a file");
+    const fs::path parent =
+        fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
+    if (!fs::exists(parent, ec))
+        throw UsageError(what + " " + path + ": directory " + parent.string() + " does not exist");
+    if (!fs::is_directory(parent, ec))
+        throw UsageError(what + " " + path + ": " + parent.string() + " is not a directory");
+    if (::access(parent.c_str(), W_OK) != 0)
+        throw UsageError(what + " " + path + ": directory " + parent.string() + " is not writable");
+    if (fs::exists(path, ec) && ::access(path.c_str(), W_OK) != 0)
+        throw UsageError(what + " " + path + ": file is not writable");
+}
+
+void prepareOutputDirectory(const std::string& dir, const std::string& what) {
+    if (dir.empty()) throw UsageError(what + ": empty path");
+    std::error_code ec;
+    if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
+        throw UsageError(what + " " + dir + ": exists and is not a directory");
+    fs::create_directories(dir, ec);
+    if (ec) throw UsageError(what + " " + dir + ": cannot create the directory (" + ec.message() + ")");
+    if (::access(dir.c_str(), W_OK) != 0) throw UsageError(what + " " + dir + ": directory is not writable");
+}
+
+double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
+    const double pixels = double(o.width) * double(o.height);
+    // G-buffer (position, normal, triangle), colour (3 floats), visibility, and per light the
+    // light-sample buffer in its storage layout (32-bit words, or 16-bit counters).
+    const double gbuffer = pixels * (12.0 + 12.0 + 4.0);
+    const double images = pixels * (12.0 + 4.0);
+    const double perLight = o.buffer == BufferKind::Bitmask ? pixels * 4.0 * std::ceil(o.samples / 32.0)
+                                                            : pixels * 2.0 * o.samples;
+    return gbuffer + images + perLight * double(std::max<std::size_t>(lights, 1));
+}
+
+void checkFrameMemory(const RenderOptions& o, std::size_t lights) {
+    const double needed = estimateFrameBytes(o, lights);
+    const long pages = ::sysconf(_SC_PHYS_PAGES);
+    const long pageSize = ::sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || pageSize <= 0) return;
+    const double available = double(pages) * double(pageSize);
+    // Outputs (PNG rows, .npy copies) and the renderer's own buffers come on top: ask for half.
+    if (needed > 0.5 * available) {
+        char text[256];
+        std::snprintf(
+            text, sizeof text,
+            "a %dx%d frame with %d samples and %zu light(s) needs about %.1f GiB, more than half of "
+            "this machine's %.1f GiB: use a smaller --size or fewer --samples",
+            o.width, o.height, o.samples, lights, needed / double(1u << 30), available / double(1u << 30));
+        throw UsageError(text);
+    }
+}
+
+void writeJson(const std::string& path, const nlohmann::json& json) {
+    std::ofstream out(path);
+    if (!out) throw Error(path + ": cannot open for writing");
+    out << json.dump(2) << '\n';
+    if (!out) throw Error(path + ": write failed");
+}
+
+Summary summarize(std::vector<double> values) {
+    if (values.empty()) return {};
+    std::sort(values.begin(), values.end());
+    const std::size_t n = values.size();
+    const double median = n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+    return {median, values.front(), values.back()};
+}
+
+nlohmann::json toJson(const Summary& s) {
+    return {{"median", s.median}, {"min", s.min}, {"max", s.max}};
+}
+
+float encodeSrgb(float v) {
+    return v <= 0.0031308f ? 12.92f * v : 1.055f * std::pow(v, 1.0f / 2.4f) - 0.055f;
+}
+
+ImageF toDisplay(const ImageF& image, bool srgb) {
+    ImageF out = image;
+    for (float& v : out.pixels) {
+        v = std::isnan(v) ? 0.0f : std::clamp(v, 0.0f, 1.0f);
+        if (srgb) v = encodeSrgb(v);
+    }
+    return out;
+}
+
+ImageError compareImages(const ImageF& a, const ImageF& b, float threshold) {
+    if (a.width != b.width || a.height != b.height || a.channels != b.channels)
+        throw UsageError("cannot compare images of different sizes");
+    ImageError e;
+    e.absDifference = ImageF(a.width, a.height, 1);
+    double sumSquares = 0.0;
+    std::size_t above = 0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            float worst = 0.0f;
+            for (int c = 0; c < a.channels; ++c) {
+                const float d = std::abs(a.at(x, y, c) - b.at(x, y, c));
+                sumSquares += double(d) * double(d);
+                worst = std::max(worst, d);
+            }
+            e.absDifference.at(x, y, 0) = worst;
+            e.maxAbs = std::max(e.maxAbs, double(worst));
+            above += worst > threshold ? 1 : 0;
+        }
+    const double values = double(a.pixels.size());
+    const double pixels = double(a.width) * double(a.height);
+    e.rmse = values > 0 ? std::sqrt(sumSquares / values) : 0.0;
+    e.fractionAbove = pixels > 0 ? double(above) / pixels : 0.0;
+    return e;
+}
+
+Image8 heatMap(const ImageF& values, float scale) {
+    Image8 out;
+    out.width = values.width;
+    out.height = values.height;
+    out.channels = 3;
+    out.pixels.assign(std::size_t(values.width) * std::size_t(values.height) * 3, 0);
+    for (int y = 0; y < values.height; ++y)
+        for (int x = 0; x < values.width; ++x) {
+            const float v = values.at(x, y, 0);
+            const float t = scale > 0.0f ? std::clamp(v / scale, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
+            // black → red over [0, 1/2], red → yellow over [1/2, 1]
+            const float r = std::min(1.0f, 2.0f * t);
+            const float g = std::max(0.0f, 2.0f * t - 1.0f);
+            out.at(x, y, 0) = static_cast<std::uint8_t>(std::lround(r * 255.0f));
+            out.at(x, y, 1) = static_cast<std::uint8_t>(std::lround(g * 255.0f));
+        }
+    return out;
+}
+
+ImageF sampleDisagreement(const LightSampleBuffer& a, const LightSampleBuffer& b) {
+    if (a.width() != b.width() || a.height() != b.height() || a.samples() != b.samples())
+        throw UsageError("light-sample buffers differ in size: " + std::to_string(a.width()) + "x" +
+                         std::to_string(a.height()) + "x" + std::to_string(a.samples()) + " vs " +
+                         std::to_string(b.width()) + "x" + std::to_string(b.height()) + "x" +
+                         std::to_string(b.samples()));
+    ImageF out(a.width(), a.height(), 1);
+    for (int y = 0; y < a.height(); ++y)
+        for (int x = 0; x < a.width(); ++x) {
+            int differing = 0;
+            for (int k = 0; k < a.samples(); ++k)
+                differing += a.occluded(x, y, k) != b.occluded(x, y, k) ? 1 : 0;
+            out.at(x, y, 0) = float(differing) / float(a.samples());
+        }
+    return out;
+}
+
+} // namespace stsv

@@ -1,0 +1,89 @@
+// Helpers shared by the `stsv` subcommands: list and knob parsing, output checks, statistics
+// over repeated frames, error images. Everything here throws UsageError/Error; only runCli
+// turns exceptions into exit codes.
+#pragma once
+
+#include "core/image.h"
+#include "render/frame.h"
+#include "scene/load.h"
+
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+/// "a,b,,c" → {"a", "b", "c"} (empty items and surrounding spaces dropped).
+std::vector<std::string> splitList(const std::string& text);
+
+/// "16,64,256" → {16, 64, 256}; UsageError naming `option` on anything that is not a
+/// positive integer.
+std::vector<int> parseIntList(const std::string& text, const std::string& option);
+
+/// `--set key=value` items → SceneOptions; UsageError on an item without '=' or without a key.
+SceneOptions parseSets(const std::vector<std::string>& sets);
+
+/// The default backend of render/compare/bench: vulkan where render/ implements it.
+Backend defaultBackend();
+
+/// A method with an optional backend, "stsv" or "stsv/cpu" (compare's --methods/--against).
+struct MethodBackend {
+    Method method = Method::Stsv;
+    Backend backend = Backend::Cpu;
+};
+/// Parses "method[/backend]"; without a backend, `fallback` — or cpu for the reference, which
+/// is CPU-only. UsageError for an unknown name or for the reference on another backend.
+MethodBackend parseMethodBackend(const std::string& text, Backend fallback);
+std::string toString(const MethodBackend& mb);
+
+/// UsageError when the reference (Embree, CPU-only) is asked for another backend.
+void checkBackendSupports(Method method, Backend backend);
+
+/// Throws UsageError before any work when `path` cannot be written: its directory is
+/// missing, not a directory or not writable, or the path names a directory. `what` names
+/// the option ("-o", "--stats").
+void checkWritableFile(const std::string& path, const std::string& what);
+/// Creates `dir` (and parents) if needed; UsageError when that fails or it is not writable.
+void prepareOutputDirectory(const std::string& dir, const std::string& what);
+
+/// UsageError when one frame of `options` with `lights` lights would need more memory than
+/// the machine has (G-buffer, images and light-sample buffers).
+void checkFrameMemory(const RenderOptions& options, std::size_t lights);
+/// Bytes one frame holds on the host, estimated from the buffers' sizes.
+double estimateFrameBytes(const RenderOptions& options, std::size_t lights);
+
+void writeJson(const std::string& path, const nlohmann::json& json);
+
+/// median/min/max of a non-empty series (the median of an even count is the mean of the two
+/// middle values).
+struct Summary {
+    double median = 0.0;
+    double min = 0.0;
+    double max = 0.0;
+};
+Summary summarize(std::vector<double> values);
+nlohmann::json toJson(const Summary& summary);
+
+/// Linear [0, 1] → sRGB-encoded [0, 1] (the curve toImage8 applies).
+float encodeSrgb(float linear);
+/// The displayed values of a linear image: sRGB-encoded (when `srgb`) and clamped to [0, 1].
+ImageF toDisplay(const ImageF& image, bool srgb);
+
+/// Per-pixel error of two same-sized images (display values in [0, 1]).
+struct ImageError {
+    double rmse = 0.0;          ///< over every pixel and channel
+    double maxAbs = 0.0;        ///< largest |a − b| of any channel
+    double fractionAbove = 0.0; ///< pixels where some channel differs by more than `threshold`
+    ImageF absDifference;       ///< one channel: max over channels of |a − b|
+};
+ImageError compareImages(const ImageF& a, const ImageF& b, float threshold = 1.0f / 255.0f);
+
+/// Heat map of a one-channel image: 0 black → scale/2 red → ≥ scale yellow.
+Image8 heatMap(const ImageF& values, float scale);
+
+/// Per pixel, the fraction of the N samples whose occlusion state differs between a and b
+/// (same size and N; UsageError otherwise).
+ImageF sampleDisagreement(const LightSampleBuffer& a, const LightSampleBuffer& b);
+
+} // namespace stsv

@@ -1,0 +1,103 @@
+// `stsv render`: one frame of one scene to an image, a visibility image, light-sample buffers
+// and a stats JSON.
+#include "cli/cli_util.h"
+#include "cli/commands.h"
+#include "cli/subcommands.h"
+
+#include "core/error.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "render/frame.h"
+#include "scene/load.h"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace stsv {
+
+RenderOptions resolveFrameOptions(const FrameArgs& args) {
+    RenderOptions o = args.options;
+    o.pattern = parsePatternKind(args.pattern);
+    o.buffer = parseBufferKind(args.buffer);
+    parseSize(args.size, o.width, o.height);
+    validate(o);
+    return o;
+}
+
+namespace {
+
+std::size_t bufferBytes(const Frame& frame) {
+    std::size_t bytes = 0;
+    for (const LightSampleBuffer& b : frame.lightSamples) bytes += b.memoryBytes();
+    return bytes;
+}
+
+} // namespace
+
+int runRender(RenderArgs& args) {
+    if (args.quiet) Progress::setEnabled(false);
+    RenderOptions o = resolveFrameOptions(args);
+    o.method = parseMethod(args.method);
+    if (args.backend.empty())
+        o.backend = o.method == Method::Reference ? Backend::Cpu : defaultBackend();
+    else
+        o.backend = parseBackend(args.backend);
+    checkBackendSupports(o.method, o.backend);
+
+    // Every output is checked before the (possibly long) render.
+    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty())
+        args.output = std::filesystem::path(args.scene).stem().string() + ".png";
+    if (!args.output.empty()) checkWritableFile(args.output, "-o");
+    if (!args.visibility.empty()) checkWritableFile(args.visibility, "--visibility");
+    if (!args.stats.empty()) checkWritableFile(args.stats, "--stats");
+    if (!args.dumpLs.empty()) {
+        checkWritableFile(args.dumpLs, "--dump-ls");
+        if (o.buffer == BufferKind::Bitmask && o.samples % 8 != 0)
+            throw UsageError("--dump-ls of a bitmask needs a sample count that is a multiple of 8");
+    }
+
+    const SceneOptions sceneOptions = parseSets(args.sets);
+    Timer loadTimer;
+    const Scene scene = loadScene(args.scene, sceneOptions);
+    const double loadMs = loadTimer.milliseconds();
+    checkFrameMemory(o, scene.lights.size());
+
+    Timer total;
+    Frame frame = renderFrame(scene, o);
+    const double renderMs = total.milliseconds();
+
+    if (!args.output.empty()) writePng(args.output, toImage8(frame.color, true));
+    if (!args.visibility.empty()) writePng(args.visibility, toImage8(frame.visibility, false));
+    std::vector<std::string> npyFiles;
+    if (!args.dumpLs.empty())
+        for (std::size_t l = 0; l < frame.lightSamples.size(); ++l) {
+            npyFiles.push_back(perLightPath(args.dumpLs, l));
+            frame.lightSamples[l].writeNpy(npyFiles.back());
+        }
+
+    nlohmann::json& stats = frame.stats;
+    if (!stats.contains("options")) stats["options"] = toJson(o);
+    if (!stats.contains("scene")) stats["scene"] = sceneStats(scene);
+    stats["scene"]["spec"] = args.scene;
+    stats["scene"]["set"] = sceneOptions.set;
+    stats["scene_load_ms"] = loadMs;
+    stats["render_call_ms"] = renderMs; // start-up + one frame
+    if (!stats.contains("light_sample_buffer_bytes")) stats["light_sample_buffer_bytes"] = bufferBytes(frame);
+    stats["light_sample_buffer_bytes_total"] = bufferBytes(frame);
+    stats["command"] = args.argv;
+    stats["version"] = STSV_VERSION;
+    stats["outputs"] = {{"image", args.output}, {"visibility", args.visibility}, {"light_samples", npyFiles}};
+    if (!args.stats.empty()) writeJson(args.stats, stats);
+
+    if (!args.quiet) {
+        const double frameMs = stats.contains("frame_ms") && stats["frame_ms"].is_number()
+                                   ? stats["frame_ms"].get<double>()
+                                   : renderMs;
+        std::fprintf(stderr, "%s: %s on %s, %d samples, %dx%d: frame %.1f ms (start-up %.1f ms)\n",
+                     scene.source.c_str(), toString(o.method).c_str(), toString(o.backend).c_str(), o.samples,
+                     o.width, o.height, frameMs, stats.value("startup_ms", 0.0));
+    }
+    return 0;
+}
+
+} // namespace stsv

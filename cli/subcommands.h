@@ -1,0 +1,82 @@
+// The `stsv` subcommands behind runCli: their arguments as parsed, and the functions that run
+// them. Each run function throws (UsageError, InputError, Error) and returns an exit code;
+// runCli prints the one-line message.
+#pragma once
+
+#include "render/options.h"
+
+#include <nlohmann/json.hpp>
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+/// Options every rendering command shares (render, bench, compare).
+struct FrameArgs {
+    std::string pattern = "poisson";
+    std::string buffer = "bitmask";
+    std::string size = "512x512";
+    std::vector<std::string> sets; ///< scene knobs key=value
+    RenderOptions options;         ///< samples, seed, interleave, decorrelate, ambient, device, validation
+    bool quiet = false;
+};
+
+/// args.options with pattern, buffer and size parsed, validated (UsageError naming the option).
+RenderOptions resolveFrameOptions(const FrameArgs& args);
+
+struct RenderArgs : FrameArgs {
+    std::string scene;
+    std::string method = "stsv";
+    std::string backend; ///< empty: defaultBackend() (cpu for the reference)
+    std::string output;
+    std::string visibility;
+    std::string dumpLs;
+    std::string stats;
+    std::vector<std::string> argv; ///< the command line, recorded in --stats
+};
+int runRender(RenderArgs& args);
+
+int runInfo();
+
+/// Bench arguments; `given` lists the options given on the command line, which override a
+/// preset's values.
+struct BenchArgs : FrameArgs {
+    std::string scene;
+    std::string methods = "stsv,reference";
+    std::string backends; ///< empty: "vulkan,cpu" (or "cpu" while render/ lacks vulkan)
+    std::string samples = "64";
+    std::string vary; ///< "key=v1,v2,…": one scene per value
+    int repeat = 5;
+    int warmup = 1;
+    bool check = false;
+    std::string json;
+    std::string preset;
+    std::string presetsFile; ///< empty: the built-in bench/presets.json
+    bool listPresets = false;
+    std::vector<std::string> given;
+    /// Called after every frame a configuration renders (tests count timed frames with it).
+    std::function<void(const std::string& configuration, bool timed)> onFrame;
+};
+int runBench(BenchArgs& args);
+
+/// The presets: bench/presets.json compiled in, or `file`. UsageError/InputError on bad JSON.
+nlohmann::json loadBenchPresets(const std::string& file = "");
+/// Applies preset `name` to `args` for every option not in args.given; UsageError naming the
+/// known presets when there is no such preset, or naming an unknown key of the preset.
+void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std::string& name);
+
+struct CompareArgs : FrameArgs {
+    std::vector<std::string> inputs; ///< SCENE, or two .npy files
+    std::string methods = "stsv";
+    std::string backend; ///< empty: defaultBackend()
+    std::string against = "reference";
+    std::string out; ///< directory for the error images (none when empty)
+    std::string json;
+    float heatScale = 0.25f; ///< |Δ visibility| shown yellow in the heat maps
+};
+int runCompare(CompareArgs& args);
+
+} // namespace stsv
