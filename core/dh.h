@@ -14,10 +14,10 @@
 #define STSV_CORE_DH_H
 
 #ifdef __cplusplus
+#include <cstdint>
 #include <glm/glm.hpp>
 #include <glm/gtc/bitfield.hpp>
 #include <glm/integer.hpp>
-#include <cstdint>
 
 namespace stsv {
 using namespace glm;

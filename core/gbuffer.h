@@ -20,8 +20,8 @@ struct GBuffer {
 
     GBuffer() = default;
     GBuffer(int w, int h)
-        : width(w), height(h), position(std::size_t(w) * h, vec3(0.0f)), normal(std::size_t(w) * h, vec3(0.0f)),
-          triangle(std::size_t(w) * h, NO_TRIANGLE) {}
+        : width(w), height(h), position(std::size_t(w) * h, vec3(0.0f)),
+          normal(std::size_t(w) * h, vec3(0.0f)), triangle(std::size_t(w) * h, NO_TRIANGLE) {}
     std::size_t index(int x, int y) const { return std::size_t(y) * width + x; }
     bool covered(std::size_t i) const { return triangle[i] != NO_TRIANGLE; }
 };

@@ -59,7 +59,8 @@ void writeNpy(const std::string& path, const std::string& dtype, const std::vect
               const void* bytes, std::size_t byteCount) {
     std::ostringstream dict;
     dict << "{'descr': '" << dtype << "', 'fortran_order': False, 'shape': (";
-    for (std::size_t i = 0; i < shape.size(); ++i) dict << shape[i] << (shape.size() == 1 || i + 1 < shape.size() ? ", " : "");
+    for (std::size_t i = 0; i < shape.size(); ++i)
+        dict << shape[i] << (shape.size() == 1 || i + 1 < shape.size() ? ", " : "");
     dict << "), }";
     std::string header = dict.str();
     // Magic (6) + version (2) + header length (2) + header, padded with spaces to 64 bytes, ending in \n.

@@ -14,7 +14,9 @@
 namespace stsv {
 
 /// Number of worker threads used by parallelFor (at least 1).
-inline unsigned workerCount() { return std::max(1u, std::thread::hardware_concurrency()); }
+inline unsigned workerCount() {
+    return std::max(1u, std::thread::hardware_concurrency());
+}
 
 /// Calls body(begin, end) over [0, count) in chunks of `grain` items, on all cores.
 /// The first exception thrown by a chunk is rethrown after every worker stopped.
@@ -38,7 +40,8 @@ inline void parallelForChunks(std::size_t count, std::size_t grain,
             }
         }
     };
-    const auto threads = static_cast<unsigned>(std::min<std::size_t>(workerCount(), (count + grain - 1) / grain));
+    const auto threads =
+        static_cast<unsigned>(std::min<std::size_t>(workerCount(), (count + grain - 1) / grain));
     std::vector<std::thread> pool;
     for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
     worker();
@@ -47,7 +50,8 @@ inline void parallelForChunks(std::size_t count, std::size_t grain,
 }
 
 /// Calls body(i) for every i in [0, count).
-inline void parallelFor(std::size_t count, const std::function<void(std::size_t)>& body, std::size_t grain = 64) {
+inline void parallelFor(std::size_t count, const std::function<void(std::size_t)>& body,
+                        std::size_t grain = 64) {
     parallelForChunks(count, grain, [&](std::size_t b, std::size_t e) {
         for (std::size_t i = b; i < e; ++i) body(i);
     });

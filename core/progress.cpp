@@ -9,15 +9,20 @@ namespace {
 std::atomic<int> g_enabled{-1}; // -1: decide by isatty(stderr)
 }
 
-void Progress::setEnabled(bool enabled) { g_enabled = enabled ? 1 : 0; }
+void Progress::setEnabled(bool enabled) {
+    g_enabled = enabled ? 1 : 0;
+}
 
 Progress::Progress(std::string label, std::size_t total)
-    : m_label(std::move(label)), m_total(total), m_start(std::chrono::steady_clock::now()), m_lastDraw(m_start) {
+    : m_label(std::move(label)), m_total(total), m_start(std::chrono::steady_clock::now()),
+      m_lastDraw(m_start) {
     const int e = g_enabled.load();
     m_active = e == 1 || (e == -1 && isatty(fileno(stderr)));
 }
 
-Progress::~Progress() { finish(); }
+Progress::~Progress() {
+    finish();
+}
 
 void Progress::advance(std::size_t amount) {
     const std::size_t done = m_done.fetch_add(amount) + amount;

@@ -53,25 +53,29 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
 
 void checkDevice(RTCDevice device, const char* what) {
     const RTCError code = rtcGetDeviceError(device);
-    if (code != RTC_ERROR_NONE) throw Error(std::string("Embree: ") + what + " failed (error " + std::to_string(int(code)) + ")");
+    if (code != RTC_ERROR_NONE)
+        throw Error(std::string("Embree: ") + what + " failed (error " + std::to_string(int(code)) + ")");
 }
 
 } // namespace
 
 EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
     m_device = rtcNewDevice(nullptr);
-    if (!m_device) throw Error("Embree: cannot create a device (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    if (!m_device)
+        throw Error("Embree: cannot create a device (error " +
+                    std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
     m_rtcScene = rtcNewScene(m_device);
     rtcSetSceneFlags(m_rtcScene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(m_rtcScene, RTC_BUILD_QUALITY_HIGH);
 
     RTCGeometry geometry = rtcNewGeometry(m_device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                                 3 * sizeof(float), scene.positions.size()));
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), scene.positions.size()));
     for (std::size_t i = 0; i < scene.positions.size(); ++i)
         for (int c = 0; c < 3; ++c) vertices[3 * i + c] = scene.positions[i][c];
-    auto* indices = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(std::uint32_t), scene.triangles.size()));
+    auto* indices = static_cast<std::uint32_t*>(
+        rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                3 * sizeof(std::uint32_t), scene.triangles.size()));
     for (std::size_t t = 0; t < scene.triangles.size(); ++t)
         for (int c = 0; c < 3; ++c) indices[3 * t + c] = scene.triangles[t][c];
     rtcSetGeometryIntersectFilterFunction(geometry, alphaFilter);
@@ -168,16 +172,19 @@ vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p) {
 
 GBuffer EmbreeScene::traceGBuffer(int width, int height) const {
     GBuffer g(width, height);
-    parallelFor(std::size_t(width) * height, [&](std::size_t i) {
-        const int x = static_cast<int>(i % std::size_t(width));
-        const int y = static_cast<int>(i / std::size_t(width));
-        Hit hit;
-        if (!intersect(primaryRay(m_scene.camera, x, y, width, height), hit)) return;
-        // p from the barycentrics, not origin + t·d: it lies on the triangle's plane to round-off.
-        g.position[i] = pointOnTriangle(m_scene, hit.triangle, hit.bary);
-        g.normal[i] = shadingNormal(m_scene, hit.triangle, m_scene.camera.eye, g.position[i]);
-        g.triangle[i] = hit.triangle;
-    }, 256);
+    parallelFor(
+        std::size_t(width) * height,
+        [&](std::size_t i) {
+            const int x = static_cast<int>(i % std::size_t(width));
+            const int y = static_cast<int>(i / std::size_t(width));
+            Hit hit;
+            if (!intersect(primaryRay(m_scene.camera, x, y, width, height), hit)) return;
+            // p from the barycentrics, not origin + t·d: it lies on the triangle's plane to round-off.
+            g.position[i] = pointOnTriangle(m_scene, hit.triangle, hit.bary);
+            g.normal[i] = shadingNormal(m_scene, hit.triangle, m_scene.camera.eye, g.position[i]);
+            g.triangle[i] = hit.triangle;
+        },
+        256);
     return g;
 }
 

@@ -13,9 +13,9 @@
 namespace stsv {
 
 struct Hit {
-    float t = 0.0f;            ///< ray parameter (world units for unit directions)
+    float t = 0.0f; ///< ray parameter (world units for unit directions)
     std::uint32_t triangle = NO_TRIANGLE;
-    vec2 bary{0.0f};           ///< (b1, b2): weights of the triangle's second and third vertex
+    vec2 bary{0.0f}; ///< (b1, b2): weights of the triangle's second and third vertex
 };
 
 class EmbreeScene {
@@ -34,7 +34,8 @@ class EmbreeScene {
 
     /// Number of distinct triangles blocking the segment p → s (its depth complexity), with
     /// the same rules as occluded(). `scratch` is reused storage.
-    std::uint32_t countLayers(vec3 p, vec3 s, std::uint32_t ignoreTriangle, std::vector<std::uint32_t>& scratch) const;
+    std::uint32_t countLayers(vec3 p, vec3 s, std::uint32_t ignoreTriangle,
+                              std::vector<std::uint32_t>& scratch) const;
 
     /// Visible point per pixel centre through the scene camera (row 0 at the top).
     GBuffer traceGBuffer(int width, int height) const;

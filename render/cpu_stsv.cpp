@@ -3,8 +3,8 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "core/timer.h"
-#include "sampling/light_sampling.h"
 #include "sampling/light_bounds.h"
+#include "sampling/light_sampling.h"
 #include "scene/camera.h"
 #include "volumes/extrusion_dh.h"
 #include "volumes/stsv.h"
@@ -56,8 +56,10 @@ bool screenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int h
     if (!any) return false;
     lo = clamp(lo, vec2(-1.0f), vec2(1.0f));
     hi = clamp(hi, vec2(-1.0f), vec2(1.0f));
-    rect = ivec4(int(std::floor((lo.x * 0.5f + 0.5f) * float(width))), int(std::floor((lo.y * 0.5f + 0.5f) * float(height))),
-                 int(std::ceil((hi.x * 0.5f + 0.5f) * float(width))), int(std::ceil((hi.y * 0.5f + 0.5f) * float(height))));
+    rect = ivec4(int(std::floor((lo.x * 0.5f + 0.5f) * float(width))),
+                 int(std::floor((lo.y * 0.5f + 0.5f) * float(height))),
+                 int(std::ceil((hi.x * 0.5f + 0.5f) * float(width))),
+                 int(std::ceil((hi.y * 0.5f + 0.5f) * float(height))));
     rect = clamp(rect, ivec4(0), ivec4(width - 1, height - 1, width - 1, height - 1));
     return true;
 }
@@ -94,8 +96,9 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     stats.volumes = volumes.size();
 
     // Bin volumes to screen tiles (the rasteriser's coverage, conservatively).
-    const mat4 clipFromWorld = clipFromView(scene.camera, float(gbuffer.width) / float(gbuffer.height), 0.01f, 1e4f) *
-                               viewFromWorld(scene.camera);
+    const mat4 clipFromWorld =
+        clipFromView(scene.camera, float(gbuffer.width) / float(gbuffer.height), 0.01f, 1e4f) *
+        viewFromWorld(scene.camera);
     const int tilesX = (gbuffer.width + TILE - 1) / TILE, tilesY = (gbuffer.height + TILE - 1) / TILE;
     std::vector<std::vector<std::uint32_t>> tiles(std::size_t(tilesX) * tilesY);
     for (std::size_t v = 0; v < volumes.size(); ++v) {
@@ -114,44 +117,51 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
     std::atomic<std::size_t> tests{0}, hits{0};
     Progress progress("stsv (cpu)", tiles.size());
-    parallelFor(tiles.size(), [&](std::size_t tileIndex) {
-        std::size_t localTests = 0, localHits = 0;
-        const int tx = static_cast<int>(tileIndex % std::size_t(tilesX)), ty = static_cast<int>(tileIndex / std::size_t(tilesX));
-        const std::vector<std::uint32_t>& candidates = tiles[tileIndex];
-        for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
-            for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
-                const std::size_t i = gbuffer.index(x, y);
-                if (!gbuffer.covered(i) || candidates.empty()) continue;
-                const vec3 p = gbuffer.position[i];
-                const LightFrame frame = lightFrame(light, p, farDistance);
-                for (std::uint32_t v : candidates) {
-                    const VolumeRecord& record = volumes[v];
-                    if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
-                    ++localTests;
-                    if (!stsvPointInVolume(record.volume, p)) continue;
-                    ++localHits;
-                    const StsvTriangle& tri = triangles[record.triangle];
-                    const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B);
-                    // Each side's volume owns the crossings whose receiver lies on its shadow side,
-                    // so a triangle counts at most once per sample even when both volumes hold p.
-                    if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;
-                    const Texture* texture = (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
-                    const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
-                    for (int k = 0; k < plan.count; ++k) {
-                        ivec2 texel;
-                        if (!stsvSampleCrosses(tri, px, pixelSamplePoint(plan, x, y, k, frame.domain), size, texel)) continue;
-                        if (texture && !alphaBlocks(texture->alpha(texel.x, texel.y))) continue;
-                        if (counting)
-                            out.addCount(x, y, k, 1);
-                        else
-                            out.setOccluded(x, y, k);
+    parallelFor(
+        tiles.size(),
+        [&](std::size_t tileIndex) {
+            std::size_t localTests = 0, localHits = 0;
+            const int tx = static_cast<int>(tileIndex % std::size_t(tilesX)),
+                      ty = static_cast<int>(tileIndex / std::size_t(tilesX));
+            const std::vector<std::uint32_t>& candidates = tiles[tileIndex];
+            for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
+                for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
+                    const std::size_t i = gbuffer.index(x, y);
+                    if (!gbuffer.covered(i) || candidates.empty()) continue;
+                    const vec3 p = gbuffer.position[i];
+                    const LightFrame frame = lightFrame(light, p, farDistance);
+                    for (std::uint32_t v : candidates) {
+                        const VolumeRecord& record = volumes[v];
+                        if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
+                        ++localTests;
+                        if (!stsvPointInVolume(record.volume, p)) continue;
+                        ++localHits;
+                        const StsvTriangle& tri = triangles[record.triangle];
+                        const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B);
+                        // Each side's volume owns the crossings whose receiver lies on its shadow side,
+                        // so a triangle counts at most once per sample even when both volumes hold p.
+                        if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;
+                        const Texture* texture =
+                            (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
+                        const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
+                        for (int k = 0; k < plan.count; ++k) {
+                            ivec2 texel;
+                            if (!stsvSampleCrosses(tri, px, pixelSamplePoint(plan, x, y, k, frame.domain),
+                                                   size, texel))
+                                continue;
+                            if (texture && !alphaBlocks(texture->alpha(texel.x, texel.y))) continue;
+                            if (counting)
+                                out.addCount(x, y, k, 1);
+                            else
+                                out.setOccluded(x, y, k);
+                        }
                     }
                 }
-            }
-        tests += localTests;
-        hits += localHits;
-        progress.advance();
-    }, 1);
+            tests += localTests;
+            hits += localHits;
+            progress.advance();
+        },
+        1);
     stats.pixelVolumeTests = tests;
     stats.pixelVolumeHits = hits;
     stats.shade_ms = timer.milliseconds();

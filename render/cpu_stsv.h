@@ -14,11 +14,11 @@
 namespace stsv {
 
 struct StsvCpuStats {
-    std::size_t volumes = 0;            ///< volumes built (one or two per non-degenerate triangle)
-    std::size_t degenerateSkipped = 0;  ///< zero-area triangles, no volume
-    std::size_t tileEntries = 0;        ///< (tile, volume) pairs after binning
-    std::size_t pixelVolumeTests = 0;   ///< point-in-volume tests run
-    std::size_t pixelVolumeHits = 0;    ///< of those, points inside (the "fragments" that run the sample loop)
+    std::size_t volumes = 0;           ///< volumes built (one or two per non-degenerate triangle)
+    std::size_t degenerateSkipped = 0; ///< zero-area triangles, no volume
+    std::size_t tileEntries = 0;       ///< (tile, volume) pairs after binning
+    std::size_t pixelVolumeTests = 0;  ///< point-in-volume tests run
+    std::size_t pixelVolumeHits = 0;   ///< of those, points inside (the "fragments" that run the sample loop)
     double bin_ms = 0.0;
     double shade_ms = 0.0;
 };

@@ -22,9 +22,15 @@ BufferKind parseBufferKind(const std::string& name) {
     throw UsageError("unknown light-sample buffer '" + name + "' (expected bitmask or counters)");
 }
 
-std::string toString(Method method) { return method == Method::Reference ? "reference" : "stsv"; }
-std::string toString(Backend backend) { return backend == Backend::Cpu ? "cpu" : "vulkan"; }
-std::string toString(BufferKind kind) { return kind == BufferKind::Bitmask ? "bitmask" : "counters"; }
+std::string toString(Method method) {
+    return method == Method::Reference ? "reference" : "stsv";
+}
+std::string toString(Backend backend) {
+    return backend == Backend::Cpu ? "cpu" : "vulkan";
+}
+std::string toString(BufferKind kind) {
+    return kind == BufferKind::Bitmask ? "bitmask" : "counters";
+}
 
 void validate(const RenderOptions& o) {
     if (o.width < 1 || o.width > 16384 || o.height < 1 || o.height > 16384)
@@ -34,17 +40,22 @@ void validate(const RenderOptions& o) {
         throw UsageError("--samples " + std::to_string(o.samples) + " is not one of 16, 32, 64, 128, 256");
     if (o.interleave < 1 || o.interleave > 8)
         throw UsageError("--interleave " + std::to_string(o.interleave) + " is out of range (1 to 8)");
-    if (!(o.ambient >= 0.0f && o.ambient <= 1.0f))
-        throw UsageError("--ambient must lie in [0, 1]");
+    if (!(o.ambient >= 0.0f && o.ambient <= 1.0f)) throw UsageError("--ambient must lie in [0, 1]");
 }
 
 nlohmann::json toJson(const RenderOptions& o) {
-    return {{"method", toString(o.method)},   {"backend", toString(o.backend)},
-            {"width", o.width},               {"height", o.height},
-            {"samples", o.samples},           {"pattern", toString(o.pattern)},
-            {"seed", o.seed},                 {"interleave", o.interleave},
-            {"decorrelate", o.decorrelate},   {"buffer", toString(o.buffer)},
-            {"ambient", o.ambient},           {"device", o.device},
+    return {{"method", toString(o.method)},
+            {"backend", toString(o.backend)},
+            {"width", o.width},
+            {"height", o.height},
+            {"samples", o.samples},
+            {"pattern", toString(o.pattern)},
+            {"seed", o.seed},
+            {"interleave", o.interleave},
+            {"decorrelate", o.decorrelate},
+            {"buffer", toString(o.buffer)},
+            {"ambient", o.ambient},
+            {"device", o.device},
             {"validation", o.validation}};
 }
 

@@ -18,17 +18,18 @@ enum class BufferKind { Bitmask, Counters };
 struct RenderOptions {
     Method method = Method::Stsv;
     Backend backend = Backend::Cpu;
-    int width = 512;                         ///< pixels, 1 … 16384
-    int height = 512;                        ///< pixels, 1 … 16384
-    int samples = 64;                        ///< light samples per pixel: 16, 32, 64, 128 or 256
+    int width = 512;  ///< pixels, 1 … 16384
+    int height = 512; ///< pixels, 1 … 16384
+    int samples = 64; ///< light samples per pixel: 16, 32, 64, 128 or 256
     PatternKind pattern = PatternKind::Poisson;
-    std::uint32_t seed = 1;                  ///< sample patterns and per-pixel decorrelation
-    int interleave = 1;                      ///< K of K×K interleaved sampling (1 = off), 1 … 8
-    bool decorrelate = true;                 ///< per-pixel rotation of the pattern
-    BufferKind buffer = BufferKind::Bitmask; ///< light-sample buffer: occlusion bits or depth-complexity counters
-    float ambient = 0.05f;                   ///< ambient term, fraction of albedo
-    std::string device;                      ///< Vulkan device: "" = best, an index, or a name substring
-    bool validation = false;                 ///< Vulkan validation layers (always on in tests)
+    std::uint32_t seed = 1;  ///< sample patterns and per-pixel decorrelation
+    int interleave = 1;      ///< K of K×K interleaved sampling (1 = off), 1 … 8
+    bool decorrelate = true; ///< per-pixel rotation of the pattern
+    BufferKind buffer =
+        BufferKind::Bitmask; ///< light-sample buffer: occlusion bits or depth-complexity counters
+    float ambient = 0.05f;   ///< ambient term, fraction of albedo
+    std::string device;      ///< Vulkan device: "" = best, an index, or a name substring
+    bool validation = false; ///< Vulkan validation layers (always on in tests)
 };
 
 Method parseMethod(const std::string& name);

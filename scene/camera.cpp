@@ -6,7 +6,9 @@
 
 namespace stsv {
 
-mat4 viewFromWorld(const Camera& camera) { return glm::lookAtRH(camera.eye, camera.target, camera.up); }
+mat4 viewFromWorld(const Camera& camera) {
+    return glm::lookAtRH(camera.eye, camera.target, camera.up);
+}
 
 mat4 clipFromView(const Camera& camera, float aspect, float zNear, float zFar) {
     mat4 proj = glm::perspectiveRH_ZO(glm::radians(camera.fovY), aspect, zNear, zFar);

@@ -24,8 +24,8 @@ struct Texture {
 
 struct Material {
     std::string name;
-    vec3 albedo{0.8f};        ///< linear RGB diffuse reflectance
-    int alphaTexture = -1;    ///< index into Scene::textures; -1 = opaque (not an S-triangle)
+    vec3 albedo{0.8f};     ///< linear RGB diffuse reflectance
+    int alphaTexture = -1; ///< index into Scene::textures; -1 = opaque (not an S-triangle)
     WrapMode wrap = WrapMode::Repeat;
     bool doubleSided = false; ///< shadow volumes on both sides (STSV §6 fix) and lit from both sides
 
@@ -33,10 +33,10 @@ struct Material {
 };
 
 struct Camera {
-    vec3 eye{0.0f, 1.0f, 5.0f};    ///< world units
-    vec3 target{0.0f};             ///< world units
+    vec3 eye{0.0f, 1.0f, 5.0f}; ///< world units
+    vec3 target{0.0f};          ///< world units
     vec3 up{0.0f, 1.0f, 0.0f};
-    float fovY = 45.0f;            ///< degrees, vertical
+    float fovY = 45.0f; ///< degrees, vertical
 };
 
 /// A named range of consecutive triangles (one loaded or generated object).
@@ -49,17 +49,20 @@ struct Mesh {
 struct Bounds {
     vec3 lo{1e30f};
     vec3 hi{-1e30f};
-    void extend(vec3 p) { lo = min(lo, p); hi = max(hi, p); }
+    void extend(vec3 p) {
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
     vec3 center() const { return 0.5f * (lo + hi); }
     vec3 extent() const { return hi - lo; }
     bool empty() const { return lo.x > hi.x; }
 };
 
 struct Scene {
-    std::string source;                  ///< file or built-in name it came from
-    std::vector<vec3> positions;         ///< world units
-    std::vector<vec2> texcoords;         ///< one per position
-    std::vector<uvec3> triangles;        ///< indices into positions
+    std::string source;                          ///< file or built-in name it came from
+    std::vector<vec3> positions;                 ///< world units
+    std::vector<vec2> texcoords;                 ///< one per position
+    std::vector<uvec3> triangles;                ///< indices into positions
     std::vector<std::uint32_t> triangleMaterial; ///< one per triangle, index into materials
     std::vector<Material> materials;
     std::vector<Texture> textures;

@@ -59,9 +59,14 @@ TEST(Image, SrgbEncodingOfKnownValues) {
 
 TEST(Parallel, VisitsEveryIndexOnceAndRethrows) {
     std::vector<std::atomic<int>> hits(10007);
-    parallelFor(hits.size(), [&](std::size_t i) { hits[i]++; }, 17);
+    parallelFor(
+        hits.size(), [&](std::size_t i) { hits[i]++; }, 17);
     for (std::size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << "index " << i;
-    EXPECT_THROW(parallelFor(100, [](std::size_t i) { if (i == 42) throw Error("boom"); }), Error);
+    EXPECT_THROW(parallelFor(100,
+                             [](std::size_t i) {
+                                 if (i == 42) throw Error("boom");
+                             }),
+                 Error);
 }
 
 } // namespace

@@ -14,7 +14,8 @@ namespace stsv {
 namespace {
 
 /// Horizontal quad at height y over [x0, x1] × [z0, z1], uv = repeat × unit square.
-void addHorizontalQuad(Scene& s, float y, float x0, float x1, float z0, float z1, float repeat, std::uint32_t material) {
+void addHorizontalQuad(Scene& s, float y, float x0, float x1, float z0, float z1, float repeat,
+                       std::uint32_t material) {
     const vec3 a(x0, y, z0), b(x1, y, z0), c(x1, y, z1), d(x0, y, z1);
     const vec2 ta(0, 0), tb(repeat, 0), tc(repeat, repeat), td(0, repeat);
     s.addTriangle(a, b, c, ta, tb, tc, material);
@@ -53,7 +54,8 @@ struct Buffers {
 
 Buffers renderBoth(const Scene& scene, int w, int h, const SamplePlan& plan) {
     const EmbreeScene embree(scene);
-    Buffers b{embree.traceGBuffer(w, h), LightSampleBuffer(w, h, plan.count, LightSampleBuffer::Kind::Bitmask),
+    Buffers b{embree.traceGBuffer(w, h),
+              LightSampleBuffer(w, h, plan.count, LightSampleBuffer::Kind::Bitmask),
               LightSampleBuffer(w, h, plan.count, LightSampleBuffer::Kind::Bitmask)};
     const float far = farDistanceFor(scene.bounds());
     traceReferenceSamples(embree, b.g, scene.lights[0], plan, far, b.reference);

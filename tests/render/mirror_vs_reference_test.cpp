@@ -2,10 +2,10 @@
 // occlusion bits must agree except where a sample's segment grazes a triangle edge or an
 // alpha-texel boundary, or the pixel sits on a G-buffer silhouette.
 #include "reference/embree_scene.h"
-#include "sampling/light_sampling.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_stsv.h"
 #include "sampling/light_bounds.h"
+#include "sampling/light_sampling.h"
 #include "scene/load.h"
 #include "volumes/stsv_dh.h"
 
@@ -30,7 +30,7 @@ std::vector<Crossing> crossings(const Scene& scene, vec3 pf, vec3 sf, std::uint3
         if (t == self) continue;
         const uvec3 idx = scene.triangles[t];
         const dvec3 v0(scene.positions[idx.x]), e1 = dvec3(scene.positions[idx.y]) - v0,
-            e2 = dvec3(scene.positions[idx.z]) - v0;
+                                                e2 = dvec3(scene.positions[idx.z]) - v0;
         const dvec3 q = cross(d, e2);
         const double det = dot(e1, q);
         if (std::abs(det) < 1e-300) continue;
@@ -114,10 +114,10 @@ void compareOnScene(const std::string& name, int samples) {
                     const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
                     if (!atBoundary(scene, g, x, y, s)) {
                         if (++unexplained <= 10)
-                            where << "\n  pixel (" << x << "," << y << ") sample " << k << " reference="
-                                  << reference.occluded(x, y, k) << " p=(" << g.position[i].x << ","
-                                  << g.position[i].y << "," << g.position[i].z << ") s=(" << s.x << "," << s.y
-                                  << "," << s.z << ")";
+                            where << "\n  pixel (" << x << "," << y << ") sample " << k
+                                  << " reference=" << reference.occluded(x, y, k) << " p=(" << g.position[i].x
+                                  << "," << g.position[i].y << "," << g.position[i].z << ") s=(" << s.x << ","
+                                  << s.y << "," << s.z << ")";
                     }
                 }
             }
@@ -129,12 +129,17 @@ void compareOnScene(const std::string& name, int samples) {
         // The scenes must actually cast shadows, or agreement is meaningless.
         EXPECT_GT(occludedRef, total / 50) << name << ": too few occluded samples to test anything";
         EXPECT_GE(agreement, 0.999) << name << " light " << l;
-        EXPECT_EQ(unexplained, 0u) << name << " light " << l << ": differing bits away from boundaries:" << where.str();
+        EXPECT_EQ(unexplained, 0u) << name << " light " << l
+                                   << ": differing bits away from boundaries:" << where.str();
     }
 }
 
-TEST(MirrorVsReference, Fence64) { compareOnScene("fence", 64); }
-TEST(MirrorVsReference, Foliage64) { compareOnScene("foliage", 64); }
+TEST(MirrorVsReference, Fence64) {
+    compareOnScene("fence", 64);
+}
+TEST(MirrorVsReference, Foliage64) {
+    compareOnScene("foliage", 64);
+}
 
 TEST(MirrorVsReference, CountersMatchEmbreeLayerCounts) {
     // Depth complexity: with counters, the mirror's per-sample count of blocking triangles must
