@@ -1,0 +1,336 @@
+#include "render/cpu_wedges.h"
+
+#include "core/error.h"
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "sampling/light_bounds.h"
+#include "sampling/light_sampling.h"
+#include "scene/camera.h"
+#include "volumes/extrusion.h"
+#include "volumes/stsv_dh.h"
+#include "wedges/dcs_dh.h"
+#include "wedges/pw_dh.h"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+namespace stsv {
+
+OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
+    m_opaque.source = scene.source + " (opaque triangles)";
+    m_opaque.positions = scene.positions;
+    m_opaque.texcoords = scene.texcoords;
+    m_opaque.materials = scene.materials;
+    m_opaque.textures = scene.textures;
+    m_sceneToOpaque.assign(scene.triangleCount(), NO_TRIANGLE);
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        if (scene.perforated(t)) continue;
+        m_sceneToOpaque[t] = static_cast<std::uint32_t>(m_opaque.triangles.size());
+        m_opaqueToScene.push_back(static_cast<std::uint32_t>(t));
+        m_opaque.triangles.push_back(scene.triangles[t]);
+        m_opaque.triangleMaterial.push_back(scene.triangleMaterial[t]);
+    }
+    m_embree = std::make_unique<EmbreeScene>(m_opaque);
+    m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return !scene.perforated(t); });
+}
+
+std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, std::uint32_t ignore,
+                                           std::vector<std::uint32_t>& scratch) const {
+    if (m_opaqueToScene.empty()) return 0;
+    const std::uint32_t ignoreOpaque = ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
+    return m_embree->countLayers(p, r, ignoreOpaque, scratch);
+}
+
+namespace {
+
+constexpr int TILE = 16;
+
+/// One face that bounds the wedge region of the potential silhouette edges assigned to it.
+struct FaceRecord {
+    StsvVolume volumes[2];
+    std::uint32_t volumeCount;
+    std::uint32_t firstEdge; ///< into EdgeBins::edges
+    std::uint32_t edgeCount;
+};
+
+struct EdgeBins {
+    std::vector<FaceRecord> records;
+    std::vector<std::uint32_t> edges;
+    std::vector<std::vector<std::uint32_t>> tiles; ///< record indices per screen tile
+    int tilesX = 0;
+    int tilesY = 0;
+};
+
+/// Pixel rectangle that may hold points of the convex volume (its strip vertices projected, edges
+/// crossing the near plane clipped there). False when nothing lies in front of the camera.
+bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect) {
+    constexpr float NEAR_W = 1e-4f;
+    vec4 clip[STSV_STRIP_VERTEX_COUNT];
+    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i) clip[i] = clipFromWorld * vec4(vec3(v.vertices[i]), 1.0f);
+    vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    bool any = false;
+    auto add = [&](vec4 c) {
+        const vec2 ndc = vec2(c) / c.w;
+        lo = min(lo, ndc);
+        hi = max(hi, ndc);
+        any = true;
+    };
+    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i) {
+        if (clip[i].w > NEAR_W) add(clip[i]);
+        for (uint j = i + 1; j < std::min(i + 3, STSV_STRIP_VERTEX_COUNT); ++j) {
+            const float wa = clip[i].w - NEAR_W, wb = clip[j].w - NEAR_W;
+            if ((wa > 0.0f) != (wb > 0.0f)) {
+                vec4 c = clip[i] + (wa / (wa - wb)) * (clip[j] - clip[i]);
+                c.w = NEAR_W;
+                add(c);
+            }
+        }
+    }
+    if (!any) return false;
+    lo = clamp(lo, vec2(-1.0f), vec2(1.0f));
+    hi = clamp(hi, vec2(-1.0f), vec2(1.0f));
+    rect = ivec4(int(std::floor((lo.x * 0.5f + 0.5f) * float(width))), int(std::floor((lo.y * 0.5f + 0.5f) * float(height))),
+                 int(std::ceil((hi.x * 0.5f + 0.5f) * float(width))), int(std::ceil((hi.y * 0.5f + 0.5f) * float(height))));
+    rect = clamp(rect, ivec4(0), ivec4(width - 1, height - 1, width - 1, height - 1));
+    return true;
+}
+
+/// Potential silhouettes of the light, grouped by a non-degenerate face each, that face's STSV
+/// volumes (both sides when the light straddles it: a segment touching the edge touches the
+/// closed face, which STSV bounds conservatively), binned to screen tiles.
+EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light, float farDistance,
+                  WedgeCpuStats& stats) {
+    const Scene& scene = occ.scene();
+    const EdgeAdjacency& adj = occ.adjacency();
+    const Bounds bounds = scene.bounds();
+    const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
+    const std::vector<std::uint32_t> candidates = potentialSilhouetteEdges(adj, sphere);
+    stats.edges = adj.edges.size();
+    stats.potentialSilhouettes = candidates.size();
+
+    auto corners = [&](std::uint32_t tri) {
+        const uvec3 i = scene.triangles[tri];
+        return std::array<vec3, 3>{scene.positions[i.x], scene.positions[i.y], scene.positions[i.z]};
+    };
+    // Edge → carrying face (the first non-degenerate one); edges with only degenerate faces have
+    // k_e = 0 for every p (their third vertices lie on the edge's line) and are dropped.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> byFace; // (triangle, edge)
+    byFace.reserve(candidates.size());
+    for (std::uint32_t e : candidates) {
+        const MeshEdge& edge = adj.edges[e];
+        for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
+            const auto c = corners(adj.faces[f].triangle);
+            if (stsvTriangleIsDegenerate(c[0], c[1], c[2])) continue;
+            byFace.emplace_back(adj.faces[f].triangle, e);
+            break;
+        }
+    }
+    std::sort(byFace.begin(), byFace.end());
+
+    EdgeBins bins;
+    bins.edges.reserve(byFace.size());
+    for (std::size_t i = 0; i < byFace.size();) {
+        const std::uint32_t tri = byFace[i].first;
+        FaceRecord record{};
+        record.firstEdge = static_cast<std::uint32_t>(bins.edges.size());
+        for (; i < byFace.size() && byFace[i].first == tri; ++i) bins.edges.push_back(byFace[i].second);
+        record.edgeCount = static_cast<std::uint32_t>(bins.edges.size()) - record.firstEdge;
+        const auto c = corners(tri);
+        for (const StsvVolume& v : buildTriangleVolumes(c[0], c[1], c[2], sphere, bounds, true))
+            if (!(v.flags & STSV_VOLUME_EMPTY)) record.volumes[record.volumeCount++] = v;
+        if (record.volumeCount == 0) {
+            bins.edges.resize(record.firstEdge);
+            continue;
+        }
+        stats.volumes += record.volumeCount;
+        bins.records.push_back(record);
+    }
+
+    const mat4 clipFromWorld =
+        clipFromView(scene.camera, float(gbuffer.width) / float(gbuffer.height), 0.01f, 1e4f) * viewFromWorld(scene.camera);
+    bins.tilesX = (gbuffer.width + TILE - 1) / TILE;
+    bins.tilesY = (gbuffer.height + TILE - 1) / TILE;
+    bins.tiles.resize(std::size_t(bins.tilesX) * std::size_t(bins.tilesY));
+    for (std::size_t r = 0; r < bins.records.size(); ++r) {
+        ivec4 rect(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), -1, -1);
+        bool any = false;
+        for (std::uint32_t v = 0; v < bins.records[r].volumeCount; ++v) {
+            ivec4 vr;
+            if (!volumeScreenRect(bins.records[r].volumes[v], clipFromWorld, gbuffer.width, gbuffer.height, vr)) continue;
+            rect = ivec4(min(ivec2(rect.x, rect.y), ivec2(vr.x, vr.y)), max(ivec2(rect.z, rect.w), ivec2(vr.z, vr.w)));
+            any = true;
+        }
+        if (!any) continue;
+        for (int ty = rect.y / TILE; ty <= rect.w / TILE; ++ty)
+            for (int tx = rect.x / TILE; tx <= rect.z / TILE; ++tx) {
+                bins.tiles[std::size_t(ty) * std::size_t(bins.tilesX) + std::size_t(tx)].push_back(
+                    static_cast<std::uint32_t>(r));
+                ++stats.tileEntries;
+            }
+    }
+    return bins;
+}
+
+/// The fragment work of one pixel: calls visit(l, a, b, k) for every edge that is a silhouette
+/// from p (k ≠ 0, receiver face excluded) with a non-empty part between p and the light.
+template <class Visit>
+void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins, const std::vector<std::uint32_t>& tile,
+                       const DcsPixel& px, std::uint32_t receiver, std::size_t& tests, std::size_t& visits,
+                       Visit&& visit) {
+    const EdgeAdjacency& adj = occ.adjacency();
+    for (std::uint32_t r : tile) {
+        const FaceRecord& record = bins.records[r];
+        ++tests;
+        bool inside = false;
+        for (std::uint32_t v = 0; v < record.volumeCount && !inside; ++v)
+            inside = stsvPointInVolume(record.volumes[v], px.p);
+        if (!inside) continue;
+        for (std::uint32_t i = record.firstEdge; i < record.firstEdge + record.edgeCount; ++i) {
+            const MeshEdge& edge = adj.edges[bins.edges[i]];
+            vec3 h0 = dcsProject(px, adj.positions[edge.v0]);
+            vec3 h1 = dcsProject(px, adj.positions[edge.v1]);
+            const vec3 l = cross(h0, h1);
+            int k = 0;
+            for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
+                if (adj.faces[f].triangle != receiver)
+                    k += dcsFaceSide(l, dcsProject(px, adj.positions[adj.faces[f].opposite]));
+            if (k == 0 || !dcsClipEdge(px.tMin, h0, h1)) continue;
+            ++visits;
+            visit(l, h0, h1, k);
+        }
+    }
+}
+
+/// Runs `pixel(x, y, i, tile)` over the covered pixels, tile by tile, on every core.
+template <class PixelFn>
+void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* label, PixelFn&& pixel) {
+    Progress progress(label, bins.tiles.size());
+    parallelFor(bins.tiles.size(), [&](std::size_t tileIndex) {
+        const int tx = static_cast<int>(tileIndex % std::size_t(bins.tilesX));
+        const int ty = static_cast<int>(tileIndex / std::size_t(bins.tilesX));
+        for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
+            for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
+                const std::size_t i = gbuffer.index(x, y);
+                if (gbuffer.covered(i)) pixel(x, y, i, bins.tiles[tileIndex]);
+            }
+        progress.advance();
+    }, 1);
+}
+
+} // namespace
+
+WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& counters) {
+    if (counters.kind() != LightSampleBuffer::Kind::Counters)
+        throw UsageError("dcs needs a counter light-sample buffer (--buffer counters)");
+    WedgeCpuStats stats;
+    Timer timer;
+    const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
+    stats.setup_ms = timer.milliseconds();
+    timer.reset();
+    std::atomic<std::size_t> tests{0}, visits{0}, negative{0};
+    forEachPixel(gbuffer, bins, "dcs (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
+        thread_local std::vector<std::uint32_t> scratch;
+        thread_local std::vector<vec2> ab;
+        thread_local std::vector<int> count;
+        const vec3 p = gbuffer.position[i];
+        const LightFrame frame = lightFrame(light, p, farDistance);
+        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
+        // D(r): the layer count at the light centre (DESIGN §4.5).
+        const int base = static_cast<int>(occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch));
+        count.assign(std::size_t(plan.count), base);
+        ab.resize(std::size_t(plan.count));
+        for (int k = 0; k < plan.count; ++k) ab[std::size_t(k)] = pixelSamplePoint(plan, x, y, k, frame.domain);
+        std::size_t localTests = 0, localVisits = 0, localNegative = 0;
+        if (px.valid != 0.0f)
+            forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
+                              [&](vec3 l, vec3 a, vec3 b, int k) {
+                                  for (std::size_t s = 0; s < ab.size(); ++s)
+                                      count[s] += k * dcsSampleCrossing(l, a, b, ab[s]);
+                              });
+        for (int k = 0; k < plan.count; ++k) {
+            int c = count[std::size_t(k)];
+            if (c < 0) {
+                ++localNegative;
+                c = 0;
+            }
+            if (c) counters.addCount(x, y, k, c);
+        }
+        tests += localTests;
+        visits += localVisits;
+        negative += localNegative;
+    });
+    stats.pixelVolumeTests = tests;
+    stats.pixelEdgeVisits = visits;
+    stats.negativeCounts = negative;
+    stats.shade_ms = timer.milliseconds();
+    return stats;
+}
+
+WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
+                                const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
+                                StsvCpuStats* stsvStats) {
+    WedgeCpuStats stats = dcsCpuSamples(occ, gbuffer, light, plan, farDistance, counters);
+    const Scene& scene = occ.scene();
+    const StsvCpuStats s = stsvCpuSamples(scene, gbuffer, light, plan, farDistance, counters,
+                                          [&](std::size_t t) { return scene.perforated(t); });
+    if (stsvStats) *stsvStats = s;
+    return stats;
+}
+
+WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
+                              float farDistance, ImageF& visibility) {
+    WedgeCpuStats stats;
+    Timer timer;
+    const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
+    stats.setup_ms = timer.milliseconds();
+    timer.reset();
+    visibility = ImageF(gbuffer.width, gbuffer.height, 1);
+    std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
+    std::atomic<std::size_t> tests{0}, visits{0};
+    forEachPixel(gbuffer, bins, "pw (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
+        thread_local std::vector<std::uint32_t> scratch;
+        const vec3 p = gbuffer.position[i];
+        const LightFrame frame = lightFrame(light, p, farDistance);
+        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
+        // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
+        float occlusion = occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
+        std::size_t localTests = 0, localVisits = 0;
+        if (px.valid != 0.0f)
+            forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
+                              [&](vec3 l, vec3 a, vec3 b, int k) {
+                                  occlusion += float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, a, b, frame.domain);
+                              });
+        visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
+        tests += localTests;
+        visits += localVisits;
+    });
+    stats.pixelVolumeTests = tests;
+    stats.pixelEdgeVisits = visits;
+    stats.shade_ms = timer.milliseconds();
+    return stats;
+}
+
+WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
+                                  const SamplePlan& plan, float farDistance, ImageF& visibility,
+                                  LightSampleBuffer& stsvBits, StsvCpuStats* stsvStats) {
+    WedgeCpuStats stats = pwCpuVisibility(occ, gbuffer, light, farDistance, visibility);
+    const Scene& scene = occ.scene();
+    const StsvCpuStats s = stsvCpuSamples(scene, gbuffer, light, plan, farDistance, stsvBits,
+                                          [&](std::size_t t) { return scene.perforated(t); });
+    if (stsvStats) *stsvStats = s;
+    // STSV paper §3.1: the STSV occlusion is added to the wedge occlusion.
+    for (int y = 0; y < gbuffer.height; ++y)
+        for (int x = 0; x < gbuffer.width; ++x) {
+            if (!gbuffer.covered(gbuffer.index(x, y))) continue;
+            const float occluded = 1.0f - stsvBits.visibleFraction(x, y);
+            visibility.at(x, y, 0) = std::clamp(visibility.at(x, y, 0) - occluded, 0.0f, 1.0f);
+        }
+    return stats;
+}
+
+} // namespace stsv

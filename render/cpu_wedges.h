@@ -1,0 +1,84 @@
+// CPU mirror of the opaque-occluder passes (issue 4, DESIGN §4.5, STSV paper Algorithm 2):
+// depth complexity sampling (DCS) and penumbra wedges (PW) over the welded edge adjacency of the
+// opaque triangles, and their combinations with STSV for the perforated ones. The per-pixel,
+// per-edge math is the device/host code of wedges/dcs_dh.h and wedges/pw_dh.h; candidate edges
+// are binned to screen tiles through the STSV volume of one of their faces (a conservative
+// bound of the region whose light segments can touch the edge).
+#pragma once
+
+#include "core/gbuffer.h"
+#include "core/image.h"
+#include "reference/embree_scene.h"
+#include "render/cpu_stsv.h"
+#include "sampling/ls_buffer.h"
+#include "sampling/pattern.h"
+#include "scene/scene.h"
+#include "wedges/adjacency.h"
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+namespace stsv {
+
+struct WedgeCpuStats {
+    std::size_t edges = 0;                 ///< welded edges of the opaque triangles
+    std::size_t potentialSilhouettes = 0;  ///< of those, potential silhouettes for this light
+    std::size_t volumes = 0;               ///< face volumes built for binning
+    std::size_t tileEntries = 0;           ///< (tile, face record) pairs
+    std::size_t pixelVolumeTests = 0;      ///< point-in-volume tests
+    std::size_t pixelEdgeVisits = 0;       ///< (pixel, edge) pairs with the edge a silhouette from p, clipped non-empty
+    std::size_t negativeCounts = 0;        ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
+    double setup_ms = 0.0;                 ///< silhouettes, volumes, binning
+    double shade_ms = 0.0;                 ///< per-pixel centre count and edge loop
+};
+
+/// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
+/// an Embree scene of them alone, which gives the layer count D(r) at the light centre (the CPU
+/// stand-in of the z-fail counting shadow volume). `scene` must outlive it.
+class OpaqueOccluders {
+  public:
+    explicit OpaqueOccluders(const Scene& scene);
+
+    const Scene& scene() const { return m_scene; }
+    const EdgeAdjacency& adjacency() const { return m_adjacency; }
+    std::size_t opaqueTriangles() const { return m_opaqueToScene.size(); }
+
+    /// Opaque triangles crossed by p → r (t ∈ (SHADOW_T_MIN, 1)), scene triangle `ignore` excluded.
+    std::uint32_t centerCount(vec3 p, vec3 r, std::uint32_t ignore, std::vector<std::uint32_t>& scratch) const;
+
+  private:
+    const Scene& m_scene;
+    Scene m_opaque; ///< the opaque triangles only (Embree holds a reference)
+    std::vector<std::uint32_t> m_opaqueToScene;
+    std::vector<std::uint32_t> m_sceneToOpaque;
+    std::unique_ptr<EmbreeScene> m_embree;
+    EdgeAdjacency m_adjacency;
+};
+
+/// DCS: adds to `counters` (Kind::Counters) the exact per-sample depth complexity of the opaque
+/// triangles, D(x) = D(r) + Σ_e k_e·[r → x crosses e] (wedges/dcs_dh.h). Self-shadowing rule as
+/// STSV: the visible triangle never counts.
+WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& counters);
+
+/// DCS+STSV (Algorithm 2, lines 8–9): DCS for the opaque triangles, then the STSV increments of
+/// the perforated ones added to the same counters.
+WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+                                const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
+                                StsvCpuStats* stsvStats = nullptr);
+
+/// PW: per-pixel visibility v_coef of the opaque triangles (one channel, 1 on background):
+/// 1 − clamp([D(r) > 0] + Σ_e sign(k_e)·coverage_e, 0, 1), coverage analytic over the light
+/// frame's square or disk (wedges/pw_dh.h).
+WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+                              float farDistance, ImageF& visibility);
+
+/// PW+STSV (Algorithm 2, lines 12–14): v = clamp(v_pw − occluded fraction of the STSV bitmask of
+/// the perforated triangles, 0, 1). `stsvBits` (Kind::Bitmask, cleared by the caller) receives
+/// the STSV bits.
+WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+                                  const SamplePlan& plan, float farDistance, ImageF& visibility,
+                                  LightSampleBuffer& stsvBits, StsvCpuStats* stsvStats = nullptr);
+
+} // namespace stsv

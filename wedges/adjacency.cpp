@@ -1,0 +1,139 @@
+#include "wedges/adjacency.h"
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <unordered_map>
+
+namespace stsv {
+
+namespace {
+
+/// Bit pattern of a position with −0 folded into +0, for exact-position welding.
+struct PositionKey {
+    std::uint32_t bits[3];
+    bool operator==(const PositionKey& o) const { return std::memcmp(bits, o.bits, sizeof bits) == 0; }
+};
+
+PositionKey keyOf(vec3 p) {
+    PositionKey k{};
+    for (int c = 0; c < 3; ++c) {
+        const float v = p[c] == 0.0f ? 0.0f : p[c];
+        std::memcpy(&k.bits[c], &v, sizeof v);
+    }
+    return k;
+}
+
+struct PositionHash {
+    std::size_t operator()(const PositionKey& k) const {
+        std::uint64_t h = 1469598103934665603ull;
+        for (std::uint32_t b : k.bits) h = (h ^ b) * 1099511628211ull;
+        return std::size_t(h ^ (h >> 29));
+    }
+};
+
+struct HalfEdge {
+    std::uint32_t v0, v1; ///< sorted
+    EdgeFace face;
+};
+
+} // namespace
+
+EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(std::size_t)>& include) {
+    EdgeAdjacency adj;
+    constexpr std::uint32_t NONE = std::numeric_limits<std::uint32_t>::max();
+    adj.weldedVertex.assign(scene.positions.size(), NONE);
+    std::unordered_map<PositionKey, std::uint32_t, PositionHash> welded;
+    auto weld = [&](std::uint32_t v) {
+        if (adj.weldedVertex[v] != NONE) return adj.weldedVertex[v];
+        const auto [it, inserted] = welded.try_emplace(keyOf(scene.positions[v]), std::uint32_t(adj.positions.size()));
+        if (inserted) adj.positions.push_back(scene.positions[v]);
+        adj.weldedVertex[v] = it->second;
+        return it->second;
+    };
+
+    std::vector<HalfEdge> halfEdges;
+    halfEdges.reserve(scene.triangleCount() * 3);
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        if (include && !include(t)) continue;
+        ++adj.triangles;
+        const uvec3 idx = scene.triangles[t];
+        const std::uint32_t w[3] = {weld(idx.x), weld(idx.y), weld(idx.z)};
+        if (w[0] == w[1] || w[1] == w[2] || w[0] == w[2]) {
+            ++adj.degenerateSkipped;
+            continue;
+        }
+        for (int i = 0; i < 3; ++i) {
+            const std::uint32_t a = w[i], b = w[(i + 1) % 3], o = w[(i + 2) % 3];
+            halfEdges.push_back({std::min(a, b), std::max(a, b), {std::uint32_t(t), o, a < b}});
+        }
+    }
+    std::sort(halfEdges.begin(), halfEdges.end(), [](const HalfEdge& x, const HalfEdge& y) {
+        if (x.v0 != y.v0) return x.v0 < y.v0;
+        if (x.v1 != y.v1) return x.v1 < y.v1;
+        return x.face.triangle < y.face.triangle;
+    });
+    adj.faces.reserve(halfEdges.size());
+    for (std::size_t i = 0; i < halfEdges.size();) {
+        std::size_t j = i;
+        MeshEdge edge{halfEdges[i].v0, halfEdges[i].v1, std::uint32_t(adj.faces.size()), 0};
+        for (; j < halfEdges.size() && halfEdges[j].v0 == edge.v0 && halfEdges[j].v1 == edge.v1; ++j)
+            adj.faces.push_back(halfEdges[j].face);
+        edge.faceCount = std::uint32_t(j - i);
+        if (edge.faceCount == 1) ++adj.openEdges;
+        else if (edge.faceCount == 2) {
+            ++adj.manifoldEdges;
+            if (adj.faces[edge.firstFace].forward == adj.faces[edge.firstFace + 1].forward) ++adj.inconsistentEdges;
+        } else
+            ++adj.nonManifoldEdges;
+        adj.edges.push_back(edge);
+        i = j;
+    }
+    return adj;
+}
+
+std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adj, vec4 lightSphere) {
+    std::vector<std::uint32_t> out;
+    const dvec3 c{vec3(lightSphere)};
+    const double r = double(lightSphere.w);
+    for (std::uint32_t e = 0; e < adj.edges.size(); ++e) {
+        const MeshEdge& edge = adj.edges[e];
+        if (edge.faceCount != 2) {
+            out.push_back(e);
+            continue;
+        }
+        // Face normals oriented by the edge direction, n_f = (q1 − q0) × (o_f − q0): seen from a
+        // light point x, the edge is a silhouette iff n_1·(x − q0) and n_2·(x − q0) have the same
+        // sign (the faces' third vertices on the same side of the plane through x and the edge).
+        const dvec3 q0(adj.positions[edge.v0]), q1(adj.positions[edge.v1]);
+        double s[2];
+        bool usable = true;
+        for (int f = 0; f < 2; ++f) {
+            const dvec3 o(adj.positions[adj.faces[edge.firstFace + f].opposite]);
+            const dvec3 n = cross(q1 - q0, o - q0);
+            const double len = length(n);
+            if (!(len > 0.0)) usable = false;
+            s[f] = usable ? dot(n, c - q0) / len : 0.0;
+        }
+        // Never a silhouette only if the whole sphere (plus a relative margin for round-off)
+        // is strictly on the positive side of one face's plane and the negative of the other's.
+        const double margin = r + 1e-5 * (r + length(c - q0));
+        const bool never = usable && ((s[0] > margin && s[1] < -margin) || (s[0] < -margin && s[1] > margin));
+        if (!never) out.push_back(e);
+    }
+    return out;
+}
+
+int edgeWeightFrom(const EdgeAdjacency& adj, std::uint32_t e, dvec3 p, std::uint32_t ignoreTriangle) {
+    const MeshEdge& edge = adj.edges[e];
+    const dvec3 m = cross(dvec3(adj.positions[edge.v0]) - p, dvec3(adj.positions[edge.v1]) - p);
+    int k = 0;
+    for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
+        if (adj.faces[f].triangle == ignoreTriangle) continue;
+        const double side = dot(m, dvec3(adj.positions[adj.faces[f].opposite]) - p);
+        k += side > 0.0 ? 1 : (side < 0.0 ? -1 : 0);
+    }
+    return k;
+}
+
+} // namespace stsv

@@ -1,0 +1,126 @@
+// Depth complexity sampling (Forest, Barthe & Paulin 2008; STSV paper §3.2; DESIGN §4.5):
+// per receiver point p, the edge crossings that carry the depth complexity from the light centre
+// r to every light sample x. Compiles as C++ and as GLSL 4.50 (core/dh.h).
+//
+// Projection. The pixel's light frame is s = c + a·T + b·B (sampling/light_sampling_dh.h). A
+// point q projects from p onto the frame's plane at homogeneous frame coordinates
+//   H(q) = (a·w, b·w, w),  w = n·(q − p) / n·(c − p)          (n ⟂ the plane, towards it from p)
+// which is linear in q − p (a 3×3 matrix per pixel). w is exactly the parameter t of the point
+// along segments p → s, so "the part of an edge between p and the light" is the part with
+// w ∈ [tMin, 1]: clipping there keeps every projected point finite and in front of p.
+//
+// Identity (DESIGN §4.5). Let D(x) = number of triangles crossed by segment p → x. Sweeping x
+// from r along the segment r → x, D changes only when p → x passes an edge. For an edge with
+// line ℓ = H(q0) × H(q1) and faces with third vertices o_f, face f is entered when x crosses
+// to the side of ℓ where H(o_f) lies, so
+//   D(x) = D(r) + Σ_edges [r → x crosses the projected, clipped edge] · sign(ℓ·X) · k_e,
+//   k_e  = Σ_faces sign(ℓ·H(o_f))            (X = (a, b, 1), homogeneous)
+// k_e = 0 for a manifold edge that is not a silhouette seen from p (the faces on opposite
+// sides); ±2 for a silhouette of a closed mesh; ±1 for an open edge. (The papers count objects,
+// ±1 per silhouette; counting triangles, as the Embree reference does, doubles closed meshes.)
+// Signs are computed on homogeneous coordinates without division: det[H(u), H(v), H(w)] =
+// det(H)·det[u, v, w], and every product of two such signs is independent of det(H).
+#ifndef STSV_WEDGES_DCS_DH_H
+#define STSV_WEDGES_DCS_DH_H
+
+#include "core/dh.h"
+
+DH_BEGIN
+
+/// Per-pixel projection onto the light frame's plane. std430: 4 × 16 bytes.
+struct DcsPixel {
+    vec3 row0;   ///< H(q) = (dot(row0, q − p), dot(row1, q − p), dot(row2, q − p))
+    float tMin;  ///< segments p → s start at this parameter (SHADOW_T_MIN)
+    vec3 row1;
+    float valid; ///< 1 if p lies strictly in front of the light plane, else 0 (no crossings)
+    vec3 row2;   ///< n / n·(c − p)
+    float pad0;
+    vec3 p;      ///< world units; the receiver point
+    float pad1;
+};
+
+#ifdef __cplusplus
+DH_STATIC_ASSERT(sizeof(DcsPixel) == 64);
+#endif
+
+/// Builds H for receiver p and the pixel's light frame (c, T, B).
+DH_FUNC DcsPixel dcsSetupPixel(vec3 p, vec3 c, vec3 T, vec3 B, float tMin) {
+    DcsPixel px;
+    px.p = p;
+    px.tMin = tMin;
+    px.pad0 = 0.0f;
+    px.pad1 = 0.0f;
+    vec3 cp = c - p;
+    vec3 n = cross(T, B);
+    if (dot(n, cp) < 0.0f) n = -n;
+    float dc = dot(n, cp);
+    // Dual basis of (T, B) in the plane: dot(tDual, T) = 1, dot(tDual, B) = 0, dot(tDual, n) = 0.
+    vec3 bn = cross(B, n);
+    vec3 nt = cross(n, T);
+    float dt = dot(T, bn);
+    float db = dot(B, nt);
+    px.valid = (dc > 0.0f && abs(dt) > 0.0f && abs(db) > 0.0f) ? 1.0f : 0.0f;
+    if (px.valid == 0.0f) {
+        px.row0 = vec3(0.0f);
+        px.row1 = vec3(0.0f);
+        px.row2 = vec3(0.0f);
+        return px;
+    }
+    vec3 tDual = bn / dt;
+    vec3 bDual = nt / db;
+    px.row2 = n / dc;
+    // a·w = dot(q − p, tDual) − w·dot(c − p, tDual), and likewise for b.
+    px.row0 = tDual - dot(cp, tDual) * px.row2;
+    px.row1 = bDual - dot(cp, bDual) * px.row2;
+    return px;
+}
+
+/// Homogeneous frame coordinates H(q) of world point q.
+DH_FUNC vec3 dcsProject(DcsPixel px, vec3 q) {
+    vec3 d = q - px.p;
+    return vec3(dot(px.row0, d), dot(px.row1, d), dot(px.row2, d));
+}
+
+/// Side of a face's third vertex (homogeneous ho) relative to edge line l: +1, −1, 0 in the plane.
+DH_FUNC int dcsFaceSide(vec3 l, vec3 ho) {
+    float s = dot(l, ho);
+    return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
+}
+
+/// Clips the projected edge h0 → h1 to w ∈ [tMin, 1] (the part between p and the light).
+/// False when nothing is left.
+DH_FUNC bool dcsClipEdge(float tMin, DH_INOUT(vec3) h0, DH_INOUT(vec3) h1) {
+    float lo = tMin;
+    float hi = 1.0f;
+    if (h0.z < lo && h1.z < lo) return false;
+    if (h0.z > hi && h1.z > hi) return false;
+    vec3 a = h0;
+    vec3 b = h1;
+    if (a.z < lo) a = h0 + (h1 - h0) * ((lo - h0.z) / (h1.z - h0.z));
+    if (b.z < lo) b = h1 + (h0 - h1) * ((lo - h1.z) / (h0.z - h1.z));
+    if (a.z > hi) a = h0 + (h1 - h0) * ((hi - h0.z) / (h1.z - h0.z));
+    if (b.z > hi) b = h1 + (h0 - h1) * ((hi - h1.z) / (h0.z - h1.z));
+    h0 = a;
+    h1 = b;
+    return true;
+}
+
+/// Signed crossing of segment r → x (r = frame centre (0, 0), x = frame point ab) with the
+/// clipped projected edge a → b (homogeneous, w > 0) whose unclipped line is l: 0 if they do
+/// not cross, else sign(l·X) (the side x ends on). Ties go half-open (a zero counts as
+/// negative) so that two edges meeting at a projected vertex are crossed exactly once.
+DH_FUNC int dcsSampleCrossing(vec3 l, vec3 a, vec3 b, vec2 ab) {
+    float dX = l.x * ab.x + l.y * ab.y + l.z;
+    bool sideR = l.z > 0.0f;
+    bool sideX = dX > 0.0f;
+    if (sideR == sideX) return 0;
+    // a and b on opposite sides of the line through r and x (orient(r, x, ·) = x × ·, w > 0).
+    bool sideA = ab.x * a.y - ab.y * a.x > 0.0f;
+    bool sideB = ab.x * b.y - ab.y * b.x > 0.0f;
+    if (sideA == sideB) return 0;
+    return sideX ? 1 : -1;
+}
+
+DH_END
+
+#endif // STSV_WEDGES_DCS_DH_H
