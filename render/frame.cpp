@@ -6,6 +6,7 @@
 #include "sampling/light_sampling.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_stsv.h"
+#include "render/gpu_renderer.h"
 #include "sampling/light_bounds.h"
 
 
@@ -126,6 +127,9 @@ class CpuRenderer final : public FrameRenderer {
 
 std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOptions& options) {
     validate(options);
+    // The Embree reference is CPU-only; the Vulkan backend renders the STSV method.
+    if (options.backend == Backend::Vulkan && options.method == Method::Stsv)
+        return std::make_unique<VulkanRenderer>(scene, options);
     return std::make_unique<CpuRenderer>(scene, options);
 }
 

@@ -1,0 +1,129 @@
+// Device/host layout of the Vulkan frame (DESIGN §3, §5): the scene tables, frame constants and
+// binding indices shared by render/gpu_renderer.cpp and shaders/{gbuffer,stsv,resolve}.*, plus
+// the small per-pixel helpers every pass uses (G-buffer point, shading normal, alpha texel).
+#ifndef STSV_RENDER_GPU_FRAME_DH_H
+#define STSV_RENDER_GPU_FRAME_DH_H
+
+#include "core/dh.h"
+#include "scene/light_dh.h"
+#include "volumes/stsv_dh.h"
+
+DH_BEGIN
+
+// Descriptor set 0 (one set per light: the light's sample buffers differ, the rest is shared).
+DH_CONST uint GPU_BINDING_TRIANGLES = 0u;   ///< GpuTriangle[] (SSBO)
+DH_CONST uint GPU_BINDING_ALPHA = 1u;       ///< alpha bytes of every texture, 4 per uint (SSBO)
+DH_CONST uint GPU_BINDING_TEXTURES = 2u;    ///< GpuTexture[] (SSBO)
+DH_CONST uint GPU_BINDING_PATTERN = 3u;     ///< vec2 pattern points, set-major (SamplePlan::points)
+DH_CONST uint GPU_BINDING_FRAME = 4u;       ///< GpuFrame then GpuLight[] (SSBO)
+DH_CONST uint GPU_BINDING_POSITION = 5u;    ///< G-buffer world position, rgba32f storage image
+DH_CONST uint GPU_BINDING_TRIANGLE_ID = 6u; ///< G-buffer triangle id, r32ui storage image
+DH_CONST uint GPU_BINDING_COUNTERS = 7u;    ///< packed 16-bit depth-complexity counters (SSBO)
+DH_CONST uint GPU_BINDING_STATS = 8u;       ///< GpuStats per light (SSBO)
+DH_CONST uint GPU_BINDING_MASKS = 9u;       ///< GPU_MAX_MASK_IMAGES rg32ui storage images (bitmask)
+DH_CONST uint GPU_BINDING_COLOR = 10u;      ///< rgba32f storage image, linear RGB
+DH_CONST uint GPU_BINDING_VISIBILITY = 11u; ///< r32f storage image, v_coef averaged over lights
+
+DH_CONST uint GPU_MAX_MASK_IMAGES = 4u; ///< RG32UI images for N = 256 (64 samples each)
+
+/// GpuTriangle::flags: STSV_FLAG_CLAMP and STSV_FLAG_OPAQUE as in stsv_dh.h, plus:
+DH_CONST uint GPU_TRIANGLE_DOUBLE_SIDED = 256u; ///< shading normal faces the viewer
+DH_CONST uint GPU_STSV_FLAG_MASK = 3u;          ///< the bits stsvSetupTriangle takes
+
+/// One scene triangle. std430: 6 × 16 bytes.
+struct GpuTriangle {
+    vec4 v0;      ///< world units, w = 1
+    vec4 v1;      ///< world units, w = 1
+    vec4 v2;      ///< world units, w = 1
+    vec2 t0;      ///< texture coordinates of v0
+    vec2 t1;      ///< of v1
+    vec2 t2;      ///< of v2
+    uint texture; ///< index into GpuTexture[] (0 for opaque triangles, as stsvTriangleFor)
+    uint flags;   ///< STSV_FLAG_CLAMP | STSV_FLAG_OPAQUE | GPU_TRIANGLE_DOUBLE_SIDED
+    vec4 albedo;  ///< linear RGB, w unused
+};
+
+/// One alpha texture: its bytes start at `offset` (bytes) of the alpha buffer, row-major.
+struct GpuTexture {
+    uint offset; ///< bytes
+    int width;   ///< texels
+    int height;  ///< texels
+    uint pad0;
+};
+
+/// Frame constants. std430: 10 × 16 bytes.
+struct GpuFrame {
+    mat4 clipFromWorld; ///< Vulkan clip space (scene/camera.h), near/far from the scene box
+    vec4 eye;           ///< world units, w unused
+    vec4 boxLo;         ///< scene box (world units); w = farDistance (directional lights)
+    vec4 boxHi;         ///< scene box (world units); w = ambient (fraction of albedo)
+    vec4 background;    ///< linear RGB of uncovered pixels
+    uint width;         ///< pixels
+    uint height;        ///< pixels
+    uint sampleCount;   ///< N
+    uint interleave;    ///< K of K×K interleaved sets
+    uint seed;          ///< decorrelation seed
+    uint decorrelate;   ///< 0 or 1
+    uint lightCount;
+    float lightWeight; ///< 1 / lightCount: weight of each light's v_coef in the visibility image
+};
+
+/// A scene light and the sphere its volumes are extruded against (light_bounds.h).
+struct GpuLight {
+    Light light;
+    vec4 sphere; ///< world units: centre xyz, radius w
+};
+
+/// Fragment statistics of one light's STSV pass (atomic counters in stsv.frag).
+struct GpuStats {
+    uint fragments; ///< fragments that passed the depth test (volume behind the visible point)
+    uint inside;    ///< of those, p inside the volume and on its side: they run the sample loop
+    uint pad0;
+    uint pad1;
+};
+
+/// Push constants of every pass.
+struct GpuPush {
+    uint light;      ///< index into GpuLight[]; ≥ lightCount: none (resolve only initialises)
+    uint initialize; ///< resolve: 1 = write ambient/background first (the first light)
+    uint pad0;
+    uint pad1;
+};
+
+#ifdef __cplusplus
+DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
+DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);
+DH_STATIC_ASSERT(sizeof(GpuFrame) == 160);
+DH_STATIC_ASSERT(sizeof(GpuLight) == 96);
+DH_STATIC_ASSERT(sizeof(GpuStats) == 16);
+DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
+#endif
+
+/// The visible point at barycentrics (b1, b2), as reference/embree_scene.h's pointOnTriangle.
+DH_FUNC vec3 gpuPointOnTriangle(GpuTriangle t, vec2 bary) {
+    vec3 v0 = vec3(t.v0);
+    return v0 + bary.x * (vec3(t.v1) - v0) + bary.y * (vec3(t.v2) - v0);
+}
+
+/// Shading normal as reference/embree_scene.h's shadingNormal: the winding normal, flipped
+/// towards the eye for double-sided materials.
+DH_FUNC vec3 gpuShadingNormal(GpuTriangle t, vec3 eye, vec3 p) {
+    vec3 v0 = vec3(t.v0);
+    vec3 n = normalize(cross(vec3(t.v1) - v0, vec3(t.v2) - v0));
+    if ((t.flags & GPU_TRIANGLE_DOUBLE_SIDED) != 0u && dot(n, eye - p) < 0.0f) n = -n;
+    return n;
+}
+
+/// Byte of a packed byte array held in 32-bit words (little endian).
+DH_FUNC uint gpuByteOf(uint word, uint byteIndex) {
+    return (word >> (8u * (byteIndex & 3u))) & 255u;
+}
+
+/// Index of bit k of a sample mask: word k/32, bit k%32 (LightSampleBuffer's layout).
+DH_FUNC uint gpuSampleBit(uint k) {
+    return 1u << (k & 31u);
+}
+
+DH_END
+
+#endif // STSV_RENDER_GPU_FRAME_DH_H

@@ -1,0 +1,486 @@
+#include "render/gpu_renderer.h"
+
+#include "core/error.h"
+#include "core/timer.h"
+#include "gpu/buffer.h"
+#include "gpu/commands.h"
+#include "gpu/descriptors.h"
+#include "gpu/device.h"
+#include "gpu/image.h"
+#include "gpu/pipeline.h"
+#include "gpu/rendering.h"
+#include "gpu/shader_compiler.h"
+#include "gpu/timer.h"
+#include "reference/embree_scene.h"
+#include "render/gpu_frame_dh.h"
+#include "sampling/light_bounds.h"
+#include "sampling/pattern.h"
+#include "scene/camera.h"
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+namespace stsv {
+
+namespace {
+
+const vec3 BACKGROUND(0.02f, 0.02f, 0.03f); // as render/frame.cpp
+
+constexpr VkFormat POSITION_FORMAT = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat TRIANGLE_FORMAT = VK_FORMAT_R32_UINT;
+constexpr VkFormat DEPTH_FORMAT = VK_FORMAT_D32_SFLOAT;
+constexpr VkFormat MASK_FORMAT = VK_FORMAT_R32G32_UINT;
+constexpr VkFormat COLOR_FORMAT = VK_FORMAT_R32G32B32A32_SFLOAT;
+constexpr VkFormat VISIBILITY_FORMAT = VK_FORMAT_R32_SFLOAT;
+
+/// RG32UI attachments of a bitmask of N samples: 64 samples each.
+int maskAttachmentCount(int samples) {
+    return (samples + 63) / 64;
+}
+
+std::vector<ShaderDefine> sampleDefines(const RenderOptions& options) {
+    return {{"SAMPLE_COUNT", std::to_string(options.samples)},
+            {"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"}};
+}
+
+} // namespace
+
+std::size_t lightSampleBufferBytes(const RenderOptions& options) {
+    const std::size_t pixelSamples =
+        std::size_t(options.width) * std::size_t(options.height) * std::size_t(options.samples);
+    return options.buffer == BufferKind::Bitmask ? pixelSamples / 8 : pixelSamples * 2;
+}
+
+vec2 gpuDepthRange(const Scene& scene) {
+    const Bounds box = scene.bounds();
+    const float radius = 0.5f * length(box.extent());
+    const float distance = length(box.center() - scene.camera.eye);
+    const float zFar = std::max((distance + radius) * 1.01f, 1e-3f);
+    const float zNear = std::max(0.99f * (distance - radius), 1e-3f * zFar);
+    return {zNear, zFar};
+}
+
+mat4 gpuClipFromWorld(const Scene& scene, int width, int height) {
+    const vec2 range = gpuDepthRange(scene);
+    return clipFromView(scene.camera, float(width) / float(height), range.x, range.y) *
+           viewFromWorld(scene.camera);
+}
+
+struct VulkanRenderer::Impl {
+    const Scene& scene;
+    RenderOptions options;
+    std::unique_ptr<Device> ownDevice;
+    Device* device = nullptr;
+    bool mesh = false;
+    SamplePlan plan;
+    std::size_t lightCount = 0;
+    std::uint32_t triangleCount = 0;
+
+    DescriptorSetLayout setLayout;
+    PipelineLayout pipelineLayout;
+    Pipeline gbufferPipeline;
+    Pipeline stsvPipeline;
+    Pipeline resolvePipeline;
+
+    Buffer triangles, alpha, textures, pattern, frameData, stats;
+    std::vector<Buffer> counters; ///< per light (counters mode), else one dummy
+    Image position, triangleId, depth, color, visibility, dummyMask;
+    std::vector<std::vector<Image>> masks; ///< per light, maskAttachmentCount images (bitmask mode)
+    std::vector<DescriptorSet> sets;       ///< per light (at least one)
+    GpuTimer timer;
+    CommandBuffer commands;
+    double startupMs = 0.0;
+
+    Impl(const Scene& s, const RenderOptions& o, const VulkanRendererConfig& config) : scene(s), options(o) {
+        Timer startup;
+        validate(options);
+        if (config.device) {
+            device = config.device;
+        } else {
+            DeviceOptions deviceOptions;
+            deviceOptions.select = options.device;
+            deviceOptions.validation = options.validation;
+            deviceOptions.printValidation = options.validation;
+            ownDevice = std::make_unique<Device>(deviceOptions);
+            device = ownDevice.get();
+        }
+        const DeviceInfo& info = device->info();
+        if (!info.depthClamp || !info.logicOp || !info.fragmentStoresAndAtomics)
+            throw UsageError(
+                "Vulkan device " + info.name +
+                " lacks depth clamp, logic op or fragment stores/atomics needed by the STSV pass");
+        if (config.extrusion == ExtrusionStage::Mesh && !info.meshShader)
+            throw UsageError("Vulkan device " + info.name +
+                             " lacks VK_EXT_mesh_shader (mesh-shader STSV extrusion)");
+        mesh = config.extrusion == ExtrusionStage::Mesh ||
+               (config.extrusion == ExtrusionStage::Auto && info.meshShader);
+        if (!mesh && !info.geometryShader)
+            throw UsageError("Vulkan device " + info.name + " has neither geometry nor mesh shaders");
+        plan = makeSamplePlan(options.pattern, options.samples, options.seed, options.interleave,
+                              options.decorrelate);
+        lightCount = scene.lights.size();
+        triangleCount = static_cast<std::uint32_t>(scene.triangleCount());
+
+        uploadScene();
+        createImages();
+        createPipelines();
+        writeDescriptors();
+        timer = GpuTimer(*device, 2 + 2 * std::uint32_t(lightCount) + 4);
+        commands = CommandBuffer(*device);
+        startupMs = startup.milliseconds();
+    }
+
+    void uploadScene() {
+        const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+        std::vector<GpuTriangle> tris(std::max<std::size_t>(scene.triangleCount(), 1));
+        for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+            const uvec3 idx = scene.triangles[t];
+            const Material& material = scene.materialOf(t);
+            GpuTriangle& g = tris[t];
+            g = {};
+            g.v0 = vec4(scene.positions[idx.x], 1.0f);
+            g.v1 = vec4(scene.positions[idx.y], 1.0f);
+            g.v2 = vec4(scene.positions[idx.z], 1.0f);
+            g.t0 = scene.texcoords[idx.x];
+            g.t1 = scene.texcoords[idx.y];
+            g.t2 = scene.texcoords[idx.z];
+            // As volumes/stsv.cpp's stsvTriangleFor: texture 0 and STSV_FLAG_OPAQUE when not perforated.
+            g.texture = material.perforated() ? static_cast<uint>(material.alphaTexture) : 0u;
+            g.flags = (material.wrap == WrapMode::Clamp ? STSV_FLAG_CLAMP : 0u) |
+                      (material.perforated() ? 0u : STSV_FLAG_OPAQUE) |
+                      (material.doubleSided ? GPU_TRIANGLE_DOUBLE_SIDED : 0u);
+            g.albedo = vec4(material.albedo, 0.0f);
+        }
+        triangles = createBuffer(*device, std::span<const GpuTriangle>(tris), storage);
+
+        std::vector<GpuTexture> table(std::max<std::size_t>(scene.textures.size(), 1),
+                                      GpuTexture{0, 1, 1, 0});
+        std::vector<std::uint8_t> bytes;
+        for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+            const Texture& tex = scene.textures[i];
+            table[i] = {static_cast<uint>(bytes.size()), tex.width, tex.height, 0u};
+            for (int y = 0; y < tex.height; ++y)
+                for (int x = 0; x < tex.width; ++x) bytes.push_back(tex.alpha(x, y));
+        }
+        bytes.resize(std::max<std::size_t>((bytes.size() + 3) / 4 * 4, 4), 0);
+        std::vector<std::uint32_t> words(bytes.size() / 4);
+        std::memcpy(words.data(), bytes.data(), bytes.size());
+        alpha = createBuffer(*device, std::span<const std::uint32_t>(words), storage);
+        textures = createBuffer(*device, std::span<const GpuTexture>(table), storage);
+        pattern = createBuffer(*device, std::span<const vec2>(plan.points), storage);
+
+        const Bounds box = scene.bounds();
+        const float farDistance = farDistanceFor(box);
+        GpuFrame frame{};
+        frame.clipFromWorld = gpuClipFromWorld(scene, options.width, options.height);
+        frame.eye = vec4(scene.camera.eye, 1.0f);
+        frame.boxLo = vec4(box.lo, farDistance);
+        frame.boxHi = vec4(box.hi, options.ambient);
+        frame.background = vec4(BACKGROUND, 1.0f);
+        frame.width = static_cast<uint>(options.width);
+        frame.height = static_cast<uint>(options.height);
+        frame.sampleCount = static_cast<uint>(options.samples);
+        frame.interleave = static_cast<uint>(options.interleave);
+        frame.seed = options.seed;
+        frame.decorrelate = options.decorrelate ? 1u : 0u;
+        frame.lightCount = static_cast<uint>(lightCount);
+        frame.lightWeight = lightCount > 0 ? 1.0f / float(lightCount) : 0.0f;
+        std::vector<std::byte> frameBytes(sizeof(GpuFrame) +
+                                          sizeof(GpuLight) * std::max<std::size_t>(lightCount, 1));
+        std::memcpy(frameBytes.data(), &frame, sizeof(frame));
+        for (std::size_t l = 0; l < lightCount; ++l) {
+            const GpuLight light{scene.lights[l], lightBoundingSphere(scene.lights[l], box, farDistance)};
+            std::memcpy(frameBytes.data() + sizeof(GpuFrame) + l * sizeof(GpuLight), &light, sizeof(light));
+        }
+        frameData = createBuffer(*device, std::span<const std::byte>(frameBytes), storage);
+        stats = Buffer(*device, sizeof(GpuStats) * std::max<std::size_t>(lightCount, 1), storage,
+                       MemoryUsage::DeviceLocal);
+        const std::size_t counterBytes =
+            options.buffer == BufferKind::Counters
+                ? std::size_t(options.width) * options.height * options.samples * 2
+                : 16;
+        for (std::size_t l = 0; l < std::max<std::size_t>(lightCount, 1); ++l)
+            counters.emplace_back(*device, counterBytes, storage, MemoryUsage::DeviceLocal);
+    }
+
+    void createImages() {
+        const auto w = static_cast<uint32_t>(options.width), h = static_cast<uint32_t>(options.height);
+        const VkImageUsageFlags attachment = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
+        position = Image(*device, {w, h, POSITION_FORMAT, attachment});
+        triangleId = Image(*device, {w, h, TRIANGLE_FORMAT, attachment});
+        depth = Image(*device, {w, h, DEPTH_FORMAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT});
+        color = Image(*device, {w, h, COLOR_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
+        visibility = Image(*device, {w, h, VISIBILITY_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
+        dummyMask = Image(*device, {1, 1, MASK_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
+        masks.resize(std::max<std::size_t>(lightCount, 1));
+        if (options.buffer == BufferKind::Bitmask)
+            for (std::size_t l = 0; l < lightCount; ++l)
+                for (int i = 0; i < maskAttachmentCount(options.samples); ++i)
+                    masks[l].emplace_back(*device, ImageDesc{w, h, MASK_FORMAT, attachment});
+    }
+
+    void createPipelines() {
+        std::vector<DescriptorBinding> bindings;
+        for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_ALPHA, GPU_BINDING_TEXTURES,
+                           GPU_BINDING_PATTERN, GPU_BINDING_FRAME, GPU_BINDING_COUNTERS, GPU_BINDING_STATS})
+            bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+        for (uint32_t b :
+             {GPU_BINDING_POSITION, GPU_BINDING_TRIANGLE_ID, GPU_BINDING_COLOR, GPU_BINDING_VISIBILITY})
+            bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1});
+        bindings.push_back(
+            {GPU_BINDING_MASKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, GPU_MAX_MASK_IMAGES});
+        setLayout = DescriptorSetLayout(*device, bindings);
+        pipelineLayout = PipelineLayout(*device, {setLayout.handle()}, sizeof(GpuPush));
+
+        const ShaderCompiler compiler;
+        const std::vector<ShaderDefine> defines = sampleDefines(options);
+
+        GraphicsPipelineDesc gbuffer;
+        gbuffer.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("gbuffer.vert")},
+                          {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("gbuffer.frag")}};
+        gbuffer.colorFormats = {POSITION_FORMAT, TRIANGLE_FORMAT};
+        gbuffer.depthFormat = DEPTH_FORMAT;
+        gbuffer.depthTest = true;
+        gbuffer.depthWrite = true;
+        gbuffer.depthCompare = VK_COMPARE_OP_LESS;
+        gbufferPipeline = createGraphicsPipeline(*device, pipelineLayout, gbuffer);
+
+        // STSV pass (DESIGN §4.2): back faces of the convex volume behind the visible point, no
+        // depth write, depth clamp (the far extrusion may pass the far plane): one fragment per
+        // pixel and volume.
+        GraphicsPipelineDesc stsv;
+        std::vector<ShaderDefine> fragmentDefines = defines;
+        if (mesh) {
+            fragmentDefines.push_back({"STSV_MESH_PATH", "1"});
+            stsv.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv.mesh")}};
+        } else {
+            stsv.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert")},
+                           {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom")}};
+        }
+        stsv.stages.push_back(
+            {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("stsv.frag", fragmentDefines)});
+        if (options.buffer == BufferKind::Bitmask) {
+            stsv.colorFormats.assign(std::size_t(maskAttachmentCount(options.samples)), MASK_FORMAT);
+            stsv.logicOpEnable = true;
+            stsv.logicOp = VK_LOGIC_OP_OR;
+        }
+        stsv.depthFormat = DEPTH_FORMAT;
+        stsv.depthTest = true;
+        stsv.depthWrite = false;
+        stsv.depthCompare = VK_COMPARE_OP_GREATER;
+        stsv.depthClamp = true;
+        // The strip faces outward (counter-clockwise seen from outside, extrusion_dh.h); the
+        // y-down clip space keeps that orientation in framebuffer coordinates, so the back faces
+        // are the clockwise ones.
+        stsv.cullMode = VK_CULL_MODE_FRONT_BIT;
+        stsv.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+        stsvPipeline = createGraphicsPipeline(*device, pipelineLayout, stsv);
+
+        const std::vector<uint32_t> resolve = compiler.compileFile("resolve.comp", defines);
+        resolvePipeline = createComputePipeline(*device, pipelineLayout, resolve);
+    }
+
+    void writeDescriptors() {
+        for (std::size_t l = 0; l < std::max<std::size_t>(lightCount, 1); ++l) {
+            DescriptorSet& set = sets.emplace_back(*device, setLayout);
+            set.writeBuffer(GPU_BINDING_TRIANGLES, triangles);
+            set.writeBuffer(GPU_BINDING_ALPHA, alpha);
+            set.writeBuffer(GPU_BINDING_TEXTURES, textures);
+            set.writeBuffer(GPU_BINDING_PATTERN, pattern);
+            set.writeBuffer(GPU_BINDING_FRAME, frameData);
+            set.writeBuffer(GPU_BINDING_COUNTERS, counters[l]);
+            set.writeBuffer(GPU_BINDING_STATS, stats);
+            set.writeStorageImage(GPU_BINDING_POSITION, position);
+            set.writeStorageImage(GPU_BINDING_TRIANGLE_ID, triangleId);
+            set.writeStorageImage(GPU_BINDING_COLOR, color);
+            set.writeStorageImage(GPU_BINDING_VISIBILITY, visibility);
+            for (uint32_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i) {
+                const Image& image = i < masks[l].size() ? masks[l][i] : dummyMask;
+                set.writeStorageImage(GPU_BINDING_MASKS, image, VK_IMAGE_LAYOUT_GENERAL, i);
+            }
+        }
+    }
+
+    void bind(VkCommandBuffer cmd, VkPipelineBindPoint point, std::size_t light) {
+        VkDescriptorSet handle = sets[light].handle();
+        vkCmdBindDescriptorSets(cmd, point, pipelineLayout.handle(), 0, 1, &handle, 0, nullptr);
+    }
+
+    void push(VkCommandBuffer cmd, uint light, uint initialize) {
+        const GpuPush p{light, initialize, 0u, 0u};
+        pipelineLayout.push(cmd, &p, sizeof(p));
+    }
+
+    void drawVolumes(VkCommandBuffer cmd) {
+        if (triangleCount == 0) return;
+        if (!mesh) {
+            vkCmdDraw(cmd, 3 * triangleCount, 1, 0, 0);
+            return;
+        }
+        // Workgroups in rows of at most 65535 (the minimum maxMeshWorkGroupCount[0]).
+        const uint32_t rowLength = std::min<uint32_t>(triangleCount, 65535u);
+        device->cmdDrawMeshTasks()(cmd, rowLength, (triangleCount + rowLength - 1) / rowLength, 1);
+    }
+
+    void record(VkCommandBuffer cmd) {
+        timer.reset(cmd);
+        vkCmdFillBuffer(cmd, stats.handle(), 0, VK_WHOLE_SIZE, 0);
+        if (options.buffer == BufferKind::Counters)
+            for (std::size_t l = 0; l < lightCount; ++l)
+                vkCmdFillBuffer(cmd, counters[l].handle(), 0, VK_WHOLE_SIZE, 0);
+        fullBarrier(cmd);
+
+        // Pass 0: G-buffer (ambient is written by the first resolve).
+        timer.begin(cmd, "gbuffer");
+        {
+            VkClearColorValue noTriangle{};
+            noTriangle.uint32[0] = NO_TRIANGLE;
+            const ColorTarget targets[] = {{&position, true, {}}, {&triangleId, true, noTriangle}};
+            beginRendering(cmd, targets, DepthTarget{&depth, true, 1.0f, false});
+            gbufferPipeline.bind(cmd);
+            bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, 0);
+            push(cmd, 0u, 0u);
+            if (triangleCount > 0) vkCmdDraw(cmd, 3 * triangleCount, 1, 0, 0);
+            endRendering(cmd);
+        }
+        timer.end(cmd);
+        position.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+        triangleId.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+        color.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+        visibility.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+        dummyMask.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+        fullBarrier(cmd);
+
+        const uint32_t groupsX = (uint32_t(options.width) + 7) / 8,
+                       groupsY = (uint32_t(options.height) + 7) / 8;
+        for (std::size_t l = 0; l < lightCount; ++l) {
+            const std::string prefix = "light" + std::to_string(l) + "/";
+            timer.begin(cmd, prefix + "stsv");
+            std::vector<ColorTarget> targets;
+            for (Image& image : masks[l]) targets.push_back({&image, true, {}});
+            beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
+            stsvPipeline.bind(cmd);
+            bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
+            push(cmd, uint(l), 0u);
+            drawVolumes(cmd);
+            endRendering(cmd);
+            timer.end(cmd);
+            for (Image& image : masks[l]) image.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+            fullBarrier(cmd);
+
+            timer.begin(cmd, prefix + "resolve");
+            resolvePipeline.bind(cmd);
+            bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, l);
+            push(cmd, uint(l), l == 0 ? 1u : 0u);
+            vkCmdDispatch(cmd, groupsX, groupsY, 1);
+            timer.end(cmd);
+            fullBarrier(cmd);
+        }
+        if (lightCount == 0) {
+            timer.begin(cmd, "ambient");
+            resolvePipeline.bind(cmd);
+            bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, 0);
+            push(cmd, 0xffffffffu, 1u);
+            vkCmdDispatch(cmd, groupsX, groupsY, 1);
+            timer.end(cmd);
+            fullBarrier(cmd);
+        }
+    }
+
+    Frame render() {
+        Timer total;
+        Frame frame;
+        VkCommandBuffer cmd = commands.begin();
+        record(cmd);
+        Timer gpu;
+        commands.submitAndWait();
+        const double gpuMs = gpu.milliseconds();
+
+        nlohmann::json passes = nlohmann::json::object();
+        for (const GpuTiming& t : timer.results()) passes[t.name] = t.milliseconds;
+
+        Timer readback;
+        const int w = options.width, h = options.height;
+        const std::size_t pixels = std::size_t(w) * h;
+        frame.gbuffer = GBuffer(w, h);
+        const std::vector<vec4> positions = position.readback<vec4>();
+        frame.gbuffer.triangle = triangleId.readback<std::uint32_t>();
+        for (std::size_t i = 0; i < pixels; ++i) {
+            if (!frame.gbuffer.covered(i)) continue;
+            frame.gbuffer.position[i] = vec3(positions[i]);
+            frame.gbuffer.normal[i] =
+                shadingNormal(scene, frame.gbuffer.triangle[i], scene.camera.eye, frame.gbuffer.position[i]);
+        }
+        const auto kind = options.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
+                                                                : LightSampleBuffer::Kind::Counters;
+        for (std::size_t l = 0; l < lightCount; ++l) {
+            LightSampleBuffer& buffer = frame.lightSamples.emplace_back(w, h, options.samples, kind);
+            if (kind == LightSampleBuffer::Kind::Counters) {
+                std::vector<std::uint16_t>& out = buffer.counters();
+                counters[l].download(out.data(), out.size() * sizeof(std::uint16_t));
+                continue;
+            }
+            // Attachment i holds words 2i (.x) and 2i+1 (.y) of each pixel (LightSampleBuffer layout).
+            const int wordsPerPixel = buffer.wordsPerPixel();
+            std::vector<std::uint32_t>& out = buffer.words();
+            for (std::size_t i = 0; i < masks[l].size(); ++i) {
+                const std::vector<std::uint32_t> pairs = masks[l][i].readback<std::uint32_t>();
+                for (int word = 2 * int(i); word < std::min(2 * int(i) + 2, wordsPerPixel); ++word)
+                    for (std::size_t p = 0; p < pixels; ++p)
+                        out[p * std::size_t(wordsPerPixel) + std::size_t(word)] =
+                            pairs[p * 2 + std::size_t(word % 2)];
+            }
+        }
+        const std::vector<vec4> rgba = color.readback<vec4>();
+        const std::vector<float> vis = visibility.readback<float>();
+        frame.color = ImageF(w, h, 3);
+        frame.visibility = ImageF(w, h, 1);
+        for (std::size_t i = 0; i < pixels; ++i) {
+            const int x = static_cast<int>(i % std::size_t(w)), y = static_cast<int>(i / std::size_t(w));
+            for (int c = 0; c < 3; ++c) frame.color.at(x, y, c) = rgba[i][c];
+            frame.visibility.at(x, y, 0) = vis[i];
+        }
+        const std::vector<GpuStats> counts = stats.download<GpuStats>(std::max<std::size_t>(lightCount, 1));
+        passes["readback"] = readback.milliseconds();
+
+        nlohmann::json stsvStats = nlohmann::json::array();
+        for (std::size_t l = 0; l < lightCount; ++l)
+            stsvStats.push_back({{"fragments", counts[l].fragments}, {"inside_fragments", counts[l].inside}});
+        frame.stats = {{"options", toJson(options)},
+                       {"scene", sceneStats(scene)},
+                       {"startup_ms", startupMs},
+                       {"frame_ms", total.milliseconds()},
+                       {"gpu_ms", gpuMs},
+                       {"passes", passes},
+                       {"light_sample_buffer_bytes", lightSampleBufferBytes(options)},
+                       {"stsv", stsvStats},
+                       {"gpu",
+                        {{"device", device->info().name},
+                         {"extrusion", mesh ? "mesh shader" : "geometry shader"},
+                         {"fragment_counts", "atomic counters in stsv.frag"}}}};
+        return frame;
+    }
+};
+
+VulkanRenderer::VulkanRenderer(const Scene& scene, const RenderOptions& options,
+                               const VulkanRendererConfig& config)
+    : m_impl(std::make_unique<Impl>(scene, options, config)) {}
+
+VulkanRenderer::~VulkanRenderer() {
+    if (m_impl && m_impl->device) m_impl->device->waitIdle();
+}
+
+Frame VulkanRenderer::render() {
+    return m_impl->render();
+}
+
+const Device& VulkanRenderer::device() const {
+    return *m_impl->device;
+}
+
+bool VulkanRenderer::usesMeshShader() const {
+    return m_impl->mesh;
+}
+
+} // namespace stsv

@@ -1,0 +1,64 @@
+// The Vulkan backend of a frame (DESIGN §5, STSV paper Algorithm 2): G-buffer, per light one
+// draw of all S-triangles through the STSV extrusion (geometry shader, or mesh shader where the
+// device has VK_EXT_mesh_shader) into the light-sample buffer, then the resolve into visibility
+// and Monte-Carlo direct lighting. Fills the same Frame as the CPU backend.
+#pragma once
+
+#include "render/frame.h"
+
+#include <cstddef>
+#include <memory>
+
+namespace stsv {
+
+class Device;
+
+/// Which stage builds the STSV volumes.
+enum class ExtrusionStage {
+    Auto,     ///< mesh shader when Device::info().meshShader, else geometry shader
+    Geometry, ///< shaders/stsv.geom
+    Mesh,     ///< shaders/stsv.mesh; UsageError naming VK_EXT_mesh_shader when the device lacks it
+};
+
+struct VulkanRendererConfig {
+    /// Render on this device (it must outlive the renderer) instead of creating one from
+    /// RenderOptions::device / RenderOptions::validation. Tests share one validated device.
+    Device* device = nullptr;
+    ExtrusionStage extrusion = ExtrusionStage::Auto;
+};
+
+/// Payload bytes of one light's sample buffer for `options` without rendering: N·W·H/8 for
+/// bitmasks (8 MiB at 1024² × 64, the STSV paper's §5.1 figure), 2·N·W·H for 16-bit counters.
+std::size_t lightSampleBufferBytes(const RenderOptions& options);
+
+/// Near and far plane distances (world units) of the GPU camera: the scene box seen from the
+/// eye, near clamped to 1e-3·far when the eye is inside (or close to) the box.
+vec2 gpuDepthRange(const Scene& scene);
+
+/// clipFromView(near, far)·viewFromWorld for a width × height image (scene/camera.h).
+mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
+
+/// Start-up in the constructor: device, shader compilation, pipelines, scene uploads, images.
+/// render() records, submits and reads back one frame. `scene` must outlive the renderer.
+/// Stats: "frame_ms" (wall time of render(), readback included), "gpu_ms" (submit to fence),
+/// "passes" (GPU timestamps: gbuffer, light<i>/stsv, light<i>/resolve; host: readback),
+/// "stsv"[i] {"fragments", "inside_fragments"} counted by atomics in stsv.frag,
+/// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion}.
+class VulkanRenderer final : public FrameRenderer {
+  public:
+    VulkanRenderer(const Scene& scene, const RenderOptions& options, const VulkanRendererConfig& config = {});
+    ~VulkanRenderer() override;
+    VulkanRenderer(const VulkanRenderer&) = delete;
+    VulkanRenderer& operator=(const VulkanRenderer&) = delete;
+
+    Frame render() override;
+
+    const Device& device() const;
+    bool usesMeshShader() const;
+
+  private:
+    struct Impl;
+    std::unique_ptr<Impl> m_impl;
+};
+
+} // namespace stsv

@@ -1,0 +1,80 @@
+#version 450
+// Resolve of one light (STSV paper Algorithm 2; DESIGN §4.4): v_coef = visible samples / N and
+// Monte-Carlo direct lighting albedo/π · (1/N) Σ_k sampleContribution_k · V_k (the same math as
+// sampling/light_sampling.cpp's resolveDirect), accumulated into the colour and visibility
+// images. The first light's dispatch writes ambient (or background) first, as render/frame.cpp.
+#extension GL_GOOGLE_include_directive : require
+#ifndef SAMPLE_COUNT
+#define SAMPLE_COUNT 64
+#endif
+#ifndef STSV_COUNTERS
+#define STSV_COUNTERS 0
+#endif
+#include "frame_bindings.glsl"
+#include "sampling/light_sampling_dh.h"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = 0, binding = GPU_BINDING_COLOR, rgba32f) uniform image2D colorImage;
+layout(set = 0, binding = GPU_BINDING_VISIBILITY, r32f) uniform image2D visibilityImage;
+#if STSV_COUNTERS
+layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) readonly buffer Counters { uint counters[]; };
+#else
+layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+#endif
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) return;
+    uint tri = imageLoad(gTriangle, pixel).x;
+    bool covered = tri != 0xffffffffu;
+    vec3 albedo = covered ? vec3(triangles[tri].albedo) : vec3(0.0);
+    vec3 color;
+    float visibility;
+    if (pc.initialize != 0u) {
+        color = covered ? frame.boxHi.w * albedo : vec3(frame.background);
+        visibility = 0.0;
+    } else {
+        color = vec3(imageLoad(colorImage, pixel));
+        visibility = imageLoad(visibilityImage, pixel).x;
+    }
+    if (pc.light < frame.lightCount) {
+        if (!covered) {
+            visibility += frame.lightWeight;
+        } else {
+            Light light = lights[pc.light].light;
+            vec3 p = vec3(imageLoad(gPosition, pixel));
+            vec3 n = gpuShadingNormal(triangles[tri], vec3(frame.eye), p);
+            LightFrame lf = lightFrame(light, p, frame.boxLo.w);
+            uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
+#if STSV_COUNTERS
+            uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+#else
+            uvec2 m[GPU_MAX_MASK_IMAGES];
+            for (uint i = 0u; i < GPU_MAX_MASK_IMAGES; ++i)
+                m[i] = 32u * 2u * i < uint(SAMPLE_COUNT) ? imageLoad(masks[i], pixel).xy : uvec2(0u);
+#endif
+            vec3 sum = vec3(0.0);
+            uint visible = 0u;
+            for (uint k = 0u; k < uint(SAMPLE_COUNT); ++k) {
+#if STSV_COUNTERS
+                bool occluded = ((counters[pixelBase + (k >> 1u)] >> (16u * (k & 1u))) & 65535u) != 0u;
+#else
+                uvec2 pair = m[k >> 6u];
+                bool occluded = (((k & 32u) != 0u ? pair.y : pair.x) & gpuSampleBit(k)) != 0u;
+#endif
+                if (occluded) continue;
+                ++visible;
+                vec2 ab = samplePoint(patternPoints[base + k], uvec2(pixel), frame.seed, frame.decorrelate != 0u,
+                                      lf.domain);
+                sum += sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
+            }
+            color += albedo * (1.0 / SAMPLING_PI) * sum / float(SAMPLE_COUNT);
+            visibility += frame.lightWeight * (float(visible) / float(SAMPLE_COUNT));
+        }
+    }
+    imageStore(colorImage, pixel, vec4(color, 1.0));
+    imageStore(visibilityImage, pixel, vec4(visibility));
+}

@@ -1,0 +1,111 @@
+#version 450
+// STSV fragment (STSV paper Algorithm 2, §2.3–2.4; DESIGN §4.3–4.4): one fragment per pixel
+// whose visible point p lies in front of the volume's back faces. Rejects p outside the volume,
+// applies the self-shadowing and side-ownership rules of render/cpu_stsv.cpp, then per light
+// sample the projective test (Eq. 1–3) and the texel rule (Eq. 4–5), shaped as the CPU mirror's
+// loop. Output: occlusion bits through logic-op OR attachments, or packed 16-bit counters.
+#extension GL_GOOGLE_include_directive : require
+#ifndef STSV_MESH_PATH
+#define STSV_MESH_PATH 0
+#endif
+#if STSV_MESH_PATH
+#extension GL_EXT_mesh_shader : require
+#define STSV_FLAT perprimitiveEXT flat
+#else
+#define STSV_FLAT flat
+#endif
+#ifndef SAMPLE_COUNT
+#define SAMPLE_COUNT 64
+#endif
+#ifndef STSV_COUNTERS
+#define STSV_COUNTERS 0
+#endif
+#include "frame_bindings.glsl"
+#include "stsv_volume.glsl"
+#include "sampling/light_sampling_dh.h"
+
+// Counters: the G-buffer depth test must run before the atomics (DESIGN §4.4).
+layout(early_fragment_tests) in;
+
+layout(location = 0) STSV_FLAT in vec4 inM0;
+layout(location = 1) STSV_FLAT in vec4 inM1;
+layout(location = 2) STSV_FLAT in vec4 inM2;
+layout(location = 3) STSV_FLAT in vec4 inUv0E1;
+layout(location = 4) STSV_FLAT in vec4 inUvE2;
+layout(location = 5) STSV_FLAT in uvec4 inIds;
+layout(location = 6) STSV_FLAT in vec4 inPlanes[5];
+
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+
+#define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
+#define MASK_ATTACHMENTS ((WORD_COUNT + 1) / 2)
+
+#if STSV_COUNTERS
+layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+#else
+layout(location = 0) out uvec2 outMask0;
+#if MASK_ATTACHMENTS > 1
+layout(location = 1) out uvec2 outMask1;
+#endif
+#if MASK_ATTACHMENTS > 2
+layout(location = 2) out uvec2 outMask2;
+layout(location = 3) out uvec2 outMask3;
+#endif
+#endif
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
+    atomicAdd(stats[pc.light].fragments, 1u);
+    uint side = inIds.w & 255u;
+    // Self-shadowing rule: the visible triangle never shadows its own point.
+    if (imageLoad(gTriangle, pixel).x != inIds.z) {
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        StsvVolume vol;
+        vol.planeCount = inIds.w >> 8u;
+        for (int i = 0; i < 5; ++i) vol.planes[i] = inPlanes[i];
+        if (stsvPointInVolume(vol, p)) {
+            StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
+            Light light = lights[pc.light].light;
+            LightFrame lf = lightFrame(light, p, frame.boxLo.w);
+            StsvPixel px = stsvSetupPixel(t, p, lf.center, lf.T, lf.B);
+            // Side ownership: side 0 owns crossings with e > 0, side 1 those with e < 0.
+            if (side == 0u ? px.e > 0.0 : px.e < 0.0) {
+                atomicAdd(stats[pc.light].inside, 1u);
+                bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
+                ivec2 size = opaque ? ivec2(1) : textureSizeOf(t.texture);
+                uint set = interleaveSet(uvec2(pixel), frame.interleave);
+                uint base = set * uint(SAMPLE_COUNT);
+#if STSV_COUNTERS
+                uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+#endif
+                for (uint k = 0u; k < uint(SAMPLE_COUNT); ++k) {
+                    vec2 ab = samplePoint(patternPoints[base + k], uvec2(pixel), frame.seed, frame.decorrelate != 0u,
+                                          lf.domain);
+                    ivec2 texel;
+                    if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;
+                    if (!opaque && !alphaBlocks(alphaAt(t.texture, texel))) continue;
+#if STSV_COUNTERS
+                    // Two 16-bit counters per uint: sample k in the half k % 2 (little endian
+                    // uint16 order of LightSampleBuffer::counters()).
+                    atomicAdd(counters[pixelBase + (k >> 1u)], 1u << (16u * (k & 1u)));
+#else
+                    words[k >> 5u] |= gpuSampleBit(k);
+#endif
+                }
+            }
+        }
+    }
+#if !STSV_COUNTERS
+    outMask0 = uvec2(words[0], words[1]);
+#if MASK_ATTACHMENTS > 1
+    outMask1 = uvec2(words[2], words[3]);
+#endif
+#if MASK_ATTACHMENTS > 2
+    outMask2 = uvec2(words[4], words[5]);
+    outMask3 = uvec2(words[6], words[7]);
+#endif
+#endif
+}

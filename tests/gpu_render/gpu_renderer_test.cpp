@@ -1,0 +1,287 @@
+// The Vulkan STSV renderer (issue 3) against the CPU mirror fed the GPU's own G-buffer and
+// against Embree: built-in scenes at N = 16, 64, 256, every light shape, and the edge cases of
+// DESIGN §4.2 (double-sided triangles with the light straddling their plane, a camera inside a
+// volume, triangles crossing the near plane or behind the light, degenerate triangles).
+#include "gpu_render_helpers.h"
+
+#include "core/error.h"
+#include "scene/camera.h"
+#include "scene/geometry.h"
+#include "scene/load.h"
+
+#include <gtest/gtest.h>
+
+namespace stsv::test {
+namespace {
+
+using GpuRenderer = GpuRenderTest;
+
+// Small frames: lavapipe runs on two CPU cores and the mirror and Embree run beside it.
+constexpr int W = 96, H = 72;
+
+TEST_F(GpuRenderer, GBufferAgreesWithEmbreePrimaryRays) {
+    const Scene scene = loadScene("fence");
+    const RenderOptions o = gpuOptions(W, H, 16);
+    const Frame frame = renderGpu(scene, o);
+    const GBuffer cpu = EmbreeScene(scene).traceGBuffer(W, H);
+    std::size_t same = 0, covered = 0;
+    const float size = length(scene.bounds().extent());
+    for (std::size_t i = 0; i < cpu.triangle.size(); ++i) {
+        covered += cpu.covered(i) ? 1 : 0;
+        if (frame.gbuffer.triangle[i] != cpu.triangle[i]) continue;
+        ++same;
+        if (!cpu.covered(i)) continue;
+        // Same triangle at the same pixel centre: rasterised barycentrics vs ray hit, float round-off.
+        EXPECT_LT(length(frame.gbuffer.position[i] - cpu.position[i]), 1e-4f * size) << "pixel " << i;
+        EXPECT_EQ(frame.gbuffer.normal[i], cpu.normal[i]) << "pixel " << i;
+    }
+    EXPECT_GT(covered, cpu.triangle.size() / 2);
+    // Pixel centres on a triangle edge or a texel boundary may go either way.
+    EXPECT_GE(double(same) / double(cpu.triangle.size()), 0.995) << same << " of " << cpu.triangle.size();
+}
+
+struct SceneSamples {
+    const char* scene;
+    int samples;
+};
+
+class GpuVsMirror : public GpuRenderTest, public ::testing::WithParamInterface<SceneSamples> {};
+
+TEST_P(GpuVsMirror, BitmaskMatchesMirrorOnGpuGBuffer) {
+    const Scene scene = loadScene(GetParam().scene);
+    const RenderOptions o = gpuOptions(W, H, GetParam().samples);
+    const Frame frame = renderGpu(scene, o);
+    ASSERT_EQ(frame.lightSamples.size(), scene.lights.size());
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+        EXPECT_GT(occludedCount(frame.lightSamples[l]), std::size_t(W * H * o.samples / 100))
+            << "no shadows to test";
+        expectMatchesMirror(scene, frame, o, l, 0.9999,
+                            std::string(GetParam().scene) + " N=" + std::to_string(o.samples));
+    }
+}
+
+TEST_P(GpuVsMirror, CountersMatchMirrorOnGpuGBuffer) {
+    const Scene scene = loadScene(GetParam().scene);
+    const RenderOptions o = gpuOptions(W / 2, H / 2, GetParam().samples, BufferKind::Counters);
+    const Frame frame = renderGpu(scene, o);
+    for (std::size_t l = 0; l < scene.lights.size(); ++l)
+        expectMatchesMirror(scene, frame, o, l, 0.9999,
+                            std::string(GetParam().scene) + " counters N=" + std::to_string(o.samples));
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, GpuVsMirror,
+                         ::testing::Values(SceneSamples{"fence", 16}, SceneSamples{"fence", 64},
+                                           SceneSamples{"fence", 256}, SceneSamples{"foliage", 16},
+                                           SceneSamples{"foliage", 64}, SceneSamples{"foliage", 256}),
+                         [](const auto& param) {
+                             return std::string(param.param.scene) + std::to_string(param.param.samples);
+                         });
+
+TEST_F(GpuRenderer, FenceMatchesEmbree) {
+    const Scene scene = loadScene("fence");
+    const RenderOptions o = gpuOptions(W, H, 64);
+    const Frame frame = renderGpu(scene, o);
+    for (std::size_t l = 0; l < scene.lights.size(); ++l)
+        expectMatchesEmbree(scene, frame, o, l, 0.999, "fence");
+}
+
+TEST_F(GpuRenderer, FoliageMatchesEmbree) {
+    const Scene scene = loadScene("foliage");
+    const RenderOptions o = gpuOptions(W, H, 64);
+    const Frame frame = renderGpu(scene, o);
+    for (std::size_t l = 0; l < scene.lights.size(); ++l)
+        expectMatchesEmbree(scene, frame, o, l, 0.999, "foliage");
+}
+
+/// Ground y = 0 (x, z ∈ [−3, 3]), a perforated double-sided checker quad at y = 1, an opaque
+/// triangle at y = 0.6, camera above and in front.
+Scene testScene() {
+    Scene s;
+    s.source = "gpu test scene";
+    Material ground;
+    ground.name = "ground";
+    ground.albedo = vec3(0.7f);
+    const std::uint32_t groundMaterial = addMaterial(s, ground);
+    Texture tex;
+    tex.name = "checker";
+    tex.width = 8;
+    tex.height = 8;
+    tex.rgba.assign(8 * 8 * 4, 255);
+    for (int y = 0; y < 8; ++y)
+        for (int x = 0; x < 8; ++x)
+            tex.rgba[std::size_t(y * 8 + x) * 4 + 3] = ((x / 2 + y / 2) % 2) ? 255 : 0;
+    Material perforated;
+    perforated.name = "checker";
+    perforated.albedo = vec3(0.3f, 0.6f, 0.2f);
+    perforated.alphaTexture = addTexture(s, tex);
+    perforated.doubleSided = true;
+    const std::uint32_t fenceMaterial = addMaterial(s, perforated);
+    Material opaque;
+    opaque.name = "opaque";
+    opaque.albedo = vec3(0.8f, 0.3f, 0.3f);
+    const std::uint32_t opaqueMaterial = addMaterial(s, opaque);
+    const vec2 t(0.0f);
+    s.addTriangle({-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, t, t, t, groundMaterial);
+    s.addTriangle({-3, 0, -3}, {3, 0, 3}, {3, 0, -3}, t, t, t, groundMaterial);
+    s.addTriangle({-1, 1, -1}, {-1, 1, 1}, {1, 1, 1}, {0, 0}, {0, 2}, {2, 2}, fenceMaterial);
+    s.addTriangle({-1, 1, -1}, {1, 1, 1}, {1, 1, -1}, {0, 0}, {2, 2}, {2, 0}, fenceMaterial);
+    s.addTriangle({0.5f, 0.6f, 0.8f}, {1.5f, 0.6f, 1.6f}, {1.8f, 0.6f, 0.4f}, t, t, t, opaqueMaterial);
+    s.camera.eye = vec3(0.0f, 4.5f, 5.0f);
+    s.camera.target = vec3(0.0f, 0.0f, 0.3f);
+    s.camera.fovY = 50.0f;
+    return s;
+}
+
+TEST_F(GpuRenderer, EveryLightShapeInOneFrameMatchesMirrorEmbreeAndCpuResolve) {
+    Scene scene = testScene();
+    scene.lights = {makeRectangleLight({0.0f, 3.0f, 0.0f}, {0, -1, 0}, {1.2f, 0.8f}, vec3(4.0f)),
+                    makeDiskLight({1.0f, 3.0f, 0.5f}, normalize(vec3(-0.2f, -1.0f, 0.0f)), 0.5f, vec3(3.0f)),
+                    makeSphereLight({-1.2f, 2.5f, 0.2f}, 0.35f, vec3(2.0f)),
+                    makeDirectionalLight(normalize(vec3(0.3f, 1.0f, 0.2f)), 0.05f, vec3(1.5f))};
+    scene.validate();
+    const RenderOptions o = gpuOptions(W, H, 32);
+    const Frame frame = renderGpu(scene, o);
+    ASSERT_EQ(frame.lightSamples.size(), 4u);
+    for (std::size_t l = 0; l < 4; ++l) {
+        const std::string what = "light shape " + std::to_string(scene.lights[l].type);
+        expectMatchesMirror(scene, frame, o, l, 0.9999, what);
+        expectMatchesEmbree(scene, frame, o, l, 0.999, what);
+    }
+    // Resolve: the CPU resolve of the GPU's own buffers (render/frame.cpp's conventions).
+    Frame cpu;
+    initFrameImages(scene, frame.gbuffer, o.ambient, cpu);
+    const SamplePlan plan = planOf(o);
+    for (std::size_t l = 0; l < 4; ++l)
+        resolveLight(scene, frame.gbuffer, scene.lights[l], plan, farDistanceFor(scene.bounds()),
+                     frame.lightSamples[l], 0.25f, cpu.color, cpu.visibility);
+    float maxColor = 0.0f, maxVisibility = 0.0f;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            for (int c = 0; c < 3; ++c)
+                maxColor = std::max(maxColor, std::abs(frame.color.at(x, y, c) - cpu.color.at(x, y, c)) /
+                                                  std::max(1.0f, std::abs(cpu.color.at(x, y, c))));
+            maxVisibility =
+                std::max(maxVisibility, std::abs(frame.visibility.at(x, y, 0) - cpu.visibility.at(x, y, 0)));
+        }
+    // GPU sin/cos/tan and fused multiply-adds differ from libm in the last bits; sums of ≤ 32 terms.
+    EXPECT_LT(maxColor, 1e-4f);
+    // v_coef sums four products weight·(visible/N): exact up to one rounding each.
+    EXPECT_LT(maxVisibility, 1e-6f);
+}
+
+TEST_F(GpuRenderer, DoubleSidedTrianglesWithLightStraddlingTheirPlane) {
+    // A vertical perforated quad in the plane x = 0 and a sphere light centred in that plane:
+    // both sides are lit, so each triangle has two volumes (STSV §6) and shadows on both sides.
+    Scene scene = testScene();
+    scene.triangles.resize(2); // keep the ground
+    scene.triangleMaterial.resize(2);
+    const std::uint32_t fence = 1;
+    scene.addTriangle({0, 0.2f, -1.5f}, {0, 0.2f, 1.5f}, {0, 1.8f, 1.5f}, {0, 0}, {3, 0}, {3, 2}, fence);
+    scene.addTriangle({0, 0.2f, -1.5f}, {0, 1.8f, 1.5f}, {0, 1.8f, -1.5f}, {0, 0}, {3, 2}, {0, 2}, fence);
+    scene.lights = {makeSphereLight({0.0f, 2.6f, 0.2f}, 0.6f, vec3(3.0f)),
+                    makeRectangleLight({0.1f, 2.5f, -0.3f}, {0, -1, 0}, {1.0f, 1.0f}, vec3(3.0f))};
+    scene.validate();
+    const RenderOptions o = gpuOptions(W, H, 64);
+    const Frame frame = renderGpu(scene, o);
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+        expectMatchesMirror(scene, frame, o, l, 0.9999, "straddling");
+        expectMatchesEmbree(scene, frame, o, l, 0.999, "straddling");
+    }
+    // Shadow on both sides of the plane x = 0.
+    std::size_t left = 0, right = 0;
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = frame.gbuffer.index(x, y);
+            if (frame.gbuffer.triangle[i] >= 2 || frame.lightSamples[0].visibleFraction(x, y) == 1.0f)
+                continue;
+            (frame.gbuffer.position[i].x < 0.0f ? left : right) += 1;
+        }
+    EXPECT_GT(left, 10u);
+    EXPECT_GT(right, 10u);
+}
+
+TEST_F(GpuRenderer, CameraInsideVolumeNearPlaneBehindLightAndDegenerateTriangles) {
+    Scene scene = testScene();
+    const std::uint32_t opaque = 2;
+    const vec2 t(0.0f);
+    // Behind the light (above it): its volume points away from the ground.
+    scene.addTriangle({-0.5f, 3.6f, -0.5f}, {-0.5f, 3.6f, 0.5f}, {0.5f, 3.6f, 0.0f}, t, t, t, opaque);
+    // Degenerate: collinear and repeated positions.
+    scene.addTriangle({0, 0.5f, 0}, {0.5f, 0.5f, 0}, {1.0f, 0.5f, 0}, t, t, t, opaque);
+    scene.addTriangle({0.3f, 0.4f, 0.3f}, {0.3f, 0.4f, 0.3f}, {0.3f, 0.4f, 0.3f}, t, t, t, opaque);
+    // Camera under the perforated quad, inside its shadow volume, looking down at the ground.
+    scene.camera.eye = vec3(0.1f, 0.8f, 0.2f);
+    scene.camera.target = vec3(0.4f, 0.0f, -1.5f);
+    scene.camera.fovY = 70.0f;
+    // A triangle passing through the eye's neighbourhood: crosses the near plane.
+    scene.addTriangle({-0.3f, 0.78f, 0.0f}, {0.5f, 0.78f, 0.4f}, {0.1f, 0.7f, -0.4f}, t, t, t, opaque);
+    scene.lights = {makeRectangleLight({0.0f, 3.0f, 0.0f}, {0, -1, 0}, {0.8f, 0.8f}, vec3(4.0f))};
+    scene.validate();
+    const RenderOptions o = gpuOptions(W, H, 64);
+    const Frame frame = renderGpu(scene, o);
+    expectMatchesMirror(scene, frame, o, 0, 0.9999, "camera inside");
+    expectMatchesEmbree(scene, frame, o, 0, 0.999, "camera inside");
+    for (std::size_t i = 0; i < frame.gbuffer.triangle.size(); ++i) {
+        EXPECT_NE(frame.gbuffer.triangle[i], 6u) << "degenerate triangle rasterised";
+        EXPECT_NE(frame.gbuffer.triangle[i], 7u) << "degenerate triangle rasterised";
+    }
+}
+
+TEST_F(GpuRenderer, LightSampleBufferMemoryIsNWHBits) {
+    RenderOptions o = gpuOptions(1024, 1024, 64);
+    EXPECT_EQ(lightSampleBufferBytes(o), 8u * 1024u * 1024u); // the STSV paper's §5.1 figure
+    o.samples = 256;
+    EXPECT_EQ(lightSampleBufferBytes(o), 32u * 1024u * 1024u);
+    o.buffer = BufferKind::Counters;
+    EXPECT_EQ(lightSampleBufferBytes(o), 2u * 256u * 1024u * 1024u);
+    const Scene scene = loadScene("fence");
+    const RenderOptions small = gpuOptions(64, 40, 128);
+    const Frame frame = renderGpu(scene, small);
+    EXPECT_EQ(frame.stats["light_sample_buffer_bytes"].get<std::size_t>(), std::size_t(64 * 40 * 128 / 8));
+    EXPECT_EQ(frame.lightSamples[0].memoryBytes(), std::size_t(64 * 40 * 128 / 8));
+    EXPECT_GT(frame.stats["frame_ms"].get<double>(), 0.0);
+    EXPECT_TRUE(frame.stats["passes"].contains("gbuffer"));
+    EXPECT_TRUE(frame.stats["passes"].contains("light0/stsv"));
+    EXPECT_TRUE(frame.stats["passes"].contains("light0/resolve"));
+    EXPECT_GT(frame.stats["stsv"][0]["fragments"].get<std::size_t>(), 0u);
+    EXPECT_LE(frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>(),
+              frame.stats["stsv"][0]["fragments"].get<std::size_t>());
+}
+
+TEST_F(GpuRenderer, RepeatedFramesAreIdentical) {
+    const Scene scene = loadScene("foliage");
+    const RenderOptions o = gpuOptions(64, 48, 64);
+    VulkanRenderer renderer(scene, o, {&device(), ExtrusionStage::Auto});
+    const Frame a = renderer.render();
+    const Frame b = renderer.render();
+    EXPECT_EQ(a.lightSamples[0].words(), b.lightSamples[0].words());
+    EXPECT_EQ(a.gbuffer.triangle, b.gbuffer.triangle);
+}
+
+TEST_F(GpuRenderer, MakeRendererChoosesVulkanForStsv) {
+    const Scene scene = loadScene("fence");
+    RenderOptions o = gpuOptions(32, 24, 16);
+    o.validation = true;
+    const std::unique_ptr<FrameRenderer> renderer = makeRenderer(scene, o);
+    ASSERT_NE(dynamic_cast<VulkanRenderer*>(renderer.get()), nullptr);
+    const Frame frame = renderer->render();
+    EXPECT_EQ(frame.stats["gpu"]["extrusion"].get<std::string>(),
+              static_cast<VulkanRenderer*>(renderer.get())->usesMeshShader() ? "mesh shader"
+                                                                             : "geometry shader");
+    EXPECT_EQ(static_cast<VulkanRenderer*>(renderer.get())->device().validationMessageCount(), 0u);
+}
+
+TEST_F(GpuRenderer, MeshShaderExtrusionMatchesMirrorOrSkips) {
+    const Scene scene = loadScene("fence");
+    const RenderOptions o = gpuOptions(W, H, 64);
+    if (!device().info().meshShader) {
+        EXPECT_THROW(VulkanRenderer(scene, o, {&device(), ExtrusionStage::Mesh}), UsageError);
+        GTEST_SKIP() << device().info().name
+                     << " lacks VK_EXT_mesh_shader: stsv.mesh compiled and validated at build time, not run";
+    }
+    const Frame frame = renderGpu(scene, o, ExtrusionStage::Mesh);
+    expectMatchesMirror(scene, frame, o, 0, 0.9999, "mesh shader");
+}
+
+} // namespace
+} // namespace stsv::test
