@@ -143,6 +143,10 @@ int runCli(int argc, char** argv) {
     addFrameOptions(compare, c);
 
     try {
+        const std::string first = argc > 1 ? argv[1] : "-";
+        if (first[0] != '-' && first != "render" && first != "info" && first != "bench" && first != "compare")
+            throw UsageError("unknown command '" + std::string(argv[1]) +
+                             "' (expected render, info, bench or compare)");
         app.parse(argc, argv);
         if (*render) {
             r.argv.assign(argv, argv + argc);

@@ -1,0 +1,226 @@
+// Argument helpers of the CLI: sizes, per-light paths, lists, knobs, statistics, images.
+#include "cli/cli_util.h"
+#include "cli/commands.h"
+#include "cli/subcommands.h"
+#include "core/error.h"
+#include "tests/cli/cli_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+
+namespace stsv {
+namespace {
+
+TEST(ParseSize, AcceptsWidthByHeight) {
+    int w = 0, h = 0;
+    parseSize("512x256", w, h);
+    EXPECT_EQ(w, 512);
+    EXPECT_EQ(h, 256);
+    parseSize("1X16384", w, h);
+    EXPECT_EQ(w, 1);
+    EXPECT_EQ(h, 16384);
+}
+
+TEST(ParseSize, RejectsMalformedAndOutOfRange) {
+    for (const char* text : {"", "12x", "x12", "12", "12x12x12", " 12x12", "12x12 ", "-1x5", "1.5x2", "axb",
+                             "0x0", "0x10", "10x0", "16385x1", "100000x100000", "9999999x1"}) {
+        int w = -7, h = -7;
+        try {
+            parseSize(text, w, h);
+            ADD_FAILURE() << "accepted '" << text << "' as " << w << "x" << h;
+        } catch (const UsageError& e) {
+            EXPECT_NE(std::string(e.what()).find("--size"), std::string::npos)
+                << "text=" << text << " " << e.what();
+        }
+    }
+}
+
+TEST(PerLightPath, FirstLightKeepsThePath) {
+    EXPECT_EQ(perLightPath("out/ls.npy", 0), "out/ls.npy");
+    EXPECT_EQ(perLightPath("ls", 0), "ls");
+}
+
+TEST(PerLightPath, OtherLightsGetASuffixBeforeTheExtension) {
+    EXPECT_EQ(perLightPath("out/ls.npy", 1), "out/ls_light1.npy");
+    EXPECT_EQ(perLightPath("ls.npy", 12), "ls_light12.npy");
+    EXPECT_EQ(perLightPath("ls", 2), "ls_light2");                   // no extension
+    EXPECT_EQ(perLightPath("a.b/c.d.npy", 3), "a.b/c.d_light3.npy"); // dots in folders and stems
+    EXPECT_EQ(perLightPath("/abs/x.npy", 1), "/abs/x_light1.npy");
+}
+
+TEST(SplitList, DropsEmptyItemsAndSpaces) {
+    EXPECT_EQ(splitList("a,b"), (std::vector<std::string>{"a", "b"}));
+    EXPECT_EQ(splitList(" a , ,b,"), (std::vector<std::string>{"a", "b"}));
+    EXPECT_TRUE(splitList("").empty());
+    EXPECT_TRUE(splitList(",,").empty());
+}
+
+TEST(ParseIntList, PositiveIntegersOnly) {
+    EXPECT_EQ(parseIntList("16,64,256", "--samples"), (std::vector<int>{16, 64, 256}));
+    for (const char* bad : {"", "0", "16,x", "-16", "1.5", "99999999999"})
+        EXPECT_THROW(parseIntList(bad, "--samples"), UsageError) << "text=" << bad;
+}
+
+TEST(ParseSets, KeyValuePairs) {
+    const SceneOptions o = parseSets({"count=4", "seed=", "a=b=c"});
+    EXPECT_EQ(o.set.at("count"), "4");
+    EXPECT_EQ(o.set.at("seed"), "");
+    EXPECT_EQ(o.set.at("a"), "b=c");
+    EXPECT_THROW(parseSets({"count"}), UsageError);
+    EXPECT_THROW(parseSets({"=4"}), UsageError);
+}
+
+TEST(MethodBackend, ReferenceIsCpuOnly) {
+    const MethodBackend stsv = parseMethodBackend("stsv", Backend::Vulkan);
+    EXPECT_EQ(stsv.method, Method::Stsv);
+    EXPECT_EQ(stsv.backend, Backend::Vulkan);
+    const MethodBackend cpu = parseMethodBackend("stsv/cpu", Backend::Vulkan);
+    EXPECT_EQ(cpu.backend, Backend::Cpu);
+    const MethodBackend reference = parseMethodBackend("reference", Backend::Vulkan);
+    EXPECT_EQ(reference.method, Method::Reference);
+    EXPECT_EQ(reference.backend, Backend::Cpu);
+    EXPECT_THROW(parseMethodBackend("reference/vulkan", Backend::Cpu), UsageError);
+    EXPECT_THROW(parseMethodBackend("pcss", Backend::Cpu), UsageError);
+    EXPECT_THROW(parseMethodBackend("stsv/metal", Backend::Cpu), UsageError);
+}
+
+TEST(Summary, MedianMinMax) {
+    const Summary odd = summarize({5.0, 1.0, 3.0});
+    EXPECT_EQ(odd.median, 3.0);
+    EXPECT_EQ(odd.min, 1.0);
+    EXPECT_EQ(odd.max, 5.0);
+    const Summary even = summarize({4.0, 1.0, 2.0, 10.0});
+    EXPECT_EQ(even.median, 3.0); // mean of the two middle values, exact in binary
+    EXPECT_EQ(even.min, 1.0);
+    EXPECT_EQ(even.max, 10.0);
+    const nlohmann::json j = toJson(summarize({2.0}));
+    EXPECT_EQ(j.size(), 3u);
+    EXPECT_EQ(j.at("median"), 2.0);
+}
+
+TEST(CompareImages, RmseMaxAndFractionAbove) {
+    ImageF a(2, 2, 1), b(2, 2, 1);
+    b.at(1, 0, 0) = 0.5f;   // one pixel off by 0.5
+    b.at(0, 1, 0) = 0.003f; // one pixel off by less than 1/255
+    const ImageError e = compareImages(a, b);
+    // sqrt((0.25 + 0.003²) / 4); float inputs, so a float-sized tolerance
+    EXPECT_NEAR(e.rmse, std::sqrt((0.25 + 0.003 * 0.003) / 4.0), 1e-6);
+    EXPECT_FLOAT_EQ(float(e.maxAbs), 0.5f);
+    EXPECT_DOUBLE_EQ(e.fractionAbove, 0.25);
+    EXPECT_FLOAT_EQ(e.absDifference.at(1, 0, 0), 0.5f);
+    EXPECT_EQ(e.absDifference.at(0, 0, 0), 0.0f);
+    EXPECT_THROW(compareImages(ImageF(2, 2, 1), ImageF(2, 3, 1)), UsageError);
+}
+
+TEST(HeatMap, BlackRedYellow) {
+    ImageF v(4, 1, 1);
+    v.at(1, 0, 0) = 0.5f;
+    v.at(2, 0, 0) = 1.0f;
+    v.at(3, 0, 0) = 7.0f; // clamped
+    const Image8 h = heatMap(v, 1.0f);
+    ASSERT_EQ(h.channels, 3);
+    auto rgb = [&](int x) { return std::array<int, 3>{h.at(x, 0, 0), h.at(x, 0, 1), h.at(x, 0, 2)}; };
+    EXPECT_EQ(rgb(0), (std::array<int, 3>{0, 0, 0}));
+    EXPECT_EQ(rgb(1), (std::array<int, 3>{255, 0, 0}));
+    EXPECT_EQ(rgb(2), (std::array<int, 3>{255, 255, 0}));
+    EXPECT_EQ(rgb(3), (std::array<int, 3>{255, 255, 0}));
+}
+
+TEST(SampleDisagreement, FractionOfDifferingSamplesPerPixel) {
+    LightSampleBuffer a(2, 1, 16, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer b(2, 1, 16, LightSampleBuffer::Kind::Bitmask);
+    a.setOccluded(0, 0, 3);
+    a.setOccluded(1, 0, 15);
+    b.setOccluded(1, 0, 15);
+    b.setOccluded(1, 0, 0);
+    b.setOccluded(1, 0, 1);
+    const ImageF d = sampleDisagreement(a, b);
+    EXPECT_EQ(d.at(0, 0, 0), 1.0f / 16.0f);
+    EXPECT_EQ(d.at(1, 0, 0), 2.0f / 16.0f);
+    EXPECT_THROW(sampleDisagreement(a, LightSampleBuffer(2, 1, 32, LightSampleBuffer::Kind::Bitmask)),
+                 UsageError);
+}
+
+TEST(CheckWritableFile, NamesTheProblem) {
+    test::ScratchDir dir;
+    EXPECT_NO_THROW(checkWritableFile(dir.file("x.png"), "-o"));
+    try {
+        checkWritableFile(dir.file("missing/x.png"), "-o");
+        ADD_FAILURE() << "accepted a file in a missing directory";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("does not exist"), std::string::npos) << e.what();
+    }
+    EXPECT_THROW(checkWritableFile(dir.path().string(), "-o"), UsageError); // a directory
+    { std::ofstream(dir.file("plain")) << "x"; }
+    EXPECT_THROW(checkWritableFile(dir.file("plain/x.png"), "-o"), UsageError); // parent is a file
+    EXPECT_THROW(prepareOutputDirectory(dir.file("plain"), "--out"), UsageError);
+    EXPECT_NO_THROW(prepareOutputDirectory(dir.file("a/b"), "--out"));
+    EXPECT_TRUE(std::filesystem::is_directory(dir.file("a/b")));
+}
+
+TEST(FrameMemory, AbsurdFramesAreRefusedBeforeAllocation) {
+    RenderOptions o;
+    o.width = o.height = 16384;
+    o.samples = 256;
+    // 16384² × 32 bytes = 8 GiB of bitmask per light: 64 lights exceed any machine this runs on.
+    EXPECT_THROW(checkFrameMemory(o, 64), UsageError);
+    o.width = o.height = 16;
+    EXPECT_NO_THROW(checkFrameMemory(o, 1));
+    // A bitmask stores 32-bit words: 16² pixels × (28 + 16 + 4·8) bytes for 256 samples.
+    EXPECT_EQ(estimateFrameBytes(o, 1), 256.0 * (28.0 + 16.0 + 32.0));
+}
+
+TEST(BenchPresets, EveryPresetAppliesAndNamesValidOptions) {
+    const nlohmann::json presets = loadBenchPresets();
+    ASSERT_FALSE(presets.empty());
+    for (const std::string name : {"fence-1024", "fence-samples", "foliage-scale", "smoke"})
+        EXPECT_TRUE(presets.contains(name)) << "missing preset " << name;
+    for (const auto& [name, preset] : presets.items()) {
+        BenchArgs args;
+        applyBenchPreset(args, presets, name);
+        EXPECT_FALSE(args.scene.empty()) << name;
+        EXPECT_FALSE(preset.value("description", "").empty()) << name << " has no description";
+        int w = 0, h = 0;
+        EXPECT_NO_THROW(parseSize(args.size, w, h)) << name;
+        for (const std::string& m : splitList(args.methods)) EXPECT_NO_THROW(parseMethod(m)) << name;
+        for (const std::string& b : splitList(args.backends)) EXPECT_NO_THROW(parseBackend(b)) << name;
+        for (int n : parseIntList(args.samples, "--samples")) {
+            RenderOptions o;
+            o.samples = n;
+            EXPECT_NO_THROW(validate(o)) << name;
+        }
+    }
+}
+
+TEST(BenchPresets, CommandLineOverridesThePreset) {
+    const nlohmann::json presets = loadBenchPresets();
+    BenchArgs args;
+    args.size = "32x32";
+    args.given = {"--size"};
+    applyBenchPreset(args, presets, "fence-1024");
+    EXPECT_EQ(args.size, "32x32");
+    EXPECT_EQ(args.scene, "fence");
+    EXPECT_EQ(args.samples, "64");
+    try {
+        applyBenchPreset(args, presets, "nope");
+        ADD_FAILURE() << "accepted an unknown preset";
+    } catch (const UsageError& e) {
+        EXPECT_NE(std::string(e.what()).find("fence-1024"), std::string::npos)
+            << "should list presets: " << e.what();
+    }
+}
+
+TEST(BenchPresets, UnknownKeyAndBadFileAreErrors) {
+    test::ScratchDir dir;
+    { std::ofstream(dir.file("p.json")) << R"({"x": {"scene": "fence", "sizes": "1x1"}})"; }
+    const nlohmann::json presets = loadBenchPresets(dir.file("p.json"));
+    BenchArgs args;
+    EXPECT_THROW(applyBenchPreset(args, presets, "x"), UsageError);
+    { std::ofstream(dir.file("bad.json")) << "{"; }
+    EXPECT_THROW(loadBenchPresets(dir.file("bad.json")), InputError);
+    EXPECT_THROW(loadBenchPresets(dir.file("none.json")), InputError);
+}
+
+} // namespace
+} // namespace stsv
