@@ -17,7 +17,7 @@ enum class BufferKind { Bitmask, Counters };
 
 struct RenderOptions {
     Method method = Method::Stsv;
-    Backend backend = Backend::Cpu;
+    Backend backend = Backend::Vulkan;       ///< Vulkan renders STSV; the Embree reference always runs on the CPU
     int width = 512;  ///< pixels, 1 … 16384
     int height = 512; ///< pixels, 1 … 16384
     int samples = 64; ///< light samples per pixel: 16, 32, 64, 128 or 256

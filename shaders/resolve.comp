@@ -49,6 +49,7 @@ void main() {
             vec3 n = gpuShadingNormal(triangles[tri], vec3(frame.eye), p);
             LightFrame lf = lightFrame(light, p, frame.boxLo.w);
             uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
+            uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
 #if STSV_COUNTERS
             uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
 #else
@@ -67,7 +68,7 @@ void main() {
 #endif
                 if (occluded) continue;
                 ++visible;
-                vec2 ab = samplePoint(patternPoints[base + k], uvec2(pixel), frame.seed, frame.decorrelate != 0u,
+                vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u,
                                       lf.domain);
                 sum += sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
             }

@@ -78,11 +78,12 @@ void main() {
                 ivec2 size = opaque ? ivec2(1) : textureSizeOf(t.texture);
                 uint set = interleaveSet(uvec2(pixel), frame.interleave);
                 uint base = set * uint(SAMPLE_COUNT);
+                uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
 #if STSV_COUNTERS
                 uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
 #endif
                 for (uint k = 0u; k < uint(SAMPLE_COUNT); ++k) {
-                    vec2 ab = samplePoint(patternPoints[base + k], uvec2(pixel), frame.seed, frame.decorrelate != 0u,
+                    vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u,
                                           lf.domain);
                     ivec2 texel;
                     if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;

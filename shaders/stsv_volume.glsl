@@ -45,6 +45,26 @@ StsvTriangle stsvUnpackTriangle(vec4 m0, vec4 m1, vec4 m2, vec4 uv0E1, vec4 uvE2
     return t;
 }
 
+/// Culling of volumes that cannot shadow any visible point (the ground's own-plane volumes):
+/// true when the light (its bounding sphere) lies wholly on the lit side, at distance L > 0
+/// from the plane, and no corner of the scene box lies behind the plane by more than the shadow
+/// segments' minimum start SHADOW_T_MIN·L. Every visible point p is in the box, so its e is at
+/// most that maximum (the plane distance is linear); every light sample s has h.z = e + dist(s)
+/// ≥ e + L, so a crossing would need e > SHADOW_T_MIN·h.z: impossible. The CPU mirror builds
+/// these volumes; it gets no bits from them, so results are identical.
+bool stsvVolumeCannotShadowBox(StsvTriangle t, vec4 sphere) {
+    vec3 n = vec3(t.m2);
+    float lightDistance = dot(n, vec3(sphere)) + t.m2.w - sphere.w;
+    vec3 lo = vec3(frame.boxLo);
+    vec3 hi = vec3(frame.boxHi);
+    float behind = -1e30;
+    for (uint k = 0u; k < 8u; ++k) behind = max(behind, -(dot(n, stsvBoxCorner(lo, hi, k)) + t.m2.w));
+    vec3 far = max(abs(lo), abs(hi));
+    // Round-off of e in the fragment shader (a few ulp of the coordinates), generously.
+    float rounding = 4e-6 * (length(hi - lo) + max(max(far.x, far.y), far.z));
+    return lightDistance > 0.0 && behind + rounding <= 0.99 * SHADOW_T_MIN * lightDistance;
+}
+
 /// The triangle constants and volume of (triangle, side) for light `lightIndex`: the same dh
 /// calls as render/cpu_stsv.cpp (stsvTriangleFor, stsvSideCount, stsvBuildVolume). False when
 /// this side has no volume (degenerate triangle, unlit side, empty volume).
@@ -58,7 +78,9 @@ bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, o
     vol.planeCount = 0u;
     vol.flags = STSV_VOLUME_EMPTY;
     if ((t.flags & STSV_FLAG_DEGENERATE) != 0u) return false;
-    if (side >= stsvSideCount(v0, v1, v2, sphere)) return false;
+    uint sides = stsvSideCount(v0, v1, v2, sphere);
+    if (side >= sides) return false;
+    if (sides == 1u && stsvVolumeCannotShadowBox(t, sphere)) return false;
     vol = stsvBuildVolume(v0, v1, v2, sphere, vec3(frame.boxLo), vec3(frame.boxHi), side);
     return (vol.flags & STSV_VOLUME_EMPTY) == 0u;
 }
