@@ -41,7 +41,8 @@ OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
 std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, std::uint32_t ignore,
                                            std::vector<std::uint32_t>& scratch) const {
     if (m_opaqueToScene.empty()) return 0;
-    const std::uint32_t ignoreOpaque = ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
+    const std::uint32_t ignoreOpaque =
+        ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
     return m_embree->countLayers(p, r, ignoreOpaque, scratch);
 }
 
@@ -70,7 +71,8 @@ struct EdgeBins {
 bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect) {
     constexpr float NEAR_W = 1e-4f;
     vec4 clip[STSV_STRIP_VERTEX_COUNT];
-    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i) clip[i] = clipFromWorld * vec4(vec3(v.vertices[i]), 1.0f);
+    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i)
+        clip[i] = clipFromWorld * vec4(vec3(v.vertices[i]), 1.0f);
     vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     bool any = false;
     auto add = [&](vec4 c) {
@@ -93,8 +95,10 @@ bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width,
     if (!any) return false;
     lo = clamp(lo, vec2(-1.0f), vec2(1.0f));
     hi = clamp(hi, vec2(-1.0f), vec2(1.0f));
-    rect = ivec4(int(std::floor((lo.x * 0.5f + 0.5f) * float(width))), int(std::floor((lo.y * 0.5f + 0.5f) * float(height))),
-                 int(std::ceil((hi.x * 0.5f + 0.5f) * float(width))), int(std::ceil((hi.y * 0.5f + 0.5f) * float(height))));
+    rect = ivec4(int(std::floor((lo.x * 0.5f + 0.5f) * float(width))),
+                 int(std::floor((lo.y * 0.5f + 0.5f) * float(height))),
+                 int(std::ceil((hi.x * 0.5f + 0.5f) * float(width))),
+                 int(std::ceil((hi.y * 0.5f + 0.5f) * float(height))));
     rect = clamp(rect, ivec4(0), ivec4(width - 1, height - 1, width - 1, height - 1));
     return true;
 }
@@ -151,7 +155,8 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
     }
 
     const mat4 clipFromWorld =
-        clipFromView(scene.camera, float(gbuffer.width) / float(gbuffer.height), 0.01f, 1e4f) * viewFromWorld(scene.camera);
+        clipFromView(scene.camera, float(gbuffer.width) / float(gbuffer.height), 0.01f, 1e4f) *
+        viewFromWorld(scene.camera);
     bins.tilesX = (gbuffer.width + TILE - 1) / TILE;
     bins.tilesY = (gbuffer.height + TILE - 1) / TILE;
     bins.tiles.resize(std::size_t(bins.tilesX) * std::size_t(bins.tilesY));
@@ -160,8 +165,11 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
         bool any = false;
         for (std::uint32_t v = 0; v < bins.records[r].volumeCount; ++v) {
             ivec4 vr;
-            if (!volumeScreenRect(bins.records[r].volumes[v], clipFromWorld, gbuffer.width, gbuffer.height, vr)) continue;
-            rect = ivec4(min(ivec2(rect.x, rect.y), ivec2(vr.x, vr.y)), max(ivec2(rect.z, rect.w), ivec2(vr.z, vr.w)));
+            if (!volumeScreenRect(bins.records[r].volumes[v], clipFromWorld, gbuffer.width, gbuffer.height,
+                                  vr))
+                continue;
+            rect = ivec4(min(ivec2(rect.x, rect.y), ivec2(vr.x, vr.y)),
+                         max(ivec2(rect.z, rect.w), ivec2(vr.z, vr.w)));
             any = true;
         }
         if (!any) continue;
@@ -178,9 +186,9 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
 /// The fragment work of one pixel: calls visit(l, a, b, k) for every edge that is a silhouette
 /// from p (k ≠ 0, receiver face excluded) with a non-empty part between p and the light.
 template <class Visit>
-void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins, const std::vector<std::uint32_t>& tile,
-                       const DcsPixel& px, std::uint32_t receiver, std::size_t& tests, std::size_t& visits,
-                       Visit&& visit) {
+void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins,
+                       const std::vector<std::uint32_t>& tile, const DcsPixel& px, std::uint32_t receiver,
+                       std::size_t& tests, std::size_t& visits, Visit&& visit) {
     const EdgeAdjacency& adj = occ.adjacency();
     for (std::uint32_t r : tile) {
         const FaceRecord& record = bins.records[r];
@@ -209,16 +217,19 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins, const s
 template <class PixelFn>
 void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* label, PixelFn&& pixel) {
     Progress progress(label, bins.tiles.size());
-    parallelFor(bins.tiles.size(), [&](std::size_t tileIndex) {
-        const int tx = static_cast<int>(tileIndex % std::size_t(bins.tilesX));
-        const int ty = static_cast<int>(tileIndex / std::size_t(bins.tilesX));
-        for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
-            for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
-                const std::size_t i = gbuffer.index(x, y);
-                if (gbuffer.covered(i)) pixel(x, y, i, bins.tiles[tileIndex]);
-            }
-        progress.advance();
-    }, 1);
+    parallelFor(
+        bins.tiles.size(),
+        [&](std::size_t tileIndex) {
+            const int tx = static_cast<int>(tileIndex % std::size_t(bins.tilesX));
+            const int ty = static_cast<int>(tileIndex / std::size_t(bins.tilesX));
+            for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
+                for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
+                    const std::size_t i = gbuffer.index(x, y);
+                    if (gbuffer.covered(i)) pixel(x, y, i, bins.tiles[tileIndex]);
+                }
+            progress.advance();
+        },
+        1);
 }
 
 } // namespace
@@ -233,37 +244,39 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     stats.setup_ms = timer.milliseconds();
     timer.reset();
     std::atomic<std::size_t> tests{0}, visits{0}, negative{0};
-    forEachPixel(gbuffer, bins, "dcs (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
-        thread_local std::vector<std::uint32_t> scratch;
-        thread_local std::vector<vec2> ab;
-        thread_local std::vector<int> count;
-        const vec3 p = gbuffer.position[i];
-        const LightFrame frame = lightFrame(light, p, farDistance);
-        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
-        // D(r): the layer count at the light centre (DESIGN §4.5).
-        const int base = static_cast<int>(occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch));
-        count.assign(std::size_t(plan.count), base);
-        ab.resize(std::size_t(plan.count));
-        for (int k = 0; k < plan.count; ++k) ab[std::size_t(k)] = pixelSamplePoint(plan, x, y, k, frame.domain);
-        std::size_t localTests = 0, localVisits = 0, localNegative = 0;
-        if (px.valid != 0.0f)
-            forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
-                              [&](vec3 l, vec3 a, vec3 b, int k) {
-                                  for (std::size_t s = 0; s < ab.size(); ++s)
-                                      count[s] += k * dcsSampleCrossing(l, a, b, ab[s]);
-                              });
-        for (int k = 0; k < plan.count; ++k) {
-            int c = count[std::size_t(k)];
-            if (c < 0) {
-                ++localNegative;
-                c = 0;
+    forEachPixel(
+        gbuffer, bins, "dcs (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
+            thread_local std::vector<std::uint32_t> scratch;
+            thread_local std::vector<vec2> ab;
+            thread_local std::vector<int> count;
+            const vec3 p = gbuffer.position[i];
+            const LightFrame frame = lightFrame(light, p, farDistance);
+            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
+            // D(r): the layer count at the light centre (DESIGN §4.5).
+            const int base = static_cast<int>(occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch));
+            count.assign(std::size_t(plan.count), base);
+            ab.resize(std::size_t(plan.count));
+            for (int k = 0; k < plan.count; ++k)
+                ab[std::size_t(k)] = pixelSamplePoint(plan, x, y, k, frame.domain);
+            std::size_t localTests = 0, localVisits = 0, localNegative = 0;
+            if (px.valid != 0.0f)
+                forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
+                                  [&](vec3 l, vec3 a, vec3 b, int k) {
+                                      for (std::size_t s = 0; s < ab.size(); ++s)
+                                          count[s] += k * dcsSampleCrossing(l, a, b, ab[s]);
+                                  });
+            for (int k = 0; k < plan.count; ++k) {
+                int c = count[std::size_t(k)];
+                if (c < 0) {
+                    ++localNegative;
+                    c = 0;
+                }
+                if (c) counters.addCount(x, y, k, c);
             }
-            if (c) counters.addCount(x, y, k, c);
-        }
-        tests += localTests;
-        visits += localVisits;
-        negative += localNegative;
-    });
+            tests += localTests;
+            visits += localVisits;
+            negative += localNegative;
+        });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.negativeCounts = negative;
@@ -292,23 +305,26 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     visibility = ImageF(gbuffer.width, gbuffer.height, 1);
     std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
     std::atomic<std::size_t> tests{0}, visits{0};
-    forEachPixel(gbuffer, bins, "pw (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
-        thread_local std::vector<std::uint32_t> scratch;
-        const vec3 p = gbuffer.position[i];
-        const LightFrame frame = lightFrame(light, p, farDistance);
-        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
-        // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
-        float occlusion = occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
-        std::size_t localTests = 0, localVisits = 0;
-        if (px.valid != 0.0f)
-            forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
-                              [&](vec3 l, vec3 a, vec3 b, int k) {
-                                  occlusion += float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, a, b, frame.domain);
-                              });
-        visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
-        tests += localTests;
-        visits += localVisits;
-    });
+    forEachPixel(gbuffer, bins, "pw (cpu)",
+                 [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
+                     thread_local std::vector<std::uint32_t> scratch;
+                     const vec3 p = gbuffer.position[i];
+                     const LightFrame frame = lightFrame(light, p, farDistance);
+                     const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
+                     // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
+                     float occlusion =
+                         occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
+                     std::size_t localTests = 0, localVisits = 0;
+                     if (px.valid != 0.0f)
+                         forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
+                                           [&](vec3 l, vec3 a, vec3 b, int k) {
+                                               occlusion += float(k > 0 ? 1 : -1) *
+                                                            pwEdgeCoverage(l, a, b, frame.domain);
+                                           });
+                     visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
+                     tests += localTests;
+                     visits += localVisits;
+                 });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.shade_ms = timer.milliseconds();

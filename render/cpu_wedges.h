@@ -22,15 +22,16 @@
 namespace stsv {
 
 struct WedgeCpuStats {
-    std::size_t edges = 0;                 ///< welded edges of the opaque triangles
-    std::size_t potentialSilhouettes = 0;  ///< of those, potential silhouettes for this light
-    std::size_t volumes = 0;               ///< face volumes built for binning
-    std::size_t tileEntries = 0;           ///< (tile, face record) pairs
-    std::size_t pixelVolumeTests = 0;      ///< point-in-volume tests
-    std::size_t pixelEdgeVisits = 0;       ///< (pixel, edge) pairs with the edge a silhouette from p, clipped non-empty
-    std::size_t negativeCounts = 0;        ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
-    double setup_ms = 0.0;                 ///< silhouettes, volumes, binning
-    double shade_ms = 0.0;                 ///< per-pixel centre count and edge loop
+    std::size_t edges = 0;                ///< welded edges of the opaque triangles
+    std::size_t potentialSilhouettes = 0; ///< of those, potential silhouettes for this light
+    std::size_t volumes = 0;              ///< face volumes built for binning
+    std::size_t tileEntries = 0;          ///< (tile, face record) pairs
+    std::size_t pixelVolumeTests = 0;     ///< point-in-volume tests
+    std::size_t pixelEdgeVisits =
+        0; ///< (pixel, edge) pairs with the edge a silhouette from p, clipped non-empty
+    std::size_t negativeCounts = 0; ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
+    double setup_ms = 0.0;          ///< silhouettes, volumes, binning
+    double shade_ms = 0.0;          ///< per-pixel centre count and edge loop
 };
 
 /// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
@@ -45,7 +46,8 @@ class OpaqueOccluders {
     std::size_t opaqueTriangles() const { return m_opaqueToScene.size(); }
 
     /// Opaque triangles crossed by p → r (t ∈ (SHADOW_T_MIN, 1)), scene triangle `ignore` excluded.
-    std::uint32_t centerCount(vec3 p, vec3 r, std::uint32_t ignore, std::vector<std::uint32_t>& scratch) const;
+    std::uint32_t centerCount(vec3 p, vec3 r, std::uint32_t ignore,
+                              std::vector<std::uint32_t>& scratch) const;
 
   private:
     const Scene& m_scene;
@@ -77,8 +79,9 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& g
 /// PW+STSV (Algorithm 2, lines 12–14): v = clamp(v_pw − occluded fraction of the STSV bitmask of
 /// the perforated triangles, 0, 1). `stsvBits` (Kind::Bitmask, cleared by the caller) receives
 /// the STSV bits.
-WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
-                                  const SamplePlan& plan, float farDistance, ImageF& visibility,
-                                  LightSampleBuffer& stsvBits, StsvCpuStats* stsvStats = nullptr);
+WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer,
+                                  const Light& light, const SamplePlan& plan, float farDistance,
+                                  ImageF& visibility, LightSampleBuffer& stsvBits,
+                                  StsvCpuStats* stsvStats = nullptr);
 
 } // namespace stsv

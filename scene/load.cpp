@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "scene/geometry.h"
 #include "scene/json_scene.h"
+#include "scene/mesh_fence.h"
 #include "scene/mesh_io.h"
 #include "scene/procedural.h"
 
@@ -36,6 +37,12 @@ const std::vector<Builtin>& builtins() {
           {"spacing", "0.75", "metres between neighbouring plants (the patch grows with count), (0, 100]"},
           {"light_size", "0", "edge of the square light, metres; 0 = a quarter of the patch edge, [0, 1000]"},
           {"texture_size", "128", "texels per edge of the leaf texture, [8, 8192]"}}},
+        {"fence-mesh",
+         "the fence scene with its chain-link quad turned into a closed opaque mesh (one box per run of opaque texels)",
+         {{"light_size", "1", "edge of the square light, metres, (0, 100]"},
+          {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
+          {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"},
+          {"thickness", "0.0005", "depth of the wire boxes, metres, (0, 0.1]"}}},
     };
     return list;
 }
@@ -159,6 +166,15 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
             p.repeat = int(knobs.integer("repeat", p.repeat, 1, 4096));
             p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
             return makeFenceScene(p);
+        }
+        if (spec == "fence-mesh") {
+            FenceParams p;
+            p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 100.0f, true);
+            p.repeat = int(knobs.integer("repeat", p.repeat, 1, 4096));
+            p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
+            TexelBoxOptions boxes;
+            boxes.thickness = knobs.real("thickness", boxes.thickness, 0.0f, 0.1f, true);
+            return makeFenceMeshScene(p, boxes);
         }
         FoliageParams p;
         p.count = int(knobs.integer("count", p.count, 1, 1000000));

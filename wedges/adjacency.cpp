@@ -46,7 +46,8 @@ EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(st
     std::unordered_map<PositionKey, std::uint32_t, PositionHash> welded;
     auto weld = [&](std::uint32_t v) {
         if (adj.weldedVertex[v] != NONE) return adj.weldedVertex[v];
-        const auto [it, inserted] = welded.try_emplace(keyOf(scene.positions[v]), std::uint32_t(adj.positions.size()));
+        const auto [it, inserted] =
+            welded.try_emplace(keyOf(scene.positions[v]), std::uint32_t(adj.positions.size()));
         if (inserted) adj.positions.push_back(scene.positions[v]);
         adj.weldedVertex[v] = it->second;
         return it->second;
@@ -80,10 +81,12 @@ EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(st
         for (; j < halfEdges.size() && halfEdges[j].v0 == edge.v0 && halfEdges[j].v1 == edge.v1; ++j)
             adj.faces.push_back(halfEdges[j].face);
         edge.faceCount = std::uint32_t(j - i);
-        if (edge.faceCount == 1) ++adj.openEdges;
+        if (edge.faceCount == 1)
+            ++adj.openEdges;
         else if (edge.faceCount == 2) {
             ++adj.manifoldEdges;
-            if (adj.faces[edge.firstFace].forward == adj.faces[edge.firstFace + 1].forward) ++adj.inconsistentEdges;
+            if (adj.faces[edge.firstFace].forward == adj.faces[edge.firstFace + 1].forward)
+                ++adj.inconsistentEdges;
         } else
             ++adj.nonManifoldEdges;
         adj.edges.push_back(edge);

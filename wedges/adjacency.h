@@ -28,12 +28,12 @@ struct MeshEdge {
 };
 
 struct EdgeAdjacency {
-    std::vector<vec3> positions;              ///< world units; one per welded vertex
-    std::vector<std::uint32_t> weldedVertex;  ///< scene vertex → welded vertex (UINT32_MAX if unused)
-    std::vector<MeshEdge> edges;              ///< sorted by (v0, v1)
-    std::vector<EdgeFace> faces;              ///< grouped per edge
-    std::size_t triangles = 0;                ///< triangles taken in
-    std::size_t degenerateSkipped = 0;        ///< triangles with two equal welded vertices (no edges)
+    std::vector<vec3> positions;             ///< world units; one per welded vertex
+    std::vector<std::uint32_t> weldedVertex; ///< scene vertex → welded vertex (UINT32_MAX if unused)
+    std::vector<MeshEdge> edges;             ///< sorted by (v0, v1)
+    std::vector<EdgeFace> faces;             ///< grouped per edge
+    std::size_t triangles = 0;               ///< triangles taken in
+    std::size_t degenerateSkipped = 0;       ///< triangles with two equal welded vertices (no edges)
     std::size_t openEdges = 0;
     std::size_t manifoldEdges = 0;
     std::size_t nonManifoldEdges = 0;

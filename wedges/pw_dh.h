@@ -113,7 +113,7 @@ DH_FUNC float pwEdgeCoverage(vec3 l, vec3 a, vec3 b, uint domain) {
     poly = pwClipPolygon(poly, -sideR * l); // beyond the edge, away from r
     if (poly.n < 3) return 0.0f;
     float fraction = domain == DOMAIN_SQUARE ? pwPolygonArea(poly) * 0.25f
-                                              : pwDiskPolygonArea(poly) * (1.0f / SAMPLING_PI);
+                                             : pwDiskPolygonArea(poly) * (1.0f / SAMPLING_PI);
     return -sideR * fraction;
 }
 

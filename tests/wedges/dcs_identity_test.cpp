@@ -5,9 +5,9 @@
 #include "sampling/light_sampling_dh.h"
 #include "scene/geometry.h"
 #include "volumes/stsv_dh.h"
+#include "wedge_test_util.h"
 #include "wedges/adjacency.h"
 #include "wedges/dcs_dh.h"
-#include "wedge_test_util.h"
 
 #include <gtest/gtest.h>
 
@@ -28,7 +28,9 @@ Scene makeSoup(Soup kind, std::uint64_t seed, int pieces) {
     Material m;
     m.name = "opaque";
     scene.materials.push_back(m);
-    auto add = [&](vec3 a, vec3 b, vec3 c) { scene.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), 0); };
+    auto add = [&](vec3 a, vec3 b, vec3 c) {
+        scene.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), 0);
+    };
     for (int i = 0; i < pieces; ++i) {
         const vec3 center = rng.inBox(vec3(-1.0f), vec3(1.0f));
         const float size = rng.uniform(0.15f, 0.6f);
@@ -37,8 +39,10 @@ Scene makeSoup(Soup kind, std::uint64_t seed, int pieces) {
             const vec3 v[4] = {near(), near(), near(), near()};
             const int faces[4][3] = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {2, 3, 0}};
             for (const auto& f : faces) {
-                if (rng.index(2)) add(v[f[0]], v[f[1]], v[f[2]]);
-                else add(v[f[0]], v[f[2]], v[f[1]]);
+                if (rng.index(2))
+                    add(v[f[0]], v[f[1]], v[f[2]]);
+                else
+                    add(v[f[0]], v[f[2]], v[f[1]]);
             }
         } else if (kind == Soup::Open) {
             vec3 a = near(), b = near();
@@ -73,7 +77,8 @@ struct IdentityResult {
     std::size_t filteredMismatches = 0; ///< with the potential-silhouette prefilter
 };
 
-IdentityResult checkIdentity(const Scene& scene, const Light& light, std::uint64_t seed, int points, int samplesPerPoint) {
+IdentityResult checkIdentity(const Scene& scene, const Light& light, std::uint64_t seed, int points,
+                             int samplesPerPoint) {
     const EdgeAdjacency adj = buildEdgeAdjacency(scene);
     const float farDistance = 50.0f;
     Bounds box;
@@ -124,8 +129,9 @@ IdentityResult checkIdentity(const Scene& scene, const Light& light, std::uint64
             if (count[s] != brute) {
                 ++result.mismatches;
                 if (result.mismatches <= 3)
-                    ADD_FAILURE() << "light type " << light.type << " p=" << test::str(p) << " x=" << test::str(x)
-                                  << " D(r)=" << base << " dcs=" << count[s] << " brute=" << brute;
+                    ADD_FAILURE() << "light type " << light.type << " p=" << test::str(p)
+                                  << " x=" << test::str(x) << " D(r)=" << base << " dcs=" << count[s]
+                                  << " brute=" << brute;
             }
             if (filtered[s] != brute) ++result.filteredMismatches;
         }
@@ -141,7 +147,8 @@ TEST(DcsIdentity, RandomSoupsAllLightShapes) {
             const Scene scene = makeSoup(kind, seed * 7 + std::uint64_t(kind), 30);
             for (const Light& light : allLights()) {
                 const IdentityResult r = checkIdentity(scene, light, seed, 100, 64);
-                EXPECT_EQ(r.mismatches, 0u) << names[int(kind)] << " seed " << seed << " light " << light.type;
+                EXPECT_EQ(r.mismatches, 0u)
+                    << names[int(kind)] << " seed " << seed << " light " << light.type;
                 EXPECT_EQ(r.filteredMismatches, 0u)
                     << "potential-silhouette prefilter dropped a contributing edge: " << names[int(kind)];
                 // Sanity: the soups occlude a share of the samples (≥ 1 %), so the check is not vacuous.

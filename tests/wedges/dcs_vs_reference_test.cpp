@@ -2,6 +2,7 @@
 // meshes (sphere, torus, torus knot, a loaded 10k+ triangle OBJ) with and without perforated
 // triangles: at least 99.9 % identical occlusion bits (issue 4). Differences come from samples
 // whose segment grazes an edge or a vertex within float round-off.
+#include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_wedges.h"
@@ -9,11 +10,10 @@
 #include "scene/geometry.h"
 #include "scene/load.h"
 #include "scene/procedural.h"
-#include "core/progress.h"
 #include "wedge_test_util.h"
 
-#include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -32,8 +32,7 @@ void addPerforatedQuad(Scene& scene) {
     fence.doubleSided = true;
     const std::uint32_t m = addMaterial(scene, fence);
     const float size = 0.6f * length(vec3(b.extent()) * vec3(1.0f, 0.0f, 1.0f)) * 0.25f;
-    mat4 placement = glm::translate(mat4(1.0f), c) *
-                     glm::rotate(mat4(1.0f), 1.2f, vec3(1.0f, 0.0f, 0.2f));
+    mat4 placement = glm::translate(mat4(1.0f), c) * glm::rotate(mat4(1.0f), 1.2f, vec3(1.0f, 0.0f, 0.2f));
     appendMesh(scene, makeQuad(vec2(size), vec2(3.0f)), placement, "fence", int(m));
     scene.validate();
 }
@@ -45,7 +44,8 @@ struct Agreement {
     double fraction() const { return compared ? 1.0 - double(differing) / double(compared) : 0.0; }
 };
 
-Agreement compareWithReference(const Scene& scene, int size, int samples, bool withStsv, WedgeCpuStats* statsOut = nullptr) {
+Agreement compareWithReference(const Scene& scene, int size, int samples, bool withStsv,
+                               WedgeCpuStats* statsOut = nullptr) {
     Progress::setEnabled(false);
     const EmbreeScene embree(scene);
     const GBuffer g = embree.traceGBuffer(size, size);
@@ -73,14 +73,15 @@ Agreement compareWithReference(const Scene& scene, int size, int samples, bool w
     return a;
 }
 
-void expectAgreement(const char* name, const Scene& scene, bool withStsv, double minFraction = 0.999, int size = 80,
-                     int samples = 32) {
+void expectAgreement(const char* name, const Scene& scene, bool withStsv, double minFraction = 0.999,
+                     int size = 80, int samples = 32) {
     WedgeCpuStats stats;
     const Agreement a = compareWithReference(scene, size, samples, withStsv, &stats);
-    std::printf("%-28s %s: %zu of %zu samples differ (%.4f %% identical), %zu occluded; %zu edges, %zu potential "
-                "silhouettes, %zu negative counts\n",
-                name, withStsv ? "dcs+stsv" : "dcs     ", a.differing, a.compared, 100.0 * a.fraction(), a.occluded,
-                stats.edges, stats.potentialSilhouettes, stats.negativeCounts);
+    std::printf(
+        "%-28s %s: %zu of %zu samples differ (%.4f %% identical), %zu occluded; %zu edges, %zu potential "
+        "silhouettes, %zu negative counts\n",
+        name, withStsv ? "dcs+stsv" : "dcs     ", a.differing, a.compared, 100.0 * a.fraction(), a.occluded,
+        stats.edges, stats.potentialSilhouettes, stats.negativeCounts);
     EXPECT_GE(a.fraction(), minFraction) << name;
     // Not vacuous: a real shadow is in view.
     EXPECT_GT(a.occluded, a.compared / 50) << name;
@@ -94,13 +95,14 @@ Scene meshScene(const MeshData& mesh, const char* name, bool perforated) {
 
 TEST(DcsVsReference, Sphere) {
     for (bool perforated : {false, true})
-        expectAgreement("sphere 32x16", meshScene(test::makeSphereMesh(32, 16), "sphere", perforated), perforated);
+        expectAgreement("sphere 32x16", meshScene(test::makeSphereMesh(32, 16), "sphere", perforated),
+                        perforated);
 }
 
 TEST(DcsVsReference, Torus) {
     for (bool perforated : {false, true})
-        expectAgreement("torus 48x16", meshScene(test::makeTorusMesh(48, 16, 1.0f, 0.35f), "torus", perforated),
-                        perforated);
+        expectAgreement("torus 48x16",
+                        meshScene(test::makeTorusMesh(48, 16, 1.0f, 0.35f), "torus", perforated), perforated);
 }
 
 TEST(DcsVsReference, TorusKnot) {
@@ -133,7 +135,8 @@ TEST(DcsVsReference, LoadedObjOver10kTriangles) {
     {
         std::ofstream out(path);
         for (const vec3& p : knot.positions) out << "v " << p.x << ' ' << p.y << ' ' << p.z << '\n';
-        for (const uvec3& t : knot.triangles) out << "f " << t.x + 1 << ' ' << t.y + 1 << ' ' << t.z + 1 << '\n';
+        for (const uvec3& t : knot.triangles)
+            out << "f " << t.x + 1 << ' ' << t.y + 1 << ' ' << t.z + 1 << '\n';
     }
     Scene scene = loadScene(path);
     std::filesystem::remove_all(dir);

@@ -1,16 +1,16 @@
 // Penumbra wedges (CPU mirror) against the Embree reference visibility: exact (up to the
 // reference's Monte-Carlo noise) for one convex occluder, for every light shape; the
 // over-darkening where two occluders' silhouettes overlap is measured and printed.
+#include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_wedges.h"
-#include "core/progress.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "wedge_test_util.h"
 
-#include <gtest/gtest.h>
 #include <glm/gtc/matrix_transform.hpp>
+#include <gtest/gtest.h>
 
 #include <cstdio>
 
@@ -18,7 +18,7 @@ namespace stsv {
 namespace {
 
 struct PwError {
-    double meanAbs = 0.0;  ///< over pixels where either image is below 0.995
+    double meanAbs = 0.0;    ///< over pixels where either image is below 0.995
     double meanSigned = 0.0; ///< v_reference − v_pw (positive = PW too dark)
     double maxAbs = 0.0;
     std::size_t pixels = 0;
@@ -72,9 +72,10 @@ TEST(PenumbraWedges, SingleConvexOccluderAllLightShapes) {
         if (shape == 2) scene.lights[0] = makeSphereLight(rect.position, 0.3f, rect.radiance);
         if (shape == 3) scene.lights[0] = makeDirectionalLight(-rect.normal, 0.08f, vec3(1.0f));
         const PwError e = comparePw(scene, 96, 256);
-        std::printf("pw vs reference (256 stratified samples), convex sphere, %-11s light: mean |dv| %.4f, max %.3f "
-                    "over %zu shadowed pixels\n",
-                    names[shape], e.meanAbs, e.maxAbs, e.pixels);
+        std::printf(
+            "pw vs reference (256 stratified samples), convex sphere, %-11s light: mean |dv| %.4f, max %.3f "
+            "over %zu shadowed pixels\n",
+            names[shape], e.meanAbs, e.maxAbs, e.pixels);
         // PW is exact for one convex occluder; what remains is the reference's Monte-Carlo noise
         // (256 stratified samples: per-pixel standard deviation ≲ 0.01 in the penumbra) plus a
         // pixel-edge effect where the G-buffer sees the sphere's silhouette.
@@ -89,14 +90,16 @@ TEST(PenumbraWedges, OverlappingOccludersOverDarkenMeasured) {
     MeshData a = test::makeSphereMesh(32, 16);
     Scene scene = makeMeshScene(a, "spheres");
     const vec3 towardLight = normalize(scene.lights[0].position - vec3(0.0f));
-    appendMesh(scene, a, glm::translate(mat4(1.0f), towardLight * 1.2f + vec3(0.35f, 0.0f, 0.0f)) *
-                             glm::scale(mat4(1.0f), vec3(0.6f)),
+    appendMesh(scene, a,
+               glm::translate(mat4(1.0f), towardLight * 1.2f + vec3(0.35f, 0.0f, 0.0f)) *
+                   glm::scale(mat4(1.0f), vec3(0.6f)),
                "upper", 0);
     scene.validate();
     const PwError e = comparePw(scene, 96, 256);
-    std::printf("pw, two overlapping spheres: mean (v_ref - v_pw) %.4f, mean |dv| %.4f, max %.3f over %zu shadowed "
-                "pixels; %zu pixels darker than the reference by > 0.05, %zu lighter by > 0.05\n",
-                e.meanSigned, e.meanAbs, e.maxAbs, e.pixels, e.darker, e.lighter);
+    std::printf(
+        "pw, two overlapping spheres: mean (v_ref - v_pw) %.4f, mean |dv| %.4f, max %.3f over %zu shadowed "
+        "pixels; %zu pixels darker than the reference by > 0.05, %zu lighter by > 0.05\n",
+        e.meanSigned, e.meanAbs, e.maxAbs, e.pixels, e.darker, e.lighter);
     // Measured, not hidden. Where the centre sees neither sphere, both silhouettes' coverages add
     // (over-darkening, the paper's §3.1 artifact); where the centre is behind both, both loops
     // subtract their uncovered parts from one hard shadow (too light). Both must show up here,

@@ -14,7 +14,9 @@
 
 namespace stsv::test {
 
-inline std::string str(vec3 v) { return glm::to_string(v); }
+inline std::string str(vec3 v) {
+    return glm::to_string(v);
+}
 
 class Rng {
   public:
@@ -23,7 +25,9 @@ class Rng {
         return static_cast<float>(std::uniform_real_distribution<double>(lo, hi)(m_engine));
     }
     int index(int n) { return std::uniform_int_distribution<int>(0, n - 1)(m_engine); }
-    vec3 inBox(vec3 lo, vec3 hi) { return vec3(uniform(lo.x, hi.x), uniform(lo.y, hi.y), uniform(lo.z, hi.z)); }
+    vec3 inBox(vec3 lo, vec3 hi) {
+        return vec3(uniform(lo.x, hi.x), uniform(lo.y, hi.y), uniform(lo.z, hi.z));
+    }
 
   private:
     std::mt19937_64 m_engine;
@@ -31,14 +35,15 @@ class Rng {
 
 /// Number of triangles the segment p → s crosses at t ∈ (tMin, 1), `ignore` excluded, by
 /// double-precision Möller–Trumbore (the independent brute-force depth complexity).
-inline int countCrossings(const Scene& scene, vec3 pf, vec3 sf, double tMin, std::uint32_t ignore = 0xffffffffu) {
+inline int countCrossings(const Scene& scene, vec3 pf, vec3 sf, double tMin,
+                          std::uint32_t ignore = 0xffffffffu) {
     const dvec3 p(pf), d = dvec3(sf) - dvec3(pf);
     int count = 0;
     for (std::uint32_t t = 0; t < scene.triangleCount(); ++t) {
         if (t == ignore || scene.perforated(t)) continue;
         const uvec3 idx = scene.triangles[t];
         const dvec3 v0(scene.positions[idx.x]), e1 = dvec3(scene.positions[idx.y]) - v0,
-            e2 = dvec3(scene.positions[idx.z]) - v0;
+                                                e2 = dvec3(scene.positions[idx.z]) - v0;
         const dvec3 q = cross(d, e2);
         const double det = dot(e1, q);
         if (det == 0.0) continue;
@@ -59,7 +64,8 @@ inline MeshData makeSphereMesh(int slices, int stacks) {
     auto point = [&](int i, int j) {
         if (j == 0) return vec3(0.0f, 1.0f, 0.0f);
         if (j == stacks) return vec3(0.0f, -1.0f, 0.0f);
-        const float th = 3.14159265f * float(j) / float(stacks), ph = 6.2831853f * float(i % slices) / float(slices);
+        const float th = 3.14159265f * float(j) / float(stacks),
+                    ph = 6.2831853f * float(i % slices) / float(slices);
         return vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph));
     };
     auto tri = [&](vec3 a, vec3 b, vec3 c) {
@@ -83,8 +89,7 @@ inline MeshData makeSphereMesh(int slices, int stacks) {
 
 /// A closed tube of `segments` × `sides` quads around the centre curve f(u), u ∈ [0, 1),
 /// indexed (shared vertices), wound outwards.
-template <class Curve>
-MeshData makeTubeMesh(int segments, int sides, float radius, Curve curve) {
+template <class Curve> MeshData makeTubeMesh(int segments, int sides, float radius, Curve curve) {
     MeshData m;
     for (int i = 0; i < segments; ++i) {
         const float u = float(i) / float(segments);

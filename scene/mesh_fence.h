@@ -1,0 +1,33 @@
+// A perforated quad turned into its equivalent closed mesh (issue 4; STSV paper Fig. 11): the
+// opaque texels of its alpha texture, as repeated over the quad, merged into boxes of opaque texel
+// runs, each a closed box of small thickness. The same fence renders as 2 perforated triangles
+// (`fence`) or as a mesh of 10^5+ opaque triangles (`fence-mesh`).
+#pragma once
+
+#include "scene/geometry.h"
+#include "scene/procedural.h"
+
+namespace stsv {
+
+struct TexelBoxOptions {
+    float thickness = 0.0005f; ///< world units; box depth along the quad's normal (z)
+    bool mergeRows = true;     ///< merge identical runs of consecutive rows into one rectangle
+    /// Gap left between vertically adjacent boxes, in texel heights: boxes never touch, so the
+    /// mesh is a union of disjoint closed boxes (every welded edge has exactly two faces). The
+    /// slit is 10^-3 texel high and `thickness` deep, so only rays within ~10^-3·texel/thickness
+    /// radians of its plane could pass.
+    float rowGap = 1e-3f;
+};
+
+/// Boxes over the opaque texels (alpha ≥ 128, the texel rule) of `texture` repeated over the
+/// quad of makeQuad(size, uvRepeat) (xy plane, centred, u along +x from the left edge, v from the
+/// top edge down) under `wrap`; z ∈ [−thickness/2, thickness/2]. One opaque material (index 0);
+/// 12 triangles and 8 vertices per box. UsageError for an empty texture or non-positive sizes.
+MeshData makeTexelBoxMesh(const Texture& texture, WrapMode wrap, vec2 size, vec2 uvRepeat,
+                          const TexelBoxOptions& options = {});
+
+/// `fence` (makeFenceScene(params): same camera, light, ground and texture) with its perforated
+/// quad replaced by makeTexelBoxMesh of the chain-link texture, as one opaque mesh "fence-mesh".
+Scene makeFenceMeshScene(const FenceParams& params = {}, const TexelBoxOptions& options = {});
+
+} // namespace stsv
