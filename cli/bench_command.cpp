@@ -330,7 +330,9 @@ int runBench(BenchArgs& args) {
         Timer loadTimer;
         const Scene scene = loadScene(args.scene, variants[v].sceneOptions);
         const double loadMs = loadTimer.milliseconds();
-        checkFrameMemory(base, scene.lights.size());
+        RenderOptions largest = base;
+        largest.samples = *std::max_element(samples.begin(), samples.end());
+        checkFrameMemory(largest, scene.lights.size());
         nlohmann::json counts = sceneStats(scene);
         counts["load_ms"] = loadMs;
         if (!args.quiet)
@@ -396,10 +398,8 @@ int runBench(BenchArgs& args) {
         nlohmann::json deviceNames = nlohmann::json::array();
         std::string device;
         for (const Result& r : results)
-            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("device")) {
-                const nlohmann::json& d = r.lastStats["device"];
-                device = d.is_string() ? d.get<std::string>() : d.value("name", std::string());
-            }
+            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu"))
+                device = r.lastStats["gpu"].value("device", std::string());
         const bool vulkanAsked = std::any_of(pairs.begin(), pairs.end(),
                                              [](const auto& p) { return p.second == Backend::Vulkan; });
         if (device.empty() && vulkanAsked) device = vulkanDeviceName(base.device, deviceNames);
@@ -436,7 +436,7 @@ int runBench(BenchArgs& args) {
                 j["identical_bits_percent"] = *r.agreementPercent;
                 j["differing_samples"] = r.differingSamples;
             }
-            for (const char* key : {"light_sample_buffer_bytes", "stsv", "device"})
+            for (const char* key : {"light_sample_buffer_bytes", "stsv", "gpu", "gpu_ms"})
                 if (r.lastStats.contains(key)) j[key] = r.lastStats[key];
             configurations.push_back(j);
         }

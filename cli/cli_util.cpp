@@ -52,8 +52,8 @@ SceneOptions parseSets(const std::vector<std::string>& sets) {
 }
 
 Backend defaultBackend() {
-    // Vulkan becomes the default once render/'s makeRenderer implements Backend::Vulkan.
-    return Backend::Cpu;
+    // render/'s makeRenderer builds the Vulkan renderer for the STSV method.
+    return Backend::Vulkan;
 }
 
 void checkBackendSupports(Method method, Backend backend) {
