@@ -1,0 +1,167 @@
+// Edge adjacency with welding (seams, duplicated vertices, non-manifold and open edges) and
+// silhouette sets against brute force.
+#include "core/gbuffer.h"
+#include "sampling/light_bounds.h"
+#include "scene/geometry.h"
+#include "wedge_test_util.h"
+#include "wedges/adjacency.h"
+
+#include <gtest/gtest.h>
+
+#include <map>
+
+namespace stsv {
+namespace {
+
+Scene sceneOf(const MeshData& mesh) {
+    Scene scene;
+    appendMesh(scene, mesh, mat4(1.0f), "m");
+    return scene;
+}
+
+Scene emptyScene() {
+    Scene scene;
+    Material m;
+    m.name = "opaque";
+    scene.materials.push_back(m);
+    return scene;
+}
+
+void addTri(Scene& s, vec3 a, vec3 b, vec3 c) { s.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), 0); }
+
+/// Face count of the edge between two positions, 0 if absent.
+std::uint32_t facesOn(const EdgeAdjacency& adj, vec3 a, vec3 b) {
+    for (const MeshEdge& e : adj.edges) {
+        const vec3 p = adj.positions[e.v0], q = adj.positions[e.v1];
+        if ((p == a && q == b) || (p == b && q == a)) return e.faceCount;
+    }
+    return 0;
+}
+
+TEST(Adjacency, CubeWithSeamsWeldsClosed) {
+    // Every face of a unit cube with its own four vertices (as OBJ loaders emit at UV seams),
+    // corners at ±0.5 but one face written with −0.0-free and one with signed-zero variants.
+    Scene s = emptyScene();
+    const vec3 c[8] = {{-.5f, -.5f, -.5f}, {.5f, -.5f, -.5f}, {.5f, .5f, -.5f}, {-.5f, .5f, -.5f},
+                       {-.5f, -.5f, .5f},  {.5f, -.5f, .5f},  {.5f, .5f, .5f},  {-.5f, .5f, .5f}};
+    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+    for (const auto& q : quads) {
+        addTri(s, c[q[0]], c[q[1]], c[q[2]]);
+        addTri(s, c[q[0]], c[q[2]], c[q[3]]);
+    }
+    ASSERT_EQ(s.positions.size(), 36u); // unindexed: nothing shared before welding
+    const EdgeAdjacency adj = buildEdgeAdjacency(s);
+    EXPECT_EQ(adj.positions.size(), 8u);
+    EXPECT_EQ(adj.edges.size(), 18u); // 12 cube edges + 6 diagonals
+    EXPECT_EQ(adj.manifoldEdges, 18u);
+    EXPECT_EQ(adj.openEdges, 0u);
+    EXPECT_EQ(adj.nonManifoldEdges, 0u);
+    EXPECT_EQ(adj.inconsistentEdges, 0u);
+    for (const MeshEdge& e : adj.edges) {
+        // The two faces run the edge in opposite directions (consistent winding survives welding).
+        EXPECT_NE(adj.faces[e.firstFace].forward, adj.faces[e.firstFace + 1].forward);
+        // The opposite vertex is neither end of the edge.
+        for (std::uint32_t f = e.firstFace; f < e.firstFace + 2; ++f) {
+            EXPECT_NE(adj.faces[f].opposite, e.v0);
+            EXPECT_NE(adj.faces[f].opposite, e.v1);
+        }
+    }
+}
+
+TEST(Adjacency, SignedZeroWeldsAndDistinctNearbyVerticesDoNot) {
+    Scene s = emptyScene();
+    addTri(s, vec3(0.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f));
+    addTri(s, vec3(-0.0f, 0.0f, -0.0f), vec3(0.0f, 1.0f, 0.0f), vec3(-1.0f, 0.0f, 0.0f)); // shares (0,0,0)–(0,1,0)
+    addTri(s, vec3(1.0f, 0.0f, 0.0f), vec3(1e-6f, 1.0f, 0.0f), vec3(1.0f, 1.0f, 0.0f));   // 1e-6 away: not welded
+    const EdgeAdjacency adj = buildEdgeAdjacency(s);
+    EXPECT_EQ(adj.positions.size(), 6u);
+    EXPECT_EQ(facesOn(adj, vec3(0.0f), vec3(0.0f, 1.0f, 0.0f)), 2u);
+    EXPECT_EQ(facesOn(adj, vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f)), 1u);
+    EXPECT_EQ(adj.manifoldEdges, 1u);
+    EXPECT_EQ(adj.openEdges, 7u);
+}
+
+TEST(Adjacency, NonManifoldOpenAndDegenerate) {
+    Scene s = emptyScene();
+    const vec3 a(0.0f), b(0.0f, 1.0f, 0.0f);
+    addTri(s, a, b, vec3(1.0f, 0.0f, 0.0f));
+    addTri(s, b, a, vec3(-1.0f, 0.0f, 0.0f));
+    addTri(s, a, b, vec3(0.0f, 0.0f, 1.0f)); // third face on a–b: non-manifold
+    addTri(s, a, a, vec3(5.0f));             // repeated vertex: degenerate, skipped
+    const EdgeAdjacency adj = buildEdgeAdjacency(s);
+    EXPECT_EQ(adj.degenerateSkipped, 1u);
+    EXPECT_EQ(facesOn(adj, a, b), 3u);
+    EXPECT_EQ(adj.nonManifoldEdges, 1u);
+    EXPECT_EQ(adj.openEdges, 6u);
+    // Open and non-manifold edges are potential silhouettes for any light.
+    const std::vector<std::uint32_t> potential = potentialSilhouetteEdges(adj, vec4(0.0f, 10.0f, 0.0f, 0.1f));
+    EXPECT_EQ(potential.size(), adj.edges.size());
+    // Include filter: only the first triangle.
+    const EdgeAdjacency one = buildEdgeAdjacency(s, [](std::size_t t) { return t == 0; });
+    EXPECT_EQ(one.edges.size(), 3u);
+    EXPECT_EQ(one.openEdges, 3u);
+}
+
+TEST(Silhouettes, FromPointMatchesFrontBackBruteForce) {
+    // Closed, consistently wound meshes: an edge is a silhouette from p iff its two faces face p
+    // differently — computed from the winding normals, independently of edgeWeightFrom's
+    // third-vertex rule. Also: the weight of a silhouette of a closed mesh is ±2.
+    test::Rng rng(11);
+    for (const MeshData& mesh : {test::makeTorusMesh(24, 10, 1.0f, 0.4f), test::makeTorusKnotMesh(96, 8, 0.12f)}) {
+        const Scene s = sceneOf(mesh);
+        const EdgeAdjacency adj = buildEdgeAdjacency(s);
+        ASSERT_EQ(adj.openEdges + adj.nonManifoldEdges, 0u);
+        std::size_t silhouettes = 0, checked = 0;
+        for (int i = 0; i < 40; ++i) {
+            const vec3 p = rng.inBox(vec3(-3.0f), vec3(3.0f));
+            for (std::uint32_t e = 0; e < adj.edges.size(); ++e) {
+                const MeshEdge& edge = adj.edges[e];
+                bool front[2];
+                for (int f = 0; f < 2; ++f) {
+                    const uvec3 t = s.triangles[adj.faces[edge.firstFace + f].triangle];
+                    const dvec3 v0(s.positions[t.x]), v1(s.positions[t.y]), v2(s.positions[t.z]);
+                    front[f] = dot(cross(v1 - v0, v2 - v0), dvec3(p) - v0) > 0.0;
+                }
+                const int k = edgeWeightFrom(adj, e, dvec3(p), NO_TRIANGLE);
+                ASSERT_EQ(k != 0, front[0] != front[1]) << "p=" << test::str(p) << " edge " << e;
+                if (k != 0) {
+                    ASSERT_EQ(std::abs(k), 2) << "p=" << test::str(p);
+                    ++silhouettes;
+                }
+                ++checked;
+            }
+        }
+        EXPECT_GT(silhouettes, checked / 50);
+    }
+}
+
+TEST(Silhouettes, PotentialSetHoldsEverySilhouetteFromTheLight) {
+    // Brute force: sample points of the light's bounding sphere; every edge that is a silhouette
+    // from one of them must be in the potential set, and the set must be a real reduction.
+    test::Rng rng(12);
+    const Scene s = sceneOf(test::makeTorusKnotMesh(128, 8, 0.15f));
+    const EdgeAdjacency adj = buildEdgeAdjacency(s);
+    for (const vec4 sphere : {vec4(0.5f, 3.0f, -0.4f, 0.5f), vec4(0.0f, 0.0f, 2.0f, 0.2f), vec4(0.0f, 0.1f, 0.0f, 0.05f)}) {
+        const std::vector<std::uint32_t> potential = potentialSilhouetteEdges(adj, sphere);
+        std::vector<bool> in(adj.edges.size(), false);
+        for (std::uint32_t e : potential) in[e] = true;
+        for (int i = 0; i < 400; ++i) {
+            vec3 d = rng.inBox(vec3(-1.0f), vec3(1.0f));
+            if (length(d) > 1.0f) continue;
+            const vec3 x = vec3(sphere) + sphere.w * d;
+            for (std::uint32_t e = 0; e < adj.edges.size(); ++e) {
+                if (edgeWeightFrom(adj, e, dvec3(x), NO_TRIANGLE) != 0) {
+                    ASSERT_TRUE(in[e]) << "edge " << e << " is a silhouette from x=" << test::str(x);
+                }
+            }
+        }
+        std::printf("potential silhouettes for sphere (%.1f %.1f %.1f r %.2f): %zu of %zu edges\n", sphere.x, sphere.y,
+                    sphere.z, sphere.w, potential.size(), adj.edges.size());
+        if (sphere.y > 2.0f) {
+            EXPECT_LT(potential.size(), adj.edges.size() / 2);
+        }
+    }
+}
+
+} // namespace
+} // namespace stsv
