@@ -352,8 +352,9 @@ struct VulkanRenderer::Impl {
         dummyMask.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
         fullBarrier(cmd);
 
-        const uint32_t groupsX = (uint32_t(options.width) + 7) / 8,
-                       groupsY = (uint32_t(options.height) + 7) / 8;
+        // resolve.comp works on 16 × 16 tiles (fewer, larger workgroups: lavapipe pays per workgroup).
+        const uint32_t groupsX = (uint32_t(options.width) + 15) / 16,
+                       groupsY = (uint32_t(options.height) + 15) / 16;
         for (std::size_t l = 0; l < lightCount; ++l) {
             const std::string prefix = "light" + std::to_string(l) + "/";
             timer.begin(cmd, prefix + "stsv");

@@ -13,7 +13,10 @@
 #include "frame_bindings.glsl"
 #include "sampling/light_sampling_dh.h"
 
-layout(local_size_x = 8, local_size_y = 8) in;
+#define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
+#define WORD_BITS (SAMPLE_COUNT < 32 ? SAMPLE_COUNT : 32)
+
+layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
@@ -53,24 +56,31 @@ void main() {
 #if STSV_COUNTERS
             uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
 #else
-            uvec2 m[GPU_MAX_MASK_IMAGES];
-            for (uint i = 0u; i < GPU_MAX_MASK_IMAGES; ++i)
-                m[i] = 32u * 2u * i < uint(SAMPLE_COUNT) ? imageLoad(masks[i], pixel).xy : uvec2(0u);
+            uvec2 m0 = imageLoad(masks[0], pixel).xy;
+            uvec2 m1 = SAMPLE_COUNT > 64 ? imageLoad(masks[1], pixel).xy : uvec2(0u);
+            uvec2 m2 = SAMPLE_COUNT > 128 ? imageLoad(masks[2], pixel).xy : uvec2(0u);
+            uvec2 m3 = SAMPLE_COUNT > 192 ? imageLoad(masks[3], pixel).xy : uvec2(0u);
 #endif
             vec3 sum = vec3(0.0);
             uint visible = 0u;
-            for (uint k = 0u; k < uint(SAMPLE_COUNT); ++k) {
-#if STSV_COUNTERS
-                bool occluded = ((counters[pixelBase + (k >> 1u)] >> (16u * (k & 1u))) & 65535u) != 0u;
-#else
-                uvec2 pair = m[k >> 6u];
-                bool occluded = (((k & 32u) != 0u ? pair.y : pair.x) & gpuSampleBit(k)) != 0u;
+            // Words outside, bits inside (the word index stays uniform; see stsv.frag).
+            for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
+#if !STSV_COUNTERS
+                uint word = w == 0u ? m0.x : w == 1u ? m0.y : w == 2u ? m1.x : w == 3u ? m1.y :
+                            w == 4u ? m2.x : w == 5u ? m2.y : w == 6u ? m3.x : m3.y;
 #endif
-                if (occluded) continue;
-                ++visible;
-                vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u,
-                                      lf.domain);
-                sum += sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
+                for (uint b = 0u; b < uint(WORD_BITS); ++b) {
+                    uint k = 32u * w + b;
+#if STSV_COUNTERS
+                    bool occluded = ((counters[pixelBase + (k >> 1u)] >> (16u * (k & 1u))) & 65535u) != 0u;
+#else
+                    bool occluded = ((word >> b) & 1u) != 0u;
+#endif
+                    if (occluded) continue;
+                    ++visible;
+                    vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u, lf.domain);
+                    sum += sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
+                }
             }
             color += albedo * (1.0 / SAMPLING_PI) * sum / float(SAMPLE_COUNT);
             visibility += frame.lightWeight * (float(visible) / float(SAMPLE_COUNT));

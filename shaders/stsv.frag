@@ -41,6 +41,7 @@ layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats sta
 
 #define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
 #define MASK_ATTACHMENTS ((WORD_COUNT + 1) / 2)
+#define WORD_BITS (SAMPLE_COUNT < 32 ? SAMPLE_COUNT : 32)
 
 #if STSV_COUNTERS
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
@@ -82,19 +83,26 @@ void main() {
 #if STSV_COUNTERS
                 uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
 #endif
-                for (uint k = 0u; k < uint(SAMPLE_COUNT); ++k) {
-                    vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u,
-                                          lf.domain);
-                    ivec2 texel;
-                    if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;
-                    if (!opaque && !alphaBlocks(alphaAt(t.texture, texel))) continue;
+                // Words outside, bits inside: the word index stays uniform, so the mask lives in
+                // registers (a per-sample dynamic index into words[] costs a scatter per lane on SIMD CPUs).
+                for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
+                    uint bits = 0u;
+                    for (uint b = 0u; b < uint(WORD_BITS); ++b) {
+                        uint k = 32u * w + b;
+                        vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u,
+                                                        lf.domain);
+                        ivec2 texel;
+                        if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;
+                        if (!opaque && !alphaBlocks(alphaAt(t.texture, texel))) continue;
 #if STSV_COUNTERS
-                    // Two 16-bit counters per uint: sample k in the half k % 2 (little endian
-                    // uint16 order of LightSampleBuffer::counters()).
-                    atomicAdd(counters[pixelBase + (k >> 1u)], 1u << (16u * (k & 1u)));
+                        // Two 16-bit counters per uint: sample k in the half k % 2 (little endian
+                        // uint16 order of LightSampleBuffer::counters()).
+                        atomicAdd(counters[pixelBase + (k >> 1u)], 1u << (16u * (k & 1u)));
 #else
-                    words[k >> 5u] |= gpuSampleBit(k);
+                        bits |= 1u << b;
 #endif
+                    }
+                    words[w] = bits;
                 }
             }
         }
