@@ -222,10 +222,43 @@ void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* labe
         [&](std::size_t tileIndex) {
             const int tx = static_cast<int>(tileIndex % std::size_t(bins.tilesX));
             const int ty = static_cast<int>(tileIndex / std::size_t(bins.tilesX));
-            for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
-                for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
+            const int x0 = tx * TILE, x1 = std::min(gbuffer.width, (tx + 1) * TILE);
+            const int y0 = ty * TILE, y1 = std::min(gbuffer.height, (ty + 1) * TILE);
+            // The tile's visible points bound a box; records whose every volume has a plane with
+            // the whole box outside are dropped for the tile (what the rasteriser's depth test
+            // and the fragment's plane tests would reject one pixel at a time).
+            Bounds box;
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x)
+                    if (gbuffer.covered(gbuffer.index(x, y)))
+                        box.extend(gbuffer.position[gbuffer.index(x, y)]);
+            if (box.empty()) {
+                progress.advance();
+                return;
+            }
+            std::vector<std::uint32_t> records;
+            records.reserve(bins.tiles[tileIndex].size());
+            for (std::uint32_t r : bins.tiles[tileIndex]) {
+                const FaceRecord& record = bins.records[r];
+                bool any = false;
+                for (std::uint32_t v = 0; v < record.volumeCount && !any; ++v) {
+                    const StsvVolume& volume = record.volumes[v];
+                    bool outside = false;
+                    for (uint k = 0; k < volume.planeCount && !outside; ++k) {
+                        const vec4 plane = volume.planes[k];
+                        const vec3 corner(plane.x >= 0.0f ? box.hi.x : box.lo.x,
+                                          plane.y >= 0.0f ? box.hi.y : box.lo.y,
+                                          plane.z >= 0.0f ? box.hi.z : box.lo.z);
+                        outside = dot(vec3(plane), corner) + plane.w < 0.0f;
+                    }
+                    any = !outside;
+                }
+                if (any) records.push_back(r);
+            }
+            for (int y = y0; y < y1; ++y)
+                for (int x = x0; x < x1; ++x) {
                     const std::size_t i = gbuffer.index(x, y);
-                    if (gbuffer.covered(i)) pixel(x, y, i, bins.tiles[tileIndex]);
+                    if (gbuffer.covered(i)) pixel(x, y, i, records);
                 }
             progress.advance();
         },

@@ -27,7 +27,9 @@ Scene emptyScene() {
     return scene;
 }
 
-void addTri(Scene& s, vec3 a, vec3 b, vec3 c) { s.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), 0); }
+void addTri(Scene& s, vec3 a, vec3 b, vec3 c) {
+    s.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), 0);
+}
 
 /// Face count of the edge between two positions, 0 if absent.
 std::uint32_t facesOn(const EdgeAdjacency& adj, vec3 a, vec3 b) {
@@ -44,7 +46,8 @@ TEST(Adjacency, CubeWithSeamsWeldsClosed) {
     Scene s = emptyScene();
     const vec3 c[8] = {{-.5f, -.5f, -.5f}, {.5f, -.5f, -.5f}, {.5f, .5f, -.5f}, {-.5f, .5f, -.5f},
                        {-.5f, -.5f, .5f},  {.5f, -.5f, .5f},  {.5f, .5f, .5f},  {-.5f, .5f, .5f}};
-    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                             {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
     for (const auto& q : quads) {
         addTri(s, c[q[0]], c[q[1]], c[q[2]]);
         addTri(s, c[q[0]], c[q[2]], c[q[3]]);
@@ -71,8 +74,10 @@ TEST(Adjacency, CubeWithSeamsWeldsClosed) {
 TEST(Adjacency, SignedZeroWeldsAndDistinctNearbyVerticesDoNot) {
     Scene s = emptyScene();
     addTri(s, vec3(0.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f));
-    addTri(s, vec3(-0.0f, 0.0f, -0.0f), vec3(0.0f, 1.0f, 0.0f), vec3(-1.0f, 0.0f, 0.0f)); // shares (0,0,0)–(0,1,0)
-    addTri(s, vec3(1.0f, 0.0f, 0.0f), vec3(1e-6f, 1.0f, 0.0f), vec3(1.0f, 1.0f, 0.0f));   // 1e-6 away: not welded
+    addTri(s, vec3(-0.0f, 0.0f, -0.0f), vec3(0.0f, 1.0f, 0.0f),
+           vec3(-1.0f, 0.0f, 0.0f)); // shares (0,0,0)–(0,1,0)
+    addTri(s, vec3(1.0f, 0.0f, 0.0f), vec3(1e-6f, 1.0f, 0.0f),
+           vec3(1.0f, 1.0f, 0.0f)); // 1e-6 away: not welded
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
     EXPECT_EQ(adj.positions.size(), 6u);
     EXPECT_EQ(facesOn(adj, vec3(0.0f), vec3(0.0f, 1.0f, 0.0f)), 2u);
@@ -107,7 +112,8 @@ TEST(Silhouettes, FromPointMatchesFrontBackBruteForce) {
     // differently — computed from the winding normals, independently of edgeWeightFrom's
     // third-vertex rule. Also: the weight of a silhouette of a closed mesh is ±2.
     test::Rng rng(11);
-    for (const MeshData& mesh : {test::makeTorusMesh(24, 10, 1.0f, 0.4f), test::makeTorusKnotMesh(96, 8, 0.12f)}) {
+    for (const MeshData& mesh :
+         {test::makeTorusMesh(24, 10, 1.0f, 0.4f), test::makeTorusKnotMesh(96, 8, 0.12f)}) {
         const Scene s = sceneOf(mesh);
         const EdgeAdjacency adj = buildEdgeAdjacency(s);
         ASSERT_EQ(adj.openEdges + adj.nonManifoldEdges, 0u);
@@ -141,7 +147,8 @@ TEST(Silhouettes, PotentialSetHoldsEverySilhouetteFromTheLight) {
     test::Rng rng(12);
     const Scene s = sceneOf(test::makeTorusKnotMesh(128, 8, 0.15f));
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
-    for (const vec4 sphere : {vec4(0.5f, 3.0f, -0.4f, 0.5f), vec4(0.0f, 0.0f, 2.0f, 0.2f), vec4(0.0f, 0.1f, 0.0f, 0.05f)}) {
+    for (const vec4 sphere :
+         {vec4(0.5f, 3.0f, -0.4f, 0.5f), vec4(0.0f, 0.0f, 2.0f, 0.2f), vec4(0.0f, 0.1f, 0.0f, 0.05f)}) {
         const std::vector<std::uint32_t> potential = potentialSilhouetteEdges(adj, sphere);
         std::vector<bool> in(adj.edges.size(), false);
         for (std::uint32_t e : potential) in[e] = true;
@@ -155,8 +162,8 @@ TEST(Silhouettes, PotentialSetHoldsEverySilhouetteFromTheLight) {
                 }
             }
         }
-        std::printf("potential silhouettes for sphere (%.1f %.1f %.1f r %.2f): %zu of %zu edges\n", sphere.x, sphere.y,
-                    sphere.z, sphere.w, potential.size(), adj.edges.size());
+        std::printf("potential silhouettes for sphere (%.1f %.1f %.1f r %.2f): %zu of %zu edges\n", sphere.x,
+                    sphere.y, sphere.z, sphere.w, potential.size(), adj.edges.size());
         if (sphere.y > 2.0f) {
             EXPECT_LT(potential.size(), adj.edges.size() / 2);
         }
