@@ -356,6 +356,9 @@ int runBench(BenchArgs& args) {
                     r.error = e.what();
                 }
                 Progress::setEnabled(progressOn);
+                if (!args.quiet && !progressOn && r.error.empty()) // a log line where there is no bar
+                    std::fprintf(stderr, "  %s: %zu timed frames, median %.2f ms\n", r.config.label().c_str(),
+                                 r.frameMs.size(), summarize(r.frameMs).median);
                 if (!r.error.empty()) {
                     failed = true;
                     std::fprintf(stderr, "stsv: error: %s: %s\n", r.config.label().c_str(), r.error.c_str());
