@@ -34,13 +34,13 @@ OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
         m_opaque.triangles.push_back(scene.triangles[t]);
         m_opaque.triangleMaterial.push_back(scene.triangleMaterial[t]);
     }
-    m_embree = std::make_unique<EmbreeScene>(m_opaque);
+    if (!m_opaqueToScene.empty()) m_embree = std::make_unique<EmbreeScene>(m_opaque);
     m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return !scene.perforated(t); });
 }
 
 std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, std::uint32_t ignore,
                                            std::vector<std::uint32_t>& scratch) const {
-    if (m_opaqueToScene.empty()) return 0;
+    if (!m_embree) return 0;
     const std::uint32_t ignoreOpaque =
         ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
     return m_embree->countLayers(p, r, ignoreOpaque, scratch);

@@ -51,6 +51,23 @@ TEST(Combined, PerforatedOnlySceneReducesToStsv) {
     EXPECT_GT(shadowed, 100u);
 }
 
+TEST(Combined, NoOpaqueTriangleAtAll) {
+    Progress::setEnabled(false);
+    Scene scene;
+    Material fence;
+    fence.name = "chainlink";
+    fence.alphaTexture = addTexture(scene, makeChainLinkTexture(16));
+    fence.doubleSided = true;
+    const std::uint32_t m = addMaterial(scene, fence);
+    appendMesh(scene, makeQuad(vec2(2.0f), vec2(2.0f)), mat4(1.0f), "fence", int(m));
+    scene.lights.push_back(makeSphereLight(vec3(0.0f, 0.0f, 3.0f), 0.5f, vec3(1.0f)));
+    const OpaqueOccluders occ(scene);
+    EXPECT_EQ(occ.opaqueTriangles(), 0u);
+    EXPECT_EQ(occ.adjacency().edges.size(), 0u);
+    std::vector<std::uint32_t> scratch;
+    EXPECT_EQ(occ.centerCount(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), NO_TRIANGLE, scratch), 0u);
+}
+
 TEST(Combined, PwStsvWithOpaqueMeshMeasured) {
     Progress::setEnabled(false);
     Scene scene = makeMeshScene(test::makeSphereMesh(32, 16), "sphere");
