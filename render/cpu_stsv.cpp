@@ -66,6 +66,16 @@ bool screenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int h
 
 } // namespace
 
+nlohmann::json toJson(const StsvCpuStats& s) {
+    return {{"volumes", s.volumes},
+            {"degenerate_skipped", s.degenerateSkipped},
+            {"tile_entries", s.tileEntries},
+            {"point_in_volume_tests", s.pixelVolumeTests},
+            {"fragments", s.pixelVolumeHits},
+            {"bin_ms", s.bin_ms},
+            {"shade_ms", s.shade_ms}};
+}
+
 StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
                             const SamplePlan& plan, float farDistance, LightSampleBuffer& out,
                             const TriangleFilter& include) {

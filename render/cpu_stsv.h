@@ -8,6 +8,8 @@
 #include "sampling/pattern.h"
 #include "scene/scene.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstddef>
 #include <functional>
 
@@ -22,6 +24,8 @@ struct StsvCpuStats {
     double bin_ms = 0.0;
     double shade_ms = 0.0;
 };
+
+nlohmann::json toJson(const StsvCpuStats& stats);
 
 /// Which scene triangles a pass treats (all when empty).
 using TriangleFilter = std::function<bool(std::size_t triangle)>;

@@ -20,6 +20,18 @@
 
 namespace stsv {
 
+nlohmann::json toJson(const WedgeCpuStats& s) {
+    return {{"edges", s.edges},
+            {"potential_silhouettes", s.potentialSilhouettes},
+            {"volumes", s.volumes},
+            {"tile_entries", s.tileEntries},
+            {"point_in_volume_tests", s.pixelVolumeTests},
+            {"pixel_edge_visits", s.pixelEdgeVisits},
+            {"negative_counts", s.negativeCounts},
+            {"setup_ms", s.setup_ms},
+            {"shade_ms", s.shade_ms}};
+}
+
 OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
     m_opaque.source = scene.source + " (opaque triangles)";
     m_opaque.positions = scene.positions;

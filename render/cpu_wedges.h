@@ -34,6 +34,8 @@ struct WedgeCpuStats {
     double shade_ms = 0.0;          ///< per-pixel centre count and edge loop
 };
 
+nlohmann::json toJson(const WedgeCpuStats& stats);
+
 /// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
 /// an Embree scene of them alone, which gives the layer count D(r) at the light centre (the CPU
 /// stand-in of the z-fail counting shadow volume). `scene` must outlive it.

@@ -6,6 +6,7 @@
 #include "sampling/light_sampling.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_stsv.h"
+#include "render/cpu_wedges.h"
 #include "render/gpu_renderer.h"
 #include "sampling/light_bounds.h"
 
@@ -18,19 +19,25 @@ const vec3 BACKGROUND(0.02f, 0.02f, 0.03f);
 
 void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light, const SamplePlan& plan,
                   float farDistance, const LightSampleBuffer& samples, float weight, ImageF& color,
-                  ImageF& visibility) {
-    parallelFor(std::size_t(gbuffer.width) * gbuffer.height, [&](std::size_t i) {
-        const int x = static_cast<int>(i % std::size_t(gbuffer.width)), y = static_cast<int>(i / std::size_t(gbuffer.width));
-        if (!gbuffer.covered(i)) {
-            visibility.at(x, y, 0) += weight;
-            return;
-        }
-        const vec3 albedo = scene.materialOf(gbuffer.triangle[i]).albedo;
-        const vec3 direct =
-            resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i], albedo, farDistance);
-        for (int c = 0; c < 3; ++c) color.at(x, y, c) += direct[c];
-        visibility.at(x, y, 0) += weight * samples.visibleFraction(x, y);
-    }, 256);
+                  ImageF& visibility, const ImageF* coverage) {
+    parallelFor(
+        std::size_t(gbuffer.width) * gbuffer.height,
+        [&](std::size_t i) {
+            const int x = static_cast<int>(i % std::size_t(gbuffer.width)),
+                      y = static_cast<int>(i / std::size_t(gbuffer.width));
+            if (!gbuffer.covered(i)) {
+                visibility.at(x, y, 0) += weight;
+                return;
+            }
+            const vec3 albedo = scene.materialOf(gbuffer.triangle[i]).albedo;
+            vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i], albedo,
+                                        farDistance);
+            const float v = coverage ? coverage->at(x, y, 0) : samples.visibleFraction(x, y);
+            if (coverage) direct *= v; // PW: v_coef modulates the unshadowed direct lighting
+            for (int c = 0; c < 3; ++c) color.at(x, y, c) += direct[c];
+            visibility.at(x, y, 0) += weight * v;
+        },
+        256);
 }
 
 void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, Frame& frame) {
@@ -63,7 +70,10 @@ class CpuRenderer final : public FrameRenderer {
           m_plan(makeSamplePlan(options.pattern, options.samples, options.seed, options.interleave,
                                 options.decorrelate)),
           m_farDistance(farDistanceFor(scene.bounds())), m_embree((validate(options), scene)),
-          m_startupMs(m_startup.milliseconds()) {}
+          m_startupMs(0.0) {
+        if (m_options.method != Method::Reference && m_options.method != Method::Stsv) occluders();
+        m_startupMs = m_startup.milliseconds();
+    }
 
     Frame render() override {
         Frame frame;
@@ -74,9 +84,10 @@ class CpuRenderer final : public FrameRenderer {
         passes["gbuffer"] = timer.milliseconds();
         initFrameImages(m_scene, frame.gbuffer, m_options.ambient, frame);
 
-        nlohmann::json stsvStats = nlohmann::json::array();
-        const auto kind = m_options.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
-                                                                  : LightSampleBuffer::Kind::Counters;
+        nlohmann::json methodStats = nlohmann::json::array();
+        const auto kind = countsLayers(m_options.method) || m_options.buffer == BufferKind::Counters
+                              ? LightSampleBuffer::Kind::Counters
+                              : LightSampleBuffer::Kind::Bitmask;
         std::size_t bufferBytes = 0;
         for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
             const Light& light = m_scene.lights[l];
@@ -84,42 +95,86 @@ class CpuRenderer final : public FrameRenderer {
             LightSampleBuffer& buffer =
                 frame.lightSamples.emplace_back(m_options.width, m_options.height, m_options.samples, kind);
             bufferBytes = std::max(bufferBytes, buffer.memoryBytes());
+            ImageF coverage;
             timer.reset();
-            if (m_options.method == Method::Reference) {
+            switch (m_options.method) {
+            case Method::Reference:
                 traceReferenceSamples(m_embree, frame.gbuffer, light, m_plan, m_farDistance, buffer);
                 passes[prefix + "reference"] = timer.milliseconds();
-            } else {
+                break;
+            case Method::Stsv: {
                 const StsvCpuStats s = stsvCpuSamples(m_scene, frame.gbuffer, light, m_plan, m_farDistance, buffer);
                 passes[prefix + "stsv_bin"] = s.bin_ms;
                 passes[prefix + "stsv_shade"] = s.shade_ms;
-                stsvStats.push_back({{"volumes", s.volumes},
-                                     {"degenerate_skipped", s.degenerateSkipped},
-                                     {"tile_entries", s.tileEntries},
-                                     {"point_in_volume_tests", s.pixelVolumeTests},
-                                     {"fragments", s.pixelVolumeHits}});
+                methodStats.push_back(toJson(s));
+                break;
+            }
+            case Method::Dcs:
+            case Method::DcsStsv: {
+                StsvCpuStats stsv;
+                const WedgeCpuStats w =
+                    m_options.method == Method::Dcs
+                        ? dcsCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer)
+                        : dcsStsvCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer, &stsv);
+                passes[prefix + toString(m_options.method)] = timer.milliseconds();
+                methodStats.push_back({{"wedges", toJson(w)}, {"stsv", toJson(stsv)}});
+                break;
+            }
+            case Method::Pw:
+            case Method::PwStsv: {
+                // PW yields a v_coef per pixel; the bitmask keeps the STSV part of pw+stsv.
+                coverage = ImageF(m_options.width, m_options.height, 1);
+                StsvCpuStats stsv;
+                const WedgeCpuStats w =
+                    m_options.method == Method::Pw
+                        ? pwCpuVisibility(occluders(), frame.gbuffer, light, m_farDistance, coverage)
+                        : pwStsvCpuVisibility(occluders(), frame.gbuffer, light, m_plan, m_farDistance, coverage,
+                                              buffer, &stsv);
+                passes[prefix + toString(m_options.method)] = timer.milliseconds();
+                methodStats.push_back({{"wedges", toJson(w)}, {"stsv", toJson(stsv)}});
+                break;
+            }
             }
             timer.reset();
-            resolveLight(m_scene, frame.gbuffer, light, m_plan, m_farDistance, buffer,
-                         1.0f / float(m_scene.lights.size()), frame.color, frame.visibility);
+            // PW shades with all samples lit, scaled by its v_coef.
+            const LightSampleBuffer* resolveBuffer = &buffer;
+            LightSampleBuffer allLit;
+            if (wedgeCoverage(m_options.method)) {
+                allLit = LightSampleBuffer(m_options.width, m_options.height, m_options.samples,
+                                           LightSampleBuffer::Kind::Bitmask);
+                resolveBuffer = &allLit;
+            }
+            resolveLight(m_scene, frame.gbuffer, light, m_plan, m_farDistance, *resolveBuffer,
+                         1.0f / float(m_scene.lights.size()), frame.color, frame.visibility,
+                         wedgeCoverage(m_options.method) ? &coverage : nullptr);
             passes[prefix + "resolve"] = timer.milliseconds();
         }
-        frame.stats = {{"options", toJson(m_options)},
+        nlohmann::json options = toJson(m_options);
+        options["backend"] = "cpu"; // what actually ran (the reference and the wedge methods are CPU-only)
+        frame.stats = {{"options", options},
                        {"scene", sceneStats(m_scene)},
                        {"startup_ms", m_startupMs},
                        {"frame_ms", total.milliseconds()},
                        {"passes", passes},
                        {"light_sample_buffer_bytes", bufferBytes}};
-        if (!stsvStats.empty()) frame.stats["stsv"] = stsvStats;
+        if (!methodStats.empty()) frame.stats[m_options.method == Method::Stsv ? "stsv" : "wedges"] = methodStats;
         return frame;
     }
 
   private:
+    /// Adjacency and silhouette data of the opaque meshes, built on first use (wedge methods).
+    const OpaqueOccluders& occluders() {
+        if (!m_occluders) m_occluders = std::make_unique<OpaqueOccluders>(m_scene);
+        return *m_occluders;
+    }
+
     const Scene& m_scene;
     RenderOptions m_options;
     Timer m_startup;
     SamplePlan m_plan;
     float m_farDistance;
     EmbreeScene m_embree;
+    std::unique_ptr<OpaqueOccluders> m_occluders;
     double m_startupMs;
 };
 

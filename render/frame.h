@@ -40,10 +40,11 @@ std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOpti
 Frame renderFrame(const Scene& scene, const RenderOptions& options);
 
 /// Resolve of one light's buffer: adds albedo/π · (1/N) Σ_k V_k · L_k G_k A to `color`
-/// (the paper's "Direct MC") and v_coef·weight to `visibility`.
+/// (the paper's "Direct MC") and v_coef·weight to `visibility`. With `coverage` (penumbra
+/// wedges), v_coef is read from it and scales the direct lighting of `samples` instead.
 void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light, const SamplePlan& plan,
                   float farDistance, const LightSampleBuffer& samples, float weight, ImageF& color,
-                  ImageF& visibility);
+                  ImageF& visibility, const ImageF* coverage = nullptr);
 
 /// Shared by every backend: ambient colour / background of a fresh frame, and scene counts.
 void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, Frame& frame);

@@ -7,7 +7,11 @@ namespace stsv {
 Method parseMethod(const std::string& name) {
     if (name == "reference") return Method::Reference;
     if (name == "stsv") return Method::Stsv;
-    throw UsageError("unknown method '" + name + "' (expected reference or stsv)");
+    if (name == "pw") return Method::Pw;
+    if (name == "dcs") return Method::Dcs;
+    if (name == "pw+stsv") return Method::PwStsv;
+    if (name == "dcs+stsv") return Method::DcsStsv;
+    throw UsageError("unknown method '" + name + "' (expected reference, stsv, pw, dcs, pw+stsv or dcs+stsv)");
 }
 
 Backend parseBackend(const std::string& name) {
@@ -23,7 +27,15 @@ BufferKind parseBufferKind(const std::string& name) {
 }
 
 std::string toString(Method method) {
-    return method == Method::Reference ? "reference" : "stsv";
+    switch (method) {
+    case Method::Reference: return "reference";
+    case Method::Stsv: return "stsv";
+    case Method::Pw: return "pw";
+    case Method::Dcs: return "dcs";
+    case Method::PwStsv: return "pw+stsv";
+    case Method::DcsStsv: return "dcs+stsv";
+    }
+    return "?";
 }
 std::string toString(Backend backend) {
     return backend == Backend::Cpu ? "cpu" : "vulkan";

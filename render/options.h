@@ -11,7 +11,19 @@
 
 namespace stsv {
 
-enum class Method { Reference, Stsv };
+enum class Method {
+    Reference, ///< Embree shadow rays (CPU only)
+    Stsv,      ///< every triangle through STSV
+    Pw,        ///< opaque triangles through penumbra wedges (perforated ones ignored)
+    Dcs,       ///< opaque triangles through depth complexity sampling (perforated ones ignored)
+    PwStsv,    ///< pw for opaque, STSV for perforated triangles
+    DcsStsv,   ///< dcs for opaque, STSV for perforated triangles
+};
+
+/// True for the methods that produce per-sample depth-complexity counters.
+inline bool countsLayers(Method m) { return m == Method::Dcs || m == Method::DcsStsv; }
+/// True for the penumbra-wedge methods, whose visibility is a per-pixel coefficient.
+inline bool wedgeCoverage(Method m) { return m == Method::Pw || m == Method::PwStsv; }
 enum class Backend { Cpu, Vulkan };
 enum class BufferKind { Bitmask, Counters };
 

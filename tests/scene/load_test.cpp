@@ -16,7 +16,7 @@ using test::expectError;
 using test::TempDir;
 
 TEST(Load, BuiltinNamesAndKnobs) {
-    EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"fence", "foliage"}));
+    EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"fence", "foliage", "fence-mesh"}));
     std::vector<std::string> foliage;
     for (const SceneKnob& k : builtinSceneKnobs("foliage")) foliage.push_back(k.name);
     EXPECT_NE(std::find(foliage.begin(), foliage.end(), "count"), foliage.end());
