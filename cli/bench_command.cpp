@@ -24,7 +24,7 @@
 namespace stsv {
 
 // bench/presets.json, compiled in by cli/CMakeLists.txt.
-extern const char* const BENCH_PRESETS_JSON;
+extern const char* const benchPresetsJson;
 
 namespace {
 
@@ -43,7 +43,8 @@ struct Config {
     }
 };
 
-struct Result {
+// The implicit special members of json/map/vector members are what bugprone-exception-escape sees.
+struct Result { // NOLINT(bugprone-exception-escape)
     Config config;
     nlohmann::json scene;
     double startupMs = 0.0;
@@ -112,7 +113,8 @@ std::vector<Variant> makeVariants(const FrameArgs& args, const std::string& vary
     if (values.empty()) throw UsageError("--vary '" + vary + "' lists no values");
     std::vector<Variant> variants;
     for (const std::string& v : values) {
-        Variant variant{key + "=" + v, base};
+        Variant variant{key, base};
+        variant.label.append("=").append(v);
         variant.sceneOptions.set[key] = v;
         variants.push_back(variant);
     }
@@ -190,7 +192,7 @@ void printTable(const std::string& scene, const std::vector<Result>& results,
 } // namespace
 
 nlohmann::json loadBenchPresets(const std::string& file) {
-    std::string text = BENCH_PRESETS_JSON;
+    std::string text = benchPresetsJson;
     std::string source = "bench/presets.json (built in)";
     if (!file.empty()) {
         std::ifstream in(file);
@@ -250,7 +252,8 @@ void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std:
             else if (key == "set")
                 args.sets = value.get<std::vector<std::string>>();
             else
-                throw UsageError("preset '" + name + "': unknown key '" + key + "'");
+                throw UsageError(
+                    std::string("preset '").append(name).append("': unknown key '").append(key).append("'"));
         }
     } catch (const nlohmann::json::exception& e) {
         throw UsageError("preset '" + name + "': a value has the wrong type (" + e.what() + ")");

@@ -33,7 +33,8 @@ std::vector<int> parseIntList(const std::string& text, const std::string& option
                                 return std::isdigit(c) != 0;
                             });
         if (!digits || std::stoi(item) <= 0)
-            throw UsageError(option + " '" + text + "': '" + item + "' is not a positive integer");
+            throw UsageError(std::string(option).append(" '").append(text).append("': '").append(item).append(
+                "' is not a positive integer"));
         values.push_back(std::stoi(item));
     }
     if (values.empty()) throw UsageError(option + " is empty");
