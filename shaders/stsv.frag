@@ -20,6 +20,8 @@
 #ifndef STSV_COUNTERS
 #define STSV_COUNTERS 0
 #endif
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "frame_bindings.glsl"
 #include "stsv_volume.glsl"
 #include "sampling/light_sampling_dh.h"
@@ -59,22 +61,24 @@ layout(location = 3) out uvec2 outMask3;
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-    atomicAdd(stats[pc.light].fragments, 1u);
     uint side = inIds.w & 255u;
+    bool inside = false;
+    // Cheapest rejection first: most fragments lie in front of the volume (the depth test only
+    // rejects volumes wholly in front of p), and the plane test needs p alone.
+    vec3 p = vec3(imageLoad(gPosition, pixel));
+    StsvVolume vol;
+    vol.planeCount = inIds.w >> 8u;
+    for (int i = 0; i < 5; ++i) vol.planes[i] = inPlanes[i];
     // Self-shadowing rule: the visible triangle never shadows its own point.
-    if (imageLoad(gTriangle, pixel).x != inIds.z) {
-        vec3 p = vec3(imageLoad(gPosition, pixel));
-        StsvVolume vol;
-        vol.planeCount = inIds.w >> 8u;
-        for (int i = 0; i < 5; ++i) vol.planes[i] = inPlanes[i];
-        if (stsvPointInVolume(vol, p)) {
+    if (stsvPointInVolume(vol, p) && imageLoad(gTriangle, pixel).x != inIds.z) {
+        {
             StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
             Light light = lights[pc.light].light;
             LightFrame lf = lightFrame(light, p, frame.boxLo.w);
             StsvPixel px = stsvSetupPixel(t, p, lf.center, lf.T, lf.B);
             // Side ownership: side 0 owns crossings with e > 0, side 1 those with e < 0.
             if (side == 0u ? px.e > 0.0 : px.e < 0.0) {
-                atomicAdd(stats[pc.light].inside, 1u);
+                inside = true;
                 bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
                 ivec2 size = opaque ? ivec2(1) : textureSizeOf(t.texture);
                 uint set = interleaveSet(uvec2(pixel), frame.interleave);
@@ -106,6 +110,13 @@ void main() {
                 }
             }
         }
+    }
+    // Fragment statistics, one atomic per subgroup (per-fragment atomics on one address serialise).
+    uint fragments = subgroupAdd(1u);
+    uint insideCount = subgroupAdd(inside ? 1u : 0u);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].fragments, fragments);
+        atomicAdd(stats[pc.light].inside, insideCount);
     }
 #if !STSV_COUNTERS
     outMask0 = uvec2(words[0], words[1]);
