@@ -408,7 +408,10 @@ int runBench(BenchArgs& args) {
                 device = r.lastStats["gpu"].value("device", std::string());
         const bool vulkanAsked = std::any_of(pairs.begin(), pairs.end(),
                                              [](const auto& p) { return p.second == Backend::Vulkan; });
-        if (device.empty() && vulkanAsked) device = vulkanDeviceName(base.device, deviceNames);
+        if (vulkanAsked) {
+            const std::string listed = vulkanDeviceName(base.device, deviceNames);
+            if (device.empty()) device = listed;
+        }
         nlohmann::json configurations = nlohmann::json::array();
         for (const Result& r : results) {
             const Config& c = r.config;
