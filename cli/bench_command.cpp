@@ -297,29 +297,30 @@ int runBench(BenchArgs& args) {
     const std::vector<Variant> variants = makeVariants(args, args.vary);
     if (!args.json.empty()) checkWritableFile(args.json, "--json");
 
-    // Method × backend pairs; the reference runs on the CPU only (once, whatever --backends says).
+    // Method × backend pairs. A pair the backend does not implement (the reference, or a wedge
+    // method, on vulkan) is skipped with a note; a method left without any backend runs on the cpu.
     std::vector<std::pair<Method, Backend>> pairs;
     nlohmann::json skipped = nlohmann::json::array();
-    bool referenceWanted = false;
-    for (Method m : methods)
+    for (Method m : methods) {
+        bool ran = false;
         for (Backend b : backends) {
             const auto pair = std::make_pair(m, b);
             if (std::find(pairs.begin(), pairs.end(), pair) != pairs.end()) continue;
-            if (m == Method::Reference && b != Backend::Cpu) {
-                referenceWanted = true;
-                skipped.push_back({{"method", toString(m)},
-                                   {"backend", toString(b)},
-                                   {"reason", "the reference (Embree) runs on the CPU only"}});
-                std::fprintf(stderr, "note: skipping reference/%s: the reference runs on the CPU only\n",
-                             toString(b).c_str());
+            if (!backendImplements(m, b)) {
+                const std::string reason = unsupportedReason(m, b);
+                skipped.push_back({{"method", toString(m)}, {"backend", toString(b)}, {"reason", reason}});
+                std::fprintf(stderr, "note: skipping %s/%s: %s\n", toString(m).c_str(), toString(b).c_str(),
+                             reason.c_str());
                 continue;
             }
             pairs.push_back(pair);
+            ran = true;
         }
-    const auto referenceCpu = std::make_pair(Method::Reference, Backend::Cpu);
-    if (referenceWanted && std::find(pairs.begin(), pairs.end(), referenceCpu) == pairs.end()) {
-        std::fprintf(stderr, "note: the reference runs on the cpu backend\n");
-        pairs.push_back(referenceCpu);
+        const auto cpu = std::make_pair(m, Backend::Cpu);
+        if (!ran && std::find(pairs.begin(), pairs.end(), cpu) == pairs.end()) {
+            std::fprintf(stderr, "note: %s runs on the cpu backend\n", toString(m).c_str());
+            pairs.push_back(cpu);
+        }
     }
     // The reference first, so --check and the speed-ups have it when the others run.
     std::stable_partition(pairs.begin(), pairs.end(),

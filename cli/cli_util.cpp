@@ -57,9 +57,26 @@ Backend defaultBackend() {
     return Backend::Vulkan;
 }
 
+bool backendImplements(Method method, Backend backend) {
+    // Mirrors render/'s makeRenderer: Vulkan renders the STSV method, the CPU every method.
+    return backend == Backend::Cpu || method == Method::Stsv;
+}
+
+std::string unsupportedReason(Method method, Backend backend) {
+    if (method == Method::Reference) return "the reference (Embree) runs on the CPU only";
+    return "method " + toString(method) + " is not implemented on " + toString(backend) + " (use cpu)";
+}
+
 void checkBackendSupports(Method method, Backend backend) {
-    if (method == Method::Reference && backend != Backend::Cpu)
-        throw UsageError("the reference (Embree ray tracing) runs on the CPU only: use --backend cpu");
+    if (!backendImplements(method, backend)) {
+        if (method == Method::Reference)
+            throw UsageError("the reference (Embree ray tracing) runs on the CPU only: use --backend cpu");
+        throw UsageError(unsupportedReason(method, backend));
+    }
+}
+
+Backend defaultBackendFor(Method method, Backend preferred) {
+    return backendImplements(method, preferred) ? preferred : Backend::Cpu;
 }
 
 MethodBackend parseMethodBackend(const std::string& text, Backend fallback) {
@@ -67,7 +84,7 @@ MethodBackend parseMethodBackend(const std::string& text, Backend fallback) {
     MethodBackend mb;
     mb.method = parseMethod(text.substr(0, slash));
     if (slash == std::string::npos) {
-        mb.backend = mb.method == Method::Reference ? Backend::Cpu : fallback;
+        mb.backend = defaultBackendFor(mb.method, fallback);
     } else {
         mb.backend = parseBackend(text.substr(slash + 1));
         checkBackendSupports(mb.method, mb.backend);

@@ -32,13 +32,20 @@ struct MethodBackend {
     Method method = Method::Stsv;
     Backend backend = Backend::Cpu;
 };
-/// Parses "method[/backend]"; without a backend, `fallback` — or cpu for the reference, which
-/// is CPU-only. UsageError for an unknown name or for the reference on another backend.
+/// Parses "method[/backend]"; without a backend, defaultBackendFor(method, fallback). UsageError
+/// for an unknown name or a backend that does not implement the method.
 MethodBackend parseMethodBackend(const std::string& text, Backend fallback);
 std::string toString(const MethodBackend& mb);
 
-/// UsageError when the reference (Embree, CPU-only) is asked for another backend.
+/// Whether render/'s makeRenderer runs `method` on `backend` (the CPU runs every method; Vulkan
+/// runs STSV). Other pairs would silently fall back to the CPU there, so the CLI refuses them.
+bool backendImplements(Method method, Backend backend);
+/// One phrase saying why `method` does not run on `backend`.
+std::string unsupportedReason(Method method, Backend backend);
+/// UsageError when backendImplements(method, backend) is false.
 void checkBackendSupports(Method method, Backend backend);
+/// `preferred` when it implements `method`, else cpu.
+Backend defaultBackendFor(Method method, Backend preferred);
 
 /// Throws UsageError before any work when `path` cannot be written: its directory is
 /// missing, not a directory or not writable, or the path names a directory. `what` names

@@ -82,7 +82,8 @@ int runCli(int argc, char** argv) {
         ->add_option("scene", r.scene,
                      "a .json scene, an .obj/.off mesh, or a built-in name (fence, foliage)")
         ->required();
-    render->add_option("--method", r.method, "reference | stsv")->capture_default_str();
+    render->add_option("--method", r.method, "reference | stsv | pw | dcs | pw+stsv | dcs+stsv")
+        ->capture_default_str();
     render->add_option("--backend", r.backend,
                        "vulkan | cpu (default " + toString(defaultBackend()) +
                            "; the reference is cpu only)");
@@ -101,11 +102,12 @@ int runCli(int argc, char** argv) {
     BenchArgs b;
     CLI::App* bench = app.add_subcommand("bench", "time frames per method, backend and sample count");
     bench->add_option("scene", b.scene, "a .json scene, an .obj/.off mesh, or a built-in name");
-    bench->add_option("--methods", b.methods, "comma-separated: stsv,reference")->capture_default_str();
+    bench->add_option("--methods", b.methods, "comma-separated: reference,stsv,pw,dcs,pw+stsv,dcs+stsv")
+        ->capture_default_str();
     bench->add_option("--backends", b.backends,
                       "comma-separated: vulkan,cpu (default: " +
                           std::string(defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") +
-                          "; the reference runs on cpu only)");
+                          "; methods vulkan lacks run on cpu)");
     bench->add_option("--samples", b.samples, "comma-separated sample counts, e.g. 16,64,256")
         ->capture_default_str();
     bench->add_option("--vary", b.vary, "one scene per value of a knob, e.g. count=250,1000,4000");

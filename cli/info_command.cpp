@@ -17,7 +17,15 @@ namespace stsv {
 int runInfo() {
     std::ostream& out = std::cout;
     out << "stsv " << STSV_VERSION << ": soft shadows from area lights with soft textured shadow volumes\n\n";
-    out << "methods:   reference (Embree ray tracing, cpu only), stsv (soft textured shadow volumes)\n";
+    out << "methods:   reference (Embree ray tracing), stsv (soft textured shadow volumes), pw (penumbra "
+           "wedges),\n"
+           "           dcs (depth complexity sampling), pw+stsv, dcs+stsv (wedges for opaque, STSV for "
+           "perforated)\n";
+    out << "on vulkan:";
+    for (Method m :
+         {Method::Reference, Method::Stsv, Method::Pw, Method::Dcs, Method::PwStsv, Method::DcsStsv})
+        if (backendImplements(m, Backend::Vulkan)) out << ' ' << toString(m);
+    out << " (every method runs on cpu)\n";
     out << "backends:  vulkan, cpu (default: " << toString(defaultBackend()) << ")\n";
     out << "patterns:  uniform, stratified, poisson, lowdisc; samples 16, 32, 64, 128, 256\n";
     out << "buffers:   bitmask, counters\n";

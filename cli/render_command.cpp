@@ -39,7 +39,7 @@ int runRender(RenderArgs& args) {
     RenderOptions o = resolveFrameOptions(args);
     o.method = parseMethod(args.method);
     if (args.backend.empty())
-        o.backend = o.method == Method::Reference ? Backend::Cpu : defaultBackend();
+        o.backend = defaultBackendFor(o.method, defaultBackend());
     else
         o.backend = parseBackend(args.backend);
     checkBackendSupports(o.method, o.backend);
