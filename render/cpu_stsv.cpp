@@ -25,14 +25,16 @@ struct VolumeRecord {
     std::uint32_t side;     ///< 0: shadows cast towards the far side of the light centre; 1: flipped
 };
 
-/// Screen-space pixel rectangle that may be covered by the convex volume: the projection of its
-/// vertices and of its edges' crossings with the near plane (so volumes reaching behind the eye
-/// are bounded correctly). Returns false when nothing of it lies in front of the camera.
-bool screenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect) {
+} // namespace
+
+/// Pixel rectangle that may hold points of the convex volume (its strip vertices projected, edges
+/// crossing the near plane clipped there). False when nothing lies in front of the camera.
+bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect) {
     constexpr float NEAR_W = 1e-4f;
-    vec4 clip[10];
-    for (int i = 0; i < 10; ++i) clip[i] = clipFromWorld * vec4(vec3(v.vertices[i]), 1.0f);
-    vec2 lo(1e30f), hi(-1e30f);
+    vec4 clip[STSV_STRIP_VERTEX_COUNT];
+    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i)
+        clip[i] = clipFromWorld * vec4(vec3(v.vertices[i]), 1.0f);
+    vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
     bool any = false;
     auto add = [&](vec4 c) {
         const vec2 ndc = vec2(c) / c.w;
@@ -40,14 +42,12 @@ bool screenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int h
         hi = max(hi, ndc);
         any = true;
     };
-    for (int i = 0; i < 10; ++i) {
+    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i) {
         if (clip[i].w > NEAR_W) add(clip[i]);
-        // Strip edges (i, i+1) and (i, i+2) cover every edge of the closed surface.
-        for (int j = i + 1; j <= std::min(i + 2, 9); ++j) {
+        for (uint j = i + 1; j < std::min(i + 3, STSV_STRIP_VERTEX_COUNT); ++j) {
             const float wa = clip[i].w - NEAR_W, wb = clip[j].w - NEAR_W;
             if ((wa > 0.0f) != (wb > 0.0f)) {
-                const float t = wa / (wa - wb);
-                vec4 c = clip[i] + t * (clip[j] - clip[i]);
+                vec4 c = clip[i] + (wa / (wa - wb)) * (clip[j] - clip[i]);
                 c.w = NEAR_W;
                 add(c);
             }
@@ -64,15 +64,14 @@ bool screenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int h
     return true;
 }
 
-} // namespace
+mat4 binningClipFromView(const Camera& camera, int width, int height) {
+    return clipFromView(camera, float(width) / float(height), 0.01f, 1e4f);
+}
 
 nlohmann::json toJson(const StsvCpuStats& s) {
-    return {{"volumes", s.volumes},
-            {"degenerate_skipped", s.degenerateSkipped},
-            {"tile_entries", s.tileEntries},
-            {"point_in_volume_tests", s.pixelVolumeTests},
-            {"fragments", s.pixelVolumeHits},
-            {"bin_ms", s.bin_ms},
+    return {{"volumes", s.volumes},           {"degenerate_skipped", s.degenerateSkipped},
+            {"tile_entries", s.tileEntries},  {"point_in_volume_tests", s.pixelVolumeTests},
+            {"fragments", s.pixelVolumeHits}, {"bin_ms", s.bin_ms},
             {"shade_ms", s.shade_ms}};
 }
 
@@ -107,13 +106,13 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
 
     // Bin volumes to screen tiles (the rasteriser's coverage, conservatively).
     const mat4 clipFromWorld =
-        clipFromView(scene.camera, float(gbuffer.width) / float(gbuffer.height), 0.01f, 1e4f) *
-        viewFromWorld(scene.camera);
+        binningClipFromView(scene.camera, gbuffer.width, gbuffer.height) * viewFromWorld(scene.camera);
     const int tilesX = (gbuffer.width + TILE - 1) / TILE, tilesY = (gbuffer.height + TILE - 1) / TILE;
     std::vector<std::vector<std::uint32_t>> tiles(std::size_t(tilesX) * tilesY);
     for (std::size_t v = 0; v < volumes.size(); ++v) {
         ivec4 rect;
-        if (!screenRect(volumes[v].volume, clipFromWorld, gbuffer.width, gbuffer.height, rect)) continue;
+        if (!volumeScreenRect(volumes[v].volume, clipFromWorld, gbuffer.width, gbuffer.height, rect))
+            continue;
         for (int ty = rect.y / TILE; ty <= rect.w / TILE; ++ty)
             for (int tx = rect.x / TILE; tx <= rect.z / TILE; ++tx) {
                 tiles[std::size_t(ty) * tilesX + tx].push_back(static_cast<std::uint32_t>(v));

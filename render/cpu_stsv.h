@@ -7,6 +7,7 @@
 #include "sampling/ls_buffer.h"
 #include "sampling/pattern.h"
 #include "scene/scene.h"
+#include "volumes/extrusion_dh.h"
 
 #include <nlohmann/json.hpp>
 
@@ -26,6 +27,15 @@ struct StsvCpuStats {
 };
 
 nlohmann::json toJson(const StsvCpuStats& stats);
+
+/// Pixel rectangle that may hold points of the convex volume `v`: its strip vertices projected,
+/// and its edges crossing the near plane clipped there (so volumes reaching behind the eye are
+/// bounded correctly). False when nothing of it lies in front of the camera. The CPU passes bin
+/// volumes to screen tiles with it, the way the rasteriser would cover them.
+bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect);
+
+/// The projection the CPU passes bin with (any near/far: only x, y and w are used).
+mat4 binningClipFromView(const Camera& camera, int width, int height);
 
 /// Which scene triangles a pass treats (all when empty).
 using TriangleFilter = std::function<bool(std::size_t triangle)>;

@@ -3,13 +3,12 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "reference/embree_scene.h"
-#include "sampling/light_sampling.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_stsv.h"
 #include "render/cpu_wedges.h"
 #include "render/gpu_renderer.h"
 #include "sampling/light_bounds.h"
-
+#include "sampling/light_sampling.h"
 
 namespace stsv {
 
@@ -30,8 +29,8 @@ void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light
                 return;
             }
             const vec3 albedo = scene.materialOf(gbuffer.triangle[i]).albedo;
-            vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i], albedo,
-                                        farDistance);
+            vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i],
+                                        albedo, farDistance);
             const float v = coverage ? coverage->at(x, y, 0) : samples.visibleFraction(x, y);
             if (coverage) direct *= v; // PW: v_coef modulates the unshadowed direct lighting
             for (int c = 0; c < 3; ++c) color.at(x, y, c) += direct[c];
@@ -44,8 +43,10 @@ void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, 
     frame.color = ImageF(gbuffer.width, gbuffer.height, 3);
     frame.visibility = ImageF(gbuffer.width, gbuffer.height, 1);
     for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) {
-        const int x = static_cast<int>(i % std::size_t(gbuffer.width)), y = static_cast<int>(i / std::size_t(gbuffer.width));
-        const vec3 c = gbuffer.covered(i) ? ambient * scene.materialOf(gbuffer.triangle[i]).albedo : BACKGROUND;
+        const int x = static_cast<int>(i % std::size_t(gbuffer.width)),
+                  y = static_cast<int>(i / std::size_t(gbuffer.width));
+        const vec3 c =
+            gbuffer.covered(i) ? ambient * scene.materialOf(gbuffer.triangle[i]).albedo : BACKGROUND;
         for (int k = 0; k < 3; ++k) frame.color.at(x, y, k) = c[k];
     }
 }
@@ -103,7 +104,8 @@ class CpuRenderer final : public FrameRenderer {
                 passes[prefix + "reference"] = timer.milliseconds();
                 break;
             case Method::Stsv: {
-                const StsvCpuStats s = stsvCpuSamples(m_scene, frame.gbuffer, light, m_plan, m_farDistance, buffer);
+                const StsvCpuStats s =
+                    stsvCpuSamples(m_scene, frame.gbuffer, light, m_plan, m_farDistance, buffer);
                 passes[prefix + "stsv_bin"] = s.bin_ms;
                 passes[prefix + "stsv_shade"] = s.shade_ms;
                 methodStats.push_back(toJson(s));
@@ -115,7 +117,8 @@ class CpuRenderer final : public FrameRenderer {
                 const WedgeCpuStats w =
                     m_options.method == Method::Dcs
                         ? dcsCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer)
-                        : dcsStsvCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer, &stsv);
+                        : dcsStsvCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer,
+                                            &stsv);
                 passes[prefix + toString(m_options.method)] = timer.milliseconds();
                 methodStats.push_back({{"wedges", toJson(w)}, {"stsv", toJson(stsv)}});
                 break;
@@ -128,8 +131,8 @@ class CpuRenderer final : public FrameRenderer {
                 const WedgeCpuStats w =
                     m_options.method == Method::Pw
                         ? pwCpuVisibility(occluders(), frame.gbuffer, light, m_farDistance, coverage)
-                        : pwStsvCpuVisibility(occluders(), frame.gbuffer, light, m_plan, m_farDistance, coverage,
-                                              buffer, &stsv);
+                        : pwStsvCpuVisibility(occluders(), frame.gbuffer, light, m_plan, m_farDistance,
+                                              coverage, buffer, &stsv);
                 passes[prefix + toString(m_options.method)] = timer.milliseconds();
                 methodStats.push_back({{"wedges", toJson(w)}, {"stsv", toJson(stsv)}});
                 break;
@@ -151,13 +154,11 @@ class CpuRenderer final : public FrameRenderer {
         }
         nlohmann::json options = toJson(m_options);
         options["backend"] = "cpu"; // what actually ran (the reference and the wedge methods are CPU-only)
-        frame.stats = {{"options", options},
-                       {"scene", sceneStats(m_scene)},
-                       {"startup_ms", m_startupMs},
-                       {"frame_ms", total.milliseconds()},
-                       {"passes", passes},
-                       {"light_sample_buffer_bytes", bufferBytes}};
-        if (!methodStats.empty()) frame.stats[m_options.method == Method::Stsv ? "stsv" : "wedges"] = methodStats;
+        frame.stats = {{"options", options},        {"scene", sceneStats(m_scene)},
+                       {"startup_ms", m_startupMs}, {"frame_ms", total.milliseconds()},
+                       {"passes", passes},          {"light_sample_buffer_bytes", bufferBytes}};
+        if (!methodStats.empty())
+            frame.stats[m_options.method == Method::Stsv ? "stsv" : "wedges"] = methodStats;
         return frame;
     }
 
@@ -188,6 +189,8 @@ std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOpti
     return std::make_unique<CpuRenderer>(scene, options);
 }
 
-Frame renderFrame(const Scene& scene, const RenderOptions& options) { return makeRenderer(scene, options)->render(); }
+Frame renderFrame(const Scene& scene, const RenderOptions& options) {
+    return makeRenderer(scene, options)->render();
+}
 
 } // namespace stsv

@@ -18,7 +18,7 @@ namespace stsv {
 struct Frame {
     GBuffer gbuffer;
     std::vector<LightSampleBuffer> lightSamples; ///< one per scene light
-    ImageF color;      ///< linear RGB: ambient + Σ lights direct lighting
+    ImageF color;                                ///< linear RGB: ambient + Σ lights direct lighting
     ImageF visibility; ///< one channel: v_coef averaged over the lights (1 on background)
     /// options, scene counts, "startup_ms" (acceleration structures, devices, shader
     /// compilation), "frame_ms" (one frame without start-up) and "passes" (name → ms).

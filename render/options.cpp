@@ -11,7 +11,8 @@ Method parseMethod(const std::string& name) {
     if (name == "dcs") return Method::Dcs;
     if (name == "pw+stsv") return Method::PwStsv;
     if (name == "dcs+stsv") return Method::DcsStsv;
-    throw UsageError("unknown method '" + name + "' (expected reference, stsv, pw, dcs, pw+stsv or dcs+stsv)");
+    throw UsageError("unknown method '" + name +
+                     "' (expected reference, stsv, pw, dcs, pw+stsv or dcs+stsv)");
 }
 
 Backend parseBackend(const std::string& name) {
@@ -28,12 +29,18 @@ BufferKind parseBufferKind(const std::string& name) {
 
 std::string toString(Method method) {
     switch (method) {
-    case Method::Reference: return "reference";
-    case Method::Stsv: return "stsv";
-    case Method::Pw: return "pw";
-    case Method::Dcs: return "dcs";
-    case Method::PwStsv: return "pw+stsv";
-    case Method::DcsStsv: return "dcs+stsv";
+    case Method::Reference:
+        return "reference";
+    case Method::Stsv:
+        return "stsv";
+    case Method::Pw:
+        return "pw";
+    case Method::Dcs:
+        return "dcs";
+    case Method::PwStsv:
+        return "pw+stsv";
+    case Method::DcsStsv:
+        return "dcs+stsv";
     }
     return "?";
 }

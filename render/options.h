@@ -21,18 +21,22 @@ enum class Method {
 };
 
 /// True for the methods that produce per-sample depth-complexity counters.
-inline bool countsLayers(Method m) { return m == Method::Dcs || m == Method::DcsStsv; }
+inline bool countsLayers(Method m) {
+    return m == Method::Dcs || m == Method::DcsStsv;
+}
 /// True for the penumbra-wedge methods, whose visibility is a per-pixel coefficient.
-inline bool wedgeCoverage(Method m) { return m == Method::Pw || m == Method::PwStsv; }
+inline bool wedgeCoverage(Method m) {
+    return m == Method::Pw || m == Method::PwStsv;
+}
 enum class Backend { Cpu, Vulkan };
 enum class BufferKind { Bitmask, Counters };
 
 struct RenderOptions {
     Method method = Method::Stsv;
-    Backend backend = Backend::Vulkan;       ///< Vulkan renders STSV; the Embree reference always runs on the CPU
-    int width = 512;  ///< pixels, 1 … 16384
-    int height = 512; ///< pixels, 1 … 16384
-    int samples = 64; ///< light samples per pixel: 16, 32, 64, 128 or 256
+    Backend backend = Backend::Vulkan; ///< Vulkan renders STSV; the Embree reference always runs on the CPU
+    int width = 512;                   ///< pixels, 1 … 16384
+    int height = 512;                  ///< pixels, 1 … 16384
+    int samples = 64;                  ///< light samples per pixel: 16, 32, 64, 128 or 256
     PatternKind pattern = PatternKind::Poisson;
     std::uint32_t seed = 1;  ///< sample patterns and per-pixel decorrelation
     int interleave = 1;      ///< K of K×K interleaved sampling (1 = off), 1 … 8

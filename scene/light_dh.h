@@ -21,7 +21,7 @@ struct Light {
     float angularRadius; ///< radians; directional lights only
     vec3 axisV;          ///< world units; rectangle half-extent along its second edge
     float pad0;
-    vec3 radiance;       ///< linear RGB; W·sr⁻¹·m⁻² for area lights, W·m⁻² (irradiance) for directional
+    vec3 radiance; ///< linear RGB; W·sr⁻¹·m⁻² for area lights, W·m⁻² (irradiance) for directional
     float pad1;
 };
 

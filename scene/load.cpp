@@ -38,7 +38,8 @@ const std::vector<Builtin>& builtins() {
           {"light_size", "0", "edge of the square light, metres; 0 = a quarter of the patch edge, [0, 1000]"},
           {"texture_size", "128", "texels per edge of the leaf texture, [8, 8192]"}}},
         {"fence-mesh",
-         "the fence scene with its chain-link quad turned into a closed opaque mesh (one box per run of opaque texels)",
+         "the fence scene with its chain-link quad turned into a closed opaque mesh (one box per run of "
+         "opaque texels)",
          {{"light_size", "1", "edge of the square light, metres, (0, 100]"},
           {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
           {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"},

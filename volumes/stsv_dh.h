@@ -36,14 +36,14 @@ DH_CONST uint STSV_FLAG_DEGENERATE = 4u; ///< zero-area triangle: blocks nothing
 
 /// Per-triangle constants (computed once per triangle and light). std430: 7 × 16 bytes.
 struct StsvTriangle {
-    vec4 m0;      ///< row 0 of M (xyz) and −row0·v0 (w): M(p − v0).x = dot(m0.xyz, p) + m0.w
-    vec4 m1;      ///< row 1 of M, same convention
-    vec4 m2;      ///< row 2 of M = unit normal towards the light centre; w = −n·v0
-    vec2 uv0;     ///< texture coordinates of v0 (S, Eq. 4)
-    vec2 uvE1;    ///< t1 − t0
-    vec2 uvE2;    ///< t2 − t0
-    uint texture; ///< texture index (meaningless with STSV_FLAG_OPAQUE)
-    uint flags;   ///< STSV_FLAG_*
+    vec4 m0;       ///< row 0 of M (xyz) and −row0·v0 (w): M(p − v0).x = dot(m0.xyz, p) + m0.w
+    vec4 m1;       ///< row 1 of M, same convention
+    vec4 m2;       ///< row 2 of M = unit normal towards the light centre; w = −n·v0
+    vec2 uv0;      ///< texture coordinates of v0 (S, Eq. 4)
+    vec2 uvE1;     ///< t1 − t0
+    vec2 uvE2;     ///< t2 − t0
+    uint texture;  ///< texture index (meaningless with STSV_FLAG_OPAQUE)
+    uint flags;    ///< STSV_FLAG_*
     uint triangle; ///< index of the triangle in the scene (self-shadowing rule)
     uint pad0;
     uint pad1;
@@ -127,7 +127,9 @@ DH_FUNC StsvPixel stsvSetupPixel(StsvTriangle t, vec3 p, vec3 c, vec3 T, vec3 B)
 }
 
 /// Homogeneous barycentrics of light sample (a, b) of the frame: h = J·(s − p).
-DH_FUNC vec3 stsvSampleH(StsvPixel px, vec2 ab) { return px.h0 + ab.x * px.hT + ab.y * px.hB; }
+DH_FUNC vec3 stsvSampleH(StsvPixel px, vec2 ab) {
+    return px.h0 + ab.x * px.hT + ab.y * px.hB;
+}
 
 /// True iff the segment p→s (from t = SHADOW_T_MIN to 1) crosses the triangle's extent;
 /// `bary` gets (b1, b2) of the crossing. Texture not consulted.
@@ -145,7 +147,9 @@ DH_FUNC bool stsvSegmentHitsTriangle(vec3 h, float e, DH_OUT(vec2) bary) {
 }
 
 /// Texture coordinates of the crossing (Eq. 4–5: S applied, then the projection).
-DH_FUNC vec2 stsvTexcoord(StsvTriangle t, vec2 bary) { return t.uv0 + bary.x * t.uvE1 + bary.y * t.uvE2; }
+DH_FUNC vec2 stsvTexcoord(StsvTriangle t, vec2 bary) {
+    return t.uv0 + bary.x * t.uvE1 + bary.y * t.uvE2;
+}
 
 /// The texel rule shared by GPU, CPU mirror and Embree: nearest texel of mip 0 at uv, with
 /// the material's wrap mode. Row 0 of the texture is v = 0.
@@ -161,17 +165,21 @@ DH_FUNC ivec2 texelAt(vec2 uv, ivec2 size, uint wrap) {
 }
 
 /// Binary transmittance: alpha below one half (alpha8 < 128) is a hole.
-DH_FUNC bool alphaBlocks(uint alpha8) { return alpha8 >= 128u; }
+DH_FUNC bool alphaBlocks(uint alpha8) {
+    return alpha8 >= 128u;
+}
 
 /// One light sample against one S-triangle, as the fragment shader and the CPU mirror run it:
 /// true iff the segment p→s crosses the triangle's extent. `texel` gets the texel to test with
 /// alphaBlocks (only meaningful for textured triangles, i.e. without STSV_FLAG_OPAQUE).
-DH_FUNC bool stsvSampleCrosses(StsvTriangle t, StsvPixel px, vec2 ab, ivec2 textureSize, DH_OUT(ivec2) texel) {
+DH_FUNC bool stsvSampleCrosses(StsvTriangle t, StsvPixel px, vec2 ab, ivec2 textureSize,
+                               DH_OUT(ivec2) texel) {
     vec2 bary;
     texel = ivec2(0);
     if (!stsvSegmentHitsTriangle(stsvSampleH(px, ab), px.e, bary)) return false;
     if ((t.flags & STSV_FLAG_OPAQUE) == 0u)
-        texel = texelAt(stsvTexcoord(t, bary), textureSize, (t.flags & STSV_FLAG_CLAMP) != 0u ? WRAP_CLAMP : WRAP_REPEAT);
+        texel = texelAt(stsvTexcoord(t, bary), textureSize,
+                        (t.flags & STSV_FLAG_CLAMP) != 0u ? WRAP_CLAMP : WRAP_REPEAT);
     return true;
 }
 
