@@ -19,6 +19,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
+std::string formatFixed(double value, int decimals) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*f", decimals, value);
+    return text;
+}
+
 bool isNpy(const std::string& path) {
     return fs::path(path).extension() == ".npy";
 }
@@ -31,6 +37,7 @@ struct Row {
     ImageError visibility;
     ImageError lit;
     double frameMs = 0.0;
+    bool perSample = true; ///< false for penumbra wedges: a v_coef per pixel, no per-sample result
     double identicalPercent() const {
         return comparedSamples ? 100.0 * double(comparedSamples - differingSamples) / double(comparedSamples)
                                : 100.0;
@@ -53,7 +60,8 @@ Row compareFrames(const MethodBackend& mb, const Frame& frame, const Frame& agai
     if (frame.lightSamples.size() != against.lightSamples.size())
         throw Error(toString(mb) + " returned " + std::to_string(frame.lightSamples.size()) +
                     " light-sample buffers, the reference " + std::to_string(against.lightSamples.size()));
-    for (std::size_t l = 0; l < frame.lightSamples.size(); ++l) {
+    row.perSample = !wedgeCoverage(mb.method);
+    for (std::size_t l = 0; row.perSample && l < frame.lightSamples.size(); ++l) {
         const LightSampleDiff d = compareLightSamples(frame.lightSamples[l], against.lightSamples[l], 0);
         row.differingSamples += d.differingSamples;
         row.comparedSamples += d.comparedSamples;
@@ -162,33 +170,38 @@ int runCompare(CompareArgs& args) {
                 toString(against).c_str());
     std::printf("%-16s %12s %12s %10s %10s %10s %10s %10s %11s\n", "method", "identical %", "diff. bits",
                 "vis RMSE", "vis max", "lit RMSE", "lit max", ">1/255 px", "frame ms");
-    for (const Row& r : rows)
-        std::printf("%-16s %12.4f %12zu %10.5f %10.5f %10.5f %10.5f %9.4f%% %11.1f\n", toString(r.mb).c_str(),
-                    r.identicalPercent(), r.differingSamples, r.visibility.rmse, r.visibility.maxAbs,
-                    r.lit.rmse, r.lit.maxAbs, 100.0 * r.lit.fractionAbove, r.frameMs);
+    for (const Row& r : rows) {
+        const std::string identical = r.perSample ? formatFixed(r.identicalPercent(), 4) : "n/a";
+        const std::string differing = r.perSample ? std::to_string(r.differingSamples) : "n/a";
+        std::printf("%-16s %12s %12s %10.5f %10.5f %10.5f %10.5f %9.4f%% %11.1f\n", toString(r.mb).c_str(),
+                    identical.c_str(), differing.c_str(), r.visibility.rmse, r.visibility.maxAbs, r.lit.rmse,
+                    r.lit.maxAbs, 100.0 * r.lit.fractionAbove, r.frameMs);
+    }
     std::printf(
         "(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; >1/255 px = pixels "
-        "of the lit image off by more than one 8-bit step)\n");
+        "of the lit image off by more than one 8-bit step; n/a: penumbra wedges give a v_coef per pixel, "
+        "not per-sample bits)\n");
     if (!args.out.empty()) std::printf("images in %s\n", args.out.c_str());
 
     if (!args.json.empty()) {
         nlohmann::json list = nlohmann::json::array();
         for (const Row& r : rows)
-            list.push_back({{"method", toString(r.mb.method)},
-                            {"backend", toString(r.mb.backend)},
-                            {"identical_percent", r.identicalPercent()},
-                            {"differing_samples", r.differingSamples},
-                            {"compared_samples", r.comparedSamples},
-                            {"differing_pixels", r.differingPixels},
-                            {"visibility",
-                             {{"rmse", r.visibility.rmse},
-                              {"max_abs", r.visibility.maxAbs},
-                              {"fraction_above_1_255", r.visibility.fractionAbove}}},
-                            {"lit",
-                             {{"rmse", r.lit.rmse},
-                              {"max_abs", r.lit.maxAbs},
-                              {"fraction_above_1_255", r.lit.fractionAbove}}},
-                            {"frame_ms", r.frameMs}});
+            list.push_back(
+                {{"method", toString(r.mb.method)},
+                 {"backend", toString(r.mb.backend)},
+                 {"identical_percent", r.perSample ? nlohmann::json(r.identicalPercent()) : nlohmann::json()},
+                 {"differing_samples", r.differingSamples},
+                 {"compared_samples", r.comparedSamples},
+                 {"differing_pixels", r.differingPixels},
+                 {"visibility",
+                  {{"rmse", r.visibility.rmse},
+                   {"max_abs", r.visibility.maxAbs},
+                   {"fraction_above_1_255", r.visibility.fractionAbove}}},
+                 {"lit",
+                  {{"rmse", r.lit.rmse},
+                   {"max_abs", r.lit.maxAbs},
+                   {"fraction_above_1_255", r.lit.fractionAbove}}},
+                 {"frame_ms", r.frameMs}});
         RenderOptions o = base;
         o.method = against.method;
         o.backend = against.backend;
