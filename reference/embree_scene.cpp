@@ -116,7 +116,7 @@ bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
     return true;
 }
 
-static RTCRay shadowRay(vec3 p, vec3 s) {
+static RTCRay shadowRay(vec3 p, vec3 s, float tMin) {
     const vec3 d = s - p;
     RTCRay ray{};
     ray.org_x = p.x;
@@ -125,23 +125,23 @@ static RTCRay shadowRay(vec3 p, vec3 s) {
     ray.dir_x = d.x;
     ray.dir_y = d.y;
     ray.dir_z = d.z;
-    ray.tnear = SHADOW_T_MIN;
+    ray.tnear = tMin;
     ray.tfar = 1.0f;
     ray.mask = 0xffffffffu;
     return ray;
 }
 
-bool EmbreeScene::occluded(vec3 p, vec3 s, std::uint32_t ignoreTriangle) const {
+bool EmbreeScene::occluded(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle) const {
     FilterContext ctx{};
     rtcInitIntersectContext(&ctx.rtc);
     ctx.scene = &m_scene;
     ctx.ignoreTriangle = ignoreTriangle;
-    RTCRay ray = shadowRay(p, s);
+    RTCRay ray = shadowRay(p, s, tMin);
     rtcOccluded1(m_rtcScene, &ctx.rtc, &ray);
     return ray.tfar < 0.0f; // Embree sets tfar to −inf on occlusion
 }
 
-std::uint32_t EmbreeScene::countLayers(vec3 p, vec3 s, std::uint32_t ignoreTriangle,
+std::uint32_t EmbreeScene::countLayers(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle,
                                        std::vector<std::uint32_t>& scratch) const {
     scratch.clear();
     FilterContext ctx{};
@@ -149,7 +149,7 @@ std::uint32_t EmbreeScene::countLayers(vec3 p, vec3 s, std::uint32_t ignoreTrian
     ctx.scene = &m_scene;
     ctx.ignoreTriangle = ignoreTriangle;
     ctx.collect = &scratch;
-    RTCRay ray = shadowRay(p, s);
+    RTCRay ray = shadowRay(p, s, tMin);
     rtcOccluded1(m_rtcScene, &ctx.rtc, &ray);
     // A primitive referenced by several BVH leaves (spatial splits) may be reported twice.
     std::sort(scratch.begin(), scratch.end());

@@ -28,13 +28,14 @@ class EmbreeScene {
     /// Closest non-transparent hit along the ray; false on a miss.
     bool intersect(const Ray& ray, Hit& hit) const;
 
-    /// True iff the segment p → s, from t = SHADOW_T_MIN to 1 of (s − p), meets a triangle
-    /// whose texel there is opaque. `ignoreTriangle` never blocks (self-shadowing rule).
-    bool occluded(vec3 p, vec3 s, std::uint32_t ignoreTriangle) const;
+    /// True iff the segment p → s, from t = tMin to 1 of (s − p), meets a triangle whose texel
+    /// there is opaque. tMin: shadowTMin (volumes/stsv_dh.h) of the pixel's light frame.
+    /// `ignoreTriangle` never blocks (self-shadowing rule).
+    bool occluded(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle) const;
 
     /// Number of distinct triangles blocking the segment p → s (its depth complexity), with
     /// the same rules as occluded(). `scratch` is reused storage.
-    std::uint32_t countLayers(vec3 p, vec3 s, std::uint32_t ignoreTriangle,
+    std::uint32_t countLayers(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle,
                               std::vector<std::uint32_t>& scratch) const;
 
     /// Visible point per pixel centre through the scene camera (row 0 at the top).

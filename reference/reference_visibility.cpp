@@ -3,12 +3,15 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "sampling/light_sampling.h"
+#include "volumes/stsv_dh.h"
 
 namespace stsv {
 
 void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, const Light& light,
                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
     const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
+    const Bounds bounds = scene.scene().bounds();
+    const float sceneDiameter = length(bounds.hi - bounds.lo);
     Progress progress("reference rays", std::size_t(gbuffer.height));
     parallelForChunks(std::size_t(gbuffer.height), 1, [&](std::size_t rowBegin, std::size_t rowEnd) {
         std::vector<std::uint32_t> scratch;
@@ -19,12 +22,14 @@ void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, con
                 if (!gbuffer.covered(i)) continue;
                 const vec3 p = gbuffer.position[i];
                 const LightFrame frame = lightFrame(light, p, farDistance);
+                const float tMin = shadowTMin(p, frame.center, sceneDiameter);
                 for (int k = 0; k < plan.count; ++k) {
                     const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
                     if (counting) {
-                        const std::uint32_t layers = scene.countLayers(p, s, gbuffer.triangle[i], scratch);
+                        const std::uint32_t layers =
+                            scene.countLayers(p, s, tMin, gbuffer.triangle[i], scratch);
                         if (layers) out.addCount(x, y, k, static_cast<int>(layers));
-                    } else if (scene.occluded(p, s, gbuffer.triangle[i])) {
+                    } else if (scene.occluded(p, s, tMin, gbuffer.triangle[i])) {
                         out.setOccluded(x, y, k);
                     }
                 }

@@ -81,6 +81,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     StsvCpuStats stats;
     Timer timer;
     const Bounds bounds = scene.bounds();
+    const float sceneDiameter = length(bounds.hi - bounds.lo);
     const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
     const vec3 lightCenter = vec3(sphere);
 
@@ -139,6 +140,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     if (!gbuffer.covered(i) || candidates.empty()) continue;
                     const vec3 p = gbuffer.position[i];
                     const LightFrame frame = lightFrame(light, p, farDistance);
+                    const float tMin = shadowTMin(p, frame.center, sceneDiameter);
                     for (std::uint32_t v : candidates) {
                         const VolumeRecord& record = volumes[v];
                         if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
@@ -146,7 +148,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                         if (!stsvPointInVolume(record.volume, p)) continue;
                         ++localHits;
                         const StsvTriangle& tri = triangles[record.triangle];
-                        const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B);
+                        const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B, tMin);
                         // Each side's volume owns the crossings whose receiver lies on its shadow side,
                         // so a triangle counts at most once per sample even when both volumes hold p.
                         if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;

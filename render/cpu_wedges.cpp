@@ -50,12 +50,12 @@ OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
     m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return !scene.perforated(t); });
 }
 
-std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, std::uint32_t ignore,
+std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
                                            std::vector<std::uint32_t>& scratch) const {
     if (!m_embree) return 0;
     const std::uint32_t ignoreOpaque =
         ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
-    return m_embree->countLayers(p, r, ignoreOpaque, scratch);
+    return m_embree->countLayers(p, r, tMin, ignoreOpaque, scratch);
 }
 
 namespace {
@@ -248,6 +248,8 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     WedgeCpuStats stats;
     Timer timer;
     const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
+    const Bounds sceneBounds = occ.scene().bounds();
+    const float sceneDiameter = length(sceneBounds.hi - sceneBounds.lo);
     stats.setup_ms = timer.milliseconds();
     timer.reset();
     std::atomic<std::size_t> tests{0}, visits{0}, negative{0};
@@ -258,9 +260,11 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
             thread_local std::vector<int> count;
             const vec3 p = gbuffer.position[i];
             const LightFrame frame = lightFrame(light, p, farDistance);
-            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
+            const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
             // D(r): the layer count at the light centre (DESIGN §4.5).
-            const int base = static_cast<int>(occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch));
+            const int base =
+                static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch));
             count.assign(std::size_t(plan.count), base);
             ab.resize(std::size_t(plan.count));
             for (int k = 0; k < plan.count; ++k)
@@ -307,31 +311,34 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     WedgeCpuStats stats;
     Timer timer;
     const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
+    const Bounds sceneBounds = occ.scene().bounds();
+    const float sceneDiameter = length(sceneBounds.hi - sceneBounds.lo);
     stats.setup_ms = timer.milliseconds();
     timer.reset();
     visibility = ImageF(gbuffer.width, gbuffer.height, 1);
     std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
     std::atomic<std::size_t> tests{0}, visits{0};
-    forEachPixel(gbuffer, bins, "pw (cpu)",
-                 [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
-                     thread_local std::vector<std::uint32_t> scratch;
-                     const vec3 p = gbuffer.position[i];
-                     const LightFrame frame = lightFrame(light, p, farDistance);
-                     const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, SHADOW_T_MIN);
-                     // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
-                     float occlusion =
-                         occ.centerCount(p, frame.center, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
-                     std::size_t localTests = 0, localVisits = 0;
-                     if (px.valid != 0.0f)
-                         forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
-                                           [&](vec3 l, vec3 a, vec3 b, int k) {
-                                               occlusion += float(k > 0 ? 1 : -1) *
-                                                            pwEdgeCoverage(l, a, b, frame.domain);
-                                           });
-                     visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
-                     tests += localTests;
-                     visits += localVisits;
-                 });
+    forEachPixel(
+        gbuffer, bins, "pw (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
+            thread_local std::vector<std::uint32_t> scratch;
+            const vec3 p = gbuffer.position[i];
+            const LightFrame frame = lightFrame(light, p, farDistance);
+            const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
+            // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
+            float occlusion =
+                occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
+            std::size_t localTests = 0, localVisits = 0;
+            if (px.valid != 0.0f)
+                forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
+                                  [&](vec3 l, vec3 a, vec3 b, int k) {
+                                      occlusion +=
+                                          float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, a, b, frame.domain);
+                                  });
+            visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
+            tests += localTests;
+            visits += localVisits;
+        });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.shade_ms = timer.milliseconds();

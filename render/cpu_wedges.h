@@ -47,8 +47,8 @@ class OpaqueOccluders {
     const EdgeAdjacency& adjacency() const { return m_adjacency; }
     std::size_t opaqueTriangles() const { return m_opaqueToScene.size(); }
 
-    /// Opaque triangles crossed by p → r (t ∈ (SHADOW_T_MIN, 1)), scene triangle `ignore` excluded.
-    std::uint32_t centerCount(vec3 p, vec3 r, std::uint32_t ignore,
+    /// Opaque triangles crossed by p → r (t ∈ (tMin, 1)), scene triangle `ignore` excluded.
+    std::uint32_t centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
                               std::vector<std::uint32_t>& scratch) const;
 
   private:

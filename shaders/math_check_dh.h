@@ -44,10 +44,11 @@ DH_STATIC_ASSERT(sizeof(MathCheckResult) == 48);
 DH_FUNC MathCheckResult runMathCheck(MathCheckCase k) {
     StsvTriangle tri = stsvSetupTriangle(vec3(k.v0), vec3(k.v1), vec3(k.v2), vec2(k.uv01),
                                          vec2(k.uv01.z, k.uv01.w), vec2(k.uv2ab), vec3(k.c), 0u, 0u, 0u);
-    StsvPixel px = stsvSetupPixel(tri, vec3(k.p), vec3(k.c), vec3(k.tangent), vec3(k.bitangent));
+    StsvPixel px =
+        stsvSetupPixel(tri, vec3(k.p), vec3(k.c), vec3(k.tangent), vec3(k.bitangent), SHADOW_T_MIN);
     vec3 h = stsvSampleH(px, vec2(k.uv2ab.z, k.uv2ab.w));
     vec2 bary;
-    bool hit = stsvSegmentHitsTriangle(h, px.e, bary);
+    bool hit = stsvSegmentHitsTriangle(h, px.e, px.tMin, bary);
     MathCheckResult r;
     r.he = vec4(h, px.e);
     r.baryUv = vec4(0.0f);

@@ -75,7 +75,8 @@ void main() {
             StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
             Light light = lights[pc.light].light;
             LightFrame lf = lightFrame(light, p, frame.boxLo.w);
-            StsvPixel px = stsvSetupPixel(t, p, lf.center, lf.T, lf.B);
+            float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
+            StsvPixel px = stsvSetupPixel(t, p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
             // Side ownership: side 0 owns crossings with e > 0, side 1 those with e < 0.
             if (side == 0u ? px.e > 0.0 : px.e < 0.0) {
                 inside = true;

@@ -22,8 +22,19 @@
 DH_BEGIN
 
 /// Shadow segments start at t = SHADOW_T_MIN (fraction of p→s) in every method, so a receiver
-/// touching an occluder (a shared mesh edge) is not shadowed by it through round-off.
+/// touching an occluder (a shared mesh edge) is not shadowed by it through round-off. For a
+/// light frame centred farther than one scene diameter from p (directional lights sit 100
+/// diameters away), shadowTMin lowers the start so that it stays within SHADOW_T_MIN·D of p.
 DH_CONST float SHADOW_T_MIN = 1e-4f;
+
+/// Start parameter of the segments p → s of the pixel whose light frame is centred at
+/// `lightCenter` (world units; sceneDiameter = length of the scene box's extent): SHADOW_T_MIN
+/// when |lightCenter − p| ≤ sceneDiameter, else SHADOW_T_MIN·sceneDiameter / |lightCenter − p|,
+/// so the segments never start farther than SHADOW_T_MIN·sceneDiameter from p.
+DH_FUNC float shadowTMin(vec3 p, vec3 lightCenter, float sceneDiameter) {
+    float centerDistance = length(lightCenter - p);
+    return centerDistance <= sceneDiameter ? SHADOW_T_MIN : SHADOW_T_MIN * (sceneDiameter / centerDistance);
+}
 
 /// Texture addressing, as Material::wrap.
 DH_CONST uint WRAP_REPEAT = 0u;
@@ -57,11 +68,11 @@ DH_STATIC_ASSERT(sizeof(StsvTriangle) == 96);
 /// Per-pixel, per-triangle state: J applied to the light frame, so that a light sample at
 /// s = c + a·T + b·B costs h = h0 + a·hT + b·hB (two FMAs per component).
 struct StsvPixel {
-    vec3 h0; ///< J·(c − p)
-    float e; ///< signed distance from p to the plane, positive behind the triangle (Eq. 3's e)
-    vec3 hT; ///< J·T
-    float pad0;
-    vec3 hB; ///< J·B
+    vec3 h0;    ///< J·(c − p)
+    float e;    ///< signed distance from p to the plane, positive behind the triangle (Eq. 3's e)
+    vec3 hT;    ///< J·T
+    float tMin; ///< segments start at this fraction of p→s (shadowTMin)
+    vec3 hB;    ///< J·B
     float pad1;
 };
 
@@ -105,8 +116,9 @@ DH_FUNC StsvTriangle stsvSetupTriangle(vec3 v0, vec3 v1, vec3 v2, vec2 t0, vec2 
 }
 
 /// Per-pixel setup for visible point p and the light frame (c, T, B) of this pixel
-/// (s = c + a·T + b·B). Builds J = W·M (Eq. 3) and applies it to the frame.
-DH_FUNC StsvPixel stsvSetupPixel(StsvTriangle t, vec3 p, vec3 c, vec3 T, vec3 B) {
+/// (s = c + a·T + b·B). Builds J = W·M (Eq. 3) and applies it to the frame. `tMin` is the
+/// segments' start (shadowTMin(p, c, sceneDiameter)).
+DH_FUNC StsvPixel stsvSetupPixel(StsvTriangle t, vec3 p, vec3 c, vec3 T, vec3 B, float tMin) {
     float pu = dot(vec3(t.m0), p) + t.m0.w;
     float pv = dot(vec3(t.m1), p) + t.m1.w;
     float pw = dot(vec3(t.m2), p) + t.m2.w;
@@ -121,7 +133,7 @@ DH_FUNC StsvPixel stsvSetupPixel(StsvTriangle t, vec3 p, vec3 c, vec3 T, vec3 B)
     px.hT = vec3(dot(j0, T), dot(j1, T), dot(j2, T));
     px.hB = vec3(dot(j0, B), dot(j1, B), dot(j2, B));
     px.e = e;
-    px.pad0 = 0.0f;
+    px.tMin = tMin;
     px.pad1 = 0.0f;
     return px;
 }
@@ -131,15 +143,15 @@ DH_FUNC vec3 stsvSampleH(StsvPixel px, vec2 ab) {
     return px.h0 + ab.x * px.hT + ab.y * px.hB;
 }
 
-/// True iff the segment p→s (from t = SHADOW_T_MIN to 1) crosses the triangle's extent;
+/// True iff the segment p→s (from t = tMin to 1) crosses the triangle's extent;
 /// `bary` gets (b1, b2) of the crossing. Texture not consulted.
-DH_FUNC bool stsvSegmentHitsTriangle(vec3 h, float e, DH_OUT(vec2) bary) {
+DH_FUNC bool stsvSegmentHitsTriangle(vec3 h, float e, float tMin, DH_OUT(vec2) bary) {
     float sgn = h.z < 0.0f ? -1.0f : 1.0f;
     vec3 hs = h * sgn;
     float es = e * sgn;
     bary = vec2(0.0f);
-    // t = es / hs.z must lie in (SHADOW_T_MIN, 1): crossing between p and s.
-    if (!(es > SHADOW_T_MIN * hs.z && es < hs.z)) return false;
+    // t = es / hs.z must lie in (tMin, 1): crossing between p and s.
+    if (!(es > tMin * hs.z && es < hs.z)) return false;
     // Inside the triangle (the paper's three comparisons).
     if (hs.x < 0.0f || hs.y < 0.0f || hs.x + hs.y > hs.z) return false;
     bary = vec2(hs) / hs.z;
@@ -176,7 +188,7 @@ DH_FUNC bool stsvSampleCrosses(StsvTriangle t, StsvPixel px, vec2 ab, ivec2 text
                                DH_OUT(ivec2) texel) {
     vec2 bary;
     texel = ivec2(0);
-    if (!stsvSegmentHitsTriangle(stsvSampleH(px, ab), px.e, bary)) return false;
+    if (!stsvSegmentHitsTriangle(stsvSampleH(px, ab), px.e, px.tMin, bary)) return false;
     if ((t.flags & STSV_FLAG_OPAQUE) == 0u)
         texel = texelAt(stsvTexcoord(t, bary), textureSize,
                         (t.flags & STSV_FLAG_CLAMP) != 0u ? WRAP_CLAMP : WRAP_REPEAT);

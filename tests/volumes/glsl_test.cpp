@@ -46,7 +46,8 @@ void main() {
     if (!stsvPointInVolume(v, inP)) discard;
     StsvTriangle t = stsvSetupTriangle(vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f), vec2(0.0f),
                                        vec2(1.0f, 0.0f), vec2(0.0f, 1.0f), vec3(0.2f, 0.2f, 3.0f), 0u, 0u, 0u);
-    StsvPixel px = stsvSetupPixel(t, inP, vec3(0.2f, 0.2f, 3.0f), vec3(0.5f, 0.0f, 0.0f), vec3(0.0f, 0.5f, 0.0f));
+    StsvPixel px = stsvSetupPixel(t, inP, vec3(0.2f, 0.2f, 3.0f), vec3(0.5f, 0.0f, 0.0f), vec3(0.0f, 0.5f, 0.0f),
+                                  shadowTMin(inP, vec3(0.2f, 0.2f, 3.0f), 10.0f));
     ivec2 texel;
     bool crosses = stsvSampleCrosses(t, px, vec2(0.1f, -0.3f), ivec2(64, 32), texel);
     ivec2 clamped = texelAt(vec2(-0.5f, 2.5f), ivec2(64, 32), WRAP_CLAMP);

@@ -181,10 +181,10 @@ Outcome stsvOutcome(const Case& k) {
     Outcome o;
     const StsvTriangle tri = stsvSetupTriangle(k.v0, k.v1, k.v2, k.t0, k.t1, k.t2, k.c, 0u, 0u, 0u);
     o.degenerate = (tri.flags & STSV_FLAG_DEGENERATE) != 0u;
-    const StsvPixel px = stsvSetupPixel(tri, k.p, k.c, k.T, k.B);
+    const StsvPixel px = stsvSetupPixel(tri, k.p, k.c, k.T, k.B, SHADOW_T_MIN);
     const vec3 h = stsvSampleH(px, k.ab);
     vec2 bary;
-    o.hit = stsvSegmentHitsTriangle(h, px.e, bary);
+    o.hit = stsvSegmentHitsTriangle(h, px.e, px.tMin, bary);
     if (o.hit) o.uv = stsvTexcoord(tri, bary);
     return o;
 }

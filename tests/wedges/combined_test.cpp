@@ -8,6 +8,7 @@
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "scene/procedural.h"
+#include "volumes/stsv_dh.h"
 #include "wedge_test_util.h"
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -65,7 +66,9 @@ TEST(Combined, NoOpaqueTriangleAtAll) {
     EXPECT_EQ(occ.opaqueTriangles(), 0u);
     EXPECT_EQ(occ.adjacency().edges.size(), 0u);
     std::vector<std::uint32_t> scratch;
-    EXPECT_EQ(occ.centerCount(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), NO_TRIANGLE, scratch), 0u);
+    EXPECT_EQ(
+        occ.centerCount(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), SHADOW_T_MIN, NO_TRIANGLE, scratch),
+        0u);
 }
 
 TEST(Combined, PwStsvWithOpaqueMeshMeasured) {
