@@ -1,11 +1,10 @@
 // volumes/extrusion_dh.h and volumes/stsv_dh.h must compile as GLSL 4.50 too (DESIGN §3): a geometry
 // shader that emits the STSV strips and a fragment shader that runs the per-pixel math, compiled with
 // glslangValidator when it is installed (the GPU build compiles the real shaders).
+#include "tests/support/glsl.h"
+
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <string>
 
 namespace {
@@ -55,31 +54,12 @@ void main() {
 }
 )";
 
-/// Compiles `source` as `name` (the extension picks the stage); returns "" or the compiler's log.
-std::string compileErrors(const std::string& name, const char* source) {
-    const auto dir = std::filesystem::temp_directory_path() / "stsv_volumes_glsl";
-    std::filesystem::create_directories(dir);
-    const auto file = dir / name;
-    std::ofstream(file) << source;
-    const auto log = dir / (name + ".log");
-    const std::string cmd = "glslangValidator -V -I" + std::string(STSV_SOURCE_DIR) + " " + file.string() +
-                            " -o " + (dir / (name + ".spv")).string() + " > " + log.string() + " 2>&1";
-    if (std::system(cmd.c_str()) == 0) return "";
-    std::ifstream logFile(log);
-    return cmd + "\n" +
-           std::string((std::istreambuf_iterator<char>(logFile)), std::istreambuf_iterator<char>());
-}
-
 TEST(VolumesGlsl, ExtrusionStripGeometryShaderCompiles) {
-    if (std::system("command -v glslangValidator > /dev/null 2>&1") != 0)
-        GTEST_SKIP() << "glslangValidator not installed";
-    EXPECT_EQ(compileErrors("stsv_strip.geom", kGeometry), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("stsv_strip.geom", kGeometry), "");
 }
 
 TEST(VolumesGlsl, PointInVolumeAndTransmittanceFragmentShaderCompiles) {
-    if (std::system("command -v glslangValidator > /dev/null 2>&1") != 0)
-        GTEST_SKIP() << "glslangValidator not installed";
-    EXPECT_EQ(compileErrors("stsv_volume.frag", kFragment), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("stsv_volume.frag", kFragment), "");
 }
 
 } // namespace

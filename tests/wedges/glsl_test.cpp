@@ -1,11 +1,9 @@
 // wedges/dcs_dh.h and wedges/pw_dh.h must compile as GLSL 4.50 too (DESIGN §3): a fragment shader
-// running the per-pixel DCS edge loop and the PW coverage, compiled with glslangValidator when it
-// is installed.
+// running the per-pixel DCS edge loop and the PW coverage, compiled with glslangValidator.
+#include "tests/support/glsl.h"
+
 #include <gtest/gtest.h>
 
-#include <cstdlib>
-#include <filesystem>
-#include <fstream>
 #include <string>
 
 namespace {
@@ -35,24 +33,8 @@ void main() {
 }
 )";
 
-std::string compileErrors(const std::string& name, const char* source) {
-    const auto dir = std::filesystem::temp_directory_path() / "stsv_wedges_glsl";
-    std::filesystem::create_directories(dir);
-    const auto file = dir / name;
-    std::ofstream(file) << source;
-    const auto log = dir / (name + ".log");
-    const std::string cmd = "glslangValidator -V -I" + std::string(STSV_SOURCE_DIR) + " " + file.string() +
-                            " -o " + (dir / (name + ".spv")).string() + " > " + log.string() + " 2>&1";
-    if (std::system(cmd.c_str()) == 0) return "";
-    std::ifstream logFile(log);
-    return cmd + "\n" +
-           std::string((std::istreambuf_iterator<char>(logFile)), std::istreambuf_iterator<char>());
-}
-
 TEST(WedgesGlsl, DcsAndPwFragmentShaderCompiles) {
-    if (std::system("command -v glslangValidator > /dev/null 2>&1") != 0)
-        GTEST_SKIP() << "glslangValidator not installed";
-    EXPECT_EQ(compileErrors("wedges.frag", kFragment), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("wedges.frag", kFragment), "");
 }
 
 } // namespace
