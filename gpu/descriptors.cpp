@@ -115,9 +115,8 @@ VkDescriptorType DescriptorSet::typeOf(uint32_t binding) const {
     throw UsageError("descriptor set has no binding " + std::to_string(binding));
 }
 
-void DescriptorSet::writeBuffer(uint32_t binding, const Buffer& buffer, VkDeviceSize offset,
-                                VkDeviceSize range, uint32_t arrayElement) {
-    VkDescriptorBufferInfo info{buffer.handle(), offset, range};
+void DescriptorSet::write(uint32_t binding, uint32_t arrayElement, const VkDescriptorBufferInfo* buffer,
+                          const VkDescriptorImageInfo* image) {
     VkWriteDescriptorSet write{};
     write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
     write.dstSet = m_set;
@@ -125,8 +124,15 @@ void DescriptorSet::writeBuffer(uint32_t binding, const Buffer& buffer, VkDevice
     write.dstArrayElement = arrayElement;
     write.descriptorCount = 1;
     write.descriptorType = typeOf(binding);
-    write.pBufferInfo = &info;
+    write.pBufferInfo = buffer;
+    write.pImageInfo = image;
     vkUpdateDescriptorSets(m_device->handle(), 1, &write, 0, nullptr);
+}
+
+void DescriptorSet::writeBuffer(uint32_t binding, const Buffer& buffer, VkDeviceSize offset,
+                                VkDeviceSize range, uint32_t arrayElement) {
+    const VkDescriptorBufferInfo info{buffer.handle(), offset, range};
+    write(binding, arrayElement, &info, nullptr);
 }
 
 void DescriptorSet::writeStorageImage(uint32_t binding, const Image& image, VkImageLayout layout,
@@ -136,16 +142,8 @@ void DescriptorSet::writeStorageImage(uint32_t binding, const Image& image, VkIm
 
 void DescriptorSet::writeSampledImage(uint32_t binding, VkImageView view, VkSampler sampler,
                                       VkImageLayout layout, uint32_t arrayElement) {
-    VkDescriptorImageInfo info{sampler, view, layout};
-    VkWriteDescriptorSet write{};
-    write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
-    write.dstSet = m_set;
-    write.dstBinding = binding;
-    write.dstArrayElement = arrayElement;
-    write.descriptorCount = 1;
-    write.descriptorType = typeOf(binding);
-    write.pImageInfo = &info;
-    vkUpdateDescriptorSets(m_device->handle(), 1, &write, 0, nullptr);
+    const VkDescriptorImageInfo info{sampler, view, layout};
+    write(binding, arrayElement, nullptr, &info);
 }
 
 } // namespace stsv

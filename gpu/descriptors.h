@@ -70,6 +70,9 @@ class DescriptorSet {
     VkDescriptorSet m_set = VK_NULL_HANDLE;
 
     VkDescriptorType typeOf(uint32_t binding) const;
+    /// One descriptor at (binding, arrayElement) from exactly one of `buffer` and `image`.
+    void write(uint32_t binding, uint32_t arrayElement, const VkDescriptorBufferInfo* buffer,
+               const VkDescriptorImageInfo* image);
     void destroy() noexcept;
 };
 

@@ -11,7 +11,7 @@ void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, con
                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
     const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
     const Bounds bounds = scene.scene().bounds();
-    const float sceneDiameter = length(bounds.hi - bounds.lo);
+    const float sceneDiameter = bounds.diameter();
     Progress progress("reference rays", std::size_t(gbuffer.height));
     parallelForChunks(std::size_t(gbuffer.height), 1, [&](std::size_t rowBegin, std::size_t rowEnd) {
         std::vector<std::uint32_t> scratch;

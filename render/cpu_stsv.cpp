@@ -81,7 +81,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     StsvCpuStats stats;
     Timer timer;
     const Bounds bounds = scene.bounds();
-    const float sceneDiameter = length(bounds.hi - bounds.lo);
+    const float sceneDiameter = bounds.diameter();
     const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
     const vec3 lightCenter = vec3(sphere);
 

@@ -248,8 +248,7 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     WedgeCpuStats stats;
     Timer timer;
     const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
-    const Bounds sceneBounds = occ.scene().bounds();
-    const float sceneDiameter = length(sceneBounds.hi - sceneBounds.lo);
+    const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();
     std::atomic<std::size_t> tests{0}, visits{0}, negative{0};
@@ -295,13 +294,18 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     return stats;
 }
 
+/// Algorithm 2, lines 9 and 13: the perforated triangles through STSV, into `out`.
+StsvCpuStats perforatedStsvSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
+                                   const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
+    return stsvCpuSamples(scene, gbuffer, light, plan, farDistance, out,
+                          [&](std::size_t t) { return scene.perforated(t); });
+}
+
 WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
                                 const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
                                 StsvCpuStats* stsvStats) {
     WedgeCpuStats stats = dcsCpuSamples(occ, gbuffer, light, plan, farDistance, counters);
-    const Scene& scene = occ.scene();
-    const StsvCpuStats s = stsvCpuSamples(scene, gbuffer, light, plan, farDistance, counters,
-                                          [&](std::size_t t) { return scene.perforated(t); });
+    const StsvCpuStats s = perforatedStsvSamples(occ.scene(), gbuffer, light, plan, farDistance, counters);
     if (stsvStats) *stsvStats = s;
     return stats;
 }
@@ -311,8 +315,7 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     WedgeCpuStats stats;
     Timer timer;
     const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
-    const Bounds sceneBounds = occ.scene().bounds();
-    const float sceneDiameter = length(sceneBounds.hi - sceneBounds.lo);
+    const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();
     visibility = ImageF(gbuffer.width, gbuffer.height, 1);
@@ -349,9 +352,7 @@ WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbu
                                   const SamplePlan& plan, float farDistance, ImageF& visibility,
                                   LightSampleBuffer& stsvBits, StsvCpuStats* stsvStats) {
     WedgeCpuStats stats = pwCpuVisibility(occ, gbuffer, light, farDistance, visibility);
-    const Scene& scene = occ.scene();
-    const StsvCpuStats s = stsvCpuSamples(scene, gbuffer, light, plan, farDistance, stsvBits,
-                                          [&](std::size_t t) { return scene.perforated(t); });
+    const StsvCpuStats s = perforatedStsvSamples(occ.scene(), gbuffer, light, plan, farDistance, stsvBits);
     if (stsvStats) *stsvStats = s;
     // STSV paper §3.1: the STSV occlusion is added to the wedge occlusion.
     for (int y = 0; y < gbuffer.height; ++y)

@@ -8,7 +8,7 @@
 namespace stsv {
 
 float farDistanceFor(const Bounds& sceneBounds) {
-    const float diameter = sceneBounds.empty() ? 0.0f : length(sceneBounds.extent());
+    const float diameter = sceneBounds.diameter();
     return 100.0f * std::max(diameter, 0.01f);
 }
 
@@ -22,7 +22,7 @@ vec4 lightBoundingSphere(const Light& light, const Bounds& sceneBounds, float fa
         return vec4(light.position, light.radius);
     case LIGHT_DIRECTIONAL: {
         const vec3 centre = sceneBounds.empty() ? vec3(0.0f) : sceneBounds.center();
-        const float sceneRadius = sceneBounds.empty() ? 0.0f : 0.5f * length(sceneBounds.extent());
+        const float sceneRadius = 0.5f * sceneBounds.diameter();
         // Samples of p: p + normal·F + offset with |offset| ≤ F·tan(α), and |p − centre| ≤ R.
         const float radius = farDistance * std::tan(light.angularRadius) + sceneRadius;
         return vec4(centre + light.normal * farDistance, radius * (1.0f + 1e-5f)); // margin for rounding

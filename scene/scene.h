@@ -55,6 +55,7 @@ struct Bounds {
     }
     vec3 center() const { return 0.5f * (lo + hi); }
     vec3 extent() const { return hi - lo; }
+    float diameter() const { return empty() ? 0.0f : length(hi - lo); } ///< world units
     bool empty() const { return lo.x > hi.x; }
 };
 
