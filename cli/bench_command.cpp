@@ -297,8 +297,8 @@ int runBench(BenchArgs& args) {
     const std::vector<Variant> variants = makeVariants(args, args.vary);
     if (!args.json.empty()) checkWritableFile(args.json, "--json");
 
-    // Method × backend pairs. A pair the backend does not implement (the reference, or a wedge
-    // method, on vulkan) is skipped with a note; a method left without any backend runs on the cpu.
+    // Method × backend pairs. A pair the backend does not implement (the reference on vulkan)
+    // is skipped with a note; a method left without any backend runs on the cpu.
     std::vector<std::pair<Method, Backend>> pairs;
     nlohmann::json skipped = nlohmann::json::array();
     for (Method m : methods) {

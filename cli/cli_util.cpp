@@ -53,13 +53,12 @@ SceneOptions parseSets(const std::vector<std::string>& sets) {
 }
 
 Backend defaultBackend() {
-    // render/'s makeRenderer builds the Vulkan renderer for the STSV method.
     return Backend::Vulkan;
 }
 
 bool backendImplements(Method method, Backend backend) {
-    // Mirrors render/'s makeRenderer: Vulkan renders the STSV method, the CPU every method.
-    return backend == Backend::Cpu || method == Method::Stsv;
+    // Mirrors render/'s makeRenderer: Vulkan renders every method but the Embree reference.
+    return backend == Backend::Cpu || method != Method::Reference;
 }
 
 std::string unsupportedReason(Method method, Backend backend) {

@@ -183,8 +183,8 @@ class CpuRenderer final : public FrameRenderer {
 
 std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOptions& options) {
     validate(options);
-    // The Embree reference is CPU-only; the Vulkan backend renders the STSV method.
-    if (options.backend == Backend::Vulkan && options.method == Method::Stsv)
+    // The Embree reference is CPU-only; the Vulkan backend renders every other method.
+    if (options.backend == Backend::Vulkan && options.method != Method::Reference)
         return std::make_unique<VulkanRenderer>(scene, options);
     return std::make_unique<CpuRenderer>(scene, options);
 }

@@ -23,7 +23,12 @@ DH_CONST uint GPU_BINDING_STATS = 8u;       ///< GpuStats per light (SSBO)
 DH_CONST uint GPU_BINDING_MASKS = 9u;       ///< GPU_MAX_MASK_IMAGES rg32ui storage images (bitmask)
 DH_CONST uint GPU_BINDING_COLOR = 10u;      ///< rgba32f storage image, linear RGB
 DH_CONST uint GPU_BINDING_VISIBILITY = 11u; ///< r32f storage image, v_coef averaged over lights
+DH_CONST uint GPU_BINDING_EDGES = 12u;      ///< GpuEdge[]: welded edges of the opaque triangles (SSBO)
+DH_CONST uint GPU_BINDING_EDGE_FACES = 13u; ///< GpuEdgeFace[], grouped per edge (SSBO)
+DH_CONST uint GPU_BINDING_CENTER = 14u;     ///< r32i storage image: z-fail layer count at the light centre
+DH_CONST uint GPU_BINDING_COVERAGE = 15u;   ///< r32f storage image: PW occlusion sum, then v_coef
 
+DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
 DH_CONST uint GPU_MAX_MASK_IMAGES = 4u; ///< RG32UI images for N = 256 (64 samples each)
 
 /// GpuTriangle::flags: STSV_FLAG_CLAMP and STSV_FLAG_OPAQUE as in stsv_dh.h, plus:
@@ -74,21 +79,47 @@ struct GpuLight {
     vec4 sphere; ///< world units: centre xyz, radius w
 };
 
-/// Fragment statistics of one light's STSV pass (atomic counters in stsv.frag).
+/// Fragment statistics of one light's STSV and wedge passes (atomic counters in the fragment
+/// shaders).
 struct GpuStats {
-    uint fragments; ///< fragments that passed the depth test (volume behind the visible point)
-    uint inside;    ///< of those, p inside the volume and on its side: they run the sample loop
+    uint fragments;      ///< STSV fragments that passed the depth test (volume behind the visible point)
+    uint inside;         ///< of those, p inside the volume and on its side: they run the sample loop
+    uint wedgeFragments; ///< wedge-pass fragments that passed the depth test
+    uint wedgeInside;    ///< of those, p inside the bound with the edge a silhouette seen from p
+};
+
+/// One welded edge of the opaque triangles (wedges/adjacency.h). std430: 3 × 16 bytes.
+struct GpuEdge {
+    vec3 v0;        ///< world units
+    uint firstFace; ///< into GpuEdgeFace[]
+    vec3 v1;        ///< world units
+    uint faceCount; ///< 1 open, 2 manifold, > 2 non-manifold
+    uint carrier;   ///< scene triangle whose STSV volume bounds the edge's wedge; GPU_NO_TRIANGLE: none
+    uint manifold;  ///< 1 when faceCount = 2 (the potential-silhouette test applies)
     uint pad0;
     uint pad1;
+};
+
+/// One triangle incident to an edge. std430: 2 × 16 bytes.
+struct GpuEdgeFace {
+    vec3 opposite; ///< world units; the triangle's third vertex
+    uint triangle; ///< scene triangle index
+    uint forward;  ///< 1: the triangle's winding runs the edge v0 → v1, 0: v1 → v0
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 /// Push constants of every pass.
 struct GpuPush {
     uint light;      ///< index into GpuLight[]; ≥ lightCount: none (resolve only initialises)
     uint initialize; ///< resolve: 1 = write ambient/background first (the first light)
+    uint flags;      ///< GPU_PUSH_* bits
     uint pad0;
-    uint pad1;
 };
+
+/// GpuPush::flags: the STSV pass takes the perforated triangles only (pw+stsv, dcs+stsv).
+DH_CONST uint GPU_PUSH_PERFORATED_ONLY = 1u;
 
 #ifdef __cplusplus
 DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
@@ -97,6 +128,8 @@ DH_STATIC_ASSERT(sizeof(GpuFrame) == 160);
 DH_STATIC_ASSERT(sizeof(GpuLight) == 96);
 DH_STATIC_ASSERT(sizeof(GpuStats) == 16);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
+DH_STATIC_ASSERT(sizeof(GpuEdge) == 48);
+DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);
 #endif
 
 /// The visible point at barycentrics (b1, b2), as reference/embree_scene.h's pointOnTriangle.

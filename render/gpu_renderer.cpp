@@ -13,6 +13,7 @@
 #include "gpu/timer.h"
 #include "reference/embree_scene.h"
 #include "render/gpu_frame_dh.h"
+#include "render/gpu_wedges.h"
 #include "sampling/light_bounds.h"
 #include "sampling/pattern.h"
 #include "scene/camera.h"
@@ -42,6 +43,18 @@ int maskAttachmentCount(int samples) {
 std::vector<ShaderDefine> sampleDefines(const RenderOptions& options) {
     return {{"SAMPLE_COUNT", std::to_string(options.samples)},
             {"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"}};
+}
+
+/// The options the Vulkan frame runs with: DCS needs counters (its edge terms are signed).
+RenderOptions vulkanOptions(RenderOptions options) {
+    if (countsLayers(options.method)) options.buffer = BufferKind::Counters;
+    return options;
+}
+
+/// Whether the method draws STSV volumes, and for which triangles (Algorithm 2: the perforated
+/// ones when the opaque ones go through wedges).
+bool drawsStsv(Method method) {
+    return method == Method::Stsv || method == Method::DcsStsv || method == Method::PwStsv;
 }
 
 } // namespace
@@ -82,6 +95,7 @@ struct VulkanRenderer::Impl {
     Pipeline gbufferPipeline;
     Pipeline stsvPipeline;
     Pipeline resolvePipeline;
+    GpuWedgePasses wedges;
 
     Buffer triangles, alpha, textures, pattern, frameData, stats;
     std::vector<Buffer> counters; ///< per light (counters mode), else one dummy
@@ -92,7 +106,8 @@ struct VulkanRenderer::Impl {
     CommandBuffer commands;
     double startupMs = 0.0;
 
-    Impl(const Scene& s, const RenderOptions& o, const VulkanRendererConfig& config) : scene(s), options(o) {
+    Impl(const Scene& s, const RenderOptions& o, const VulkanRendererConfig& config)
+        : scene(s), options(vulkanOptions(o)) {
         Timer startup;
         validate(options);
         if (config.device) {
@@ -126,7 +141,7 @@ struct VulkanRenderer::Impl {
         createImages();
         createPipelines();
         writeDescriptors();
-        timer = GpuTimer(*device, 2 + 2 * std::uint32_t(lightCount) + 4);
+        timer = GpuTimer(*device, 2 + 4 * std::uint32_t(lightCount) + 4);
         commands = CommandBuffer(*device);
         startupMs = startup.milliseconds();
     }
@@ -230,6 +245,7 @@ struct VulkanRenderer::Impl {
             bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1});
         bindings.push_back(
             {GPU_BINDING_MASKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, GPU_MAX_MASK_IMAGES});
+        for (const DescriptorBinding& b : GpuWedgePasses::bindings()) bindings.push_back(b);
         setLayout = DescriptorSetLayout(*device, bindings);
         pipelineLayout = PipelineLayout(*device, {setLayout.handle()}, sizeof(GpuPush));
 
@@ -277,8 +293,11 @@ struct VulkanRenderer::Impl {
         stsv.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
         stsvPipeline = createGraphicsPipeline(*device, pipelineLayout, stsv);
 
-        const std::vector<uint32_t> resolve = compiler.compileFile("resolve.comp", defines);
+        std::vector<ShaderDefine> resolveDefines = defines;
+        resolveDefines.push_back({"RESOLVE_COVERAGE", wedgeCoverage(options.method) ? "1" : "0"});
+        const std::vector<uint32_t> resolve = compiler.compileFile("resolve.comp", resolveDefines);
         resolvePipeline = createComputePipeline(*device, pipelineLayout, resolve);
+        wedges = GpuWedgePasses(*device, scene, options, pipelineLayout, defines);
     }
 
     void writeDescriptors() {
@@ -299,6 +318,7 @@ struct VulkanRenderer::Impl {
                 const Image& image = i < masks[l].size() ? masks[l][i] : dummyMask;
                 set.writeStorageImage(GPU_BINDING_MASKS, image, VK_IMAGE_LAYOUT_GENERAL, i);
             }
+            wedges.writeDescriptors(set);
         }
     }
 
@@ -307,8 +327,8 @@ struct VulkanRenderer::Impl {
         vkCmdBindDescriptorSets(cmd, point, pipelineLayout.handle(), 0, 1, &handle, 0, nullptr);
     }
 
-    void push(VkCommandBuffer cmd, uint light, uint initialize) {
-        const GpuPush p{light, initialize, 0u, 0u};
+    void push(VkCommandBuffer cmd, uint light, uint initialize, uint flags = 0u) {
+        const GpuPush p{light, initialize, flags, 0u};
         pipelineLayout.push(cmd, &p, sizeof(p));
     }
 
@@ -350,6 +370,7 @@ struct VulkanRenderer::Impl {
         color.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
         visibility.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
         dummyMask.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
+        wedges.prepare(cmd);
         fullBarrier(cmd);
 
         // resolve.comp works on 16 × 16 tiles (fewer, larger workgroups: lavapipe pays per workgroup).
@@ -357,18 +378,37 @@ struct VulkanRenderer::Impl {
                        groupsY = (uint32_t(options.height) + 15) / 16;
         for (std::size_t l = 0; l < lightCount; ++l) {
             const std::string prefix = "light" + std::to_string(l) + "/";
-            timer.begin(cmd, prefix + "stsv");
-            std::vector<ColorTarget> targets;
-            for (Image& image : masks[l]) targets.push_back({&image, true, {}});
-            beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
-            stsvPipeline.bind(cmd);
-            bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
-            push(cmd, uint(l), 0u);
-            drawVolumes(cmd);
-            endRendering(cmd);
-            timer.end(cmd);
+            if (wedges.enabled()) {
+                // Algorithm 2, lines 4–7 and 11: the opaque triangles through DCS or PW.
+                timer.begin(cmd, prefix + toString(options.method == Method::PwStsv   ? Method::Pw
+                                                   : options.method == Method::DcsStsv ? Method::Dcs
+                                                                                       : options.method));
+                bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
+                push(cmd, uint(l), 0u);
+                wedges.recordOcclusion(cmd, depth, triangleCount);
+                timer.end(cmd);
+            }
+            if (drawsStsv(options.method)) {
+                timer.begin(cmd, prefix + "stsv");
+                std::vector<ColorTarget> targets;
+                for (Image& image : masks[l]) targets.push_back({&image, true, {}});
+                beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
+                stsvPipeline.bind(cmd);
+                bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
+                push(cmd, uint(l), 0u, options.method == Method::Stsv ? 0u : GPU_PUSH_PERFORATED_ONLY);
+                drawVolumes(cmd);
+                endRendering(cmd);
+                timer.end(cmd);
+            }
             for (Image& image : masks[l]) image.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
             fullBarrier(cmd);
+            if (wedges.enabled()) {
+                timer.begin(cmd, prefix + "fold");
+                bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, l);
+                push(cmd, uint(l), 0u);
+                wedges.recordFold(cmd);
+                timer.end(cmd);
+            }
 
             timer.begin(cmd, prefix + "resolve");
             resolvePipeline.bind(cmd);
@@ -446,8 +486,13 @@ struct VulkanRenderer::Impl {
         passes["readback"] = readback.milliseconds();
 
         nlohmann::json stsvStats = nlohmann::json::array();
-        for (std::size_t l = 0; l < lightCount; ++l)
+        nlohmann::json wedgeStats = nlohmann::json::array();
+        for (std::size_t l = 0; l < lightCount; ++l) {
             stsvStats.push_back({{"fragments", counts[l].fragments}, {"inside_fragments", counts[l].inside}});
+            wedgeStats.push_back({{"edges", wedges.edgeCount()},
+                                  {"fragments", counts[l].wedgeFragments},
+                                  {"silhouette_fragments", counts[l].wedgeInside}});
+        }
         frame.stats = {{"options", toJson(options)},
                        {"scene", sceneStats(scene)},
                        {"startup_ms", startupMs},
@@ -460,6 +505,7 @@ struct VulkanRenderer::Impl {
                         {{"device", device->info().name},
                          {"extrusion", mesh ? "mesh shader" : "geometry shader"},
                          {"fragment_counts", "atomic counters in stsv.frag"}}}};
+        if (wedges.enabled()) frame.stats["wedges"] = wedgeStats;
         return frame;
     }
 };

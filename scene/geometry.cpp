@@ -23,6 +23,9 @@ std::size_t appendMesh(Scene& scene, const MeshData& mesh, const mat4& worldFrom
                        const std::string& name, int materialOverride) {
     const auto textureBase = static_cast<int>(scene.textures.size());
     const auto materialBase = static_cast<std::uint32_t>(scene.materials.size());
+    if (materialOverride < 0 && mesh.triangleMaterial.size() != mesh.triangles.size())
+        throw UsageError("mesh '" + name + "': " + std::to_string(mesh.triangleMaterial.size()) +
+                         " triangle materials for " + std::to_string(mesh.triangles.size()) + " triangles");
     if (materialOverride < 0) {
         scene.textures.insert(scene.textures.end(), mesh.textures.begin(), mesh.textures.end());
         for (Material m : mesh.materials) {

@@ -10,6 +10,9 @@
 #ifndef STSV_COUNTERS
 #define STSV_COUNTERS 0
 #endif
+#ifndef RESOLVE_COVERAGE
+#define RESOLVE_COVERAGE 0
+#endif
 #include "frame_bindings.glsl"
 #include "sampling/light_sampling_dh.h"
 
@@ -26,6 +29,10 @@ layout(set = 0, binding = GPU_BINDING_VISIBILITY, r32f) uniform image2D visibili
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) readonly buffer Counters { uint counters[]; };
 #else
 layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+#endif
+#if RESOLVE_COVERAGE
+// Penumbra wedges: v_coef per pixel (wedge_fold.comp), which scales the unshadowed lighting.
+layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) readonly uniform image2D coverage;
 #endif
 
 void main() {
@@ -76,14 +83,23 @@ void main() {
 #else
                     bool occluded = ((word >> b) & 1u) != 0u;
 #endif
+#if RESOLVE_COVERAGE
+                    occluded = false;
+#endif
                     if (occluded) continue;
                     ++visible;
                     vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u, lf.domain);
                     sum += sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
                 }
             }
+#if RESOLVE_COVERAGE
+            float v = imageLoad(coverage, pixel).x;
+            sum *= v;
+#else
+            float v = float(visible) / float(SAMPLE_COUNT);
+#endif
             color += albedo * (1.0 / SAMPLING_PI) * sum / float(SAMPLE_COUNT);
-            visibility += frame.lightWeight * (float(visible) / float(SAMPLE_COUNT));
+            visibility += frame.lightWeight * v;
         }
     }
     imageStore(colorImage, pixel, vec4(color, 1.0));

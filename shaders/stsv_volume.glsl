@@ -89,6 +89,10 @@ bool stsvVolumeCannotShadowBox(StsvTriangle t, vec4 sphere, Light light) {
 /// this side has no volume (degenerate triangle, unlit side, empty volume).
 bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, out StsvVolume vol) {
     GpuTriangle g = triangles[tri];
+    vol.planeCount = 0u;
+    vol.flags = STSV_VOLUME_EMPTY;
+    // Algorithm 2 with wedges: the opaque triangles are not STSV's.
+    if ((pc.flags & GPU_PUSH_PERFORATED_ONLY) != 0u && (g.flags & STSV_FLAG_OPAQUE) != 0u) return false;
     vec4 sphere = lights[lightIndex].sphere;
     vec3 v0 = vec3(g.v0);
     vec3 v1 = vec3(g.v1);

@@ -1,0 +1,99 @@
+#version 450
+// Per-pixel edge term of the opaque occluders (DESIGN §4.5; the same dh calls, in the same
+// order, as render/cpu_wedges.cpp forEachSilhouette): for a visible point p inside the edge's
+// bound, the weight k_e of the edge seen from p (its faces except the visible triangle), the
+// edge projected onto the pixel's light frame and clipped to the part between p and the light,
+// then
+//   DCS (WEDGE_PW 0): for each light sample x, k_e·[r → x crosses the edge]·sign(ℓ·X) added to
+//     the sample's 16-bit counter (Forest, Barthe & Paulin 2008). The counters are modular:
+//     wedge_fold.comp adds D(r) and reads them as signed (a sample may go below D(r)).
+//   PW (WEDGE_PW 1): sign(k_e)·(signed fraction of the light beyond the edge), summed by
+//     additive blending (Assarsson & Akenine-Möller 2003).
+#extension GL_GOOGLE_include_directive : require
+#ifndef SAMPLE_COUNT
+#define SAMPLE_COUNT 64
+#endif
+#ifndef WEDGE_PW
+#define WEDGE_PW 0
+#endif
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "wedge_bindings.glsl"
+#include "volumes/extrusion_dh.h"
+#include "wedges/dcs_dh.h"
+#include "wedges/pw_dh.h"
+
+layout(early_fragment_tests) in;
+
+layout(location = 0) flat in uvec4 inIds;
+layout(location = 1) flat in vec4 inPlanes[5];
+layout(location = 6) flat in vec4 inPlanesSide0[5];
+
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+#if WEDGE_PW
+layout(location = 0) out float outOcclusion;
+#else
+layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+#endif
+
+/// The wedge term of this fragment's edge at pixel `pixel`; false when it has none.
+bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int k, out LightFrame lf) {
+    StsvVolume vol;
+    vol.planeCount = inIds.z;
+    for (int i = 0; i < 5; ++i) vol.planes[i] = inPlanes[i];
+    if (!stsvPointInVolume(vol, p)) return false;
+    if ((inIds.w & WEDGE_SIDE0_PRESENT) != 0u) {
+        StsvVolume vol0;
+        vol0.planeCount = inIds.w & 255u;
+        for (int i = 0; i < 5; ++i) vol0.planes[i] = inPlanesSide0[i];
+        if (stsvPointInVolume(vol0, p)) return false;
+    }
+    Light light = lights[pc.light].light;
+    lf = lightFrame(light, p, frame.boxLo.w);
+    float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
+    DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
+    if (px.valid == 0.0) return false;
+    GpuEdge edge = edges[inIds.x];
+    h0 = dcsProject(px, edge.v0);
+    h1 = dcsProject(px, edge.v1);
+    l = cross(h0, h1);
+    uint receiver = imageLoad(gTriangle, pixel).x;
+    k = 0;
+    for (uint f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
+        if (edgeFaces[f].triangle != receiver) k += dcsFaceSide(l, dcsProject(px, edgeFaces[f].opposite));
+    return k != 0 && dcsClipEdge(px.tMin, h0, h1);
+}
+
+void main() {
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    vec3 p = vec3(imageLoad(gPosition, pixel));
+    vec3 l;
+    vec3 h0;
+    vec3 h1;
+    int k;
+    LightFrame lf;
+    bool inside = edgeTerm(pixel, p, l, h0, h1, k, lf);
+    uint fragments = subgroupAdd(1u);
+    uint insideCount = subgroupAdd(inside ? 1u : 0u);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].wedgeFragments, fragments);
+        atomicAdd(stats[pc.light].wedgeInside, insideCount);
+    }
+    if (!inside) discard;
+#if WEDGE_PW
+    outOcclusion = float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain);
+#else
+    uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
+    uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
+    uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+    for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
+        vec2 ab = samplePointWithOffset(patternPoints[base + s], offset, frame.decorrelate != 0u, lf.domain);
+        int crossing = dcsSampleCrossing(l, h0, h1, ab);
+        // Two 16-bit counters per uint (sample s in half s % 2); a negative addend wraps modulo
+        // 2^32, which wedge_fold.comp undoes.
+        if (crossing != 0) atomicAdd(counters[pixelBase + (s >> 1u)], uint(k * crossing) << (16u * (s & 1u)));
+    }
+#endif
+}

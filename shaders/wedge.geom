@@ -1,0 +1,70 @@
+#version 450
+// Wedge bound of one potential silhouette edge (DESIGN §4.5; as render/cpu_wedges.cpp): the
+// STSV volume of the edge's carrier face (a segment towards the light that touches the edge
+// touches the closed face, which its STSV volume bounds conservatively), both sides when the
+// light straddles the face's plane (one invocation per side). Edges that cannot be a silhouette
+// for any point of the light emit nothing. The fragment (wedge.frag) gets the planes as flat
+// varyings and reads the edge by index.
+#extension GL_GOOGLE_include_directive : require
+#include "wedge_bindings.glsl"
+#include "volumes/extrusion_dh.h"
+
+layout(points, invocations = 2) in; // gl_InvocationID = side of the carrier face
+layout(triangle_strip, max_vertices = 10) out;
+
+layout(location = 0) flat out uvec4 outIds; ///< edge, side, planeCount, WEDGE_SIDE0_PRESENT | side 0's planeCount
+layout(location = 1) flat out vec4 outPlanes[5];
+layout(location = 6) flat out vec4 outPlanesSide0[5]; ///< side 1 only: its points inside side 0 are side 0's
+
+/// wedges/adjacency.cpp potentialSilhouetteEdges in single precision, with twice its relative
+/// margin: an edge kept here but dropped there only adds k_e = 0 (wedge.frag) — at a crossing,
+/// the plane through p and the edge contains the light point, where the edge is no silhouette.
+bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
+    if (edge.manifold == 0u) return true;
+    vec3 c = vec3(sphere);
+    float s[2];
+    for (uint f = 0u; f < 2u; ++f) {
+        vec3 n = cross(edge.v1 - edge.v0, edgeFaces[edge.firstFace + f].opposite - edge.v0);
+        float len = length(n);
+        if (!(len > 0.0)) return true;
+        s[f] = dot(n, c - edge.v0) / len;
+    }
+    float margin = sphere.w + 2e-5 * (sphere.w + length(c - edge.v0));
+    return !((s[0] > margin && s[1] < -margin) || (s[0] < -margin && s[1] > margin));
+}
+
+void main() {
+    uint e = uint(gl_PrimitiveIDIn);
+    uint side = uint(gl_InvocationID);
+    GpuEdge edge = edges[e];
+    if (edge.carrier == GPU_NO_TRIANGLE) return;
+    vec4 sphere = lights[pc.light].sphere;
+    if (!potentialSilhouette(edge, sphere)) return;
+    GpuTriangle g = triangles[edge.carrier];
+    vec3 v0 = vec3(g.v0);
+    vec3 v1 = vec3(g.v1);
+    vec3 v2 = vec3(g.v2);
+    if (side >= stsvSideCount(v0, v1, v2, sphere)) return;
+    vec3 lo = vec3(frame.boxLo);
+    vec3 hi = vec3(frame.boxHi);
+    StsvVolume vol = stsvBuildVolume(v0, v1, v2, sphere, lo, hi, side);
+    if ((vol.flags & STSV_VOLUME_EMPTY) != 0u) return;
+    // Side 1 hands the points of the side-0 volume to side 0, so that every point is visited
+    // once (the CPU mirror tests "inside any of the face's volumes").
+    StsvVolume vol0;
+    vol0.planeCount = 0u;
+    vol0.flags = STSV_VOLUME_EMPTY;
+    for (int k = 0; k < 5; ++k) vol0.planes[k] = vec4(0.0);
+    if (side == 1u) vol0 = stsvBuildVolume(v0, v1, v2, sphere, lo, hi, 0u);
+    uint side0 = (vol0.flags & STSV_VOLUME_EMPTY) == 0u ? WEDGE_SIDE0_PRESENT | vol0.planeCount : 0u;
+    for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
+        gl_Position = frame.clipFromWorld * vol.vertices[i];
+        outIds = uvec4(e, side, vol.planeCount, side0);
+        for (int k = 0; k < 5; ++k) {
+            outPlanes[k] = vol.planes[k];
+            outPlanesSide0[k] = vol0.planes[k];
+        }
+        EmitVertex();
+    }
+    EndPrimitive();
+}

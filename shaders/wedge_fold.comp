@@ -1,0 +1,91 @@
+#version 450
+// After the centre and wedge passes of one light (DESIGN §4.5; STSV paper Algorithm 2):
+//   D(r) = the z-fail count of dcs_center.frag, minus the visible triangle's own volume when the
+//          eye and the light centre lie on the same side of it (its near cap was skipped, so the
+//          view ray entering that volume at p counted +1: the self-shadowing rule removes it);
+//   DCS (WEDGE_PW 0): every sample counter becomes D(r) + its signed edge crossings (+ STSV
+//          increments), read as two signed 16-bit halves and clamped at 0 like the CPU mirror;
+//   PW (WEDGE_PW 1): the coverage image becomes v_coef = 1 − clamp([D(r) > 0] + Σ wedge terms,
+//          0, 1), minus the occluded fraction of the STSV samples for pw+stsv (WEDGE_STSV 1).
+#extension GL_GOOGLE_include_directive : require
+#ifndef SAMPLE_COUNT
+#define SAMPLE_COUNT 64
+#endif
+#ifndef STSV_COUNTERS
+#define STSV_COUNTERS 0
+#endif
+#ifndef WEDGE_PW
+#define WEDGE_PW 0
+#endif
+#ifndef WEDGE_STSV
+#define WEDGE_STSV 0
+#endif
+#include "wedge_bindings.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = 0, binding = GPU_BINDING_CENTER, r32i) readonly uniform iimage2D centerCount;
+layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) uniform image2D coverage;
+layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+
+/// D(r) at the visible point p of opaque or perforated triangle `tri`.
+int centerLayers(ivec2 pixel, uint tri, vec3 p) {
+    int count = imageLoad(centerCount, pixel).x;
+    GpuTriangle t = triangles[tri];
+    if ((t.flags & STSV_FLAG_OPAQUE) == 0u) return count; // perforated: not among the volumes
+    vec3 v0 = vec3(t.v0);
+    vec3 n = cross(vec3(t.v1) - v0, vec3(t.v2) - v0);
+    int towardLight = triangleFacingLight(lights[pc.light].light, tri);
+    float towardEye = dot(n, vec3(frame.eye) - v0);
+    if ((towardLight > 0 && towardEye > 0.0) || (towardLight < 0 && towardEye < 0.0)) --count;
+    return count;
+}
+
+#if WEDGE_STSV
+/// Occluded fraction of the pixel's STSV samples (the perforated triangles, Algorithm 2 line 13).
+float stsvOccludedFraction(ivec2 pixel) {
+    uint occluded = 0u;
+#if STSV_COUNTERS
+    uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+    for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) {
+        uint word = counters[pixelBase + j];
+        occluded += ((word & 65535u) != 0u ? 1u : 0u) + ((word >> 16u) != 0u ? 1u : 0u);
+    }
+#else
+    for (uint i = 0u; i < uint((SAMPLE_COUNT + 63) / 64); ++i) {
+        uvec2 m = imageLoad(masks[i], pixel).xy;
+        occluded += uint(bitCount(m.x) + bitCount(m.y));
+    }
+#endif
+    return float(occluded) / float(SAMPLE_COUNT);
+}
+#endif
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) return;
+    uint tri = imageLoad(gTriangle, pixel).x;
+    if (tri == GPU_NO_TRIANGLE) return;
+    int d = centerLayers(pixel, tri, vec3(imageLoad(gPosition, pixel)));
+#if WEDGE_PW
+    float occlusion = (d > 0 ? 1.0 : 0.0) + imageLoad(coverage, pixel).x;
+    float v = 1.0 - clamp(occlusion, 0.0, 1.0);
+#if WEDGE_STSV
+    v = clamp(v - stsvOccludedFraction(pixel), 0.0, 1.0);
+#endif
+    imageStore(coverage, pixel, vec4(v));
+#else
+    // Each word holds L + 65536·H modulo 2^32 with L, H the signed sums of its two samples;
+    // adding D(r) to both halves and sign-extending recovers them exactly while |L|, |H| < 2^15.
+    uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+    for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) {
+        uint word = counters[pixelBase + j] + uint(d) * 65537u;
+        int lo = int(word << 16u) >> 16;
+        int hi = int(word - uint(lo)) >> 16;
+        counters[pixelBase + j] = uint(max(lo, 0)) | (uint(max(hi, 0)) << 16u);
+    }
+#endif
+}
