@@ -81,10 +81,11 @@ TEST(MethodBackend, ReferenceIsCpuOnly) {
     EXPECT_EQ(reference.method, Method::Reference);
     EXPECT_EQ(reference.backend, Backend::Cpu);
     EXPECT_THROW(parseMethodBackend("reference/vulkan", Backend::Cpu), UsageError);
-    // Methods the Vulkan renderer lacks default to the cpu and are refused on vulkan.
-    EXPECT_EQ(parseMethodBackend("dcs+stsv", Backend::Vulkan).backend, Backend::Cpu);
+    // The wedge methods run on both backends.
+    EXPECT_EQ(parseMethodBackend("dcs+stsv", Backend::Vulkan).backend, Backend::Vulkan);
     EXPECT_EQ(parseMethodBackend("dcs+stsv", Backend::Vulkan).method, Method::DcsStsv);
-    EXPECT_THROW(parseMethodBackend("pw/vulkan", Backend::Cpu), UsageError);
+    EXPECT_EQ(parseMethodBackend("pw/vulkan", Backend::Cpu).backend, Backend::Vulkan);
+    EXPECT_EQ(parseMethodBackend("pw/cpu", Backend::Vulkan).backend, Backend::Cpu);
     EXPECT_THROW(parseMethodBackend("pcss", Backend::Cpu), UsageError);
     EXPECT_THROW(parseMethodBackend("stsv/metal", Backend::Cpu), UsageError);
 }

@@ -197,7 +197,7 @@ TEST(RenderCli, BadInputGivesOneLineAndNonZeroExit) {
         {{"render", "fence", "-o", dir.file("no/such/dir/x.png")}, "does not exist"},
         {{"render", "fence", "--stats", dir.path().string()}, "directory"},
         {{"render", "fence", "--method", "reference", "--backend", "vulkan"}, "CPU only"},
-        {{"render", "fence", "--method", "pw", "--backend", "vulkan"}, "pw"},
+        {{"render", "fence", "--method", "wedges"}, "wedges"},
         {{"render", "fence", "--size", "16384x16384", "--samples", "256", "--buffer", "counters"}, "GiB"},
         {{"render"}, "scene"},
         {{"frobnicate"}, "frobnicate"},
