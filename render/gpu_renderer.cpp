@@ -14,10 +14,13 @@
 #include "reference/embree_scene.h"
 #include "render/gpu_frame_dh.h"
 #include "sampling/light_bounds.h"
+#include "sampling/light_sampling_dh.h"
 #include "sampling/pattern.h"
 #include "scene/camera.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
 #include <string>
 
@@ -42,6 +45,36 @@ int maskAttachmentCount(int samples) {
 std::vector<ShaderDefine> sampleDefines(const RenderOptions& options) {
     return {{"SAMPLE_COUNT", std::to_string(options.samples)},
             {"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"}};
+}
+
+/// `defines` plus STSV_PATTERN_Q when the plan has one sample set (no interleaving) whose points
+/// are all exact multiples of 2^-24 in [0,1): the set as 24-bit fixed-point integers baked into
+/// the resolve (shaders/frame_bindings.glsl). Otherwise the shader reads the pattern buffer.
+/// The resolve unrolls its sample loop with it (the constants need constant indices): 3x faster
+/// at 64 and 128 samples on lavapipe (fence 1024²), but at 256 samples llvmpipe's lazy compile
+/// of the unrolled shader made the first frame 4x slower, so not above 128 samples.
+/// Only for the resolve: in stsv.frag the unrolled loop (texel tests, early continues) measured
+/// 2-3x slower on lavapipe.
+std::vector<ShaderDefine> withPatternDefine(std::vector<ShaderDefine> defines, const SamplePlan& plan) {
+    if (plan.setCount() != 1 || plan.points.size() != std::size_t(plan.count) || plan.count > 128)
+        return defines;
+    std::string array = "uvec2[" + std::to_string(plan.points.size()) + "](";
+    for (std::size_t k = 0; k < plan.points.size(); ++k) {
+        const vec2 q = plan.points[k] * SAMPLING_FIXED_ONE;
+        for (int c = 0; c < 2; ++c)
+            if (!(q[c] >= 0.0f && q[c] < SAMPLING_FIXED_ONE && q[c] == std::floor(q[c]))) return defines;
+        array += (k > 0 ? ",uvec2(" : "uvec2(") + std::to_string(std::uint32_t(q.x)) + "u," +
+                 std::to_string(std::uint32_t(q.y)) + "u)";
+    }
+    defines.push_back({"STSV_PATTERN_Q", array + ")"});
+    return defines;
+}
+
+/// The defines above plus FIXED_LIGHT_TYPE (sampling/light_sampling_dh.h): one resolve and one
+/// STSV fragment shader per light type in the scene, with the type tests folded.
+std::vector<ShaderDefine> lightTypeDefines(std::vector<ShaderDefine> defines, uint lightType) {
+    defines.push_back({"FIXED_LIGHT_TYPE", std::to_string(lightType) + "u"});
+    return defines;
 }
 
 } // namespace
@@ -80,8 +113,10 @@ struct VulkanRenderer::Impl {
     DescriptorSetLayout setLayout;
     PipelineLayout pipelineLayout;
     Pipeline gbufferPipeline;
-    Pipeline stsvPipeline;
-    Pipeline resolvePipeline;
+    /// Per light type (LIGHT_*): created for the types the scene has. resolvePipelines[0] also
+    /// writes the ambient term of a scene without lights.
+    std::array<Pipeline, 4> stsvPipelines;
+    std::array<Pipeline, 4> resolvePipelines;
 
     Buffer triangles, alpha, textures, pattern, frameData, stats;
     std::vector<Buffer> counters; ///< per light (counters mode), else one dummy
@@ -258,8 +293,7 @@ struct VulkanRenderer::Impl {
             stsv.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert")},
                            {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom")}};
         }
-        stsv.stages.push_back(
-            {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("stsv.frag", fragmentDefines)});
+        stsv.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, {}});
         if (options.buffer == BufferKind::Bitmask) {
             stsv.colorFormats.assign(std::size_t(maskAttachmentCount(options.samples)), MASK_FORMAT);
             stsv.logicOpEnable = true;
@@ -275,10 +309,21 @@ struct VulkanRenderer::Impl {
         // are the clockwise ones.
         stsv.cullMode = VK_CULL_MODE_FRONT_BIT;
         stsv.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-        stsvPipeline = createGraphicsPipeline(*device, pipelineLayout, stsv);
-
-        const std::vector<uint32_t> resolve = compiler.compileFile("resolve.comp", defines);
-        resolvePipeline = createComputePipeline(*device, pipelineLayout, resolve);
+        std::array<bool, 4> used{};
+        for (const Light& light : scene.lights) used.at(light.type) = true;
+        if (lightCount == 0) used[0] = true;
+        for (uint type = 0; type < used.size(); ++type) {
+            if (!used[type]) continue;
+            if (lightCount > 0) {
+                stsv.stages.back().spirv =
+                    compiler.compileFile("stsv.frag", lightTypeDefines(fragmentDefines, type));
+                stsvPipelines[type] = createGraphicsPipeline(*device, pipelineLayout, stsv);
+            }
+            resolvePipelines[type] = createComputePipeline(
+                *device, pipelineLayout,
+                compiler.compileFile("resolve.comp",
+                                     lightTypeDefines(withPatternDefine(defines, plan), type)));
+        }
     }
 
     void writeDescriptors() {
@@ -361,7 +406,7 @@ struct VulkanRenderer::Impl {
             std::vector<ColorTarget> targets;
             for (Image& image : masks[l]) targets.push_back({&image, true, {}});
             beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
-            stsvPipeline.bind(cmd);
+            stsvPipelines.at(scene.lights[l].type).bind(cmd);
             bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
             push(cmd, uint(l), 0u);
             drawVolumes(cmd);
@@ -371,7 +416,7 @@ struct VulkanRenderer::Impl {
             fullBarrier(cmd);
 
             timer.begin(cmd, prefix + "resolve");
-            resolvePipeline.bind(cmd);
+            resolvePipelines.at(scene.lights[l].type).bind(cmd);
             bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, l);
             push(cmd, uint(l), l == 0 ? 1u : 0u);
             vkCmdDispatch(cmd, groupsX, groupsY, 1);
@@ -380,7 +425,7 @@ struct VulkanRenderer::Impl {
         }
         if (lightCount == 0) {
             timer.begin(cmd, "ambient");
-            resolvePipeline.bind(cmd);
+            resolvePipelines[0].bind(cmd);
             bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, 0);
             push(cmd, 0xffffffffu, 1u);
             vkCmdDispatch(cmd, groupsX, groupsY, 1);

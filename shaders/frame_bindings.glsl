@@ -33,6 +33,27 @@ vec2 samplePointWithOffset(vec2 patternPoint, uvec2 offset, bool decorrelated, u
     return domainPoint(u, domain);
 }
 
+#ifdef STSV_PATTERN_Q
+/// The frame's single sample set (no interleaving) in 24-bit fixed point, q = u·2^24 exactly,
+/// baked into the shader by render/gpu_renderer.cpp: with the sample loops unrolled, sample k's
+/// point is a constant instead of a storage-buffer load per sample and pixel (on lavapipe those
+/// loads cost more than the rest of the resolve).
+const uvec2 patternQ[SAMPLE_COUNT] = STSV_PATTERN_Q;
+#endif
+
+/// Sample k of the pixel's set starting at `base` (interleaveSet · N), in the light frame's
+/// domain: samplePoint of sampling/light_sampling_dh.h bit for bit (patternQ[k] = pattern
+/// point · 2^24 exactly, and vec2(q) · 2^−24 is exact for q < 2^24).
+vec2 pixelSamplePoint(uint base, uint k, uvec2 offset, bool decorrelated, uint domain) {
+#ifdef STSV_PATTERN_Q
+    uvec2 q = patternQ[k];
+    if (decorrelated) q = (q + offset) & uvec2(SAMPLING_FIXED_MASK);
+    return domainPoint(vec2(q) * (1.0 / SAMPLING_FIXED_ONE), domain);
+#else
+    return samplePointWithOffset(patternPoints[base + k], offset, decorrelated, domain);
+#endif
+}
+
 ivec2 textureSizeOf(uint texture) { return ivec2(textures[texture].width, textures[texture].height); }
 
 #endif

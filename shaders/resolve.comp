@@ -4,6 +4,7 @@
 // sampling/light_sampling.cpp's resolveDirect), accumulated into the colour and visibility
 // images. The first light's dispatch writes ambient (or background) first, as render/frame.cpp.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
@@ -15,6 +16,11 @@
 
 #define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
 #define WORD_BITS (SAMPLE_COUNT < 32 ? SAMPLE_COUNT : 32)
+#ifdef STSV_PATTERN_Q
+#define STSV_UNROLL [[unroll]]
+#else
+#define STSV_UNROLL
+#endif
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
@@ -63,23 +69,25 @@ void main() {
 #endif
             vec3 sum = vec3(0.0);
             uint visible = 0u;
-            // Words outside, bits inside (the word index stays uniform; see stsv.frag).
-            for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
+            // Words outside, bits inside. With STSV_PATTERN_Q both are unrolled, so k, the mask bit
+            // and the pattern point are constants in each copy of the body.
+            STSV_UNROLL for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
 #if !STSV_COUNTERS
                 uint word = w == 0u ? m0.x : w == 1u ? m0.y : w == 2u ? m1.x : w == 3u ? m1.y :
                             w == 4u ? m2.x : w == 5u ? m2.y : w == 6u ? m3.x : m3.y;
 #endif
-                for (uint b = 0u; b < uint(WORD_BITS); ++b) {
+                STSV_UNROLL for (uint b = 0u; b < uint(WORD_BITS); ++b) {
                     uint k = 32u * w + b;
 #if STSV_COUNTERS
                     bool occluded = ((counters[pixelBase + (k >> 1u)] >> (16u * (k & 1u))) & 65535u) != 0u;
 #else
                     bool occluded = ((word >> b) & 1u) != 0u;
 #endif
-                    if (occluded) continue;
-                    ++visible;
-                    vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u, lf.domain);
-                    sum += sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
+                    vec2 ab = pixelSamplePoint(base, k, offset, frame.decorrelate != 0u, lf.domain);
+                    vec3 c = sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
+                    // Selects, not a branch (SIMD lanes run both sides anyway); sum + 0 = sum.
+                    visible += occluded ? 0u : 1u;
+                    sum += occluded ? vec3(0.0) : c;
                 }
             }
             color += albedo * (1.0 / SAMPLING_PI) * sum / float(SAMPLE_COUNT);
