@@ -1,6 +1,7 @@
 #include "render/gpu_renderer.h"
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/timer.h"
 #include "gpu/buffer.h"
 #include "gpu/commands.h"
@@ -127,6 +128,15 @@ struct VulkanRenderer::Impl {
     CommandBuffer commands;
     double startupMs = 0.0;
 
+    /// Readback: every output is copied into one host-visible buffer at the end of the frame's
+    /// command buffer (no submit per image); byte offsets of each part.
+    Buffer staging;
+    struct StagingLayout {
+        VkDeviceSize position = 0, color = 0, triangle = 0, visibility = 0, stats = 0;
+        std::vector<std::vector<VkDeviceSize>> masks; ///< [light][attachment]
+        std::vector<VkDeviceSize> counters;           ///< [light]
+    } layout;
+
     Impl(const Scene& s, const RenderOptions& o, const VulkanRendererConfig& config) : scene(s), options(o) {
         Timer startup;
         validate(options);
@@ -161,6 +171,7 @@ struct VulkanRenderer::Impl {
         createImages();
         createPipelines();
         writeDescriptors();
+        createStaging();
         timer = GpuTimer(*device, 2 + 2 * std::uint32_t(lightCount) + 4);
         commands = CommandBuffer(*device);
         startupMs = startup.milliseconds();
@@ -253,6 +264,48 @@ struct VulkanRenderer::Impl {
             for (std::size_t l = 0; l < lightCount; ++l)
                 for (int i = 0; i < maskAttachmentCount(options.samples); ++i)
                     masks[l].emplace_back(*device, ImageDesc{w, h, MASK_FORMAT, attachment});
+    }
+
+    void createStaging() {
+        VkDeviceSize size = 0;
+        auto place = [&size](VkDeviceSize bytes) { // 16-byte aligned: a multiple of every texel size
+            const VkDeviceSize offset = size;
+            size += (bytes + 15) / 16 * 16;
+            return offset;
+        };
+        layout.position = place(position.byteSize());
+        layout.color = place(color.byteSize());
+        layout.triangle = place(triangleId.byteSize());
+        layout.visibility = place(visibility.byteSize());
+        layout.masks.resize(masks.size());
+        for (std::size_t l = 0; l < masks.size(); ++l)
+            for (const Image& image : masks[l]) layout.masks[l].push_back(place(image.byteSize()));
+        if (options.buffer == BufferKind::Counters)
+            for (std::size_t l = 0; l < lightCount; ++l) layout.counters.push_back(place(counters[l].size()));
+        layout.stats = place(stats.size());
+        staging = Buffer(*device, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceToHost);
+    }
+
+    /// Copies of every output into `staging`, then the barrier for the host reads.
+    void recordReadback(VkCommandBuffer cmd) {
+        position.recordCopyToBuffer(cmd, staging.handle(), layout.position);
+        color.recordCopyToBuffer(cmd, staging.handle(), layout.color);
+        triangleId.recordCopyToBuffer(cmd, staging.handle(), layout.triangle);
+        visibility.recordCopyToBuffer(cmd, staging.handle(), layout.visibility);
+        for (std::size_t l = 0; l < masks.size(); ++l)
+            for (std::size_t i = 0; i < masks[l].size(); ++i)
+                masks[l][i].recordCopyToBuffer(cmd, staging.handle(), layout.masks[l][i]);
+        auto copyBuffer = [&](const Buffer& from, VkDeviceSize offset) {
+            const VkBufferCopy region{0, offset, from.size()};
+            vkCmdCopyBuffer(cmd, from.handle(), staging.handle(), 1, &region);
+        };
+        for (std::size_t l = 0; l < layout.counters.size(); ++l) copyBuffer(counters[l], layout.counters[l]);
+        copyBuffer(stats, layout.stats);
+        hostReadBarrier(cmd);
+    }
+
+    template <class T> const T* staged(VkDeviceSize offset) const {
+        return reinterpret_cast<const T*>(static_cast<const std::byte*>(staging.mapped()) + offset);
     }
 
     void createPipelines() {
@@ -432,6 +485,9 @@ struct VulkanRenderer::Impl {
             timer.end(cmd);
             fullBarrier(cmd);
         }
+        timer.begin(cmd, "copy");
+        recordReadback(cmd);
+        timer.end(cmd);
     }
 
     Frame render() {
@@ -449,45 +505,51 @@ struct VulkanRenderer::Impl {
         Timer readback;
         const int w = options.width, h = options.height;
         const std::size_t pixels = std::size_t(w) * h;
+        constexpr std::size_t GRAIN = 16384; // pixels per parallelForChunks task
         frame.gbuffer = GBuffer(w, h);
-        const std::vector<vec4> positions = position.readback<vec4>();
-        frame.gbuffer.triangle = triangleId.readback<std::uint32_t>();
-        for (std::size_t i = 0; i < pixels; ++i) {
-            if (!frame.gbuffer.covered(i)) continue;
-            frame.gbuffer.position[i] = vec3(positions[i]);
-            frame.gbuffer.normal[i] =
-                shadingNormal(scene, frame.gbuffer.triangle[i], scene.camera.eye, frame.gbuffer.position[i]);
-        }
+        frame.color = ImageF(w, h, 3);
+        frame.visibility = ImageF(w, h, 1);
+        const auto* positions = staged<vec4>(layout.position);
+        const auto* rgba = staged<vec4>(layout.color);
+        const auto* tris = staged<std::uint32_t>(layout.triangle);
+        std::memcpy(frame.gbuffer.triangle.data(), tris, pixels * sizeof(std::uint32_t));
+        std::memcpy(frame.visibility.pixels.data(), staged<float>(layout.visibility), pixels * sizeof(float));
+        parallelForChunks(pixels, GRAIN, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                for (int c = 0; c < 3; ++c) frame.color.pixels[3 * i + std::size_t(c)] = rgba[i][c];
+                if (!frame.gbuffer.covered(i)) continue;
+                frame.gbuffer.position[i] = vec3(positions[i]);
+                frame.gbuffer.normal[i] =
+                    shadingNormal(scene, tris[i], scene.camera.eye, frame.gbuffer.position[i]);
+            }
+        });
         const auto kind = options.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
                                                                 : LightSampleBuffer::Kind::Counters;
         for (std::size_t l = 0; l < lightCount; ++l) {
             LightSampleBuffer& buffer = frame.lightSamples.emplace_back(w, h, options.samples, kind);
             if (kind == LightSampleBuffer::Kind::Counters) {
                 std::vector<std::uint16_t>& out = buffer.counters();
-                counters[l].download(out.data(), out.size() * sizeof(std::uint16_t));
+                std::memcpy(out.data(), staged<std::uint16_t>(layout.counters[l]),
+                            out.size() * sizeof(std::uint16_t));
                 continue;
             }
             // Attachment i holds words 2i (.x) and 2i+1 (.y) of each pixel (LightSampleBuffer layout).
-            const int wordsPerPixel = buffer.wordsPerPixel();
+            const auto wordsPerPixel = std::size_t(buffer.wordsPerPixel());
             std::vector<std::uint32_t>& out = buffer.words();
+            if (masks[l].size() == 1 && wordsPerPixel == 2) {
+                std::memcpy(out.data(), staged<std::uint32_t>(layout.masks[l][0]),
+                            pixels * 2 * sizeof(std::uint32_t));
+                continue;
+            }
             for (std::size_t i = 0; i < masks[l].size(); ++i) {
-                const std::vector<std::uint32_t> pairs = masks[l][i].readback<std::uint32_t>();
-                for (int word = 2 * int(i); word < std::min(2 * int(i) + 2, wordsPerPixel); ++word)
+                const auto* pairs = staged<std::uint32_t>(layout.masks[l][i]);
+                for (std::size_t word = 2 * i; word < std::min(2 * i + 2, wordsPerPixel); ++word)
                     for (std::size_t p = 0; p < pixels; ++p)
-                        out[p * std::size_t(wordsPerPixel) + std::size_t(word)] =
-                            pairs[p * 2 + std::size_t(word % 2)];
+                        out[p * wordsPerPixel + word] = pairs[p * 2 + word % 2];
             }
         }
-        const std::vector<vec4> rgba = color.readback<vec4>();
-        const std::vector<float> vis = visibility.readback<float>();
-        frame.color = ImageF(w, h, 3);
-        frame.visibility = ImageF(w, h, 1);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const int x = static_cast<int>(i % std::size_t(w)), y = static_cast<int>(i / std::size_t(w));
-            for (int c = 0; c < 3; ++c) frame.color.at(x, y, c) = rgba[i][c];
-            frame.visibility.at(x, y, 0) = vis[i];
-        }
-        const std::vector<GpuStats> counts = stats.download<GpuStats>(std::max<std::size_t>(lightCount, 1));
+        const auto* statsBegin = staged<GpuStats>(layout.stats);
+        const std::vector<GpuStats> counts(statsBegin, statsBegin + std::max<std::size_t>(lightCount, 1));
         passes["readback"] = readback.milliseconds();
 
         nlohmann::json stsvStats = nlohmann::json::array();
