@@ -15,12 +15,14 @@ layout(std430, set = 0, binding = GPU_BINDING_FRAME) readonly buffer FrameData {
 };
 layout(push_constant) uniform Push { GpuPush pc; };
 
-/// The shared texel rule's alpha byte (volumes/stsv_dh.h texelAt + alphaBlocks decide).
-uint alphaAt(uint texture, ivec2 texel) {
-    GpuTexture t = textures[texture];
+/// The shared texel rule's alpha byte (volumes/stsv_dh.h texelAt + alphaBlocks decide) of
+/// texture record `t` (loaded once by callers that fetch many texels of one texture).
+uint alphaAtTexture(GpuTexture t, ivec2 texel) {
     uint byteIndex = t.offset + uint(texel.y) * uint(t.width) + uint(texel.x);
     return gpuByteOf(alphaWords[byteIndex >> 2u], byteIndex);
 }
+
+uint alphaAt(uint texture, ivec2 texel) { return alphaAtTexture(textures[texture], texel); }
 
 /// samplePoint (sampling/light_sampling_dh.h) with the pixel's decorrelationOffset computed once
 /// per pixel instead of per sample: the same fixed-point rotation, bit for bit.
