@@ -43,9 +43,27 @@ int maskAttachmentCount(int samples) {
     return (samples + 63) / 64;
 }
 
-std::vector<ShaderDefine> sampleDefines(const RenderOptions& options) {
-    return {{"SAMPLE_COUNT", std::to_string(options.samples)},
-            {"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"}};
+/// The pattern buffer is a uniform buffer when it fits the minimum maxUniformBufferRange that
+/// every Vulkan device guarantees; else a storage buffer (shaders/frame_bindings.glsl).
+constexpr std::size_t MAX_UNIFORM_PATTERN_BYTES = 16384;
+
+/// vec4 count of the uniform pattern buffer (two points each), 0 when it is a storage buffer.
+std::size_t patternVec4Count(const SamplePlan& plan) {
+    const std::size_t vec4s = (plan.points.size() + 1) / 2;
+    return vec4s * 16 <= MAX_UNIFORM_PATTERN_BYTES ? vec4s : 0;
+}
+
+/// Defines every shader of the frame needs to match the descriptor set layout.
+std::vector<ShaderDefine> layoutDefines(const SamplePlan& plan) {
+    if (patternVec4Count(plan) == 0) return {};
+    return {{"STSV_PATTERN_VEC4S", std::to_string(patternVec4Count(plan))}};
+}
+
+std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const SamplePlan& plan) {
+    std::vector<ShaderDefine> defines = layoutDefines(plan);
+    defines.push_back({"SAMPLE_COUNT", std::to_string(options.samples)});
+    defines.push_back({"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"});
+    return defines;
 }
 
 /// `defines` plus STSV_PATTERN_Q when the plan has one sample set (no interleaving) whose points
@@ -214,7 +232,11 @@ struct VulkanRenderer::Impl {
         std::memcpy(words.data(), bytes.data(), bytes.size());
         alpha = createBuffer(*device, std::span<const std::uint32_t>(words), storage);
         textures = createBuffer(*device, std::span<const GpuTexture>(table), storage);
-        pattern = createBuffer(*device, std::span<const vec2>(plan.points), storage);
+        std::vector<vec2> points = plan.points;
+        points.resize(std::max<std::size_t>(2 * ((points.size() + 1) / 2), 2), vec2(0.0f)); // whole vec4s
+        pattern = createBuffer(
+            *device, std::span<const vec2>(points),
+            patternVec4Count(plan) > 0 ? VkBufferUsageFlags(VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT) : storage);
 
         const Bounds box = scene.bounds();
         const float farDistance = farDistanceFor(box);
@@ -310,9 +332,13 @@ struct VulkanRenderer::Impl {
 
     void createPipelines() {
         std::vector<DescriptorBinding> bindings;
-        for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_ALPHA, GPU_BINDING_TEXTURES,
-                           GPU_BINDING_PATTERN, GPU_BINDING_FRAME, GPU_BINDING_COUNTERS, GPU_BINDING_STATS})
+        for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_ALPHA, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME,
+                           GPU_BINDING_COUNTERS, GPU_BINDING_STATS})
             bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+        bindings.push_back({GPU_BINDING_PATTERN,
+                            patternVec4Count(plan) > 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                            VK_SHADER_STAGE_ALL, 1});
         for (uint32_t b :
              {GPU_BINDING_POSITION, GPU_BINDING_TRIANGLE_ID, GPU_BINDING_COLOR, GPU_BINDING_VISIBILITY})
             bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1});
@@ -322,11 +348,12 @@ struct VulkanRenderer::Impl {
         pipelineLayout = PipelineLayout(*device, {setLayout.handle()}, sizeof(GpuPush));
 
         const ShaderCompiler compiler;
-        const std::vector<ShaderDefine> defines = sampleDefines(options);
+        const std::vector<ShaderDefine> defines = sampleDefines(options, plan);
+        const std::vector<ShaderDefine> common = layoutDefines(plan);
 
         GraphicsPipelineDesc gbuffer;
-        gbuffer.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("gbuffer.vert")},
-                          {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("gbuffer.frag")}};
+        gbuffer.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("gbuffer.vert", common)},
+                          {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("gbuffer.frag", common)}};
         gbuffer.colorFormats = {POSITION_FORMAT, TRIANGLE_FORMAT};
         gbuffer.depthFormat = DEPTH_FORMAT;
         gbuffer.depthTest = true;
@@ -341,10 +368,10 @@ struct VulkanRenderer::Impl {
         std::vector<ShaderDefine> fragmentDefines = defines;
         if (mesh) {
             fragmentDefines.push_back({"STSV_MESH_PATH", "1"});
-            stsv.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv.mesh")}};
+            stsv.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv.mesh", common)}};
         } else {
-            stsv.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert")},
-                           {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom")}};
+            stsv.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", common)},
+                           {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom", common)}};
         }
         stsv.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, {}});
         if (options.buffer == BufferKind::Bitmask) {

@@ -8,7 +8,19 @@
 layout(std430, set = 0, binding = GPU_BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
 layout(std430, set = 0, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
 layout(std430, set = 0, binding = GPU_BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
+#ifdef STSV_PATTERN_VEC4S
+// The pattern as a uniform buffer of STSV_PATTERN_VEC4S vec4 (two points each; std140 pads a
+// vec2 array to 16 bytes): a dynamically indexed uniform load is a vector gather on lavapipe,
+// a storage-buffer load a loop over the lanes. render/gpu_renderer.cpp picks it when it fits.
+layout(std140, set = 0, binding = GPU_BINDING_PATTERN) uniform Pattern { vec4 patternPairs[STSV_PATTERN_VEC4S]; };
+vec2 patternPointAt(uint i) {
+    vec4 pair = patternPairs[i >> 1u];
+    return (i & 1u) == 0u ? pair.xy : pair.zw;
+}
+#else
 layout(std430, set = 0, binding = GPU_BINDING_PATTERN) readonly buffer Pattern { vec2 patternPoints[]; };
+vec2 patternPointAt(uint i) { return patternPoints[i]; }
+#endif
 layout(std430, set = 0, binding = GPU_BINDING_FRAME) readonly buffer FrameData {
     GpuFrame frame;
     GpuLight lights[];
@@ -52,7 +64,7 @@ vec2 pixelSamplePoint(uint base, uint k, uvec2 offset, bool decorrelated, uint d
     if (decorrelated) q = (q + offset) & uvec2(SAMPLING_FIXED_MASK);
     return domainPoint(vec2(q) * (1.0 / SAMPLING_FIXED_ONE), domain);
 #else
-    return samplePointWithOffset(patternPoints[base + k], offset, decorrelated, domain);
+    return samplePointWithOffset(patternPointAt(base + k), offset, decorrelated, domain);
 #endif
 }
 

@@ -97,8 +97,7 @@ void main() {
                     uint bits = 0u;
                     for (uint b = 0u; b < uint(WORD_BITS); ++b) {
                         uint k = 32u * w + b;
-                        vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u,
-                                                        lf.domain);
+                        vec2 ab = pixelSamplePoint(base, k, offset, frame.decorrelate != 0u, lf.domain);
                         ivec2 texel;
                         if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;
                         if (!opaque && !alphaBlocks(alphaAtTexture(tex, texel))) continue;
