@@ -59,6 +59,7 @@ void main() {
             LightFrame lf = lightFrame(light, p, frame.boxLo.w);
             uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
             uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
+            bool decorrelate = frame.decorrelate != 0u; // once, not per sample (storage-buffer load)
 #if STSV_COUNTERS
             uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
 #else
@@ -83,7 +84,7 @@ void main() {
 #else
                     bool occluded = ((word >> b) & 1u) != 0u;
 #endif
-                    vec2 ab = pixelSamplePoint(base, k, offset, frame.decorrelate != 0u, lf.domain);
+                    vec2 ab = pixelSamplePoint(base, k, offset, decorrelate, lf.domain);
                     vec3 c = sampleContribution(light, lf, p, n, lightSamplePosition(lf, ab));
                     // Selects, not a branch (SIMD lanes run both sides anyway); sum + 0 = sum.
                     visible += occluded ? 0u : 1u;

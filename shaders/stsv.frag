@@ -88,6 +88,7 @@ void main() {
                 uint set = interleaveSet(uvec2(pixel), frame.interleave);
                 uint base = set * uint(SAMPLE_COUNT);
                 uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
+                bool decorrelate = frame.decorrelate != 0u; // once, not per sample (storage-buffer load)
 #if STSV_COUNTERS
                 uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
 #endif
@@ -97,7 +98,7 @@ void main() {
                     uint bits = 0u;
                     for (uint b = 0u; b < uint(WORD_BITS); ++b) {
                         uint k = 32u * w + b;
-                        vec2 ab = pixelSamplePoint(base, k, offset, frame.decorrelate != 0u, lf.domain);
+                        vec2 ab = pixelSamplePoint(base, k, offset, decorrelate, lf.domain);
                         ivec2 texel;
                         if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;
                         if (!opaque && !alphaBlocks(alphaAtTexture(tex, texel))) continue;
