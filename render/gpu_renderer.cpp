@@ -18,6 +18,7 @@
 #include "sampling/light_sampling_dh.h"
 #include "sampling/pattern.h"
 #include "scene/camera.h"
+#include "volumes/stsv_dh.h"
 
 #include <algorithm>
 #include <array>
@@ -53,14 +54,38 @@ std::size_t patternVec4Count(const SamplePlan& plan) {
     return vec4s * 16 <= MAX_UNIFORM_PATTERN_BYTES ? vec4s : 0;
 }
 
-/// Defines every shader of the frame needs to match the descriptor set layout.
-std::vector<ShaderDefine> layoutDefines(const SamplePlan& plan) {
-    if (patternVec4Count(plan) == 0) return {};
-    return {{"STSV_PATTERN_VEC4S", std::to_string(patternVec4Count(plan))}};
+/// Binary alpha (alphaBlocks per texel, volumes/stsv_dh.h) of every texture as bits in a
+/// uniform buffer of uvec4, when they fit the same 16 KiB; else alpha bytes in a storage buffer.
+/// Returns the uvec4 words (empty when they do not fit); GpuTexture::offset then counts bits.
+std::vector<std::uint32_t> alphaBitWords(const Scene& scene, std::vector<GpuTexture>& table) {
+    std::size_t bits = 0;
+    for (const Texture& tex : scene.textures) bits += std::size_t(tex.width) * std::size_t(tex.height);
+    const std::size_t vec4s = std::max<std::size_t>((bits + 127) / 128, 1);
+    if (vec4s * 16 > MAX_UNIFORM_PATTERN_BYTES) return {};
+    std::vector<std::uint32_t> words(4 * vec4s, 0u);
+    std::size_t bit = 0;
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        const Texture& tex = scene.textures[i];
+        table[i] = {static_cast<uint>(bit), tex.width, tex.height, 0u};
+        for (int y = 0; y < tex.height; ++y)
+            for (int x = 0; x < tex.width; ++x, ++bit)
+                if (alphaBlocks(tex.alpha(x, y))) words[bit / 32] |= 1u << (bit % 32);
+    }
+    return words;
 }
 
-std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const SamplePlan& plan) {
-    std::vector<ShaderDefine> defines = layoutDefines(plan);
+/// Defines every shader of the frame needs to match the descriptor set layout.
+std::vector<ShaderDefine> layoutDefines(const SamplePlan& plan, std::size_t alphaBitVec4s) {
+    std::vector<ShaderDefine> defines;
+    if (patternVec4Count(plan) > 0)
+        defines.push_back({"STSV_PATTERN_VEC4S", std::to_string(patternVec4Count(plan))});
+    if (alphaBitVec4s > 0) defines.push_back({"STSV_ALPHA_BIT_VEC4S", std::to_string(alphaBitVec4s)});
+    return defines;
+}
+
+std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const SamplePlan& plan,
+                                        std::size_t alphaBitVec4s) {
+    std::vector<ShaderDefine> defines = layoutDefines(plan, alphaBitVec4s);
     defines.push_back({"SAMPLE_COUNT", std::to_string(options.samples)});
     defines.push_back({"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"});
     return defines;
@@ -128,6 +153,7 @@ struct VulkanRenderer::Impl {
     SamplePlan plan;
     std::size_t lightCount = 0;
     std::uint32_t triangleCount = 0;
+    std::size_t alphaBitVec4s = 0; ///< > 0: alpha as bits in a uniform buffer (alphaBitWords)
 
     DescriptorSetLayout setLayout;
     PipelineLayout pipelineLayout;
@@ -220,8 +246,10 @@ struct VulkanRenderer::Impl {
 
         std::vector<GpuTexture> table(std::max<std::size_t>(scene.textures.size(), 1),
                                       GpuTexture{0, 1, 1, 0});
+        const std::vector<std::uint32_t> bitWords = alphaBitWords(scene, table);
+        alphaBitVec4s = bitWords.size() / 4;
         std::vector<std::uint8_t> bytes;
-        for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        for (std::size_t i = 0; i < scene.textures.size() && alphaBitVec4s == 0; ++i) {
             const Texture& tex = scene.textures[i];
             table[i] = {static_cast<uint>(bytes.size()), tex.width, tex.height, 0u};
             for (int y = 0; y < tex.height; ++y)
@@ -230,7 +258,9 @@ struct VulkanRenderer::Impl {
         bytes.resize(std::max<std::size_t>((bytes.size() + 3) / 4 * 4, 4), 0);
         std::vector<std::uint32_t> words(bytes.size() / 4);
         std::memcpy(words.data(), bytes.data(), bytes.size());
-        alpha = createBuffer(*device, std::span<const std::uint32_t>(words), storage);
+        alpha = alphaBitVec4s > 0 ? createBuffer(*device, std::span<const std::uint32_t>(bitWords),
+                                                 VkBufferUsageFlags(VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT))
+                                  : createBuffer(*device, std::span<const std::uint32_t>(words), storage);
         textures = createBuffer(*device, std::span<const GpuTexture>(table), storage);
         std::vector<vec2> points = plan.points;
         points.resize(std::max<std::size_t>(2 * ((points.size() + 1) / 2), 2), vec2(0.0f)); // whole vec4s
@@ -332,9 +362,13 @@ struct VulkanRenderer::Impl {
 
     void createPipelines() {
         std::vector<DescriptorBinding> bindings;
-        for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_ALPHA, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME,
+        for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME,
                            GPU_BINDING_COUNTERS, GPU_BINDING_STATS})
             bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+        bindings.push_back(
+            {GPU_BINDING_ALPHA,
+             alphaBitVec4s > 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+             VK_SHADER_STAGE_ALL, 1});
         bindings.push_back({GPU_BINDING_PATTERN,
                             patternVec4Count(plan) > 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
                                                        : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
@@ -348,8 +382,8 @@ struct VulkanRenderer::Impl {
         pipelineLayout = PipelineLayout(*device, {setLayout.handle()}, sizeof(GpuPush));
 
         const ShaderCompiler compiler;
-        const std::vector<ShaderDefine> defines = sampleDefines(options, plan);
-        const std::vector<ShaderDefine> common = layoutDefines(plan);
+        const std::vector<ShaderDefine> defines = sampleDefines(options, plan, alphaBitVec4s);
+        const std::vector<ShaderDefine> common = layoutDefines(plan, alphaBitVec4s);
 
         GraphicsPipelineDesc gbuffer;
         gbuffer.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("gbuffer.vert", common)},

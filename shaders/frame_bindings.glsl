@@ -6,7 +6,6 @@
 #include "sampling/light_sampling_dh.h"
 
 layout(std430, set = 0, binding = GPU_BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
-layout(std430, set = 0, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
 layout(std430, set = 0, binding = GPU_BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
 #ifdef STSV_PATTERN_VEC4S
 // The pattern as a uniform buffer of STSV_PATTERN_VEC4S vec4 (two points each; std140 pads a
@@ -27,12 +26,29 @@ layout(std430, set = 0, binding = GPU_BINDING_FRAME) readonly buffer FrameData {
 };
 layout(push_constant) uniform Push { GpuPush pc; };
 
+#ifdef STSV_ALPHA_BIT_VEC4S
+// Binary alpha, alphaBlocks of each texel as one bit, in a uniform buffer (render/gpu_renderer.cpp
+// picks it when it fits): a dynamically indexed uniform load is a vector gather on lavapipe, a
+// storage-buffer load a loop over the lanes. GpuTexture::offset counts bits then.
+layout(std140, set = 0, binding = GPU_BINDING_ALPHA) uniform AlphaBits { uvec4 alphaBitWords[STSV_ALPHA_BIT_VEC4S]; };
+
+/// An alpha byte with the texel's alphaBlocks decision (255 blocks, 0 is a hole) of texture
+/// record `t` (loaded once by callers that fetch many texels of one texture).
+uint alphaAtTexture(GpuTexture t, ivec2 texel) {
+    uint bit = t.offset + uint(texel.y) * uint(t.width) + uint(texel.x);
+    uint word = alphaBitWords[bit >> 7u][(bit >> 5u) & 3u];
+    return ((word >> (bit & 31u)) & 1u) != 0u ? 255u : 0u;
+}
+#else
+layout(std430, set = 0, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
+
 /// The shared texel rule's alpha byte (volumes/stsv_dh.h texelAt + alphaBlocks decide) of
 /// texture record `t` (loaded once by callers that fetch many texels of one texture).
 uint alphaAtTexture(GpuTexture t, ivec2 texel) {
     uint byteIndex = t.offset + uint(texel.y) * uint(t.width) + uint(texel.x);
     return gpuByteOf(alphaWords[byteIndex >> 2u], byteIndex);
 }
+#endif
 
 uint alphaAt(uint texture, ivec2 texel) { return alphaAtTexture(textures[texture], texel); }
 
