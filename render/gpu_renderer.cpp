@@ -24,6 +24,8 @@
 #include <array>
 #include <cmath>
 #include <cstring>
+#include <functional>
+#include <iterator>
 #include <string>
 
 namespace stsv {
@@ -356,6 +358,31 @@ struct VulkanRenderer::Impl {
         hostReadBarrier(cmd);
     }
 
+    /// Light `l`'s staged bitmask attachments or counters into `buffer`.
+    void unpackLightSamples(LightSampleBuffer& buffer, std::size_t l) const {
+        const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
+        if (buffer.kind() == LightSampleBuffer::Kind::Counters) {
+            std::vector<std::uint16_t>& out = buffer.counters();
+            std::memcpy(out.data(), staged<std::uint16_t>(layout.counters[l]),
+                        out.size() * sizeof(std::uint16_t));
+            return;
+        }
+        // Attachment i holds words 2i (.x) and 2i+1 (.y) of each pixel (LightSampleBuffer layout).
+        const auto wordsPerPixel = std::size_t(buffer.wordsPerPixel());
+        std::vector<std::uint32_t>& out = buffer.words();
+        if (masks[l].size() == 1 && wordsPerPixel == 2) {
+            std::memcpy(out.data(), staged<std::uint32_t>(layout.masks[l][0]),
+                        pixels * 2 * sizeof(std::uint32_t));
+            return;
+        }
+        for (std::size_t i = 0; i < masks[l].size(); ++i) {
+            const auto* pairs = staged<std::uint32_t>(layout.masks[l][i]);
+            for (std::size_t word = 2 * i; word < std::min(2 * i + 2, wordsPerPixel); ++word)
+                for (std::size_t p = 0; p < pixels; ++p)
+                    out[p * wordsPerPixel + word] = pairs[p * 2 + word % 2];
+        }
+    }
+
     template <class T> const T* staged(VkDeviceSize offset) const {
         return reinterpret_cast<const T*>(static_cast<const std::byte*>(staging.mapped()) + offset);
     }
@@ -567,48 +594,43 @@ struct VulkanRenderer::Impl {
         const int w = options.width, h = options.height;
         const std::size_t pixels = std::size_t(w) * h;
         constexpr std::size_t GRAIN = 16384; // pixels per parallelForChunks task
-        frame.gbuffer = GBuffer(w, h);
-        frame.color = ImageF(w, h, 3);
-        frame.visibility = ImageF(w, h, 1);
         const auto* positions = staged<vec4>(layout.position);
         const auto* rgba = staged<vec4>(layout.color);
         const auto* tris = staged<std::uint32_t>(layout.triangle);
-        std::memcpy(frame.gbuffer.triangle.data(), tris, pixels * sizeof(std::uint32_t));
-        std::memcpy(frame.visibility.pixels.data(), staged<float>(layout.visibility), pixels * sizeof(float));
+        const auto kind = options.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
+                                                                : LightSampleBuffer::Kind::Counters;
+        // The outputs are fresh allocations whose first touch (page faults) costs more than the
+        // copying: build them on all cores, one output per task, then the normals per pixel.
+        const std::function<void()> jobs[] = {
+            [&] {
+                frame.gbuffer = GBuffer(w, h);
+                std::memcpy(frame.gbuffer.triangle.data(), tris, pixels * sizeof(std::uint32_t));
+            },
+            [&] {
+                frame.color = ImageF(w, h, 3);
+                for (std::size_t i = 0; i < pixels; ++i)
+                    for (int c = 0; c < 3; ++c) frame.color.pixels[3 * i + std::size_t(c)] = rgba[i][c];
+            },
+            [&] {
+                frame.visibility = ImageF(w, h, 1);
+                std::memcpy(frame.visibility.pixels.data(), staged<float>(layout.visibility),
+                            pixels * sizeof(float));
+            },
+            [&] {
+                for (std::size_t l = 0; l < lightCount; ++l)
+                    unpackLightSamples(frame.lightSamples.emplace_back(w, h, options.samples, kind), l);
+            }};
+        parallelForChunks(std::size(jobs), 1, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t j = begin; j < end; ++j) jobs[j]();
+        });
         parallelForChunks(pixels, GRAIN, [&](std::size_t begin, std::size_t end) {
             for (std::size_t i = begin; i < end; ++i) {
-                for (int c = 0; c < 3; ++c) frame.color.pixels[3 * i + std::size_t(c)] = rgba[i][c];
                 if (!frame.gbuffer.covered(i)) continue;
                 frame.gbuffer.position[i] = vec3(positions[i]);
                 frame.gbuffer.normal[i] =
                     shadingNormal(scene, tris[i], scene.camera.eye, frame.gbuffer.position[i]);
             }
         });
-        const auto kind = options.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
-                                                                : LightSampleBuffer::Kind::Counters;
-        for (std::size_t l = 0; l < lightCount; ++l) {
-            LightSampleBuffer& buffer = frame.lightSamples.emplace_back(w, h, options.samples, kind);
-            if (kind == LightSampleBuffer::Kind::Counters) {
-                std::vector<std::uint16_t>& out = buffer.counters();
-                std::memcpy(out.data(), staged<std::uint16_t>(layout.counters[l]),
-                            out.size() * sizeof(std::uint16_t));
-                continue;
-            }
-            // Attachment i holds words 2i (.x) and 2i+1 (.y) of each pixel (LightSampleBuffer layout).
-            const auto wordsPerPixel = std::size_t(buffer.wordsPerPixel());
-            std::vector<std::uint32_t>& out = buffer.words();
-            if (masks[l].size() == 1 && wordsPerPixel == 2) {
-                std::memcpy(out.data(), staged<std::uint32_t>(layout.masks[l][0]),
-                            pixels * 2 * sizeof(std::uint32_t));
-                continue;
-            }
-            for (std::size_t i = 0; i < masks[l].size(); ++i) {
-                const auto* pairs = staged<std::uint32_t>(layout.masks[l][i]);
-                for (std::size_t word = 2 * i; word < std::min(2 * i + 2, wordsPerPixel); ++word)
-                    for (std::size_t p = 0; p < pixels; ++p)
-                        out[p * wordsPerPixel + word] = pairs[p * 2 + word % 2];
-            }
-        }
         const auto* statsBegin = staged<GpuStats>(layout.stats);
         const std::vector<GpuStats> counts(statsBegin, statsBegin + std::max<std::size_t>(lightCount, 1));
         passes["readback"] = readback.milliseconds();
