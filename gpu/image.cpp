@@ -195,15 +195,19 @@ void Image::transition(VkCommandBuffer cmd, VkImageLayout newLayout) {
     m_layout = newLayout;
 }
 
+void Image::recordCopyToBuffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset) {
+    transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
+    VkBufferImageCopy region{};
+    region.bufferOffset = offset;
+    region.imageSubresource = {aspect(), 0, 0, 1};
+    region.imageExtent = {m_desc.width, m_desc.height, 1};
+    vkCmdCopyImageToBuffer(cmd, m_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, buffer, 1, &region);
+}
+
 std::vector<std::byte> Image::readback() {
     Buffer staging(*m_device, byteSize(), VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceToHost);
     submitOnce(*m_device, [&](VkCommandBuffer cmd) {
-        transition(cmd, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL);
-        VkBufferImageCopy region{};
-        region.imageSubresource = {aspect(), 0, 0, 1};
-        region.imageExtent = {m_desc.width, m_desc.height, 1};
-        vkCmdCopyImageToBuffer(cmd, m_image, VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL, staging.handle(), 1,
-                               &region);
+        recordCopyToBuffer(cmd, staging.handle(), 0);
         hostReadBarrier(cmd);
     });
     std::vector<std::byte> bytes(byteSize());

@@ -55,6 +55,11 @@ class Image {
     /// layout with a hazard (e.g. storage writes then reads) add their own barrier.
     void transition(VkCommandBuffer cmd, VkImageLayout newLayout);
 
+    /// Records a transition to TRANSFER_SRC_OPTIMAL and a copy of byteSize() tightly packed
+    /// bytes (rows top to bottom) into `buffer` at `offset` (bytes). For readback inside a frame's
+    /// command buffer: end it with hostReadBarrier before reading a mapped buffer.
+    void recordCopyToBuffer(VkCommandBuffer cmd, VkBuffer buffer, VkDeviceSize offset);
+
     /// Tightly packed texels, rows top to bottom; waits for the GPU. Leaves the image in
     /// TRANSFER_SRC_OPTIMAL.
     std::vector<std::byte> readback();

@@ -1,6 +1,7 @@
 #include "render/gpu_renderer.h"
 
 #include "core/error.h"
+#include "core/parallel.h"
 #include "core/timer.h"
 #include "gpu/buffer.h"
 #include "gpu/commands.h"
@@ -15,11 +16,17 @@
 #include "render/gpu_frame_dh.h"
 #include "render/gpu_wedges.h"
 #include "sampling/light_bounds.h"
+#include "sampling/light_sampling_dh.h"
 #include "sampling/pattern.h"
 #include "scene/camera.h"
+#include "volumes/stsv_dh.h"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstring>
+#include <functional>
+#include <iterator>
 #include <string>
 
 namespace stsv {
@@ -40,9 +47,81 @@ int maskAttachmentCount(int samples) {
     return (samples + 63) / 64;
 }
 
-std::vector<ShaderDefine> sampleDefines(const RenderOptions& options) {
-    return {{"SAMPLE_COUNT", std::to_string(options.samples)},
-            {"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"}};
+/// The pattern buffer is a uniform buffer when it fits the minimum maxUniformBufferRange that
+/// every Vulkan device guarantees; else a storage buffer (shaders/frame_bindings.glsl).
+constexpr std::size_t MAX_UNIFORM_PATTERN_BYTES = 16384;
+
+/// vec4 count of the uniform pattern buffer (two points each), 0 when it is a storage buffer.
+std::size_t patternVec4Count(const SamplePlan& plan) {
+    const std::size_t vec4s = (plan.points.size() + 1) / 2;
+    return vec4s * 16 <= MAX_UNIFORM_PATTERN_BYTES ? vec4s : 0;
+}
+
+/// Binary alpha (alphaBlocks per texel, volumes/stsv_dh.h) of every texture as bits in a
+/// uniform buffer of uvec4, when they fit the same 16 KiB; else alpha bytes in a storage buffer.
+/// Returns the uvec4 words (empty when they do not fit); GpuTexture::offset then counts bits.
+std::vector<std::uint32_t> alphaBitWords(const Scene& scene, std::vector<GpuTexture>& table) {
+    std::size_t bits = 0;
+    for (const Texture& tex : scene.textures) bits += std::size_t(tex.width) * std::size_t(tex.height);
+    const std::size_t vec4s = std::max<std::size_t>((bits + 127) / 128, 1);
+    if (vec4s * 16 > MAX_UNIFORM_PATTERN_BYTES) return {};
+    std::vector<std::uint32_t> words(4 * vec4s, 0u);
+    std::size_t bit = 0;
+    for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        const Texture& tex = scene.textures[i];
+        table[i] = {static_cast<uint>(bit), tex.width, tex.height, 0u};
+        for (int y = 0; y < tex.height; ++y)
+            for (int x = 0; x < tex.width; ++x, ++bit)
+                if (alphaBlocks(tex.alpha(x, y))) words[bit / 32] |= 1u << (bit % 32);
+    }
+    return words;
+}
+
+/// Defines every shader of the frame needs to match the descriptor set layout.
+std::vector<ShaderDefine> layoutDefines(const SamplePlan& plan, std::size_t alphaBitVec4s) {
+    std::vector<ShaderDefine> defines;
+    if (patternVec4Count(plan) > 0)
+        defines.push_back({"STSV_PATTERN_VEC4S", std::to_string(patternVec4Count(plan))});
+    if (alphaBitVec4s > 0) defines.push_back({"STSV_ALPHA_BIT_VEC4S", std::to_string(alphaBitVec4s)});
+    return defines;
+}
+
+std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const SamplePlan& plan,
+                                        std::size_t alphaBitVec4s) {
+    std::vector<ShaderDefine> defines = layoutDefines(plan, alphaBitVec4s);
+    defines.push_back({"SAMPLE_COUNT", std::to_string(options.samples)});
+    defines.push_back({"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"});
+    return defines;
+}
+
+/// `defines` plus STSV_PATTERN_Q when the plan has one sample set (no interleaving) whose points
+/// are all exact multiples of 2^-24 in [0,1): the set as 24-bit fixed-point integers baked into
+/// the resolve (shaders/frame_bindings.glsl). Otherwise the shader reads the pattern buffer.
+/// The resolve unrolls its sample loop with it (the constants need constant indices): 3x faster
+/// at 64 and 128 samples on lavapipe (fence 1024²), but at 256 samples llvmpipe's lazy compile
+/// of the unrolled shader made the first frame 4x slower, so not above 128 samples.
+/// Only for the resolve: in stsv.frag the unrolled loop (texel tests, early continues) measured
+/// 2-3x slower on lavapipe.
+std::vector<ShaderDefine> withPatternDefine(std::vector<ShaderDefine> defines, const SamplePlan& plan) {
+    if (plan.setCount() != 1 || plan.points.size() != std::size_t(plan.count) || plan.count > 128)
+        return defines;
+    std::string array = "uvec2[" + std::to_string(plan.points.size()) + "](";
+    for (std::size_t k = 0; k < plan.points.size(); ++k) {
+        const vec2 q = plan.points[k] * SAMPLING_FIXED_ONE;
+        for (int c = 0; c < 2; ++c)
+            if (!(q[c] >= 0.0f && q[c] < SAMPLING_FIXED_ONE && q[c] == std::floor(q[c]))) return defines;
+        array += (k > 0 ? ",uvec2(" : "uvec2(") + std::to_string(std::uint32_t(q.x)) + "u," +
+                 std::to_string(std::uint32_t(q.y)) + "u)";
+    }
+    defines.push_back({"STSV_PATTERN_Q", array + ")"});
+    return defines;
+}
+
+/// The defines above plus FIXED_LIGHT_TYPE (sampling/light_sampling_dh.h): one resolve and one
+/// STSV fragment shader per light type in the scene, with the type tests folded.
+std::vector<ShaderDefine> lightTypeDefines(std::vector<ShaderDefine> defines, uint lightType) {
+    defines.push_back({"FIXED_LIGHT_TYPE", std::to_string(lightType) + "u"});
+    return defines;
 }
 
 /// The options the Vulkan frame runs with: DCS needs counters (its edge terms are signed).
@@ -89,12 +168,15 @@ struct VulkanRenderer::Impl {
     SamplePlan plan;
     std::size_t lightCount = 0;
     std::uint32_t triangleCount = 0;
+    std::size_t alphaBitVec4s = 0; ///< > 0: alpha as bits in a uniform buffer (alphaBitWords)
 
     DescriptorSetLayout setLayout;
     PipelineLayout pipelineLayout;
     Pipeline gbufferPipeline;
-    Pipeline stsvPipeline;
-    Pipeline resolvePipeline;
+    /// Per light type (LIGHT_*): created for the types the scene has. resolvePipelines[0] also
+    /// writes the ambient term of a scene without lights.
+    std::array<Pipeline, 4> stsvPipelines;
+    std::array<Pipeline, 4> resolvePipelines;
     GpuWedgePasses wedges;
 
     Buffer triangles, alpha, textures, pattern, frameData, stats;
@@ -105,6 +187,15 @@ struct VulkanRenderer::Impl {
     GpuTimer timer;
     CommandBuffer commands;
     double startupMs = 0.0;
+
+    /// Readback: every output is copied into one host-visible buffer at the end of the frame's
+    /// command buffer (no submit per image); byte offsets of each part.
+    Buffer staging;
+    struct StagingLayout {
+        VkDeviceSize position = 0, color = 0, triangle = 0, visibility = 0, stats = 0;
+        std::vector<std::vector<VkDeviceSize>> masks; ///< [light][attachment]
+        std::vector<VkDeviceSize> counters;           ///< [light]
+    } layout;
 
     Impl(const Scene& s, const RenderOptions& o, const VulkanRendererConfig& config)
         : scene(s), options(vulkanOptions(o)) {
@@ -141,6 +232,7 @@ struct VulkanRenderer::Impl {
         createImages();
         createPipelines();
         writeDescriptors();
+        createStaging();
         timer = GpuTimer(*device, 2 + 4 * std::uint32_t(lightCount) + 4);
         commands = CommandBuffer(*device);
         startupMs = startup.milliseconds();
@@ -171,8 +263,10 @@ struct VulkanRenderer::Impl {
 
         std::vector<GpuTexture> table(std::max<std::size_t>(scene.textures.size(), 1),
                                       GpuTexture{0, 1, 1, 0});
+        const std::vector<std::uint32_t> bitWords = alphaBitWords(scene, table);
+        alphaBitVec4s = bitWords.size() / 4;
         std::vector<std::uint8_t> bytes;
-        for (std::size_t i = 0; i < scene.textures.size(); ++i) {
+        for (std::size_t i = 0; i < scene.textures.size() && alphaBitVec4s == 0; ++i) {
             const Texture& tex = scene.textures[i];
             table[i] = {static_cast<uint>(bytes.size()), tex.width, tex.height, 0u};
             for (int y = 0; y < tex.height; ++y)
@@ -181,9 +275,15 @@ struct VulkanRenderer::Impl {
         bytes.resize(std::max<std::size_t>((bytes.size() + 3) / 4 * 4, 4), 0);
         std::vector<std::uint32_t> words(bytes.size() / 4);
         std::memcpy(words.data(), bytes.data(), bytes.size());
-        alpha = createBuffer(*device, std::span<const std::uint32_t>(words), storage);
+        alpha = alphaBitVec4s > 0 ? createBuffer(*device, std::span<const std::uint32_t>(bitWords),
+                                                 VkBufferUsageFlags(VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT))
+                                  : createBuffer(*device, std::span<const std::uint32_t>(words), storage);
         textures = createBuffer(*device, std::span<const GpuTexture>(table), storage);
-        pattern = createBuffer(*device, std::span<const vec2>(plan.points), storage);
+        std::vector<vec2> points = plan.points;
+        points.resize(std::max<std::size_t>(2 * ((points.size() + 1) / 2), 2), vec2(0.0f)); // whole vec4s
+        pattern = createBuffer(
+            *device, std::span<const vec2>(points),
+            patternVec4Count(plan) > 0 ? VkBufferUsageFlags(VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT) : storage);
 
         const Bounds box = scene.bounds();
         const float farDistance = farDistanceFor(box);
@@ -235,11 +335,86 @@ struct VulkanRenderer::Impl {
                     masks[l].emplace_back(*device, ImageDesc{w, h, MASK_FORMAT, attachment});
     }
 
+    void createStaging() {
+        VkDeviceSize size = 0;
+        auto place = [&size](VkDeviceSize bytes) { // 16-byte aligned: a multiple of every texel size
+            const VkDeviceSize offset = size;
+            size += (bytes + 15) / 16 * 16;
+            return offset;
+        };
+        layout.position = place(position.byteSize());
+        layout.color = place(color.byteSize());
+        layout.triangle = place(triangleId.byteSize());
+        layout.visibility = place(visibility.byteSize());
+        layout.masks.resize(masks.size());
+        for (std::size_t l = 0; l < masks.size(); ++l)
+            for (const Image& image : masks[l]) layout.masks[l].push_back(place(image.byteSize()));
+        if (options.buffer == BufferKind::Counters)
+            for (std::size_t l = 0; l < lightCount; ++l) layout.counters.push_back(place(counters[l].size()));
+        layout.stats = place(stats.size());
+        staging = Buffer(*device, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceToHost);
+    }
+
+    /// Copies of every output into `staging`, then the barrier for the host reads.
+    void recordReadback(VkCommandBuffer cmd) {
+        position.recordCopyToBuffer(cmd, staging.handle(), layout.position);
+        color.recordCopyToBuffer(cmd, staging.handle(), layout.color);
+        triangleId.recordCopyToBuffer(cmd, staging.handle(), layout.triangle);
+        visibility.recordCopyToBuffer(cmd, staging.handle(), layout.visibility);
+        for (std::size_t l = 0; l < masks.size(); ++l)
+            for (std::size_t i = 0; i < masks[l].size(); ++i)
+                masks[l][i].recordCopyToBuffer(cmd, staging.handle(), layout.masks[l][i]);
+        auto copyBuffer = [&](const Buffer& from, VkDeviceSize offset) {
+            const VkBufferCopy region{0, offset, from.size()};
+            vkCmdCopyBuffer(cmd, from.handle(), staging.handle(), 1, &region);
+        };
+        for (std::size_t l = 0; l < layout.counters.size(); ++l) copyBuffer(counters[l], layout.counters[l]);
+        copyBuffer(stats, layout.stats);
+        hostReadBarrier(cmd);
+    }
+
+    /// Light `l`'s staged bitmask attachments or counters into `buffer`.
+    void unpackLightSamples(LightSampleBuffer& buffer, std::size_t l) const {
+        const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
+        if (buffer.kind() == LightSampleBuffer::Kind::Counters) {
+            std::vector<std::uint16_t>& out = buffer.counters();
+            std::memcpy(out.data(), staged<std::uint16_t>(layout.counters[l]),
+                        out.size() * sizeof(std::uint16_t));
+            return;
+        }
+        // Attachment i holds words 2i (.x) and 2i+1 (.y) of each pixel (LightSampleBuffer layout).
+        const auto wordsPerPixel = std::size_t(buffer.wordsPerPixel());
+        std::vector<std::uint32_t>& out = buffer.words();
+        if (masks[l].size() == 1 && wordsPerPixel == 2) {
+            std::memcpy(out.data(), staged<std::uint32_t>(layout.masks[l][0]),
+                        pixels * 2 * sizeof(std::uint32_t));
+            return;
+        }
+        for (std::size_t i = 0; i < masks[l].size(); ++i) {
+            const auto* pairs = staged<std::uint32_t>(layout.masks[l][i]);
+            for (std::size_t word = 2 * i; word < std::min(2 * i + 2, wordsPerPixel); ++word)
+                for (std::size_t p = 0; p < pixels; ++p)
+                    out[p * wordsPerPixel + word] = pairs[p * 2 + word % 2];
+        }
+    }
+
+    template <class T> const T* staged(VkDeviceSize offset) const {
+        return reinterpret_cast<const T*>(static_cast<const std::byte*>(staging.mapped()) + offset);
+    }
+
     void createPipelines() {
         std::vector<DescriptorBinding> bindings;
-        for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_ALPHA, GPU_BINDING_TEXTURES,
-                           GPU_BINDING_PATTERN, GPU_BINDING_FRAME, GPU_BINDING_COUNTERS, GPU_BINDING_STATS})
+        for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME,
+                           GPU_BINDING_COUNTERS, GPU_BINDING_STATS})
             bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+        bindings.push_back(
+            {GPU_BINDING_ALPHA,
+             alphaBitVec4s > 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+             VK_SHADER_STAGE_ALL, 1});
+        bindings.push_back({GPU_BINDING_PATTERN,
+                            patternVec4Count(plan) > 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER
+                                                       : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+                            VK_SHADER_STAGE_ALL, 1});
         for (uint32_t b :
              {GPU_BINDING_POSITION, GPU_BINDING_TRIANGLE_ID, GPU_BINDING_COLOR, GPU_BINDING_VISIBILITY})
             bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1});
@@ -250,11 +425,12 @@ struct VulkanRenderer::Impl {
         pipelineLayout = PipelineLayout(*device, {setLayout.handle()}, sizeof(GpuPush));
 
         const ShaderCompiler compiler;
-        const std::vector<ShaderDefine> defines = sampleDefines(options);
+        const std::vector<ShaderDefine> defines = sampleDefines(options, plan, alphaBitVec4s);
+        const std::vector<ShaderDefine> common = layoutDefines(plan, alphaBitVec4s);
 
         GraphicsPipelineDesc gbuffer;
-        gbuffer.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("gbuffer.vert")},
-                          {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("gbuffer.frag")}};
+        gbuffer.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("gbuffer.vert", common)},
+                          {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("gbuffer.frag", common)}};
         gbuffer.colorFormats = {POSITION_FORMAT, TRIANGLE_FORMAT};
         gbuffer.depthFormat = DEPTH_FORMAT;
         gbuffer.depthTest = true;
@@ -269,13 +445,12 @@ struct VulkanRenderer::Impl {
         std::vector<ShaderDefine> fragmentDefines = defines;
         if (mesh) {
             fragmentDefines.push_back({"STSV_MESH_PATH", "1"});
-            stsv.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv.mesh")}};
+            stsv.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv.mesh", common)}};
         } else {
-            stsv.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert")},
-                           {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom")}};
+            stsv.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", common)},
+                           {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom", common)}};
         }
-        stsv.stages.push_back(
-            {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("stsv.frag", fragmentDefines)});
+        stsv.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, {}});
         if (options.buffer == BufferKind::Bitmask) {
             stsv.colorFormats.assign(std::size_t(maskAttachmentCount(options.samples)), MASK_FORMAT);
             stsv.logicOpEnable = true;
@@ -291,12 +466,23 @@ struct VulkanRenderer::Impl {
         // are the clockwise ones.
         stsv.cullMode = VK_CULL_MODE_FRONT_BIT;
         stsv.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-        stsvPipeline = createGraphicsPipeline(*device, pipelineLayout, stsv);
-
         std::vector<ShaderDefine> resolveDefines = defines;
         resolveDefines.push_back({"RESOLVE_COVERAGE", wedgeCoverage(options.method) ? "1" : "0"});
-        const std::vector<uint32_t> resolve = compiler.compileFile("resolve.comp", resolveDefines);
-        resolvePipeline = createComputePipeline(*device, pipelineLayout, resolve);
+        std::array<bool, 4> used{};
+        for (const Light& light : scene.lights) used.at(light.type) = true;
+        if (lightCount == 0) used[0] = true;
+        for (uint type = 0; type < used.size(); ++type) {
+            if (!used[type]) continue;
+            if (lightCount > 0) {
+                stsv.stages.back().spirv =
+                    compiler.compileFile("stsv.frag", lightTypeDefines(fragmentDefines, type));
+                stsvPipelines[type] = createGraphicsPipeline(*device, pipelineLayout, stsv);
+            }
+            resolvePipelines[type] = createComputePipeline(
+                *device, pipelineLayout,
+                compiler.compileFile("resolve.comp",
+                                     lightTypeDefines(withPatternDefine(resolveDefines, plan), type)));
+        }
         wedges = GpuWedgePasses(*device, scene, options, pipelineLayout, defines);
     }
 
@@ -393,7 +579,7 @@ struct VulkanRenderer::Impl {
                 std::vector<ColorTarget> targets;
                 for (Image& image : masks[l]) targets.push_back({&image, true, {}});
                 beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
-                stsvPipeline.bind(cmd);
+                stsvPipelines.at(scene.lights[l].type).bind(cmd);
                 bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
                 push(cmd, uint(l), 0u, options.method == Method::Stsv ? 0u : GPU_PUSH_PERFORATED_ONLY);
                 drawVolumes(cmd);
@@ -411,7 +597,7 @@ struct VulkanRenderer::Impl {
             }
 
             timer.begin(cmd, prefix + "resolve");
-            resolvePipeline.bind(cmd);
+            resolvePipelines.at(scene.lights[l].type).bind(cmd);
             bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, l);
             push(cmd, uint(l), l == 0 ? 1u : 0u);
             vkCmdDispatch(cmd, groupsX, groupsY, 1);
@@ -420,13 +606,16 @@ struct VulkanRenderer::Impl {
         }
         if (lightCount == 0) {
             timer.begin(cmd, "ambient");
-            resolvePipeline.bind(cmd);
+            resolvePipelines[0].bind(cmd);
             bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, 0);
             push(cmd, 0xffffffffu, 1u);
             vkCmdDispatch(cmd, groupsX, groupsY, 1);
             timer.end(cmd);
             fullBarrier(cmd);
         }
+        timer.begin(cmd, "copy");
+        recordReadback(cmd);
+        timer.end(cmd);
     }
 
     Frame render() {
@@ -444,45 +633,46 @@ struct VulkanRenderer::Impl {
         Timer readback;
         const int w = options.width, h = options.height;
         const std::size_t pixels = std::size_t(w) * h;
-        frame.gbuffer = GBuffer(w, h);
-        const std::vector<vec4> positions = position.readback<vec4>();
-        frame.gbuffer.triangle = triangleId.readback<std::uint32_t>();
-        for (std::size_t i = 0; i < pixels; ++i) {
-            if (!frame.gbuffer.covered(i)) continue;
-            frame.gbuffer.position[i] = vec3(positions[i]);
-            frame.gbuffer.normal[i] =
-                shadingNormal(scene, frame.gbuffer.triangle[i], scene.camera.eye, frame.gbuffer.position[i]);
-        }
+        constexpr std::size_t GRAIN = 16384; // pixels per parallelForChunks task
+        const auto* positions = staged<vec4>(layout.position);
+        const auto* rgba = staged<vec4>(layout.color);
+        const auto* tris = staged<std::uint32_t>(layout.triangle);
         const auto kind = options.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
                                                                 : LightSampleBuffer::Kind::Counters;
-        for (std::size_t l = 0; l < lightCount; ++l) {
-            LightSampleBuffer& buffer = frame.lightSamples.emplace_back(w, h, options.samples, kind);
-            if (kind == LightSampleBuffer::Kind::Counters) {
-                std::vector<std::uint16_t>& out = buffer.counters();
-                counters[l].download(out.data(), out.size() * sizeof(std::uint16_t));
-                continue;
+        // The outputs are fresh allocations whose first touch (page faults) costs more than the
+        // copying: build them on all cores, one output per task, then the normals per pixel.
+        const std::function<void()> jobs[] = {
+            [&] {
+                frame.gbuffer = GBuffer(w, h);
+                std::memcpy(frame.gbuffer.triangle.data(), tris, pixels * sizeof(std::uint32_t));
+            },
+            [&] {
+                frame.color = ImageF(w, h, 3);
+                for (std::size_t i = 0; i < pixels; ++i)
+                    for (int c = 0; c < 3; ++c) frame.color.pixels[3 * i + std::size_t(c)] = rgba[i][c];
+            },
+            [&] {
+                frame.visibility = ImageF(w, h, 1);
+                std::memcpy(frame.visibility.pixels.data(), staged<float>(layout.visibility),
+                            pixels * sizeof(float));
+            },
+            [&] {
+                for (std::size_t l = 0; l < lightCount; ++l)
+                    unpackLightSamples(frame.lightSamples.emplace_back(w, h, options.samples, kind), l);
+            }};
+        parallelForChunks(std::size(jobs), 1, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t j = begin; j < end; ++j) jobs[j]();
+        });
+        parallelForChunks(pixels, GRAIN, [&](std::size_t begin, std::size_t end) {
+            for (std::size_t i = begin; i < end; ++i) {
+                if (!frame.gbuffer.covered(i)) continue;
+                frame.gbuffer.position[i] = vec3(positions[i]);
+                frame.gbuffer.normal[i] =
+                    shadingNormal(scene, tris[i], scene.camera.eye, frame.gbuffer.position[i]);
             }
-            // Attachment i holds words 2i (.x) and 2i+1 (.y) of each pixel (LightSampleBuffer layout).
-            const int wordsPerPixel = buffer.wordsPerPixel();
-            std::vector<std::uint32_t>& out = buffer.words();
-            for (std::size_t i = 0; i < masks[l].size(); ++i) {
-                const std::vector<std::uint32_t> pairs = masks[l][i].readback<std::uint32_t>();
-                for (int word = 2 * int(i); word < std::min(2 * int(i) + 2, wordsPerPixel); ++word)
-                    for (std::size_t p = 0; p < pixels; ++p)
-                        out[p * std::size_t(wordsPerPixel) + std::size_t(word)] =
-                            pairs[p * 2 + std::size_t(word % 2)];
-            }
-        }
-        const std::vector<vec4> rgba = color.readback<vec4>();
-        const std::vector<float> vis = visibility.readback<float>();
-        frame.color = ImageF(w, h, 3);
-        frame.visibility = ImageF(w, h, 1);
-        for (std::size_t i = 0; i < pixels; ++i) {
-            const int x = static_cast<int>(i % std::size_t(w)), y = static_cast<int>(i / std::size_t(w));
-            for (int c = 0; c < 3; ++c) frame.color.at(x, y, c) = rgba[i][c];
-            frame.visibility.at(x, y, 0) = vis[i];
-        }
-        const std::vector<GpuStats> counts = stats.download<GpuStats>(std::max<std::size_t>(lightCount, 1));
+        });
+        const auto* statsBegin = staged<GpuStats>(layout.stats);
+        const std::vector<GpuStats> counts(statsBegin, statsBegin + std::max<std::size_t>(lightCount, 1));
         passes["readback"] = readback.milliseconds();
 
         nlohmann::json stsvStats = nlohmann::json::array();

@@ -82,14 +82,14 @@ GpuWedgePasses::GpuWedgePasses(const Device& device, const Scene& scene, const R
     std::vector<ShaderDefine> wedgeDefines = defines;
     wedgeDefines.push_back({"WEDGE_PW", m_pw ? "1" : "0"});
     wedgeDefines.push_back({"WEDGE_STSV", options.method == Method::PwStsv ? "1" : "0"});
-    const std::vector<uint32_t> vertex = compiler.compileFile("stsv.vert");
+    const std::vector<uint32_t> vertex = compiler.compileFile("stsv.vert", defines);
 
     // Centre count: every face of the volumes behind the visible point, both facings, no writes
     // but the atomics; depth clamp keeps the far caps (beyond the far plane) in.
     GraphicsPipelineDesc center;
     center.stages = {{VK_SHADER_STAGE_VERTEX_BIT, vertex},
-                     {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("dcs_center.geom")},
-                     {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("dcs_center.frag")}};
+                     {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("dcs_center.geom", defines)},
+                     {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("dcs_center.frag", defines)}};
     center.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
     center.depthFormat = DEPTH_FORMAT;
     center.depthTest = true;
@@ -103,7 +103,7 @@ GpuWedgePasses::GpuWedgePasses(const Device& device, const Scene& scene, const R
     // Wedge pass: the back faces of the bound behind the visible point, as the STSV pass.
     GraphicsPipelineDesc wedge;
     wedge.stages = {{VK_SHADER_STAGE_VERTEX_BIT, vertex},
-                    {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedge.geom")},
+                    {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedge.geom", defines)},
                     {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", wedgeDefines)}};
     wedge.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
     if (m_pw) {

@@ -26,6 +26,15 @@ DH_CONST float SAMPLING_PI = 3.14159265358979f;
 DH_CONST float SAMPLING_FIXED_ONE = 16777216.0f; ///< 2^24: pattern points are multiples of 1/2^24
 DH_CONST uint SAMPLING_FIXED_MASK = 0xFFFFFFu;
 
+/// The light type the functions below branch on. A shader compiled for one light type defines
+/// FIXED_LIGHT_TYPE (a LIGHT_* value) so that these branches fold at compile time (on SIMD CPU
+/// drivers a per-lane branch executes both sides); C++ never defines it.
+#ifdef FIXED_LIGHT_TYPE
+#define SAMPLING_LIGHT_TYPE(light) (FIXED_LIGHT_TYPE)
+#else
+#define SAMPLING_LIGHT_TYPE(light) ((light).type)
+#endif
+
 /// Light samples of one receiver point: s = center + a·T + b·B. std430: 3 × 16 bytes.
 struct LightFrame {
     vec3 center; ///< world units
@@ -59,7 +68,7 @@ DH_FUNC LightFrame lightFrame(Light light, vec3 p, float farDistance) {
     LightFrame f;
     f.pad0 = 0.0f;
     f.pad1 = 0.0f;
-    if (light.type == LIGHT_RECTANGLE) {
+    if (SAMPLING_LIGHT_TYPE(light) == LIGHT_RECTANGLE) {
         f.center = light.position;
         f.domain = DOMAIN_SQUARE;
         f.T = light.axisU;
@@ -69,11 +78,11 @@ DH_FUNC LightFrame lightFrame(Light light, vec3 p, float farDistance) {
     vec3 axis = light.normal;
     vec3 center = light.position;
     float extent = light.radius;
-    if (light.type == LIGHT_SPHERE) {
+    if (SAMPLING_LIGHT_TYPE(light) == LIGHT_SPHERE) {
         vec3 d = light.position - p;
         float len = length(d);
         axis = len > 0.0f ? d / len : vec3(0.0f, 0.0f, 1.0f);
-    } else if (light.type == LIGHT_DIRECTIONAL) {
+    } else if (SAMPLING_LIGHT_TYPE(light) == LIGHT_DIRECTIONAL) {
         center = p + light.normal * farDistance;
         extent = farDistance * tan(light.angularRadius);
     }
@@ -161,10 +170,10 @@ DH_FUNC vec3 sampleContribution(Light light, LightFrame f, vec3 p, vec3 n, vec3 
     if (!(dist2 > 0.0f)) return vec3(0.0f);
     vec3 wi = d * inversesqrt(dist2);
     float cosP = max(dot(n, wi), 0.0f);
-    if (light.type == LIGHT_DIRECTIONAL) return light.radiance * cosP;
+    if (SAMPLING_LIGHT_TYPE(light) == LIGHT_DIRECTIONAL) return light.radiance * cosP;
     float frameArea = length(cross(f.T, f.B)); // |T × B|: world area of the unit-square patch
     float area = f.domain == DOMAIN_SQUARE ? 4.0f * frameArea : SAMPLING_PI * frameArea;
-    float cosL = light.type == LIGHT_SPHERE ? 1.0f : max(-dot(light.normal, wi), 0.0f);
+    float cosL = SAMPLING_LIGHT_TYPE(light) == LIGHT_SPHERE ? 1.0f : max(-dot(light.normal, wi), 0.0f);
     return light.radiance * (cosP * cosL * area / dist2);
 }
 

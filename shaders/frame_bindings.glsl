@@ -6,21 +6,51 @@
 #include "sampling/light_sampling_dh.h"
 
 layout(std430, set = 0, binding = GPU_BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
-layout(std430, set = 0, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
 layout(std430, set = 0, binding = GPU_BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
+#ifdef STSV_PATTERN_VEC4S
+// The pattern as a uniform buffer of STSV_PATTERN_VEC4S vec4 (two points each; std140 pads a
+// vec2 array to 16 bytes): a dynamically indexed uniform load is a vector gather on lavapipe,
+// a storage-buffer load a loop over the lanes. render/gpu_renderer.cpp picks it when it fits.
+layout(std140, set = 0, binding = GPU_BINDING_PATTERN) uniform Pattern { vec4 patternPairs[STSV_PATTERN_VEC4S]; };
+vec2 patternPointAt(uint i) {
+    vec4 pair = patternPairs[i >> 1u];
+    return (i & 1u) == 0u ? pair.xy : pair.zw;
+}
+#else
 layout(std430, set = 0, binding = GPU_BINDING_PATTERN) readonly buffer Pattern { vec2 patternPoints[]; };
+vec2 patternPointAt(uint i) { return patternPoints[i]; }
+#endif
 layout(std430, set = 0, binding = GPU_BINDING_FRAME) readonly buffer FrameData {
     GpuFrame frame;
     GpuLight lights[];
 };
 layout(push_constant) uniform Push { GpuPush pc; };
 
-/// The shared texel rule's alpha byte (volumes/stsv_dh.h texelAt + alphaBlocks decide).
-uint alphaAt(uint texture, ivec2 texel) {
-    GpuTexture t = textures[texture];
+#ifdef STSV_ALPHA_BIT_VEC4S
+// Binary alpha, alphaBlocks of each texel as one bit, in a uniform buffer (render/gpu_renderer.cpp
+// picks it when it fits): a dynamically indexed uniform load is a vector gather on lavapipe, a
+// storage-buffer load a loop over the lanes. GpuTexture::offset counts bits then.
+layout(std140, set = 0, binding = GPU_BINDING_ALPHA) uniform AlphaBits { uvec4 alphaBitWords[STSV_ALPHA_BIT_VEC4S]; };
+
+/// An alpha byte with the texel's alphaBlocks decision (255 blocks, 0 is a hole) of texture
+/// record `t` (loaded once by callers that fetch many texels of one texture).
+uint alphaAtTexture(GpuTexture t, ivec2 texel) {
+    uint bit = t.offset + uint(texel.y) * uint(t.width) + uint(texel.x);
+    uint word = alphaBitWords[bit >> 7u][(bit >> 5u) & 3u];
+    return ((word >> (bit & 31u)) & 1u) != 0u ? 255u : 0u;
+}
+#else
+layout(std430, set = 0, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
+
+/// The shared texel rule's alpha byte (volumes/stsv_dh.h texelAt + alphaBlocks decide) of
+/// texture record `t` (loaded once by callers that fetch many texels of one texture).
+uint alphaAtTexture(GpuTexture t, ivec2 texel) {
     uint byteIndex = t.offset + uint(texel.y) * uint(t.width) + uint(texel.x);
     return gpuByteOf(alphaWords[byteIndex >> 2u], byteIndex);
 }
+#endif
+
+uint alphaAt(uint texture, ivec2 texel) { return alphaAtTexture(textures[texture], texel); }
 
 /// samplePoint (sampling/light_sampling_dh.h) with the pixel's decorrelationOffset computed once
 /// per pixel instead of per sample: the same fixed-point rotation, bit for bit.
@@ -31,6 +61,27 @@ vec2 samplePointWithOffset(vec2 patternPoint, uvec2 offset, bool decorrelated, u
         u = vec2(q) * (1.0 / SAMPLING_FIXED_ONE);
     }
     return domainPoint(u, domain);
+}
+
+#ifdef STSV_PATTERN_Q
+/// The frame's single sample set (no interleaving) in 24-bit fixed point, q = u·2^24 exactly,
+/// baked into the shader by render/gpu_renderer.cpp: with the sample loops unrolled, sample k's
+/// point is a constant instead of a storage-buffer load per sample and pixel (on lavapipe those
+/// loads cost more than the rest of the resolve).
+const uvec2 patternQ[SAMPLE_COUNT] = STSV_PATTERN_Q;
+#endif
+
+/// Sample k of the pixel's set starting at `base` (interleaveSet · N), in the light frame's
+/// domain: samplePoint of sampling/light_sampling_dh.h bit for bit (patternQ[k] = pattern
+/// point · 2^24 exactly, and vec2(q) · 2^−24 is exact for q < 2^24).
+vec2 pixelSamplePoint(uint base, uint k, uvec2 offset, bool decorrelated, uint domain) {
+#ifdef STSV_PATTERN_Q
+    uvec2 q = patternQ[k];
+    if (decorrelated) q = (q + offset) & uvec2(SAMPLING_FIXED_MASK);
+    return domainPoint(vec2(q) * (1.0 / SAMPLING_FIXED_ONE), domain);
+#else
+    return samplePointWithOffset(patternPointAt(base + k), offset, decorrelated, domain);
+#endif
 }
 
 ivec2 textureSizeOf(uint texture) { return ivec2(textures[texture].width, textures[texture].height); }

@@ -81,10 +81,14 @@ void main() {
             if (side == 0u ? px.e > 0.0 : px.e < 0.0) {
                 inside = true;
                 bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
-                ivec2 size = opaque ? ivec2(1) : textureSizeOf(t.texture);
+                // The texture record once per fragment, not per sample (storage-buffer loads are
+                // per-lane loops on lavapipe).
+                GpuTexture tex = textures[opaque ? 0u : t.texture];
+                ivec2 size = opaque ? ivec2(1) : ivec2(tex.width, tex.height);
                 uint set = interleaveSet(uvec2(pixel), frame.interleave);
                 uint base = set * uint(SAMPLE_COUNT);
                 uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
+                bool decorrelate = frame.decorrelate != 0u; // once, not per sample (storage-buffer load)
 #if STSV_COUNTERS
                 uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
 #endif
@@ -94,11 +98,10 @@ void main() {
                     uint bits = 0u;
                     for (uint b = 0u; b < uint(WORD_BITS); ++b) {
                         uint k = 32u * w + b;
-                        vec2 ab = samplePointWithOffset(patternPoints[base + k], offset, frame.decorrelate != 0u,
-                                                        lf.domain);
+                        vec2 ab = pixelSamplePoint(base, k, offset, decorrelate, lf.domain);
                         ivec2 texel;
                         if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;
-                        if (!opaque && !alphaBlocks(alphaAt(t.texture, texel))) continue;
+                        if (!opaque && !alphaBlocks(alphaAtTexture(tex, texel))) continue;
 #if STSV_COUNTERS
                         // Two 16-bit counters per uint: sample k in the half k % 2 (little endian
                         // uint16 order of LightSampleBuffer::counters()).

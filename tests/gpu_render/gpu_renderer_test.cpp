@@ -69,6 +69,20 @@ TEST_P(GpuVsMirror, CountersMatchMirrorOnGpuGBuffer) {
                             std::string(GetParam().scene) + " counters N=" + std::to_string(o.samples));
 }
 
+// The renderer's fallbacks for large data (render/gpu_renderer.cpp): alpha bytes in a storage
+// buffer when the texture bits exceed 16 KiB (512² chain-link texels = 32 KiB of bits), and the
+// pattern read from a buffer instead of baked into the resolve when the sets are interleaved.
+TEST_F(GpuRenderTest, LargeTextureAndInterleavedPatternMatchMirror) {
+    const Scene scene = loadScene("fence", SceneOptions{{{"texture_size", "512"}}});
+    RenderOptions o = gpuOptions(W, H, 64);
+    o.interleave = 2;
+    const Frame frame = renderGpu(scene, o);
+    ASSERT_EQ(frame.lightSamples.size(), scene.lights.size());
+    EXPECT_GT(occludedCount(frame.lightSamples[0]), std::size_t(W * H * o.samples / 100))
+        << "no shadows to test";
+    expectMatchesMirror(scene, frame, o, 0, 0.9999, "fence texture 512 interleave 2");
+}
+
 INSTANTIATE_TEST_SUITE_P(Scenes, GpuVsMirror,
                          ::testing::Values(SceneSamples{"fence", 16}, SceneSamples{"fence", 64},
                                            SceneSamples{"fence", 256}, SceneSamples{"foliage", 16},
