@@ -88,8 +88,9 @@ void main() {
     uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
     uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
     uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+    bool decorrelate = frame.decorrelate != 0u;
     for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
-        vec2 ab = samplePointWithOffset(patternPoints[base + s], offset, frame.decorrelate != 0u, lf.domain);
+        vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);
         int crossing = dcsSampleCrossing(l, h0, h1, ab);
         // Two 16-bit counters per uint (sample s in half s % 2); a negative addend wraps modulo
         // 2^32, which wedge_fold.comp undoes.
