@@ -29,8 +29,9 @@ extern const char* const benchPresetsJson;
 namespace {
 
 struct Variant {
-    std::string label; ///< "" or "count=250"
+    std::string label; ///< "" or "count=250" (a knob); "" when the scene itself varies
     SceneOptions sceneOptions;
+    std::string scene; ///< the scene spec of this variant
 };
 
 struct Config {
@@ -102,9 +103,9 @@ std::string vulkanDeviceName(const std::string& select, nlohmann::json& allNames
     }
 }
 
-std::vector<Variant> makeVariants(const FrameArgs& args, const std::string& vary) {
+std::vector<Variant> makeVariants(const BenchArgs& args, const std::string& vary) {
     const SceneOptions base = parseSets(args.sets);
-    if (vary.empty()) return {{"", base}};
+    if (vary.empty()) return {{"", base, args.scene}};
     const auto eq = vary.find('=');
     if (eq == std::string::npos || eq == 0)
         throw UsageError("--vary '" + vary + "' is not of the form key=value1,value2,...");
@@ -113,7 +114,13 @@ std::vector<Variant> makeVariants(const FrameArgs& args, const std::string& vary
     if (values.empty()) throw UsageError("--vary '" + vary + "' lists no values");
     std::vector<Variant> variants;
     for (const std::string& v : values) {
-        Variant variant{key, base};
+        // scene=A,B: one variant per scene, each with the --set knobs (e.g. the same fence as
+        // perforated quads and as a mesh).
+        if (key == "scene") {
+            variants.push_back({"", base, v});
+            continue;
+        }
+        Variant variant{key, base, args.scene};
         variant.label.append("=").append(v);
         variant.sceneOptions.set[key] = v;
         variants.push_back(variant);
@@ -158,14 +165,13 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
     progress.finish();
 }
 
-void printTable(const std::string& scene, const std::vector<Result>& results,
-                const std::vector<Variant>& variants, bool check) {
+void printTable(const std::vector<Result>& results, const std::vector<Variant>& variants, bool check) {
     std::printf("%-24s %-10s %-8s %7s %11s %11s %11s %11s %9s%s\n", "scene", "method", "backend", "samples",
                 "startup ms", "median ms", "min ms", "max ms", "speed-up", check ? "  identical bits" : "");
     for (const Result& r : results) {
         const Config& c = r.config;
-        const std::string name =
-            variants[c.variant].label.empty() ? scene : scene + " " + variants[c.variant].label;
+        const Variant& variant = variants[c.variant];
+        const std::string name = variant.label.empty() ? variant.scene : variant.scene + " " + variant.label;
         if (!r.error.empty()) {
             std::printf("%-24s %-10s %-8s %7d  failed: %s\n", name.c_str(), toString(c.method).c_str(),
                         toString(c.backend).c_str(), c.samples, r.error.c_str());
@@ -275,7 +281,8 @@ int runBench(BenchArgs& args) {
         }
         applyBenchPreset(args, presets, args.preset);
     }
-    if (args.scene.empty()) throw UsageError("bench needs a SCENE or --preset NAME (see --list-presets)");
+    if (args.scene.empty() && args.vary.rfind("scene=", 0) != 0)
+        throw UsageError("bench needs a SCENE, --vary scene=A,B or --preset NAME (see --list-presets)");
     if (args.repeat < 1 || args.repeat > 10000) throw UsageError("--repeat must lie in [1, 10000]");
     if (args.warmup < 0 || args.warmup > 1000) throw UsageError("--warmup must lie in [0, 1000]");
 
@@ -332,7 +339,7 @@ int runBench(BenchArgs& args) {
     bool failed = false;
     for (std::size_t v = 0; v < variants.size(); ++v) {
         Timer loadTimer;
-        const Scene scene = loadScene(args.scene, variants[v].sceneOptions);
+        const Scene scene = loadScene(variants[v].scene, variants[v].sceneOptions);
         const double loadMs = loadTimer.milliseconds();
         RenderOptions largest = base;
         largest.samples = *std::max_element(samples.begin(), samples.end());
@@ -341,7 +348,8 @@ int runBench(BenchArgs& args) {
         counts["load_ms"] = loadMs;
         if (!args.quiet)
             std::fprintf(stderr, "%s%s%s: %zu triangles (%zu perforated), %zu light(s), %dx%d\n",
-                         args.scene.c_str(), variants[v].label.empty() ? "" : " ", variants[v].label.c_str(),
+                         variants[v].scene.c_str(), variants[v].label.empty() ? "" : " ",
+                         variants[v].label.c_str(),
                          counts["triangles"].get<std::size_t>(),
                          counts["perforated_triangles"].get<std::size_t>(),
                          counts["lights"].get<std::size_t>(), base.width, base.height);
@@ -395,7 +403,7 @@ int runBench(BenchArgs& args) {
         }
     }
 
-    printTable(args.scene, results, variants, args.check);
+    printTable(results, variants, args.check);
     if (!skipped.empty())
         for (const auto& s : skipped)
             std::printf("skipped %s/%s: %s\n", s["method"].get<std::string>().c_str(),
@@ -426,6 +434,7 @@ int runBench(BenchArgs& args) {
                                 {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
                                 {"set", variants[c.variant].sceneOptions.set},
                                 {"variant", variants[c.variant].label},
+                                {"scene_name", variants[c.variant].scene},
                                 {"scene", r.scene},
                                 {"options", toJson(o)},
                                 {"warmup", args.warmup},

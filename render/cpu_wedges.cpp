@@ -173,6 +173,13 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins,
         if (!inside) continue;
         for (std::uint32_t i = record.firstEdge; i < record.firstEdge + record.edgeCount; ++i) {
             const MeshEdge& edge = adj.edges[bins.edges[i]];
+            // Not a silhouette seen from p: rejected before the projection (dcsWorldSide).
+            int worldK = 0;
+            for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
+                if (adj.faces[f].triangle != receiver)
+                    worldK += dcsWorldSide(px.p, adj.positions[edge.v0], adj.positions[edge.v1],
+                                           adj.positions[adj.faces[f].opposite]);
+            if (worldK == 0) continue;
             vec3 h0 = dcsProject(px, adj.positions[edge.v0]);
             vec3 h1 = dcsProject(px, adj.positions[edge.v1]);
             const vec3 l = cross(h0, h1);

@@ -130,10 +130,14 @@ RenderOptions vulkanOptions(RenderOptions options) {
     return options;
 }
 
-/// Whether the method draws STSV volumes, and for which triangles (Algorithm 2: the perforated
-/// ones when the opaque ones go through wedges).
-bool drawsStsv(Method method) {
-    return method == Method::Stsv || method == Method::DcsStsv || method == Method::PwStsv;
+/// Whether the frame draws STSV volumes: every triangle for stsv; the perforated ones for
+/// pw+stsv and dcs+stsv (Algorithm 2), when the scene has any.
+bool drawsStsv(Method method, const Scene& scene) {
+    if (method == Method::Stsv) return true;
+    if (method != Method::DcsStsv && method != Method::PwStsv) return false;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t)
+        if (scene.perforated(t)) return true;
+    return false;
 }
 
 } // namespace
@@ -178,6 +182,7 @@ struct VulkanRenderer::Impl {
     std::array<Pipeline, 4> stsvPipelines;
     std::array<Pipeline, 4> resolvePipelines;
     GpuWedgePasses wedges;
+    bool stsvPass = false; ///< drawsStsv
 
     Buffer triangles, alpha, textures, pattern, frameData, stats;
     std::vector<Buffer> counters; ///< per light (counters mode), else one dummy
@@ -227,6 +232,7 @@ struct VulkanRenderer::Impl {
                               options.decorrelate);
         lightCount = scene.lights.size();
         triangleCount = static_cast<std::uint32_t>(scene.triangleCount());
+        stsvPass = drawsStsv(options.method, scene);
 
         uploadScene();
         createImages();
@@ -566,15 +572,12 @@ struct VulkanRenderer::Impl {
             const std::string prefix = "light" + std::to_string(l) + "/";
             if (wedges.enabled()) {
                 // Algorithm 2, lines 4–7 and 11: the opaque triangles through DCS or PW.
-                timer.begin(cmd, prefix + toString(options.method == Method::PwStsv   ? Method::Pw
-                                                   : options.method == Method::DcsStsv ? Method::Dcs
-                                                                                       : options.method));
                 bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
                 push(cmd, uint(l), 0u);
-                wedges.recordOcclusion(cmd, depth, triangleCount);
-                timer.end(cmd);
+                wedges.recordOcclusion(cmd, depth, triangleCount, timer,
+                                       prefix + (wedgeCoverage(options.method) ? "pw_" : "dcs_"));
             }
-            if (drawsStsv(options.method)) {
+            if (stsvPass) {
                 timer.begin(cmd, prefix + "stsv");
                 std::vector<ColorTarget> targets;
                 for (Image& image : masks[l]) targets.push_back({&image, true, {}});

@@ -134,7 +134,8 @@ void GpuWedgePasses::prepare(VkCommandBuffer cmd) {
     m_coverage.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
 }
 
-void GpuWedgePasses::recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t triangleCount) {
+void GpuWedgePasses::recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t triangleCount, GpuTimer& timer,
+                                     const std::string& prefix) {
     if (!m_enabled) return;
     m_center.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
     const VkClearColorValue zero{};
@@ -142,18 +143,22 @@ void GpuWedgePasses::recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t
     vkCmdClearColorImage(cmd, m_center.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);
     fullBarrier(cmd);
 
+    timer.begin(cmd, prefix + "center");
     beginRendering(cmd, {}, DepthTarget{&depth, false, 1.0f, true});
     m_centerPipeline.bind(cmd);
     vkCmdDraw(cmd, triangleCount + static_cast<uint32_t>(m_edgeCount), 1, 0, 0);
     endRendering(cmd);
+    timer.end(cmd);
     fullBarrier(cmd);
 
+    timer.begin(cmd, prefix + "wedges");
     std::vector<ColorTarget> targets;
     if (m_pw) targets.push_back({&m_coverage, true, {}});
     beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
     m_wedgePipeline.bind(cmd);
     if (m_edgeCount > 0) vkCmdDraw(cmd, static_cast<uint32_t>(m_edgeCount), 1, 0, 0);
     endRendering(cmd);
+    timer.end(cmd);
     m_coverage.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
     fullBarrier(cmd);
 }

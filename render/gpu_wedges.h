@@ -10,6 +10,7 @@
 #include "gpu/image.h"
 #include "gpu/pipeline.h"
 #include "gpu/shader_compiler.h"
+#include "gpu/timer.h"
 #include "render/gpu_frame_dh.h"
 #include "render/options.h"
 #include "scene/scene.h"
@@ -17,6 +18,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace stsv {
@@ -50,7 +52,9 @@ class GpuWedgePasses {
 
     /// Records, for light `light` (its set bound by the caller with `layout`'s push constants
     /// set): clear, centre count, wedge pass. `depth` is the G-buffer depth (read only).
-    void recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t triangleCount);
+    /// GPU timer scopes `prefix`center and `prefix`wedges (per-pass timings in the stats).
+    void recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t triangleCount, GpuTimer& timer,
+                         const std::string& prefix);
     /// Records the fold (after the STSV pass of the perforated triangles, before the resolve).
     void recordFold(VkCommandBuffer cmd);
     /// Puts the images in GENERAL once per frame (before the first pass that uses them).

@@ -64,6 +64,42 @@ MeshData makeQuad(vec2 size, vec2 uvRepeat) {
     return quad;
 }
 
+MeshData makeTubeMesh(int segments, int sides, float radius, const std::function<vec3(float)>& curve) {
+    if (segments < 3 || sides < 3) throw UsageError("a tube needs at least 3 segments and 3 sides");
+    MeshData m;
+    for (int i = 0; i < segments; ++i) {
+        const float u = float(i) / float(segments);
+        const vec3 c = curve(u);
+        const vec3 t = normalize(curve(u + 1e-3f) - c);
+        const vec3 n = normalize(cross(t, std::abs(t.y) < 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f)));
+        const vec3 b = cross(t, n);
+        for (int j = 0; j < sides; ++j) {
+            const float a = 6.2831853f * float(j) / float(sides);
+            m.positions.push_back(c + radius * (std::cos(a) * n + std::sin(a) * b));
+            m.texcoords.push_back(vec2(0.0f));
+        }
+    }
+    auto index = [&](int i, int j) { return std::uint32_t((i % segments) * sides + (j % sides)); };
+    for (int i = 0; i < segments; ++i)
+        for (int j = 0; j < sides; ++j) {
+            m.triangles.push_back(uvec3(index(i, j), index(i + 1, j), index(i + 1, j + 1)));
+            m.triangles.push_back(uvec3(index(i, j), index(i + 1, j + 1), index(i, j + 1)));
+            m.triangleMaterial.insert(m.triangleMaterial.end(), 2, 0);
+        }
+    Material material;
+    material.name = "tube";
+    m.materials.push_back(material);
+    return m;
+}
+
+MeshData makeTorusKnotMesh(int segments, int sides, float tube, int p, int q) {
+    return makeTubeMesh(segments, sides, tube, [&](float u) {
+        const float a = 6.2831853f * u;
+        const float r = 0.6f + 0.3f * std::cos(float(q) * a);
+        return vec3(r * std::cos(float(p) * a), 0.3f * std::sin(float(q) * a), r * std::sin(float(p) * a));
+    });
+}
+
 vec3 perpendicularTo(vec3 n) {
     const vec3 a = std::abs(n.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
     return normalize(a - dot(a, n) * n);

@@ -5,6 +5,7 @@
 #include "scene/scene.h"
 
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,14 @@ std::uint32_t addMaterial(Scene& scene, Material material);
 /// x ∈ [−w/2, w/2], y ∈ [−h/2, h/2]. u runs 0 → uvRepeat.x along +x, v runs 0 → uvRepeat.y from the
 /// top edge (+y) down, so a texture appears upright seen from +z. Two triangles, material 0.
 MeshData makeQuad(vec2 size, vec2 uvRepeat);
+
+/// A closed tube of segments × sides quads (two triangles each, shared vertices, wound outwards)
+/// of `radius` around the closed centre curve `curve(u)`, u ∈ [0, 1). Material 0, named "tube".
+MeshData makeTubeMesh(int segments, int sides, float radius, const std::function<vec3(float)>& curve);
+
+/// The (p, q) torus knot as a tube of radius `tube` (object space, about 1.8 × 0.6 × 1.8):
+/// 2 · segments · sides triangles, closed, the mesh of the `knot` built-in scene.
+MeshData makeTorusKnotMesh(int segments, int sides, float tube, int p = 2, int q = 3);
 
 /// A unit vector perpendicular to `n` (stable choice: world x projected, else world z).
 vec3 perpendicularTo(vec3 n);

@@ -44,6 +44,11 @@ const std::vector<Builtin>& builtins() {
           {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
           {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"},
           {"thickness", "0.0005", "depth of the wire boxes, metres, (0, 0.1]"}}},
+        {"knot",
+         "a closed (2, 3) torus-knot mesh on a ground plane under a square light (opaque occluders: dcs, "
+         "pw)",
+         {{"segments", "480", "tube segments along the knot, [3, 100000]"},
+          {"sides", "12", "tube sides around the knot (triangles = 2 x segments x sides), [3, 1000]"}}},
     };
     return list;
 }
@@ -176,6 +181,11 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
             TexelBoxOptions boxes;
             boxes.thickness = knobs.real("thickness", boxes.thickness, 0.0f, 0.1f, true);
             return makeFenceMeshScene(p, boxes);
+        }
+        if (spec == "knot") {
+            const int segments = int(knobs.integer("segments", 480, 3, 100000));
+            const int sides = int(knobs.integer("sides", 12, 3, 1000));
+            return makeMeshScene(makeTorusKnotMesh(segments, sides, 0.12f), "knot");
         }
         FoliageParams p;
         p.count = int(knobs.integer("count", p.count, 1, 1000000));

@@ -50,16 +50,21 @@ bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int
         for (int i = 0; i < 5; ++i) vol0.planes[i] = inPlanesSide0[i];
         if (stsvPointInVolume(vol0, p)) return false;
     }
+    // Not a silhouette seen from p (most fragments): rejected before the projection.
+    GpuEdge edge = edges[inIds.x];
+    uint receiver = imageLoad(gTriangle, pixel).x;
+    int worldK = 0;
+    for (uint f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
+        if (edgeFaces[f].triangle != receiver) worldK += dcsWorldSide(p, edge.v0, edge.v1, edgeFaces[f].opposite);
+    if (worldK == 0) return false;
     Light light = lights[pc.light].light;
     lf = lightFrame(light, p, frame.boxLo.w);
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
     if (px.valid == 0.0) return false;
-    GpuEdge edge = edges[inIds.x];
     h0 = dcsProject(px, edge.v0);
     h1 = dcsProject(px, edge.v1);
     l = cross(h0, h1);
-    uint receiver = imageLoad(gTriangle, pixel).x;
     k = 0;
     for (uint f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
         if (edgeFaces[f].triangle != receiver) k += dcsFaceSide(l, dcsProject(px, edgeFaces[f].opposite));
@@ -81,10 +86,11 @@ void main() {
         atomicAdd(stats[pc.light].wedgeFragments, fragments);
         atomicAdd(stats[pc.light].wedgeInside, insideCount);
     }
-    if (!inside) discard;
 #if WEDGE_PW
-    outOcclusion = float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain);
+    // Rejected fragments add 0 (a discard measured slower on lavapipe).
+    outOcclusion = inside ? float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain) : 0.0;
 #else
+    if (!inside) return; // no outputs: nothing to discard
     uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
     uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
     uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);

@@ -87,6 +87,16 @@ DH_FUNC int dcsFaceSide(vec3 l, vec3 ho) {
     return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
 }
 
+/// Side of a face's third vertex o relative to the plane through p and the edge (v0, v1), in world
+/// space: sign(det[v0 − p, v1 − p, o − p]). H is linear in q − p, so this is dcsFaceSide's sign
+/// times sign(det H), the same for every face of the pixel: the world-space sum is zero exactly
+/// when the projected one is. A cheap test of "is the edge a silhouette seen from p" before the
+/// per-pixel projection is built.
+DH_FUNC int dcsWorldSide(vec3 p, vec3 v0, vec3 v1, vec3 o) {
+    float s = dot(cross(v0 - p, v1 - p), o - p);
+    return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
+}
+
 /// Clips the projected edge h0 → h1 to w ∈ [tMin, 1] (the part between p and the light).
 /// False when nothing is left.
 DH_FUNC bool dcsClipEdge(float tMin, DH_INOUT(vec3) h0, DH_INOUT(vec3) h1) {

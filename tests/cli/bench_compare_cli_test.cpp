@@ -121,6 +121,26 @@ TEST(BenchCli, VaryMakesOneSceneVariantPerValue) {
     EXPECT_TRUE(j["configurations"][0]["speedup_vs_reference"].is_null());
 }
 
+TEST(BenchCli, VarySceneRunsEachSceneWithTheSameKnobs) {
+    ScratchDir dir;
+    const std::vector<std::string> args = {
+        "bench",  "--vary",    "scene=fence,fence-mesh", "--set",    "texture_size=8", "--methods",
+        "dcs+stsv", "--backends", "cpu",                "--size",   "16x16",          "--samples",
+        "16",     "--repeat",  "1",                      "--warmup", "0",              "--json",
+        dir.file("b.json"), "-q"};
+    const CliResult r = runStsv(args);
+    ASSERT_EQ(r.code, 0) << test::describe(args, r);
+    const nlohmann::json j = readJson(dir.file("b.json"));
+    ASSERT_EQ(j["configurations"].size(), 2u);
+    EXPECT_EQ(j["configurations"][0]["scene_name"], "fence");
+    EXPECT_EQ(j["configurations"][1]["scene_name"], "fence-mesh");
+    // The quad's 2 perforated triangles, and the mesh of the same 8x8 texture: none perforated.
+    EXPECT_EQ(j["configurations"][0]["scene"]["perforated_triangles"], 2);
+    EXPECT_EQ(j["configurations"][1]["scene"]["perforated_triangles"], 0);
+    EXPECT_GT(j["configurations"][1]["scene"]["triangles"].get<int>(),
+              j["configurations"][0]["scene"]["triangles"].get<int>());
+}
+
 TEST(BenchCli, PresetWithOverridesAndErrors) {
     ScratchDir dir;
     const std::vector<std::string> args = {

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <sstream>
 
 namespace stsv {
@@ -16,7 +18,7 @@ using test::expectError;
 using test::TempDir;
 
 TEST(Load, BuiltinNamesAndKnobs) {
-    EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"fence", "foliage", "fence-mesh"}));
+    EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"fence", "foliage", "fence-mesh", "knot"}));
     std::vector<std::string> foliage;
     for (const SceneKnob& k : builtinSceneKnobs("foliage")) foliage.push_back(k.name);
     EXPECT_NE(std::find(foliage.begin(), foliage.end(), "count"), foliage.end());
@@ -31,6 +33,32 @@ TEST(Load, BuiltinNamesAndKnobs) {
         }
     }
     expectError<UsageError>([] { builtinSceneKnobs("forest"); }, {"forest", "fence, foliage"});
+}
+
+TEST(Load, KnotIsAClosedTubeOnTheGround) {
+    SceneOptions options;
+    options.set["segments"] = "40";
+    options.set["sides"] = "6";
+    const Scene knot = loadScene("knot", options);
+    // 2 · segments · sides tube triangles, plus the 2 ground triangles of makeMeshScene.
+    EXPECT_EQ(knot.triangleCount(), 2u * 40u * 6u + 2u);
+    EXPECT_EQ(loadScene("knot").triangleCount(), 2u * 480u * 12u + 2u);
+    // Closed: every tube edge is used exactly twice (by index; the tube shares its vertices).
+    std::map<std::pair<std::uint32_t, std::uint32_t>, int> uses;
+    for (std::size_t t = 0; t + 2 < knot.triangleCount(); ++t) {
+        const uvec3 i = knot.triangles[t];
+        for (auto [a, b] : {std::pair{i.x, i.y}, std::pair{i.y, i.z}, std::pair{i.z, i.x}})
+            ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+    for (const auto& [edge, count] : uses) EXPECT_EQ(count, 2) << edge.first << "-" << edge.second;
+    EXPECT_EQ(knot.lights.size(), 1u);
+    expectError<UsageError>(
+        [] {
+            SceneOptions bad;
+            bad.set["sides"] = "2";
+            loadScene("knot", bad);
+        },
+        {"sides"});
 }
 
 TEST(Load, UnknownNameListsBuiltins) {

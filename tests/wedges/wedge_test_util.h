@@ -87,35 +87,6 @@ inline MeshData makeSphereMesh(int slices, int stacks) {
     return m;
 }
 
-/// A closed tube of `segments` × `sides` quads around the centre curve f(u), u ∈ [0, 1),
-/// indexed (shared vertices), wound outwards.
-template <class Curve> MeshData makeTubeMesh(int segments, int sides, float radius, Curve curve) {
-    MeshData m;
-    for (int i = 0; i < segments; ++i) {
-        const float u = float(i) / float(segments);
-        const vec3 c = curve(u), c2 = curve(u + 1e-3f);
-        const vec3 t = normalize(c2 - c);
-        vec3 n = normalize(cross(t, std::abs(t.y) < 0.9f ? vec3(0, 1, 0) : vec3(1, 0, 0)));
-        const vec3 b = cross(t, n);
-        for (int j = 0; j < sides; ++j) {
-            const float a = 6.2831853f * float(j) / float(sides);
-            m.positions.push_back(c + radius * (std::cos(a) * n + std::sin(a) * b));
-            m.texcoords.push_back(vec2(0.0f));
-        }
-    }
-    auto idx = [&](int i, int j) { return std::uint32_t(((i % segments) * sides) + (j % sides)); };
-    for (int i = 0; i < segments; ++i)
-        for (int j = 0; j < sides; ++j) {
-            m.triangles.push_back(uvec3(idx(i, j), idx(i + 1, j), idx(i + 1, j + 1)));
-            m.triangles.push_back(uvec3(idx(i, j), idx(i + 1, j + 1), idx(i, j + 1)));
-            m.triangleMaterial.insert(m.triangleMaterial.end(), 2, 0);
-        }
-    Material mat;
-    mat.name = "tube";
-    m.materials.push_back(mat);
-    return m;
-}
-
 inline MeshData makeTorusMesh(int segments, int sides, float major, float minor) {
     return makeTubeMesh(segments, sides, minor, [&](float u) {
         const float a = 6.2831853f * u;
@@ -123,13 +94,9 @@ inline MeshData makeTorusMesh(int segments, int sides, float major, float minor)
     });
 }
 
-/// (p, q) torus knot of tube radius `minor`.
+/// (p, q) torus knot of tube radius `minor` (scene/geometry.h).
 inline MeshData makeTorusKnotMesh(int segments, int sides, float minor, int p = 2, int q = 3) {
-    return makeTubeMesh(segments, sides, minor, [&](float u) {
-        const float a = 6.2831853f * u;
-        const float r = 0.6f + 0.3f * std::cos(float(q) * a);
-        return vec3(r * std::cos(float(p) * a), 0.3f * std::sin(float(q) * a), r * std::sin(float(p) * a));
-    });
+    return stsv::makeTorusKnotMesh(segments, sides, minor, p, q);
 }
 
 } // namespace stsv::test
