@@ -455,7 +455,7 @@ int runBench(BenchArgs& args) {
                 j["identical_bits_percent"] = *r.agreementPercent;
                 j["differing_samples"] = r.differingSamples;
             }
-            for (const char* key : {"light_sample_buffer_bytes", "stsv", "gpu", "gpu_ms"})
+            for (const char* key : {"light_sample_buffer_bytes", "stsv", "wedges", "gpu", "gpu_ms"})
                 if (r.lastStats.contains(key)) j[key] = r.lastStats[key];
             configurations.push_back(j);
         }

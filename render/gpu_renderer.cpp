@@ -577,7 +577,15 @@ struct VulkanRenderer::Impl {
                 wedges.recordOcclusion(cmd, depth, triangleCount, timer,
                                        prefix + (wedgeCoverage(options.method) ? "pw_" : "dcs_"));
             }
-            if (stsvPass) {
+            if (!stsvPass) {
+                // No STSV volumes: the light-sample buffer is just cleared (pw: all lit).
+                std::vector<ColorTarget> targets;
+                for (Image& image : masks[l]) targets.push_back({&image, true, {}});
+                if (!targets.empty()) {
+                    beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
+                    endRendering(cmd);
+                }
+            } else {
                 timer.begin(cmd, prefix + "stsv");
                 std::vector<ColorTarget> targets;
                 for (Image& image : masks[l]) targets.push_back({&image, true, {}});

@@ -87,8 +87,10 @@ void main() {
         atomicAdd(stats[pc.light].wedgeInside, insideCount);
     }
 #if WEDGE_PW
-    // Rejected fragments add 0 (a discard measured slower on lavapipe).
-    outOcclusion = inside ? float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain) : 0.0;
+    // On lavapipe every wedge fragment pays for the analytic coverage (polygon clipping in
+    // local arrays, about 0.5 µs), silhouette or not: PW runs about 10x slower than DCS there.
+    if (!inside) discard;
+    outOcclusion = float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain);
 #else
     if (!inside) return; // no outputs: nothing to discard
     uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
