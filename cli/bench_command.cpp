@@ -349,8 +349,7 @@ int runBench(BenchArgs& args) {
         if (!args.quiet)
             std::fprintf(stderr, "%s%s%s: %zu triangles (%zu perforated), %zu light(s), %dx%d\n",
                          variants[v].scene.c_str(), variants[v].label.empty() ? "" : " ",
-                         variants[v].label.c_str(),
-                         counts["triangles"].get<std::size_t>(),
+                         variants[v].label.c_str(), counts["triangles"].get<std::size_t>(),
                          counts["perforated_triangles"].get<std::size_t>(),
                          counts["lights"].get<std::size_t>(), base.width, base.height);
         for (int n : samples) {

@@ -110,7 +110,9 @@ int runCli(int argc, char** argv) {
                           "; methods vulkan lacks run on cpu)");
     bench->add_option("--samples", b.samples, "comma-separated sample counts, e.g. 16,64,256")
         ->capture_default_str();
-    bench->add_option("--vary", b.vary, "one scene per value of a knob, e.g. count=250,1000,4000, or per scene, e.g. scene=fence,fence-mesh");
+    bench->add_option(
+        "--vary", b.vary,
+        "one scene per value of a knob, e.g. count=250,1000,4000, or per scene, e.g. scene=fence,fence-mesh");
     bench->add_option("--repeat", b.repeat, "timed frames per configuration")->capture_default_str();
     bench->add_option("--warmup", b.warmup, "untimed frames before them")->capture_default_str();
     bench->add_flag("--check", b.check,

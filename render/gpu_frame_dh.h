@@ -29,7 +29,7 @@ DH_CONST uint GPU_BINDING_CENTER = 14u;     ///< r32i storage image: z-fail laye
 DH_CONST uint GPU_BINDING_COVERAGE = 15u;   ///< r32f storage image: PW occlusion sum, then v_coef
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
-DH_CONST uint GPU_MAX_MASK_IMAGES = 4u; ///< RG32UI images for N = 256 (64 samples each)
+DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 samples each)
 
 /// GpuTriangle::flags: STSV_FLAG_CLAMP and STSV_FLAG_OPAQUE as in stsv_dh.h, plus:
 DH_CONST uint GPU_TRIANGLE_DOUBLE_SIDED = 256u; ///< shading normal faces the viewer

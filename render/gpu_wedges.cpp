@@ -119,7 +119,8 @@ GpuWedgePasses::GpuWedgePasses(const Device& device, const Scene& scene, const R
     wedge.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
     m_wedgePipeline = createGraphicsPipeline(device, layout, wedge);
 
-    m_foldPipeline = createComputePipeline(device, layout, compiler.compileFile("wedge_fold.comp", wedgeDefines));
+    m_foldPipeline =
+        createComputePipeline(device, layout, compiler.compileFile("wedge_fold.comp", wedgeDefines));
 }
 
 void GpuWedgePasses::writeDescriptors(DescriptorSet& set) const {
@@ -134,8 +135,8 @@ void GpuWedgePasses::prepare(VkCommandBuffer cmd) {
     m_coverage.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
 }
 
-void GpuWedgePasses::recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t triangleCount, GpuTimer& timer,
-                                     const std::string& prefix) {
+void GpuWedgePasses::recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t triangleCount,
+                                     GpuTimer& timer, const std::string& prefix) {
     if (!m_enabled) return;
     m_center.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
     const VkClearColorValue zero{};

@@ -71,7 +71,8 @@ MeshData makeTubeMesh(int segments, int sides, float radius, const std::function
         const float u = float(i) / float(segments);
         const vec3 c = curve(u);
         const vec3 t = normalize(curve(u + 1e-3f) - c);
-        const vec3 n = normalize(cross(t, std::abs(t.y) < 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f)));
+        const vec3 n =
+            normalize(cross(t, std::abs(t.y) < 0.9f ? vec3(0.0f, 1.0f, 0.0f) : vec3(1.0f, 0.0f, 0.0f)));
         const vec3 b = cross(t, n);
         for (int j = 0; j < sides; ++j) {
             const float a = 6.2831853f * float(j) / float(sides);

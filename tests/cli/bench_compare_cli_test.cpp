@@ -123,11 +123,26 @@ TEST(BenchCli, VaryMakesOneSceneVariantPerValue) {
 
 TEST(BenchCli, VarySceneRunsEachSceneWithTheSameKnobs) {
     ScratchDir dir;
-    const std::vector<std::string> args = {
-        "bench",  "--vary",    "scene=fence,fence-mesh", "--set",    "texture_size=8", "--methods",
-        "dcs+stsv", "--backends", "cpu",                "--size",   "16x16",          "--samples",
-        "16",     "--repeat",  "1",                      "--warmup", "0",              "--json",
-        dir.file("b.json"), "-q"};
+    const std::vector<std::string> args = {"bench",
+                                           "--vary",
+                                           "scene=fence,fence-mesh",
+                                           "--set",
+                                           "texture_size=8",
+                                           "--methods",
+                                           "dcs+stsv",
+                                           "--backends",
+                                           "cpu",
+                                           "--size",
+                                           "16x16",
+                                           "--samples",
+                                           "16",
+                                           "--repeat",
+                                           "1",
+                                           "--warmup",
+                                           "0",
+                                           "--json",
+                                           dir.file("b.json"),
+                                           "-q"};
     const CliResult r = runStsv(args);
     ASSERT_EQ(r.code, 0) << test::describe(args, r);
     const nlohmann::json j = readJson(dir.file("b.json"));
