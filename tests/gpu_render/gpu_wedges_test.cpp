@@ -209,7 +209,9 @@ TEST_F(GpuWedges, MakeRendererChoosesVulkanForEveryWedgeMethod) {
         EXPECT_GT(frame.stats["wedges"][0]["silhouette_fragments"].get<std::size_t>(), 0u) << toString(m);
         // The sphere has no perforated triangles: no STSV pass, and the buffer read back is the
         // cleared one (PW: every sample lit; its occlusion is in the visibility image).
-        if (wedgeCoverage(m)) EXPECT_EQ(test::occludedCount(frame.lightSamples[0]), 0u) << toString(m);
+        if (wedgeCoverage(m)) {
+            EXPECT_EQ(test::occludedCount(frame.lightSamples[0]), 0u) << toString(m);
+        }
     }
 }
 
