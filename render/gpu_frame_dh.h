@@ -95,9 +95,9 @@ struct GpuEdge {
     vec3 v1;        ///< world units
     uint faceCount; ///< 1 open, 2 manifold, > 2 non-manifold
     uint carrier;   ///< scene triangle whose STSV volume bounds the edge's wedge; GPU_NO_TRIANGLE: none
-    uint manifold;  ///< 1 when faceCount = 2 (the potential-silhouette test applies)
     uint pad0;
     uint pad1;
+    uint pad2;
 };
 
 /// One triangle incident to an edge. std430: 2 × 16 bytes.

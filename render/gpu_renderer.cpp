@@ -577,18 +577,10 @@ struct VulkanRenderer::Impl {
                 wedges.recordOcclusion(cmd, depth, triangleCount, timer,
                                        prefix + (wedgeCoverage(options.method) ? "pw_" : "dcs_"));
             }
-            if (!stsvPass) {
-                // No STSV volumes: the light-sample buffer is just cleared (pw: all lit).
-                std::vector<ColorTarget> targets;
-                for (Image& image : masks[l]) targets.push_back({&image, true, {}});
-                if (!targets.empty()) {
-                    beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
-                    endRendering(cmd);
-                }
-            } else {
+            std::vector<ColorTarget> targets; // bitmask attachments, cleared by the pass
+            for (Image& image : masks[l]) targets.push_back({&image, true, {}});
+            if (stsvPass) {
                 timer.begin(cmd, prefix + "stsv");
-                std::vector<ColorTarget> targets;
-                for (Image& image : masks[l]) targets.push_back({&image, true, {}});
                 beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
                 stsvPipelines.at(scene.lights[l].type).bind(cmd);
                 bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
@@ -596,6 +588,10 @@ struct VulkanRenderer::Impl {
                 drawVolumes(cmd);
                 endRendering(cmd);
                 timer.end(cmd);
+            } else if (!targets.empty()) {
+                // No STSV volumes to draw: the buffer is only cleared (pw: every sample lit).
+                beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
+                endRendering(cmd);
             }
             for (Image& image : masks[l]) image.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
             fullBarrier(cmd);

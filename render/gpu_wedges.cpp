@@ -30,7 +30,6 @@ GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
         g.v1 = adj.positions[e.v1];
         g.firstFace = e.firstFace;
         g.faceCount = e.faceCount;
-        g.manifold = e.faceCount == 2 ? 1u : 0u;
         g.carrier = GPU_NO_TRIANGLE;
         // Edges whose faces are all degenerate have k_e = 0 everywhere (their third vertices lie
         // on the edge's line): no carrier, no wedge.
@@ -138,7 +137,6 @@ void GpuWedgePasses::prepare(VkCommandBuffer cmd) {
 void GpuWedgePasses::recordOcclusion(VkCommandBuffer cmd, Image& depth, uint32_t triangleCount,
                                      GpuTimer& timer, const std::string& prefix) {
     if (!m_enabled) return;
-    m_center.transition(cmd, VK_IMAGE_LAYOUT_GENERAL);
     const VkClearColorValue zero{};
     const VkImageSubresourceRange range{VK_IMAGE_ASPECT_COLOR_BIT, 0, 1, 0, 1};
     vkCmdClearColorImage(cmd, m_center.handle(), VK_IMAGE_LAYOUT_GENERAL, &zero, 1, &range);

@@ -20,7 +20,7 @@ layout(location = 6) flat out vec4 outPlanesSide0[5]; ///< side 1 only: its poin
 /// margin: an edge kept here but dropped there only adds k_e = 0 (wedge.frag) — at a crossing,
 /// the plane through p and the edge contains the light point, where the edge is no silhouette.
 bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
-    if (edge.manifold == 0u) return true;
+    if (edge.faceCount != 2u) return true; // open and non-manifold edges always
     vec3 c = vec3(sphere);
     float s[2];
     for (uint f = 0u; f < 2u; ++f) {

@@ -24,15 +24,14 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = 0, binding = GPU_BINDING_CENTER, r32i) readonly uniform iimage2D centerCount;
 layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) uniform image2D coverage;
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
 
-/// D(r) at the visible point p of opaque or perforated triangle `tri`.
-int centerLayers(ivec2 pixel, uint tri, vec3 p) {
+/// D(r) at the pixel's visible point, on opaque or perforated triangle `tri`.
+int centerLayers(ivec2 pixel, uint tri) {
     int count = imageLoad(centerCount, pixel).x;
     GpuTriangle t = triangles[tri];
     if ((t.flags & STSV_FLAG_OPAQUE) == 0u) return count; // perforated: not among the volumes
@@ -69,7 +68,7 @@ void main() {
     if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) return;
     uint tri = imageLoad(gTriangle, pixel).x;
     if (tri == GPU_NO_TRIANGLE) return;
-    int d = centerLayers(pixel, tri, vec3(imageLoad(gPosition, pixel)));
+    int d = centerLayers(pixel, tri);
 #if WEDGE_PW
     float occlusion = (d > 0 ? 1.0 : 0.0) + imageLoad(coverage, pixel).x;
     float v = 1.0 - clamp(occlusion, 0.0, 1.0);

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -14,13 +13,9 @@ namespace stsv {
 namespace {
 
 using test::CliResult;
+using test::readJson;
 using test::runStsv;
 using test::ScratchDir;
-
-nlohmann::json readJson(const std::string& path) {
-    std::ifstream in(path);
-    return nlohmann::json::parse(in);
-}
 
 void expectSummary(const nlohmann::json& s, const std::string& what) {
     ASSERT_TRUE(s.is_object()) << what << ": " << s.dump();

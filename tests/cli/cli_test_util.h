@@ -6,7 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <unistd.h>
 #include <vector>
@@ -31,6 +34,12 @@ inline CliResult runStsv(std::vector<std::string> args) {
     r.out = testing::internal::GetCapturedStdout();
     r.err = testing::internal::GetCapturedStderr();
     return r;
+}
+
+/// A JSON file the command wrote (--json, --stats).
+inline nlohmann::json readJson(const std::string& path) {
+    std::ifstream in(path);
+    return nlohmann::json::parse(in);
 }
 
 inline std::string describe(const std::vector<std::string>& args, const CliResult& r) {

@@ -9,19 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <fstream>
 
 namespace stsv {
 namespace {
 
 using test::CliResult;
+using test::readJson;
 using test::runStsv;
 using test::ScratchDir;
-
-nlohmann::json readJson(const std::string& path) {
-    std::ifstream in(path);
-    return nlohmann::json::parse(in);
-}
 
 std::size_t lineCount(const std::string& text) {
     return std::size_t(std::count(text.begin(), text.end(), '\n'));
