@@ -39,6 +39,7 @@ struct Config {
     Backend backend;
     int samples;
     std::size_t variant;
+    MethodParams params; ///< the method's --param values, defaults included
     std::string label() const {
         return toString(method) + "/" + toString(backend) + " " + std::to_string(samples);
     }
@@ -132,6 +133,7 @@ std::vector<Variant> makeVariants(const BenchArgs& args, const std::string& vary
 void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repeat, bool progressOn,
                       const std::function<void(const std::string&, bool)>& onFrame, Result& result) {
     o.method = result.config.method;
+    o.params = result.config.params;
     o.backend = result.config.backend;
     o.samples = result.config.samples;
     const std::string label = result.config.label();
@@ -257,6 +259,8 @@ void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std:
                 args.options.seed = value.get<std::uint32_t>();
             else if (key == "set")
                 args.sets = value.get<std::vector<std::string>>();
+            else if (key == "param")
+                args.params = value.get<std::vector<std::string>>();
             else
                 throw UsageError(
                     std::string("preset '").append(name).append("': unknown key '").append(key).append("'"));
@@ -295,6 +299,10 @@ int runBench(BenchArgs& args) {
     for (const std::string& b : splitList(backendList)) backends.push_back(parseBackend(b));
     if (methods.empty()) throw UsageError("--methods is empty");
     if (backends.empty()) throw UsageError("--backends is empty");
+    const std::vector<MethodParams> params = paramsForMethods(methods, args.params);
+    const auto paramsOf = [&](Method m) {
+        return params[std::size_t(std::find(methods.begin(), methods.end(), m) - methods.begin())];
+    };
     const std::vector<int> samples = parseIntList(args.samples, "--samples");
     for (int n : samples) {
         RenderOptions probe = base;
@@ -305,7 +313,7 @@ int runBench(BenchArgs& args) {
     if (!args.json.empty()) checkWritableFile(args.json, "--json");
 
     // Method × backend pairs. A pair the backend does not implement (the reference on vulkan)
-    // is skipped with a note; a method left without any backend runs on the cpu.
+    // is skipped with a note; a method left without any backend runs on its own first backend.
     std::vector<std::pair<Method, Backend>> pairs;
     nlohmann::json skipped = nlohmann::json::array();
     for (Method m : methods) {
@@ -323,16 +331,17 @@ int runBench(BenchArgs& args) {
             pairs.push_back(pair);
             ran = true;
         }
-        const auto cpu = std::make_pair(m, Backend::Cpu);
-        if (!ran && std::find(pairs.begin(), pairs.end(), cpu) == pairs.end()) {
-            std::fprintf(stderr, "note: %s runs on the cpu backend\n", toString(m).c_str());
-            pairs.push_back(cpu);
+        const auto own = std::make_pair(m, methodInfo(m).backends.front());
+        if (!ran && std::find(pairs.begin(), pairs.end(), own) == pairs.end()) {
+            std::fprintf(stderr, "note: %s runs on the %s backend\n", toString(m).c_str(),
+                         toString(own.second).c_str());
+            pairs.push_back(own);
         }
     }
     // The reference first, so --check and the speed-ups have it when the others run.
-    std::stable_partition(pairs.begin(), pairs.end(),
-                          [](const auto& p) { return p.first == Method::Reference; });
-    const bool haveReference = !pairs.empty() && pairs.front().first == Method::Reference;
+    const auto isGroundTruth = [](Method m) { return methodInfo(m).family == MethodFamily::GroundTruth; };
+    std::stable_partition(pairs.begin(), pairs.end(), [&](const auto& p) { return isGroundTruth(p.first); });
+    const bool haveReference = !pairs.empty() && isGroundTruth(pairs.front().first);
     if (args.check && !haveReference) throw UsageError("--check needs the reference among --methods");
 
     std::vector<Result> results;
@@ -357,7 +366,7 @@ int runBench(BenchArgs& args) {
             const std::size_t groupStart = results.size();
             for (const auto& [method, backend] : pairs) {
                 Result r;
-                r.config = {method, backend, n, v};
+                r.config = {method, backend, n, v, paramsOf(method)};
                 r.scene = counts;
                 try {
                     runConfiguration(scene, base, args.warmup, args.repeat, progressOn, args.onFrame, r);
@@ -375,7 +384,7 @@ int runBench(BenchArgs& args) {
                     std::fprintf(stderr, "stsv: error: %s: %s\n", r.config.label().c_str(), r.error.c_str());
                 }
                 results.push_back(std::move(r));
-                if (method == Method::Reference && results.back().error.empty())
+                if (isGroundTruth(method) && results.back().error.empty())
                     referenceIndex = results.size() - 1;
             }
             for (std::size_t i = groupStart; i < results.size(); ++i) {
@@ -425,6 +434,7 @@ int runBench(BenchArgs& args) {
             const Config& c = r.config;
             RenderOptions o = base;
             o.method = c.method;
+            o.params = c.params;
             o.backend = c.backend;
             o.samples = c.samples;
             nlohmann::json j = {{"method", toString(c.method)},

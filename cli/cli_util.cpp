@@ -52,30 +52,55 @@ SceneOptions parseSets(const std::vector<std::string>& sets) {
     return options;
 }
 
+std::vector<MethodParams> paramsForMethods(const std::vector<Method>& methods,
+                                           const std::vector<std::string>& items) {
+    std::vector<std::vector<std::string>> perMethod(methods.size());
+    for (const std::string& item : items) {
+        const std::string name = item.substr(0, item.find('='));
+        bool known = false;
+        for (std::size_t i = 0; i < methods.size(); ++i)
+            if (methodInfo(methods[i]).knob(name)) {
+                perMethod[i].push_back(item);
+                known = true;
+            }
+        if (!known) {
+            std::string list;
+            for (Method m : methods)
+                for (const MethodKnob& k : methodInfo(m).knobs)
+                    list += (list.empty() ? "" : ", ") + methodInfo(m).name + ": " + k.name;
+            throw UsageError("--param '" + item + "' names no parameter of the methods given (theirs: " +
+                             (list.empty() ? "none" : list) + ")");
+        }
+    }
+    std::vector<MethodParams> params;
+    for (std::size_t i = 0; i < methods.size(); ++i)
+        params.push_back(parseMethodParams(methodInfo(methods[i]), perMethod[i]));
+    return params;
+}
+
 Backend defaultBackend() {
     return Backend::Vulkan;
 }
 
 bool backendImplements(Method method, Backend backend) {
-    // Mirrors render/'s makeRenderer: Vulkan renders every method but the Embree reference.
-    return backend == Backend::Cpu || method != Method::Reference;
+    return methodInfo(method).implementedOn(backend);
 }
 
 std::string unsupportedReason(Method method, Backend backend) {
-    if (method == Method::Reference) return "the reference (Embree) runs on the CPU only";
-    return "method " + toString(method) + " is not implemented on " + toString(backend) + " (use cpu)";
+    const MethodInfo& m = methodInfo(method);
+    std::string runsOn;
+    for (Backend b : m.backends) runsOn += (runsOn.empty() ? "" : " and ") + toString(b);
+    if (m.backends.size() == 1 && m.backends[0] == Backend::Cpu) runsOn = "the CPU only";
+    return "method " + m.name + " is not implemented on " + toString(backend) + " (it runs on " + runsOn +
+           ": use --backend " + toString(m.backends.front()) + ")";
 }
 
 void checkBackendSupports(Method method, Backend backend) {
-    if (!backendImplements(method, backend)) {
-        if (method == Method::Reference)
-            throw UsageError("the reference (Embree ray tracing) runs on the CPU only: use --backend cpu");
-        throw UsageError(unsupportedReason(method, backend));
-    }
+    if (!backendImplements(method, backend)) throw UsageError(unsupportedReason(method, backend));
 }
 
 Backend defaultBackendFor(Method method, Backend preferred) {
-    return backendImplements(method, preferred) ? preferred : Backend::Cpu;
+    return backendImplements(method, preferred) ? preferred : methodInfo(method).backends.front();
 }
 
 MethodBackend parseMethodBackend(const std::string& text, Backend fallback) {
@@ -127,8 +152,8 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
     // light-sample buffer in its storage layout (32-bit words, or 16-bit counters).
     const double gbuffer = pixels * (12.0 + 12.0 + 4.0);
     const double images = pixels * (12.0 + 4.0);
-    const double perLight = o.buffer == BufferKind::Bitmask ? pixels * 4.0 * std::ceil(o.samples / 32.0)
-                                                            : pixels * 2.0 * o.samples;
+    const double perLight = double(LightSampleBuffer::storageBytes(
+        o.width, o.height, o.samples, methodInfo(o.method).bufferKind(o.buffer)));
     return gbuffer + images + perLight * double(std::max<std::size_t>(lights, 1));
 }
 

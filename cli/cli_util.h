@@ -24,6 +24,12 @@ std::vector<int> parseIntList(const std::string& text, const std::string& option
 /// `--set key=value` items → SceneOptions; UsageError on an item without '=' or without a key.
 SceneOptions parseSets(const std::vector<std::string>& sets);
 
+/// The `--param` items of several methods run side by side (bench, compare): UsageError naming
+/// the item when its name is a knob of none of `methods`, then each method's parameters from the
+/// items that name its knobs (defaults for the rest), validated.
+std::vector<MethodParams> paramsForMethods(const std::vector<Method>& methods,
+                                           const std::vector<std::string>& items);
+
 /// The default backend of render/compare/bench: vulkan where render/ implements it.
 Backend defaultBackend();
 
@@ -37,14 +43,13 @@ struct MethodBackend {
 MethodBackend parseMethodBackend(const std::string& text, Backend fallback);
 std::string toString(const MethodBackend& mb);
 
-/// Whether render/'s makeRenderer runs `method` on `backend` (the CPU runs every method; Vulkan
-/// runs STSV). Other pairs would silently fall back to the CPU there, so the CLI refuses them.
+/// Whether the method table lists `backend` for `method` (render/methods.h).
 bool backendImplements(Method method, Backend backend);
 /// One phrase saying why `method` does not run on `backend`.
 std::string unsupportedReason(Method method, Backend backend);
 /// UsageError when backendImplements(method, backend) is false.
 void checkBackendSupports(Method method, Backend backend);
-/// `preferred` when it implements `method`, else cpu.
+/// `preferred` when it implements `method`, else the method's first backend.
 Backend defaultBackendFor(Method method, Backend preferred);
 
 /// Throws UsageError before any work when `path` cannot be written: its directory is

@@ -33,6 +33,13 @@ std::string perLightPath(const std::string& path, std::size_t light) {
 
 namespace {
 
+/// --method's help: every row of the method table.
+std::string methodHelp() {
+    std::string text = "one of:";
+    for (const MethodInfo& m : methodTable()) text += "\n  " + m.name + ": " + m.description;
+    return text;
+}
+
 /// Options shared by render, bench and compare.
 void addFrameOptions(CLI::App* command, FrameArgs& a) {
     command->add_option("--pattern", a.pattern, "uniform | stratified | poisson | lowdisc")
@@ -48,6 +55,8 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
         ->capture_default_str();
     command->add_option("--size", a.size, "image size WIDTHxHEIGHT")->capture_default_str();
     command->add_option("--set", a.sets, "scene knob key=value (repeatable), e.g. --set count=256");
+    command->add_option("--param", a.params,
+                        "method parameter name=value (repeatable; see stsv info for each method's)");
     command->add_option("--device", a.options.device,
                         "Vulkan device: index or name substring (see stsv info)");
     command->add_flag("--validation", a.options.validation, "Vulkan validation layers (messages on stderr)");
@@ -82,11 +91,10 @@ int runCli(int argc, char** argv) {
         ->add_option("scene", r.scene,
                      "a .json scene, an .obj/.off mesh, or a built-in name (fence, foliage)")
         ->required();
-    render->add_option("--method", r.method, "reference | stsv | pw | dcs | pw+stsv | dcs+stsv")
-        ->capture_default_str();
+    render->add_option("--method", r.method, methodHelp())->capture_default_str();
     render->add_option("--backend", r.backend,
                        "vulkan | cpu (default " + toString(defaultBackend()) +
-                           "; the reference is cpu only)");
+                           ", or the method's own backend where it lacks that one)");
     render->add_option("--samples", r.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
         ->capture_default_str();
     addFrameOptions(render, r);
@@ -96,13 +104,18 @@ int runCli(int argc, char** argv) {
     render->add_option("--dump-ls", r.dumpLs, "light-sample buffer as NumPy .npy (one file per light)");
     render->add_option("--stats", r.stats, "parameters, counts, timings and buffer memory as JSON");
 
+    InfoArgs i;
     CLI::App* info =
         app.add_subcommand("info", "list methods, built-in scenes and the machine's capabilities");
+    info->add_flag("--methods", i.methodPairs,
+                   "only the method/backend pairs, one 'method backend' per line");
+    info->add_flag("--markdown", i.markdown, "only the method table, in Markdown (the README's method list)");
+    info->add_flag("--json", i.json, "the method table and the built-in scenes as JSON");
 
     BenchArgs b;
     CLI::App* bench = app.add_subcommand("bench", "time frames per method, backend and sample count");
     bench->add_option("scene", b.scene, "a .json scene, an .obj/.off mesh, or a built-in name");
-    bench->add_option("--methods", b.methods, "comma-separated: reference,stsv,pw,dcs,pw+stsv,dcs+stsv")
+    bench->add_option("--methods", b.methods, "comma-separated, of: " + methodNameList("and"))
         ->capture_default_str();
     bench->add_option("--backends", b.backends,
                       "comma-separated: vulkan,cpu (default: " +
@@ -156,7 +169,7 @@ int runCli(int argc, char** argv) {
             r.argv.assign(argv, argv + argc);
             return runRender(r);
         }
-        if (*info) return runInfo();
+        if (*info) return runInfo(i);
         if (*bench) {
             b.given = givenOptions(bench);
             return runBench(b);

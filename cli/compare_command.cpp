@@ -10,6 +10,7 @@
 #include "render/frame.h"
 #include "scene/load.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -60,7 +61,7 @@ Row compareFrames(const MethodBackend& mb, const Frame& frame, const Frame& agai
     if (frame.lightSamples.size() != against.lightSamples.size())
         throw Error(toString(mb) + " returned " + std::to_string(frame.lightSamples.size()) +
                     " light-sample buffers, the reference " + std::to_string(against.lightSamples.size()));
-    row.perSample = !wedgeCoverage(mb.method);
+    row.perSample = methodInfo(mb.method).output != MethodOutput::Visibility;
     for (std::size_t l = 0; row.perSample && l < frame.lightSamples.size(); ++l) {
         const LightSampleDiff d = compareLightSamples(frame.lightSamples[l], against.lightSamples[l], 0);
         row.differingSamples += d.differingSamples;
@@ -85,8 +86,16 @@ void writeImages(const std::string& dir, const MethodBackend& mb, const Frame& f
 }
 
 int compareNpy(const CompareArgs& args) {
-    const LightSampleBuffer a = LightSampleBuffer::readNpy(args.inputs[0]);
-    const LightSampleBuffer b = LightSampleBuffer::readNpy(args.inputs[1]);
+    LightSampleBuffer a = LightSampleBuffer::readNpy(args.inputs[0]);
+    LightSampleBuffer b = LightSampleBuffer::readNpy(args.inputs[1]);
+    // A uint8 file is a bitmask [H, W, N/8] or counters below 256 [H, W, N]: when, read as
+    // bitmasks, one file has 8x the other's samples, it holds counters, and the two compare by
+    // occlusion (count > 0).
+    if (a.kind() == BufferKind::Bitmask && b.kind() == BufferKind::Bitmask && a.samples() == 8 * b.samples())
+        a = LightSampleBuffer::readNpy(args.inputs[0], BufferKind::Counters);
+    else if (a.kind() == BufferKind::Bitmask && b.kind() == BufferKind::Bitmask &&
+             b.samples() == 8 * a.samples())
+        b = LightSampleBuffer::readNpy(args.inputs[1], BufferKind::Counters);
     if (a.width() != b.width() || a.height() != b.height() || a.samples() != b.samples())
         throw UsageError(args.inputs[0] + " is " + std::to_string(a.width()) + "x" +
                          std::to_string(a.height()) + " pixels with " + std::to_string(a.samples()) +
@@ -98,6 +107,10 @@ int compareNpy(const CompareArgs& args) {
         d.comparedSamples ? 100.0 * double(d.differingSamples) / double(d.comparedSamples) : 0.0;
     std::printf("%s vs %s: %dx%d pixels, %d samples\n", args.inputs[0].c_str(), args.inputs[1].c_str(),
                 a.width(), a.height(), a.samples());
+    if (a.kind() != b.kind())
+        std::printf("%s holds counters, %s bits: comparing occlusion (count > 0)\n",
+                    (a.kind() == BufferKind::Counters ? args.inputs[0] : args.inputs[1]).c_str(),
+                    (a.kind() == BufferKind::Counters ? args.inputs[1] : args.inputs[0]).c_str());
     std::printf("differing samples: %zu of %zu (%.6f %%), identical %.6f %%\n", d.differingSamples,
                 d.comparedSamples, percent, 100.0 - percent);
     std::printf("differing pixels:  %zu of %zu\n", d.differingPixels,
@@ -137,6 +150,9 @@ int runCompare(CompareArgs& args) {
     std::vector<MethodBackend> methods;
     for (const std::string& m : splitList(args.methods)) methods.push_back(parseMethodBackend(m, fallback));
     if (methods.empty()) throw UsageError("--methods is empty");
+    std::vector<Method> all{against.method};
+    for (const MethodBackend& mb : methods) all.push_back(mb.method);
+    const std::vector<MethodParams> params = paramsForMethods(all, args.params);
     if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
     if (!args.json.empty()) checkWritableFile(args.json, "--json");
 
@@ -147,6 +163,7 @@ int runCompare(CompareArgs& args) {
         RenderOptions o = base;
         o.method = mb.method;
         o.backend = mb.backend;
+        o.params = params[std::size_t(std::find(all.begin(), all.end(), mb.method) - all.begin())];
         Timer wall;
         Frame frame = renderFrame(scene, o);
         frameMs = frameMsOf(frame, wall.milliseconds());
@@ -205,6 +222,7 @@ int runCompare(CompareArgs& args) {
         RenderOptions o = base;
         o.method = against.method;
         o.backend = against.backend;
+        o.params = params[0];
         writeJson(args.json,
                   {{"scene", spec}, {"against", toString(against)}, {"options", toJson(o)}, {"rows", list}});
     }

@@ -14,18 +14,50 @@
 
 namespace stsv {
 
-int runInfo() {
+namespace {
+
+std::string backendList(const MethodInfo& m) {
+    std::string text;
+    for (Backend b : m.backends) text += (text.empty() ? "" : ", ") + toString(b);
+    return text;
+}
+
+} // namespace
+
+int runInfo(const InfoArgs& args) {
     std::ostream& out = std::cout;
+    if (args.methodPairs) {
+        for (const MethodInfo& m : methodTable())
+            for (Backend b : m.backends) out << m.name << ' ' << toString(b) << '\n';
+        return 0;
+    }
+    if (args.markdown) {
+        out << methodTableMarkdown();
+        return 0;
+    }
+    if (args.json) {
+        nlohmann::json scenes = nlohmann::json::array();
+        for (const std::string& name : builtinSceneNames()) {
+            nlohmann::json knobs = nlohmann::json::array();
+            for (const SceneKnob& k : builtinSceneKnobs(name))
+                knobs.push_back({{"name", k.name}, {"default", k.defaultValue}, {"help", k.description}});
+            scenes.push_back({{"name", name}, {"description", describeBuiltinScene(name)}, {"knobs", knobs}});
+        }
+        out << nlohmann::json{{"version", STSV_VERSION}, {"methods", methodTableJson()}, {"scenes", scenes}}
+                   .dump(2)
+            << '\n';
+        return 0;
+    }
     out << "stsv " << STSV_VERSION << ": soft shadows from area lights with soft textured shadow volumes\n\n";
-    out << "methods:   reference (Embree ray tracing), stsv (soft textured shadow volumes), pw (penumbra "
-           "wedges),\n"
-           "           dcs (depth complexity sampling), pw+stsv, dcs+stsv (wedges for opaque, STSV for "
-           "perforated)\n";
-    out << "on vulkan:";
-    for (Method m :
-         {Method::Reference, Method::Stsv, Method::Pw, Method::Dcs, Method::PwStsv, Method::DcsStsv})
-        if (backendImplements(m, Backend::Vulkan)) out << ' ' << toString(m);
-    out << " (every method runs on cpu)\n";
+    out << "methods:\n";
+    for (const MethodInfo& m : methodTable()) {
+        out << "  " << m.name << ": " << m.description << '\n';
+        out << "      " << toString(m.family) << "; writes " << toString(m.output) << "; runs on "
+            << backendList(m) << '\n';
+        for (const MethodKnob& k : m.knobs)
+            out << "      --param " << k.name << '=' << k.defaultValue << "  " << k.help << " (" << k.min
+                << " to " << k.max << ")\n";
+    }
     out << "backends:  vulkan, cpu (default: " << toString(defaultBackend()) << ")\n";
     out << "patterns:  uniform, stratified, poisson, lowdisc; samples 16, 32, 64, 128, 256\n";
     out << "buffers:   bitmask, counters\n";

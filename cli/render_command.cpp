@@ -38,6 +38,7 @@ int runRender(RenderArgs& args) {
     if (args.quiet) Progress::setEnabled(false);
     RenderOptions o = resolveFrameOptions(args);
     o.method = parseMethod(args.method);
+    o.params = parseMethodParams(methodInfo(o.method), args.params);
     if (args.backend.empty())
         o.backend = defaultBackendFor(o.method, defaultBackend());
     else

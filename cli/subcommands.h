@@ -19,8 +19,9 @@ struct FrameArgs {
     std::string pattern = "poisson";
     std::string buffer = "bitmask";
     std::string size = "512x512";
-    std::vector<std::string> sets; ///< scene knobs key=value
-    RenderOptions options;         ///< samples, seed, interleave, decorrelate, ambient, device, validation
+    std::vector<std::string> sets;   ///< scene knobs key=value
+    std::vector<std::string> params; ///< method knobs name=value (render/methods.h)
+    RenderOptions options;           ///< samples, seed, interleave, decorrelate, ambient, device, validation
     bool quiet = false;
 };
 
@@ -39,7 +40,12 @@ struct RenderArgs : FrameArgs {
 };
 int runRender(RenderArgs& args);
 
-int runInfo();
+struct InfoArgs {
+    bool methodPairs = false; ///< "method backend" lines only
+    bool markdown = false;    ///< the method table in Markdown only
+    bool json = false;        ///< methods and scenes as JSON
+};
+int runInfo(const InfoArgs& args);
 
 /// Bench arguments; `given` lists the options given on the command line, which override a
 /// preset's values.

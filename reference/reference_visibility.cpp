@@ -9,7 +9,7 @@ namespace stsv {
 
 void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, const Light& light,
                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
-    const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
+    const bool counting = out.kind() == BufferKind::Counters;
     const Bounds bounds = scene.scene().bounds();
     const float sceneDiameter = bounds.diameter();
     Progress progress("reference rays", std::size_t(gbuffer.height));

@@ -124,7 +124,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     timer.reset();
 
     // The fragment shader's work, per tile and pixel.
-    const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
+    const bool counting = out.kind() == BufferKind::Counters;
     std::atomic<std::size_t> tests{0}, hits{0};
     Progress progress("stsv (cpu)", tiles.size());
     parallelFor(
@@ -177,6 +177,12 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     stats.pixelVolumeHits = hits;
     stats.shade_ms = timer.milliseconds();
     return stats;
+}
+
+TriangleFilter stsvFilter(const Scene& scene, StsvTriangles which) {
+    if (which == StsvTriangles::Perforated) return [&scene](std::size_t t) { return scene.perforated(t); };
+    if (which == StsvTriangles::None) return [](std::size_t) { return false; };
+    return {};
 }
 
 } // namespace stsv

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/gbuffer.h"
+#include "render/methods.h"
 #include "sampling/ls_buffer.h"
 #include "sampling/pattern.h"
 #include "scene/scene.h"
@@ -39,6 +40,9 @@ mat4 binningClipFromView(const Camera& camera, int width, int height);
 
 /// Which scene triangles a pass treats (all when empty).
 using TriangleFilter = std::function<bool(std::size_t triangle)>;
+
+/// The filter of a method's STSV triangles (render/methods.h): all, or the perforated ones.
+TriangleFilter stsvFilter(const Scene& scene, StsvTriangles which);
 
 /// Adds to the light-sample buffer of `light` the occlusion by every triangle of the scene
 /// accepted by `include`, each treated as an S-triangle (opaque ones with constant opacity).

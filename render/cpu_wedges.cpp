@@ -250,7 +250,7 @@ void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* labe
 
 WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
                             const SamplePlan& plan, float farDistance, LightSampleBuffer& counters) {
-    if (counters.kind() != LightSampleBuffer::Kind::Counters)
+    if (counters.kind() != BufferKind::Counters)
         throw UsageError("dcs needs a counter light-sample buffer (--buffer counters)");
     WedgeCpuStats stats;
     Timer timer;
@@ -305,7 +305,7 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
 StsvCpuStats perforatedStsvSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
                                    const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
     return stsvCpuSamples(scene, gbuffer, light, plan, farDistance, out,
-                          [&](std::size_t t) { return scene.perforated(t); });
+                          stsvFilter(scene, StsvTriangles::Perforated));
 }
 
 WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,

@@ -60,7 +60,7 @@ class OpaqueOccluders {
     EdgeAdjacency m_adjacency;
 };
 
-/// DCS: adds to `counters` (Kind::Counters) the exact per-sample depth complexity of the opaque
+/// DCS: adds to `counters` (BufferKind::Counters) the exact per-sample depth complexity of the opaque
 /// triangles, D(x) = D(r) + Σ_e k_e·[r → x crosses e] (wedges/dcs_dh.h). Self-shadowing rule as
 /// STSV: the visible triangle never counts.
 WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
@@ -79,7 +79,7 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& g
                               float farDistance, ImageF& visibility);
 
 /// PW+STSV (Algorithm 2, lines 12–14): v = clamp(v_pw − occluded fraction of the STSV bitmask of
-/// the perforated triangles, 0, 1). `stsvBits` (Kind::Bitmask, cleared by the caller) receives
+/// the perforated triangles, 0, 1). `stsvBits` (BufferKind::Bitmask, cleared by the caller) receives
 /// the STSV bits.
 WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer,
                                   const Light& light, const SamplePlan& plan, float farDistance,

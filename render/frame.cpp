@@ -1,5 +1,6 @@
 #include "render/frame.h"
 
+#include "core/error.h"
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "reference/embree_scene.h"
@@ -67,12 +68,12 @@ namespace {
 class CpuRenderer final : public FrameRenderer {
   public:
     CpuRenderer(const Scene& scene, const RenderOptions& options)
-        : m_scene(scene), m_options(options),
+        : m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
           m_plan(makeSamplePlan(options.pattern, options.samples, options.seed, options.interleave,
                                 options.decorrelate)),
           m_farDistance(farDistanceFor(scene.bounds())), m_embree((validate(options), scene)),
           m_startupMs(0.0) {
-        if (m_options.method != Method::Reference && m_options.method != Method::Stsv) occluders();
+        if (m_method.opaque != OpaqueTechnique::None) occluders();
         m_startupMs = m_startup.milliseconds();
     }
 
@@ -86,9 +87,7 @@ class CpuRenderer final : public FrameRenderer {
         initFrameImages(m_scene, frame.gbuffer, m_options.ambient, frame);
 
         nlohmann::json methodStats = nlohmann::json::array();
-        const auto kind = countsLayers(m_options.method) || m_options.buffer == BufferKind::Counters
-                              ? LightSampleBuffer::Kind::Counters
-                              : LightSampleBuffer::Kind::Bitmask;
+        const BufferKind kind = m_method.bufferKind(m_options.buffer);
         std::size_t bufferBytes = 0;
         for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
             const Light& light = m_scene.lights[l];
@@ -98,67 +97,59 @@ class CpuRenderer final : public FrameRenderer {
             bufferBytes = std::max(bufferBytes, buffer.memoryBytes());
             ImageF coverage;
             timer.reset();
-            switch (m_options.method) {
-            case Method::Reference:
+            // Algorithm 2 per light: rays (ground truth), or the opaque pass and then STSV over the
+            // triangles the method sends through it.
+            if (m_method.traced) {
                 traceReferenceSamples(m_embree, frame.gbuffer, light, m_plan, m_farDistance, buffer);
                 passes[prefix + "reference"] = timer.milliseconds();
-                break;
-            case Method::Stsv: {
-                const StsvCpuStats s =
-                    stsvCpuSamples(m_scene, frame.gbuffer, light, m_plan, m_farDistance, buffer);
+            } else if (m_method.opaque == OpaqueTechnique::None) {
+                const StsvCpuStats s = stsvCpuSamples(m_scene, frame.gbuffer, light, m_plan, m_farDistance,
+                                                      buffer, stsvFilter(m_scene, m_method.stsv));
                 passes[prefix + "stsv_bin"] = s.bin_ms;
                 passes[prefix + "stsv_shade"] = s.shade_ms;
                 methodStats.push_back(toJson(s));
-                break;
-            }
-            case Method::Dcs:
-            case Method::DcsStsv: {
+            } else {
+                const bool withStsv = m_method.stsv != StsvTriangles::None;
                 StsvCpuStats stsv;
-                const WedgeCpuStats w =
-                    m_options.method == Method::Dcs
-                        ? dcsCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer)
-                        : dcsStsvCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer,
-                                            &stsv);
-                passes[prefix + toString(m_options.method)] = timer.milliseconds();
+                WedgeCpuStats w;
+                if (m_method.opaque == OpaqueTechnique::Dcs) {
+                    w = withStsv
+                            ? dcsStsvCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance,
+                                                buffer, &stsv)
+                            : dcsCpuSamples(occluders(), frame.gbuffer, light, m_plan, m_farDistance, buffer);
+                } else {
+                    // PW yields a v_coef per pixel; the bitmask keeps the STSV part of pw+stsv.
+                    coverage = ImageF(m_options.width, m_options.height, 1);
+                    w = withStsv
+                            ? pwStsvCpuVisibility(occluders(), frame.gbuffer, light, m_plan, m_farDistance,
+                                                  coverage, buffer, &stsv)
+                            : pwCpuVisibility(occluders(), frame.gbuffer, light, m_farDistance, coverage);
+                }
+                passes[prefix + m_method.name] = timer.milliseconds();
                 methodStats.push_back({{"wedges", toJson(w)}, {"stsv", toJson(stsv)}});
-                break;
-            }
-            case Method::Pw:
-            case Method::PwStsv: {
-                // PW yields a v_coef per pixel; the bitmask keeps the STSV part of pw+stsv.
-                coverage = ImageF(m_options.width, m_options.height, 1);
-                StsvCpuStats stsv;
-                const WedgeCpuStats w =
-                    m_options.method == Method::Pw
-                        ? pwCpuVisibility(occluders(), frame.gbuffer, light, m_farDistance, coverage)
-                        : pwStsvCpuVisibility(occluders(), frame.gbuffer, light, m_plan, m_farDistance,
-                                              coverage, buffer, &stsv);
-                passes[prefix + toString(m_options.method)] = timer.milliseconds();
-                methodStats.push_back({{"wedges", toJson(w)}, {"stsv", toJson(stsv)}});
-                break;
-            }
             }
             timer.reset();
             // PW shades with all samples lit, scaled by its v_coef.
             const LightSampleBuffer* resolveBuffer = &buffer;
             LightSampleBuffer allLit;
-            if (wedgeCoverage(m_options.method)) {
+            const bool visibilityOnly = m_method.output == MethodOutput::Visibility;
+            if (visibilityOnly) {
                 allLit = LightSampleBuffer(m_options.width, m_options.height, m_options.samples,
-                                           LightSampleBuffer::Kind::Bitmask);
+                                           BufferKind::Bitmask);
                 resolveBuffer = &allLit;
             }
             resolveLight(m_scene, frame.gbuffer, light, m_plan, m_farDistance, *resolveBuffer,
                          1.0f / float(m_scene.lights.size()), frame.color, frame.visibility,
-                         wedgeCoverage(m_options.method) ? &coverage : nullptr);
+                         visibilityOnly ? &coverage : nullptr);
             passes[prefix + "resolve"] = timer.milliseconds();
         }
         nlohmann::json options = toJson(m_options);
-        options["backend"] = "cpu"; // what actually ran (the reference and the wedge methods are CPU-only)
+        options["backend"] = "cpu";
         frame.stats = {{"options", options},        {"scene", sceneStats(m_scene)},
                        {"startup_ms", m_startupMs}, {"frame_ms", total.milliseconds()},
                        {"passes", passes},          {"light_sample_buffer_bytes", bufferBytes}};
         if (!methodStats.empty())
-            frame.stats[m_options.method == Method::Stsv ? "stsv" : "wedges"] = methodStats;
+            frame.stats[m_method.opaque == OpaqueTechnique::None ? "stsv" : "wedges"] = methodStats;
         return frame;
     }
 
@@ -171,6 +162,7 @@ class CpuRenderer final : public FrameRenderer {
 
     const Scene& m_scene;
     RenderOptions m_options;
+    const MethodInfo& m_method;
     Timer m_startup;
     SamplePlan m_plan;
     float m_farDistance;
@@ -183,9 +175,11 @@ class CpuRenderer final : public FrameRenderer {
 
 std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOptions& options) {
     validate(options);
-    // The Embree reference is CPU-only; the Vulkan backend renders every other method.
-    if (options.backend == Backend::Vulkan && options.method != Method::Reference)
-        return std::make_unique<VulkanRenderer>(scene, options);
+    const MethodInfo& method = methodInfo(options.method);
+    if (!method.implementedOn(options.backend))
+        throw UsageError("method " + method.name + " does not run on " + toString(options.backend) +
+                         " (it runs on " + toString(method.backends.front()) + ")");
+    if (options.backend == Backend::Vulkan) return std::make_unique<VulkanRenderer>(scene, options);
     return std::make_unique<CpuRenderer>(scene, options);
 }
 

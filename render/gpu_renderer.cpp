@@ -124,17 +124,17 @@ std::vector<ShaderDefine> lightTypeDefines(std::vector<ShaderDefine> defines, ui
     return defines;
 }
 
-/// The options the Vulkan frame runs with: DCS needs counters (its edge terms are signed).
+/// The options the Vulkan frame runs with: the buffer kind the method writes.
 RenderOptions vulkanOptions(RenderOptions options) {
-    if (countsLayers(options.method)) options.buffer = BufferKind::Counters;
+    options.buffer = methodInfo(options.method).bufferKind(options.buffer);
     return options;
 }
 
-/// Whether the frame draws STSV volumes: every triangle for stsv; the perforated ones for
-/// pw+stsv and dcs+stsv (Algorithm 2), when the scene has any.
-bool drawsStsv(Method method, const Scene& scene) {
-    if (method == Method::Stsv) return true;
-    if (method != Method::DcsStsv && method != Method::PwStsv) return false;
+/// Whether the frame draws STSV volumes: the method sends triangles through STSV and the scene
+/// has some of them (Algorithm 2).
+bool drawsStsv(StsvTriangles which, const Scene& scene) {
+    if (which == StsvTriangles::All) return true;
+    if (which == StsvTriangles::None) return false;
     for (std::size_t t = 0; t < scene.triangleCount(); ++t)
         if (scene.perforated(t)) return true;
     return false;
@@ -143,9 +143,7 @@ bool drawsStsv(Method method, const Scene& scene) {
 } // namespace
 
 std::size_t lightSampleBufferBytes(const RenderOptions& options) {
-    const std::size_t pixelSamples =
-        std::size_t(options.width) * std::size_t(options.height) * std::size_t(options.samples);
-    return options.buffer == BufferKind::Bitmask ? pixelSamples / 8 : pixelSamples * 2;
+    return LightSampleBuffer::payloadBytes(options.width, options.height, options.samples, options.buffer);
 }
 
 vec2 gpuDepthRange(const Scene& scene) {
@@ -232,7 +230,7 @@ struct VulkanRenderer::Impl {
                               options.decorrelate);
         lightCount = scene.lights.size();
         triangleCount = static_cast<std::uint32_t>(scene.triangleCount());
-        stsvPass = drawsStsv(options.method, scene);
+        stsvPass = drawsStsv(methodInfo(options.method).stsv, scene);
 
         uploadScene();
         createImages();
@@ -318,9 +316,7 @@ struct VulkanRenderer::Impl {
         stats = Buffer(*device, sizeof(GpuStats) * std::max<std::size_t>(lightCount, 1), storage,
                        MemoryUsage::DeviceLocal);
         const std::size_t counterBytes =
-            options.buffer == BufferKind::Counters
-                ? std::size_t(options.width) * options.height * options.samples * 2
-                : 16;
+            options.buffer == BufferKind::Counters ? lightSampleBufferBytes(options) : 16;
         for (std::size_t l = 0; l < std::max<std::size_t>(lightCount, 1); ++l)
             counters.emplace_back(*device, counterBytes, storage, MemoryUsage::DeviceLocal);
     }
@@ -382,7 +378,7 @@ struct VulkanRenderer::Impl {
     /// Light `l`'s staged bitmask attachments or counters into `buffer`.
     void unpackLightSamples(LightSampleBuffer& buffer, std::size_t l) const {
         const std::size_t pixels = std::size_t(options.width) * std::size_t(options.height);
-        if (buffer.kind() == LightSampleBuffer::Kind::Counters) {
+        if (buffer.kind() == BufferKind::Counters) {
             std::vector<std::uint16_t>& out = buffer.counters();
             std::memcpy(out.data(), staged<std::uint16_t>(layout.counters[l]),
                         out.size() * sizeof(std::uint16_t));
@@ -473,7 +469,8 @@ struct VulkanRenderer::Impl {
         stsv.cullMode = VK_CULL_MODE_FRONT_BIT;
         stsv.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
         std::vector<ShaderDefine> resolveDefines = defines;
-        resolveDefines.push_back({"RESOLVE_COVERAGE", wedgeCoverage(options.method) ? "1" : "0"});
+        resolveDefines.push_back(
+            {"RESOLVE_COVERAGE", methodInfo(options.method).output == MethodOutput::Visibility ? "1" : "0"});
         std::array<bool, 4> used{};
         for (const Light& light : scene.lights) used.at(light.type) = true;
         if (lightCount == 0) used[0] = true;
@@ -574,8 +571,9 @@ struct VulkanRenderer::Impl {
                 // Algorithm 2, lines 4–7 and 11: the opaque triangles through DCS or PW.
                 bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
                 push(cmd, uint(l), 0u);
-                wedges.recordOcclusion(cmd, depth, triangleCount, timer,
-                                       prefix + (wedgeCoverage(options.method) ? "pw_" : "dcs_"));
+                wedges.recordOcclusion(
+                    cmd, depth, triangleCount, timer,
+                    prefix + (methodInfo(options.method).opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_"));
             }
             std::vector<ColorTarget> targets; // bitmask attachments, cleared by the pass
             for (Image& image : masks[l]) targets.push_back({&image, true, {}});
@@ -584,7 +582,9 @@ struct VulkanRenderer::Impl {
                 beginRendering(cmd, targets, DepthTarget{&depth, false, 1.0f, true});
                 stsvPipelines.at(scene.lights[l].type).bind(cmd);
                 bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, l);
-                push(cmd, uint(l), 0u, options.method == Method::Stsv ? 0u : GPU_PUSH_PERFORATED_ONLY);
+                push(cmd, uint(l), 0u,
+                     methodInfo(options.method).stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY
+                                                                                  : 0u);
                 drawVolumes(cmd);
                 endRendering(cmd);
                 timer.end(cmd);
@@ -644,8 +644,6 @@ struct VulkanRenderer::Impl {
         const auto* positions = staged<vec4>(layout.position);
         const auto* rgba = staged<vec4>(layout.color);
         const auto* tris = staged<std::uint32_t>(layout.triangle);
-        const auto kind = options.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
-                                                                : LightSampleBuffer::Kind::Counters;
         // The outputs are fresh allocations whose first touch (page faults) costs more than the
         // copying: build them on all cores, one output per task, then the normals per pixel.
         const std::function<void()> jobs[] = {
@@ -665,7 +663,8 @@ struct VulkanRenderer::Impl {
             },
             [&] {
                 for (std::size_t l = 0; l < lightCount; ++l)
-                    unpackLightSamples(frame.lightSamples.emplace_back(w, h, options.samples, kind), l);
+                    unpackLightSamples(frame.lightSamples.emplace_back(w, h, options.samples, options.buffer),
+                                       l);
             }};
         parallelForChunks(std::size(jobs), 1, [&](std::size_t begin, std::size_t end) {
             for (std::size_t j = begin; j < end; ++j) jobs[j]();

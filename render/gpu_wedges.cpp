@@ -54,8 +54,8 @@ std::vector<DescriptorBinding> GpuWedgePasses::bindings() {
 
 GpuWedgePasses::GpuWedgePasses(const Device& device, const Scene& scene, const RenderOptions& options,
                                const PipelineLayout& layout, const std::vector<ShaderDefine>& defines)
-    : m_enabled(options.method != Method::Stsv && options.method != Method::Reference),
-      m_pw(wedgeCoverage(options.method)) {
+    : m_enabled(methodInfo(options.method).opaque != OpaqueTechnique::None),
+      m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw) {
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     GpuEdgeTables tables;
     if (m_enabled) tables = buildGpuEdgeTables(scene);
@@ -80,7 +80,8 @@ GpuWedgePasses::GpuWedgePasses(const Device& device, const Scene& scene, const R
     const ShaderCompiler compiler;
     std::vector<ShaderDefine> wedgeDefines = defines;
     wedgeDefines.push_back({"WEDGE_PW", m_pw ? "1" : "0"});
-    wedgeDefines.push_back({"WEDGE_STSV", options.method == Method::PwStsv ? "1" : "0"});
+    wedgeDefines.push_back(
+        {"WEDGE_STSV", m_pw && methodInfo(options.method).stsv != StsvTriangles::None ? "1" : "0"});
     const std::vector<uint32_t> vertex = compiler.compileFile("stsv.vert", defines);
 
     // Centre count: every face of the volumes behind the visible point, both facings, no writes

@@ -2,6 +2,7 @@
 // written into --stats so an output says how it was made.
 #pragma once
 
+#include "render/methods.h"
 #include "sampling/pattern.h"
 
 #include <nlohmann/json.hpp>
@@ -11,29 +12,9 @@
 
 namespace stsv {
 
-enum class Method {
-    Reference, ///< Embree shadow rays (CPU only)
-    Stsv,      ///< every triangle through STSV
-    Pw,        ///< opaque triangles through penumbra wedges (perforated ones ignored)
-    Dcs,       ///< opaque triangles through depth complexity sampling (perforated ones ignored)
-    PwStsv,    ///< pw for opaque, STSV for perforated triangles
-    DcsStsv,   ///< dcs for opaque, STSV for perforated triangles
-};
-
-/// True for the methods that produce per-sample depth-complexity counters.
-inline bool countsLayers(Method m) {
-    return m == Method::Dcs || m == Method::DcsStsv;
-}
-/// True for the penumbra-wedge methods, whose visibility is a per-pixel coefficient.
-inline bool wedgeCoverage(Method m) {
-    return m == Method::Pw || m == Method::PwStsv;
-}
-enum class Backend { Cpu, Vulkan };
-enum class BufferKind { Bitmask, Counters };
-
 struct RenderOptions {
     Method method = Method::Stsv;
-    Backend backend = Backend::Vulkan; ///< Vulkan renders STSV; the Embree reference always runs on the CPU
+    Backend backend = Backend::Vulkan; ///< one of methodInfo(method).backends
     int width = 512;                   ///< pixels, 1 … 16384
     int height = 512;                  ///< pixels, 1 … 16384
     int samples = 64;                  ///< light samples per pixel: 16, 32, 64, 128 or 256
@@ -46,16 +27,10 @@ struct RenderOptions {
     float ambient = 0.05f;   ///< ambient term, fraction of albedo
     std::string device;      ///< Vulkan device: "" = best, an index, or a name substring
     bool validation = false; ///< Vulkan validation layers (always on in tests)
+    MethodParams params;     ///< the method's knobs (render/methods.h); missing ones take their defaults
 };
 
-Method parseMethod(const std::string& name);
-Backend parseBackend(const std::string& name);
-BufferKind parseBufferKind(const std::string& name);
-std::string toString(Method method);
-std::string toString(Backend backend);
-std::string toString(BufferKind kind);
-
-/// Throws UsageError naming the first option out of range.
+/// Throws UsageError naming the first option out of range (method parameters included).
 void validate(const RenderOptions& options);
 
 nlohmann::json toJson(const RenderOptions& options);

@@ -7,21 +7,21 @@
 
 namespace stsv {
 
-LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, Kind kind)
+LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, BufferKind kind)
     : m_width(width), m_height(height), m_samples(samples), m_kind(kind) {
     if (width < 1 || height < 1 || samples < 1 || samples > 4096 ||
         std::size_t(width) * std::size_t(height) > (1u << 28))
         throw UsageError("light-sample buffer of " + std::to_string(width) + "x" + std::to_string(height) +
                          " pixels × " + std::to_string(samples) + " samples is out of range");
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    if (kind == Kind::Bitmask)
+    if (kind == BufferKind::Bitmask)
         m_words.assign(pixels * std::size_t(wordsPerPixel()), 0u);
     else
         m_counters.assign(pixels * std::size_t(samples), 0u);
 }
 
 void LightSampleBuffer::setOccluded(int x, int y, int k) {
-    if (m_kind == Kind::Bitmask) {
+    if (m_kind == BufferKind::Bitmask) {
         m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(k / 32)] |= 1u << (k % 32);
     } else {
         std::uint16_t& c = m_counters[pixelIndex(x, y) * std::size_t(m_samples) + std::size_t(k)];
@@ -34,13 +34,13 @@ bool LightSampleBuffer::occluded(int x, int y, int k) const {
 }
 
 void LightSampleBuffer::addCount(int x, int y, int k, int delta) {
-    if (m_kind != Kind::Counters) throw UsageError("addCount on a bitmask light-sample buffer");
+    if (m_kind != BufferKind::Counters) throw UsageError("addCount on a bitmask light-sample buffer");
     std::uint16_t& c = m_counters[pixelIndex(x, y) * std::size_t(m_samples) + std::size_t(k)];
     c = std::uint16_t(unsigned(c) + unsigned(delta)); // modulo 2^16 (see the header)
 }
 
 int LightSampleBuffer::count(int x, int y, int k) const {
-    if (m_kind == Kind::Bitmask)
+    if (m_kind == BufferKind::Bitmask)
         return int(
             (m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(k / 32)] >> (k % 32)) &
             1u);
@@ -49,7 +49,7 @@ int LightSampleBuffer::count(int x, int y, int k) const {
 
 float LightSampleBuffer::visibleFraction(int x, int y) const {
     int occludedCount = 0;
-    if (m_kind == Kind::Bitmask) {
+    if (m_kind == BufferKind::Bitmask) {
         const std::uint32_t* w = &m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel())];
         for (int i = 0; i < wordsPerPixel(); ++i) {
             const int valid = std::min(32, m_samples - 32 * i);
@@ -63,20 +63,22 @@ float LightSampleBuffer::visibleFraction(int x, int y) const {
     return float(m_samples - occludedCount) / float(m_samples);
 }
 
-std::size_t LightSampleBuffer::memoryBytes() const {
-    const std::size_t pixelSamples = std::size_t(m_width) * std::size_t(m_height) * std::size_t(m_samples);
-    return m_kind == Kind::Bitmask ? pixelSamples / 8 : pixelSamples * 2;
+std::size_t LightSampleBuffer::payloadBytes(int width, int height, int samples, BufferKind kind) {
+    const std::size_t pixelSamples = std::size_t(width) * std::size_t(height) * std::size_t(samples);
+    return kind == BufferKind::Bitmask ? pixelSamples / 8 : pixelSamples * 2;
 }
 
-std::size_t LightSampleBuffer::storageBytes() const {
-    return m_kind == Kind::Bitmask ? m_words.size() * 4 : m_counters.size() * 2;
+std::size_t LightSampleBuffer::storageBytes(int width, int height, int samples, BufferKind kind) {
+    const std::size_t pixels = std::size_t(width) * std::size_t(height);
+    return kind == BufferKind::Bitmask ? pixels * 4 * std::size_t((samples + 31) / 32)
+                                       : payloadBytes(width, height, samples, kind);
 }
 
 void LightSampleBuffer::writeNpy(const std::string& path) const {
     const auto h = std::size_t(m_height);
     const auto w = std::size_t(m_width);
     const auto n = std::size_t(m_samples);
-    if (m_kind == Kind::Bitmask) {
+    if (m_kind == BufferKind::Bitmask) {
         if (m_samples % 8 != 0)
             throw UsageError("--dump-ls needs a sample count that is a multiple of 8, not " +
                              std::to_string(m_samples));
@@ -106,7 +108,7 @@ void LightSampleBuffer::writeNpy(const std::string& path) const {
     }
 }
 
-LightSampleBuffer LightSampleBuffer::readNpy(const std::string& path, std::optional<Kind> kind) {
+LightSampleBuffer LightSampleBuffer::readNpy(const std::string& path, std::optional<BufferKind> kind) {
     const NpyArray array = stsv::readNpy(path);
     const bool u8 = array.dtype == "|u1" || array.dtype == "<u1";
     const bool u16 = array.dtype == "<u2";
@@ -114,19 +116,19 @@ LightSampleBuffer LightSampleBuffer::readNpy(const std::string& path, std::optio
         throw InputError(path, "light-sample buffer must be uint8 or uint16, not " + array.dtype);
     if (array.shape.size() != 3 || array.shape[0] == 0 || array.shape[1] == 0 || array.shape[2] == 0)
         throw InputError(path, "light-sample buffer must have shape [H, W, N/8] or [H, W, N]");
-    const Kind k = kind ? *kind : (u16 ? Kind::Counters : Kind::Bitmask);
-    if (k == Kind::Bitmask && !u8) throw InputError(path, "a light-sample bitmask must be uint8");
+    const BufferKind k = kind ? *kind : (u16 ? BufferKind::Counters : BufferKind::Bitmask);
+    if (k == BufferKind::Bitmask && !u8) throw InputError(path, "a light-sample bitmask must be uint8");
     const std::size_t h = array.shape[0];
     const std::size_t w = array.shape[1];
     const std::size_t depth = array.shape[2];
-    const std::size_t samples = k == Kind::Bitmask ? depth * 8 : depth;
+    const std::size_t samples = k == BufferKind::Bitmask ? depth * 8 : depth;
     if (h > (1u << 16) || w > (1u << 16) || samples > 4096)
         throw InputError(path, "light-sample buffer shape is out of range");
     const std::size_t elementBytes = u16 ? 2 : 1;
     if (array.bytes.size() != h * w * depth * elementBytes)
         throw InputError(path, "light-sample buffer is truncated");
     LightSampleBuffer buffer(int(w), int(h), int(samples), k);
-    if (k == Kind::Bitmask) {
+    if (k == BufferKind::Bitmask) {
         const auto wpp = std::size_t(buffer.wordsPerPixel());
         for (std::size_t p = 0; p < h * w; ++p)
             for (std::size_t j = 0; j < depth; ++j)
@@ -146,8 +148,7 @@ LightSampleDiff compareLightSamples(const LightSampleBuffer& a, const LightSampl
                          std::to_string(a.height()) + "x" + std::to_string(a.samples()) + " and " +
                          std::to_string(b.width()) + "x" + std::to_string(b.height()) + "x" +
                          std::to_string(b.samples()));
-    const bool counts = compareCounts && a.kind() == LightSampleBuffer::Kind::Counters &&
-                        b.kind() == LightSampleBuffer::Kind::Counters;
+    const bool counts = compareCounts && a.kind() == BufferKind::Counters && b.kind() == BufferKind::Counters;
     LightSampleDiff diff;
     diff.comparedSamples = std::size_t(a.width()) * std::size_t(a.height()) * std::size_t(a.samples());
     for (int y = 0; y < a.height(); ++y)

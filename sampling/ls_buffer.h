@@ -13,19 +13,20 @@
 
 namespace stsv {
 
+/// What a light-sample buffer stores per (pixel, sample): an occlusion bit or a depth-complexity counter.
+enum class BufferKind { Bitmask, Counters };
+
 class LightSampleBuffer {
   public:
-    enum class Kind { Bitmask, Counters };
-
     LightSampleBuffer() = default;
     /// UsageError unless width, height ≥ 1 and samples ∈ [1, 4096] (a multiple of 8 for
     /// writeNpy of a bitmask).
-    LightSampleBuffer(int width, int height, int samples, Kind kind);
+    LightSampleBuffer(int width, int height, int samples, BufferKind kind);
 
     int width() const { return m_width; }
     int height() const { return m_height; }
     int samples() const { return m_samples; }
-    Kind kind() const { return m_kind; }
+    BufferKind kind() const { return m_kind; }
     /// Bitmask: 32-bit words per pixel, ceil(N/32); sample k is bit k%32 of word k/32 — the
     /// GPU layout (RG32UI attachments: word 2i in .x, 2i+1 in .y of attachment i).
     int wordsPerPixel() const { return (m_samples + 31) / 32; }
@@ -52,9 +53,12 @@ class LightSampleBuffer {
     const std::vector<std::uint16_t>& counters() const { return m_counters; }
 
     /// Payload size: N·W·H/8 bytes for a bitmask (the paper's §5.1 figure: 8 MiB at 1024² × 64),
-    /// 2·N·W·H for counters. The bitmask storage rounds N up to 32 bits (storageBytes()).
-    std::size_t memoryBytes() const;
-    std::size_t storageBytes() const;
+    /// 2·N·W·H for 16-bit counters.
+    static std::size_t payloadBytes(int width, int height, int samples, BufferKind kind);
+    /// Storage size: the bitmask rounds N up to 32-bit words; counters as the payload.
+    static std::size_t storageBytes(int width, int height, int samples, BufferKind kind);
+    std::size_t memoryBytes() const { return payloadBytes(m_width, m_height, m_samples, m_kind); }
+    std::size_t storageBytes() const { return storageBytes(m_width, m_height, m_samples, m_kind); }
 
     /// The `--dump-ls` format of issue 2. Bitmask: uint8 [H, W, N/8], sample k in bit k%8 of
     /// byte k/8, 1 = occluded (UsageError if N is not a multiple of 8). Counters: uint8 if every
@@ -63,7 +67,7 @@ class LightSampleBuffer {
     /// Inverse of writeNpy. The file does not say whether a uint8 array is a bitmask or
     /// counters: `kind` decides; without it, uint8 means bitmask and uint16 means counters.
     /// InputError naming the file on any other dtype or shape.
-    static LightSampleBuffer readNpy(const std::string& path, std::optional<Kind> kind = std::nullopt);
+    static LightSampleBuffer readNpy(const std::string& path, std::optional<BufferKind> kind = std::nullopt);
 
   private:
     std::size_t pixelIndex(int x, int y) const {
@@ -73,7 +77,7 @@ class LightSampleBuffer {
     int m_width = 0;
     int m_height = 0;
     int m_samples = 0;
-    Kind m_kind = Kind::Bitmask;
+    BufferKind m_kind = BufferKind::Bitmask;
     std::vector<std::uint32_t> m_words;
     std::vector<std::uint16_t> m_counters;
 };

@@ -133,8 +133,8 @@ TEST(HeatMap, BlackRedYellow) {
 }
 
 TEST(SampleDisagreement, FractionOfDifferingSamplesPerPixel) {
-    LightSampleBuffer a(2, 1, 16, LightSampleBuffer::Kind::Bitmask);
-    LightSampleBuffer b(2, 1, 16, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer a(2, 1, 16, BufferKind::Bitmask);
+    LightSampleBuffer b(2, 1, 16, BufferKind::Bitmask);
     a.setOccluded(0, 0, 3);
     a.setOccluded(1, 0, 15);
     b.setOccluded(1, 0, 15);
@@ -143,7 +143,7 @@ TEST(SampleDisagreement, FractionOfDifferingSamplesPerPixel) {
     const ImageF d = sampleDisagreement(a, b);
     EXPECT_EQ(d.at(0, 0, 0), 1.0f / 16.0f);
     EXPECT_EQ(d.at(1, 0, 0), 2.0f / 16.0f);
-    EXPECT_THROW(sampleDisagreement(a, LightSampleBuffer(2, 1, 32, LightSampleBuffer::Kind::Bitmask)),
+    EXPECT_THROW(sampleDisagreement(a, LightSampleBuffer(2, 1, 32, BufferKind::Bitmask)),
                  UsageError);
 }
 

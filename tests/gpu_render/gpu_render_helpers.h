@@ -74,8 +74,8 @@ inline SamplePlan planOf(const RenderOptions& o) {
 inline LightSampleBuffer mirrorSamples(const Scene& scene, const Frame& frame, std::size_t l,
                                        const RenderOptions& o) {
     LightSampleBuffer out(o.width, o.height, o.samples,
-                          o.buffer == BufferKind::Bitmask ? LightSampleBuffer::Kind::Bitmask
-                                                          : LightSampleBuffer::Kind::Counters);
+                          o.buffer == BufferKind::Bitmask ? BufferKind::Bitmask
+                                                          : BufferKind::Counters);
     stsvCpuSamples(scene, frame.gbuffer, scene.lights[l], planOf(o), farDistanceFor(scene.bounds()), out);
     return out;
 }
@@ -114,7 +114,7 @@ inline void expectMatchesEmbree(const Scene& scene, const Frame& frame, const Re
     const EmbreeScene embree(scene);
     const float far = farDistanceFor(scene.bounds());
     const SamplePlan plan = planOf(o);
-    LightSampleBuffer reference(o.width, o.height, o.samples, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer reference(o.width, o.height, o.samples, BufferKind::Bitmask);
     traceReferenceSamples(embree, frame.gbuffer, scene.lights[l], plan, far, reference);
     const LightSampleBuffer& gpu = frame.lightSamples[l];
     const GBuffer& g = frame.gbuffer;

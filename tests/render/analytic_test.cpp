@@ -55,8 +55,8 @@ struct Buffers {
 Buffers renderBoth(const Scene& scene, int w, int h, const SamplePlan& plan) {
     const EmbreeScene embree(scene);
     Buffers b{embree.traceGBuffer(w, h),
-              LightSampleBuffer(w, h, plan.count, LightSampleBuffer::Kind::Bitmask),
-              LightSampleBuffer(w, h, plan.count, LightSampleBuffer::Kind::Bitmask)};
+              LightSampleBuffer(w, h, plan.count, BufferKind::Bitmask),
+              LightSampleBuffer(w, h, plan.count, BufferKind::Bitmask)};
     const float far = farDistanceFor(scene.bounds());
     traceReferenceSamples(embree, b.g, scene.lights[0], plan, far, b.reference);
     stsvCpuSamples(scene, b.g, scene.lights[0], plan, far, b.mirror);

@@ -59,8 +59,8 @@ TEST(ContactShadow, DirectionalLightShadowsAReceiverJustBelowAnOccluder) {
     const EmbreeScene embree(scene);
     const GBuffer g = embree.traceGBuffer(W, H);
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, N, 7u, 1, true);
-    LightSampleBuffer reference(W, H, N, LightSampleBuffer::Kind::Bitmask);
-    LightSampleBuffer mirror(W, H, N, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer reference(W, H, N, BufferKind::Bitmask);
+    LightSampleBuffer mirror(W, H, N, BufferKind::Bitmask);
     traceReferenceSamples(embree, g, scene.lights[0], plan, far, reference);
     stsvCpuSamples(scene, g, scene.lights[0], plan, far, mirror);
 

@@ -28,8 +28,8 @@ void compareOnScene(const std::string& name, int samples) {
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 7u, 1, true);
     const float far = farDistanceFor(scene.bounds());
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-        LightSampleBuffer reference(W, H, samples, LightSampleBuffer::Kind::Bitmask);
-        LightSampleBuffer mirror(W, H, samples, LightSampleBuffer::Kind::Bitmask);
+        LightSampleBuffer reference(W, H, samples, BufferKind::Bitmask);
+        LightSampleBuffer mirror(W, H, samples, BufferKind::Bitmask);
         traceReferenceSamples(embree, g, scene.lights[l], plan, far, reference);
         stsvCpuSamples(scene, g, scene.lights[l], plan, far, mirror);
 
@@ -84,8 +84,8 @@ TEST(MirrorVsReference, CountersMatchEmbreeLayerCounts) {
     const GBuffer g = embree.traceGBuffer(W, H);
     const SamplePlan plan = makeSamplePlan(PatternKind::Stratified, N, 3u, 1, true);
     const float far = farDistanceFor(scene.bounds());
-    LightSampleBuffer reference(W, H, N, LightSampleBuffer::Kind::Counters);
-    LightSampleBuffer mirror(W, H, N, LightSampleBuffer::Kind::Counters);
+    LightSampleBuffer reference(W, H, N, BufferKind::Counters);
+    LightSampleBuffer mirror(W, H, N, BufferKind::Counters);
     traceReferenceSamples(embree, g, scene.lights[0], plan, far, reference);
     stsvCpuSamples(scene, g, scene.lights[0], plan, far, mirror);
     std::size_t total = 0, equal = 0, multiLayer = 0;

@@ -470,7 +470,7 @@ TEST(DirectLighting, OneSidedEmittersAndReceivers) {
 TEST(DirectLighting, ResolveDirectWeightsVisibleSamples) {
     const Light disk = makeDisk(vec3(0, 2, 0), vec3(0, -1, 0), 1.0f, 1.0f);
     const SamplePlan plan = makeSamplePlan(PatternKind::Stratified, 64, 8u);
-    LightSampleBuffer ls(4, 4, 64, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer ls(4, 4, 64, BufferKind::Bitmask);
     const vec3 p(0.0f);
     const vec3 n(0, 1, 0);
     const vec3 albedo(0.5f, 0.25f, 1.0f);

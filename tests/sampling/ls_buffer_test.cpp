@@ -14,7 +14,7 @@
 namespace stsv {
 namespace {
 
-using Kind = LightSampleBuffer::Kind;
+using Kind = BufferKind;
 
 std::string tempPath(const std::string& name) {
     return (std::filesystem::temp_directory_path() / ("stsv_sampling_" + name)).string();

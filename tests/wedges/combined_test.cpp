@@ -30,15 +30,15 @@ TEST(Combined, PerforatedOnlySceneReducesToStsv) {
     const float farDistance = farDistanceFor(scene.bounds());
     const OpaqueOccluders occ(scene);
 
-    LightSampleBuffer stsvOnly(size, size, samples, LightSampleBuffer::Kind::Counters);
+    LightSampleBuffer stsvOnly(size, size, samples, BufferKind::Counters);
     stsvCpuSamples(scene, g, scene.lights[0], plan, farDistance, stsvOnly);
-    LightSampleBuffer combined(size, size, samples, LightSampleBuffer::Kind::Counters);
+    LightSampleBuffer combined(size, size, samples, BufferKind::Counters);
     dcsStsvCpuSamples(occ, g, scene.lights[0], plan, farDistance, combined);
     const LightSampleDiff diff = compareLightSamples(stsvOnly, combined, 4, true);
     EXPECT_EQ(diff.differingSamples, 0u);
 
     ImageF pw;
-    LightSampleBuffer bits(size, size, samples, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer bits(size, size, samples, BufferKind::Bitmask);
     pwStsvCpuVisibility(occ, g, scene.lights[0], plan, farDistance, pw, bits);
     std::size_t shadowed = 0;
     for (int y = 0; y < size; ++y)
@@ -92,9 +92,9 @@ TEST(Combined, PwStsvWithOpaqueMeshMeasured) {
     const float farDistance = farDistanceFor(scene.bounds());
     const OpaqueOccluders occ(scene);
     ImageF pw;
-    LightSampleBuffer bits(size, size, samples, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer bits(size, size, samples, BufferKind::Bitmask);
     pwStsvCpuVisibility(occ, g, scene.lights[0], plan, farDistance, pw, bits);
-    LightSampleBuffer ref(size, size, samples, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer ref(size, size, samples, BufferKind::Bitmask);
     traceReferenceSamples(rt, g, scene.lights[0], plan, farDistance, ref);
     double sum = 0.0, signedSum = 0.0;
     std::size_t pixels = 0;

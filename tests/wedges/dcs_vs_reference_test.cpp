@@ -54,11 +54,11 @@ Agreement compareWithReference(const Scene& scene, int size, int samples, bool w
     const OpaqueOccluders occ(scene);
     Agreement a;
     for (const Light& light : scene.lights) {
-        LightSampleBuffer dcs(size, size, samples, LightSampleBuffer::Kind::Counters);
+        LightSampleBuffer dcs(size, size, samples, BufferKind::Counters);
         const WedgeCpuStats stats = withStsv ? dcsStsvCpuSamples(occ, g, light, plan, farDistance, dcs)
                                              : dcsCpuSamples(occ, g, light, plan, farDistance, dcs);
         if (statsOut) *statsOut = stats;
-        LightSampleBuffer ref(size, size, samples, LightSampleBuffer::Kind::Bitmask);
+        LightSampleBuffer ref(size, size, samples, BufferKind::Bitmask);
         traceReferenceSamples(embree, g, light, plan, farDistance, ref);
         for (int y = 0; y < size; ++y)
             for (int x = 0; x < size; ++x) {

@@ -69,8 +69,8 @@ TEST(FenceMesh, ShadowMatchesPerforatedFence) {
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 9);
     const EmbreeScene quadRt(quad), meshRt(mesh);
     const GBuffer gq = quadRt.traceGBuffer(size, size), gm = meshRt.traceGBuffer(size, size);
-    LightSampleBuffer bq(size, size, samples, LightSampleBuffer::Kind::Bitmask),
-        bm(size, size, samples, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer bq(size, size, samples, BufferKind::Bitmask),
+        bm(size, size, samples, BufferKind::Bitmask);
     traceReferenceSamples(quadRt, gq, quad.lights[0], plan, farDistanceFor(quad.bounds()), bq);
     traceReferenceSamples(meshRt, gm, mesh.lights[0], plan, farDistanceFor(mesh.bounds()), bm);
     double sum = 0.0, maxDiff = 0.0, shadow = 0.0;

@@ -35,7 +35,7 @@ PwError comparePw(const Scene& scene, int size, int samples) {
     const OpaqueOccluders occ(scene);
     ImageF pw;
     pwCpuVisibility(occ, g, scene.lights[0], farDistance, pw);
-    LightSampleBuffer ref(size, size, samples, LightSampleBuffer::Kind::Bitmask);
+    LightSampleBuffer ref(size, size, samples, BufferKind::Bitmask);
     traceReferenceSamples(embree, g, scene.lights[0], plan, farDistance, ref);
     // Receivers on the ground only: on the occluder itself the receiver's own face is left out
     // (self-shadowing rule), which leaves a hole whose edges PW cannot normalise.

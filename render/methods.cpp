@@ -1,0 +1,260 @@
+#include "render/methods.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sstream>
+
+namespace stsv {
+
+namespace {
+
+std::vector<MethodInfo> buildTable() {
+    using B = Backend;
+    std::vector<MethodInfo> table = {
+        {.id = Method::Reference,
+         .name = "reference",
+         .description = "Embree 3 shadow rays from p to every light sample, with the same alpha test",
+         .family = MethodFamily::GroundTruth,
+         .output = MethodOutput::SampleOcclusion,
+         .backends = {B::Cpu},
+         .knobs = {},
+         .traced = true},
+        {.id = Method::Stsv,
+         .name = "stsv",
+         .description = "Soft Textured Shadow Volumes: every triangle's penumbra volume, projective "
+                        "barycentric lookup per sample (Eq. 1-5)",
+         .family = MethodFamily::ObjectBased,
+         .output = MethodOutput::SampleOcclusion,
+         .backends = {B::Vulkan, B::Cpu},
+         .knobs = {},
+         .stsv = StsvTriangles::All},
+        {.id = Method::Pw,
+         .name = "pw",
+         .description = "Penumbra Wedges for opaque triangles: hard shadow at the light centre plus "
+                        "analytic wedge coverage",
+         .family = MethodFamily::ObjectBased,
+         .output = MethodOutput::Visibility,
+         .backends = {B::Vulkan, B::Cpu},
+         .knobs = {},
+         .opaque = OpaqueTechnique::Pw},
+        {.id = Method::Dcs,
+         .name = "dcs",
+         .description = "Depth Complexity Sampling for opaque triangles: layer count at the light "
+                        "centre plus signed silhouette crossings",
+         .family = MethodFamily::ObjectBased,
+         .output = MethodOutput::SampleCounters,
+         .backends = {B::Vulkan, B::Cpu},
+         .knobs = {},
+         .opaque = OpaqueTechnique::Dcs},
+        {.id = Method::PwStsv,
+         .name = "pw+stsv",
+         .description = "pw for opaque, STSV for perforated triangles; the STSV occluded fraction "
+                        "subtracted from v_coef",
+         .family = MethodFamily::ObjectBased,
+         .output = MethodOutput::Visibility,
+         .backends = {B::Vulkan, B::Cpu},
+         .knobs = {},
+         .stsv = StsvTriangles::Perforated,
+         .opaque = OpaqueTechnique::Pw},
+        {.id = Method::DcsStsv,
+         .name = "dcs+stsv",
+         .description = "dcs for opaque, STSV for perforated triangles; STSV increments added to the "
+                        "counters",
+         .family = MethodFamily::ObjectBased,
+         .output = MethodOutput::SampleCounters,
+         .backends = {B::Vulkan, B::Cpu},
+         .knobs = {},
+         .stsv = StsvTriangles::Perforated,
+         .opaque = OpaqueTechnique::Dcs},
+    };
+    for (std::size_t i = 0; i < table.size(); ++i)
+        if (static_cast<std::size_t>(table[i].id) != i) throw Error("method table out of enum order");
+    return table;
+}
+
+std::string formatNumber(double value) {
+    std::ostringstream out;
+    out << value;
+    return out.str();
+}
+
+std::string knobList(const MethodInfo& method) {
+    if (method.knobs.empty()) return "none";
+    std::string text;
+    for (const MethodKnob& k : method.knobs) {
+        if (!text.empty()) text += ", ";
+        text += k.name + " (" + formatNumber(k.min) + " to " + formatNumber(k.max) + ")";
+    }
+    return text;
+}
+
+} // namespace
+
+const std::vector<MethodInfo>& methodTable() {
+    static const std::vector<MethodInfo> table = buildTable();
+    return table;
+}
+
+const MethodInfo& methodInfo(Method method) {
+    return methodTable().at(static_cast<std::size_t>(method));
+}
+
+bool MethodInfo::implementedOn(Backend backend) const {
+    return std::find(backends.begin(), backends.end(), backend) != backends.end();
+}
+
+BufferKind MethodInfo::bufferKind(BufferKind requested) const {
+    return output == MethodOutput::SampleCounters ? BufferKind::Counters : requested;
+}
+
+const MethodKnob* MethodInfo::knob(std::string_view knobName) const {
+    for (const MethodKnob& k : knobs)
+        if (k.name == knobName) return &k;
+    return nullptr;
+}
+
+std::string methodNameList(std::string_view conjunction) {
+    std::string text;
+    const auto& table = methodTable();
+    for (std::size_t i = 0; i < table.size(); ++i) {
+        if (i > 0) text += i + 1 == table.size() ? " " + std::string(conjunction) + " " : ", ";
+        text += table[i].name;
+    }
+    return text;
+}
+
+const MethodInfo& findMethod(std::string_view name) {
+    for (const MethodInfo& m : methodTable())
+        if (m.name == name) return m;
+    throw UsageError("unknown method '" + std::string(name) + "' (expected " + methodNameList() + ")");
+}
+
+Method parseMethod(const std::string& name) {
+    return findMethod(name).id;
+}
+
+std::string toString(Method method) {
+    return methodInfo(method).name;
+}
+
+Backend parseBackend(const std::string& name) {
+    if (name == "cpu") return Backend::Cpu;
+    if (name == "vulkan") return Backend::Vulkan;
+    throw UsageError("unknown backend '" + name + "' (expected vulkan or cpu)");
+}
+
+BufferKind parseBufferKind(const std::string& name) {
+    if (name == "bitmask") return BufferKind::Bitmask;
+    if (name == "counters") return BufferKind::Counters;
+    throw UsageError("unknown light-sample buffer '" + name + "' (expected bitmask or counters)");
+}
+
+std::string toString(Backend backend) {
+    return backend == Backend::Cpu ? "cpu" : "vulkan";
+}
+
+std::string toString(BufferKind kind) {
+    return kind == BufferKind::Bitmask ? "bitmask" : "counters";
+}
+
+std::string toString(MethodFamily family) {
+    switch (family) {
+    case MethodFamily::ObjectBased:
+        return "object-based";
+    case MethodFamily::ImageBased:
+        return "image-based";
+    case MethodFamily::GroundTruth:
+        return "ground truth";
+    }
+    return "?";
+}
+
+std::string toString(MethodOutput output) {
+    switch (output) {
+    case MethodOutput::SampleOcclusion:
+        return "per-sample bits (or counters)";
+    case MethodOutput::SampleCounters:
+        return "per-sample counters";
+    case MethodOutput::Visibility:
+        return "visibility image";
+    }
+    return "?";
+}
+
+void validateMethodParams(const MethodInfo& method, const MethodParams& params) {
+    for (const auto& [name, value] : params) {
+        const MethodKnob* k = method.knob(name);
+        if (!k)
+            throw UsageError("--param " + name + ": method " + method.name + " has no such parameter (its " +
+                             "parameters: " + knobList(method) + ")");
+        if (!(value >= k->min && value <= k->max))
+            throw UsageError("--param " + name + "=" + formatNumber(value) + " is out of range (" +
+                             formatNumber(k->min) + " to " + formatNumber(k->max) + ")");
+        if (k->integer && value != std::floor(value))
+            throw UsageError("--param " + name + "=" + formatNumber(value) + " is not an integer");
+    }
+}
+
+MethodParams parseMethodParams(const MethodInfo& method, const std::vector<std::string>& items) {
+    MethodParams params;
+    for (const MethodKnob& k : method.knobs) params[k.name] = k.defaultValue;
+    for (const std::string& item : items) {
+        const auto eq = item.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw UsageError("--param '" + item + "' is not of the form name=value");
+        const std::string name = item.substr(0, eq), text = item.substr(eq + 1);
+        if (!method.knob(name))
+            throw UsageError("--param " + name + ": method " + method.name + " has no such parameter (its " +
+                             "parameters: " + knobList(method) + ")");
+        char* end = nullptr;
+        const double value = text.empty() ? 0.0 : std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value))
+            throw UsageError("--param " + item + ": '" + text + "' is not a number");
+        params[name] = value;
+    }
+    validateMethodParams(method, params);
+    return params;
+}
+
+std::string methodTableMarkdown() {
+    std::string text = "| method | family | writes | backends | parameters | what it is |\n"
+                       "|---|---|---|---|---|---|\n";
+    for (const MethodInfo& m : methodTable()) {
+        std::string backends;
+        for (Backend b : m.backends) backends += (backends.empty() ? "" : ", ") + toString(b);
+        std::string knobs;
+        for (const MethodKnob& k : m.knobs)
+            knobs += (knobs.empty() ? "`" : ", `") + k.name + "=" + formatNumber(k.defaultValue) + "`";
+        text += "| `" + m.name + "` | " + toString(m.family) + " | " + toString(m.output) + " | " + backends +
+                " | " + (knobs.empty() ? "none" : knobs) + " | " + m.description + " |\n";
+    }
+    return text;
+}
+
+nlohmann::json methodTableJson() {
+    nlohmann::json rows = nlohmann::json::array();
+    for (const MethodInfo& m : methodTable()) {
+        nlohmann::json backends = nlohmann::json::array();
+        for (Backend b : m.backends) backends.push_back(toString(b));
+        nlohmann::json knobs = nlohmann::json::array();
+        for (const MethodKnob& k : m.knobs)
+            knobs.push_back({{"name", k.name},
+                             {"default", k.defaultValue},
+                             {"min", k.min},
+                             {"max", k.max},
+                             {"integer", k.integer},
+                             {"help", k.help}});
+        rows.push_back({{"name", m.name},
+                        {"description", m.description},
+                        {"family", toString(m.family)},
+                        {"writes", toString(m.output)},
+                        {"backends", backends},
+                        {"parameters", knobs}});
+    }
+    return rows;
+}
+
+} // namespace stsv

@@ -1,0 +1,111 @@
+// The method table (DESIGN §2): every shadow method is one row, declared once. The command line,
+// `stsv info`, bench, compare, --stats and the README's method list come from it, and the frame
+// code asks a row what the method writes and which passes it composes — never which method it is.
+#pragma once
+
+#include "sampling/ls_buffer.h"
+
+#include <nlohmann/json.hpp>
+
+#include <map>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace stsv {
+
+/// The methods, in the table's order (the order of `stsv info` and the README).
+enum class Method {
+    Reference, ///< Embree shadow rays
+    Stsv,      ///< every triangle through STSV
+    Pw,        ///< opaque triangles through penumbra wedges
+    Dcs,       ///< opaque triangles through depth complexity sampling
+    PwStsv,    ///< pw for opaque, STSV for perforated triangles
+    DcsStsv,   ///< dcs for opaque, STSV for perforated triangles
+};
+
+enum class Backend { Cpu, Vulkan };
+
+enum class MethodFamily { ObjectBased, ImageBased, GroundTruth };
+
+/// What a method writes per light.
+enum class MethodOutput {
+    SampleOcclusion, ///< per-sample occlusion: bits, or exact layer counts with --buffer counters
+    SampleCounters,  ///< per-sample signed depth-complexity counters (always counters)
+    Visibility,      ///< a per-pixel v_coef only; it scales the unshadowed direct lighting
+};
+
+/// Which triangles a method sends through the STSV pass.
+enum class StsvTriangles { None, All, Perforated };
+
+/// How a method treats the opaque triangles besides STSV (DESIGN §4.5).
+enum class OpaqueTechnique {
+    None,
+    Dcs, ///< z-fail count at the light centre plus signed silhouette crossings per sample
+    Pw,  ///< hard shadow at the light centre plus analytic wedge coverage per pixel
+};
+
+/// One knob of a method, set with `--param name=value`.
+struct MethodKnob {
+    std::string name;
+    double defaultValue = 0.0;
+    double min = 0.0;
+    double max = 0.0;
+    bool integer = false;
+    std::string help; ///< one line, with the unit
+};
+
+struct MethodInfo {
+    Method id;
+    std::string name;        ///< as --method takes it
+    std::string description; ///< one line
+    MethodFamily family;
+    MethodOutput output;
+    std::vector<Backend> backends; ///< the backends that implement it, preferred first
+    std::vector<MethodKnob> knobs;
+    // Composition per light (STSV paper Algorithm 2): rays, or opaque pass then STSV pass.
+    bool traced = false; ///< Embree shadow rays to every sample (the ground truth)
+    StsvTriangles stsv = StsvTriangles::None;
+    OpaqueTechnique opaque = OpaqueTechnique::None;
+
+    bool implementedOn(Backend backend) const;
+    /// The buffer a frame of this method holds per light for the requested kind: counters for
+    /// SampleCounters (signed sums), else the requested kind (for Visibility methods it holds
+    /// the STSV part of the perforated triangles, or every sample lit).
+    BufferKind bufferKind(BufferKind requested) const;
+    const MethodKnob* knob(std::string_view knobName) const;
+};
+
+/// Every method, in table order.
+const std::vector<MethodInfo>& methodTable();
+const MethodInfo& methodInfo(Method method);
+/// UsageError naming the valid methods when there is none of that name.
+const MethodInfo& findMethod(std::string_view name);
+/// "reference, stsv, pw, dcs, pw+stsv or dcs+stsv".
+std::string methodNameList(std::string_view conjunction = "or");
+
+std::string toString(Method method);
+std::string toString(Backend backend);
+std::string toString(BufferKind kind);
+std::string toString(MethodFamily family);
+std::string toString(MethodOutput output);
+Method parseMethod(const std::string& name);
+Backend parseBackend(const std::string& name);
+BufferKind parseBufferKind(const std::string& name);
+
+/// Method parameters by knob name.
+using MethodParams = std::map<std::string, double>;
+
+/// Parses `--param name=value` items for `method`: every knob at its default, then the given
+/// values. UsageError naming the item and listing the method's knobs when a name is unknown, a
+/// value is not a number (or not an integer for integer knobs) or lies outside the knob's range.
+MethodParams parseMethodParams(const MethodInfo& method, const std::vector<std::string>& items);
+/// UsageError when `params` holds a name the method lacks or a value out of range.
+void validateMethodParams(const MethodInfo& method, const MethodParams& params);
+
+/// The table as Markdown, one row per method (the README's method list is this text).
+std::string methodTableMarkdown();
+/// The table as JSON (stsv info --json).
+nlohmann::json methodTableJson();
+
+} // namespace stsv
