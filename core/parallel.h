@@ -1,60 +1,73 @@
-// CPU dispatch shaped like a GPU dispatch (pbrt-v4's ParallelFor): the CPU mirror calls the
-// same per-item function a shader's main() calls, over all items, on every core.
+// CPU dispatch shaped like a GPU dispatch (pbrt-v4's ParallelFor), on oneTBB's work-stealing
+// pool: the CPU passes call the same per-pixel function a shader's main() calls, over 16 × 16
+// pixel tiles as a compute dispatch runs 16 × 16 workgroups. This header is the one place that
+// decides how work is split (the tile size and the grain of item loops).
 #pragma once
 
+#include <tbb/blocked_range.h>
+#include <tbb/blocked_range2d.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
-#include <atomic>
 #include <cstddef>
-#include <exception>
-#include <functional>
-#include <mutex>
-#include <thread>
-#include <vector>
 
 namespace stsv {
 
-/// Number of worker threads used by parallelFor (at least 1).
+/// Pixels per side of a CPU tile: the unit of parallel work and of the CPU passes' screen binning.
+inline constexpr int CPU_TILE = 16;
+/// Items per task of parallelForChunks (cheap per-item work: copies, unpacking).
+inline constexpr std::size_t CPU_ITEM_GRAIN = 4096;
+
+/// Pixels [x0, x1) × [y0, y1) of tile (tx, ty).
+struct PixelTile {
+    int x0, y0, x1, y1;
+    int tx, ty;
+};
+
+/// Threads oneTBB runs parallel loops on (at least 1).
 inline unsigned workerCount() {
-    return std::max(1u, std::thread::hardware_concurrency());
+    return static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
 }
 
-/// Calls body(begin, end) over [0, count) in chunks of `grain` items, on all cores.
-/// The first exception thrown by a chunk is rethrown after every worker stopped.
-inline void parallelForChunks(std::size_t count, std::size_t grain,
-                              const std::function<void(std::size_t, std::size_t)>& body) {
-    grain = std::max<std::size_t>(1, grain);
-    std::atomic<std::size_t> next{0};
-    std::exception_ptr error;
-    std::mutex errorMutex;
-    auto worker = [&] {
-        for (;;) {
-            const std::size_t begin = next.fetch_add(grain);
-            if (begin >= count) return;
-            try {
-                body(begin, std::min(count, begin + grain));
-            } catch (...) {
-                std::lock_guard lock(errorMutex);
-                if (!error) error = std::current_exception();
-                next = count;
-                return;
-            }
-        }
-    };
-    const auto threads =
-        static_cast<unsigned>(std::min<std::size_t>(workerCount(), (count + grain - 1) / grain));
-    std::vector<std::thread> pool;
-    for (unsigned i = 1; i < threads; ++i) pool.emplace_back(worker);
-    worker();
-    for (auto& t : pool) t.join();
-    if (error) std::rethrow_exception(error);
+/// Tiles per row and per column of a width × height image.
+inline int tilesAcross(int pixels) {
+    return (pixels + CPU_TILE - 1) / CPU_TILE;
 }
 
-/// Calls body(i) for every i in [0, count).
-inline void parallelFor(std::size_t count, const std::function<void(std::size_t)>& body,
-                        std::size_t grain = 64) {
-    parallelForChunks(count, grain, [&](std::size_t b, std::size_t e) {
-        for (std::size_t i = b; i < e; ++i) body(i);
+/// body(tile) for every CPU_TILE × CPU_TILE tile of a width × height image (edge tiles clipped),
+/// on all cores. The first exception a tile throws is rethrown here after the loop was cancelled.
+template <class Body> void parallelForTiles(int width, int height, const Body& body) {
+    const tbb::blocked_range2d<int> tiles(0, tilesAcross(height), 0, tilesAcross(width));
+    tbb::parallel_for(tiles, [&](const tbb::blocked_range2d<int>& r) {
+        for (int ty = r.rows().begin(); ty < r.rows().end(); ++ty)
+            for (int tx = r.cols().begin(); tx < r.cols().end(); ++tx)
+                body(PixelTile{tx * CPU_TILE, ty * CPU_TILE, std::min(width, (tx + 1) * CPU_TILE),
+                               std::min(height, (ty + 1) * CPU_TILE), tx, ty});
     });
+}
+
+/// body(x, y) for every pixel, tile by tile.
+template <class Body> void parallelForPixels(int width, int height, const Body& body) {
+    parallelForTiles(width, height, [&](const PixelTile& t) {
+        for (int y = t.y0; y < t.y1; ++y)
+            for (int x = t.x0; x < t.x1; ++x) body(x, y);
+    });
+}
+
+/// body(i) for every i in [0, count), one task per item at most (items of real work: tiles,
+/// jobs). Exceptions as parallelForTiles.
+template <class Body> void parallelFor(std::size_t count, const Body& body) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count),
+                      [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i < r.end(); ++i) body(i);
+                      });
+}
+
+/// body(begin, end) over [0, count) in chunks of up to CPU_ITEM_GRAIN items (cheap items).
+template <class Body> void parallelForChunks(std::size_t count, const Body& body) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, CPU_ITEM_GRAIN),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
 }
 
 } // namespace stsv

@@ -82,7 +82,8 @@ class Includer : public glslang::TShader::Includer {
         }
         // An empty header name tells glslang the include failed; the data is its message.
         std::string message = std::string("cannot find '") + header + "' (searched";
-        for (const fs::path& candidate : candidates) message += " " + candidate.lexically_normal().string();
+        for (const fs::path& candidate : candidates)
+            message.append(" ").append(candidate.lexically_normal().string());
         message += ")";
         auto* data = new std::string(std::move(message));
         return new IncludeResult("", data->data(), data->size(), data);

@@ -172,19 +172,15 @@ vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p) {
 
 GBuffer EmbreeScene::traceGBuffer(int width, int height) const {
     GBuffer g(width, height);
-    parallelFor(
-        std::size_t(width) * height,
-        [&](std::size_t i) {
-            const int x = static_cast<int>(i % std::size_t(width));
-            const int y = static_cast<int>(i / std::size_t(width));
-            Hit hit;
-            if (!intersect(primaryRay(m_scene.camera, x, y, width, height), hit)) return;
-            // p from the barycentrics, not origin + t·d: it lies on the triangle's plane to round-off.
-            g.position[i] = pointOnTriangle(m_scene, hit.triangle, hit.bary);
-            g.normal[i] = shadingNormal(m_scene, hit.triangle, m_scene.camera.eye, g.position[i]);
-            g.triangle[i] = hit.triangle;
-        },
-        256);
+    parallelForPixels(width, height, [&](int x, int y) {
+        const std::size_t i = g.index(x, y);
+        Hit hit;
+        if (!intersect(primaryRay(m_scene.camera, x, y, width, height), hit)) return;
+        // p from the barycentrics, not origin + t·d: it lies on the triangle's plane to round-off.
+        g.position[i] = pointOnTriangle(m_scene, hit.triangle, hit.bary);
+        g.normal[i] = shadingNormal(m_scene, hit.triangle, m_scene.camera.eye, g.position[i]);
+        g.triangle[i] = hit.triangle;
+    });
     return g;
 }
 

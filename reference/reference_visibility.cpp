@@ -12,12 +12,12 @@ void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, con
     const bool counting = out.kind() == BufferKind::Counters;
     const Bounds bounds = scene.scene().bounds();
     const float sceneDiameter = bounds.diameter();
-    Progress progress("reference rays", std::size_t(gbuffer.height));
-    parallelForChunks(std::size_t(gbuffer.height), 1, [&](std::size_t rowBegin, std::size_t rowEnd) {
+    Progress progress("reference rays",
+                      std::size_t(tilesAcross(gbuffer.width)) * tilesAcross(gbuffer.height));
+    parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         std::vector<std::uint32_t> scratch;
-        for (std::size_t row = rowBegin; row < rowEnd; ++row) {
-            const int y = static_cast<int>(row);
-            for (int x = 0; x < gbuffer.width; ++x) {
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
                 if (!gbuffer.covered(i)) continue;
                 const vec3 p = gbuffer.position[i];
@@ -34,8 +34,7 @@ void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, con
                     }
                 }
             }
-            progress.advance();
-        }
+        progress.advance();
     });
 }
 

@@ -17,7 +17,7 @@ namespace stsv {
 
 namespace {
 
-constexpr int TILE = 16;
+constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
 
 struct VolumeRecord {
     StsvVolume volume;
@@ -127,52 +127,49 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     const bool counting = out.kind() == BufferKind::Counters;
     std::atomic<std::size_t> tests{0}, hits{0};
     Progress progress("stsv (cpu)", tiles.size());
-    parallelFor(
-        tiles.size(),
-        [&](std::size_t tileIndex) {
-            std::size_t localTests = 0, localHits = 0;
-            const int tx = static_cast<int>(tileIndex % std::size_t(tilesX)),
-                      ty = static_cast<int>(tileIndex / std::size_t(tilesX));
-            const std::vector<std::uint32_t>& candidates = tiles[tileIndex];
-            for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
-                for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
-                    const std::size_t i = gbuffer.index(x, y);
-                    if (!gbuffer.covered(i) || candidates.empty()) continue;
-                    const vec3 p = gbuffer.position[i];
-                    const LightFrame frame = lightFrame(light, p, farDistance);
-                    const float tMin = shadowTMin(p, frame.center, sceneDiameter);
-                    for (std::uint32_t v : candidates) {
-                        const VolumeRecord& record = volumes[v];
-                        if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
-                        ++localTests;
-                        if (!stsvPointInVolume(record.volume, p)) continue;
-                        ++localHits;
-                        const StsvTriangle& tri = triangles[record.triangle];
-                        const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B, tMin);
-                        // Each side's volume owns the crossings whose receiver lies on its shadow side,
-                        // so a triangle counts at most once per sample even when both volumes hold p.
-                        if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;
-                        const Texture* texture =
-                            (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
-                        const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
-                        for (int k = 0; k < plan.count; ++k) {
-                            ivec2 texel;
-                            if (!stsvSampleCrosses(tri, px, pixelSamplePoint(plan, x, y, k, frame.domain),
-                                                   size, texel))
-                                continue;
-                            if (texture && !alphaBlocks(texture->alpha(texel.x, texel.y))) continue;
-                            if (counting)
-                                out.addCount(x, y, k, 1);
-                            else
-                                out.setOccluded(x, y, k);
-                        }
+    parallelFor(tiles.size(), [&](std::size_t tileIndex) {
+        std::size_t localTests = 0, localHits = 0;
+        const int tx = static_cast<int>(tileIndex % std::size_t(tilesX)),
+                  ty = static_cast<int>(tileIndex / std::size_t(tilesX));
+        const std::vector<std::uint32_t>& candidates = tiles[tileIndex];
+        for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
+            for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
+                const std::size_t i = gbuffer.index(x, y);
+                if (!gbuffer.covered(i) || candidates.empty()) continue;
+                const vec3 p = gbuffer.position[i];
+                const LightFrame frame = lightFrame(light, p, farDistance);
+                const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+                for (std::uint32_t v : candidates) {
+                    const VolumeRecord& record = volumes[v];
+                    if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
+                    ++localTests;
+                    if (!stsvPointInVolume(record.volume, p)) continue;
+                    ++localHits;
+                    const StsvTriangle& tri = triangles[record.triangle];
+                    const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B, tMin);
+                    // Each side's volume owns the crossings whose receiver lies on its shadow side,
+                    // so a triangle counts at most once per sample even when both volumes hold p.
+                    if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;
+                    const Texture* texture =
+                        (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
+                    const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
+                    for (int k = 0; k < plan.count; ++k) {
+                        ivec2 texel;
+                        if (!stsvSampleCrosses(tri, px, pixelSamplePoint(plan, x, y, k, frame.domain), size,
+                                               texel))
+                            continue;
+                        if (texture && !alphaBlocks(texture->alpha(texel.x, texel.y))) continue;
+                        if (counting)
+                            out.addCount(x, y, k, 1);
+                        else
+                            out.setOccluded(x, y, k);
                     }
                 }
-            tests += localTests;
-            hits += localHits;
-            progress.advance();
-        },
-        1);
+            }
+        tests += localTests;
+        hits += localHits;
+        progress.advance();
+    });
     stats.pixelVolumeTests = tests;
     stats.pixelVolumeHits = hits;
     stats.shade_ms = timer.milliseconds();

@@ -60,7 +60,7 @@ std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint
 
 namespace {
 
-constexpr int TILE = 16;
+constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
 
 /// One face that bounds the wedge region of the potential silhouette edges assigned to it.
 struct FaceRecord {
@@ -119,7 +119,7 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
         for (; i < byFace.size() && byFace[i].first == tri; ++i) bins.edges.push_back(byFace[i].second);
         record.edgeCount = static_cast<std::uint32_t>(bins.edges.size()) - record.firstEdge;
         const auto c = corners(tri);
-        for (const StsvVolume& v : buildTriangleVolumes(c[0], c[1], c[2], sphere, bounds, true))
+        for (const StsvVolume& v : buildTriangleVolumes(c[0], c[1], c[2], sphere, bounds))
             if (!(v.flags & STSV_VOLUME_EMPTY)) record.volumes[record.volumeCount++] = v;
         if (record.volumeCount == 0) {
             bins.edges.resize(record.firstEdge);
@@ -198,52 +198,48 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins,
 template <class PixelFn>
 void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* label, PixelFn&& pixel) {
     Progress progress(label, bins.tiles.size());
-    parallelFor(
-        bins.tiles.size(),
-        [&](std::size_t tileIndex) {
-            const int tx = static_cast<int>(tileIndex % std::size_t(bins.tilesX));
-            const int ty = static_cast<int>(tileIndex / std::size_t(bins.tilesX));
-            const int x0 = tx * TILE, x1 = std::min(gbuffer.width, (tx + 1) * TILE);
-            const int y0 = ty * TILE, y1 = std::min(gbuffer.height, (ty + 1) * TILE);
-            // The tile's visible points bound a box; records whose every volume has a plane with
-            // the whole box outside are dropped for the tile (what the rasteriser's depth test
-            // and the fragment's plane tests would reject one pixel at a time).
-            Bounds box;
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x)
-                    if (gbuffer.covered(gbuffer.index(x, y)))
-                        box.extend(gbuffer.position[gbuffer.index(x, y)]);
-            if (box.empty()) {
-                progress.advance();
-                return;
-            }
-            std::vector<std::uint32_t> records;
-            records.reserve(bins.tiles[tileIndex].size());
-            for (std::uint32_t r : bins.tiles[tileIndex]) {
-                const FaceRecord& record = bins.records[r];
-                bool any = false;
-                for (std::uint32_t v = 0; v < record.volumeCount && !any; ++v) {
-                    const StsvVolume& volume = record.volumes[v];
-                    bool outside = false;
-                    for (uint k = 0; k < volume.planeCount && !outside; ++k) {
-                        const vec4 plane = volume.planes[k];
-                        const vec3 corner(plane.x >= 0.0f ? box.hi.x : box.lo.x,
-                                          plane.y >= 0.0f ? box.hi.y : box.lo.y,
-                                          plane.z >= 0.0f ? box.hi.z : box.lo.z);
-                        outside = dot(vec3(plane), corner) + plane.w < 0.0f;
-                    }
-                    any = !outside;
-                }
-                if (any) records.push_back(r);
-            }
-            for (int y = y0; y < y1; ++y)
-                for (int x = x0; x < x1; ++x) {
-                    const std::size_t i = gbuffer.index(x, y);
-                    if (gbuffer.covered(i)) pixel(x, y, i, records);
-                }
+    parallelFor(bins.tiles.size(), [&](std::size_t tileIndex) {
+        const int tx = static_cast<int>(tileIndex % std::size_t(bins.tilesX));
+        const int ty = static_cast<int>(tileIndex / std::size_t(bins.tilesX));
+        const int x0 = tx * TILE, x1 = std::min(gbuffer.width, (tx + 1) * TILE);
+        const int y0 = ty * TILE, y1 = std::min(gbuffer.height, (ty + 1) * TILE);
+        // The tile's visible points bound a box; records whose every volume has a plane with
+        // the whole box outside are dropped for the tile (what the rasteriser's depth test
+        // and the fragment's plane tests would reject one pixel at a time).
+        Bounds box;
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x)
+                if (gbuffer.covered(gbuffer.index(x, y))) box.extend(gbuffer.position[gbuffer.index(x, y)]);
+        if (box.empty()) {
             progress.advance();
-        },
-        1);
+            return;
+        }
+        std::vector<std::uint32_t> records;
+        records.reserve(bins.tiles[tileIndex].size());
+        for (std::uint32_t r : bins.tiles[tileIndex]) {
+            const FaceRecord& record = bins.records[r];
+            bool any = false;
+            for (std::uint32_t v = 0; v < record.volumeCount && !any; ++v) {
+                const StsvVolume& volume = record.volumes[v];
+                bool outside = false;
+                for (uint k = 0; k < volume.planeCount && !outside; ++k) {
+                    const vec4 plane = volume.planes[k];
+                    const vec3 corner(plane.x >= 0.0f ? box.hi.x : box.lo.x,
+                                      plane.y >= 0.0f ? box.hi.y : box.lo.y,
+                                      plane.z >= 0.0f ? box.hi.z : box.lo.z);
+                    outside = dot(vec3(plane), corner) + plane.w < 0.0f;
+                }
+                any = !outside;
+            }
+            if (any) records.push_back(r);
+        }
+        for (int y = y0; y < y1; ++y)
+            for (int x = x0; x < x1; ++x) {
+                const std::size_t i = gbuffer.index(x, y);
+                if (gbuffer.covered(i)) pixel(x, y, i, records);
+            }
+        progress.advance();
+    });
 }
 
 } // namespace

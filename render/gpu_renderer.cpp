@@ -640,7 +640,6 @@ struct VulkanRenderer::Impl {
         Timer readback;
         const int w = options.width, h = options.height;
         const std::size_t pixels = std::size_t(w) * h;
-        constexpr std::size_t GRAIN = 16384; // pixels per parallelForChunks task
         const auto* positions = staged<vec4>(layout.position);
         const auto* rgba = staged<vec4>(layout.color);
         const auto* tris = staged<std::uint32_t>(layout.triangle);
@@ -666,10 +665,8 @@ struct VulkanRenderer::Impl {
                     unpackLightSamples(frame.lightSamples.emplace_back(w, h, options.samples, options.buffer),
                                        l);
             }};
-        parallelForChunks(std::size(jobs), 1, [&](std::size_t begin, std::size_t end) {
-            for (std::size_t j = begin; j < end; ++j) jobs[j]();
-        });
-        parallelForChunks(pixels, GRAIN, [&](std::size_t begin, std::size_t end) {
+        parallelFor(std::size(jobs), [&](std::size_t j) { jobs[j](); });
+        parallelForChunks(pixels, [&](std::size_t begin, std::size_t end) {
             for (std::size_t i = begin; i < end; ++i) {
                 if (!frame.gbuffer.covered(i)) continue;
                 frame.gbuffer.position[i] = vec3(positions[i]);

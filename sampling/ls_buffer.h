@@ -60,7 +60,7 @@ class LightSampleBuffer {
     std::size_t memoryBytes() const { return payloadBytes(m_width, m_height, m_samples, m_kind); }
     std::size_t storageBytes() const { return storageBytes(m_width, m_height, m_samples, m_kind); }
 
-    /// The `--dump-ls` format of issue 2. Bitmask: uint8 [H, W, N/8], sample k in bit k%8 of
+    /// The `--dump-ls` format. Bitmask: uint8 [H, W, N/8], sample k in bit k%8 of
     /// byte k/8, 1 = occluded (UsageError if N is not a multiple of 8). Counters: uint8 if every
     /// count < 256, else uint16 (little endian), shape [H, W, N]. Row 0 = top image row.
     void writeNpy(const std::string& path) const;

@@ -1,4 +1,4 @@
-// A perforated quad turned into its equivalent closed mesh (issue 4; STSV paper Fig. 11): the
+// A perforated quad turned into its equivalent closed mesh (STSV paper Fig. 11): the
 // opaque texels of its alpha texture, as repeated over the quad, merged into boxes of opaque texel
 // runs, each a closed box of small thickness. The same fence renders as 2 perforated triangles
 // (`fence`) or as a mesh of 10^5+ opaque triangles (`fence-mesh`).

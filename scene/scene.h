@@ -27,7 +27,8 @@ struct Material {
     vec3 albedo{0.8f};     ///< linear RGB diffuse reflectance
     int alphaTexture = -1; ///< index into Scene::textures; -1 = opaque (not an S-triangle)
     WrapMode wrap = WrapMode::Repeat;
-    bool doubleSided = false; ///< shadow volumes on both sides (STSV §6 fix) and lit from both sides
+    bool doubleSided =
+        false; ///< lit from both sides (the shading normal faces the viewer); shadows are two-sided always
 
     bool perforated() const { return alphaTexture >= 0; }
 };

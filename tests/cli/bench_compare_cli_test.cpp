@@ -78,7 +78,8 @@ TEST(BenchCli, JsonHasSummariesPerConfigurationAndCountsTimedFrames) {
             EXPECT_EQ(c["speedup_vs_reference"], 1.0);
             EXPECT_EQ(c["identical_bits_percent"], 100.0);
         }
-        // The mirror agrees with Embree to ≥ 99.9 % of bits (issue 2's bound) on this frame too.
+        // The mirror agrees with Embree to ≥ 99.9 % of bits (the mirror-vs-reference bound) on this frame
+        // too.
         EXPECT_GE(c["identical_bits_percent"].get<double>(), 99.9) << name;
     }
     EXPECT_TRUE(j["skipped"].empty());

@@ -143,8 +143,7 @@ TEST(SampleDisagreement, FractionOfDifferingSamplesPerPixel) {
     const ImageF d = sampleDisagreement(a, b);
     EXPECT_EQ(d.at(0, 0, 0), 1.0f / 16.0f);
     EXPECT_EQ(d.at(1, 0, 0), 2.0f / 16.0f);
-    EXPECT_THROW(sampleDisagreement(a, LightSampleBuffer(2, 1, 32, BufferKind::Bitmask)),
-                 UsageError);
+    EXPECT_THROW(sampleDisagreement(a, LightSampleBuffer(2, 1, 32, BufferKind::Bitmask)), UsageError);
 }
 
 TEST(CheckWritableFile, NamesTheProblem) {

@@ -1,5 +1,5 @@
 // `stsv render` driven in-process on tiny frames with the cpu backend: images, the --dump-ls
-// layout of issue 2, --stats keys, and one-line errors.
+// layout of --dump-ls, --stats keys, and one-line errors.
 #include "core/image.h"
 #include "render/frame.h"
 #include "scene/load.h"
@@ -58,7 +58,8 @@ TEST(RenderCli, ReferenceDefaultsToTheCpuBackend) {
     EXPECT_EQ(readJson(dir.file("s.json"))["options"]["backend"], "cpu");
 }
 
-/// The bits of pixel (x, y), sample k of a [H, W, N/8] uint8 array (issue 2: bit k%8 of byte k/8).
+/// The bits of pixel (x, y), sample k of a [H, W, N/8] uint8 array (the --dump-ls layout: bit k%8 of byte
+/// k/8).
 bool npyBit(const NpyArray& a, int x, int y, int k) {
     const std::size_t bytesPerPixel = a.shape[2];
     const std::size_t pixel = std::size_t(y) * a.shape[1] + std::size_t(x);
@@ -166,7 +167,7 @@ TEST(RenderCli, StatsHaveEveryOptionTimingsCountsAndMemory) {
     EXPECT_GT(s["scene"]["triangles"].get<int>(), 12);
     EXPECT_EQ(s["scene"]["set"]["count"], "3");
     EXPECT_TRUE(s["scene"].contains("skipped_faces"));
-    // Issue 3: light-sample buffer memory is N·W·H bits.
+    // Light-sample buffer memory is N·W·H bits (STSV paper §5.1).
     EXPECT_EQ(s["light_sample_buffer_bytes"], 32 * 16 * 64 / 8);
 }
 

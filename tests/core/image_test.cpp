@@ -59,9 +59,16 @@ TEST(Image, SrgbEncodingOfKnownValues) {
 
 TEST(Parallel, VisitsEveryIndexOnceAndRethrows) {
     std::vector<std::atomic<int>> hits(10007);
-    parallelFor(
-        hits.size(), [&](std::size_t i) { hits[i]++; }, 17);
+    parallelFor(hits.size(), [&](std::size_t i) { hits[i]++; });
     for (std::size_t i = 0; i < hits.size(); ++i) ASSERT_EQ(hits[i].load(), 1) << "index " << i;
+    std::vector<std::atomic<int>> pixels(37 * 21);
+    parallelForPixels(37, 21, [&](int x, int y) { pixels[std::size_t(y * 37 + x)]++; });
+    for (std::size_t i = 0; i < pixels.size(); ++i) ASSERT_EQ(pixels[i].load(), 1) << "pixel " << i;
+    std::vector<std::atomic<int>> chunked(100003);
+    parallelForChunks(chunked.size(), [&](std::size_t b, std::size_t e) {
+        for (std::size_t i = b; i < e; ++i) chunked[i]++;
+    });
+    for (std::size_t i = 0; i < chunked.size(); ++i) ASSERT_EQ(chunked[i].load(), 1) << "item " << i;
     EXPECT_THROW(parallelFor(100,
                              [](std::size_t i) {
                                  if (i == 42) throw Error("boom");

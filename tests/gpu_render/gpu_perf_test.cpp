@@ -1,4 +1,4 @@
-// Performance measurements of the Vulkan renderer (issue 3's closing note), not unit tests:
+// Performance measurements of the Vulkan renderer, not unit tests:
 // disabled by default, run with
 //   test_gpu_render --gtest_also_run_disabled_tests --gtest_filter='GpuPerf.*'
 // No validation (it would dominate the timings); warm-up frame, then the median of 3 frames.

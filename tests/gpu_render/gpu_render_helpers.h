@@ -74,8 +74,7 @@ inline SamplePlan planOf(const RenderOptions& o) {
 inline LightSampleBuffer mirrorSamples(const Scene& scene, const Frame& frame, std::size_t l,
                                        const RenderOptions& o) {
     LightSampleBuffer out(o.width, o.height, o.samples,
-                          o.buffer == BufferKind::Bitmask ? BufferKind::Bitmask
-                                                          : BufferKind::Counters);
+                          o.buffer == BufferKind::Bitmask ? BufferKind::Bitmask : BufferKind::Counters);
     stsvCpuSamples(scene, frame.gbuffer, scene.lights[l], planOf(o), farDistanceFor(scene.bounds()), out);
     return out;
 }

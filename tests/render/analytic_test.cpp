@@ -54,8 +54,7 @@ struct Buffers {
 
 Buffers renderBoth(const Scene& scene, int w, int h, const SamplePlan& plan) {
     const EmbreeScene embree(scene);
-    Buffers b{embree.traceGBuffer(w, h),
-              LightSampleBuffer(w, h, plan.count, BufferKind::Bitmask),
+    Buffers b{embree.traceGBuffer(w, h), LightSampleBuffer(w, h, plan.count, BufferKind::Bitmask),
               LightSampleBuffer(w, h, plan.count, BufferKind::Bitmask)};
     const float far = farDistanceFor(scene.bounds());
     traceReferenceSamples(embree, b.g, scene.lights[0], plan, far, b.reference);

@@ -1,4 +1,4 @@
-// CPU STSV mirror against the Embree ground truth (issue 2): at equal light samples, the
+// CPU STSV mirror against the Embree ground truth: at equal light samples, the
 // occlusion bits must agree except where a sample's segment grazes a triangle edge or an
 // alpha-texel boundary, or the pixel sits on a G-buffer silhouette.
 #include "reference/embree_scene.h"

@@ -1,5 +1,5 @@
 // Light-sample buffers (DESIGN §4.4): word layout, counters, v_coef, memory, the --dump-ls
-// .npy layout of issue 2 byte by byte, read-back and comparison.
+// --dump-ls .npy layout byte by byte, read-back and comparison.
 #include "core/error.h"
 #include "core/image.h"
 #include "sampling/ls_buffer.h"

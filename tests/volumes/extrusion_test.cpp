@@ -176,7 +176,7 @@ Config makeConfig(Rng& rng, int family) {
 }
 
 std::vector<StsvVolume> volumesOf(const Config& c) {
-    return buildTriangleVolumes(c.v0, c.v1, c.v2, c.light, c.bounds, true);
+    return buildTriangleVolumes(c.v0, c.v1, c.v2, c.light, c.bounds);
 }
 
 bool finiteVolume(const StsvVolume& v) {
@@ -713,49 +713,30 @@ TEST(ExtrusionEdgeCases, TriangleBehindTheLight) {
 // ---------------------------------------------------------------------------------------------
 // Host builder.
 
-TEST(ExtrusionHost, BuildsPerforatedTrianglesWithTheSidePolicy) {
-    Scene scene;
-    Material opaque;
-    Material fence;
-    fence.alphaTexture = 0;
-    Material leaf = fence;
-    leaf.doubleSided = true;
-    scene.materials = {opaque, fence, leaf};
-    scene.textures.resize(1);
-    // Light straddles every triangle's plane (vertical triangles, light at their height).
-    const vec4 light(0.0f, 1.0f, 3.0f, 0.5f);
-    scene.addTriangle(vec3(-1, 0, 0), vec3(1, 0, 0), vec3(0, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
-                      0); // opaque
-    scene.addTriangle(vec3(-1, 0, 0), vec3(0, 2, 0), vec3(-1, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
-                      1); // fence
-    scene.addTriangle(vec3(2, 0, 0), vec3(2, 0, 2), vec3(2, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
-                      2); // leaf, plane x = 2
-    scene.addTriangle(vec3(0, 0, 0), vec3(0, 0, 0), vec3(1, 1, 1), vec2(0), vec2(1, 0), vec2(0, 1),
-                      1); // degenerate
-    scene.addTriangle(vec3(-3, 0, -1), vec3(-3, 0, 1), vec3(-3, 2, 0), vec2(0), vec2(1, 0), vec2(0, 1),
-                      2); // leaf, x = −3
-    Bounds bounds = scene.bounds();
+TEST(ExtrusionHost, SecondVolumeExactlyWhenTheLightStraddlesThePlane) {
+    Bounds bounds;
     bounds.extend(vec3(-6));
     bounds.extend(vec3(6));
-
-    const StsvVolumeSet perforated = buildStsvVolumes(scene, light, bounds);
-    // fence: 1 (single-sided); leaf at x = 2: does not straddle (|2| > 0.5) → 1; leaf at x = −3 → 1.
-    EXPECT_EQ(perforated.triangleOf, (std::vector<std::uint32_t>{1, 2, 4}));
-    EXPECT_EQ(perforated.degenerate, 1u);
-
-    // Move the light into the plane x = 2 ± 0.3: the leaf there gets both sides.
-    const StsvVolumeSet straddled = buildStsvVolumes(scene, vec4(2.3f, 1.0f, 0.5f, 0.5f), bounds);
-    EXPECT_EQ(straddled.triangleOf, (std::vector<std::uint32_t>{1, 2, 2, 4}));
-    EXPECT_EQ(straddled.sideOf, (std::vector<std::uint32_t>{0, 0, 1, 0}));
-
-    StsvVolumeOptions all;
-    all.perforatedOnly = false;
-    all.allDoubleSided = true;
-    const StsvVolumeSet everything = buildStsvVolumes(scene, light, bounds, all);
-    // Triangles 0 and 1 lie in z = 0 and the light at z = 3 ± 0.5 does not straddle it.
-    EXPECT_EQ(everything.triangleOf, (std::vector<std::uint32_t>{0, 1, 2, 4}));
-    for (const StsvVolume& v : everything.volumes) EXPECT_TRUE(finiteVolume(v));
-    EXPECT_THROW(buildStsvVolumes(scene, light, Bounds{}), UsageError);
+    const vec4 light(0.0f, 1.0f, 3.0f, 0.5f);
+    // A triangle in the plane x = 2: the light's sphere (centre x = 0, radius 0.5) lies on one side.
+    const vec3 a(2, 0, 0), b(2, 0, 2), c(2, 2, 0);
+    const std::vector<StsvVolume> oneSide = buildTriangleVolumes(a, b, c, light, bounds);
+    ASSERT_EQ(oneSide.size(), 1u);
+    EXPECT_TRUE(finiteVolume(oneSide[0]));
+    EXPECT_EQ(oneSide[0].flags & (STSV_VOLUME_EMPTY | STSV_VOLUME_DEGENERATE), 0u);
+    // The light moved into the plane (x = 2.3 ± 0.5): both sides (STSV §6), both non-empty.
+    const std::vector<StsvVolume> straddled =
+        buildTriangleVolumes(a, b, c, vec4(2.3f, 1.0f, 0.5f, 0.5f), bounds);
+    ASSERT_EQ(straddled.size(), 2u);
+    for (const StsvVolume& v : straddled) {
+        EXPECT_TRUE(finiteVolume(v));
+        EXPECT_EQ(v.flags & (STSV_VOLUME_EMPTY | STSV_VOLUME_DEGENERATE), 0u);
+    }
+    // A zero-area triangle: one volume, flagged degenerate (the renderers skip it).
+    const std::vector<StsvVolume> degenerate =
+        buildTriangleVolumes(vec3(0), vec3(0), vec3(1), vec4(2.3f, 1.0f, 0.5f, 0.5f), bounds);
+    ASSERT_EQ(degenerate.size(), 1u);
+    EXPECT_NE(degenerate[0].flags & STSV_VOLUME_DEGENERATE, 0u);
 }
 
 } // namespace

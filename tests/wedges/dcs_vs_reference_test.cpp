@@ -1,6 +1,6 @@
 // dcs and dcs+stsv (CPU mirror) against Embree shadow rays at equal light samples, on closed
 // meshes (sphere, torus, torus knot, a loaded 10k+ triangle OBJ) with and without perforated
-// triangles: at least 99.9 % identical occlusion bits (issue 4). Differences come from samples
+// triangles: at least 99.9 % identical occlusion bits. Differences come from samples
 // whose segment grazes an edge or a vertex within float round-off.
 #include "core/progress.h"
 #include "reference/embree_scene.h"
