@@ -15,6 +15,29 @@
 
 namespace stsv {
 
+/// The data access of volumes/stsv_fragment_dh.h on the CPU: the pixel's samples from its
+/// SamplePlan, the texels from the triangle's Texture (null for an opaque triangle).
+struct StsvSampleSource {
+    const SamplePlan* plan;
+    int x; ///< pixel
+    int y;
+    uint domain; ///< LightFrame::domain
+    const Texture* texture;
+};
+inline vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
+    return pixelSamplePoint(*s.plan, s.x, s.y, int(k), s.domain);
+}
+inline bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
+    return alphaBlocks(s.texture->alpha(texel.x, texel.y));
+}
+
+} // namespace stsv
+
+#define STSV_SAMPLE_SOURCE
+#include "volumes/stsv_fragment_dh.h"
+
+namespace stsv {
+
 namespace {
 
 constexpr int TILE = 16;
@@ -124,7 +147,6 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     timer.reset();
 
     // The fragment shader's work, per tile and pixel.
-    const bool counting = out.kind() == LightSampleBuffer::Kind::Counters;
     std::atomic<std::size_t> tests{0}, hits{0};
     Progress progress("stsv (cpu)", tiles.size());
     parallelFor(
@@ -148,23 +170,16 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                         if (!stsvPointInVolume(record.volume, p)) continue;
                         ++localHits;
                         const StsvTriangle& tri = triangles[record.triangle];
-                        const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B, tMin);
-                        // Each side's volume owns the crossings whose receiver lies on its shadow side,
-                        // so a triangle counts at most once per sample even when both volumes hold p.
-                        if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;
+                        StsvPixel px;
+                        if (!stsvFragmentPixel(tri, record.side, p, frame, tMin, px)) continue;
                         const Texture* texture =
                             (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
                         const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
-                        for (int k = 0; k < plan.count; ++k) {
-                            ivec2 texel;
-                            if (!stsvSampleCrosses(tri, px, pixelSamplePoint(plan, x, y, k, frame.domain),
-                                                   size, texel))
-                                continue;
-                            if (texture && !alphaBlocks(texture->alpha(texel.x, texel.y))) continue;
-                            if (counting)
-                                out.addCount(x, y, k, 1);
-                            else
-                                out.setOccluded(x, y, k);
+                        const StsvSampleSource src{&plan, x, y, frame.domain, texture};
+                        for (uint w = 0; w < lsMaskWordCount(uint(plan.count)); ++w) {
+                            const uint bits = stsvOcclusionWord(tri, px, src, size, w,
+                                                                std::min(32u, uint(plan.count) - 32u * w));
+                            if (bits != 0u) out.addOccludingWord(x, y, int(w), bits);
                         }
                     }
                 }

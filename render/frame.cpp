@@ -29,10 +29,10 @@ void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light
                 return;
             }
             const vec3 albedo = scene.materialOf(gbuffer.triangle[i]).albedo;
-            vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i],
-                                        albedo, farDistance);
             const float v = coverage ? coverage->at(x, y, 0) : samples.visibleFraction(x, y);
-            if (coverage) direct *= v; // PW: v_coef modulates the unshadowed direct lighting
+            // PW: v_coef modulates the unshadowed direct lighting.
+            const vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i],
+                                              gbuffer.normal[i], albedo, farDistance, coverage ? v : 1.0f);
             for (int c = 0; c < 3; ++c) color.at(x, y, c) += direct[c];
             visibility.at(x, y, 0) += weight * v;
         },
