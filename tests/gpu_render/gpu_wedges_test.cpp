@@ -97,14 +97,26 @@ RenderOptions wedgeOptions(Method method, int width, int height, int samples) {
     return o;
 }
 
+// fence's opaque occluder is its ground, two coplanar triangles: a visible point on one of them
+// lies in the plane of the other, whose counting-volume caps at the light centre then sit at the
+// point's own depth. The GPU decides that tie by its depth test, the mirror by the Embree segment
+// rule, and the pixel's D(r) — every count of the pixel — can move by one (at 160×120: pixel
+// (100, 75), 0.0009 m from the ground's diagonal, where the GPU's STSV bits alone equal the
+// mirror's and its DCS part is −1 on every sample). Exact for foliage.
+const char* const COPLANAR_GROUND_WHY =
+    "D(r) at a visible point in the plane of the neighbouring ground triangle is a depth-test tie "
+    "on the GPU's z-fail caps and an Embree segment test in the mirror; the pixel's counts move by one";
+
 TEST_F(GpuWedges, DcsStsvOnFenceAndFoliageMatchesMirror) {
     for (const char* name : {"fence", "foliage"})
         for (int samples : {16, 64}) {
             const Scene scene = loadScene(name);
             const RenderOptions o = wedgeOptions(Method::DcsStsv, 160, 120, samples);
             const Frame frame = renderGpu(scene, o);
-            expectDcsMatchesMirror(scene, frame, o, 1.0,
-                                   std::string(name) + " dcs+stsv N=" + std::to_string(samples));
+            const bool fence = std::string(name) == "fence";
+            expectDcsMatchesMirror(scene, frame, o, fence ? 0.9999 : 1.0,
+                                   std::string(name) + " dcs+stsv N=" + std::to_string(samples),
+                                   fence ? COPLANAR_GROUND_WHY : "");
         }
 }
 
