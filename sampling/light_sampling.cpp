@@ -19,6 +19,9 @@ inline vec2 resolveSourcePoint(ResolveSource s, uint k) {
 inline uint resolveSourceWord(ResolveSource s, uint w) {
     return s.buffer->occludedWord(s.x, s.y, int(w));
 }
+inline bool resolveSourceOccluded(ResolveSource, uint word, uint k) {
+    return (word & lsMaskBit(k)) != 0u;
+}
 
 } // namespace stsv
 

@@ -50,7 +50,8 @@ DH_FUNC uint lsCounterSlot(uint pixelIndex, uint sampleCount, uint k) {
     return pixelIndex * sampleCount + k;
 }
 
-/// The uint that holds counter slot `slot` on the GPU, and the shift of its 16 bits there.
+/// The GPU uint that holds counter slot `slot`, and the shift of its 16 bits there; applied to a
+/// sample index k, the word relative to lsPixelCounterWord (below).
 DH_FUNC uint lsCounterWord(uint slot) {
     return slot >> 1u;
 }
@@ -58,10 +59,18 @@ DH_FUNC uint lsCounterShift(uint slot) {
     return 16u * (slot & 1u);
 }
 
-/// The GPU's first counter word of pixel `pixelIndex`; with N even, the pixel's counters fill
-/// the N/2 words from there.
+/// The GPU's first counter word of pixel `pixelIndex`. With N even (every GPU sample count) a
+/// pixel's counters fill the N/2 words from there, and sample k's counter lies in word
+/// lsPixelCounterWord + lsCounterWord(k) at lsCounterShift(k): the shaders address it so, with
+/// a constant offset per sample once their loops are unrolled.
 DH_FUNC uint lsPixelCounterWord(uint pixelIndex, uint sampleCount) {
     return lsCounterWord(lsCounterSlot(pixelIndex, sampleCount, 0u));
+}
+
+/// The occlusion bits of the two counters a GPU counter word holds: bit 0 for the slot in its low
+/// half (even slot), bit 1 for the high half (count ≠ 0: occluded).
+DH_FUNC uint lsCounterPairBits(uint word) {
+    return ((word & 65535u) != 0u ? 1u : 0u) | ((word >> 16u) != 0u ? 2u : 0u);
 }
 
 DH_END

@@ -7,18 +7,23 @@
 // Data access. The pixel's occlusion bits come from mask images or counters on the GPU and from a
 // LightSampleBuffer on the CPU, its sample points from baked constants, uniform or storage
 // buffers or a SamplePlan; so the includer defines, before including this header,
-//   struct ResolveSource                              what the pixel's samples are read from
-//   vec2 resolveSourcePoint(ResolveSource s, uint k)  frame coordinates (a, b) of sample k
-//   uint resolveSourceWord(ResolveSource s, uint w)   occlusion bits of mask word w
-//                                                     (sampling/ls_buffer_dh.h layout, 1 = occluded)
-// and the macro RESOLVE_SOURCE (a value passed in, as volumes/stsv_fragment_dh.h explains).
+//   struct ResolveSource                               what the pixel's samples are read from
+//   vec2 resolveSourcePoint(ResolveSource s, uint k)   frame coordinates (a, b) of sample k
+//   uint resolveSourceWord(ResolveSource s, uint w)    what the pixel holds for mask word w
+//                                                      (its occlusion bits, sampling/ls_buffer_dh.h)
+//   bool resolveSourceOccluded(ResolveSource s, uint word, uint k)
+//                                                      sample k occluded, given the word of k / 32
+// and the macro RESOLVE_SOURCE (a value passed in, as volumes/stsv_fragment_dh.h explains). The
+// per-sample test is the source's so that counters are read once per sample at a constant offset
+// from the pixel's first word (with the loops unrolled), as cheap on lavapipe as a mask bit.
 // RESOLVE_UNROLL, empty by default, is the sample loops' attribute: resolve.comp sets [[unroll]]
 // with a baked pattern, so that sample k's point and bit are constants in each copy of the body.
 #ifndef STSV_SAMPLING_RESOLVE_DH_H
 #define STSV_SAMPLING_RESOLVE_DH_H
 
 #ifndef RESOLVE_SOURCE
-#error "define ResolveSource, resolveSourcePoint and resolveSourceWord, then RESOLVE_SOURCE"
+#error                                                                                                       \
+    "define ResolveSource, resolveSourcePoint, resolveSourceWord and resolveSourceOccluded, then RESOLVE_SOURCE"
 #endif
 #ifndef RESOLVE_UNROLL
 #define RESOLVE_UNROLL
@@ -73,7 +78,7 @@ DH_FUNC ResolveSums resolveSamples(Light light, LightFrame lf, vec3 p, vec3 n, R
         uint word = resolveSourceWord(src, w);
         RESOLVE_UNROLL for (uint b = 0u; b < bitCount; ++b) {
             uint k = 32u * w + b;
-            bool occluded = ((word >> b) & 1u) != 0u;
+            bool occluded = resolveSourceOccluded(src, word, k);
             vec3 s = lightSamplePosition(lf, resolveSourcePoint(src, k));
             sums.visible += occluded ? 0u : 1u;
             if (emitter) {

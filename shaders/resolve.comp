@@ -50,7 +50,7 @@ struct ResolveSource {
     uvec2 offset;     ///< decorrelationOffset of the pixel
     bool decorrelate; ///< frame.decorrelate, loaded once (storage-buffer load)
     uint domain;      ///< LightFrame::domain
-    uint pixelIndex;  ///< lsPixelIndex (counters)
+    uint counterWord; ///< lsPixelCounterWord: the pixel's first counter word
     uvec2 m0;         ///< mask words 0…7 (attachment i holds words 2i, 2i + 1)
     uvec2 m1;
     uvec2 m2;
@@ -60,18 +60,16 @@ vec2 resolveSourcePoint(ResolveSource s, uint k) {
     return pixelSamplePoint(s.base, k, s.offset, s.decorrelate, s.domain);
 }
 uint resolveSourceWord(ResolveSource s, uint w) {
-#if RESOLVE_COVERAGE
-    return 0u; // PW: every sample lit, scaled by v_coef
-#elif STSV_COUNTERS
-    uint bits = 0u;
-    STSV_UNROLL for (uint b = 0u; b < uint(WORD_BITS); ++b) {
-        uint slot = lsCounterSlot(s.pixelIndex, uint(SAMPLE_COUNT), 32u * w + b);
-        bits |= ((counters[lsCounterWord(slot)] >> lsCounterShift(slot)) & 65535u) != 0u ? 1u << b : 0u;
-    }
-    return bits;
-#else
     return w == 0u ? s.m0.x : w == 1u ? s.m0.y : w == 2u ? s.m1.x : w == 3u ? s.m1.y :
            w == 4u ? s.m2.x : w == 5u ? s.m2.y : w == 6u ? s.m3.x : s.m3.y;
+}
+bool resolveSourceOccluded(ResolveSource s, uint word, uint k) {
+#if RESOLVE_COVERAGE
+    return false; // PW: every sample lit, scaled by v_coef
+#elif STSV_COUNTERS
+    return ((counters[s.counterWord + lsCounterWord(k)] >> lsCounterShift(k)) & 65535u) != 0u;
+#else
+    return (word & lsMaskBit(k)) != 0u;
 #endif
 }
 #define RESOLVE_SOURCE
@@ -106,7 +104,8 @@ void main() {
             src.offset = decorrelationOffset(uvec2(pixel), frame.seed);
             src.decorrelate = frame.decorrelate != 0u;
             src.domain = lf.domain;
-            src.pixelIndex = lsPixelIndex(uvec2(pixel), frame.width);
+            src.counterWord =
+                lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
 #if STSV_COUNTERS || RESOLVE_COVERAGE
             src.m0 = uvec2(0u);
             src.m1 = uvec2(0u);

@@ -108,7 +108,7 @@ void main() {
             src.texture = textures[opaque ? 0u : t.texture];
             ivec2 size = opaque ? ivec2(1) : ivec2(src.texture.width, src.texture.height);
 #if STSV_COUNTERS
-            uint pixelIndex = lsPixelIndex(uvec2(pixel), frame.width);
+            uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
 #endif
             // Words outside, bits inside (stsvOcclusionWord): a per-sample dynamic index into
             // words[] would cost a scatter per lane on SIMD CPUs.
@@ -117,9 +117,9 @@ void main() {
 #if STSV_COUNTERS
                 // One more layer on each occluded sample's 16-bit counter.
                 while (bits != 0u) {
-                    uint slot = lsCounterSlot(pixelIndex, uint(SAMPLE_COUNT), 32u * w + uint(findLSB(bits)));
+                    uint k = 32u * w + uint(findLSB(bits));
                     bits &= bits - 1u;
-                    atomicAdd(counters[lsCounterWord(slot)], 1u << lsCounterShift(slot));
+                    atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
                 }
 #else
                 words[w] = bits;

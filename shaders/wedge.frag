@@ -102,15 +102,15 @@ void main() {
     if (!inside) return; // no outputs: nothing to discard
     uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
     uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
-    uint pixelIndex = lsPixelIndex(uvec2(pixel), frame.width);
+    uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
     bool decorrelate = frame.decorrelate != 0u;
     for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
         vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);
         int crossing = dcsSampleCrossing(l, h0, h1, ab);
         // A negative addend wraps modulo 2^32 across the word's two 16-bit counters, which
         // wedge_fold.comp undoes.
-        uint slot = lsCounterSlot(pixelIndex, uint(SAMPLE_COUNT), s);
-        if (crossing != 0) atomicAdd(counters[lsCounterWord(slot)], uint(k * crossing) << lsCounterShift(slot));
+        if (crossing != 0)
+            atomicAdd(counters[counterWord + lsCounterWord(s)], uint(k * crossing) << lsCounterShift(s));
     }
 #endif
 }

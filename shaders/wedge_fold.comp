@@ -50,8 +50,7 @@ float stsvOccludedFraction(ivec2 pixel) {
 #if STSV_COUNTERS
     uint pixelBase = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
     for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) {
-        uint word = counters[pixelBase + j];
-        occluded += ((word & 65535u) != 0u ? 1u : 0u) + ((word >> 16u) != 0u ? 1u : 0u);
+        occluded += uint(bitCount(lsCounterPairBits(counters[pixelBase + j])));
     }
 #else
     for (uint i = 0u; i < uint((SAMPLE_COUNT + 63) / 64); ++i) {
