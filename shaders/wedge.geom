@@ -15,7 +15,8 @@ layout(triangle_strip, max_vertices = 10) out;
 
 layout(location = 0) flat out uvec4 outIds; ///< edge, side, planeCount, WEDGE_SIDE0_PRESENT | side 0's planeCount
 layout(location = 1) flat out vec4 outPlanes[STSV_VOLUME_MAX_PLANES];
-layout(location = 6) flat out vec4 outPlanesSide0[STSV_VOLUME_MAX_PLANES]; ///< side 1 only: its points inside side 0 are side 0's
+/// Side 1 only: its points inside side 0 are side 0's.
+layout(location = 6) flat out vec4 outPlanesSide0[STSV_VOLUME_MAX_PLANES];
 
 /// dcsPotentialSilhouette (wedges/dcs_dh.h) of the edge, as wedges/adjacency.cpp
 /// potentialSilhouetteEdges: open and non-manifold edges always.
