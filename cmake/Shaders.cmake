@@ -2,7 +2,8 @@
 # is compiled with glslangValidator for Vulkan 1.3 and validated with spirv-val, as part of the
 # default build, so a broken shader fails `make`. The SPIR-V lands in the build tree only; the
 # program compiles shaders at run time (gpu/shader_compiler.h) with the same include rules.
-# Shaders with macros (SAMPLE_COUNT, ...) must give them defaults with #ifndef.
+# Shaders with macros (SAMPLE_COUNT, ...) must give them defaults with #ifndef; besides the
+# defaults, the variants below compile the define combinations the renderer asks for.
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 find_program(SPIRV_VAL spirv-val REQUIRED)
 
@@ -12,20 +13,98 @@ file(GLOB STSV_SHADER_SOURCES CONFIGURE_DEPENDS
      ${PROJECT_SOURCE_DIR}/shaders/*.mesh ${PROJECT_SOURCE_DIR}/shaders/*.task)
 
 set(STSV_SHADER_OUTPUTS)
-foreach(source ${STSV_SHADER_SOURCES})
+
+# One checked compilation of `source` (a path) with the -D definitions in ARGN; `tag` names the
+# variant in the output file (empty: the defaults).
+function(stsv_check_shader source tag)
   get_filename_component(name ${source} NAME)
-  set(spv ${PROJECT_BINARY_DIR}/shaders/${name}.spv)
+  if(tag)
+    set(spv ${PROJECT_BINARY_DIR}/shaders/${name}.${tag}.spv)
+  else()
+    set(spv ${PROJECT_BINARY_DIR}/shaders/${name}.spv)
+  endif()
+  set(flags)
+  foreach(define IN LISTS ARGN)
+    list(APPEND flags "-D${define}")
+  endforeach()
   add_custom_command(
     OUTPUT ${spv}
     COMMAND ${GLSLANG_VALIDATOR} -V --target-env vulkan1.3 -I${PROJECT_SOURCE_DIR} -I${PROJECT_SOURCE_DIR}/shaders
-            --depfile ${spv}.d -o ${spv} ${source}
+            ${flags} --depfile ${spv}.d -o ${spv} ${source}
     COMMAND ${SPIRV_VAL} --target-env vulkan1.3 ${spv}
     DEPENDS ${source}
     DEPFILE ${spv}.d
-    COMMENT "Checking shader ${name}"
+    COMMENT "Checking shader ${name} ${tag}"
     VERBATIM)
-  list(APPEND STSV_SHADER_OUTPUTS ${spv})
+  set(STSV_SHADER_OUTPUTS ${STSV_SHADER_OUTPUTS} ${spv} PARENT_SCOPE)
+endfunction()
+
+foreach(source ${STSV_SHADER_SOURCES})
+  stsv_check_shader(${source} "")
 endforeach()
+
+# A baked pattern of n points (render/gpu_renderer.cpp withPatternDefine: uvec2[n](uvec2(qx, qy), …),
+# 24-bit fixed point) for the STSV_PATTERN_Q variants.
+function(stsv_pattern_q n out)
+  set(points)
+  math(EXPR last "${n} - 1")
+  foreach(k RANGE ${last})
+    math(EXPR qx "(${k} * 262147) % 16777216")
+    math(EXPR qy "(${k} * 1048583 + 4099) % 16777216")
+    list(APPEND points "uvec2(${qx}u,${qy}u)")
+  endforeach()
+  list(JOIN points "," joined)
+  set(${out} "STSV_PATTERN_Q=uvec2[${n}](${joined})" PARENT_SCOPE)
+endfunction()
+stsv_pattern_q(16 STSV_Q16)
+stsv_pattern_q(64 STSV_Q64)
+stsv_pattern_q(128 STSV_Q128)
+
+# The combinations render/gpu_renderer.cpp and render/gpu_wedges.cpp build: SAMPLE_COUNT and
+# STSV_COUNTERS (--samples, --buffer) on the sample passes; the uniform-buffer layouts
+# (STSV_PATTERN_VEC4S, STSV_ALPHA_BIT_VEC4S) on every pass; FIXED_LIGHT_TYPE per light type on
+# stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and
+# RESOLVE_COVERAGE (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
+# WEDGE_PW and WEDGE_STSV on the wedge passes. Each value of each define appears at least once,
+# and each sample count with each buffer kind, without the full product (two cores).
+set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
+set(S ${PROJECT_SOURCE_DIR}/shaders) # shader folder, for the lines below
+foreach(source stsv.vert stsv.geom stsv.mesh gbuffer.vert gbuffer.frag dcs_center.geom dcs_center.frag wedge.geom)
+  stsv_check_shader(${S}/${source} ubo ${UBO})
+endforeach()
+
+stsv_check_shader(${S}/stsv.frag s16_l0 SAMPLE_COUNT=16 FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/stsv.frag s16_counters_l1 SAMPLE_COUNT=16 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=1u)
+stsv_check_shader(${S}/stsv.frag s64_ubo_l2 SAMPLE_COUNT=64 ${UBO} FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/stsv.frag s64_counters_l3 SAMPLE_COUNT=64 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=3u)
+stsv_check_shader(${S}/stsv.frag s128_ubo_counters_l0 SAMPLE_COUNT=128 STSV_COUNTERS=1 ${UBO} FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/stsv.frag s256_l3 SAMPLE_COUNT=256 FIXED_LIGHT_TYPE=3u)
+stsv_check_shader(${S}/stsv.frag s256_counters_l2 SAMPLE_COUNT=256 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/stsv.frag mesh_s64_l1 STSV_MESH_PATH=1 SAMPLE_COUNT=64 FIXED_LIGHT_TYPE=1u)
+stsv_check_shader(${S}/stsv.frag mesh_s256_counters_ubo_l0 STSV_MESH_PATH=1 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO}
+                  FIXED_LIGHT_TYPE=0u)
+
+stsv_check_shader(${S}/resolve.comp s16_q_l0 SAMPLE_COUNT=16 "${STSV_Q16}" RESOLVE_COVERAGE=0 FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/resolve.comp s16_counters_l2 SAMPLE_COUNT=16 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/resolve.comp s64_q_l1 SAMPLE_COUNT=64 "${STSV_Q64}" FIXED_LIGHT_TYPE=1u)
+stsv_check_shader(${S}/resolve.comp s64_q_counters_ubo_l2 SAMPLE_COUNT=64 STSV_COUNTERS=1 "${STSV_Q64}" ${UBO}
+                  FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/resolve.comp s64_coverage_l3 SAMPLE_COUNT=64 RESOLVE_COVERAGE=1 FIXED_LIGHT_TYPE=3u)
+stsv_check_shader(${S}/resolve.comp s128_q_coverage_counters_l0 SAMPLE_COUNT=128 "${STSV_Q128}" RESOLVE_COVERAGE=1
+                  STSV_COUNTERS=1 FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/resolve.comp s128_ubo_l3 SAMPLE_COUNT=128 ${UBO} FIXED_LIGHT_TYPE=3u)
+stsv_check_shader(${S}/resolve.comp s256_l1 SAMPLE_COUNT=256 FIXED_LIGHT_TYPE=1u)
+stsv_check_shader(${S}/resolve.comp s256_counters_l3 SAMPLE_COUNT=256 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=3u)
+
+stsv_check_shader(${S}/wedge.frag dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 STSV_COUNTERS=1)
+stsv_check_shader(${S}/wedge.frag dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
+stsv_check_shader(${S}/wedge.frag pw WEDGE_PW=1 WEDGE_STSV=0)
+stsv_check_shader(${S}/wedge.frag pw_stsv_ubo WEDGE_PW=1 WEDGE_STSV=1 ${UBO})
+stsv_check_shader(${S}/wedge_fold.comp dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 STSV_COUNTERS=1)
+stsv_check_shader(${S}/wedge_fold.comp dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
+stsv_check_shader(${S}/wedge_fold.comp pw WEDGE_PW=1 WEDGE_STSV=0 SAMPLE_COUNT=64)
+stsv_check_shader(${S}/wedge_fold.comp pw_stsv_s256 WEDGE_PW=1 WEDGE_STSV=1 SAMPLE_COUNT=256)
+stsv_check_shader(${S}/wedge_fold.comp pw_stsv_s16_counters WEDGE_PW=1 WEDGE_STSV=1 SAMPLE_COUNT=16 STSV_COUNTERS=1)
 
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/shaders)
 add_custom_target(stsv_shaders ALL DEPENDS ${STSV_SHADER_OUTPUTS})

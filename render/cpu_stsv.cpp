@@ -15,6 +15,29 @@
 
 namespace stsv {
 
+/// The data access of volumes/stsv_fragment_dh.h on the CPU: the pixel's samples from its
+/// SamplePlan, the texels from the triangle's Texture (null for an opaque triangle).
+struct StsvSampleSource {
+    const SamplePlan* plan;
+    int x; ///< pixel
+    int y;
+    uint domain; ///< LightFrame::domain
+    const Texture* texture;
+};
+inline vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
+    return pixelSamplePoint(*s.plan, s.x, s.y, int(k), s.domain);
+}
+inline bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
+    return alphaBlocks(s.texture->alpha(texel.x, texel.y));
+}
+
+} // namespace stsv
+
+#define STSV_SAMPLE_SOURCE
+#include "volumes/stsv_fragment_dh.h"
+
+namespace stsv {
+
 namespace {
 
 constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
@@ -108,7 +131,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     // Bin volumes to screen tiles (the rasteriser's coverage, conservatively).
     const mat4 clipFromWorld =
         binningClipFromView(scene.camera, gbuffer.width, gbuffer.height) * viewFromWorld(scene.camera);
-    const int tilesX = (gbuffer.width + TILE - 1) / TILE, tilesY = (gbuffer.height + TILE - 1) / TILE;
+    const int tilesX = tilesAcross(gbuffer.width), tilesY = tilesAcross(gbuffer.height);
     std::vector<std::vector<std::uint32_t>> tiles(std::size_t(tilesX) * tilesY);
     for (std::size_t v = 0; v < volumes.size(); ++v) {
         ivec4 rect;
@@ -124,16 +147,13 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     timer.reset();
 
     // The fragment shader's work, per tile and pixel.
-    const bool counting = out.kind() == BufferKind::Counters;
     std::atomic<std::size_t> tests{0}, hits{0};
     Progress progress("stsv (cpu)", tiles.size());
-    parallelFor(tiles.size(), [&](std::size_t tileIndex) {
+    parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         std::size_t localTests = 0, localHits = 0;
-        const int tx = static_cast<int>(tileIndex % std::size_t(tilesX)),
-                  ty = static_cast<int>(tileIndex / std::size_t(tilesX));
-        const std::vector<std::uint32_t>& candidates = tiles[tileIndex];
-        for (int y = ty * TILE; y < std::min(gbuffer.height, (ty + 1) * TILE); ++y)
-            for (int x = tx * TILE; x < std::min(gbuffer.width, (tx + 1) * TILE); ++x) {
+        const std::vector<std::uint32_t>& candidates = tiles[std::size_t(tile.ty) * tilesX + tile.tx];
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
                 if (!gbuffer.covered(i) || candidates.empty()) continue;
                 const vec3 p = gbuffer.position[i];
@@ -146,23 +166,22 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     if (!stsvPointInVolume(record.volume, p)) continue;
                     ++localHits;
                     const StsvTriangle& tri = triangles[record.triangle];
-                    const StsvPixel px = stsvSetupPixel(tri, p, frame.center, frame.T, frame.B, tMin);
-                    // Each side's volume owns the crossings whose receiver lies on its shadow side,
-                    // so a triangle counts at most once per sample even when both volumes hold p.
-                    if (record.side == 0 ? !(px.e > 0.0f) : !(px.e < 0.0f)) continue;
-                    const Texture* texture =
-                        (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
+                    StsvPixel px;
+                    if (!stsvFragmentPixel(tri, record.side, p, frame, tMin, px)) continue;
+                    const Texture* texture = (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
                     const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
-                    for (int k = 0; k < plan.count; ++k) {
-                        ivec2 texel;
-                        if (!stsvSampleCrosses(tri, px, pixelSamplePoint(plan, x, y, k, frame.domain), size,
-                                               texel))
-                            continue;
-                        if (texture && !alphaBlocks(texture->alpha(texel.x, texel.y))) continue;
-                        if (counting)
-                            out.addCount(x, y, k, 1);
-                        else
-                            out.setOccluded(x, y, k);
+                    const StsvSampleSource src{&plan, x, y, frame.domain, texture};
+                    for (uint w = 0; w < lsMaskWordCount(uint(plan.count)); ++w) {
+                        const uint bits =
+                            stsvOcclusionWord(tri, px, src, size, w, std::min(32u, uint(plan.count) - 32u * w));
+                        if (bits != 0u) out.addOccludingWord(x, y, int(w), bits);
+                    }
+                }
+            }
+        tests += localTests;
+        hits += localHits;
+        progress.advance();
+    });
                     }
                 }
             }

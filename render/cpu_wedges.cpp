@@ -20,6 +20,26 @@
 
 namespace stsv {
 
+/// The data access of wedges/wedge_fragment_dh.h on the CPU: the edge's faces in the adjacency.
+struct WedgeFaces {
+    const EdgeAdjacency* adjacency;
+    uint first;
+    uint count;
+};
+inline uint wedgeFaceTriangle(WedgeFaces faces, uint f) {
+    return faces.adjacency->faces[f].triangle;
+}
+inline vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
+    return faces.adjacency->positions[faces.adjacency->faces[f].opposite];
+}
+
+} // namespace stsv
+
+#define WEDGE_FACES
+#include "wedges/wedge_fragment_dh.h"
+
+namespace stsv {
+
 nlohmann::json toJson(const WedgeCpuStats& s) {
     return {{"edges", s.edges},
             {"potential_silhouettes", s.potentialSilhouettes},
@@ -173,21 +193,12 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins,
         if (!inside) continue;
         for (std::uint32_t i = record.firstEdge; i < record.firstEdge + record.edgeCount; ++i) {
             const MeshEdge& edge = adj.edges[bins.edges[i]];
-            // Not a silhouette seen from p: rejected before the projection (dcsWorldSide).
-            int worldK = 0;
-            for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
-                if (adj.faces[f].triangle != receiver)
-                    worldK += dcsWorldSide(px.p, adj.positions[edge.v0], adj.positions[edge.v1],
-                                           adj.positions[adj.faces[f].opposite]);
-            if (worldK == 0) continue;
-            vec3 h0 = dcsProject(px, adj.positions[edge.v0]);
-            vec3 h1 = dcsProject(px, adj.positions[edge.v1]);
-            const vec3 l = cross(h0, h1);
-            int k = 0;
-            for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
-                if (adj.faces[f].triangle != receiver)
-                    k += dcsFaceSide(l, dcsProject(px, adj.positions[adj.faces[f].opposite]));
-            if (k == 0 || !dcsClipEdge(px.tMin, h0, h1)) continue;
+            const WedgeFaces faces{&adj, edge.firstFace, edge.faceCount};
+            const vec3 v0 = adj.positions[edge.v0], v1 = adj.positions[edge.v1];
+            if (wedgeWorldWeight(px.p, v0, v1, faces, receiver) == 0) continue;
+            vec3 l, h0, h1;
+            int k;
+            if (!wedgeEdgeTerm(px, v0, v1, faces, receiver, l, h0, h1, k)) continue;
             ++visits;
             visit(l, h0, h1, k);
         }

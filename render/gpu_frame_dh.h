@@ -152,11 +152,6 @@ DH_FUNC uint gpuByteOf(uint word, uint byteIndex) {
     return (word >> (8u * (byteIndex & 3u))) & 255u;
 }
 
-/// Index of bit k of a sample mask: word k/32, bit k%32 (LightSampleBuffer's layout).
-DH_FUNC uint gpuSampleBit(uint k) {
-    return 1u << (k & 31u);
-}
-
 DH_END
 
 #endif // STSV_RENDER_GPU_FRAME_DH_H

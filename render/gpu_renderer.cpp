@@ -384,7 +384,7 @@ struct VulkanRenderer::Impl {
                         out.size() * sizeof(std::uint16_t));
             return;
         }
-        // Attachment i holds words 2i (.x) and 2i+1 (.y) of each pixel (LightSampleBuffer layout).
+        // Attachment lsMaskAttachment(w) holds word w of each pixel in channel lsMaskComponent(w).
         const auto wordsPerPixel = std::size_t(buffer.wordsPerPixel());
         std::vector<std::uint32_t>& out = buffer.words();
         if (masks[l].size() == 1 && wordsPerPixel == 2) {
@@ -392,11 +392,10 @@ struct VulkanRenderer::Impl {
                         pixels * 2 * sizeof(std::uint32_t));
             return;
         }
-        for (std::size_t i = 0; i < masks[l].size(); ++i) {
-            const auto* pairs = staged<std::uint32_t>(layout.masks[l][i]);
-            for (std::size_t word = 2 * i; word < std::min(2 * i + 2, wordsPerPixel); ++word)
-                for (std::size_t p = 0; p < pixels; ++p)
-                    out[p * wordsPerPixel + word] = pairs[p * 2 + word % 2];
+        for (std::size_t word = 0; word < wordsPerPixel; ++word) {
+            const auto* pairs = staged<std::uint32_t>(layout.masks[l][lsMaskAttachment(uint(word))]);
+            for (std::size_t p = 0; p < pixels; ++p)
+                out[p * wordsPerPixel + word] = pairs[p * 2 + lsMaskComponent(uint(word))];
         }
     }
 

@@ -1,5 +1,33 @@
 #include "sampling/light_sampling.h"
 
+#include <algorithm>
+
+namespace stsv {
+
+/// The data access of sampling/resolve_dh.h on the CPU: the pixel's bits from a LightSampleBuffer,
+/// its sample points from the SamplePlan.
+struct ResolveSource {
+    const LightSampleBuffer* buffer;
+    const SamplePlan* plan;
+    int x; ///< pixel
+    int y;
+    uint domain; ///< LightFrame::domain
+};
+inline vec2 resolveSourcePoint(ResolveSource s, uint k) {
+    return pixelSamplePoint(*s.plan, s.x, s.y, int(k), s.domain);
+}
+inline uint resolveSourceWord(ResolveSource s, uint w) {
+    return s.buffer->occludedWord(s.x, s.y, int(w));
+}
+inline bool resolveSourceOccluded(ResolveSource, uint word, uint k) {
+    return (word & lsMaskBit(k)) != 0u;
+}
+
+} // namespace stsv
+
+#define RESOLVE_SOURCE
+#include "sampling/resolve_dh.h"
+
 namespace stsv {
 
 vec2 pixelSamplePoint(const SamplePlan& plan, int x, int y, int k, uint domain) {
@@ -12,14 +40,13 @@ vec3 pixelLightSample(const SamplePlan& plan, int x, int y, int k, const LightFr
 }
 
 vec3 resolveDirect(const LightSampleBuffer& buffer, const SamplePlan& plan, int x, int y, const Light& light,
-                   vec3 p, vec3 n, vec3 albedo, float farDistance) {
+                   vec3 p, vec3 n, vec3 albedo, float farDistance, float scale) {
     const LightFrame frame = lightFrame(light, p, farDistance);
-    vec3 sum(0.0f);
-    for (int k = 0; k < plan.count; ++k) {
-        if (!buffer.visible(x, y, k)) continue;
-        sum += sampleContribution(light, frame, p, n, pixelLightSample(plan, x, y, k, frame));
-    }
-    return albedo * (1.0f / SAMPLING_PI) * sum / float(plan.count);
+    const ResolveSource src{&buffer, &plan, x, y, frame.domain};
+    const uint count = uint(plan.count);
+    const ResolveSums sums =
+        resolveSamples(light, frame, p, n, src, lsMaskWordCount(count), std::min(32u, count));
+    return resolveDirectLighting(albedo, resolveContributionSum(light, frame, sums), scale, count);
 }
 
 } // namespace stsv

@@ -19,8 +19,9 @@ vec2 pixelSamplePoint(const SamplePlan& plan, int x, int y, int k, uint domain);
 vec3 pixelLightSample(const SamplePlan& plan, int x, int y, int k, const LightFrame& frame);
 
 /// Monte-Carlo direct lighting with a Lambertian BRDF (DESIGN §4.4, the paper's "Direct MC"):
-/// albedo/π · (1/N) Σ_k sampleContribution_k · V_k, with V_k from the buffer. Linear RGB.
+/// albedo/π · (1/N) Σ_k sampleContribution_k · V_k, with V_k from the buffer, times `scale`
+/// (PW's v_coef). Linear RGB. The functions of sampling/resolve_dh.h, as shaders/resolve.comp.
 vec3 resolveDirect(const LightSampleBuffer& buffer, const SamplePlan& plan, int x, int y, const Light& light,
-                   vec3 p, vec3 n, vec3 albedo, float farDistance);
+                   vec3 p, vec3 n, vec3 albedo, float farDistance, float scale = 1.0f);
 
 } // namespace stsv

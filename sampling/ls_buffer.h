@@ -4,6 +4,7 @@
 
 #include "core/dh.h"
 #include "core/image.h"
+#include "sampling/ls_buffer_dh.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -19,20 +20,38 @@ enum class BufferKind { Bitmask, Counters };
 class LightSampleBuffer {
   public:
     LightSampleBuffer() = default;
+<<<<<<< HEAD
     /// UsageError unless width, height ≥ 1 and samples ∈ [1, 4096] (a multiple of 8 for
     /// writeNpy of a bitmask).
     LightSampleBuffer(int width, int height, int samples, BufferKind kind);
+=======
+    /// UsageError unless width, height ≥ 1, samples ∈ [1, 4096] (a multiple of 8 for writeNpy of
+    /// a bitmask) and, for counters, width·height·samples < 2^32 (ls_buffer_dh.h's 32-bit slots).
+    LightSampleBuffer(int width, int height, int samples, Kind kind);
+>>>>>>> dh-perpixel
 
     int width() const { return m_width; }
     int height() const { return m_height; }
     int samples() const { return m_samples; }
+<<<<<<< HEAD
     BufferKind kind() const { return m_kind; }
     /// Bitmask: 32-bit words per pixel, ceil(N/32); sample k is bit k%32 of word k/32 — the
     /// GPU layout (RG32UI attachments: word 2i in .x, 2i+1 in .y of attachment i).
     int wordsPerPixel() const { return (m_samples + 31) / 32; }
+=======
+    Kind kind() const { return m_kind; }
+    /// Bitmask: 32-bit words per pixel, ceil(N/32), in the layout of ls_buffer_dh.h (the GPU's).
+    int wordsPerPixel() const { return int(lsMaskWordCount(uint(m_samples))); }
+>>>>>>> dh-perpixel
 
     /// Bitmask: sets the bit. Counters: raises a zero count to 1.
     void setOccluded(int x, int y, int k);
+    /// The occluding samples 32·word + b of the set bits b of `bits` (mask word `word`,
+    /// ls_buffer_dh.h). Bitmask: ORed in; counters: one more layer on each of those samples.
+    void addOccludingWord(int x, int y, int word, std::uint32_t bits);
+    /// Occlusion bits of mask word `word` (samples 32·word + b, ls_buffer_dh.h): the stored word
+    /// of a bitmask; for counters, the samples whose count ≠ 0.
+    std::uint32_t occludedWord(int x, int y, int word) const;
     /// Bit set, or count ≠ 0.
     bool occluded(int x, int y, int k) const;
     bool visible(int x, int y, int k) const { return !occluded(x, y, k); }
@@ -45,8 +64,9 @@ class LightSampleBuffer {
     /// Visible samples / N: the paper's v_coef.
     float visibleFraction(int x, int y) const;
 
-    /// Raw storage for GPU readback: pixel (x, y) starts at (y·width + x)·wordsPerPixel()
-    /// (bitmask) or (y·width + x)·samples (counters); row 0 is the top image row.
+    /// Raw storage for GPU readback, addressed as ls_buffer_dh.h: pixel (x, y) starts at
+    /// (y·width + x)·wordsPerPixel() (bitmask) or at counter slot (y·width + x)·samples; row 0 is
+    /// the top image row.
     std::vector<std::uint32_t>& words() { return m_words; }
     const std::vector<std::uint32_t>& words() const { return m_words; }
     std::vector<std::uint16_t>& counters() { return m_counters; }
@@ -71,7 +91,13 @@ class LightSampleBuffer {
 
   private:
     std::size_t pixelIndex(int x, int y) const {
-        return std::size_t(y) * std::size_t(m_width) + std::size_t(x);
+        return lsPixelIndex(uvec2(unsigned(x), unsigned(y)), uint(m_width));
+    }
+    std::size_t maskWordIndex(int x, int y, int k) const {
+        return pixelIndex(x, y) * std::size_t(wordsPerPixel()) + lsMaskWord(uint(k));
+    }
+    std::size_t counterSlot(int x, int y, int k) const {
+        return lsCounterSlot(uint(pixelIndex(x, y)), uint(m_samples), uint(k));
     }
 
     int m_width = 0;

@@ -4,6 +4,7 @@
 
 #include "render/gpu_frame_dh.h"
 #include "sampling/light_sampling_dh.h"
+#include "sampling/ls_buffer_dh.h"
 
 layout(std430, set = 0, binding = GPU_BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
 layout(std430, set = 0, binding = GPU_BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };

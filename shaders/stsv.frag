@@ -1,9 +1,10 @@
 #version 450
 // STSV fragment (STSV paper Algorithm 2, §2.3–2.4; DESIGN §4.3–4.4): one fragment per pixel
 // whose visible point p lies in front of the volume's back faces. Rejects p outside the volume,
-// applies the self-shadowing and side-ownership rules of render/cpu_stsv.cpp, then per light
-// sample the projective test (Eq. 1–3) and the texel rule (Eq. 4–5), shaped as the CPU mirror's
-// loop. Output: occlusion bits through logic-op OR attachments, or packed 16-bit counters.
+// applies the self-shadowing rule, then volumes/stsv_fragment_dh.h — the side-ownership rule and
+// per light sample the projective test (Eq. 1–3) and the texel rule (Eq. 4–5) — which the CPU
+// mirror (render/cpu_stsv.cpp) calls in its loop. Output: occlusion bits through logic-op OR
+// attachments, or packed 16-bit counters (sampling/ls_buffer_dh.h).
 #extension GL_GOOGLE_include_directive : require
 #ifndef STSV_MESH_PATH
 #define STSV_MESH_PATH 0
@@ -26,6 +27,25 @@
 #include "stsv_volume.glsl"
 #include "sampling/light_sampling_dh.h"
 
+// The data access of volumes/stsv_fragment_dh.h: the pixel's samples through pixelSamplePoint
+// (frame_bindings.glsl), the texels through the triangle's texture record, loaded once per
+// fragment (storage-buffer loads are per-lane loops on lavapipe).
+struct StsvSampleSource {
+    uint base;        ///< interleaveSet · N: the pixel's sample set
+    uvec2 offset;     ///< decorrelationOffset of the pixel
+    bool decorrelate; ///< frame.decorrelate, loaded once
+    uint domain;      ///< LightFrame::domain
+    GpuTexture texture;
+};
+vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
+    return pixelSamplePoint(s.base, k, s.offset, s.decorrelate, s.domain);
+}
+bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
+    return alphaBlocks(alphaAtTexture(s.texture, texel));
+}
+#define STSV_SAMPLE_SOURCE
+#include "volumes/stsv_fragment_dh.h"
+
 // Counters: the G-buffer depth test must run before the atomics (DESIGN §4.4).
 layout(early_fragment_tests) in;
 
@@ -35,13 +55,14 @@ layout(location = 2) STSV_FLAT in vec4 inM2;
 layout(location = 3) STSV_FLAT in vec4 inUv0E1;
 layout(location = 4) STSV_FLAT in vec4 inUvE2;
 layout(location = 5) STSV_FLAT in uvec4 inIds;
-layout(location = 6) STSV_FLAT in vec4 inPlanes[5];
+layout(location = 6) STSV_FLAT in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 
 #define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
+// Attachment i holds mask words 2i and 2i + 1 (lsMaskAttachment).
 #define MASK_ATTACHMENTS ((WORD_COUNT + 1) / 2)
 #define WORD_BITS (SAMPLE_COUNT < 32 ? SAMPLE_COUNT : 32)
 
@@ -68,50 +89,41 @@ void main() {
     vec3 p = vec3(imageLoad(gPosition, pixel));
     StsvVolume vol;
     vol.planeCount = inIds.w >> 8u;
-    for (int i = 0; i < 5; ++i) vol.planes[i] = inPlanes[i];
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = inPlanes[i];
     // Self-shadowing rule: the visible triangle never shadows its own point.
     if (stsvPointInVolume(vol, p) && imageLoad(gTriangle, pixel).x != inIds.z) {
-        {
-            StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
-            Light light = lights[pc.light].light;
-            LightFrame lf = lightFrame(light, p, frame.boxLo.w);
-            float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
-            StsvPixel px = stsvSetupPixel(t, p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
-            // Side ownership: side 0 owns crossings with e > 0, side 1 those with e < 0.
-            if (side == 0u ? px.e > 0.0 : px.e < 0.0) {
-                inside = true;
-                bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
-                // The texture record once per fragment, not per sample (storage-buffer loads are
-                // per-lane loops on lavapipe).
-                GpuTexture tex = textures[opaque ? 0u : t.texture];
-                ivec2 size = opaque ? ivec2(1) : ivec2(tex.width, tex.height);
-                uint set = interleaveSet(uvec2(pixel), frame.interleave);
-                uint base = set * uint(SAMPLE_COUNT);
-                uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
-                bool decorrelate = frame.decorrelate != 0u; // once, not per sample (storage-buffer load)
+        StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
+        Light light = lights[pc.light].light;
+        LightFrame lf = lightFrame(light, p, frame.boxLo.w);
+        float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
+        StsvPixel px;
+        if (stsvFragmentPixel(t, side, p, lf, shadowTMin(p, lf.center, sceneDiameter), px)) {
+            inside = true;
+            bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
+            StsvSampleSource src;
+            src.base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
+            src.offset = decorrelationOffset(uvec2(pixel), frame.seed);
+            src.decorrelate = frame.decorrelate != 0u;
+            src.domain = lf.domain;
+            src.texture = textures[opaque ? 0u : t.texture];
+            ivec2 size = opaque ? ivec2(1) : ivec2(src.texture.width, src.texture.height);
 #if STSV_COUNTERS
-                uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+            uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
 #endif
-                // Words outside, bits inside: the word index stays uniform, so the mask lives in
-                // registers (a per-sample dynamic index into words[] costs a scatter per lane on SIMD CPUs).
-                for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
-                    uint bits = 0u;
-                    for (uint b = 0u; b < uint(WORD_BITS); ++b) {
-                        uint k = 32u * w + b;
-                        vec2 ab = pixelSamplePoint(base, k, offset, decorrelate, lf.domain);
-                        ivec2 texel;
-                        if (!stsvSampleCrosses(t, px, ab, size, texel)) continue;
-                        if (!opaque && !alphaBlocks(alphaAtTexture(tex, texel))) continue;
+            // Words outside, bits inside (stsvOcclusionWord): a per-sample dynamic index into
+            // words[] would cost a scatter per lane on SIMD CPUs.
+            for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
+                uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
 #if STSV_COUNTERS
-                        // Two 16-bit counters per uint: sample k in the half k % 2 (little endian
-                        // uint16 order of LightSampleBuffer::counters()).
-                        atomicAdd(counters[pixelBase + (k >> 1u)], 1u << (16u * (k & 1u)));
-#else
-                        bits |= 1u << b;
-#endif
-                    }
-                    words[w] = bits;
+                // One more layer on each occluded sample's 16-bit counter.
+                while (bits != 0u) {
+                    uint k = 32u * w + uint(findLSB(bits));
+                    bits &= bits - 1u;
+                    atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
                 }
+#else
+                words[w] = bits;
+#endif
             }
         }
     }

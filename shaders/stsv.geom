@@ -16,7 +16,7 @@ layout(location = 2) flat out vec4 outM2;
 layout(location = 3) flat out vec4 outUv0E1;
 layout(location = 4) flat out vec4 outUvE2;
 layout(location = 5) flat out uvec4 outIds;
-layout(location = 6) flat out vec4 outPlanes[5];
+layout(location = 6) flat out vec4 outPlanes[STSV_VOLUME_MAX_PLANES];
 
 void main() {
     StsvTriangle t;
@@ -32,7 +32,7 @@ void main() {
         outUv0E1 = v.uv0E1;
         outUvE2 = v.uvE2;
         outIds = v.ids;
-        for (int k = 0; k < 5; ++k) outPlanes[k] = v.planes[k];
+        for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) outPlanes[k] = v.planes[k];
         EmitVertex();
     }
     EndPrimitive();

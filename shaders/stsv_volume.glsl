@@ -13,7 +13,7 @@ struct StsvVaryings {
     vec4 uv0E1;  ///< uv0 (xy), uvE1 (zw)
     vec4 uvE2;   ///< uvE2 (xy), zw unused
     uvec4 ids;   ///< texture, flags, triangle, side | planeCount << 8
-    vec4 planes[5];
+    vec4 planes[STSV_VOLUME_MAX_PLANES];
 };
 
 StsvVaryings stsvPackVaryings(StsvTriangle t, StsvVolume v, uint side) {
@@ -24,7 +24,7 @@ StsvVaryings stsvPackVaryings(StsvTriangle t, StsvVolume v, uint side) {
     o.uv0E1 = vec4(t.uv0, t.uvE1);
     o.uvE2 = vec4(t.uvE2, 0.0, 0.0);
     o.ids = uvec4(t.texture, t.flags, t.triangle, side | (v.planeCount << 8u));
-    for (int i = 0; i < 5; ++i) o.planes[i] = v.planes[i];
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) o.planes[i] = v.planes[i];
     return o;
 }
 

@@ -1,6 +1,6 @@
 #version 450
-// Per-pixel edge term of the opaque occluders (DESIGN §4.5; the same dh calls, in the same
-// order, as render/cpu_wedges.cpp forEachSilhouette): for a visible point p inside the edge's
+// Per-pixel edge term of the opaque occluders (DESIGN §4.5; wedges/wedge_fragment_dh.h, which
+// render/cpu_wedges.cpp forEachSilhouette calls too): for a visible point p inside the edge's
 // bound, the weight k_e of the edge seen from p (its faces except the visible triangle), the
 // edge projected onto the pixel's light frame and clipped to the part between p and the light,
 // then
@@ -26,8 +26,8 @@
 layout(early_fragment_tests) in;
 
 layout(location = 0) flat in uvec4 inIds;
-layout(location = 1) flat in vec4 inPlanes[5];
-layout(location = 6) flat in vec4 inPlanesSide0[5];
+layout(location = 1) flat in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
+layout(location = 6) flat in vec4 inPlanesSide0[STSV_VOLUME_MAX_PLANES];
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
@@ -38,37 +38,44 @@ layout(location = 0) out float outOcclusion;
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 #endif
 
+/// The data access of wedges/wedge_fragment_dh.h: the edge's faces in edgeFaces[].
+struct WedgeFaces {
+    uint first;
+    uint count;
+};
+uint wedgeFaceTriangle(WedgeFaces faces, uint f) {
+    return edgeFaces[f].triangle;
+}
+vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
+    return edgeFaces[f].opposite;
+}
+#define WEDGE_FACES
+#include "wedges/wedge_fragment_dh.h"
+
 /// The wedge term of this fragment's edge at pixel `pixel`; false when it has none.
 bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int k, out LightFrame lf) {
     StsvVolume vol;
     vol.planeCount = inIds.z;
-    for (int i = 0; i < 5; ++i) vol.planes[i] = inPlanes[i];
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = inPlanes[i];
     if (!stsvPointInVolume(vol, p)) return false;
     if ((inIds.w & WEDGE_SIDE0_PRESENT) != 0u) {
         StsvVolume vol0;
         vol0.planeCount = inIds.w & 255u;
-        for (int i = 0; i < 5; ++i) vol0.planes[i] = inPlanesSide0[i];
+        for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol0.planes[i] = inPlanesSide0[i];
         if (stsvPointInVolume(vol0, p)) return false;
     }
-    // Not a silhouette seen from p (most fragments): rejected before the projection.
     GpuEdge edge = edges[inIds.x];
+    WedgeFaces faces;
+    faces.first = edge.firstFace;
+    faces.count = edge.faceCount;
     uint receiver = imageLoad(gTriangle, pixel).x;
-    int worldK = 0;
-    for (uint f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
-        if (edgeFaces[f].triangle != receiver) worldK += dcsWorldSide(p, edge.v0, edge.v1, edgeFaces[f].opposite);
-    if (worldK == 0) return false;
+    if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) == 0) return false;
     Light light = lights[pc.light].light;
     lf = lightFrame(light, p, frame.boxLo.w);
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
     if (px.valid == 0.0) return false;
-    h0 = dcsProject(px, edge.v0);
-    h1 = dcsProject(px, edge.v1);
-    l = cross(h0, h1);
-    k = 0;
-    for (uint f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
-        if (edgeFaces[f].triangle != receiver) k += dcsFaceSide(l, dcsProject(px, edgeFaces[f].opposite));
-    return k != 0 && dcsClipEdge(px.tMin, h0, h1);
+    return wedgeEdgeTerm(px, edge.v0, edge.v1, faces, receiver, l, h0, h1, k);
 }
 
 void main() {
@@ -95,14 +102,15 @@ void main() {
     if (!inside) return; // no outputs: nothing to discard
     uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
     uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
-    uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+    uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
     bool decorrelate = frame.decorrelate != 0u;
     for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
         vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);
         int crossing = dcsSampleCrossing(l, h0, h1, ab);
-        // Two 16-bit counters per uint (sample s in half s % 2); a negative addend wraps modulo
-        // 2^32, which wedge_fold.comp undoes.
-        if (crossing != 0) atomicAdd(counters[pixelBase + (s >> 1u)], uint(k * crossing) << (16u * (s & 1u)));
+        // A negative addend wraps modulo 2^32 across the word's two 16-bit counters, which
+        // wedge_fold.comp undoes.
+        if (crossing != 0)
+            atomicAdd(counters[counterWord + lsCounterWord(s)], uint(k * crossing) << lsCounterShift(s));
     }
 #endif
 }

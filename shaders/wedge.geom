@@ -8,29 +8,22 @@
 #extension GL_GOOGLE_include_directive : require
 #include "wedge_bindings.glsl"
 #include "volumes/extrusion_dh.h"
+#include "wedges/dcs_dh.h"
 
 layout(points, invocations = 2) in; // gl_InvocationID = side of the carrier face
 layout(triangle_strip, max_vertices = 10) out;
 
 layout(location = 0) flat out uvec4 outIds; ///< edge, side, planeCount, WEDGE_SIDE0_PRESENT | side 0's planeCount
-layout(location = 1) flat out vec4 outPlanes[5];
-layout(location = 6) flat out vec4 outPlanesSide0[5]; ///< side 1 only: its points inside side 0 are side 0's
+layout(location = 1) flat out vec4 outPlanes[STSV_VOLUME_MAX_PLANES];
+/// Side 1 only: its points inside side 0 are side 0's.
+layout(location = 6) flat out vec4 outPlanesSide0[STSV_VOLUME_MAX_PLANES];
 
-/// wedges/adjacency.cpp potentialSilhouetteEdges in single precision, with twice its relative
-/// margin: an edge kept here but dropped there only adds k_e = 0 (wedge.frag) — at a crossing,
-/// the plane through p and the edge contains the light point, where the edge is no silhouette.
+/// dcsPotentialSilhouette (wedges/dcs_dh.h) of the edge, as wedges/adjacency.cpp
+/// potentialSilhouetteEdges: open and non-manifold edges always.
 bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
-    if (edge.faceCount != 2u) return true; // open and non-manifold edges always
-    vec3 c = vec3(sphere);
-    float s[2];
-    for (uint f = 0u; f < 2u; ++f) {
-        vec3 n = cross(edge.v1 - edge.v0, edgeFaces[edge.firstFace + f].opposite - edge.v0);
-        float len = length(n);
-        if (!(len > 0.0)) return true;
-        s[f] = dot(n, c - edge.v0) / len;
-    }
-    float margin = sphere.w + 2e-5 * (sphere.w + length(c - edge.v0));
-    return !((s[0] > margin && s[1] < -margin) || (s[0] < -margin && s[1] > margin));
+    if (edge.faceCount != 2u) return true;
+    return dcsPotentialSilhouette(edge.v0, edge.v1, edgeFaces[edge.firstFace].opposite,
+                                  edgeFaces[edge.firstFace + 1u].opposite, sphere);
 }
 
 void main() {
@@ -54,13 +47,13 @@ void main() {
     StsvVolume vol0;
     vol0.planeCount = 0u;
     vol0.flags = STSV_VOLUME_EMPTY;
-    for (int k = 0; k < 5; ++k) vol0.planes[k] = vec4(0.0);
+    for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) vol0.planes[k] = vec4(0.0);
     if (side == 1u) vol0 = stsvBuildVolume(v0, v1, v2, sphere, lo, hi, 0u);
     uint side0 = (vol0.flags & STSV_VOLUME_EMPTY) == 0u ? WEDGE_SIDE0_PRESENT | vol0.planeCount : 0u;
     for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
         gl_Position = frame.clipFromWorld * vol.vertices[i];
         outIds = uvec4(e, side, vol.planeCount, side0);
-        for (int k = 0; k < 5; ++k) {
+        for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) {
             outPlanes[k] = vol.planes[k];
             outPlanesSide0[k] = vol0.planes[k];
         }

@@ -48,10 +48,9 @@ int centerLayers(ivec2 pixel, uint tri) {
 float stsvOccludedFraction(ivec2 pixel) {
     uint occluded = 0u;
 #if STSV_COUNTERS
-    uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+    uint pixelBase = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
     for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) {
-        uint word = counters[pixelBase + j];
-        occluded += ((word & 65535u) != 0u ? 1u : 0u) + ((word >> 16u) != 0u ? 1u : 0u);
+        occluded += uint(bitCount(lsCounterPairBits(counters[pixelBase + j])));
     }
 #else
     for (uint i = 0u; i < uint((SAMPLE_COUNT + 63) / 64); ++i) {
@@ -79,7 +78,7 @@ void main() {
 #else
     // Each word holds L + 65536·H modulo 2^32 with L, H the signed sums of its two samples;
     // adding D(r) to both halves and sign-extending recovers them exactly while |L|, |H| < 2^15.
-    uint pixelBase = (uint(pixel.y) * frame.width + uint(pixel.x)) * uint(SAMPLE_COUNT / 2);
+    uint pixelBase = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
     for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) {
         uint word = counters[pixelBase + j] + uint(d) * 65537u;
         int lo = int(word << 16u) >> 16;

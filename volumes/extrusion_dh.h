@@ -61,11 +61,11 @@ DH_CONST float STSV_VOLUME_SLACK = 1e-5f;
 
 /// One STSV (one side of one S-triangle). std430: 16 × 16 bytes.
 struct StsvVolume {
-    vec4
-        planes[5]; ///< world space (n, d), unit n: p is inside iff dot(n, p) + d ≥ 0 for the first planeCount
+    vec4 planes[STSV_VOLUME_MAX_PLANES]; ///< world space (n, d), unit n: p is inside iff
+                                         ///< dot(n, p) + d ≥ 0 for the first planeCount
     vec4 vertices[10]; ///< world space, w = 1: triangle strip (STSV Fig. 6), front cap first, faces outward
                        ///< (CCW)
-    uint planeCount;   ///< 0…5
+    uint planeCount;   ///< 0…STSV_VOLUME_MAX_PLANES
     uint flags;        ///< STSV_VOLUME_*
     uint pad0;
     uint pad1;
@@ -139,7 +139,7 @@ DH_FUNC bool stsvOuterPlane(vec3 a, vec3 b, vec3 inner, vec3 center, float radiu
 /// A volume that contains nothing (every point fails planes[0]); the strip collapses to `at`.
 DH_FUNC StsvVolume stsvEmptyVolume(vec3 at, uint flags) {
     StsvVolume v;
-    for (uint i = 0u; i < 5u; ++i) v.planes[i] = vec4(0.0f, 0.0f, 0.0f, -1.0f);
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) v.planes[i] = vec4(0.0f, 0.0f, 0.0f, -1.0f);
     for (uint i = 0u; i < 10u; ++i) v.vertices[i] = vec4(at, 1.0f);
     v.planeCount = 1u;
     v.flags = flags | STSV_VOLUME_EMPTY;
@@ -387,7 +387,7 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
         }
     }
     vol.planeCount = count;
-    for (uint i = count; i < 5u; ++i) vol.planes[i] = vec4(0.0f);
+    for (uint i = count; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = vec4(0.0f);
 
     // 4. The strip's prism: front cap, three side planes, back cap, each one more slack outwards
     // so that it strictly encloses the stored planes' region inside the box.
@@ -510,7 +510,7 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     stsvWriteStrip(vol, f[0], f[1], f[2], b[0], b[1], b[2], toLight);
 
     // Back to world space: x_world = v0 + scaleW·x; a plane (m, d) becomes (m, d·scaleW − m·v0).
-    for (uint i = 0u; i < 5u; ++i) {
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) {
         vec3 m = vec3(vol.planes[i]);
         vol.planes[i] = vec4(m, vol.planes[i].w * scaleW - dot(m, v0));
     }
@@ -520,7 +520,7 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
 
 /// STSV §2.3: p is inside iff it is on the inner side of every plane of the volume.
 DH_FUNC bool stsvPointInVolume(StsvVolume v, vec3 p) {
-    uint count = min(v.planeCount, 5u);
+    uint count = min(v.planeCount, STSV_VOLUME_MAX_PLANES);
     for (uint i = 0u; i < count; ++i) {
         if (dot(vec3(v.planes[i]), p) + v.planes[i].w < 0.0f) return false;
     }

@@ -1,5 +1,7 @@
 #include "wedges/adjacency.h"
 
+#include "wedges/dcs_dh.h"
+
 #include <algorithm>
 #include <cstring>
 #include <limits>
@@ -97,46 +99,18 @@ EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(st
 
 std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adj, vec4 lightSphere) {
     std::vector<std::uint32_t> out;
-    const dvec3 c{vec3(lightSphere)};
-    const double r = double(lightSphere.w);
     for (std::uint32_t e = 0; e < adj.edges.size(); ++e) {
         const MeshEdge& edge = adj.edges[e];
         if (edge.faceCount != 2) {
             out.push_back(e);
             continue;
         }
-        // Face normals oriented by the edge direction, n_f = (q1 − q0) × (o_f − q0): seen from a
-        // light point x, the edge is a silhouette iff n_1·(x − q0) and n_2·(x − q0) have the same
-        // sign (the faces' third vertices on the same side of the plane through x and the edge).
-        const dvec3 q0(adj.positions[edge.v0]), q1(adj.positions[edge.v1]);
-        double s[2];
-        bool usable = true;
-        for (int f = 0; f < 2; ++f) {
-            const dvec3 o(adj.positions[adj.faces[edge.firstFace + f].opposite]);
-            const dvec3 n = cross(q1 - q0, o - q0);
-            const double len = length(n);
-            if (!(len > 0.0)) usable = false;
-            s[f] = usable ? dot(n, c - q0) / len : 0.0;
-        }
-        // Never a silhouette only if the whole sphere (plus a relative margin for round-off)
-        // is strictly on the positive side of one face's plane and the negative of the other's.
-        const double margin = r + 1e-5 * (r + length(c - q0));
-        const bool never = usable && ((s[0] > margin && s[1] < -margin) || (s[0] < -margin && s[1] > margin));
-        if (!never) out.push_back(e);
+        const vec3 q0 = adj.positions[edge.v0], q1 = adj.positions[edge.v1];
+        if (dcsPotentialSilhouette(q0, q1, adj.positions[adj.faces[edge.firstFace].opposite],
+                                   adj.positions[adj.faces[edge.firstFace + 1].opposite], lightSphere))
+            out.push_back(e);
     }
     return out;
-}
-
-int edgeWeightFrom(const EdgeAdjacency& adj, std::uint32_t e, dvec3 p, std::uint32_t ignoreTriangle) {
-    const MeshEdge& edge = adj.edges[e];
-    const dvec3 m = cross(dvec3(adj.positions[edge.v0]) - p, dvec3(adj.positions[edge.v1]) - p);
-    int k = 0;
-    for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
-        if (adj.faces[f].triangle == ignoreTriangle) continue;
-        const double side = dot(m, dvec3(adj.positions[adj.faces[f].opposite]) - p);
-        k += side > 0.0 ? 1 : (side < 0.0 ? -1 : 0);
-    }
-    return k;
 }
 
 } // namespace stsv

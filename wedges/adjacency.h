@@ -50,13 +50,8 @@ EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(st
 
 /// Indices of the edges that can be silhouettes for some point of a light inside `lightSphere`
 /// (centre xyz, radius w): open and non-manifold edges always; a manifold edge unless the whole
-/// sphere lies strictly on the same side (front or back) of both its faces' planes.
+/// sphere lies strictly on the same side (front or back) of both its faces' planes
+/// (dcsPotentialSilhouette of wedges/dcs_dh.h, the test shaders/wedge.geom runs).
 std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adjacency, vec4 lightSphere);
-
-/// The DCS weight of edge `e` seen from p (see wedges/dcs_dh.h dcsFaceSide): the sum over its
-/// faces (except `ignoreTriangle`) of the side of the face's third vertex relative to the plane
-/// through p and the edge, ±1 (0 in the plane), with the orientation m = (v0 − p) × (v1 − p).
-/// Non-zero iff the edge is a silhouette as seen from p. Double precision (tests, host code).
-int edgeWeightFrom(const EdgeAdjacency& adjacency, std::uint32_t e, dvec3 p, std::uint32_t ignoreTriangle);
 
 } // namespace stsv

@@ -97,6 +97,28 @@ DH_FUNC int dcsWorldSide(vec3 p, vec3 v0, vec3 v1, vec3 o) {
     return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
 }
 
+/// Light-side culling of a manifold edge q0 q1 whose faces have third vertices o0 and o1: false
+/// iff the edge is a silhouette for no light point in `sphere` (centre xyz, radius w, world
+/// units). With face normals oriented by the edge, n_f = (q1 − q0) × (o_f − q0), the edge is a
+/// silhouette seen from x iff n_0·(x − q0) and n_1·(x − q0) have the same sign (both third
+/// vertices on one side of the plane through x and the edge); it never is when the whole sphere
+/// lies strictly on the positive side of one face's plane and the negative side of the other's.
+/// The margin (2·10⁻⁵ of the sphere's radius plus its distance, beyond float rounding) only
+/// keeps extra edges, which add k_e = 0: at a crossing the plane through p and the edge holds a
+/// light point, where the edge is no silhouette.
+DH_FUNC bool dcsPotentialSilhouette(vec3 q0, vec3 q1, vec3 o0, vec3 o1, vec4 sphere) {
+    vec3 c = vec3(sphere);
+    vec3 n0 = cross(q1 - q0, o0 - q0);
+    vec3 n1 = cross(q1 - q0, o1 - q0);
+    float len0 = length(n0);
+    float len1 = length(n1);
+    if (!(len0 > 0.0f) || !(len1 > 0.0f)) return true;
+    float s0 = dot(n0, c - q0) / len0;
+    float s1 = dot(n1, c - q0) / len1;
+    float margin = sphere.w + 2e-5f * (sphere.w + length(c - q0));
+    return !((s0 > margin && s1 < -margin) || (s0 < -margin && s1 > margin));
+}
+
 /// Clips the projected edge h0 → h1 to w ∈ [tMin, 1] (the part between p and the light).
 /// False when nothing is left.
 DH_FUNC bool dcsClipEdge(float tMin, DH_INOUT(vec3) h0, DH_INOUT(vec3) h1) {

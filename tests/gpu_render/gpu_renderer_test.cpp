@@ -55,8 +55,8 @@ TEST_P(GpuVsMirror, BitmaskMatchesMirrorOnGpuGBuffer) {
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
         EXPECT_GT(occludedCount(frame.lightSamples[l]), std::size_t(W * H * o.samples / 100))
             << "no shadows to test";
-        expectMatchesMirror(scene, frame, o, l, 0.9999,
-                            std::string(GetParam().scene) + " N=" + std::to_string(o.samples));
+        expectMirrorExact(scene, frame, o, l,
+                          std::string(GetParam().scene) + " N=" + std::to_string(o.samples));
     }
 }
 
@@ -65,8 +65,8 @@ TEST_P(GpuVsMirror, CountersMatchMirrorOnGpuGBuffer) {
     const RenderOptions o = gpuOptions(W / 2, H / 2, GetParam().samples, BufferKind::Counters);
     const Frame frame = renderGpu(scene, o);
     for (std::size_t l = 0; l < scene.lights.size(); ++l)
-        expectMatchesMirror(scene, frame, o, l, 0.9999,
-                            std::string(GetParam().scene) + " counters N=" + std::to_string(o.samples));
+        expectMirrorExact(scene, frame, o, l,
+                          std::string(GetParam().scene) + " counters N=" + std::to_string(o.samples));
 }
 
 // The renderer's fallbacks for large data (render/gpu_renderer.cpp): alpha bytes in a storage
@@ -80,7 +80,7 @@ TEST_F(GpuRenderTest, LargeTextureAndInterleavedPatternMatchMirror) {
     ASSERT_EQ(frame.lightSamples.size(), scene.lights.size());
     EXPECT_GT(occludedCount(frame.lightSamples[0]), std::size_t(W * H * o.samples / 100))
         << "no shadows to test";
-    expectMatchesMirror(scene, frame, o, 0, 0.9999, "fence texture 512 interleave 2");
+    expectMirrorExact(scene, frame, o, 0, "fence texture 512 interleave 2");
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, GpuVsMirror,
@@ -158,7 +158,7 @@ TEST_F(GpuRenderer, EveryLightShapeInOneFrameMatchesMirrorEmbreeAndCpuResolve) {
     ASSERT_EQ(frame.lightSamples.size(), 4u);
     for (std::size_t l = 0; l < 4; ++l) {
         const std::string what = "light shape " + std::to_string(scene.lights[l].type);
-        expectMatchesMirror(scene, frame, o, l, 0.9999, what);
+        expectMirrorExact(scene, frame, o, l, what);
         expectMatchesEmbree(scene, frame, o, l, 0.999, what);
     }
     // Resolve: the CPU resolve of the GPU's own buffers (render/frame.cpp's conventions).
@@ -198,7 +198,7 @@ TEST_F(GpuRenderer, DoubleSidedTrianglesWithLightStraddlingTheirPlane) {
     const RenderOptions o = gpuOptions(W, H, 64);
     const Frame frame = renderGpu(scene, o);
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-        expectMatchesMirror(scene, frame, o, l, 0.9999, "straddling");
+        expectMirrorExact(scene, frame, o, l, "straddling");
         expectMatchesEmbree(scene, frame, o, l, 0.999, "straddling");
     }
     // Shadow on both sides of the plane x = 0.
@@ -233,7 +233,7 @@ TEST_F(GpuRenderer, CameraInsideVolumeNearPlaneBehindLightAndDegenerateTriangles
     scene.validate();
     const RenderOptions o = gpuOptions(W, H, 64);
     const Frame frame = renderGpu(scene, o);
-    expectMatchesMirror(scene, frame, o, 0, 0.9999, "camera inside");
+    expectMirrorExact(scene, frame, o, 0, "camera inside");
     expectMatchesEmbree(scene, frame, o, 0, 0.999, "camera inside");
     for (std::size_t i = 0; i < frame.gbuffer.triangle.size(); ++i) {
         EXPECT_NE(frame.gbuffer.triangle[i], 6u) << "degenerate triangle rasterised";
@@ -294,7 +294,7 @@ TEST_F(GpuRenderer, MeshShaderExtrusionMatchesMirrorOrSkips) {
                      << " lacks VK_EXT_mesh_shader: stsv.mesh compiled and validated at build time, not run";
     }
     const Frame frame = renderGpu(scene, o, ExtrusionStage::Mesh);
-    expectMatchesMirror(scene, frame, o, 0, 0.9999, "mesh shader");
+    expectMirrorExact(scene, frame, o, 0, "mesh shader");
 }
 
 } // namespace

@@ -19,10 +19,11 @@ using test::planOf;
 
 class GpuWedges : public test::GpuRenderTest {
   protected:
-    /// The mirror's counters on the GPU's G-buffer for every light; counts identical on at
-    /// least `minAgreement` of the (pixel, sample) pairs. Returns the agreement.
+    /// The mirror's counters on the GPU's G-buffer for every light: counts identical on every
+    /// (pixel, sample) pair when `why` is empty, else on at least `minAgreement` of them, the
+    /// differing pairs printed with the reason `why`. Returns the agreement.
     double expectDcsMatchesMirror(const Scene& scene, const Frame& frame, const RenderOptions& o,
-                                  double minAgreement, const std::string& what) {
+                                  double minAgreement, const std::string& what, const std::string& why = {}) {
         const OpaqueOccluders occ(scene);
         const float far = farDistanceFor(scene.bounds());
         double worst = 1.0;
@@ -34,15 +35,21 @@ class GpuWedges : public test::GpuRenderTest {
                 dcsCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror);
             const LightSampleDiff diff = compareLightSamples(frame.lightSamples[l], mirror, 8, true);
             const double agreement = 1.0 - double(diff.differingSamples) / double(diff.comparedSamples);
-            std::ostringstream where;
-            for (ivec2 p : diff.firstPixels) where << " (" << p.x << "," << p.y << ")";
+            const std::string differences =
+                test::describeDifferences(frame.lightSamples[l], mirror, frame.gbuffer, true);
             std::cout << what << " light " << l << ": " << diff.comparedSamples << " pairs, "
                       << test::occludedCount(mirror) << " occluded (mirror), " << diff.differingSamples
                       << " differ, agreement " << agreement << "\n";
             EXPECT_GT(test::occludedCount(mirror), diff.comparedSamples / 200)
                 << what << ": no shadow to test";
-            EXPECT_GE(agreement, minAgreement)
-                << what << " light " << l << ": first differing pixels" << where.str();
+            if (why.empty()) {
+                EXPECT_EQ(diff.differingSamples, 0u)
+                    << what << " light " << l << ": differing pairs" << differences;
+            } else {
+                if (diff.differingSamples > 0) std::cout << "  not exact: " << why << differences << "\n";
+                EXPECT_GE(agreement, minAgreement)
+                    << what << " light " << l << ": differing pairs" << differences;
+            }
             worst = std::min(worst, agreement);
         }
         return worst;
@@ -89,14 +96,26 @@ RenderOptions wedgeOptions(Method method, int width, int height, int samples) {
     return o;
 }
 
+// fence's opaque occluder is its ground, two coplanar triangles: a visible point on one of them
+// lies in the plane of the other, whose counting-volume caps at the light centre then sit at the
+// point's own depth. The GPU decides that tie by its depth test, the mirror by the Embree segment
+// rule, and the pixel's D(r) — every count of the pixel — can move by one (at 160×120: pixel
+// (100, 75), 0.0009 m from the ground's diagonal, where the GPU's STSV bits alone equal the
+// mirror's and its DCS part is −1 on every sample). Exact for foliage.
+const char* const COPLANAR_GROUND_WHY =
+    "D(r) at a visible point in the plane of the neighbouring ground triangle is a depth-test tie "
+    "on the GPU's z-fail caps and an Embree segment test in the mirror; the pixel's counts move by one";
+
 TEST_F(GpuWedges, DcsStsvOnFenceAndFoliageMatchesMirror) {
     for (const char* name : {"fence", "foliage"})
         for (int samples : {16, 64}) {
             const Scene scene = loadScene(name);
             const RenderOptions o = wedgeOptions(Method::DcsStsv, 160, 120, samples);
             const Frame frame = renderGpu(scene, o);
-            expectDcsMatchesMirror(scene, frame, o, 0.9999,
-                                   std::string(name) + " dcs+stsv N=" + std::to_string(samples));
+            const bool fence = std::string(name) == "fence";
+            expectDcsMatchesMirror(scene, frame, o, fence ? 0.9999 : 1.0,
+                                   std::string(name) + " dcs+stsv N=" + std::to_string(samples),
+                                   fence ? COPLANAR_GROUND_WHY : "");
         }
 }
 
@@ -104,8 +123,13 @@ TEST_F(GpuWedges, DcsStsvOnFenceAndFoliageMatchesMirror) {
 // that lie on, or within the segments' start gap of, another triangle: the GPU decides those by
 // its rasterised volume faces, the mirror by the Embree segment rule, and a whole pixel's counts
 // can differ by one. They are ties (every bit that differs from Embree is at a boundary), so the
-// mirror agreement asked of these scenes is 99.95 % instead of the 99.99 % of fence and foliage.
+// mirror agreement asked of these scenes is 99.95 % instead of the exact agreement of fence and
+// foliage, and the differing pixels are printed with this reason.
 constexpr double CREASED_MESH_AGREEMENT = 0.9995;
+const char* const CREASED_MESH_WHY =
+    "D(r) at a visible point on or within the start gap of another triangle (a crease or an "
+    "intersection) is a rasteriser tie on the GPU's z-fail volume faces and an Embree segment "
+    "test in the mirror; the whole pixel's counts move by one";
 
 TEST_F(GpuWedges, DcsOnClosedMeshesMatchesMirrorAndEmbree) {
     const struct {
@@ -117,7 +141,8 @@ TEST_F(GpuWedges, DcsOnClosedMeshesMatchesMirrorAndEmbree) {
         const Scene scene = makeMeshScene(m.mesh, m.name);
         const RenderOptions o = wedgeOptions(Method::Dcs, 128, 96, 32);
         const Frame frame = renderGpu(scene, o);
-        expectDcsMatchesMirror(scene, frame, o, CREASED_MESH_AGREEMENT, std::string(m.name) + " dcs");
+        expectDcsMatchesMirror(scene, frame, o, CREASED_MESH_AGREEMENT, std::string(m.name) + " dcs",
+                               CREASED_MESH_WHY);
         expectMatchesEmbree(scene, frame, o, 0, 0.999, std::string(m.name) + " dcs", true);
     }
 }
@@ -168,7 +193,7 @@ TEST_F(GpuWedges, DcsEveryLightShapeAndOpenNonManifoldSoupMatchMirror) {
         const Frame frame = renderGpu(scene, o);
         const std::string what =
             std::string(shape % 2 ? "soup" : "torus") + " light shape " + std::to_string(shape);
-        expectDcsMatchesMirror(scene, frame, o, CREASED_MESH_AGREEMENT, what);
+        expectDcsMatchesMirror(scene, frame, o, CREASED_MESH_AGREEMENT, what, CREASED_MESH_WHY);
         expectMatchesEmbree(scene, frame, o, 0, 0.999, what, true);
     }
 }
@@ -180,7 +205,7 @@ TEST_F(GpuWedges, DcsWithTwoLightsAndPerforatedQuadMatchesMirror) {
     const RenderOptions o = wedgeOptions(Method::DcsStsv, 120, 90, 32);
     const Frame frame = renderGpu(scene, o);
     ASSERT_EQ(frame.lightSamples.size(), 2u);
-    expectDcsMatchesMirror(scene, frame, o, 0.9999, "fence, two lights, dcs+stsv");
+    expectDcsMatchesMirror(scene, frame, o, 1.0, "fence, two lights, dcs+stsv");
 }
 
 TEST_F(GpuWedges, PwMatchesMirrorOnConvexMeshAndFence) {

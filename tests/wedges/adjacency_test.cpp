@@ -13,6 +13,22 @@
 namespace stsv {
 namespace {
 
+/// The DCS weight of edge `e` seen from p (wedges/dcs_dh.h dcsFaceSide), in double precision:
+/// the sum over its faces (except `ignoreTriangle`) of the side of the face's third vertex
+/// relative to the plane through p and the edge, ±1 (0 in the plane), with the orientation
+/// m = (v0 − p) × (v1 − p). Non-zero iff the edge is a silhouette as seen from p.
+int edgeWeightFrom(const EdgeAdjacency& adj, std::uint32_t e, dvec3 p, std::uint32_t ignoreTriangle) {
+    const MeshEdge& edge = adj.edges[e];
+    const dvec3 m = cross(dvec3(adj.positions[edge.v0]) - p, dvec3(adj.positions[edge.v1]) - p);
+    int k = 0;
+    for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
+        if (adj.faces[f].triangle == ignoreTriangle) continue;
+        const double side = dot(m, dvec3(adj.positions[adj.faces[f].opposite]) - p);
+        k += side > 0.0 ? 1 : (side < 0.0 ? -1 : 0);
+    }
+    return k;
+}
+
 Scene sceneOf(const MeshData& mesh) {
     Scene scene;
     appendMesh(scene, mesh, mat4(1.0f), "m");
