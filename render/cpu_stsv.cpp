@@ -168,20 +168,14 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     const StsvTriangle& tri = triangles[record.triangle];
                     StsvPixel px;
                     if (!stsvFragmentPixel(tri, record.side, p, frame, tMin, px)) continue;
-                    const Texture* texture = (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
+                    const Texture* texture =
+                        (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
                     const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
                     const StsvSampleSource src{&plan, x, y, frame.domain, texture};
                     for (uint w = 0; w < lsMaskWordCount(uint(plan.count)); ++w) {
-                        const uint bits =
-                            stsvOcclusionWord(tri, px, src, size, w, std::min(32u, uint(plan.count) - 32u * w));
+                        const uint bits = stsvOcclusionWord(tri, px, src, size, w,
+                                                            std::min(32u, uint(plan.count) - 32u * w));
                         if (bits != 0u) out.addOccludingWord(x, y, int(w), bits);
-                    }
-                }
-            }
-        tests += localTests;
-        hits += localHits;
-        progress.advance();
-    });
                     }
                 }
             }

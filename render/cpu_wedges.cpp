@@ -151,8 +151,8 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
 
     const mat4 clipFromWorld =
         binningClipFromView(scene.camera, gbuffer.width, gbuffer.height) * viewFromWorld(scene.camera);
-    bins.tilesX = (gbuffer.width + TILE - 1) / TILE;
-    bins.tilesY = (gbuffer.height + TILE - 1) / TILE;
+    bins.tilesX = tilesAcross(gbuffer.width);
+    bins.tilesY = tilesAcross(gbuffer.height);
     bins.tiles.resize(std::size_t(bins.tilesX) * std::size_t(bins.tilesY));
     for (std::size_t r = 0; r < bins.records.size(); ++r) {
         ivec4 rect(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), -1, -1);
@@ -209,11 +209,9 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins,
 template <class PixelFn>
 void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* label, PixelFn&& pixel) {
     Progress progress(label, bins.tiles.size());
-    parallelFor(bins.tiles.size(), [&](std::size_t tileIndex) {
-        const int tx = static_cast<int>(tileIndex % std::size_t(bins.tilesX));
-        const int ty = static_cast<int>(tileIndex / std::size_t(bins.tilesX));
-        const int x0 = tx * TILE, x1 = std::min(gbuffer.width, (tx + 1) * TILE);
-        const int y0 = ty * TILE, y1 = std::min(gbuffer.height, (ty + 1) * TILE);
+    parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
+        const std::size_t tileIndex = std::size_t(tile.ty) * std::size_t(bins.tilesX) + std::size_t(tile.tx);
+        const int x0 = tile.x0, x1 = tile.x1, y0 = tile.y0, y1 = tile.y1;
         // The tile's visible points bound a box; records whose every volume has a plane with
         // the whole box outside are dropped for the tile (what the rasteriser's depth test
         // and the fragment's plane tests would reject one pixel at a time).

@@ -20,7 +20,6 @@ const vec3 BACKGROUND(0.02f, 0.02f, 0.03f);
 void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light, const SamplePlan& plan,
                   float farDistance, const LightSampleBuffer& samples, float weight, ImageF& color,
                   ImageF& visibility, const ImageF* coverage) {
-<<<<<<< HEAD
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
         const std::size_t i = gbuffer.index(x, y);
         if (!gbuffer.covered(i)) {
@@ -28,33 +27,13 @@ void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light
             return;
         }
         const vec3 albedo = scene.materialOf(gbuffer.triangle[i]).albedo;
-        vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i],
-                                    albedo, farDistance);
         const float v = coverage ? coverage->at(x, y, 0) : samples.visibleFraction(x, y);
-        if (coverage) direct *= v; // PW: v_coef modulates the unshadowed direct lighting
+        // PW: v_coef modulates the unshadowed direct lighting.
+        const vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i], gbuffer.normal[i],
+                                          albedo, farDistance, coverage ? v : 1.0f);
         for (int c = 0; c < 3; ++c) color.at(x, y, c) += direct[c];
         visibility.at(x, y, 0) += weight * v;
     });
-=======
-    parallelFor(
-        std::size_t(gbuffer.width) * gbuffer.height,
-        [&](std::size_t i) {
-            const int x = static_cast<int>(i % std::size_t(gbuffer.width)),
-                      y = static_cast<int>(i / std::size_t(gbuffer.width));
-            if (!gbuffer.covered(i)) {
-                visibility.at(x, y, 0) += weight;
-                return;
-            }
-            const vec3 albedo = scene.materialOf(gbuffer.triangle[i]).albedo;
-            const float v = coverage ? coverage->at(x, y, 0) : samples.visibleFraction(x, y);
-            // PW: v_coef modulates the unshadowed direct lighting.
-            const vec3 direct = resolveDirect(samples, plan, x, y, light, gbuffer.position[i],
-                                              gbuffer.normal[i], albedo, farDistance, coverage ? v : 1.0f);
-            for (int c = 0; c < 3; ++c) color.at(x, y, c) += direct[c];
-            visibility.at(x, y, 0) += weight * v;
-        },
-        256);
->>>>>>> dh-perpixel
 }
 
 void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, Frame& frame) {

@@ -11,7 +11,7 @@ LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, BufferK
     : m_width(width), m_height(height), m_samples(samples), m_kind(kind) {
     if (width < 1 || height < 1 || samples < 1 || samples > 4096 ||
         std::size_t(width) * std::size_t(height) > (1u << 28) ||
-        (kind == Kind::Counters &&
+        (kind == BufferKind::Counters &&
          std::size_t(width) * std::size_t(height) * std::size_t(samples) > 0xFFFFFFFFu))
         throw UsageError("light-sample buffer of " + std::to_string(width) + "x" + std::to_string(height) +
                          " pixels × " + std::to_string(samples) + " samples is out of range");
@@ -23,13 +23,8 @@ LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, BufferK
 }
 
 void LightSampleBuffer::setOccluded(int x, int y, int k) {
-<<<<<<< HEAD
     if (m_kind == BufferKind::Bitmask) {
-        m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(k / 32)] |= 1u << (k % 32);
-=======
-    if (m_kind == Kind::Bitmask) {
         m_words[maskWordIndex(x, y, k)] |= lsMaskBit(uint(k));
->>>>>>> dh-perpixel
     } else {
         std::uint16_t& c = m_counters[counterSlot(x, y, k)];
         if (c == 0) c = 1;
@@ -37,7 +32,7 @@ void LightSampleBuffer::setOccluded(int x, int y, int k) {
 }
 
 void LightSampleBuffer::addOccludingWord(int x, int y, int word, std::uint32_t bits) {
-    if (m_kind == Kind::Bitmask) {
+    if (m_kind == BufferKind::Bitmask) {
         m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(word)] |= bits;
         return;
     }
@@ -45,7 +40,7 @@ void LightSampleBuffer::addOccludingWord(int x, int y, int word, std::uint32_t b
 }
 
 std::uint32_t LightSampleBuffer::occludedWord(int x, int y, int word) const {
-    if (m_kind == Kind::Bitmask)
+    if (m_kind == BufferKind::Bitmask)
         return m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(word)];
     std::uint32_t bits = 0u;
     for (int b = 0; b < 32 && 32 * word + b < m_samples; ++b)
@@ -58,27 +53,15 @@ bool LightSampleBuffer::occluded(int x, int y, int k) const {
 }
 
 void LightSampleBuffer::addCount(int x, int y, int k, int delta) {
-<<<<<<< HEAD
     if (m_kind != BufferKind::Counters) throw UsageError("addCount on a bitmask light-sample buffer");
-    std::uint16_t& c = m_counters[pixelIndex(x, y) * std::size_t(m_samples) + std::size_t(k)];
-=======
-    if (m_kind != Kind::Counters) throw UsageError("addCount on a bitmask light-sample buffer");
     std::uint16_t& c = m_counters[counterSlot(x, y, k)];
->>>>>>> dh-perpixel
     c = std::uint16_t(unsigned(c) + unsigned(delta)); // modulo 2^16 (see the header)
 }
 
 int LightSampleBuffer::count(int x, int y, int k) const {
-<<<<<<< HEAD
     if (m_kind == BufferKind::Bitmask)
-        return int(
-            (m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(k / 32)] >> (k % 32)) &
-            1u);
-    return m_counters[pixelIndex(x, y) * std::size_t(m_samples) + std::size_t(k)];
-=======
-    if (m_kind == Kind::Bitmask) return (m_words[maskWordIndex(x, y, k)] & lsMaskBit(uint(k))) != 0u ? 1 : 0;
+        return (m_words[maskWordIndex(x, y, k)] & lsMaskBit(uint(k))) != 0u ? 1 : 0;
     return m_counters[counterSlot(x, y, k)];
->>>>>>> dh-perpixel
 }
 
 float LightSampleBuffer::visibleFraction(int x, int y) const {

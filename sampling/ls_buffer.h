@@ -20,29 +20,16 @@ enum class BufferKind { Bitmask, Counters };
 class LightSampleBuffer {
   public:
     LightSampleBuffer() = default;
-<<<<<<< HEAD
-    /// UsageError unless width, height ≥ 1 and samples ∈ [1, 4096] (a multiple of 8 for
-    /// writeNpy of a bitmask).
-    LightSampleBuffer(int width, int height, int samples, BufferKind kind);
-=======
     /// UsageError unless width, height ≥ 1, samples ∈ [1, 4096] (a multiple of 8 for writeNpy of
     /// a bitmask) and, for counters, width·height·samples < 2^32 (ls_buffer_dh.h's 32-bit slots).
-    LightSampleBuffer(int width, int height, int samples, Kind kind);
->>>>>>> dh-perpixel
+    LightSampleBuffer(int width, int height, int samples, BufferKind kind);
 
     int width() const { return m_width; }
     int height() const { return m_height; }
     int samples() const { return m_samples; }
-<<<<<<< HEAD
     BufferKind kind() const { return m_kind; }
-    /// Bitmask: 32-bit words per pixel, ceil(N/32); sample k is bit k%32 of word k/32 — the
-    /// GPU layout (RG32UI attachments: word 2i in .x, 2i+1 in .y of attachment i).
-    int wordsPerPixel() const { return (m_samples + 31) / 32; }
-=======
-    Kind kind() const { return m_kind; }
     /// Bitmask: 32-bit words per pixel, ceil(N/32), in the layout of ls_buffer_dh.h (the GPU's).
     int wordsPerPixel() const { return int(lsMaskWordCount(uint(m_samples))); }
->>>>>>> dh-perpixel
 
     /// Bitmask: sets the bit. Counters: raises a zero count to 1.
     void setOccluded(int x, int y, int k);
