@@ -1,4 +1,4 @@
-// CPU mirror of the opaque-occluder passes (issue 4, DESIGN §4.5, STSV paper Algorithm 2):
+// CPU mirror of the opaque-occluder passes (DESIGN §4.5, STSV paper Algorithm 2):
 // depth complexity sampling (DCS) and penumbra wedges (PW) over the welded edge adjacency of the
 // opaque triangles, and their combinations with STSV for the perforated ones. The per-pixel,
 // per-edge math is the device/host code of wedges/dcs_dh.h and wedges/pw_dh.h; candidate edges

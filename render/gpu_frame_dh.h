@@ -56,12 +56,12 @@ struct GpuTexture {
     uint pad0;
 };
 
-/// Frame constants. std430: 10 × 16 bytes.
+/// Frame constants. std430: 11 × 16 bytes.
 struct GpuFrame {
     mat4 clipFromWorld; ///< Vulkan clip space (scene/camera.h), near/far from the scene box
     vec4 eye;           ///< world units, w unused
-    vec4 boxLo;         ///< scene box (world units); w = farDistance (directional lights)
-    vec4 boxHi;         ///< scene box (world units); w = ambient (fraction of albedo)
+    vec4 boxLo;         ///< scene box (world units), w unused
+    vec4 boxHi;         ///< scene box (world units), w unused
     vec4 background;    ///< linear RGB of uncovered pixels
     uint width;         ///< pixels
     uint height;        ///< pixels
@@ -71,6 +71,10 @@ struct GpuFrame {
     uint decorrelate;   ///< 0 or 1
     uint lightCount;
     float lightWeight; ///< 1 / lightCount: weight of each light's v_coef in the visibility image
+    float farDistance; ///< world units: distance of a directional light's samples (light_bounds.h)
+    float ambient;     ///< ambient term, fraction of albedo
+    uint pad0;
+    uint pad1;
 };
 
 /// A scene light and the sphere its volumes are extruded against (light_bounds.h).
@@ -124,7 +128,7 @@ DH_CONST uint GPU_PUSH_PERFORATED_ONLY = 1u;
 #ifdef __cplusplus
 DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
 DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);
-DH_STATIC_ASSERT(sizeof(GpuFrame) == 160);
+DH_STATIC_ASSERT(sizeof(GpuFrame) == 176);
 DH_STATIC_ASSERT(sizeof(GpuLight) == 96);
 DH_STATIC_ASSERT(sizeof(GpuStats) == 16);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);

@@ -294,8 +294,10 @@ struct VulkanRenderer::Impl {
         GpuFrame frame{};
         frame.clipFromWorld = gpuClipFromWorld(scene, options.width, options.height);
         frame.eye = vec4(scene.camera.eye, 1.0f);
-        frame.boxLo = vec4(box.lo, farDistance);
-        frame.boxHi = vec4(box.hi, options.ambient);
+        frame.boxLo = vec4(box.lo, 0.0f);
+        frame.boxHi = vec4(box.hi, 0.0f);
+        frame.farDistance = farDistance;
+        frame.ambient = options.ambient;
         frame.background = vec4(BACKGROUND, 1.0f);
         frame.width = static_cast<uint>(options.width);
         frame.height = static_cast<uint>(options.height);

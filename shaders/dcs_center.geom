@@ -34,7 +34,7 @@ void emitTriangle(vec3 a, vec3 b, vec3 c, int weight, uint skip) {
 
 /// v extruded away from the light centre to farDistance.
 vec3 extrude(Light light, vec3 v) {
-    precise vec3 far = v + normalize(awayFromLightCenter(light, v)) * frame.boxLo.w;
+    precise vec3 far = v + normalize(awayFromLightCenter(light, v)) * frame.farDistance;
     return far;
 }
 

@@ -85,7 +85,7 @@ void main() {
     vec3 color;
     float visibility;
     if (pc.initialize != 0u) {
-        color = covered ? frame.boxHi.w * albedo : vec3(frame.background);
+        color = covered ? frame.ambient * albedo : vec3(frame.background);
         visibility = 0.0;
     } else {
         color = vec3(imageLoad(colorImage, pixel));
@@ -98,7 +98,7 @@ void main() {
             Light light = lights[pc.light].light;
             vec3 p = vec3(imageLoad(gPosition, pixel));
             vec3 n = gpuShadingNormal(triangles[tri], vec3(frame.eye), p);
-            LightFrame lf = lightFrame(light, p, frame.boxLo.w);
+            LightFrame lf = lightFrame(light, p, frame.farDistance);
             ResolveSource src;
             src.base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
             src.offset = decorrelationOffset(uvec2(pixel), frame.seed);

@@ -94,7 +94,7 @@ void main() {
     if (stsvPointInVolume(vol, p) && imageLoad(gTriangle, pixel).x != inIds.z) {
         StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
         Light light = lights[pc.light].light;
-        LightFrame lf = lightFrame(light, p, frame.boxLo.w);
+        LightFrame lf = lightFrame(light, p, frame.farDistance);
         float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
         StsvPixel px;
         if (stsvFragmentPixel(t, side, p, lf, shadowTMin(p, lf.center, sceneDiameter), px)) {

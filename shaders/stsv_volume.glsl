@@ -54,7 +54,7 @@ float stsvShadowTMinLowerBound(Light light) {
     vec3 hi = vec3(frame.boxHi);
     float farthest = 0.0;
     if (light.type == LIGHT_DIRECTIONAL) {
-        farthest = frame.boxLo.w * length(light.normal);
+        farthest = frame.farDistance * length(light.normal);
     } else {
         for (uint k = 0u; k < 8u; ++k) farthest = max(farthest, length(light.position - stsvBoxCorner(lo, hi, k)));
     }

@@ -71,7 +71,7 @@ bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int
     uint receiver = imageLoad(gTriangle, pixel).x;
     if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) == 0) return false;
     Light light = lights[pc.light].light;
-    lf = lightFrame(light, p, frame.boxLo.w);
+    lf = lightFrame(light, p, frame.farDistance);
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
     if (px.valid == 0.0) return false;

@@ -1,4 +1,4 @@
-// The Vulkan STSV renderer (issue 3) against the CPU mirror fed the GPU's own G-buffer and
+// The Vulkan STSV renderer against the CPU mirror fed the GPU's own G-buffer and
 // against Embree: built-in scenes at N = 16, 64, 256, every light shape, and the edge cases of
 // DESIGN §4.2 (double-sided triangles with the light straddling their plane, a camera inside a
 // volume, triangles crossing the near plane or behind the light, degenerate triangles).

@@ -1,4 +1,4 @@
-// The Vulkan DCS and PW passes (issue 4) against the CPU mirror (render/cpu_wedges.cpp) fed the
+// The Vulkan DCS and PW passes against the CPU mirror (render/cpu_wedges.cpp) fed the
 // GPU's own G-buffer, and DCS against Embree: fence and foliage with their perforated triangles
 // (dcs+stsv, pw+stsv), closed meshes, open and non-manifold soups, every light shape.
 // Validation on (GpuRenderTest fails on any message).
