@@ -8,6 +8,7 @@
 
 #include <map>
 #include <sstream>
+#include <utility>
 
 namespace stsv {
 namespace {
@@ -260,6 +261,33 @@ TEST(CompareCli, NpyFiles) {
     const CliResult missing = runStsv({"compare", dir.file("a.npy"), dir.file("none.npy")});
     EXPECT_NE(missing.code, 0);
     EXPECT_NE(missing.err.find("none.npy"), std::string::npos) << missing.err;
+}
+
+TEST(CompareCli, CountersFileAgainstBitmaskFileComparesOcclusion) {
+    ScratchDir dir;
+    auto dump = [&](const std::string& file, const std::string& method, const std::string& buffer) {
+        const std::vector<std::string> args = {"render",    "fence",    "--backend", "cpu",          "--size",
+                                               "24x16",     "--method", method,      "--buffer",     buffer,
+                                               "--samples", "64",       "--dump-ls", dir.file(file), "-q"};
+        const CliResult r = runStsv(args);
+        ASSERT_EQ(r.code, 0) << test::describe(args, r);
+    };
+    // The same STSV occlusion as bits ([H, W, 8] uint8) and as counters below 256 ([H, W, 64]
+    // uint8): read as bitmasks the second would hold 512 samples.
+    dump("bits.npy", "stsv", "bitmask");
+    dump("counts.npy", "stsv", "counters");
+    for (const auto& [a, b] : {std::pair{"bits.npy", "counts.npy"}, std::pair{"counts.npy", "bits.npy"}}) {
+        const CliResult r = runStsv({"compare", dir.file(a), dir.file(b)});
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_NE(r.out.find("24x16 pixels, 64 samples"), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("comparing occlusion (count > 0)"), std::string::npos) << r.out;
+        EXPECT_NE(r.out.find("differing samples: 0 of 24576"), std::string::npos) << r.out;
+    }
+    // The reference's bits against STSV's counters: the same samples, a few boundary bits apart.
+    dump("reference.npy", "reference", "bitmask");
+    const CliResult r = runStsv({"compare", dir.file("counts.npy"), dir.file("reference.npy")});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("of 24576"), std::string::npos) << r.out;
 }
 
 } // namespace
