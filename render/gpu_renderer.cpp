@@ -44,6 +44,16 @@ std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
     return bindings;
 }
 
+/// The clear at the start of a frame: the fragment statistics, and the sample counters the
+/// passes of a counters frame add to.
+ClearPass countClearPass(const FrameResources& resources, const RenderOptions& options,
+                         std::size_t lightCount) {
+    std::vector<const Buffer*> buffers{&resources.stats};
+    if (options.buffer == BufferKind::Counters)
+        for (std::size_t l = 0; l < lightCount; ++l) buffers.push_back(&resources.samples.counters[l]);
+    return ClearPass({}, buffers);
+}
+
 /// The passes of a method with an opaque technique (MethodInfo::opaque): Algorithm 2 lines
 /// 4–7 (centre count and wedges) and 11 (the fold, after the STSV pass).
 struct OpaquePasses {
@@ -71,7 +81,7 @@ class VulkanFrame {
     FrameResources m_resources;
     OpaqueOccluderResources m_opaqueResources;
     FrameDescriptors m_descriptors;
-    ClearPass m_clearCounts; ///< per frame: fragment statistics and sample counters
+    ClearPass m_clearCounts;
     GBufferPass m_gbuffer;
     std::optional<OpaquePasses> m_opaque;
     std::optional<StsvPass> m_stsv; ///< when the method draws STSV volumes in this scene
@@ -93,19 +103,13 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                                                 options.interleave, options.decorrelate)),
       m_resources(device, scene, options, m_plan), m_opaqueResources(device, scene, options),
       m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
-      m_clearCounts({}, {&m_resources.stats}),
+      m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
       m_gbuffer(device, m_resources, m_descriptors, layoutDefines(m_resources.tables.layout),
                 static_cast<std::uint32_t>(scene.triangleCount())),
       m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
       m_readback(device, scene, options, m_resources),
       m_timer(device, 3 + 5 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
       m_commands(device) {
-    if (options.buffer == BufferKind::Counters) {
-        std::vector<const Buffer*> buffers{&m_resources.stats};
-        for (std::size_t l = 0; l < scene.lights.size(); ++l)
-            buffers.push_back(&m_resources.samples.counters[l]);
-        m_clearCounts = ClearPass({}, buffers);
-    }
     const std::vector<ShaderDefine> defines = sampleDefines(options, m_resources.tables.layout);
     if (m_method.opaque != OpaqueTechnique::None)
         m_opaque.emplace(OpaquePasses{
