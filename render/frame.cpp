@@ -13,10 +13,6 @@
 
 namespace stsv {
 
-namespace {
-const vec3 BACKGROUND(0.02f, 0.02f, 0.03f);
-}
-
 void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light, const SamplePlan& plan,
                   float farDistance, const LightSampleBuffer& samples, float weight, ImageF& color,
                   ImageF& visibility, const ImageF* coverage) {

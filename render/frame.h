@@ -15,6 +15,9 @@
 
 namespace stsv {
 
+/// Linear RGB of the pixels no triangle covers (every backend).
+inline const vec3 BACKGROUND(0.02f, 0.02f, 0.03f);
+
 struct Frame {
     GBuffer gbuffer;
     std::vector<LightSampleBuffer> lightSamples; ///< one per scene light

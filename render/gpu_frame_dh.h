@@ -1,6 +1,7 @@
 // Device/host layout of the Vulkan frame (DESIGN §3, §5): the scene tables, frame constants and
-// binding indices shared by render/gpu_renderer.cpp and shaders/{gbuffer,stsv,resolve}.*, plus
-// the small per-pixel helpers every pass uses (G-buffer point, shading normal, alpha texel).
+// binding indices shared by the Vulkan passes (render/gpu_*_pass.cpp, gpu_frame_resources.cpp)
+// and the shaders, plus the small per-pixel helpers every pass uses (G-buffer point, shading
+// normal, alpha texel).
 #ifndef STSV_RENDER_GPU_FRAME_DH_H
 #define STSV_RENDER_GPU_FRAME_DH_H
 

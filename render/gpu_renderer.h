@@ -41,9 +41,11 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 /// Start-up in the constructor: device, shader compilation, pipelines, scene uploads, images.
 /// render() records, submits and reads back one frame. `scene` must outlive the renderer.
 /// Stats: "frame_ms" (wall time of render(), readback included), "gpu_ms" (submit to fence),
-/// "passes" (GPU timestamps: gbuffer, light<i>/stsv, light<i>/resolve, copy = all outputs into
-/// one host-visible buffer; host: readback = unpacking it into the Frame),
-/// "stsv"[i] {"fragments", "inside_fragments"} counted by atomics in stsv.frag,
+/// "passes" (GPU timestamps: gbuffer, light<i>/stsv, light<i>/{dcs_,pw_}center and wedges,
+/// light<i>/fold, light<i>/resolve, ambient without lights, copy = all outputs into one
+/// host-visible buffer; host: readback = unpacking it into the Frame),
+/// "stsv"[i] {"fragments", "inside_fragments"} counted by atomics in stsv.frag, "wedges"[i]
+/// {"edges", "fragments", "silhouette_fragments"} for methods with an opaque technique,
 /// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion}.
 class VulkanRenderer final : public FrameRenderer {
   public:

@@ -1,5 +1,5 @@
 // Descriptor declarations of the opaque-occluder passes (dcs_center.*, wedge.*, wedge_fold.comp):
-// the welded edges of the opaque triangles and their faces (render/gpu_wedges.cpp uploads them).
+// the welded edges of the opaque triangles and their faces (render/gpu_opaque_passes.cpp uploads them).
 #ifndef STSV_SHADERS_WEDGE_BINDINGS_GLSL
 #define STSV_SHADERS_WEDGE_BINDINGS_GLSL
 

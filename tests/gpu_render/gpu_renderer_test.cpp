@@ -69,7 +69,7 @@ TEST_P(GpuVsMirror, CountersMatchMirrorOnGpuGBuffer) {
                           std::string(GetParam().scene) + " counters N=" + std::to_string(o.samples));
 }
 
-// The renderer's fallbacks for large data (render/gpu_renderer.cpp): alpha bytes in a storage
+// The renderer's fallbacks for large data (render/gpu_frame_resources.cpp): alpha bytes in a storage
 // buffer when the texture bits exceed 16 KiB (512² chain-link texels = 32 KiB of bits), and the
 // pattern read from a buffer instead of baked into the resolve when the sets are interleaved.
 TEST_F(GpuRenderTest, LargeTextureAndInterleavedPatternMatchMirror) {

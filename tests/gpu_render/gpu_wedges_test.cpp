@@ -239,5 +239,53 @@ TEST_F(GpuWedges, MakeRendererChoosesVulkanForEveryWedgeMethod) {
     }
 }
 
+// Every Vulkan method, both buffer kinds, two lights, three frames from one renderer: the
+// barriers of the later frames (after the previous frame's readback) are derived from a
+// different history than the first frame's, so each frame runs under synchronisation validation
+// (TearDown fails on any message) and must read back the same bits and colours. The per-pass
+// timer names are the stats contract of the bench.
+TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
+    Scene scene = loadScene("fence");
+    const Light first = scene.lights[0];
+    scene.lights.push_back(makeSphereLight(first.position + vec3(3.0f, 0.0f, 1.0f), 0.4f, first.radiance));
+    for (const MethodInfo& method : methodTable()) {
+        if (!method.implementedOn(Backend::Vulkan)) continue;
+        for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
+            RenderOptions o = wedgeOptions(method.id, 40, 30, 64);
+            o.buffer = kind;
+            const std::string what = method.name + " " + toString(kind);
+            VulkanRenderer renderer(scene, o, {&device(), ExtrusionStage::Auto});
+            const Frame frame0 = renderer.render();
+            for (int repeat = 1; repeat < 3; ++repeat) {
+                const Frame frame = renderer.render();
+                ASSERT_EQ(frame.lightSamples.size(), 2u) << what;
+                for (std::size_t l = 0; l < 2; ++l) {
+                    EXPECT_EQ(frame.lightSamples[l].words(), frame0.lightSamples[l].words())
+                        << what << " light " << l;
+                    EXPECT_EQ(frame.lightSamples[l].counters(), frame0.lightSamples[l].counters())
+                        << what << " light " << l;
+                }
+                EXPECT_EQ(frame.color.pixels, frame0.color.pixels) << what << " frame " << repeat;
+                EXPECT_EQ(frame.visibility.pixels, frame0.visibility.pixels) << what << " frame " << repeat;
+                EXPECT_EQ(frame.stats["stsv"], frame0.stats["stsv"]) << what;
+            }
+            const nlohmann::json& passes = frame0.stats["passes"];
+            std::vector<std::string> expected = {"gbuffer", "copy", "readback"};
+            for (const std::string light : {"light0/", "light1/"}) {
+                expected.push_back(light + "resolve");
+                if (method.stsv != StsvTriangles::None) expected.push_back(light + "stsv");
+                if (method.opaque == OpaqueTechnique::None) continue;
+                const std::string technique = method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_";
+                for (const char* pass : {"center", "wedges"}) expected.push_back(light + technique + pass);
+                expected.push_back(light + "fold");
+            }
+            EXPECT_EQ(passes.size(), expected.size()) << what << ": " << passes.dump();
+            for (const std::string& name : expected)
+                EXPECT_TRUE(passes.contains(name)) << what << ": " << name;
+            EXPECT_EQ(frame0.stats.contains("wedges"), method.opaque != OpaqueTechnique::None) << what;
+        }
+    }
+}
+
 } // namespace
 } // namespace stsv

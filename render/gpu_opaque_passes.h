@@ -1,0 +1,118 @@
+// The Vulkan passes of the opaque occluders (DESIGN §4.5, STSV paper Algorithm 2 lines 4–7 and
+// 11), per light: the z-fail counting shadow volume at the light centre (dcs_center.*), the wedge
+// pass over the potential silhouette edges (wedge.*; DCS counters or PW coverage) and, after the
+// STSV pass of the perforated triangles, the fold that combines them (wedge_fold.comp).
+#pragma once
+
+#include "gpu/buffer.h"
+#include "gpu/descriptors.h"
+#include "gpu/image.h"
+#include "gpu/pipeline.h"
+#include "render/gpu_frame_dh.h"
+#include "render/gpu_frame_resources.h"
+#include "render/gpu_pass.h"
+#include "render/options.h"
+#include "scene/scene.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace stsv {
+
+class Device;
+
+/// The welded edges of the opaque triangles (wedges/adjacency.h) as the GPU reads them: edge
+/// endpoints, incident faces with their third vertices, and the carrier face whose STSV volume
+/// bounds the edge's wedge (the first non-degenerate face, as render/cpu_wedges.cpp).
+struct GpuEdgeTables {
+    std::vector<GpuEdge> edges;
+    std::vector<GpuEdgeFace> faces;
+};
+
+GpuEdgeTables buildGpuEdgeTables(const Scene& scene);
+
+/// What the three passes share: the edge tables (uploaded once) and the centre-count image.
+/// Without an opaque technique, 1-element stand-ins that the shared descriptor set binds.
+class OpaqueOccluderResources {
+  public:
+    OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options);
+
+    /// The bindings these resources add to the frame's descriptor set layout.
+    static std::vector<DescriptorBinding> bindings();
+    void writeDescriptors(DescriptorSet& set) const;
+
+    std::size_t edgeCount() const { return m_edgeCount; }
+
+    Buffer edges; ///< GpuEdge[]
+    Buffer faces; ///< GpuEdgeFace[]
+    Image center; ///< r32i z-fail layer count D(r) at the light centre
+
+  private:
+    std::size_t m_edgeCount = 0;
+};
+
+/// D(r): every face of the counting volumes (the opaque triangles' caps and edge quads seen from
+/// the light centre) behind the visible point adds ±1 at the pixel. `center` must be cleared.
+class CenterCountPass final : public GpuPass {
+  public:
+    CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,
+                    FrameResources& frame, const FrameDescriptors& descriptors,
+                    const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    OpaqueOccluderResources* m_opaque;
+    FrameResources* m_frame;
+    const FrameDescriptors* m_descriptors;
+    std::uint32_t
+        m_pointCount; ///< primitives of dcs_center.geom: the triangles (caps), then the edges (quads)
+    Pipeline m_pipeline;
+};
+
+/// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume: DCS adds the
+/// signed crossings of each sample segment to the counters, PW the analytic wedge coverage to
+/// the coverage attachment.
+class WedgePass final : public GpuPass {
+  public:
+    WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+              FrameResources& frame, const FrameDescriptors& descriptors,
+              const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    OpaqueOccluderResources* m_opaque;
+    FrameResources* m_frame;
+    const FrameDescriptors* m_descriptors;
+    bool m_pw;
+    Pipeline m_pipeline;
+};
+
+/// D(r) plus the wedge terms: DCS counters D(x) = D(r) + Σ crossings (+ STSV increments), or
+/// the PW v_coef in the coverage image (minus the STSV occluded fraction for pw+stsv).
+class FoldPass final : public GpuPass {
+  public:
+    FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+             FrameResources& frame, const FrameDescriptors& descriptors,
+             const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    OpaqueOccluderResources* m_opaque;
+    FrameResources* m_frame;
+    const FrameDescriptors* m_descriptors;
+    bool m_pw;
+    bool m_counters;
+    uint32_t m_width, m_height;
+    Pipeline m_pipeline;
+};
+
+} // namespace stsv

@@ -1,0 +1,49 @@
+// A pass of the Vulkan frame (DESIGN §2, §5): a type that owns its pipelines, declares what it
+// reads and writes for one light (gpu/frame_graph.h derives the barriers from that), and records
+// itself. A method's frame is a sequence of these per light (STSV paper Algorithm 2).
+#pragma once
+
+#include "gpu/frame_graph.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace stsv {
+
+class Buffer;
+class Image;
+
+class GpuPass {
+  public:
+    virtual ~GpuPass() = default;
+    /// Every image and buffer the pass's commands for light `light` touch, with how.
+    virtual PassAccesses accesses(std::size_t light) const = 0;
+    virtual void record(VkCommandBuffer cmd, std::size_t light) const = 0;
+};
+
+/// Zeroes images (vkCmdClearColorImage) and buffers (vkCmdFillBuffer); the same for every light.
+class ClearPass final : public GpuPass {
+  public:
+    ClearPass(std::vector<Image*> images, std::vector<const Buffer*> buffers)
+        : m_images(std::move(images)), m_buffers(std::move(buffers)) {}
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    std::vector<Image*> m_images;
+    std::vector<const Buffer*> m_buffers;
+};
+
+/// Runs `pass` for `light` in `graph`: its barriers, then its commands in the timer scope
+/// `scope` ("" = untimed).
+inline void runPass(FrameGraph& graph, VkCommandBuffer cmd, const std::string& scope, const GpuPass& pass,
+                    std::size_t light = 0) {
+    graph.addPass(cmd, scope, pass.accesses(light), [&](VkCommandBuffer c) { pass.record(c, light); });
+}
+
+} // namespace stsv

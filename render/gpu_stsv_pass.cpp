@@ -1,0 +1,87 @@
+#include "render/gpu_stsv_pass.h"
+
+#include "gpu/device.h"
+#include "gpu/rendering.h"
+#include "gpu/shader_compiler.h"
+
+#include <algorithm>
+
+namespace stsv {
+
+StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
+                   FrameResources& resources, const FrameDescriptors& descriptors, bool meshShader)
+    : m_device(&device), m_scene(&scene), m_resources(&resources), m_descriptors(&descriptors),
+      m_mesh(meshShader), m_counters(options.buffer == BufferKind::Counters),
+      m_perforatedOnly(methodInfo(options.method).stsv == StsvTriangles::Perforated),
+      m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
+    const ShaderCompiler compiler;
+    const std::vector<ShaderDefine> common = layoutDefines(resources.tables.layout);
+    std::vector<ShaderDefine> fragmentDefines = sampleDefines(options, resources.tables.layout);
+    // Back faces of the convex volume behind the visible point, no depth write, depth clamp (the
+    // far extrusion may pass the far plane): one fragment per pixel and volume.
+    GraphicsPipelineDesc desc;
+    if (m_mesh) {
+        fragmentDefines.push_back({"STSV_MESH_PATH", "1"});
+        desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv.mesh", common)}};
+    } else {
+        desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", common)},
+                       {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom", common)}};
+    }
+    desc.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, {}});
+    if (!m_counters) {
+        desc.colorFormats.assign(std::size_t(maskAttachmentCount(options.samples)), MASK_FORMAT);
+        desc.logicOpEnable = true;
+        desc.logicOp = VK_LOGIC_OP_OR;
+    }
+    desc.depthFormat = DEPTH_FORMAT;
+    desc.depthTest = true;
+    desc.depthWrite = false;
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    desc.depthClamp = true;
+    // The strip faces outward (counter-clockwise seen from outside, extrusion_dh.h); the y-down
+    // clip space keeps that orientation in framebuffer coordinates, so the back faces are the
+    // clockwise ones.
+    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    desc.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
+    std::array<bool, 4> used{};
+    for (const Light& light : scene.lights) used.at(light.type) = true;
+    for (uint type = 0; type < used.size(); ++type) {
+        if (!used[type]) continue;
+        desc.stages.back().spirv = compiler.compileFile("stsv.frag", lightTypeDefines(fragmentDefines, type));
+        m_pipelines[type] = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+    }
+}
+
+PassAccesses StsvPass::accesses(std::size_t light) const {
+    constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+    PassAccesses accesses;
+    accesses.use(m_resources->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
+        .use(m_resources->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
+        .use(m_resources->gbuffer.depth, ResourceUse::depthTest())
+        .use(m_resources->stats, ResourceUse::storageReadWrite(FRAGMENT));
+    if (m_counters)
+        accesses.use(m_resources->samples.counters[light], ResourceUse::storageReadWrite(FRAGMENT));
+    for (Image& mask : m_resources->samples.masks[light]) accesses.use(mask, ResourceUse::colorAttachment());
+    return accesses;
+}
+
+void StsvPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    std::vector<ColorTarget> targets; // bitmask attachments, cleared by the pass
+    for (Image& image : m_resources->samples.masks[light]) targets.push_back({&image, true, {}});
+    beginRendering(cmd, targets, DepthTarget{&m_resources->gbuffer.depth, false, 1.0f, true});
+    m_pipelines.at(m_scene->lights[light].type).bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, m_perforatedOnly ? GPU_PUSH_PERFORATED_ONLY : 0u, 0u});
+    if (m_triangleCount > 0) {
+        if (m_mesh) {
+            // Workgroups in rows of at most 65535 (the minimum maxMeshWorkGroupCount[0]).
+            const uint32_t rowLength = std::min<uint32_t>(m_triangleCount, 65535u);
+            m_device->cmdDrawMeshTasks()(cmd, rowLength, (m_triangleCount + rowLength - 1) / rowLength, 1);
+        } else {
+            vkCmdDraw(cmd, 3 * m_triangleCount, 1, 0, 0);
+        }
+    }
+    endRendering(cmd);
+}
+
+} // namespace stsv
