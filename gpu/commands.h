@@ -41,9 +41,6 @@ void submitOnce(const Device& device, const std::function<void(VkCommandBuffer)>
 void memoryBarrier(VkCommandBuffer cmd, VkPipelineStageFlags2 srcStage, VkAccessFlags2 srcAccess,
                    VkPipelineStageFlags2 dstStage, VkAccessFlags2 dstAccess);
 
-/// The conservative default between passes: all prior writes visible to all later accesses.
-void fullBarrier(VkCommandBuffer cmd);
-
 /// Makes all prior GPU writes visible to host reads of mapped memory after the fence wait;
 /// end a command buffer with it before reading a host-visible buffer the GPU wrote.
 void hostReadBarrier(VkCommandBuffer cmd);
