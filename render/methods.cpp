@@ -91,6 +91,11 @@ std::string knobList(const MethodInfo& method) {
     return text;
 }
 
+UsageError unknownKnob(const MethodInfo& method, const std::string& name) {
+    return UsageError("--param " + name + ": method " + method.name +
+                      " has no such parameter (its parameters: " + knobList(method) + ")");
+}
+
 } // namespace
 
 const std::vector<MethodInfo>& methodTable() {
@@ -187,9 +192,7 @@ std::string toString(MethodOutput output) {
 void validateMethodParams(const MethodInfo& method, const MethodParams& params) {
     for (const auto& [name, value] : params) {
         const MethodKnob* k = method.knob(name);
-        if (!k)
-            throw UsageError("--param " + name + ": method " + method.name + " has no such parameter (its " +
-                             "parameters: " + knobList(method) + ")");
+        if (!k) throw unknownKnob(method, name);
         if (!(value >= k->min && value <= k->max))
             throw UsageError("--param " + name + "=" + formatNumber(value) + " is out of range (" +
                              formatNumber(k->min) + " to " + formatNumber(k->max) + ")");
@@ -206,9 +209,7 @@ MethodParams parseMethodParams(const MethodInfo& method, const std::vector<std::
         if (eq == std::string::npos || eq == 0)
             throw UsageError("--param '" + item + "' is not of the form name=value");
         const std::string name = item.substr(0, eq), text = item.substr(eq + 1);
-        if (!method.knob(name))
-            throw UsageError("--param " + name + ": method " + method.name + " has no such parameter (its " +
-                             "parameters: " + knobList(method) + ")");
+        if (!method.knob(name)) throw unknownKnob(method, name);
         char* end = nullptr;
         const double value = text.empty() ? 0.0 : std::strtod(text.c_str(), &end);
         if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value))
