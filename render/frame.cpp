@@ -60,7 +60,7 @@ namespace {
 class CpuRenderer final : public FrameRenderer {
   public:
     CpuRenderer(const Scene& scene, const RenderOptions& options)
-        : m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
+        : m_scene(scene), m_options(frameOptions(options)), m_method(methodInfo(options.method)),
           m_plan(makeSamplePlan(options.pattern, options.samples, options.seed, options.interleave,
                                 options.decorrelate)),
           m_farDistance(farDistanceFor(scene.bounds())), m_embree((validate(options), scene)),
@@ -79,7 +79,7 @@ class CpuRenderer final : public FrameRenderer {
         initFrameImages(m_scene, frame.gbuffer, m_options.ambient, frame);
 
         nlohmann::json methodStats = nlohmann::json::array();
-        const BufferKind kind = m_method.bufferKind(m_options.buffer);
+        const BufferKind kind = m_options.buffer;
         std::size_t bufferBytes = 0;
         for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
             const Light& light = m_scene.lights[l];
@@ -135,11 +135,12 @@ class CpuRenderer final : public FrameRenderer {
                          visibilityOnly ? &coverage : nullptr);
             passes[prefix + "resolve"] = timer.milliseconds();
         }
-        nlohmann::json options = toJson(m_options);
-        options["backend"] = "cpu";
-        frame.stats = {{"options", options},        {"scene", sceneStats(m_scene)},
-                       {"startup_ms", m_startupMs}, {"frame_ms", total.milliseconds()},
-                       {"passes", passes},          {"light_sample_buffer_bytes", bufferBytes}};
+        frame.stats = {{"options", toJson(m_options)},
+                       {"scene", sceneStats(m_scene)},
+                       {"startup_ms", m_startupMs},
+                       {"frame_ms", total.milliseconds()},
+                       {"passes", passes},
+                       {"light_sample_buffer_bytes", bufferBytes}};
         if (!methodStats.empty())
             frame.stats[m_method.opaque == OpaqueTechnique::None ? "stsv" : "wedges"] = methodStats;
         return frame;

@@ -22,12 +22,6 @@ namespace stsv {
 
 namespace {
 
-/// The options the Vulkan frame runs with: the buffer kind the method writes.
-RenderOptions vulkanOptions(RenderOptions options) {
-    options.buffer = methodInfo(options.method).bufferKind(options.buffer);
-    return options;
-}
-
 /// Whether the frame draws STSV volumes: the method sends triangles through STSV and the scene
 /// has some of them (Algorithm 2).
 bool drawsStsv(StsvTriangles which, const Scene& scene) {
@@ -229,7 +223,7 @@ struct VulkanRenderer::Impl {
 
     Impl(const Scene& scene, const RenderOptions& requested, const VulkanRendererConfig& config) {
         Timer startup;
-        const RenderOptions options = vulkanOptions(requested);
+        const RenderOptions options = frameOptions(requested);
         validate(options);
         if (config.device) {
             device = config.device;

@@ -16,11 +16,21 @@ void validate(const RenderOptions& o) {
     validateMethodParams(methodInfo(o.method), o.params);
 }
 
+RenderOptions frameOptions(RenderOptions options) {
+    options.buffer = methodInfo(options.method).bufferKind(options.buffer);
+    return options;
+}
+
+namespace {
+
+/// The method's knobs, given or default.
 MethodParams withDefaults(const RenderOptions& o) {
     MethodParams params = o.params;
     for (const MethodKnob& k : methodInfo(o.method).knobs) params.emplace(k.name, k.defaultValue);
     return params;
 }
+
+} // namespace
 
 nlohmann::json toJson(const RenderOptions& o) {
     return {{"method", toString(o.method)},

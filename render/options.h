@@ -33,6 +33,10 @@ struct RenderOptions {
 /// Throws UsageError naming the first option out of range (method parameters included).
 void validate(const RenderOptions& options);
 
+/// The options a frame runs with: `buffer` becomes the kind the method writes
+/// (MethodInfo::bufferKind), so stats and light-sample buffers say what was rendered.
+RenderOptions frameOptions(RenderOptions options);
+
 nlohmann::json toJson(const RenderOptions& options);
 
 } // namespace stsv
