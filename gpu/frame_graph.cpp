@@ -142,6 +142,20 @@ std::vector<ResourceBarrier> AccessTracker::enter(std::span<const PassAccess> ac
     return barriers;
 }
 
+namespace {
+
+/// The stages and accesses of `b` (no queue ownership transfer) into an image or buffer barrier.
+template <class VkBarrier> void setDependency(VkBarrier& barrier, const ResourceBarrier& b) {
+    barrier.srcStageMask = b.srcStages;
+    barrier.srcAccessMask = b.srcAccess;
+    barrier.dstStageMask = b.dstStages;
+    barrier.dstAccessMask = b.dstAccess;
+    barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+    barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+}
+
+} // namespace
+
 void recordBarriers(VkCommandBuffer cmd, std::span<const ResourceBarrier> barriers) {
     if (barriers.empty()) return;
     std::vector<VkImageMemoryBarrier2> images;
@@ -150,26 +164,16 @@ void recordBarriers(VkCommandBuffer cmd, std::span<const ResourceBarrier> barrie
         if (b.image != nullptr) {
             VkImageMemoryBarrier2& barrier = images.emplace_back();
             barrier.sType = VK_STRUCTURE_TYPE_IMAGE_MEMORY_BARRIER_2;
-            barrier.srcStageMask = b.srcStages;
-            barrier.srcAccessMask = b.srcAccess;
-            barrier.dstStageMask = b.dstStages;
-            barrier.dstAccessMask = b.dstAccess;
+            setDependency(barrier, b);
             barrier.oldLayout = b.oldLayout;
             barrier.newLayout = b.newLayout;
-            barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-            barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
             barrier.image = b.image->handle();
             barrier.subresourceRange = {b.image->aspect(), 0, 1, 0, 1};
             b.image->assumeLayout(b.newLayout);
         } else {
             VkBufferMemoryBarrier2& barrier = buffers.emplace_back();
             barrier.sType = VK_STRUCTURE_TYPE_BUFFER_MEMORY_BARRIER_2;
-            barrier.srcStageMask = b.srcStages;
-            barrier.srcAccessMask = b.srcAccess;
-            barrier.dstStageMask = b.dstStages;
-            barrier.dstAccessMask = b.dstAccess;
-            barrier.srcQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
-            barrier.dstQueueFamilyIndex = VK_QUEUE_FAMILY_IGNORED;
+            setDependency(barrier, b);
             barrier.buffer = b.buffer->handle();
             barrier.offset = 0;
             barrier.size = VK_WHOLE_SIZE;
