@@ -93,19 +93,23 @@ EmbreeScene::~EmbreeScene() {
 }
 
 bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
+    return intersect(ray.origin, ray.direction, 0.0f, 1e30f, hit);
+}
+
+bool EmbreeScene::intersect(vec3 o, vec3 d, float tNear, float tFar, Hit& hit) const {
     FilterContext ctx{};
     rtcInitIntersectContext(&ctx.rtc);
     ctx.scene = &m_scene;
     ctx.ignoreTriangle = NO_TRIANGLE;
     RTCRayHit rh{};
-    rh.ray.org_x = ray.origin.x;
-    rh.ray.org_y = ray.origin.y;
-    rh.ray.org_z = ray.origin.z;
-    rh.ray.dir_x = ray.direction.x;
-    rh.ray.dir_y = ray.direction.y;
-    rh.ray.dir_z = ray.direction.z;
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = 1e30f;
+    rh.ray.org_x = o.x;
+    rh.ray.org_y = o.y;
+    rh.ray.org_z = o.z;
+    rh.ray.dir_x = d.x;
+    rh.ray.dir_y = d.y;
+    rh.ray.dir_z = d.z;
+    rh.ray.tnear = tNear;
+    rh.ray.tfar = tFar;
     rh.ray.mask = 0xffffffffu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(m_rtcScene, &ctx.rtc, &rh);

@@ -27,6 +27,9 @@ class EmbreeScene {
 
     /// Closest non-transparent hit along the ray; false on a miss.
     bool intersect(const Ray& ray, Hit& hit) const;
+    /// Closest non-transparent hit of o + t·d with t in [tNear, tFar] (d need not be unit: t is
+    /// in units of d).
+    bool intersect(vec3 o, vec3 d, float tNear, float tFar, Hit& hit) const;
 
     /// True iff the segment p → s, from t = tMin to 1 of (s − p), meets a triangle whose texel
     /// there is opaque. tMin: shadowTMin (volumes/stsv_dh.h) of the pixel's light frame.

@@ -5,6 +5,7 @@
 #include "core/timer.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
+#include "render/cpu_shadowmaps.h"
 #include "render/cpu_stsv.h"
 #include "render/cpu_wedges.h"
 #include "render/gpu_renderer.h"
@@ -64,7 +65,7 @@ class CpuRenderer final : public FrameRenderer {
           m_plan(makeSamplePlan(options.pattern, options.samples, options.seed, options.interleave,
                                 options.decorrelate)),
           m_farDistance(farDistanceFor(scene.bounds())), m_embree((validate(options), scene)),
-          m_startupMs(0.0) {
+          m_shadowMaps(shadowMapSettings(m_options)), m_startupMs(0.0) {
         if (m_method.opaque != OpaqueTechnique::None) occluders();
         m_startupMs = m_startup.milliseconds();
     }
@@ -94,6 +95,16 @@ class CpuRenderer final : public FrameRenderer {
             if (m_method.traced) {
                 traceReferenceSamples(m_embree, frame.gbuffer, light, m_plan, m_farDistance, buffer);
                 passes[prefix + "reference"] = timer.milliseconds();
+            } else if (m_method.shadowMap != ShadowFilter::None) {
+                // Image-based: the light-centre map and its filter give v_coef per pixel.
+                coverage = ImageF(m_options.width, m_options.height, 1);
+                const ShadowMapCpuStats s =
+                    shadowMapCpuVisibility(m_embree, frame.gbuffer, light, m_shadowMaps, m_options.seed,
+                                           m_options.decorrelate, coverage);
+                passes[prefix + "shadow_map"] = s.map_ms;
+                if (m_shadowMaps.filter == ShadowFilter::Pcss) passes[prefix + "pcss_blocker"] = s.blocker_ms;
+                passes[prefix + "shadow_filter"] = s.filter_ms;
+                methodStats.push_back(toJson(s));
             } else if (m_method.opaque == OpaqueTechnique::None) {
                 const StsvCpuStats s = stsvCpuSamples(m_scene, frame.gbuffer, light, m_plan, m_farDistance,
                                                       buffer, stsvFilter(m_scene, m_method.stsv));
@@ -142,7 +153,9 @@ class CpuRenderer final : public FrameRenderer {
                        {"passes", passes},
                        {"light_sample_buffer_bytes", bufferBytes}};
         if (!methodStats.empty())
-            frame.stats[m_method.opaque == OpaqueTechnique::None ? "stsv" : "wedges"] = methodStats;
+            frame.stats[m_method.shadowMap != ShadowFilter::None   ? "shadow_maps"
+                        : m_method.opaque == OpaqueTechnique::None ? "stsv"
+                                                                   : "wedges"] = methodStats;
         return frame;
     }
 
@@ -161,6 +174,7 @@ class CpuRenderer final : public FrameRenderer {
     float m_farDistance;
     EmbreeScene m_embree;
     std::unique_ptr<OpaqueOccluders> m_occluders;
+    ShadowMapSettings m_shadowMaps;
     double m_startupMs;
 };
 

@@ -11,6 +11,33 @@ namespace stsv {
 
 namespace {
 
+/// The knobs of every shadow-map method, then the method's own.
+std::vector<MethodKnob> withMapKnobs(std::vector<MethodKnob> own) {
+    const ShadowMapSettings d;
+    std::vector<MethodKnob> knobs = {
+        {.name = "sm_size",
+         .defaultValue = double(d.size),
+         .min = 256,
+         .max = 8192,
+         .integer = true,
+         .help = "shadow map texels per face edge (32-bit linear depth)"},
+        {.name = "sm_bias",
+         .defaultValue = double(d.bias),
+         .min = 0,
+         .max = 64,
+         .integer = false,
+         .help = "constant depth bias, in texels at the receiver"},
+        {.name = "sm_normal_offset",
+         .defaultValue = double(d.normalOffset),
+         .min = 0,
+         .max = 64,
+         .integer = false,
+         .help = "receiver moved along its normal before the lookup, in texels"},
+    };
+    knobs.insert(knobs.end(), own.begin(), own.end());
+    return knobs;
+}
+
 std::vector<MethodInfo> buildTable() {
     using B = Backend;
     std::vector<MethodInfo> table = {
@@ -69,6 +96,47 @@ std::vector<MethodInfo> buildTable() {
          .knobs = {},
          .stsv = StsvTriangles::Perforated,
          .opaque = OpaqueTechnique::Dcs},
+        {.id = Method::Pcf,
+         .name = "pcf",
+         .description =
+             "Percentage-closer filtering (Reeves 1987) of a shadow map from the light centre over "
+             "a fixed texel kernel",
+         .family = MethodFamily::ImageBased,
+         .output = MethodOutput::Visibility,
+         .backends = {B::Cpu},
+         .knobs = withMapKnobs({{.name = "pcf_radius",
+                                 .defaultValue = 2,
+                                 .min = 0,
+                                 .max = 32,
+                                 .integer = true,
+                                 .help = "kernel radius in texels: (2r+1)^2 taps"}}),
+         .shadowMap = ShadowFilter::Pcf},
+        {.id = Method::Pcss,
+         .name = "pcss",
+         .description = "Percentage-closer soft shadows (Fernando 2005): blocker search, average blocker "
+                        "depth, PCF of the penumbra's width",
+         .family = MethodFamily::ImageBased,
+         .output = MethodOutput::Visibility,
+         .backends = {B::Cpu},
+         .knobs = withMapKnobs({{.name = "pcss_blocker_taps",
+                                 .defaultValue = 32,
+                                 .min = 1,
+                                 .max = 256,
+                                 .integer = true,
+                                 .help = "Poisson-disk taps of the blocker search"},
+                                {.name = "pcss_filter_taps",
+                                 .defaultValue = 64,
+                                 .min = 1,
+                                 .max = 256,
+                                 .integer = true,
+                                 .help = "Poisson-disk taps of the filter"},
+                                {.name = "pcss_max_kernel",
+                                 .defaultValue = 64,
+                                 .min = 1,
+                                 .max = 1024,
+                                 .integer = false,
+                                 .help = "largest search and filter radius, texels"}}),
+         .shadowMap = ShadowFilter::Pcss},
     };
     for (std::size_t i = 0; i < table.size(); ++i)
         if (static_cast<std::size_t>(table[i].id) != i) throw Error("method table out of enum order");

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "sampling/ls_buffer.h"
+#include "shadowmaps/shadow_map.h"
 
 #include <nlohmann/json.hpp>
 
@@ -22,6 +23,8 @@ enum class Method {
     Dcs,       ///< opaque triangles through depth complexity sampling
     PwStsv,    ///< pw for opaque, STSV for perforated triangles
     DcsStsv,   ///< dcs for opaque, STSV for perforated triangles
+    Pcf,       ///< percentage-closer filtering of a light-centre shadow map
+    Pcss,      ///< percentage-closer soft shadows
 };
 
 enum class Backend { Cpu, Vulkan };
@@ -67,6 +70,8 @@ struct MethodInfo {
     bool traced = false; ///< Embree shadow rays to every sample (the ground truth)
     StsvTriangles stsv = StsvTriangles::None;
     OpaqueTechnique opaque = OpaqueTechnique::None;
+    /// Image-based: a light-space map from the light centre, filtered per pixel (DESIGN §4.6).
+    ShadowFilter shadowMap = ShadowFilter::None;
 
     bool implementedOn(Backend backend) const;
     /// The buffer a frame of this method holds per light for the requested kind: counters for

@@ -27,10 +27,14 @@ TEST(MethodTable, RowsAreInEnumOrderWithUniqueNamesAndBackends) {
         EXPECT_EQ(toString(m.id), m.name);
         EXPECT_EQ(&findMethod(m.name), &m);
         EXPECT_TRUE(m.implementedOn(m.backends.front())) << m.name;
-        // A ground-truth method traces; every other one composes an STSV or an opaque pass.
+        // A ground-truth method traces; an object-based one composes an STSV or an opaque pass; an
+        // image-based one filters a shadow map into a visibility image, and nothing else.
         EXPECT_EQ(m.traced, m.family == MethodFamily::GroundTruth) << m.name;
-        if (!m.traced) {
-            EXPECT_TRUE(m.stsv != StsvTriangles::None || m.opaque != OpaqueTechnique::None) << m.name;
+        const bool volumes = m.stsv != StsvTriangles::None || m.opaque != OpaqueTechnique::None;
+        EXPECT_EQ(volumes, m.family == MethodFamily::ObjectBased) << m.name;
+        EXPECT_EQ(m.shadowMap != ShadowFilter::None, m.family == MethodFamily::ImageBased) << m.name;
+        if (m.family == MethodFamily::ImageBased) {
+            EXPECT_EQ(m.output, MethodOutput::Visibility) << m.name;
         }
     }
     try {

@@ -1,0 +1,58 @@
+// The image-based baselines on the CPU (DESIGN §4.6): the light-space map traced with Embree
+// rays through the texel centres (the same alpha test as every method), then PCF or PCSS per
+// pixel with the functions of shadowmaps/shadow_filter_dh.h that shaders/shadow_filter.comp runs.
+#pragma once
+
+#include "core/gbuffer.h"
+#include "core/image.h"
+#include "render/options.h"
+#include "shadowmaps/shadow_map.h"
+
+#include <nlohmann/json.hpp>
+
+#include <vector>
+
+namespace stsv {
+
+class EmbreeScene;
+
+/// The method's knobs (render/methods.cpp) read from `options.params`, and its filter.
+ShadowMapSettings shadowMapSettings(const RenderOptions& options);
+
+/// One light's map: faces × size × size depths, row-major per face (SHADOW_MAP_EMPTY where the
+/// texel-centre ray meets nothing).
+struct ShadowMap {
+    ShadowMapView view{};
+    std::vector<float> depth;
+    float at(uint face, ivec2 texel) const {
+        return depth[(std::size_t(face) * view.size + std::size_t(texel.y)) * view.size +
+                     std::size_t(texel.x)];
+    }
+};
+
+/// The map of `view`, one Embree ray per texel centre (shadowMapTexelRay), hits between near and
+/// far, holes of perforated triangles let through.
+ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);
+
+struct ShadowMapCpuStats {
+    std::size_t texels = 0; ///< faces × size²
+    std::size_t faces = 0;
+    double map_ms = 0.0;     ///< tracing the map
+    double blocker_ms = 0.0; ///< PCSS blocker search (0 for PCF)
+    double filter_ms = 0.0;  ///< PCF, or PCSS's filter
+};
+
+nlohmann::json toJson(const ShadowMapCpuStats& stats);
+
+/// PCF or PCSS visibility of every covered pixel into `coverage` (v_coef; uncovered pixels
+/// untouched), with the per-pixel tap rotation of `seed` when `decorrelate`.
+ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
+                                         const Light& light, const ShadowMapSettings& settings,
+                                         std::uint32_t seed, bool decorrelate, ImageF& coverage);
+
+/// The filter step alone, for a given map (tests feed both backends the same map).
+void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
+                           const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
+                           ImageF& coverage, ShadowMapCpuStats* stats = nullptr);
+
+} // namespace stsv

@@ -1,0 +1,197 @@
+#include "shadowmaps/shadow_map.h"
+
+#include "core/error.h"
+#include "sampling/light_sampling_dh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <string>
+
+namespace stsv {
+
+namespace {
+
+/// Square window around the bounds of face points, with a margin of one part in a thousand so
+/// that the box's extreme points fall inside the outermost texels.
+vec4 squareWindow(vec2 lo, vec2 hi) {
+    const vec2 centre = 0.5f * (lo + hi);
+    const float half = 0.5f * std::max(hi.x - lo.x, hi.y - lo.y) * 1.001f + 1e-6f;
+    return vec4(centre.x - half, centre.y - half, centre.x + half, centre.y + half);
+}
+
+void corners(const Bounds& box, vec3 out[8]) {
+    for (int i = 0; i < 8; ++i)
+        out[i] = vec3(i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z);
+}
+
+ShadowMapView cubeMap(const Light& light, const Bounds& box, vec3 x, vec3 y, vec3 z, int size) {
+    ShadowMapView v{};
+    v.projection = SHADOW_MAP_CUBE;
+    v.origin = light.position;
+    v.axisX = x;
+    v.axisY = y;
+    v.axisZ = z;
+    v.size = unsigned(size);
+    v.faces = 6u;
+    v.window = vec4(-1.0f, -1.0f, 1.0f, 1.0f);
+    // A point of the box is at least `distance` from the centre, so at least distance/√3 along
+    // the axis of the face that holds it; no point is farther than the farthest corner.
+    const float distance = length(clamp(light.position, box.lo, box.hi) - light.position);
+    vec3 c[8];
+    corners(box, c);
+    float farthest = 0.0f;
+    for (const vec3& p : c) farthest = std::max(farthest, length(p - light.position));
+    v.near = std::max(0.99f * distance / std::sqrt(3.0f), 1e-5f * box.diameter());
+    v.far = std::max(1.01f * farthest, 2.0f * v.near);
+    return v;
+}
+
+} // namespace
+
+float shadowLightWidth(const Light& light) {
+    switch (light.type) {
+    case LIGHT_RECTANGLE:
+        return 2.0f * std::max(length(light.axisU), length(light.axisV));
+    case LIGHT_DISK:
+    case LIGHT_SPHERE:
+        return 2.0f * light.radius;
+    default:
+        return 2.0f * std::tan(light.angularRadius);
+    }
+}
+
+ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
+    if (box.empty()) throw UsageError("shadow map: the scene has no triangles");
+    if (size < 1 || size > 16384)
+        throw UsageError("shadow map: size must be in 1 … 16384 texels, got " + std::to_string(size));
+    const float diameter = std::max(box.diameter(), 1e-6f);
+    vec3 z = normalize(light.normal);
+    vec3 x, y;
+    orthonormalBasis(z, x, y);
+    if (light.type == LIGHT_RECTANGLE && length(light.axisU) > 0.0f) {
+        x = normalize(light.axisU - dot(light.axisU, z) * z);
+        y = cross(z, x);
+    }
+    ShadowMapView v{};
+    v.size = unsigned(size);
+    v.faces = 1u;
+    if (light.type == LIGHT_SPHERE) {
+        v = cubeMap(light, box, vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), size);
+        v.lightWidth = shadowLightWidth(light);
+        return v;
+    }
+    vec3 c[8];
+    corners(box, c);
+    if (light.type == LIGHT_DIRECTIONAL) {
+        // light.normal points towards the light: the map looks the other way.
+        const vec3 view = -z;
+        vec3 ox, oy;
+        orthonormalBasis(view, ox, oy);
+        vec2 lo(1e30f), hi(-1e30f);
+        float zlo = 1e30f, zhi = -1e30f;
+        for (const vec3& p : c) {
+            const vec2 s(dot(p, ox), dot(p, oy));
+            lo = min(lo, s);
+            hi = max(hi, s);
+            zlo = std::min(zlo, dot(p, view));
+            zhi = std::max(zhi, dot(p, view));
+        }
+        const float margin = 0.01f * diameter;
+        v.projection = SHADOW_MAP_ORTHOGRAPHIC;
+        v.axisX = ox;
+        v.axisY = oy;
+        v.axisZ = view;
+        v.origin = (zlo - margin) * view; // depth 0 just before the box
+        v.window = squareWindow(lo, hi);
+        v.near = 0.99f * margin;
+        v.far = 1.01f * (zhi - zlo + margin);
+        v.lightWidth = shadowLightWidth(light);
+        return v;
+    }
+    // Rectangle and disk: the box's part in front of the light plane (its twelve edges clipped at
+    // depth eps), projected onto the plane z = 1.
+    const float eps = 1e-3f * diameter;
+    const float limit = std::tan(glm::radians(SHADOW_MAP_MAX_HALF_ANGLE_DEGREES));
+    vec2 lo(1e30f), hi(-1e30f);
+    float zlo = 1e30f, zhi = -1e30f;
+    bool any = false;
+    auto add = [&](vec3 l) {
+        const vec2 s = vec2(l.x, l.y) / l.z;
+        lo = min(lo, s);
+        hi = max(hi, s);
+        zlo = std::min(zlo, l.z);
+        zhi = std::max(zhi, l.z);
+        any = true;
+    };
+    for (int a = 0; a < 8; ++a)
+        for (int bit = 1; bit < 8; bit <<= 1) {
+            if (a & bit) continue;
+            const vec3 pa = c[a] - light.position, pb = c[a | bit] - light.position;
+            vec3 la(dot(pa, x), dot(pa, y), dot(pa, z)), lb(dot(pb, x), dot(pb, y), dot(pb, z));
+            if (la.z < eps && lb.z < eps) continue;
+            if (la.z < eps) la = la + (lb - la) * ((eps - la.z) / (lb.z - la.z));
+            if (lb.z < eps) lb = lb + (la - lb) * ((eps - lb.z) / (la.z - lb.z));
+            add(la);
+            add(lb);
+        }
+    const bool narrow = any && std::max({-lo.x, -lo.y, hi.x, hi.y}) <= limit;
+    if (!narrow) {
+        v = cubeMap(light, box, x, y, z, size);
+        v.lightWidth = shadowLightWidth(light);
+        return v;
+    }
+    v.projection = SHADOW_MAP_PERSPECTIVE;
+    v.origin = light.position;
+    v.axisX = x;
+    v.axisY = y;
+    v.axisZ = z;
+    v.window = squareWindow(lo, hi);
+    v.near = 0.99f * zlo;
+    v.far = 1.01f * zhi;
+    v.lightWidth = shadowLightWidth(light);
+    return v;
+}
+
+std::size_t shadowMapBytes(const ShadowMapView& view) {
+    return std::size_t(view.faces) * std::size_t(view.size) * std::size_t(view.size) * sizeof(float);
+}
+
+std::vector<vec2> poissonDiskTaps(int count, std::uint32_t seed, float* minDistance) {
+    if (count < 1) throw UsageError("Poisson-disk taps: count must be at least 1");
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+    // Random sequential packing fills at most about 55 % of the plane; aim at 45 % of the disk
+    // and relax the distance when the darts keep missing.
+    float distance = 2.0f * std::sqrt(0.45f / float(count));
+    std::vector<vec2> taps;
+    int misses = 0;
+    while (int(taps.size()) < count) {
+        const vec2 q(unit(rng), unit(rng));
+        if (dot(q, q) > 1.0f) continue;
+        bool far = true;
+        for (const vec2& t : taps)
+            if (length(t - q) < distance) {
+                far = false;
+                break;
+            }
+        if (far) {
+            taps.push_back(q);
+            misses = 0;
+        } else if (++misses > 2000) {
+            distance *= 0.95f;
+            misses = 0;
+        }
+    }
+    if (minDistance) *minDistance = distance;
+    return taps;
+}
+
+std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings) {
+    std::vector<vec2> taps = poissonDiskTaps(settings.blockerTaps, 0x5eed0001u);
+    const std::vector<vec2> filter = poissonDiskTaps(settings.filterTaps, 0x5eed0002u);
+    taps.insert(taps.end(), filter.begin(), filter.end());
+    return taps;
+}
+
+} // namespace stsv

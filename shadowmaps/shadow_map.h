@@ -1,0 +1,57 @@
+// Host side of the light-space maps (DESIGN §4.6): fitting a light's map to the scene box, the
+// Poisson-disk taps of the filters, and the knobs PCF and PCSS share. The per-texel and
+// per-pixel math is in shadow_map_dh.h and shadow_filter_dh.h.
+#pragma once
+
+#include "scene/scene.h"
+#include "shadowmaps/shadow_map_dh.h"
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace stsv {
+
+/// Widest perspective map before a cube map is used instead: 120° across (60° half-angle).
+inline constexpr float SHADOW_MAP_MAX_HALF_ANGLE_DEGREES = 60.0f;
+
+/// The map of `light` over the scene box `box`, `size` texels per face edge:
+///  * rectangle and disk: a perspective face from the centre along the light normal whose
+///    square window holds the part of the box in front of the light plane; a cube map when that
+///    needs more than SHADOW_MAP_MAX_HALF_ANGLE_DEGREES off the axis (a light inside or beside
+///    the box);
+///  * sphere: a cube map around the centre;
+///  * directional: an orthographic face along the light's direction holding the whole box.
+/// near and far bound the box's depths. UsageError for an empty box or size outside 1 … 16384.
+ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size);
+
+/// PCSS's w_light: a rectangle's larger edge, a disk's or sphere's diameter (world units); for a
+/// directional light 2·tan(angular radius) (width per unit distance).
+float shadowLightWidth(const Light& light);
+
+/// Bytes of one map of `view` (faces × size² floats).
+std::size_t shadowMapBytes(const ShadowMapView& view);
+
+/// `count` points of a Poisson-disk set in the unit disk (dart throwing, deterministic for a
+/// seed): every pair at least the returned minimum distance apart.
+std::vector<vec2> poissonDiskTaps(int count, std::uint32_t seed, float* minDistance = nullptr);
+
+/// How a frame filters its maps.
+enum class ShadowFilter { None, Pcf, Pcss };
+
+/// The knobs PCF and PCSS read (method knobs of render/methods.cpp).
+struct ShadowMapSettings {
+    int size = 2048;           ///< sm_size: texels per face edge
+    float bias = 1.0f;         ///< sm_bias: constant depth bias, texels at the receiver
+    float normalOffset = 0.0f; ///< sm_normal_offset: receiver moved along its normal, texels
+    ShadowFilter filter = ShadowFilter::None;
+    int pcfRadius = 2;       ///< pcf_radius: PCF kernel (2r+1)² texels
+    int blockerTaps = 32;    ///< pcss_blocker_taps
+    int filterTaps = 64;     ///< pcss_filter_taps
+    float maxKernel = 64.0f; ///< pcss_max_kernel: largest search and filter radius, texels
+};
+
+/// The taps a frame uploads: the blocker-search set, then the filter set (seeded apart).
+std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings);
+
+} // namespace stsv
