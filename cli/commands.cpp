@@ -102,6 +102,10 @@ int runCli(int argc, char** argv) {
                        "lit image (PNG, sRGB); default SCENE.png when no output is given");
     render->add_option("--visibility", r.visibility, "visibility v_coef image (PNG, linear gray)");
     render->add_option("--dump-ls", r.dumpLs, "light-sample buffer as NumPy .npy (one file per light)");
+    render->add_option(
+        "--shadow-map", r.shadowMap,
+        "image-based methods: each light's shadow map as NumPy .npy, float32 [faces, size, size] "
+        "of linear depth (inf: no surface)");
     render->add_option("--stats", r.stats, "parameters, counts, timings and buffer memory as JSON");
 
     InfoArgs i;

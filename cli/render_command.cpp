@@ -12,8 +12,23 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 
 namespace stsv {
+
+namespace {
+
+/// float32 [faces, size, size], +inf where the texel sees no surface (NumPy's np.isinf).
+void writeShadowMapNpy(const std::string& path, const ShadowMap& map) {
+    std::vector<float> depth = map.depth;
+    for (float& d : depth)
+        if (d >= SHADOW_MAP_EMPTY) d = std::numeric_limits<float>::infinity();
+    const std::size_t size = map.view.size;
+    writeNpy(path, "<f4", {std::size_t(map.view.faces), size, size}, depth.data(),
+             depth.size() * sizeof(float));
+}
+
+} // namespace
 
 RenderOptions resolveFrameOptions(const FrameArgs& args) {
     RenderOptions o = args.options;
@@ -57,6 +72,14 @@ int runRender(RenderArgs& args) {
             throw UsageError("--dump-ls of a bitmask needs a sample count that is a multiple of 8");
     }
 
+    if (!args.shadowMap.empty()) {
+        checkWritableFile(args.shadowMap, "--shadow-map");
+        if (methodInfo(o.method).shadowMap == ShadowFilter::None)
+            throw UsageError("--shadow-map: method " + toString(o.method) +
+                             " renders no shadow map (image-based methods do)");
+        o.keepShadowMaps = true;
+    }
+
     const SceneOptions sceneOptions = parseSets(args.sets);
     Timer loadTimer;
     const Scene scene = loadScene(args.scene, sceneOptions);
@@ -76,6 +99,12 @@ int runRender(RenderArgs& args) {
             frame.lightSamples[l].writeNpy(npyFiles.back());
         }
 
+    std::vector<std::string> mapFiles;
+    for (std::size_t l = 0; l < frame.shadowMaps.size(); ++l) {
+        mapFiles.push_back(perLightPath(args.shadowMap, l));
+        writeShadowMapNpy(mapFiles.back(), frame.shadowMaps[l]);
+    }
+
     nlohmann::json& stats = frame.stats;
     if (!stats.contains("options")) stats["options"] = toJson(o);
     if (!stats.contains("scene")) stats["scene"] = sceneStats(scene);
@@ -87,7 +116,10 @@ int runRender(RenderArgs& args) {
     stats["light_sample_buffer_bytes_total"] = bufferBytes(frame);
     stats["command"] = args.argv;
     stats["version"] = STSV_VERSION;
-    stats["outputs"] = {{"image", args.output}, {"visibility", args.visibility}, {"light_samples", npyFiles}};
+    stats["outputs"] = {{"image", args.output},
+                        {"visibility", args.visibility},
+                        {"light_samples", npyFiles},
+                        {"shadow_maps", mapFiles}};
     if (!args.stats.empty()) writeJson(args.stats, stats);
 
     if (!args.quiet) {

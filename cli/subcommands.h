@@ -35,6 +35,7 @@ struct RenderArgs : FrameArgs {
     std::string output;
     std::string visibility;
     std::string dumpLs;
+    std::string shadowMap; ///< .npy per light of an image-based method's map
     std::string stats;
     std::vector<std::string> argv; ///< the command line, recorded in --stats
 };

@@ -65,7 +65,7 @@ stsv_pattern_q(128 STSV_Q128)
 # (STSV_PATTERN_VEC4S, STSV_ALPHA_BIT_VEC4S) on every pass; FIXED_LIGHT_TYPE per light type on
 # stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and
 # RESOLVE_COVERAGE (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
-# WEDGE_PW and WEDGE_STSV on the wedge passes. Each value of each define appears at least once,
+# WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
 # and each sample count with each buffer kind, without the full product (two cores).
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
 set(S ${PROJECT_SOURCE_DIR}/shaders) # shader folder, for the lines below
@@ -105,6 +105,12 @@ stsv_check_shader(${S}/wedge_fold.comp dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 
 stsv_check_shader(${S}/wedge_fold.comp pw WEDGE_PW=1 WEDGE_STSV=0 SAMPLE_COUNT=64)
 stsv_check_shader(${S}/wedge_fold.comp pw_stsv_s256 WEDGE_PW=1 WEDGE_STSV=1 SAMPLE_COUNT=256)
 stsv_check_shader(${S}/wedge_fold.comp pw_stsv_s16_counters WEDGE_PW=1 WEDGE_STSV=1 SAMPLE_COUNT=16 STSV_COUNTERS=1)
+
+# The image-based passes: the map raster with the uniform layouts; SHADOW_FILTER_STEP 1, 2 (PCSS).
+stsv_check_shader(${S}/shadowmap.vert ubo ${UBO})
+stsv_check_shader(${S}/shadowmap.frag ubo ${UBO})
+stsv_check_shader(${S}/shadow_filter.comp pcss_blocker SHADOW_FILTER_STEP=1)
+stsv_check_shader(${S}/shadow_filter.comp pcss_filter_ubo SHADOW_FILTER_STEP=2 ${UBO})
 
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/shaders)
 add_custom_target(stsv_shaders ALL DEPENDS ${STSV_SHADER_OUTPUTS})

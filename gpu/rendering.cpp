@@ -7,6 +7,28 @@
 
 namespace stsv {
 
+namespace {
+
+void beginRenderingInfo(VkCommandBuffer cmd, VkExtent2D extent,
+                        const std::vector<VkRenderingAttachmentInfo>& colorInfos,
+                        const VkRenderingAttachmentInfo* depthInfo) {
+    VkRenderingInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
+    info.renderArea = {{0, 0}, extent};
+    info.layerCount = 1;
+    info.colorAttachmentCount = uint32_t(colorInfos.size());
+    info.pColorAttachments = colorInfos.data();
+    info.pDepthAttachment = depthInfo;
+    vkCmdBeginRendering(cmd, &info);
+
+    VkViewport viewport{0.0f, 0.0f, float(extent.width), float(extent.height), 0.0f, 1.0f};
+    VkRect2D scissor{{0, 0}, extent};
+    vkCmdSetViewport(cmd, 0, 1, &viewport);
+    vkCmdSetScissor(cmd, 0, 1, &scissor);
+}
+
+} // namespace
+
 void beginRendering(VkCommandBuffer cmd, std::span<const ColorTarget> colors,
                     std::optional<DepthTarget> depth) {
     VkExtent2D extent{0, 0};
@@ -47,21 +69,12 @@ void beginRendering(VkCommandBuffer cmd, std::span<const ColorTarget> colors,
         depthInfo.clearValue.depthStencil = {depth->clearDepth, 0};
     }
     if (extent.width == 0) throw UsageError("rendering without attachments");
+    beginRenderingInfo(cmd, extent, colorInfos, depth ? &depthInfo : nullptr);
+}
 
-    VkRenderingInfo info{};
-
-    info.sType = VK_STRUCTURE_TYPE_RENDERING_INFO;
-    info.renderArea = {{0, 0}, extent};
-    info.layerCount = 1;
-    info.colorAttachmentCount = uint32_t(colorInfos.size());
-    info.pColorAttachments = colorInfos.data();
-    info.pDepthAttachment = depth ? &depthInfo : nullptr;
-    vkCmdBeginRendering(cmd, &info);
-
-    VkViewport viewport{0.0f, 0.0f, float(extent.width), float(extent.height), 0.0f, 1.0f};
-    VkRect2D scissor{{0, 0}, extent};
-    vkCmdSetViewport(cmd, 0, 1, &viewport);
-    vkCmdSetScissor(cmd, 0, 1, &scissor);
+void beginRendering(VkCommandBuffer cmd, VkExtent2D extent) {
+    if (extent.width == 0 || extent.height == 0) throw UsageError("rendering over an empty area");
+    beginRenderingInfo(cmd, extent, {}, nullptr);
 }
 
 } // namespace stsv

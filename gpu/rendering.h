@@ -27,6 +27,9 @@ struct DepthTarget {
 /// viewport (y down, depth 0..1) and scissor to the whole extent.
 void beginRendering(VkCommandBuffer cmd, std::span<const ColorTarget> colors,
                     std::optional<DepthTarget> depth = std::nullopt);
+/// Begins rendering over `extent` without attachments (fragments write storage resources only)
+/// and sets the viewport and scissor to it.
+void beginRendering(VkCommandBuffer cmd, VkExtent2D extent);
 inline void endRendering(VkCommandBuffer cmd) {
     vkCmdEndRendering(cmd);
 }

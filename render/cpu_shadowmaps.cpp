@@ -63,11 +63,12 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
     map.view = view;
     const std::size_t size = view.size;
     map.depth.assign(std::size_t(view.faces) * size * size, SHADOW_MAP_EMPTY);
-    for (uint face = 0; face < view.faces; ++face) {
+    for (uint face = 0; face < shadowMapFilledFaces(view); ++face) {
         float* depth = map.depth.data() + std::size_t(face) * size * size;
         parallelForPixels(int(size), int(size), [&](int x, int y) {
             vec3 o, d;
             shadowMapTexelRay(view, face, ivec2(x, y), o, d);
+            if (!shadowMapMapsDirection(view, d)) return;
             Hit hit;
             // d·Z = 1: the ray parameter is the axial depth, clipped to [near, far] as the rasteriser clips.
             if (embree.intersect(o, d, view.near, view.far, hit))
@@ -122,15 +123,17 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
 
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const Light& light, const ShadowMapSettings& settings,
-                                         std::uint32_t seed, bool decorrelate, ImageF& coverage) {
+                                         std::uint32_t seed, bool decorrelate, ImageF& coverage,
+                                         ShadowMap* keep) {
     ShadowMapCpuStats stats;
     Timer timer;
-    const ShadowMap map = traceShadowMap(embree, fitShadowMap(light, embree.scene().bounds(), settings.size));
+    ShadowMap map = traceShadowMap(embree, fitShadowMap(light, embree.scene().bounds(), settings.size));
     stats.map_ms = timer.milliseconds();
     stats.faces = map.view.faces;
     stats.texels = map.depth.size();
     shadowMapFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, coverage,
                           &stats);
+    if (keep) *keep = std::move(map);
     return stats;
 }
 

@@ -19,17 +19,6 @@ class EmbreeScene;
 /// The method's knobs (render/methods.cpp) read from `options.params`, and its filter.
 ShadowMapSettings shadowMapSettings(const RenderOptions& options);
 
-/// One light's map: faces × size × size depths, row-major per face (SHADOW_MAP_EMPTY where the
-/// texel-centre ray meets nothing).
-struct ShadowMap {
-    ShadowMapView view{};
-    std::vector<float> depth;
-    float at(uint face, ivec2 texel) const {
-        return depth[(std::size_t(face) * view.size + std::size_t(texel.y)) * view.size +
-                     std::size_t(texel.x)];
-    }
-};
-
 /// The map of `view`, one Embree ray per texel centre (shadowMapTexelRay), hits between near and
 /// far, holes of perforated triangles let through.
 ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);
@@ -48,7 +37,8 @@ nlohmann::json toJson(const ShadowMapCpuStats& stats);
 /// untouched), with the per-pixel tap rotation of `seed` when `decorrelate`.
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const Light& light, const ShadowMapSettings& settings,
-                                         std::uint32_t seed, bool decorrelate, ImageF& coverage);
+                                         std::uint32_t seed, bool decorrelate, ImageF& coverage,
+                                         ShadowMap* keep = nullptr);
 
 /// The filter step alone, for a given map (tests feed both backends the same map).
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,

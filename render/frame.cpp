@@ -98,9 +98,10 @@ class CpuRenderer final : public FrameRenderer {
             } else if (m_method.shadowMap != ShadowFilter::None) {
                 // Image-based: the light-centre map and its filter give v_coef per pixel.
                 coverage = ImageF(m_options.width, m_options.height, 1);
+                ShadowMap* keep = m_options.keepShadowMaps ? &frame.shadowMaps.emplace_back() : nullptr;
                 const ShadowMapCpuStats s =
                     shadowMapCpuVisibility(m_embree, frame.gbuffer, light, m_shadowMaps, m_options.seed,
-                                           m_options.decorrelate, coverage);
+                                           m_options.decorrelate, coverage, keep);
                 passes[prefix + "shadow_map"] = s.map_ms;
                 if (m_shadowMaps.filter == ShadowFilter::Pcss) passes[prefix + "pcss_blocker"] = s.blocker_ms;
                 passes[prefix + "shadow_filter"] = s.filter_ms;

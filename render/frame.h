@@ -7,6 +7,7 @@
 #include "render/options.h"
 #include "sampling/ls_buffer.h"
 #include "scene/scene.h"
+#include "shadowmaps/shadow_map.h"
 
 #include <nlohmann/json.hpp>
 
@@ -23,6 +24,8 @@ struct Frame {
     std::vector<LightSampleBuffer> lightSamples; ///< one per scene light
     ImageF color;                                ///< linear RGB: ambient + Σ lights direct lighting
     ImageF visibility; ///< one channel: v_coef averaged over the lights (1 on background)
+    /// One per light for image-based methods rendered with RenderOptions::keepShadowMaps.
+    std::vector<ShadowMap> shadowMaps;
     /// options, scene counts, "startup_ms" (acceleration structures, devices, shader
     /// compilation), "frame_ms" (one frame without start-up) and "passes" (name → ms).
     nlohmann::json stats;

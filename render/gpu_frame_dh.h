@@ -7,6 +7,7 @@
 
 #include "core/dh.h"
 #include "scene/light_dh.h"
+#include "shadowmaps/shadow_map_dh.h"
 #include "volumes/stsv_dh.h"
 
 DH_BEGIN
@@ -28,6 +29,9 @@ DH_CONST uint GPU_BINDING_EDGES = 12u;      ///< GpuEdge[]: welded edges of the 
 DH_CONST uint GPU_BINDING_EDGE_FACES = 13u; ///< GpuEdgeFace[], grouped per edge (SSBO)
 DH_CONST uint GPU_BINDING_CENTER = 14u;     ///< r32i storage image: z-fail layer count at the light centre
 DH_CONST uint GPU_BINDING_COVERAGE = 15u;   ///< r32f storage image: PW occlusion sum, then v_coef
+DH_CONST uint GPU_BINDING_SHADOW_MAP = 16u; ///< the light's map: GpuShadowDepth words, faces × size² (SSBO)
+DH_CONST uint GPU_BINDING_SHADOW_VIEWS = 17u; ///< GpuShadowParams then ShadowMapView per light (SSBO)
+DH_CONST uint GPU_BINDING_SHADOW_TAPS = 18u;  ///< Poisson-disk taps: blocker set, then filter set (SSBO)
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
 DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 samples each)
@@ -115,6 +119,29 @@ struct GpuEdgeFace {
     uint pad2;
 };
 
+/// The filter knobs of the image-based methods (shadowmaps/shadow_map.h ShadowMapSettings).
+/// std430: 2 × 16 bytes.
+struct GpuShadowParams {
+    float bias;         ///< texels
+    float normalOffset; ///< texels
+    float maxKernel;    ///< texels
+    int pcfRadius;      ///< texels
+    uint blockerTaps;
+    uint filterTaps;
+    uint pad0;
+    uint pad1;
+};
+
+/// A map texel as the rasteriser writes it with atomicMax: the bits of the depth (a positive
+/// float, whose bits order as its value) inverted, so the nearest surface wins and a cleared
+/// word (0) reads as no surface.
+DH_FUNC uint gpuShadowDepthWord(float depth) {
+    return ~floatBitsToUint(depth);
+}
+DH_FUNC float gpuShadowDepthOf(uint word) {
+    return word == 0u ? SHADOW_MAP_EMPTY : uintBitsToFloat(~word);
+}
+
 /// Push constants of every pass.
 struct GpuPush {
     uint light;      ///< index into GpuLight[]; ≥ lightCount: none (resolve only initialises)
@@ -135,6 +162,7 @@ DH_STATIC_ASSERT(sizeof(GpuStats) == 16);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
 DH_STATIC_ASSERT(sizeof(GpuEdge) == 48);
 DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);
+DH_STATIC_ASSERT(sizeof(GpuShadowParams) == 32);
 #endif
 
 /// The visible point at barycentrics (b1, b2), as reference/embree_scene.h's pointOnTriangle.

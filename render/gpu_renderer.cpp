@@ -11,6 +11,7 @@
 #include "render/gpu_opaque_passes.h"
 #include "render/gpu_readback.h"
 #include "render/gpu_resolve_pass.h"
+#include "render/gpu_shadowmap_passes.h"
 #include "render/gpu_stsv_pass.h"
 #include "scene/camera.h"
 
@@ -35,6 +36,7 @@ bool drawsStsv(StsvTriangles which, const Scene& scene) {
 std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
     std::vector<DescriptorBinding> bindings = resources.bindings();
     for (const DescriptorBinding& b : OpaqueOccluderResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : ShadowMapResources::bindings()) bindings.push_back(b);
     return bindings;
 }
 
@@ -57,6 +59,15 @@ struct OpaquePasses {
     FoldPass fold;
 };
 
+/// The passes of an image-based method (MethodInfo::shadowMap): per light the cleared map, its
+/// raster, and PCF or PCSS's two steps.
+struct ShadowMapPasses {
+    std::vector<ClearPass> clear; ///< [light]
+    ShadowMapPass map;
+    std::optional<ShadowFilterPass> blocker; ///< PCSS
+    ShadowFilterPass filter;
+};
+
 /// One frame of one method on the GPU: allocates the shared resources, builds the passes the
 /// method's table row composes, orders them per light (STSV paper Algorithm 2), reads back and
 /// writes the stats. Barriers come from the passes' declared accesses (gpu/frame_graph.h).
@@ -74,11 +85,13 @@ class VulkanFrame {
     SamplePlan m_plan;
     FrameResources m_resources;
     OpaqueOccluderResources m_opaqueResources;
+    ShadowMapResources m_shadowResources;
     FrameDescriptors m_descriptors;
     ClearPass m_clearCounts;
     GBufferPass m_gbuffer;
     std::optional<OpaquePasses> m_opaque;
     std::optional<StsvPass> m_stsv; ///< when the method draws STSV volumes in this scene
+    std::optional<ShadowMapPasses> m_shadowMaps;
     ResolvePass m_resolve;
     FrameReadback m_readback;
     GpuTimer m_timer;
@@ -96,6 +109,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
       m_mesh(meshShader), m_plan(makeSamplePlan(options.pattern, options.samples, options.seed,
                                                 options.interleave, options.decorrelate)),
       m_resources(device, scene, options, m_plan), m_opaqueResources(device, scene, options),
+      m_shadowResources(device, scene, options),
       m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
       m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
       m_gbuffer(device, m_resources, m_descriptors, layoutDefines(m_resources.tables.layout),
@@ -113,9 +127,23 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
             FoldPass(device, options, m_opaqueResources, m_resources, m_descriptors, defines)});
     if (scene.lights.size() > 0 && drawsStsv(m_method.stsv, scene))
         m_stsv.emplace(device, scene, options, m_resources, m_descriptors, meshShader);
+    if (m_shadowResources.enabled()) {
+        const bool pcss = m_method.shadowMap == ShadowFilter::Pcss;
+        std::vector<ClearPass> clears;
+        for (const Buffer& depth : m_shadowResources.depth) clears.push_back(ClearPass({}, {&depth}));
+        m_shadowMaps.emplace(ShadowMapPasses{
+            std::move(clears), ShadowMapPass(device, scene, m_shadowResources, m_descriptors, defines),
+            std::nullopt,
+            ShadowFilterPass(device, options, pcss ? ShadowFilterPass::PcssFilter : ShadowFilterPass::Pcf,
+                             m_shadowResources, m_resources, m_descriptors, defines)});
+        if (pcss)
+            m_shadowMaps->blocker.emplace(device, options, ShadowFilterPass::PcssBlocker, m_shadowResources,
+                                          m_resources, m_descriptors, defines);
+    }
     for (std::size_t l = 0; l < m_descriptors.setCount(); ++l) {
         m_resources.writeDescriptors(m_descriptors.set(l), l);
         m_opaqueResources.writeDescriptors(m_descriptors.set(l));
+        m_shadowResources.writeDescriptors(m_descriptors.set(l), l);
     }
 }
 
@@ -131,9 +159,17 @@ void VulkanFrame::record(VkCommandBuffer cmd) {
 }
 
 /// Algorithm 2 for one light: the opaque triangles through the method's technique, the
-/// S-triangles through STSV (or only a cleared buffer), the fold of the two, the resolve.
+/// S-triangles through STSV (or only a cleared buffer), the fold of the two, the resolve. An
+/// image-based method renders the light's map and filters it into v_coef instead.
 void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
     const std::string prefix = "light" + std::to_string(light) + "/";
+    if (m_shadowMaps) {
+        runPass(m_graph, cmd, "", m_shadowMaps->clear[light], light);
+        runPass(m_graph, cmd, prefix + "shadow_map", m_shadowMaps->map, light);
+        if (m_shadowMaps->blocker)
+            runPass(m_graph, cmd, prefix + "pcss_blocker", *m_shadowMaps->blocker, light);
+        runPass(m_graph, cmd, prefix + "shadow_filter", m_shadowMaps->filter, light);
+    }
     if (m_opaque) {
         const std::string technique = prefix + (m_method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_");
         runPass(m_graph, cmd, "", m_opaque->clearCenter, light);
@@ -162,6 +198,9 @@ Frame VulkanFrame::render(double startupMs) {
     for (const GpuTiming& t : m_timer.results()) passes[t.name] = t.milliseconds;
     Timer readback;
     const std::vector<GpuStats> counts = m_readback.unpack(frame);
+    if (m_shadowMaps && m_options.keepShadowMaps)
+        for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
+            frame.shadowMaps.push_back(m_shadowResources.download(l));
     passes["readback"] = readback.milliseconds();
 
     frame.stats = passStats(counts);

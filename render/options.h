@@ -23,11 +23,12 @@ struct RenderOptions {
     int interleave = 1;      ///< K of K×K interleaved sampling (1 = off), 1 … 8
     bool decorrelate = true; ///< per-pixel rotation of the pattern
     BufferKind buffer =
-        BufferKind::Bitmask; ///< light-sample buffer: occlusion bits or depth-complexity counters
-    float ambient = 0.05f;   ///< ambient term, fraction of albedo
-    std::string device;      ///< Vulkan device: "" = best, an index, or a name substring
-    bool validation = false; ///< Vulkan validation layers (always on in tests)
-    MethodParams params;     ///< the method's knobs (render/methods.h); missing ones take their defaults
+        BufferKind::Bitmask;     ///< light-sample buffer: occlusion bits or depth-complexity counters
+    float ambient = 0.05f;       ///< ambient term, fraction of albedo
+    std::string device;          ///< Vulkan device: "" = best, an index, or a name substring
+    bool validation = false;     ///< Vulkan validation layers (always on in tests)
+    MethodParams params;         ///< the method's knobs (render/methods.h); missing ones take their defaults
+    bool keepShadowMaps = false; ///< image-based methods: Frame::shadowMaps holds each light's map
 };
 
 /// Throws UsageError naming the first option out of range (method parameters included).

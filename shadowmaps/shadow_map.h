@@ -36,6 +36,17 @@ std::size_t shadowMapBytes(const ShadowMapView& view);
 /// seed): every pair at least the returned minimum distance apart.
 std::vector<vec2> poissonDiskTaps(int count, std::uint32_t seed, float* minDistance = nullptr);
 
+/// One light's map: faces × size × size depths, row-major per face (SHADOW_MAP_EMPTY where the
+/// texel-centre ray meets nothing).
+struct ShadowMap {
+    ShadowMapView view{};
+    std::vector<float> depth;
+    float at(uint face, ivec2 texel) const {
+        return depth[(std::size_t(face) * view.size + std::size_t(texel.y)) * view.size +
+                     std::size_t(texel.x)];
+    }
+};
+
 /// How a frame filters its maps.
 enum class ShadowFilter { None, Pcf, Pcss };
 

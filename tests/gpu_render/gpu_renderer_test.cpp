@@ -107,45 +107,6 @@ TEST_F(GpuRenderer, FoliageMatchesEmbree) {
         expectMatchesEmbree(scene, frame, o, l, 0.999, "foliage");
 }
 
-/// Ground y = 0 (x, z ∈ [−3, 3]), a perforated double-sided checker quad at y = 1, an opaque
-/// triangle at y = 0.6, camera above and in front.
-Scene testScene() {
-    Scene s;
-    s.source = "gpu test scene";
-    Material ground;
-    ground.name = "ground";
-    ground.albedo = vec3(0.7f);
-    const std::uint32_t groundMaterial = addMaterial(s, ground);
-    Texture tex;
-    tex.name = "checker";
-    tex.width = 8;
-    tex.height = 8;
-    tex.rgba.assign(8 * 8 * 4, 255);
-    for (int y = 0; y < 8; ++y)
-        for (int x = 0; x < 8; ++x)
-            tex.rgba[std::size_t(y * 8 + x) * 4 + 3] = ((x / 2 + y / 2) % 2) ? 255 : 0;
-    Material perforated;
-    perforated.name = "checker";
-    perforated.albedo = vec3(0.3f, 0.6f, 0.2f);
-    perforated.alphaTexture = addTexture(s, tex);
-    perforated.doubleSided = true;
-    const std::uint32_t fenceMaterial = addMaterial(s, perforated);
-    Material opaque;
-    opaque.name = "opaque";
-    opaque.albedo = vec3(0.8f, 0.3f, 0.3f);
-    const std::uint32_t opaqueMaterial = addMaterial(s, opaque);
-    const vec2 t(0.0f);
-    s.addTriangle({-3, 0, -3}, {-3, 0, 3}, {3, 0, 3}, t, t, t, groundMaterial);
-    s.addTriangle({-3, 0, -3}, {3, 0, 3}, {3, 0, -3}, t, t, t, groundMaterial);
-    s.addTriangle({-1, 1, -1}, {-1, 1, 1}, {1, 1, 1}, {0, 0}, {0, 2}, {2, 2}, fenceMaterial);
-    s.addTriangle({-1, 1, -1}, {1, 1, 1}, {1, 1, -1}, {0, 0}, {2, 2}, {2, 0}, fenceMaterial);
-    s.addTriangle({0.5f, 0.6f, 0.8f}, {1.5f, 0.6f, 1.6f}, {1.8f, 0.6f, 0.4f}, t, t, t, opaqueMaterial);
-    s.camera.eye = vec3(0.0f, 4.5f, 5.0f);
-    s.camera.target = vec3(0.0f, 0.0f, 0.3f);
-    s.camera.fovY = 50.0f;
-    return s;
-}
-
 TEST_F(GpuRenderer, EveryLightShapeInOneFrameMatchesMirrorEmbreeAndCpuResolve) {
     Scene scene = testScene();
     scene.lights = {makeRectangleLight({0.0f, 3.0f, 0.0f}, {0, -1, 0}, {1.2f, 0.8f}, vec3(4.0f)),

@@ -125,7 +125,7 @@ TEST_F(MethodTableRender, EveryMethodRendersOnEveryBackendItClaims) {
                 EXPECT_TRUE(v >= 0.0f && v <= 1.0f + 1e-6f) << label << " v=" << v;
                 darkest = std::min(darkest, v);
             }
-            if (m.traced || m.stsv != StsvTriangles::None) {
+            if (m.traced || m.stsv != StsvTriangles::None || m.shadowMap != ShadowFilter::None) {
                 EXPECT_LT(darkest, 0.9f) << label;
             }
         }

@@ -1,0 +1,20 @@
+// Descriptor declarations of the image-based passes (bindings from render/gpu_frame_dh.h): the
+// light's map, the map views and filter knobs, the Poisson-disk taps.
+#ifndef STSV_SHADERS_SHADOW_BINDINGS_GLSL
+#define STSV_SHADERS_SHADOW_BINDINGS_GLSL
+
+#include "render/gpu_frame_dh.h"
+#include "shadowmaps/shadow_map_dh.h"
+
+#ifdef SHADOW_MAP_WRITE
+layout(std430, set = 0, binding = GPU_BINDING_SHADOW_MAP) buffer ShadowDepth { uint shadowDepth[]; };
+#else
+layout(std430, set = 0, binding = GPU_BINDING_SHADOW_MAP) readonly buffer ShadowDepth { uint shadowDepth[]; };
+#endif
+layout(std430, set = 0, binding = GPU_BINDING_SHADOW_VIEWS) readonly buffer ShadowViews {
+    GpuShadowParams shadowParams;
+    ShadowMapView shadowViews[];
+};
+layout(std430, set = 0, binding = GPU_BINDING_SHADOW_TAPS) readonly buffer ShadowTaps { vec2 shadowTaps[]; };
+
+#endif // STSV_SHADERS_SHADOW_BINDINGS_GLSL

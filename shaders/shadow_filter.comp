@@ -1,0 +1,56 @@
+#version 450
+// Image-based visibility per pixel (DESIGN §4.6): PCF, or one of PCSS's two steps, with the
+// functions of shadowmaps/shadow_filter_dh.h that the CPU backend runs (render/cpu_shadowmaps.cpp).
+//   SHADOW_FILTER_STEP 0: PCF → v_coef in the coverage image
+//                      1: PCSS blocker search → the filter radius (uv), −1 when no blocker
+//                      2: PCSS filter of that radius → v_coef
+#extension GL_GOOGLE_include_directive : require
+#ifndef SHADOW_FILTER_STEP
+#define SHADOW_FILTER_STEP 0
+#endif
+#include "frame_bindings.glsl"
+#include "shadow_bindings.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) uniform image2D coverage;
+
+// The data access of shadowmaps/shadow_filter_dh.h: the rasterised map, the uploaded taps.
+struct ShadowMapSource {
+    uint size;
+};
+float shadowMapSourceDepth(ShadowMapSource s, uint face, ivec2 texel) {
+    return gpuShadowDepthOf(shadowDepth[(face * s.size + uint(texel.y)) * s.size + uint(texel.x)]);
+}
+vec2 shadowMapSourceTap(ShadowMapSource s, uint i) {
+    return shadowTaps[i];
+}
+#define SHADOW_MAP_SOURCE
+#include "shadowmaps/shadow_filter_dh.h"
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) return;
+    uint tri = imageLoad(gTriangle, pixel).x;
+    if (tri == GPU_NO_TRIANGLE) return;
+    ShadowMapView v = shadowViews[pc.light];
+    ShadowMapSource src;
+    src.size = v.size;
+    vec3 p = vec3(imageLoad(gPosition, pixel));
+    vec3 n = gpuShadingNormal(triangles[tri], vec3(frame.eye), p);
+    ShadowReceiver r = shadowReceiver(v, p, n, shadowParams.bias, shadowParams.normalOffset,
+                                      shadowTapRotation(uvec2(pixel), frame.seed, frame.decorrelate != 0u));
+#if SHADOW_FILTER_STEP == 0
+    float result = pcfVisibility(v, src, r, shadowParams.pcfRadius);
+#elif SHADOW_FILTER_STEP == 1
+    float blocker = pcssAverageBlocker(v, src, r, shadowParams.blockerTaps, shadowParams.maxKernel);
+    float result = blocker < 0.0 ? -1.0 : pcssFilterRadius(v, r, blocker, shadowParams.maxKernel);
+#else
+    float radius = imageLoad(coverage, pixel).x;
+    float result = radius < 0.0 ? 1.0
+                                : pcssFilter(v, src, r, radius, shadowParams.blockerTaps, shadowParams.filterTaps);
+#endif
+    imageStore(coverage, pixel, vec4(result));
+}
