@@ -247,6 +247,18 @@ TEST(ConvergedCli, CacheIsHitThenRenderedAgainWhenTheKeyChangesOrAFileIsCorrupt)
     EXPECT_EQ(cacheOf(readJson(dir.file("f.json"))), "written");
 }
 
+TEST(ConvergedCli, ACacheThatCannotBeWrittenIsReportedNotFatal) {
+    ScratchDir dir;
+    std::ofstream(dir.file("plain-file")) << "x";
+    ScopedEnv cache("STSV_CACHE_DIR", dir.file("plain-file/cache")); // under a regular file
+    const CliResult r = runOk(compareArgs(dir, "c.json", {"--converged", "2"}));
+    EXPECT_NE(r.err.find("note: cannot write cache entry " + dir.file("plain-file/cache")), std::string::npos)
+        << r.err;
+    const nlohmann::json j = readJson(dir.file("c.json"));
+    EXPECT_EQ(cacheOf(j), "failed");
+    EXPECT_GT(j["noise_floor"]["visibility"]["rmse"].get<double>(), 0.0) << "the images are still compared";
+}
+
 TEST(ConvergedCli, EditingAFileTheSceneReferencesInvalidatesTheCache) {
     ScratchDir dir;
     ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
