@@ -5,19 +5,28 @@ PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev l
             nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libgmock-dev \
             glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers \
             vulkan-validationlayers vulkan-tools clang-format
+# Only the tests need these: the --report test renders the page in a headless browser.
+TEST_PACKAGES := chromium
 SUDO     := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps configure build demo test clean format format-check
+.PHONY: all deps test-deps configure build demo test clean format format-check
 
 all: build
 
-# Installs only what is missing; a no-op when everything is there.
-deps:
-	@missing=$$(for p in $(PACKAGES); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
+# $(call install_missing,PACKAGES): installs only what is missing; a no-op when everything is there.
+define install_missing
+	@missing=$$(for p in $(1); do dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || echo $$p; done); \
 	if [ -n "$$missing" ]; then \
 	  echo "installing:" $$missing; \
 	  $(SUDO) apt-get update -qq && DEBIAN_FRONTEND=noninteractive $(SUDO) apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
+endef
+
+deps:
+	$(call install_missing,$(PACKAGES))
+
+test-deps:
+	$(call install_missing,$(TEST_PACKAGES))
 
 $(BUILD)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo
@@ -32,7 +41,7 @@ demo: build
 	$(BUILD)/cli/stsv render fence -o out/fence.png --visibility out/fence_visibility.png
 	@echo "wrote out/fence.png"
 
-test: build
+test: build test-deps
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 format:

@@ -213,12 +213,15 @@ ImageError compareImages(const ImageF& a, const ImageF& b, float threshold) {
     ImageError e;
     e.absDifference = ImageF(a.width, a.height, 1);
     double sumSquares = 0.0;
+    double sum = 0.0;
     std::size_t above = 0;
     for (int y = 0; y < a.height; ++y)
         for (int x = 0; x < a.width; ++x) {
             float worst = 0.0f;
             for (int c = 0; c < a.channels; ++c) {
+                const double signedDifference = double(a.at(x, y, c)) - double(b.at(x, y, c));
                 const float d = std::abs(a.at(x, y, c) - b.at(x, y, c));
+                sum += signedDifference;
                 sumSquares += double(d) * double(d);
                 worst = std::max(worst, d);
             }
@@ -229,6 +232,7 @@ ImageError compareImages(const ImageF& a, const ImageF& b, float threshold) {
     const double values = double(a.pixels.size());
     const double pixels = double(a.width) * double(a.height);
     e.rmse = values > 0 ? std::sqrt(sumSquares / values) : 0.0;
+    e.bias = values > 0 ? sum / values : 0.0;
     e.fractionAbove = pixels > 0 ? double(above) / pixels : 0.0;
     return e;
 }

@@ -82,9 +82,10 @@ float encodeSrgb(float linear);
 /// The displayed values of a linear image: sRGB-encoded (when `srgb`) and clamped to [0, 1].
 ImageF toDisplay(const ImageF& image, bool srgb);
 
-/// Per-pixel error of two same-sized images (display values in [0, 1]).
+/// Per-pixel error of image `a` against the reference `b` (same size; display values in [0, 1]).
 struct ImageError {
     double rmse = 0.0;          ///< over every pixel and channel
+    double bias = 0.0;          ///< mean signed a − b over every pixel and channel (a above b: positive)
     double maxAbs = 0.0;        ///< largest |a − b| of any channel
     double fractionAbove = 0.0; ///< pixels where some channel differs by more than `threshold`
     ImageF absDifference;       ///< one channel: max over channels of |a − b|

@@ -161,6 +161,13 @@ int runCli(int argc, char** argv) {
     compare->add_option("--json", c.json, "write the error table as JSON");
     compare->add_option("--heat-scale", c.heatScale, "difference shown yellow in the heat maps")
         ->capture_default_str();
+    compare->add_option("--converged", c.converged,
+                        "K: also compare with the converged reference, the mean of K renders of --against "
+                        "with seeds SEED … SEED+K-1 (cached, see --no-cache)");
+    compare->add_flag("--no-cache", c.noCache, "render the converged reference even when the cache holds it");
+    compare->add_option("--report", c.report,
+                        "directory for index.html: options, error tables, lit/visibility/heat-map images");
+    compare->add_option("--sheet", c.sheet, "contact sheet PNG: per method lit, visibility, heat map");
     addFrameOptions(compare, c);
 
     try {
@@ -178,7 +185,10 @@ int runCli(int argc, char** argv) {
             b.given = givenOptions(bench);
             return runBench(b);
         }
-        if (*compare) return runCompare(c);
+        if (*compare) {
+            c.argv.assign(argv, argv + argc);
+            return runCompare(c);
+        }
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
         std::fprintf(stderr, "stsv: error: %s (see stsv --help)\n", e.what());

@@ -2,8 +2,11 @@
 // table and error images), or two --dump-ls files sample by sample.
 #include "cli/cli_util.h"
 #include "cli/commands.h"
+#include "cli/compare_report.h"
+#include "cli/converged_reference.h"
 #include "cli/subcommands.h"
 
+#include "core/contact_sheet.h"
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/timer.h"
@@ -13,6 +16,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 
 namespace stsv {
 
@@ -35,8 +39,13 @@ struct Row {
     std::size_t differingSamples = 0;
     std::size_t comparedSamples = 0;
     std::size_t differingPixels = 0;
-    ImageError visibility;
-    ImageError lit;
+    ImageError visibility;          ///< against the equal-sample reference; fractionAbove at 1/255
+    ImageError lit;                 ///< against the equal-sample reference; fractionAbove at 1/255
+    ImageError visibilityCoarse;    ///< the same, fractionAbove at |Δ| > kCoarseError
+    ImageError convergedVisibility; ///< against the converged reference; fractionAbove at kCoarseError
+    ImageError convergedLit;        ///< against the converged reference; fractionAbove at 1/255
+    ImageF visibilityDisplay;       ///< kept for --converged, --report, --sheet
+    ImageF litDisplay;
     double frameMs = 0.0;
     bool perSample = true; ///< false for penumbra wedges: a v_coef per pixel, no per-sample result
     double identicalPercent() const {
@@ -44,6 +53,9 @@ struct Row {
                                : 100.0;
     }
 };
+
+/// Visibility errors above this count as visible ones (the "|dv|>0.1" column).
+constexpr float kCoarseError = 0.1f;
 
 std::string fileStem(const MethodBackend& mb) {
     return toString(mb.method) + "_" + toString(mb.backend);
@@ -68,8 +80,12 @@ Row compareFrames(const MethodBackend& mb, const Frame& frame, const Frame& agai
         row.comparedSamples += d.comparedSamples;
         row.differingPixels += d.differingPixels;
     }
-    row.visibility = compareImages(toDisplay(frame.visibility, false), toDisplay(against.visibility, false));
-    row.lit = compareImages(toDisplay(frame.color, true), toDisplay(against.color, true));
+    row.visibilityDisplay = toDisplay(frame.visibility, false);
+    row.litDisplay = toDisplay(frame.color, true);
+    const ImageF againstVisibility = toDisplay(against.visibility, false);
+    row.visibility = compareImages(row.visibilityDisplay, againstVisibility);
+    row.visibilityCoarse = compareImages(row.visibilityDisplay, againstVisibility, kCoarseError);
+    row.lit = compareImages(row.litDisplay, toDisplay(against.color, true));
     return row;
 }
 
@@ -129,15 +145,201 @@ int compareNpy(const CompareArgs& args) {
     return 0;
 }
 
+/// The most seeds --converged averages (a bound against typing mistakes, not a limit of the math).
+constexpr int kMaxConvergedFrames = 4096;
+
+std::string formatSigned(double value) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%+.5f", value);
+    return text;
+}
+
+std::string formatPercent(double fraction) {
+    return formatFixed(100.0 * fraction, 4) + "%";
+}
+
+/// The columns of the bias tables (against the equal-sample and the converged reference).
+const std::vector<std::string> kErrorHeader = {"method",   "vis RMSE", "vis bias", "vis max",
+                                               "|dv|>0.1", "lit RMSE", "lit bias"};
+
+std::vector<std::string> errorCells(const std::string& name, const ImageError& visibility,
+                                    const ImageError& lit) {
+    return {name,
+            formatFixed(visibility.rmse, 5),
+            formatSigned(visibility.bias),
+            formatFixed(visibility.maxAbs, 5),
+            formatPercent(visibility.fractionAbove),
+            formatFixed(lit.rmse, 5),
+            formatSigned(lit.bias)};
+}
+
+nlohmann::json errorJson(const ImageError& visibility, const ImageError& lit) {
+    return {{"visibility",
+             {{"rmse", visibility.rmse},
+              {"bias", visibility.bias},
+              {"max_abs", visibility.maxAbs},
+              {"fraction_above_0_1", visibility.fractionAbove}}},
+            {"lit",
+             {{"rmse", lit.rmse},
+              {"bias", lit.bias},
+              {"max_abs", lit.maxAbs},
+              {"fraction_above_1_255", lit.fractionAbove}}}};
+}
+
+const char* const kBiasNote =
+    "errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; bias = mean of method - "
+    "reference over the pixels (negative: darker than the reference); |dv|>0.1 = pixels whose visibility "
+    "is off by more than 0.1";
+
+/// The existing table's cells (what the terminal prints first), for the HTML page.
+ReportTable equalSampleTable(const std::vector<Row>& rows) {
+    ReportTable t;
+    t.header = {"method",   "identical %", "diff. bits", "vis RMSE", "vis max",
+                "lit RMSE", "lit max",     ">1/255 px",  "frame ms"};
+    for (const Row& r : rows)
+        t.rows.push_back({toString(r.mb), r.perSample ? formatFixed(r.identicalPercent(), 4) : "n/a",
+                          r.perSample ? std::to_string(r.differingSamples) : "n/a",
+                          formatFixed(r.visibility.rmse, 5), formatFixed(r.visibility.maxAbs, 5),
+                          formatFixed(r.lit.rmse, 5), formatFixed(r.lit.maxAbs, 5),
+                          formatPercent(r.lit.fractionAbove), formatFixed(r.frameMs, 1)});
+    return t;
+}
+
+/// A value of the options JSON as the report shows it: floats with 6 significant digits (the
+/// ambient of 0.05f, not 0.0500000007), objects as "name=value, …".
+std::string settingText(const nlohmann::json& value) {
+    if (value.is_string()) return value.get<std::string>();
+    if (value.is_number_float()) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.6g", value.get<double>());
+        return text;
+    }
+    if (value.is_object()) {
+        std::string text;
+        for (const auto& [name, item] : value.items())
+            text += (text.empty() ? "" : ", ") + name + "=" + settingText(item);
+        return text.empty() ? "none" : text;
+    }
+    return value.dump();
+}
+
+/// What the report and the sheet show of one row: lit image, visibility, error heat map.
+struct ImageSet {
+    std::string name;
+    std::string stem;
+    Image8 lit;
+    Image8 visibility;
+    Image8 heat; ///< empty (width 0) where there is nothing to compare with
+};
+
+/// The images --report and --sheet show per row: lit, visibility and |Δ visibility| against the
+/// converged reference (or the equal-sample one, none for the reference's own row); then the
+/// converged reference itself.
+std::vector<ImageSet> imageSets(const std::vector<Row>& rows, const ConvergedReference* converged,
+                                int samplesPerPixel, float heatScale) {
+    std::vector<ImageSet> sets;
+    for (std::size_t i = 0; i < rows.size(); ++i) {
+        const Row& r = rows[i];
+        ImageSet set{toString(r.mb), fileStem(r.mb), toImage8(r.litDisplay, false),
+                     toImage8(r.visibilityDisplay, false), Image8{}};
+        if (converged)
+            set.heat = heatMap(r.convergedVisibility.absDifference, heatScale);
+        else if (i > 0)
+            set.heat = heatMap(r.visibility.absDifference, heatScale);
+        sets.push_back(std::move(set));
+    }
+    if (converged)
+        sets.push_back({"converged reference (" + std::to_string(samplesPerPixel) + " spp)", "converged",
+                        toImage8(converged->images.color, true),
+                        toImage8(converged->images.visibility, false), Image8{}});
+    return sets;
+}
+
+/// The page's header: title, command line and settings (the --against frame's options), and
+/// the tables.
+Report describeReport(const CompareArgs& args, const Scene& scene, const SceneOptions& sceneSets,
+                      const RenderOptions& againstOptions, const std::vector<Row>& rows,
+                      std::vector<ReportTable> tables, const std::string& convergedSummary) {
+    const std::string& spec = args.inputs[0];
+    Report report;
+    report.title = "stsv compare: " + spec;
+    report.commandLine = shellCommandLine(args.argv);
+    report.settings.push_back({"scene", spec + (scene.source != spec ? " (" + scene.source + ")" : "")});
+    std::string knobs;
+    for (const auto& [k, v] : sceneSets.set) knobs += (knobs.empty() ? "" : ", ") + k + "=" + v;
+    report.settings.push_back({"--set", knobs.empty() ? "none" : knobs});
+    std::string methodList;
+    for (const Row& r : rows) methodList += (methodList.empty() ? "" : ", ") + toString(r.mb);
+    report.settings.push_back({"methods", methodList});
+    report.settings.push_back(
+        {"against", toString(MethodBackend{againstOptions.method, againstOptions.backend})});
+    const nlohmann::json options = toJson(frameOptions(againstOptions));
+    for (const auto& [name, value] : options.items())
+        if (name != "method" && name != "backend" && name != "validation" &&
+            !(name == "device" && value == ""))
+            report.settings.push_back({name, settingText(value)});
+    report.settings.push_back({"converged", convergedSummary});
+    report.settings.push_back({"heat scale", formatFixed(args.heatScale, 3) + " (yellow)"});
+    report.tables = std::move(tables);
+    const bool converged = args.converged.has_value();
+    report.imagesNote = "heat maps: |visibility - " +
+                        std::string(converged ? "converged reference" : "equal-sample reference") +
+                        "|, black 0, red " + formatFixed(args.heatScale / 2, 3) + ", yellow " +
+                        formatFixed(args.heatScale, 3) + " and above";
+    return report;
+}
+
+void writeReport(const std::string& dir, const Report& base, const std::vector<ImageSet>& sets,
+                 const std::string& heatTitle) {
+    Report report = base;
+    for (const ImageSet& set : sets) {
+        ReportImageRow row;
+        row.name = set.name;
+        const int scale = tileScaleFor(set.lit.width, set.lit.height);
+        auto add = [&](const Image8& image, const std::string& suffix, const std::string& title) {
+            if (image.width == 0) return;
+            const std::string file = set.stem + "_" + suffix + ".png";
+            writePng((fs::path(dir) / file).string(), image);
+            row.images.push_back({set.name + ": " + title, file, image.width * scale, image.height * scale});
+        };
+        add(set.lit, "lit", "lit");
+        add(set.visibility, "visibility", "visibility");
+        add(set.heat, "error", heatTitle);
+        report.imageRows.push_back(row);
+    }
+    const std::string path = (fs::path(dir) / "index.html").string();
+    std::ofstream out(path);
+    out << reportHtml(report);
+    if (!out) throw Error(path + ": write failed");
+}
+
+void writeSheet(const std::string& path, const std::vector<ImageSet>& sets, const std::string& heatTitle) {
+    std::vector<SheetRow> rows;
+    for (const ImageSet& set : sets) rows.push_back({set.name, {set.lit, set.visibility, set.heat}});
+    const SheetLayout layout =
+        sheetLayout(sets.front().lit.width, sets.front().lit.height, 3, int(rows.size()));
+    writePng(path, contactSheet(layout, {"lit", "visibility", heatTitle}, rows));
+}
+
 } // namespace
 
 int runCompare(CompareArgs& args) {
     if (args.quiet) Progress::setEnabled(false);
     if (!(args.heatScale > 0.0f && args.heatScale <= 1.0f))
         throw UsageError("--heat-scale must lie in (0, 1]");
+    if (args.converged && (*args.converged < 1 || *args.converged > kMaxConvergedFrames))
+        throw UsageError("--converged " + std::to_string(*args.converged) +
+                         ": K, the number of seeds averaged, " + "must lie in 1 to " +
+                         std::to_string(kMaxConvergedFrames));
+    if (args.noCache && !args.converged) throw UsageError("--no-cache applies to --converged only");
     if (args.inputs.size() == 2) {
         if (!isNpy(args.inputs[0]) || !isNpy(args.inputs[1]))
             throw UsageError("compare takes one SCENE, or two .npy light-sample files");
+        if (args.converged || !args.report.empty() || !args.sheet.empty())
+            throw UsageError(std::string(args.converged         ? "--converged"
+                                         : !args.report.empty() ? "--report"
+                                                                : "--sheet") +
+                             " compares renders of a SCENE, not two .npy light-sample files");
         return compareNpy(args);
     }
     if (args.inputs.size() != 1) throw UsageError("compare takes one SCENE, or two .npy light-sample files");
@@ -155,31 +357,85 @@ int runCompare(CompareArgs& args) {
     const std::vector<MethodParams> params = paramsForMethods(all, args.params);
     if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
     if (!args.json.empty()) checkWritableFile(args.json, "--json");
+    if (!args.report.empty()) prepareOutputDirectory(args.report, "--report");
+    if (!args.sheet.empty()) {
+        if (fs::path(args.sheet).extension() != ".png")
+            throw UsageError("--sheet " + args.sheet +
+                             ": the contact sheet is written as PNG, name a .png file");
+        checkWritableFile(args.sheet, "--sheet");
+    }
 
-    const Scene scene = loadScene(spec, parseSets(args.sets));
+    const SceneOptions sceneSets = parseSets(args.sets);
+    const Scene scene = loadScene(spec, sceneSets);
     checkFrameMemory(base, scene.lights.size());
 
-    auto render = [&](const MethodBackend& mb, double& frameMs) {
+    auto optionsOf = [&](const MethodBackend& mb) {
         RenderOptions o = base;
         o.method = mb.method;
         o.backend = mb.backend;
         o.params = params[std::size_t(std::find(all.begin(), all.end(), mb.method) - all.begin())];
+        return o;
+    };
+    auto render = [&](const MethodBackend& mb, double& frameMs) {
         Timer wall;
-        Frame frame = renderFrame(scene, o);
+        Frame frame = renderFrame(scene, optionsOf(mb));
         frameMs = frameMsOf(frame, wall.milliseconds());
         return frame;
     };
     double againstMs = 0.0;
     const Frame reference = render(against, againstMs);
+
+    // The converged reference: the reference frame above is its seed S, the others follow.
+    std::optional<ConvergedReference> converged;
+    ImageF convergedVisibility, convergedLit; // display values
+    const int frames = args.converged.value_or(0);
+    if (args.converged) {
+        ConvergedRequest request;
+        request.scene = &scene;
+        request.spec = spec;
+        request.sceneSets = sceneSets;
+        request.options = optionsOf(against);
+        request.frames = frames;
+        request.useCache = !args.noCache;
+        request.cacheDir = convergedCacheDirectory();
+        request.first = &reference;
+        request.render = [&](const RenderOptions& o) { return renderFrame(scene, o); };
+        if (request.useCache && request.cacheDir.empty())
+            std::fprintf(stderr, "note: no cache directory (set STSV_CACHE_DIR, XDG_CACHE_HOME or HOME): the "
+                                 "converged reference is not cached\n");
+        converged = convergedReference(request);
+        for (const std::string& m : converged->messages) std::fprintf(stderr, "note: %s\n", m.c_str());
+        convergedVisibility = toDisplay(converged->images.visibility, false);
+        convergedLit = toDisplay(converged->images.color, true);
+    }
     std::vector<Row> rows;
-    rows.push_back(compareFrames(against, reference, reference, againstMs));
-    if (!args.out.empty()) writeImages(args.out, against, reference, nullptr, nullptr, args.heatScale);
+    auto addRow = [&](Row row, const Frame& frame) {
+        if (converged) {
+            row.convergedVisibility = compareImages(row.visibilityDisplay, convergedVisibility, kCoarseError);
+            row.convergedLit = compareImages(row.litDisplay, convergedLit);
+        }
+        const bool first = rows.empty();
+        if (!args.out.empty()) {
+            writeImages(args.out, row.mb, frame, first ? nullptr : &row, first ? nullptr : &reference,
+                        args.heatScale);
+            if (converged)
+                writePng((fs::path(args.out) / (fileStem(row.mb) + "_converged_diff.png")).string(),
+                         heatMap(row.convergedVisibility.absDifference, args.heatScale));
+        }
+        rows.push_back(std::move(row));
+    };
+    addRow(compareFrames(against, reference, reference, againstMs), reference);
     for (const MethodBackend& mb : methods) {
         if (mb.method == against.method && mb.backend == against.backend) continue; // already the first row
         double ms = 0.0;
         const Frame frame = render(mb, ms);
-        rows.push_back(compareFrames(mb, frame, reference, ms));
-        if (!args.out.empty()) writeImages(args.out, mb, frame, &rows.back(), &reference, args.heatScale);
+        addRow(compareFrames(mb, frame, reference, ms), frame);
+    }
+    if (converged && !args.out.empty()) {
+        writePng((fs::path(args.out) / "converged_visibility.png").string(),
+                 toImage8(converged->images.visibility, false));
+        writePng((fs::path(args.out) / "converged_lit.png").string(),
+                 toImage8(converged->images.color, true));
     }
 
     std::printf("%s, %dx%d, %d samples (%s, seed %u), against %s\n", scene.source.c_str(), base.width,
@@ -194,37 +450,106 @@ int runCompare(CompareArgs& args) {
                     identical.c_str(), differing.c_str(), r.visibility.rmse, r.visibility.maxAbs, r.lit.rmse,
                     r.lit.maxAbs, 100.0 * r.lit.fractionAbove, r.frameMs);
     }
-    std::printf(
+    const char* const equalNote =
         "(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; >1/255 px = pixels "
         "of the lit image off by more than one 8-bit step; n/a: penumbra wedges give a v_coef per pixel, "
-        "not per-sample bits)\n");
+        "not per-sample bits)";
+    std::printf("%s\n", equalNote);
+
+    // The bias tables: against the equal-sample reference, and against the converged one with
+    // the equal-sample reference's own error as the noise floor.
+    ReportTable biasTable;
+    biasTable.caption = "against the equal-sample reference (" + toString(against) + ", " +
+                        std::to_string(base.samples) + " samples, seed " + std::to_string(base.seed) + "):";
+    biasTable.header = kErrorHeader;
+    for (const Row& r : rows) biasTable.rows.push_back(errorCells(toString(r.mb), r.visibilityCoarse, r.lit));
+    ReportTable convergedTable;
+    std::string convergedSummary; // "reference/cpu, seeds 1 to 16 (16 x 16 = 256 samples per pixel), cache …"
+    if (converged) {
+        const std::uint32_t last = base.seed + std::uint32_t(frames - 1);
+        convergedSummary = toString(against) + ", seeds " + std::to_string(base.seed) +
+                           (frames > 1 ? " to " + std::to_string(last) : "") + " (" + std::to_string(frames) +
+                           " x " + std::to_string(base.samples) + " = " +
+                           std::to_string(frames * base.samples) + " samples per pixel), cache " +
+                           toString(converged->cache) +
+                           (converged->entry.empty() ? std::string() : ": " + converged->entry);
+        convergedTable.caption = "against the converged reference (" + std::to_string(frames * base.samples) +
+                                 " samples per pixel):";
+        convergedTable.header = kErrorHeader;
+        convergedTable.rows.push_back(
+            errorCells("noise floor", rows.front().convergedVisibility, rows.front().convergedLit));
+        for (std::size_t i = 1; i < rows.size(); ++i)
+            convergedTable.rows.push_back(
+                errorCells(toString(rows[i].mb), rows[i].convergedVisibility, rows[i].convergedLit));
+        convergedTable.note = "(" + std::string(kBiasNote) + "; noise floor = the equal-sample " +
+                              toString(against) + " against the converged one)";
+        std::printf("\nconverged reference: %s\n%s\n%s", convergedSummary.c_str(),
+                    formatTextTable(biasTable).c_str(), formatTextTable(convergedTable).c_str());
+    } else {
+        biasTable.note = "(" + std::string(kBiasNote) + ")";
+    }
     if (!args.out.empty()) std::printf("images in %s\n", args.out.c_str());
+
+    if (!args.report.empty() || !args.sheet.empty()) {
+        const std::vector<ImageSet> sets =
+            imageSets(rows, converged ? &*converged : nullptr, frames * base.samples, args.heatScale);
+        const std::string heatAgainst = converged ? "converged" : "reference";
+        if (!args.report.empty()) {
+            ReportTable first = equalSampleTable(rows);
+            first.caption = "against " + toString(against) + " at the same samples:";
+            first.note = equalNote;
+            std::vector<ReportTable> tables = {first, biasTable};
+            if (converged) tables.push_back(convergedTable);
+            const Report report = describeReport(args, scene, sceneSets, optionsOf(against), rows, tables,
+                                                 converged ? convergedSummary : "not requested");
+            writeReport(args.report, report, sets, "|Δ visibility| vs " + heatAgainst);
+            std::printf("report in %s\n", (fs::path(args.report) / "index.html").string().c_str());
+        }
+        if (!args.sheet.empty()) {
+            writeSheet(args.sheet, sets, "error vs " + heatAgainst);
+            std::printf("contact sheet in %s\n", args.sheet.c_str());
+        }
+    }
 
     if (!args.json.empty()) {
         nlohmann::json list = nlohmann::json::array();
-        for (const Row& r : rows)
-            list.push_back(
-                {{"method", toString(r.mb.method)},
-                 {"backend", toString(r.mb.backend)},
-                 {"identical_percent", r.perSample ? nlohmann::json(r.identicalPercent()) : nlohmann::json()},
-                 {"differing_samples", r.differingSamples},
-                 {"compared_samples", r.comparedSamples},
-                 {"differing_pixels", r.differingPixels},
-                 {"visibility",
-                  {{"rmse", r.visibility.rmse},
-                   {"max_abs", r.visibility.maxAbs},
-                   {"fraction_above_1_255", r.visibility.fractionAbove}}},
-                 {"lit",
-                  {{"rmse", r.lit.rmse},
-                   {"max_abs", r.lit.maxAbs},
-                   {"fraction_above_1_255", r.lit.fractionAbove}}},
-                 {"frame_ms", r.frameMs}});
-        RenderOptions o = base;
-        o.method = against.method;
-        o.backend = against.backend;
-        o.params = params[0];
-        writeJson(args.json,
-                  {{"scene", spec}, {"against", toString(against)}, {"options", toJson(o)}, {"rows", list}});
+        for (const Row& r : rows) {
+            nlohmann::json row = {
+                {"method", toString(r.mb.method)},
+                {"backend", toString(r.mb.backend)},
+                {"identical_percent", r.perSample ? nlohmann::json(r.identicalPercent()) : nlohmann::json()},
+                {"differing_samples", r.differingSamples},
+                {"compared_samples", r.comparedSamples},
+                {"differing_pixels", r.differingPixels},
+                {"visibility",
+                 {{"rmse", r.visibility.rmse},
+                  {"bias", r.visibility.bias},
+                  {"max_abs", r.visibility.maxAbs},
+                  {"fraction_above_1_255", r.visibility.fractionAbove},
+                  {"fraction_above_0_1", r.visibilityCoarse.fractionAbove}}},
+                {"lit",
+                 {{"rmse", r.lit.rmse},
+                  {"bias", r.lit.bias},
+                  {"max_abs", r.lit.maxAbs},
+                  {"fraction_above_1_255", r.lit.fractionAbove}}},
+                {"frame_ms", r.frameMs}};
+            if (converged) row["converged"] = errorJson(r.convergedVisibility, r.convergedLit);
+            list.push_back(row);
+        }
+        nlohmann::json j = {{"scene", spec},
+                            {"against", toString(against)},
+                            {"options", toJson(optionsOf(against))},
+                            {"rows", list}};
+        if (converged) {
+            j["converged_reference"] = {{"frames", frames},
+                                        {"seeds", {base.seed, base.seed + std::uint32_t(frames - 1)}},
+                                        {"samples_per_pixel", frames * base.samples},
+                                        {"cache", toString(converged->cache)},
+                                        {"cache_entry", converged->entry},
+                                        {"frames_rendered", converged->framesRendered}};
+            j["noise_floor"] = errorJson(rows.front().convergedVisibility, rows.front().convergedLit);
+        }
+        writeJson(args.json, j);
     }
     return 0;
 }

@@ -82,7 +82,12 @@ struct CompareArgs : FrameArgs {
     std::string against = "reference";
     std::string out; ///< directory for the error images (none when empty)
     std::string json;
-    float heatScale = 0.25f; ///< |Δ visibility| shown yellow in the heat maps
+    float heatScale = 0.25f;       ///< |Δ visibility| shown yellow in the heat maps
+    std::optional<int> converged;  ///< K: also compare with the mean of K seeds of --against
+    bool noCache = false;          ///< render the converged reference even when the cache holds it
+    std::string report;            ///< directory for index.html and its images (none when empty)
+    std::string sheet;             ///< contact-sheet PNG (none when empty)
+    std::vector<std::string> argv; ///< the command line, shown in the report
 };
 int runCompare(CompareArgs& args);
 

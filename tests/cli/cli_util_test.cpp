@@ -118,6 +118,45 @@ TEST(CompareImages, RmseMaxAndFractionAbove) {
     EXPECT_THROW(compareImages(ImageF(2, 2, 1), ImageF(2, 3, 1)), UsageError);
 }
 
+TEST(CompareImages, AnImageAgainstItselfHasNoErrorAndNoBias) {
+    ImageF a(3, 2, 3);
+    for (std::size_t i = 0; i < a.pixels.size(); ++i) a.pixels[i] = float(i % 7) / 7.0f;
+    const ImageError e = compareImages(a, a, 0.1f);
+    EXPECT_EQ(e.rmse, 0.0);
+    EXPECT_EQ(e.bias, 0.0);
+    EXPECT_EQ(e.maxAbs, 0.0);
+    EXPECT_EQ(e.fractionAbove, 0.0);
+}
+
+TEST(CompareImages, BiasIsTheSignedMeanOfImageMinusReference) {
+    // A method 0.125 darker than the reference on a quarter of its pixels, 0.25 brighter on
+    // another quarter (0.125 and 0.25 are exact in float, so the sums are exact).
+    ImageF reference(4, 2, 1), method(4, 2, 1);
+    for (float& v : reference.pixels) v = 0.5f;
+    method = reference;
+    method.at(0, 0, 0) -= 0.125f;
+    method.at(1, 0, 0) -= 0.125f;
+    method.at(2, 1, 0) += 0.25f;
+    method.at(3, 1, 0) += 0.25f;
+    const ImageError e = compareImages(method, reference, 0.1f);
+    EXPECT_DOUBLE_EQ(e.bias, (-2 * 0.125 + 2 * 0.25) / 8.0) << "brighter on balance: positive";
+    EXPECT_DOUBLE_EQ(e.rmse, std::sqrt((2 * 0.125 * 0.125 + 2 * 0.25 * 0.25) / 8.0));
+    EXPECT_DOUBLE_EQ(e.maxAbs, 0.25);
+    EXPECT_DOUBLE_EQ(e.fractionAbove, 4.0 / 8.0) << "four pixels off by more than 0.1";
+    // Swapping the roles flips the sign of the bias only.
+    const ImageError swapped = compareImages(reference, method, 0.1f);
+    EXPECT_DOUBLE_EQ(swapped.bias, -e.bias);
+    EXPECT_DOUBLE_EQ(swapped.rmse, e.rmse);
+    // A uniform offset is all bias: RMSE = |bias|. Channels count separately.
+    ImageF rgb(2, 2, 3), darker(2, 2, 3);
+    for (float& v : rgb.pixels) v = 0.75f;
+    for (float& v : darker.pixels) v = 0.5f;
+    const ImageError offset = compareImages(darker, rgb, 0.1f);
+    EXPECT_DOUBLE_EQ(offset.bias, -0.25);
+    EXPECT_DOUBLE_EQ(offset.rmse, 0.25);
+    EXPECT_DOUBLE_EQ(offset.fractionAbove, 1.0);
+}
+
 TEST(HeatMap, BlackRedYellow) {
     ImageF v(4, 1, 1);
     v.at(1, 0, 0) = 0.5f;
