@@ -53,11 +53,13 @@ struct Result { // NOLINT(bugprone-exception-escape)
     std::vector<double> frameMs;
     std::map<std::string, std::vector<double>> passes;
     std::vector<LightSampleBuffer> lightSamples; ///< of the last timed frame (for --check)
+    ImageF visibility;                           ///< of the last timed frame (for --check)
     nlohmann::json lastStats;
     std::string error;
     std::optional<double> speedup;
     std::optional<double> agreementPercent;
     std::size_t differingSamples = 0;
+    std::optional<ImageError> visibilityError; ///< --check: v_coef against the reference's
 };
 
 /// Adds every number under `passes` to `out`, nested objects as "outer/inner".
@@ -161,6 +163,7 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
         collectPasses(frame.stats.value("passes", nlohmann::json::object()), "", result.passes);
         if (i + 1 == warmup + repeat) {
             result.lightSamples = std::move(frame.lightSamples);
+            result.visibility = std::move(frame.visibility);
             result.lastStats = std::move(frame.stats);
         }
     }
@@ -169,7 +172,8 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
 
 void printTable(const std::vector<Result>& results, const std::vector<Variant>& variants, bool check) {
     std::printf("%-24s %-10s %-8s %7s %11s %11s %11s %11s %9s%s\n", "scene", "method", "backend", "samples",
-                "startup ms", "median ms", "min ms", "max ms", "speed-up", check ? "  identical bits" : "");
+                "startup ms", "median ms", "min ms", "max ms", "speed-up",
+                check ? "  identical bits   vis RMSE   vis bias" : "");
     for (const Result& r : results) {
         const Config& c = r.config;
         const Variant& variant = variants[c.variant];
@@ -182,11 +186,18 @@ void printTable(const std::vector<Result>& results, const std::vector<Variant>& 
         const Summary f = summarize(r.frameMs);
         char speedup[32] = "-";
         if (r.speedup) std::snprintf(speedup, sizeof speedup, "%.1fx", *r.speedup);
-        char agreement[48] = "";
-        if (check && r.agreementPercent)
-            std::snprintf(agreement, sizeof agreement, "  %12.4f %%", *r.agreementPercent);
-        else if (check)
-            std::snprintf(agreement, sizeof agreement, "  %14s", "-");
+        char agreement[96] = "";
+        if (check) {
+            char bits[32], vis[48] = "";
+            if (r.agreementPercent)
+                std::snprintf(bits, sizeof bits, "  %12.4f %%", *r.agreementPercent);
+            else
+                std::snprintf(bits, sizeof bits, "  %14s", "-");
+            if (r.visibilityError)
+                std::snprintf(vis, sizeof vis, " %10.5f %+10.5f", r.visibilityError->rmse,
+                              r.visibilityError->bias);
+            std::snprintf(agreement, sizeof agreement, "%s%s", bits, vis);
+        }
         std::printf("%-24s %-10s %-8s %7d %11.1f %11.2f %11.2f %11.2f %9s%s\n", name.c_str(),
                     toString(c.method).c_str(), toString(c.backend).c_str(), c.samples, r.startupMs, f.median,
                     f.min, f.max, speedup, agreement);
@@ -393,6 +404,11 @@ int runBench(BenchArgs& args) {
                 const Result* reference = &results[*referenceIndex];
                 r.speedup = summarize(reference->frameMs).median / summarize(r.frameMs).median;
                 if (args.check) {
+                    r.visibilityError = compareImages(r.visibility, reference->visibility);
+                    r.visibilityError->absDifference = ImageF();
+                }
+                // Bits only for methods that write per-sample results (not a visibility image).
+                if (args.check && methodInfo(r.config.method).output != MethodOutput::Visibility) {
                     std::size_t differing = 0, compared = 0;
                     for (std::size_t l = 0; l < r.lightSamples.size() && l < reference->lightSamples.size();
                          ++l) {
@@ -407,7 +423,10 @@ int runBench(BenchArgs& args) {
                 }
             }
             // Buffers are only kept for the check within one group.
-            for (std::size_t i = groupStart; i < results.size(); ++i) results[i].lightSamples.clear();
+            for (std::size_t i = groupStart; i < results.size(); ++i) {
+                results[i].lightSamples.clear();
+                results[i].visibility = ImageF();
+            }
         }
     }
 
@@ -464,7 +483,12 @@ int runBench(BenchArgs& args) {
                 j["identical_bits_percent"] = *r.agreementPercent;
                 j["differing_samples"] = r.differingSamples;
             }
-            for (const char* key : {"light_sample_buffer_bytes", "stsv", "wedges", "gpu", "gpu_ms"})
+            if (r.visibilityError)
+                j["visibility_vs_reference"] = {{"rmse", r.visibilityError->rmse},
+                                                {"bias", r.visibilityError->bias},
+                                                {"max_abs", r.visibilityError->maxAbs}};
+            for (const char* key :
+                 {"light_sample_buffer_bytes", "stsv", "wedges", "shadow_maps", "gpu", "gpu_ms"})
                 if (r.lastStats.contains(key)) j[key] = r.lastStats[key];
             configurations.push_back(j);
         }

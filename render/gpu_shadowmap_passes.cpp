@@ -45,7 +45,8 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     } else {
         depth.emplace_back(device, sizeof(uint), STORAGE, MemoryUsage::DeviceLocal);
     }
-    std::vector<std::byte> table(sizeof(GpuShadowParams) + sizeof(ShadowMapView) * std::max<std::size_t>(m_views.size(), 1));
+    std::vector<std::byte> table(sizeof(GpuShadowParams) +
+                                 sizeof(ShadowMapView) * std::max<std::size_t>(m_views.size(), 1));
     std::memcpy(table.data(), &params, sizeof params);
     if (!m_views.empty())
         std::memcpy(table.data() + sizeof params, m_views.data(), sizeof(ShadowMapView) * m_views.size());
@@ -102,7 +103,8 @@ void ShadowMapPass::record(VkCommandBuffer cmd, std::size_t light) const {
 
 ShadowFilterPass::ShadowFilterPass(const Device& device, const RenderOptions& options, Step step,
                                    ShadowMapResources& maps, FrameResources& frame,
-                                   const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
+                                   const FrameDescriptors& descriptors,
+                                   const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_frame(&frame), m_descriptors(&descriptors), m_step(step),
       m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
     const ShaderCompiler compiler;

@@ -60,8 +60,8 @@ MapDiff compareMaps(const ShadowMap& gpu, const ShadowMap& cpu) {
                 if (!nearDiscontinuity(cpu, face, x, y)) {
                     ++d.differingInside;
                     if (d.differingInside <= 5)
-                        std::printf("  differs away from an edge: face %u texel (%d, %d): gpu %g cpu %g\n", face,
-                                    x, y, double(a), double(b));
+                        std::printf("  differs away from an edge: face %u texel (%d, %d): gpu %g cpu %g\n",
+                                    face, x, y, double(a), double(b));
                 }
             }
     return d;
@@ -99,7 +99,8 @@ void expectMapsAgree(const Scene& scene, const RenderOptions& gpuOptions, const 
     for (std::size_t i = 0; i < gpuFrame.visibility.pixels.size(); ++i) {
         if (!cpuFrame.gbuffer.covered(i)) continue;
         ++covered;
-        const double dv = std::abs(double(gpuFrame.visibility.pixels[i]) - double(cpuFrame.visibility.pixels[i]));
+        const double dv =
+            std::abs(double(gpuFrame.visibility.pixels[i]) - double(cpuFrame.visibility.pixels[i]));
         sum += dv;
         if (dv > 1.0 / 16.0) ++off;
     }
