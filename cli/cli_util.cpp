@@ -152,8 +152,14 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
     // light-sample buffer in its storage layout (32-bit words, or 16-bit counters).
     const double gbuffer = pixels * (12.0 + 12.0 + 4.0);
     const double images = pixels * (12.0 + 4.0);
-    const double perLight = double(LightSampleBuffer::storageBytes(
-        o.width, o.height, o.samples, methodInfo(o.method).bufferKind(o.buffer)));
+    double perLight = double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples,
+                                                             methodInfo(o.method).bufferKind(o.buffer)));
+    // Image-based methods: a map per light, six faces at most.
+    if (methodInfo(o.method).shadowMap != ShadowFilter::None) {
+        const auto size = o.params.find("sm_size");
+        const double edge = size == o.params.end() ? double(ShadowMapSettings{}.size) : size->second;
+        perLight += 6.0 * edge * edge * sizeof(float);
+    }
     return gbuffer + images + perLight * double(std::max<std::size_t>(lights, 1));
 }
 
@@ -169,7 +175,7 @@ void checkFrameMemory(const RenderOptions& o, std::size_t lights) {
         std::snprintf(
             text, sizeof text,
             "a %dx%d frame with %d samples and %zu light(s) needs about %.1f GiB, more than half of "
-            "this machine's %.1f GiB: use a smaller --size or fewer --samples",
+            "this machine's %.1f GiB: use a smaller --size, fewer --samples or a smaller sm_size",
             o.width, o.height, o.samples, lights, needed / double(1u << 30), available / double(1u << 30));
         throw UsageError(text);
     }
