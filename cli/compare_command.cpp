@@ -506,7 +506,7 @@ int runCompare(CompareArgs& args) {
             std::printf("report in %s\n", (fs::path(args.report) / "index.html").string().c_str());
         }
         if (!args.sheet.empty()) {
-            writeSheet(args.sheet, sets, "error vs " + heatAgainst);
+            writeSheet(args.sheet, sets, "|dv| " + heatAgainst); // fits a 192-pixel tile at scale 2
             std::printf("contact sheet in %s\n", args.sheet.c_str());
         }
     }
