@@ -82,59 +82,54 @@ struct BiasErrors {
     std::size_t band = 0; ///< pixels in the band
 };
 
-class ShadowMapBias : public ::testing::Test {
-  protected:
-    // One map at the default size serves both views and every setting (the bias is applied in
-    // the filter); the wide view measures acne over the whole ground, the close view of the
-    // fence's foot (1 mm pixels) the leak just behind it.
-    static void SetUpTestSuite() {
-        s_scene = new Scene(makeFenceScene());
-        s_embree = new EmbreeScene(*s_scene);
-        s_map = new ShadowMap(traceShadowMap(
-            *s_embree, fitShadowMap(s_scene->lights[0], s_scene->bounds(), ShadowMapSettings{}.size)));
-        s_wide = new Frame(renderCpu(*s_scene, Method::Reference, kSize, kSize, {}, 64, 1u));
-        Scene foot = *s_scene;
-        foot.camera.eye = vec3(0.5f, 0.5f, 1.0f);
-        foot.camera.target = vec3(0.5f, 0.0f, 0.05f);
-        foot.camera.fovY = 30.0f;
-        s_foot = new Frame(renderCpu(foot, Method::Reference, kSize, kSize, {}, 64, 1u));
-    }
-    static void TearDownTestSuite() {
-        delete s_foot;
-        delete s_wide;
-        delete s_map;
-        delete s_embree;
-        delete s_scene;
+/// The fence under its default 1 m light, a wide view (acne over the whole ground) and a close
+/// view of the fence's foot (1 mm pixels: the leak just behind it), each with its reference; one
+/// map at the default size serves both views and every setting (the bias is applied in the
+/// filter).
+struct BiasSetup {
+    static constexpr int kSize = 256;
+    Scene scene = makeFenceScene();
+    EmbreeScene embree{scene};
+    ShadowMap map =
+        traceShadowMap(embree, fitShadowMap(scene.lights[0], scene.bounds(), ShadowMapSettings{}.size));
+    Frame wide = renderCpu(scene, Method::Reference, kSize, kSize, {}, 64, 1u);
+    Frame foot = renderFoot();
+
+    Frame renderFoot() const {
+        Scene close = scene;
+        close.camera.eye = vec3(0.5f, 0.5f, 1.0f);
+        close.camera.target = vec3(0.5f, 0.0f, 0.05f);
+        close.camera.fovY = 30.0f;
+        return renderCpu(close, Method::Reference, kSize, kSize, {}, 64, 1u);
     }
 
-    static ImageF filter(const Frame& ref, const ShadowMapSettings& s) {
+    ImageF filter(const Frame& ref, const ShadowMapSettings& s) const {
         ImageF v(kSize, kSize, 1);
-        shadowMapFilterPixels(*s_map, shadowFilterTaps(s), ref.gbuffer, s, 1u, true, v);
+        shadowMapFilterPixels(map, shadowFilterTaps(s), ref.gbuffer, s, 1u, true, v);
         return v;
     }
 
-    static BiasErrors measure(const ShadowMapSettings& s) {
+    BiasErrors measure(const ShadowMapSettings& s) const {
         BiasErrors e;
-        const ImageF wide = filter(*s_wide, s), foot = filter(*s_foot, s);
+        const ImageF wideV = filter(wide, s), footV = filter(foot, s);
         std::size_t lit = 0, acne = 0, dark = 0, leak = 0;
-        const GBuffer& gw = s_wide->gbuffer;
         for (int y = 0; y < kSize; ++y)
             for (int x = 0; x < kSize; ++x) {
-                if (!isGround(gw, gw.index(x, y)) || s_wide->visibility.at(x, y, 0) < 1.0f) continue;
+                if (!isGround(wide.gbuffer, wide.gbuffer.index(x, y)) || wide.visibility.at(x, y, 0) < 1.0f)
+                    continue;
                 ++lit;
-                acne += wide.at(x, y, 0) < 0.98f;
+                acne += wideV.at(x, y, 0) < 0.98f;
             }
-        const GBuffer& gf = s_foot->gbuffer;
         double excess = 0.0;
         for (int y = 0; y < kSize; ++y)
             for (int x = 0; x < kSize; ++x) {
-                const std::size_t i = gf.index(x, y);
-                if (!isGround(gf, i)) continue;
-                const vec3 p = gf.position[i];
+                const std::size_t i = foot.gbuffer.index(x, y);
+                if (!isGround(foot.gbuffer, i)) continue;
+                const vec3 p = foot.gbuffer.position[i];
                 // The shadow side, 1 to 5 cm from the fence line, away from its side edges.
                 if (!(p.z > 0.01f && p.z < 0.05f && std::abs(p.x) < 1.9f)) continue;
                 ++e.band;
-                const float r = s_foot->visibility.at(x, y, 0), v = foot.at(x, y, 0);
+                const float r = foot.visibility.at(x, y, 0), v = footV.at(x, y, 0);
                 excess += double(v - r);
                 if (r < 0.25f) {
                     ++dark;
@@ -149,9 +144,12 @@ class ShadowMapBias : public ::testing::Test {
         return e;
     }
 
-    static BiasErrors report(const char* what, ShadowMapSettings s) {
+    BiasErrors report(const char* what, ShadowFilter f, float bias = ShadowMapSettings{}.bias) const {
+        ShadowMapSettings s;
+        s.filter = f;
+        s.bias = bias;
         const BiasErrors e = measure(s);
-        std::printf("%-26s acne %.5f, peter-panning %.4f of the dark band (%zu px), mean excess %.4f\n", what,
+        std::printf("%-16s acne %.5f, peter-panning %.4f of the dark band (%zu px), mean excess %.4f\n", what,
                     e.acne, e.leak, e.band, e.excess);
         std::string key = what; // an XML attribute name in --gtest_output=xml
         for (char& ch : key)
@@ -160,59 +158,52 @@ class ShadowMapBias : public ::testing::Test {
         ::testing::Test::RecordProperty(key + "_peter_panning", std::to_string(e.leak));
         return e;
     }
-
-    static ShadowMapSettings settings(ShadowFilter f, float bias = ShadowMapSettings{}.bias) {
-        ShadowMapSettings s;
-        s.filter = f;
-        s.bias = bias;
-        return s;
-    }
-
-    static constexpr int kSize = 256;
-    static inline Scene* s_scene = nullptr;
-    static inline EmbreeScene* s_embree = nullptr;
-    static inline ShadowMap* s_map = nullptr;
-    static inline Frame* s_wide = nullptr;
-    static inline Frame* s_foot = nullptr;
 };
 
-TEST_F(ShadowMapBias, DefaultsShowNoAcneAndLittlePeterPanning) {
-    const BiasErrors pcf = report("pcf defaults", settings(ShadowFilter::Pcf));
-    const BiasErrors pcss = report("pcss defaults", settings(ShadowFilter::Pcss));
-    // Acne: the receiver-plane depth keeps the flat ground's taps on its own plane, so what is
-    // left is the filters' reach past the reference's penumbra edge (measured 0.07 % and 0.13 %).
-    EXPECT_LT(pcf.acne, 0.005);
-    EXPECT_LT(pcss.acne, 0.005);
-    // Peter-panning 1 to 5 cm behind the fence (1.6 to 8 map texels of 6 mm): PCF's 5×5 kernel
-    // blurs the wires' shadows but keeps them below 0.75 (measured 1 %); PCSS's kernel is under a
-    // texel this close to the blockers, so wire edges quantised to texels flip whole pixels
-    // (measured 11 %; 6 % at sm_bias 0.25, 19 % at 2). Within the first centimetre the map cannot
-    // part the foot from the ground at any bias (a third of the dark pixels leak).
-    EXPECT_LT(pcf.leak, 0.05);
-    EXPECT_LT(pcss.leak, 0.2);
-    // Light leaking is one-sided, quantisation is not: the mean excess over the band (measured
-    // 0.006 and 0.017).
-    EXPECT_LT(pcf.excess, 0.03);
-    EXPECT_LT(pcss.excess, 0.03);
-}
-
-TEST_F(ShadowMapBias, ZeroBiasGivesAcneEvenWithTheReceiverPlaneDepth) {
-    // The ground's stored depth equals its plane depth up to float rounding, so half its taps
-    // and more compare as blocked without a constant bias.
-    const BiasErrors pcf = report("pcf sm_bias=0", settings(ShadowFilter::Pcf, 0.0f));
-    const BiasErrors pcss = report("pcss sm_bias=0", settings(ShadowFilter::Pcss, 0.0f));
-    EXPECT_GT(pcf.acne, 0.1);  // measured 99.7 %
-    EXPECT_GT(pcss.acne, 0.1); // measured 38 %
-}
-
-TEST_F(ShadowMapBias, LargeBiasPetersPan) {
-    // 64 texels at the receiver (≈ 0.39 m): everything within ~0.2 m behind the fence is lit.
-    const BiasErrors pcf = report("pcf sm_bias=64", settings(ShadowFilter::Pcf, 64.0f));
-    const BiasErrors pcss = report("pcss sm_bias=64", settings(ShadowFilter::Pcss, 64.0f));
-    EXPECT_GT(pcf.leak, 0.9); // measured 100 %
-    EXPECT_GT(pcss.leak, 0.9);
-    EXPECT_GT(pcf.excess, 0.2); // measured 0.37
-    EXPECT_GT(pcss.excess, 0.2);
+TEST(ShadowMapBias, DefaultsAvoidTheAcneOfZeroBiasAndThePeterPanningOfALargeOne) {
+    const BiasSetup setup;
+    {
+        SCOPED_TRACE("defaults");
+        const BiasErrors pcf = setup.report("pcf defaults", ShadowFilter::Pcf);
+        const BiasErrors pcss = setup.report("pcss defaults", ShadowFilter::Pcss);
+        // Acne: the receiver-plane depth keeps the flat ground's taps on its own plane, so what
+        // is left is the filters' reach past the reference's penumbra edge (measured 0.07 % and
+        // 0.13 %).
+        EXPECT_LT(pcf.acne, 0.005);
+        EXPECT_LT(pcss.acne, 0.005);
+        // Peter-panning 1 to 5 cm behind the fence (1.6 to 8 map texels of 6 mm): PCF's 5×5
+        // kernel blurs the wires' shadows but keeps them below 0.75 (measured 1 %); PCSS's kernel
+        // is under a texel this close to the blockers, so wire edges quantised to texels flip
+        // whole pixels (measured 11 %; 6 % at sm_bias 0.25, 19 % at 2). Within the first
+        // centimetre the map cannot part the foot from the ground at any bias (a third of the
+        // dark pixels leak).
+        EXPECT_LT(pcf.leak, 0.05);
+        EXPECT_LT(pcss.leak, 0.2);
+        // Light leaking is one-sided, quantisation is not: the mean excess over the band
+        // (measured 0.006 and 0.017).
+        EXPECT_LT(pcf.excess, 0.03);
+        EXPECT_LT(pcss.excess, 0.03);
+    }
+    {
+        SCOPED_TRACE("sm_bias=0");
+        // The ground's stored depth equals its plane depth up to float rounding, so half its taps
+        // and more compare as blocked without a constant bias: acne even with the receiver-plane
+        // depth.
+        const BiasErrors pcf = setup.report("pcf sm_bias=0", ShadowFilter::Pcf, 0.0f);
+        const BiasErrors pcss = setup.report("pcss sm_bias=0", ShadowFilter::Pcss, 0.0f);
+        EXPECT_GT(pcf.acne, 0.1);  // measured 99.7 %
+        EXPECT_GT(pcss.acne, 0.1); // measured 38 %
+    }
+    {
+        SCOPED_TRACE("sm_bias=64");
+        // 64 texels at the receiver (≈ 0.39 m): everything within ~0.2 m behind the fence is lit.
+        const BiasErrors pcf = setup.report("pcf sm_bias=64", ShadowFilter::Pcf, 64.0f);
+        const BiasErrors pcss = setup.report("pcss sm_bias=64", ShadowFilter::Pcss, 64.0f);
+        EXPECT_GT(pcf.leak, 0.9); // measured 100 %
+        EXPECT_GT(pcss.leak, 0.9);
+        EXPECT_GT(pcf.excess, 0.2); // measured 0.37
+        EXPECT_GT(pcss.excess, 0.2);
+    }
 }
 
 } // namespace
