@@ -72,17 +72,39 @@ DH_FUNC ShadowReceiver shadowReceiver(ShadowMapView v, vec3 p, vec3 n, float bia
     return r;
 }
 
+/// The receiver's depth along the axis of its face (world units), the depth PCSS's similar
+/// triangles take: a plane parallel to the face has one such depth, and a world length at the
+/// receiver parallel to the face spans length/(axial·window width) in uv. r.depth itself but on
+/// cube maps, which store distances from the centre.
+DH_FUNC float shadowReceiverAxial(ShadowMapView v, ShadowReceiver r) {
+    if (v.projection != SHADOW_MAP_CUBE) return r.depth;
+    vec3 X, Y, Z;
+    shadowMapFaceBasis(v, r.face, X, Y, Z);
+    return dot(r.p - v.origin, Z);
+}
+
 /// Whether the map's surface in the texel under uv + offset lies in front of the receiver's
-/// plane there (by more than the bias); `stored` gets the surface's depth.
+/// plane there (by more than the bias); `blockerAxial` gets that surface's depth along the axis
+/// of the receiver's face (the stored depth, but on cube maps: a tap may land on another face,
+/// and its stored distance from the centre grows off the axis even on a plane parallel to the
+/// face).
 DH_FUNC bool shadowTapBlocks(ShadowMapView v, ShadowMapSource src, ShadowReceiver r, vec2 offset,
-                             DH_OUT(float) stored) {
+                             DH_OUT(float) blockerAxial) {
     uint face;
     ivec2 texel;
-    stored = SHADOW_MAP_EMPTY;
+    blockerAxial = SHADOW_MAP_EMPTY;
     if (!shadowMapTexelOf(v, r.face, r.uv + offset, face, texel)) return false;
-    stored = shadowMapSourceDepth(src, face, texel);
+    float stored = shadowMapSourceDepth(src, face, texel);
     if (stored >= SHADOW_MAP_EMPTY) return false;
-    return stored < shadowMapPlaneDepth(v, face, texel, r.p, r.n, r.depth) - r.bias;
+    bool blocks = stored < shadowMapPlaneDepth(v, face, texel, r.p, r.n, r.depth) - r.bias;
+    blockerAxial = stored;
+    if (blocks && v.projection == SHADOW_MAP_CUBE) {
+        vec3 o, d, X, Y, Z;
+        shadowMapTexelRay(v, face, texel, o, d);
+        shadowMapFaceBasis(v, r.face, X, Y, Z);
+        blockerAxial = stored * dot(d, Z) / length(d);
+    }
+    return blocks;
 }
 
 /// PCF over the (2·radius + 1)² texels around the receiver: the lit fraction.
@@ -92,8 +114,8 @@ DH_FUNC float pcfVisibility(ShadowMapView v, ShadowMapSource src, ShadowReceiver
     uint lit = 0u;
     for (int y = -radius; y <= radius; ++y)
         for (int x = -radius; x <= radius; ++x) {
-            float stored;
-            if (!shadowTapBlocks(v, src, r, vec2(float(x), float(y)) * step, stored)) lit += 1u;
+            float blockerAxial;
+            if (!shadowTapBlocks(v, src, r, vec2(float(x), float(y)) * step, blockerAxial)) lit += 1u;
         }
     float side = float(2 * radius + 1);
     return float(lit) / (side * side);
@@ -104,19 +126,21 @@ DH_FUNC vec2 shadowRotate(vec2 t, vec2 rotation) {
 }
 
 /// Radius, in uv, of PCSS's blocker search (step 1): half of w_search = w_light·(d_r − near)/d_r
-/// on the near plane for perspective and cube maps; for orthographic maps (a directional light of
-/// width 2·tan θ per unit distance) half of w_light·(d_r − near) on the receiver.
+/// on the near plane for perspective and cube maps (d_r the receiver's axial depth); for
+/// orthographic maps (a directional light of width 2·tan θ per unit distance) half of
+/// w_light·(d_r − near) on the receiver.
 DH_FUNC float pcssSearchRadius(ShadowMapView v, ShadowReceiver r, float maxTexels) {
     float width = v.window.z - v.window.x;
-    float d = r.depth;
+    float d = shadowReceiverAxial(v, r);
     float radius = v.projection == SHADOW_MAP_ORTHOGRAPHIC
                        ? 0.5f * v.lightWidth * max(d - v.near, 0.0f) / width
                        : 0.5f * v.lightWidth * max(d - v.near, 0.0f) / (d * v.near * width);
     return min(radius, maxTexels / float(v.size));
 }
 
-/// Steps 1 and 2: the average depth of the blockers the first `taps` Poisson taps find within
-/// the search radius; −1 when there is none (the receiver is lit).
+/// Steps 1 and 2: the average depth, along the axis of the receiver's face, of the blockers the
+/// first `taps` Poisson taps find within the search radius; −1 when there is none (the receiver is
+/// lit).
 DH_FUNC float pcssAverageBlocker(ShadowMapView v, ShadowMapSource src, ShadowReceiver r, uint taps,
                                  float maxTexels) {
     if (r.valid == 0.0f) return -1.0f;
@@ -124,10 +148,10 @@ DH_FUNC float pcssAverageBlocker(ShadowMapView v, ShadowMapSource src, ShadowRec
     float sum = 0.0f;
     uint count = 0u;
     for (uint i = 0u; i < taps; ++i) {
-        float stored;
+        float blockerAxial;
         if (shadowTapBlocks(v, src, r, radius * shadowRotate(shadowMapSourceTap(src, i), r.rotation),
-                            stored)) {
-            sum += stored;
+                            blockerAxial)) {
+            sum += blockerAxial;
             count += 1u;
         }
     }
@@ -136,10 +160,10 @@ DH_FUNC float pcssAverageBlocker(ShadowMapView v, ShadowMapSource src, ShadowRec
 
 /// Step 3's kernel radius in uv: half the penumbra w_p = (d_r − d_b)·w_light/d_b (Fernando 2005,
 /// parallel planes; w_light·(d_r − d_b) for orthographic maps), as seen in the map at the
-/// receiver, at most maxTexels texels.
+/// receiver, at most maxTexels texels. d_r and d_b (pcssAverageBlocker) are axial depths.
 DH_FUNC float pcssFilterRadius(ShadowMapView v, ShadowReceiver r, float blockerDepth, float maxTexels) {
     float width = v.window.z - v.window.x;
-    float d = r.depth;
+    float d = shadowReceiverAxial(v, r);
     float db = max(blockerDepth, 1e-6f);
     float radius = v.projection == SHADOW_MAP_ORTHOGRAPHIC
                        ? 0.5f * v.lightWidth * max(d - db, 0.0f) / width
@@ -152,9 +176,9 @@ DH_FUNC float pcssFilter(ShadowMapView v, ShadowMapSource src, ShadowReceiver r,
                          uint taps) {
     uint lit = 0u;
     for (uint i = 0u; i < taps; ++i) {
-        float stored;
+        float blockerAxial;
         vec2 offset = radius * shadowRotate(shadowMapSourceTap(src, firstTap + i), r.rotation);
-        if (!shadowTapBlocks(v, src, r, offset, stored)) lit += 1u;
+        if (!shadowTapBlocks(v, src, r, offset, blockerAxial)) lit += 1u;
     }
     return float(lit) / float(taps);
 }

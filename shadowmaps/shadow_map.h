@@ -32,8 +32,9 @@ float shadowLightWidth(const Light& light);
 /// Bytes of one map of `view` (faces × size² floats).
 std::size_t shadowMapBytes(const ShadowMapView& view);
 
-/// `count` points of a Poisson-disk set in the unit disk (dart throwing, deterministic for a
-/// seed): every pair at least the returned minimum distance apart.
+/// `count` points of a Poisson-disk-like set in the unit disk, deterministic for a seed: radii
+/// stratified by area (the set samples the disk uniformly), angles by best-candidate sampling.
+/// Every pair at least the returned minimum distance apart.
 std::vector<vec2> poissonDiskTaps(int count, std::uint32_t seed, float* minDistance = nullptr);
 
 /// One light's map: faces × size × size depths, row-major per face (SHADOW_MAP_EMPTY where the

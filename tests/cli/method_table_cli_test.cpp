@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -78,6 +79,21 @@ TEST(MethodTableCli, UnknownParamIsOneLineNamingTheMethodsKnobs) {
         runStsv({"bench", "fence", "--methods", "stsv", "--backends", "cpu", "--param", "x=1", "-q"});
     EXPECT_EQ(bench.code, 1);
     EXPECT_NE(bench.err.find("names no parameter of the methods given"), std::string::npos) << bench.err;
+}
+
+TEST(MethodTableCli, ShadowMapSizeOutOfRangeIsOneLineNamingTheKnobAndItsRange) {
+    // sm_size is declared 256 … 8192 texels (render/methods.cpp); both sides of the range.
+    for (const std::string size : {"100", "9000"}) {
+        const std::vector<std::string> args = {"render", "fence",  "--method", "pcss",    "--backend",
+                                               "cpu",    "--size", "8x8",      "--param", "sm_size=" + size,
+                                               "-q"};
+        const test::CliResult r = runStsv(args);
+        EXPECT_EQ(r.code, 1) << test::describe(args, r);
+        EXPECT_NE(r.err.find("--param sm_size=" + size + " is out of range (256 to 8192)"), std::string::npos)
+            << test::describe(args, r);
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+        EXPECT_TRUE(r.out.empty()) << r.out;
+    }
 }
 
 } // namespace
