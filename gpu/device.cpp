@@ -176,7 +176,6 @@ DeviceInfo queryDeviceInfo(VkPhysicalDevice physicalDevice, uint32_t index) {
                     VK_API_VERSION_MINOR(info.apiVersion) >= 3 && features.v13.dynamicRendering &&
                     features.v13.synchronization2 && family != UINT32_MAX;
     info.geometryShader = features.core.features.geometryShader;
-    info.clipDistance = features.core.features.shaderClipDistance;
     info.meshShader = meshExtension && features.mesh.meshShader;
     info.taskShader = meshExtension && features.mesh.taskShader;
     info.logicOp = features.core.features.logicOp;
@@ -360,7 +359,6 @@ Device::Device(const DeviceOptions& options) {
         VkPhysicalDeviceFeatures& core = enabled.core.features;
         const VkPhysicalDeviceFeatures& has = supported.core.features;
         core.geometryShader = has.geometryShader;
-        core.shaderClipDistance = has.shaderClipDistance;
         core.logicOp = has.logicOp;
         core.depthClamp = has.depthClamp;
         core.fragmentStoresAndAtomics = has.fragmentStoresAndAtomics;

@@ -25,9 +25,8 @@ struct DeviceInfo {
     VkPhysicalDeviceType type = VK_PHYSICAL_DEVICE_TYPE_OTHER;
     bool vulkan13 = false; ///< apiVersion ≥ 1.3 and dynamicRendering + synchronization2
     bool geometryShader = false;
-    bool clipDistance = false; ///< shaderClipDistance (the shadow-map raster's light-plane clip)
-    bool meshShader = false;   ///< VK_EXT_mesh_shader present with its meshShader feature
-    bool taskShader = false;   ///< VK_EXT_mesh_shader's taskShader feature
+    bool meshShader = false; ///< VK_EXT_mesh_shader present with its meshShader feature
+    bool taskShader = false; ///< VK_EXT_mesh_shader's taskShader feature
     bool logicOp = false;
     bool fragmentStoresAndAtomics = false;
     bool vertexPipelineStoresAndAtomics = false;

@@ -63,12 +63,11 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
     map.view = view;
     const std::size_t size = view.size;
     map.depth.assign(std::size_t(view.faces) * size * size, SHADOW_MAP_EMPTY);
-    for (uint face = 0; face < shadowMapFilledFaces(view); ++face) {
+    for (uint face = 0; face < view.faces; ++face) {
         float* depth = map.depth.data() + std::size_t(face) * size * size;
         parallelForPixels(int(size), int(size), [&](int x, int y) {
             vec3 o, d;
             shadowMapTexelRay(view, face, ivec2(x, y), o, d);
-            if (!shadowMapMapsDirection(view, d)) return;
             Hit hit;
             // d·Z = 1: the ray parameter is the axial depth, clipped to [near, far] as the rasteriser clips.
             if (embree.intersect(o, d, view.near, view.far, hit))

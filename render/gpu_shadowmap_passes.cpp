@@ -73,9 +73,6 @@ ShadowMapPass::ShadowMapPass(const Device& device, const Scene& scene, ShadowMap
                              const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_descriptors(&descriptors),
       m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
-    if (!device.info().clipDistance)
-        throw UsageError("Vulkan device " + device.info().name +
-                         " lacks shaderClipDistance (the shadow-map raster clips at the light plane)");
     const ShaderCompiler compiler;
     GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmap.vert", defines)},
@@ -97,7 +94,7 @@ void ShadowMapPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, shadowMapFilledFaces(view), 0, 0);
+    if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, view.faces, 0, 0);
     endRendering(cmd);
 }
 

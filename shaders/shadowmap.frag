@@ -24,7 +24,6 @@ void main() {
     vec3 X, Y, Z;
     shadowMapFaceBasis(v, inFace, X, Y, Z);
     vec3 q = gpuPointOnTriangle(t, inBary) - v.origin;
-    if (!shadowMapMapsDirection(v, q)) discard; // the clip's round-off, as the tracer's rule
     float depth = v.projection == SHADOW_MAP_CUBE ? length(q) : dot(q, Z);
     uvec2 texel = uvec2(gl_FragCoord.xy);
     uint index = (inFace * v.size + texel.y) * v.size + texel.x;

@@ -7,10 +7,6 @@
 
 layout(location = 0) out vec2 outBary; ///< (b1, b2) of the triangle
 layout(location = 1) flat out uint outFace;
-out gl_PerVertex {
-    vec4 gl_Position;
-    float gl_ClipDistance[1];
-};
 
 void main() {
     uint corner = uint(gl_VertexIndex) % 3u;
@@ -20,7 +16,4 @@ void main() {
     outFace = uint(gl_InstanceIndex);
     ShadowMapView v = shadowViews[pc.light];
     gl_Position = shadowMapClip(v, outFace, vec3(world));
-    // Behind a one-sided light nothing is mapped (shadowMapMapsDirection): clipped before the
-    // rasteriser, so those texels cost nothing.
-    gl_ClipDistance[0] = v.hemisphere != 0u ? dot(vec3(world) - v.origin, v.axisZ) : 1.0;
 }

@@ -139,7 +139,6 @@ ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
     if (!narrow) {
         v = cubeMap(light, box, x, y, z, size);
         v.lightWidth = shadowLightWidth(light);
-        v.hemisphere = 1u;
         return v;
     }
     v.projection = SHADOW_MAP_PERSPECTIVE;
@@ -150,7 +149,6 @@ ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
     v.window = squareWindow(lo, hi);
     v.near = 0.99f * zlo;
     v.far = 1.01f * zhi;
-    v.hemisphere = 1u;
     v.lightWidth = shadowLightWidth(light);
     return v;
 }

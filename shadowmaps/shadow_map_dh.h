@@ -40,8 +40,7 @@ struct ShadowMapView {
     float lightWidth; ///< w_light of PCSS: world units (rectangle: larger edge; disk, sphere: diameter);
                       ///< orthographic maps: 2·tan(angular radius), the width per unit distance
     uint faces;       ///< 1, or 6 for cube maps
-    uint hemisphere;  ///< 1: only directions in front of the light plane (axisZ) are mapped, as a
-                      ///< rectangle or disk lights nothing behind it; a cube map's −z face stays empty
+    float pad0;
     float pad1;
 };
 
@@ -162,16 +161,6 @@ DH_FUNC void shadowMapTexelRay(ShadowMapView v, uint face, ivec2 texel, DH_OUT(v
         o = v.origin;
         d = s.x * X + s.y * Y + Z;
     }
-}
-
-/// Whether texels along direction d (from the centre) are mapped: not behind a one-sided light.
-DH_FUNC bool shadowMapMapsDirection(ShadowMapView v, vec3 d) {
-    return v.hemisphere == 0u || dot(d, v.axisZ) > 0.0f;
-}
-
-/// Faces the raster and the tracer fill: a hemisphere cube map leaves its last face (−axisZ) empty.
-DH_FUNC uint shadowMapFilledFaces(ShadowMapView v) {
-    return v.projection == SHADOW_MAP_CUBE && v.hemisphere != 0u ? 5u : v.faces;
 }
 
 DH_FUNC float shadowMapDepthAlong(ShadowMapView v, vec3 d, float t) {

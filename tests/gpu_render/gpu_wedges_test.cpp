@@ -274,6 +274,11 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
             for (const std::string light : {"light0/", "light1/"}) {
                 expected.push_back(light + "resolve");
                 if (method.stsv != StsvTriangles::None) expected.push_back(light + "stsv");
+                if (method.shadowMap != ShadowFilter::None) {
+                    expected.push_back(light + "shadow_map");
+                    expected.push_back(light + "shadow_filter");
+                    if (method.shadowMap == ShadowFilter::Pcss) expected.push_back(light + "pcss_blocker");
+                }
                 if (method.opaque == OpaqueTechnique::None) continue;
                 const std::string technique = method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_";
                 for (const char* pass : {"center", "wedges"}) expected.push_back(light + technique + pass);
