@@ -4,27 +4,9 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "reference/embree_scene.h"
+#include "shadowmaps/shadow_filter.h"
 
 #include <cmath>
-
-namespace stsv {
-
-/// The data access of shadowmaps/shadow_filter_dh.h on the CPU: the traced map and the taps.
-struct ShadowMapSource {
-    const ShadowMap* map;
-    const vec2* taps;
-};
-inline float shadowMapSourceDepth(ShadowMapSource s, uint face, ivec2 texel) {
-    return s.map->at(face, texel);
-}
-inline vec2 shadowMapSourceTap(ShadowMapSource s, uint i) {
-    return s.taps[i];
-}
-
-} // namespace stsv
-
-#define SHADOW_MAP_SOURCE
-#include "shadowmaps/shadow_filter_dh.h"
 
 namespace stsv {
 

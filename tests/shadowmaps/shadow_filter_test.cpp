@@ -3,29 +3,9 @@
 // receiver plane parallel to it at axial depth 5. PCSS's steps then have closed forms: the
 // average blocker depth is 2 wherever on the face the receiver lies, and the kernel radius is
 // half of w_p = (5 − 2)·w/2 on the receiver.
-#include "shadowmaps/shadow_map.h"
+#include "shadowmaps/shadow_filter.h"
 
 #include <vector>
-
-namespace stsv {
-
-/// The data access of shadow_filter_dh.h for these tests: a vector of depths and the taps.
-struct ShadowMapSource {
-    const std::vector<float>* depth;
-    const vec2* taps;
-    uint size;
-};
-inline float shadowMapSourceDepth(ShadowMapSource s, uint face, ivec2 texel) {
-    return (*s.depth)[(std::size_t(face) * s.size + std::size_t(texel.y)) * s.size + std::size_t(texel.x)];
-}
-inline vec2 shadowMapSourceTap(ShadowMapSource s, uint i) {
-    return s.taps[i];
-}
-
-} // namespace stsv
-
-#define SHADOW_MAP_SOURCE
-#include "shadowmaps/shadow_filter_dh.h"
 
 #include <gtest/gtest.h>
 
@@ -83,7 +63,8 @@ struct Pcss {
 /// PCSS for the receiver on the plane z = kReceiverDepth at (x, y), normal towards the light.
 Pcss pcssAt(const ShadowMapView& v, const std::vector<float>& depth, const std::vector<vec2>& taps, float x,
             float y) {
-    const ShadowMapSource src{&depth, taps.data(), v.size};
+    const ShadowMap map{v, depth};
+    const ShadowMapSource src{&map, taps.data()};
     const ShadowReceiver r =
         shadowReceiver(v, vec3(x, y, kReceiverDepth), vec3(0, 0, -1), 1.0f, 0.0f, vec2(1.0f, 0.0f));
     Pcss out{};
@@ -143,7 +124,8 @@ TEST(PcfSteps, LitOutsideShadowedInsideAndHalfOnTheEdge) {
     const ShadowMapView v = view(SHADOW_MAP_PERSPECTIVE, 512);
     const std::vector<float> depth = blockerMap(v, 0.4f);
     const std::vector<vec2> t = taps();
-    const ShadowMapSource src{&depth, t.data(), v.size};
+    const ShadowMap map{v, depth};
+    const ShadowMapSource src{&map, t.data()};
     auto pcf = [&](float x) {
         const ShadowReceiver r =
             shadowReceiver(v, vec3(x, 0.3f, kReceiverDepth), vec3(0, 0, -1), 1.0f, 0.0f, vec2(1.0f, 0.0f));
