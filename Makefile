@@ -9,7 +9,7 @@ PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev l
 TEST_PACKAGES := chromium
 SUDO     := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps test-deps configure build demo test clean format format-check
+.PHONY: all deps test-deps configure build demo test bundle clean format format-check
 
 all: build
 
@@ -44,6 +44,10 @@ demo: build
 test: build test-deps
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+# dist/stsv-VERSION-linux-ARCH.tar.gz: the program with its shared libraries (cmake/Bundle.cmake).
+bundle: build
+	cmake -DBUILD_DIR=$(BUILD) -DOUTPUT_DIR=dist -P cmake/Bundle.cmake
+
 format:
 	git ls-files '*.cpp' '*.h' | xargs clang-format -i
 
@@ -52,4 +56,4 @@ format-check: deps
 	git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run -Werror
 
 clean:
-	rm -rf $(BUILD) out
+	rm -rf $(BUILD) out dist

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "core/version.h"
 #include "gpu/device.h"
 #include "render/frame.h"
 #include "scene/load.h"
@@ -495,7 +496,7 @@ int runBench(BenchArgs& args) {
         nlohmann::json out = {
             {"scene", args.scene},
             {"preset", args.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.preset)},
-            {"version", STSV_VERSION},
+            {"version", version()},
             {"machine",
              {{"cpu_threads", std::thread::hardware_concurrency()},
               {"device", device.empty() ? nlohmann::json(nullptr) : nlohmann::json(device)},

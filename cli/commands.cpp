@@ -3,6 +3,7 @@
 #include "cli/cli_util.h"
 #include "cli/subcommands.h"
 #include "core/error.h"
+#include "core/version.h"
 
 #include <CLI/CLI.hpp>
 
@@ -81,7 +82,7 @@ std::vector<std::string> givenOptions(const CLI::App* command) {
 int runCli(int argc, char** argv) {
     CLI::App app{"stsv: soft shadows from area lights for opaque and perforated triangles"};
     app.require_subcommand(1);
-    app.set_version_flag("--version", std::string(STSV_VERSION));
+    app.set_version_flag("--version", std::string("stsv ") + version());
 
     RenderArgs r;
     r.options.samples = 64;

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/progress.h"
+#include "core/version.h"
 
 #include <cmath>
 #include <cstdio>
@@ -226,7 +227,7 @@ nlohmann::json convergedCacheKey(const Scene& scene, const RenderOptions& option
     nlohmann::json o = toJson(frameOptions(options));
     o.erase("validation"); // checks the Vulkan calls, changes no pixel
     return {{"format", 1},
-            {"stsv_version", STSV_VERSION},
+            {"stsv_version", version()},
             {"executable", executableStamp()},
             {"scene_content_fnv1a", hex(sceneContentHash(scene))},
             {"options", o},

@@ -3,7 +3,9 @@
 #include "cli/subcommands.h"
 
 #include "core/error.h"
+#include "core/version.h"
 #include "gpu/device.h"
+#include "gpu/shader_compiler.h"
 #include "scene/load.h"
 
 #include <embree3/rtcore.h>
@@ -43,12 +45,18 @@ int runInfo(const InfoArgs& args) {
                 knobs.push_back({{"name", k.name}, {"default", k.defaultValue}, {"help", k.description}});
             scenes.push_back({{"name", name}, {"description", describeBuiltinScene(name)}, {"knobs", knobs}});
         }
-        out << nlohmann::json{{"version", STSV_VERSION}, {"methods", methodTableJson()}, {"scenes", scenes}}
+        const ShaderCompiler shaders;
+        nlohmann::json shaderSource = {{"embedded", shaders.shaderDirectory().empty()},
+                                       {"source", shaders.describeSource()}};
+        out << nlohmann::json{{"version", version()},
+                              {"methods", methodTableJson()},
+                              {"scenes", scenes},
+                              {"shaders", shaderSource}}
                    .dump(2)
             << '\n';
         return 0;
     }
-    out << "stsv " << STSV_VERSION << ": soft shadows from area lights with soft textured shadow volumes\n\n";
+    out << "stsv " << version() << ": soft shadows from area lights with soft textured shadow volumes\n\n";
     out << "methods:\n";
     for (const MethodInfo& m : methodTable()) {
         out << "  " << m.name << ": " << m.description << '\n';
@@ -67,6 +75,10 @@ int runInfo(const InfoArgs& args) {
         for (const SceneKnob& k : builtinSceneKnobs(name))
             out << "      --set " << k << "  " << k.description << '\n';
     }
+    const ShaderCompiler shaders;
+    out << "shaders: " << shaders.describeSource()
+        << (shaders.shaderDirectory().empty() ? " (STSV_SHADER_DIR=FOLDER reads a folder instead)\n"
+                                              : " (STSV_SHADER_DIR)\n");
     out << "cpu threads: " << std::thread::hardware_concurrency() << '\n';
     out << "embree: " << RTC_VERSION_STRING << '\n';
     try {

@@ -7,6 +7,7 @@
 #include "core/error.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "core/version.h"
 #include "render/frame.h"
 #include "scene/load.h"
 
@@ -115,7 +116,7 @@ int runRender(RenderArgs& args) {
     if (!stats.contains("light_sample_buffer_bytes")) stats["light_sample_buffer_bytes"] = bufferBytes(frame);
     stats["light_sample_buffer_bytes_total"] = bufferBytes(frame);
     stats["command"] = args.argv;
-    stats["version"] = STSV_VERSION;
+    stats["version"] = version();
     stats["outputs"] = {{"image", args.output},
                         {"visibility", args.visibility},
                         {"light_samples", npyFiles},

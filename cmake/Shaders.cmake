@@ -1,7 +1,15 @@
-# Build-time shader check (DESIGN §5, STYLE §9): every shaders/*.{vert,geom,frag,comp,mesh,task}
-# is compiled with glslangValidator for Vulkan 1.3 and validated with spirv-val, as part of the
-# default build, so a broken shader fails `make`. The SPIR-V lands in the build tree only; the
-# program compiles shaders at run time (gpu/shader_compiler.h) with the same include rules.
+# The shader set and the build-time shader check (DESIGN §5, STYLE §9).
+#
+# The set is the GLSL of shaders/ and every device/host header the shaders may include (core/dh.h
+# and the modules' *_dh.h). Each file has a name inside the set: shaders/ files sit at the top
+# ("stsv.frag"), headers keep their folder ("volumes/stsv_dh.h"), so the includes of the sources
+# resolve in it. The set is embedded in the program (a generated gpu/embedded_shaders.cpp,
+# compiled by gpu/shader_compiler.h at run time) and installed, with the same layout, to
+# share/stsv/shaders.
+#
+# The check: every shaders/*.{vert,geom,frag,comp,mesh,task} is compiled with glslangValidator
+# for Vulkan 1.3 and validated with spirv-val, as part of the default build, so a broken shader
+# fails `make`. The SPIR-V lands in the build tree only.
 # Shaders with macros (SAMPLE_COUNT, ...) must give them defaults with #ifndef; besides the
 # defaults, the variants below compile the define combinations the renderer asks for.
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
@@ -13,6 +21,31 @@ file(GLOB STSV_SHADER_SOURCES CONFIGURE_DEPENDS
      ${PROJECT_SOURCE_DIR}/shaders/*.mesh ${PROJECT_SOURCE_DIR}/shaders/*.task)
 
 set(STSV_SHADER_OUTPUTS)
+
+file(GLOB STSV_SHADER_FOLDER_FILES LIST_DIRECTORIES false CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/shaders/*)
+file(GLOB STSV_SHADER_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/*/*_dh.h)
+list(APPEND STSV_SHADER_HEADERS ${PROJECT_SOURCE_DIR}/core/dh.h)
+set(STSV_SHADER_SET_NAMES) # names inside the set, sorted
+set(STSV_SHADER_SET_PATHS) # the source file of each name, in the same order
+set(manifest "")
+set(entries)
+foreach(path ${STSV_SHADER_FOLDER_FILES} ${STSV_SHADER_HEADERS})
+  file(RELATIVE_PATH name ${PROJECT_SOURCE_DIR} ${path})
+  string(REGEX REPLACE "^shaders/" "" name ${name})
+  list(APPEND entries "${name}\t${path}")
+endforeach()
+list(REMOVE_DUPLICATES entries)
+list(SORT entries)
+foreach(entry ${entries})
+  string(REPLACE "\t" ";" fields "${entry}")
+  list(GET fields 0 name)
+  list(GET fields 1 path)
+  list(APPEND STSV_SHADER_SET_NAMES ${name})
+  list(APPEND STSV_SHADER_SET_PATHS ${path})
+  string(APPEND manifest "${name}\t${path}\n")
+endforeach()
+set(STSV_SHADER_MANIFEST ${PROJECT_BINARY_DIR}/shaders/embedded_shaders.txt)
+file(CONFIGURE OUTPUT ${STSV_SHADER_MANIFEST} CONTENT "${manifest}")
 
 # One checked compilation of `source` (a path) with the -D definitions in ARGN; `tag` names the
 # variant in the output file (empty: the defaults).

@@ -7,15 +7,29 @@ if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_L
   list(APPEND STSV_WARNINGS -Wno-error=restrict)
 endif()
 
+# __FILE__ names sources from the repository root ("gpu/buffer.cpp"): error messages read the same
+# on every machine, and the program holds no path of the checkout it was built from.
+set(STSV_PREFIX_MAP "-fmacro-prefix-map=${PROJECT_SOURCE_DIR}/=")
+
+include(GNUInstallDirs)
+
+# Static library stsv_NAME (stsv::NAME, in the build and in the installed CMake package) from
+# every .cpp in the calling folder, with the folder's headers installed to include/stsv/NAME.
 function(stsv_module name)
   cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
   file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
   add_library(stsv_${name} STATIC ${sources})
-  target_include_directories(stsv_${name} PUBLIC ${PROJECT_SOURCE_DIR})
-  target_compile_options(stsv_${name} PRIVATE ${STSV_WARNINGS})
-  target_compile_definitions(stsv_${name} PUBLIC GLM_FORCE_XYZW_ONLY GLM_ENABLE_EXPERIMENTAL
-                             STSV_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  add_library(stsv::${name} ALIAS stsv_${name})
+  set_target_properties(stsv_${name} PROPERTIES EXPORT_NAME ${name})
+  target_include_directories(stsv_${name} PUBLIC $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}>
+                                                 $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}/stsv>)
+  target_compile_options(stsv_${name} PRIVATE ${STSV_WARNINGS} ${STSV_PREFIX_MAP})
+  target_compile_definitions(stsv_${name} PUBLIC GLM_FORCE_XYZW_ONLY GLM_ENABLE_EXPERIMENTAL)
   target_link_libraries(stsv_${name} PUBLIC ${ARG_DEPS})
+  install(TARGETS stsv_${name} EXPORT stsvTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
+          COMPONENT development)
+  file(GLOB headers CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.h)
+  install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stsv/${name} COMPONENT development)
 endfunction()
 
 # stsv_tests(MODULE DEPS ...): tests/MODULE/*.cpp into one GoogleTest executable test_MODULE.
@@ -28,6 +42,7 @@ function(stsv_tests module)
   add_executable(test_${module} ${sources})
   target_compile_options(test_${module} PRIVATE ${STSV_WARNINGS})
   target_link_libraries(test_${module} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
-  target_compile_definitions(test_${module} PRIVATE STSV_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/data")
+  target_compile_definitions(test_${module} PRIVATE STSV_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/data"
+                                                    STSV_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   gtest_discover_tests(test_${module} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS ${module})
 endfunction()

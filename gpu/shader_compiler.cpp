@@ -4,6 +4,7 @@
 #include <glslang/Public/ShaderLang.h>
 #include <glslang/SPIRV/GlslangToSpv.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <mutex>
@@ -21,6 +22,34 @@ std::optional<std::string> readText(const fs::path& path) {
     std::ostringstream text;
     text << in.rdbuf();
     return text.str();
+}
+
+const ShaderFile* findEmbedded(const fs::path& name) {
+    const std::string key = name.lexically_normal().generic_string();
+    const std::span<const ShaderFile> files = embeddedShaders();
+    const auto it = std::lower_bound(files.begin(), files.end(), key,
+                                     [](const ShaderFile& f, const std::string& k) { return f.name < k; });
+    return it != files.end() && it->name == key ? &*it : nullptr;
+}
+
+/// A file found by name: the name glslang reports it by, and its text.
+struct FoundFile {
+    std::string name;
+    std::string text;
+};
+
+/// `candidate` read from disk, or from the embedded set when `onDisk` is false.
+std::optional<FoundFile> findFile(const fs::path& candidate, bool onDisk) {
+    if (!onDisk) {
+        const ShaderFile* file = findEmbedded(candidate);
+        if (file == nullptr) return std::nullopt;
+        return FoundFile{std::string(file->name), std::string(file->text)};
+    }
+    std::error_code error;
+    if (!fs::is_regular_file(candidate, error)) return std::nullopt;
+    std::optional<std::string> text = readText(candidate);
+    if (!text) return std::nullopt;
+    return FoundFile{candidate.lexically_normal().string(), std::move(*text)};
 }
 
 EShLanguage toLanguage(VkShaderStageFlagBits stage) {
@@ -42,23 +71,23 @@ EShLanguage toLanguage(VkShaderStageFlagBits stage) {
     }
 }
 
-/// Resolves #include "x" against the including file's folder, then the search folders;
-/// #include <x> against the search folders only.
+/// Resolves #include "x" against the including file's folder, then the tops of the set;
+/// #include <x> against the tops only.
 class Includer : public glslang::TShader::Includer {
   public:
-    explicit Includer(std::vector<fs::path> searchDirectories) : m_search(std::move(searchDirectories)) {}
+    Includer(std::vector<fs::path> tops, bool onDisk) : m_tops(std::move(tops)), m_onDisk(onDisk) {}
 
     IncludeResult* includeLocal(const char* header, const char* includer, size_t /*depth*/) override {
         std::vector<fs::path> candidates;
         if (includer != nullptr && *includer != '\0')
             candidates.push_back(fs::path(includer).parent_path() / header);
-        for (const fs::path& dir : m_search) candidates.push_back(dir / header);
+        for (const fs::path& top : m_tops) candidates.push_back(top / header);
         return resolve(header, candidates);
     }
 
     IncludeResult* includeSystem(const char* header, const char* /*includer*/, size_t /*depth*/) override {
         std::vector<fs::path> candidates;
-        for (const fs::path& dir : m_search) candidates.push_back(dir / header);
+        for (const fs::path& top : m_tops) candidates.push_back(top / header);
         return resolve(header, candidates);
     }
 
@@ -69,22 +98,21 @@ class Includer : public glslang::TShader::Includer {
     }
 
   private:
-    std::vector<fs::path> m_search;
+    std::vector<fs::path> m_tops;
+    bool m_onDisk;
 
     IncludeResult* resolve(const char* header, const std::vector<fs::path>& candidates) {
         for (const fs::path& candidate : candidates) {
-            std::error_code error;
-            if (!fs::is_regular_file(candidate, error)) continue;
-            std::optional<std::string> text = readText(candidate);
-            if (!text) continue;
-            auto* data = new std::string(std::move(*text));
-            return new IncludeResult(candidate.lexically_normal().string(), data->data(), data->size(), data);
+            std::optional<FoundFile> found = findFile(candidate, m_onDisk);
+            if (!found) continue;
+            auto* data = new std::string(std::move(found->text));
+            return new IncludeResult(found->name, data->data(), data->size(), data);
         }
         // An empty header name tells glslang the include failed; the data is its message.
         std::string message = std::string("cannot find '") + header + "' (searched";
         for (const fs::path& candidate : candidates)
             message.append(" ").append(candidate.lexically_normal().string());
-        message += ")";
+        message += m_onDisk ? ")" : " in the embedded shader set)";
         auto* data = new std::string(std::move(message));
         return new IncludeResult("", data->data(), data->size(), data);
     }
@@ -112,27 +140,54 @@ VkShaderStageFlagBits shaderStageFromPath(const fs::path& path) {
                      "' (expected .vert, .geom, .frag, .comp, .mesh or .task)");
 }
 
-fs::path defaultShaderDirectory() {
-    const char* dir = std::getenv("STSV_SHADER_DIR");
-    if (dir != nullptr && *dir != '\0') return dir;
-    return fs::path(STSV_SOURCE_DIR) / "shaders";
+bool isShaderEntryPoint(const fs::path& path) {
+    const std::string ext = path.extension().string();
+    return ext == ".vert" || ext == ".geom" || ext == ".frag" || ext == ".comp" || ext == ".mesh" ||
+           ext == ".task";
 }
 
-ShaderCompiler::ShaderCompiler(fs::path shaderDirectory, fs::path sourceRoot)
-    : m_shaderDirectory(std::move(shaderDirectory)), m_sourceRoot(std::move(sourceRoot)) {
+std::optional<fs::path> shaderDirectoryFromEnvironment() {
+    const char* dir = std::getenv("STSV_SHADER_DIR");
+    if (dir == nullptr || *dir == '\0') return std::nullopt;
+    return fs::path(dir);
+}
+
+namespace {
+
+void initializeGlslang() {
     // glslang keeps process-wide tables; initialised once and never finalised (finalising
     // while another compiler object lives would break it).
     static std::once_flag once;
     std::call_once(once, [] { glslang::InitializeProcess(); });
 }
 
+} // namespace
+
+ShaderCompiler::ShaderCompiler() : m_directory(shaderDirectoryFromEnvironment().value_or(fs::path())) {
+    initializeGlslang();
+}
+
+ShaderCompiler::ShaderCompiler(fs::path directory) : m_directory(std::move(directory)) {
+    if (m_directory.empty()) throw UsageError("the shader folder is an empty path");
+    initializeGlslang();
+}
+
+std::string ShaderCompiler::describeSource() const {
+    if (m_directory.empty()) return "embedded (" + std::to_string(embeddedShaders().size()) + " files)";
+    return m_directory.string();
+}
+
 std::vector<uint32_t> ShaderCompiler::compileFile(const fs::path& name,
                                                   const std::vector<ShaderDefine>& defines) const {
-    const fs::path path = name.is_absolute() ? name : m_shaderDirectory / name;
-    const VkShaderStageFlagBits stage = shaderStageFromPath(path);
-    std::optional<std::string> source = readText(path);
-    if (!source) throw InputError(path.string(), "cannot read shader file");
-    return compileSource(*source, stage, path.lexically_normal().string(), defines);
+    const VkShaderStageFlagBits stage = shaderStageFromPath(name);
+    const bool onDisk = !m_directory.empty();
+    std::optional<FoundFile> file = findFile(onDisk ? m_directory / name : name, onDisk);
+    if (!file) {
+        if (onDisk) throw InputError((m_directory / name).string(), "cannot read shader file");
+        throw InputError(name.string(), "no such shader in the embedded set of " +
+                                            std::to_string(embeddedShaders().size()) + " files");
+    }
+    return compileSource(file->text, stage, file->name, defines);
 }
 
 std::vector<uint32_t> ShaderCompiler::compileSource(const std::string& source, VkShaderStageFlagBits stage,
@@ -154,7 +209,13 @@ std::vector<uint32_t> ShaderCompiler::compileSource(const std::string& source, V
     shader.setEnvTarget(glslang::EShTargetSpv, glslang::EShTargetSpv_1_6);
     const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules);
 
-    Includer includer({m_sourceRoot, m_shaderDirectory});
+    std::vector<fs::path> tops = {fs::path()};
+    if (!m_directory.empty()) {
+        fs::path folder = m_directory.lexically_normal();
+        if (!folder.has_filename()) folder = folder.parent_path(); // "a/shaders/" → "a/shaders"
+        tops = {folder, folder.parent_path()};
+    }
+    Includer includer(std::move(tops), !m_directory.empty());
     if (!shader.parse(GetDefaultResources(), 450, false, messages, includer))
         throw ShaderError(virtualPath, shader.getInfoLog());
 

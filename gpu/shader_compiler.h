@@ -1,6 +1,6 @@
-// Run-time GLSL → SPIR-V with glslang (DESIGN §5). Shaders #include the same *_dh.h headers
-// as the C++ mirror: "x/y.h" resolves relative to the including file, then to the repository
-// root (STSV_SOURCE_DIR), then to the shader directory.
+// Run-time GLSL → SPIR-V with glslang (DESIGN §5). Shaders #include the same *_dh.h headers as
+// the C++ mirror. The text comes from the shader set embedded in the program at build time
+// (cmake/Shaders.cmake), or, for shader development, from a folder on disk (STSV_SHADER_DIR).
 #pragma once
 
 #include "core/error.h"
@@ -9,7 +9,10 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
+#include <span>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace stsv {
@@ -32,22 +35,45 @@ struct ShaderDefine {
     std::string value;
 };
 
+/// One file of the shader set: its name in the set and its text. The GLSL of the repository's
+/// shaders/ folder sits at the top ("stsv.frag"); the headers it includes keep their folder
+/// ("volumes/stsv_dh.h"), which is also the layout installed to share/stsv/shaders.
+struct ShaderFile {
+    std::string_view name;
+    std::string_view text;
+};
+
+/// The shader set built into the program, sorted by name.
+std::span<const ShaderFile> embeddedShaders();
+
 /// Stage from the file extension: .vert .geom .frag .comp .mesh .task (UsageError otherwise).
 VkShaderStageFlagBits shaderStageFromPath(const std::filesystem::path& path);
 
-/// STSV_SHADER_DIR from the environment if set, else STSV_SOURCE_DIR "/shaders".
-std::filesystem::path defaultShaderDirectory();
+/// True for the names of shader entry points (a stage extension), false for headers.
+bool isShaderEntryPoint(const std::filesystem::path& path);
 
-/// Compiles GLSL 4.50+ for Vulkan 1.3 (SPIR-V 1.6). Stateless apart from its directories, so
-/// one instance can serve the whole program; compile calls are not thread-safe.
+/// The folder the environment variable STSV_SHADER_DIR names; nullopt when it is unset or empty.
+std::optional<std::filesystem::path> shaderDirectoryFromEnvironment();
+
+/// Compiles GLSL 4.50+ for Vulkan 1.3 (SPIR-V 1.6). Stateless apart from where it reads, so one
+/// instance can serve the whole program; compile calls are not thread-safe.
+///
+/// `#include "x/y.h"` resolves against the including file's folder, then against the top of the
+/// set. A folder on disk has two tops: the folder itself (an installed share/stsv/shaders holds
+/// the headers) and the folder above it (a checkout's shaders/, whose headers sit beside it).
 class ShaderCompiler {
   public:
-    explicit ShaderCompiler(std::filesystem::path shaderDirectory = defaultShaderDirectory(),
-                            std::filesystem::path sourceRoot = STSV_SOURCE_DIR);
+    /// Reads the folder STSV_SHADER_DIR names when it is set, else the embedded set.
+    ShaderCompiler();
+    /// Reads the shaders from `directory` on disk.
+    explicit ShaderCompiler(std::filesystem::path directory);
 
-    const std::filesystem::path& shaderDirectory() const { return m_shaderDirectory; }
+    /// The folder the shaders are read from; empty for the embedded set.
+    const std::filesystem::path& shaderDirectory() const { return m_directory; }
+    /// "embedded (N files)", or the folder.
+    std::string describeSource() const;
 
-    /// Compiles `name` (relative to the shader directory, or absolute), e.g. "stsv.geom".
+    /// Compiles `name`, a file of the set (or relative to the folder), e.g. "stsv.geom".
     std::vector<uint32_t> compileFile(const std::filesystem::path& name,
                                       const std::vector<ShaderDefine>& defines = {}) const;
     /// Compiles in-memory source; `virtualPath` names it in error messages and is the base for
@@ -57,8 +83,7 @@ class ShaderCompiler {
                                         const std::vector<ShaderDefine>& defines = {}) const;
 
   private:
-    std::filesystem::path m_shaderDirectory;
-    std::filesystem::path m_sourceRoot;
+    std::filesystem::path m_directory;
 };
 
 } // namespace stsv

@@ -3,8 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -85,22 +88,40 @@ TEST(ShaderCompiler, ErrorInIncludedHeaderNamesTheHeader) {
     }
 }
 
-TEST(ShaderCompiler, ResolvesIncludesRelativeToFileAndRepositoryRoot) {
+TEST(ShaderCompiler, FolderResolvesIncludesAgainstTheFileTheFolderAndTheFolderAbove) {
     const ScratchDirectory scratch("includes");
-    const fs::path& dir = scratch.path;
-    // main.comp → "sub/a.glsl" (relative to main), which → "b.glsl" (relative to sub/) and
-    // "volumes/stsv_dh.h" (repository root), which → "core/dh.h".
-    writeFile(dir / "sub" / "a.glsl", "#include \"b.glsl\"\n#include \"volumes/stsv_dh.h\"\n"
-                                      "uint fromA() { return fromB() + WRAP_CLAMP; }\n");
-    writeFile(dir / "sub" / "b.glsl", "uint fromB() { return 40u; }\n");
-    writeFile(dir / "main.comp", "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
-                                 "#include \"sub/a.glsl\"\nlayout(local_size_x = 1) in;\n"
-                                 "layout(std430, binding = 0) buffer Out { uint value; };\n"
-                                 "void main() { value = fromA() + VALUE_FROM_DEFINE; }\n");
-    ShaderCompiler compiler(dir);
+    const fs::path shaders = scratch.path / "shaders";
+    // shaders/main.comp → "sub/a.glsl" (beside main), which → "b.glsl" (beside a) and
+    // "lib/c_dh.h" (the folder above, as a checkout's headers sit beside its shaders/), which →
+    // "top_dh.h" (the folder itself, as in an installed share/stsv/shaders).
+    writeFile(shaders / "sub" / "a.glsl", "#include \"b.glsl\"\n#include \"lib/c_dh.h\"\n"
+                                          "uint fromA() { return fromB() + fromC(); }\n");
+    writeFile(shaders / "sub" / "b.glsl", "uint fromB() { return 40u; }\n");
+    writeFile(scratch.path / "lib" / "c_dh.h", "#include \"top_dh.h\"\nuint fromC() { return TOP; }\n");
+    writeFile(shaders / "top_dh.h", "#define TOP 1u\n");
+    writeFile(shaders / "main.comp", "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
+                                     "#include \"sub/a.glsl\"\nlayout(local_size_x = 1) in;\n"
+                                     "layout(std430, binding = 0) buffer Out { uint value; };\n"
+                                     "void main() { value = fromA() + VALUE_FROM_DEFINE; }\n");
+    ShaderCompiler compiler(shaders);
     EXPECT_FALSE(compiler.compileFile("main.comp", {{"VALUE_FROM_DEFINE", "1u"}}).empty());
     // Without the define the shader does not compile: defines really reach the preprocessor.
     EXPECT_THROW(compiler.compileFile("main.comp"), ShaderError);
+    // Nor without the header of the folder above.
+    fs::remove(scratch.path / "lib" / "c_dh.h");
+    EXPECT_THROW(compiler.compileFile("main.comp", {{"VALUE_FROM_DEFINE", "1u"}}), ShaderError);
+}
+
+TEST(ShaderCompiler, EmbeddedSetResolvesTheRepositoryHeaders) {
+    // An in-memory shader including a module header, which includes core/dh.h from its own folder's
+    // parent: both come from the embedded set, not from the disk.
+    const std::string source = "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
+                               "#include \"volumes/stsv_dh.h\"\nlayout(local_size_x = 1) in;\n"
+                               "layout(std430, binding = 0) buffer Out { uint value; };\n"
+                               "void main() { value = WRAP_CLAMP; }\n";
+    const ShaderCompiler embedded{ShaderCompiler()};
+    ASSERT_TRUE(embedded.shaderDirectory().empty()) << "STSV_SHADER_DIR is set in the test environment";
+    EXPECT_FALSE(embedded.compileSource(source, VK_SHADER_STAGE_COMPUTE_BIT, "in_memory.comp").empty());
 }
 
 TEST(ShaderCompiler, MissingIncludeIsAnError) {
@@ -111,34 +132,92 @@ TEST(ShaderCompiler, MissingIncludeIsAnError) {
         FAIL() << "no ShaderError";
     } catch (const ShaderError& e) {
         EXPECT_NE(std::string(e.what()).find("no/such_header_dh.h"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("embedded shader set"), std::string::npos) << e.what();
     }
 }
 
 TEST(ShaderCompiler, MissingFileIsAnInputError) {
     EXPECT_THROW(sharedCompiler().compileFile("does_not_exist.comp"), InputError);
+    EXPECT_THROW(ShaderCompiler(fs::path(STSV_SOURCE_DIR) / "shaders").compileFile("does_not_exist.comp"),
+                 InputError);
 }
 
-TEST(ShaderCompiler, EveryShaderOfTheRepositoryCompilesAtRunTime) {
-    // The same sources the build-time check compiles, through the run-time include callback.
-    std::size_t count = 0;
-    for (const fs::directory_entry& entry : fs::directory_iterator(sharedCompiler().shaderDirectory())) {
-        const std::string ext = entry.path().extension().string();
-        if (ext != ".vert" && ext != ".geom" && ext != ".frag" && ext != ".comp" && ext != ".mesh" &&
-            ext != ".task")
+/// The files the build embeds: shaders/ at the top, core/dh.h and every module's *_dh.h.
+std::map<std::string, fs::path> repositoryShaderSet() {
+    const fs::path root = STSV_SOURCE_DIR;
+    std::map<std::string, fs::path> files;
+    for (const fs::directory_entry& entry : fs::directory_iterator(root / "shaders"))
+        if (entry.is_regular_file()) files[entry.path().filename().string()] = entry.path();
+    files["core/dh.h"] = root / "core" / "dh.h";
+    for (const fs::directory_entry& folder : fs::directory_iterator(root)) {
+        if (!folder.is_directory()) continue;
+        for (const fs::directory_entry& entry : fs::directory_iterator(folder.path())) {
+            const std::string name = entry.path().filename().string();
+            if (entry.is_regular_file() && name.ends_with("_dh.h") && folder.path().filename() != "shaders")
+                files[(folder.path().filename() / name).generic_string()] = entry.path();
+        }
+    }
+    return files;
+}
+
+std::string readFile(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+TEST(EmbeddedShaders, AreTheRepositoryFilesByteForByte) {
+    const std::map<std::string, fs::path> expected = repositoryShaderSet();
+    ASSERT_GE(expected.size(), 20u);
+    std::vector<std::string> names;
+    for (const ShaderFile& file : embeddedShaders()) {
+        names.emplace_back(file.name);
+        const auto it = expected.find(std::string(file.name));
+        if (it == expected.end()) {
+            ADD_FAILURE() << "embedded " << file.name << " is no file of the repository's shader set";
             continue;
-        EXPECT_NO_THROW(sharedCompiler().compileFile(entry.path().filename())) << entry.path();
+        }
+        EXPECT_EQ(std::string(file.text), readFile(it->second)) << file.name;
+    }
+    EXPECT_EQ(names.size(), expected.size());
+    EXPECT_TRUE(std::is_sorted(names.begin(), names.end())) << "the set is looked up by binary search";
+}
+
+TEST(EmbeddedShaders, EveryEntryPointCompilesAtRunTime) {
+    // The same sources the build-time check compiles, through the run-time include callback and
+    // nothing but the embedded set.
+    std::size_t count = 0;
+    for (const ShaderFile& file : embeddedShaders()) {
+        if (!isShaderEntryPoint(std::string(file.name))) continue;
+        EXPECT_NO_THROW(sharedCompiler().compileFile(std::string(file.name))) << file.name;
         ++count;
     }
-    EXPECT_GE(count, 1u);
+    EXPECT_GE(count, 15u);
+}
+
+TEST(EmbeddedShaders, CompileAsTheCheckoutFolderDoes) {
+    // STSV_SHADER_DIR pointed at the checkout's shaders/ gives the same SPIR-V as the embedded set.
+    const ShaderCompiler folder(fs::path(STSV_SOURCE_DIR) / "shaders");
+    const std::vector<ShaderDefine> defines = {{"SAMPLE_COUNT", "64"}, {"FIXED_LIGHT_TYPE", "1u"}};
+    EXPECT_EQ(folder.compileFile("stsv.frag", defines), sharedCompiler().compileFile("stsv.frag", defines));
+    EXPECT_EQ(folder.compileFile("wedge.geom"), sharedCompiler().compileFile("wedge.geom"));
 }
 
 TEST(ShaderCompiler, ShaderDirectoryFromEnvironment) {
     const char* old = std::getenv("STSV_SHADER_DIR");
     const std::string saved = old != nullptr ? old : "";
     setenv("STSV_SHADER_DIR", "/tmp/somewhere/shaders", 1);
-    EXPECT_EQ(defaultShaderDirectory(), fs::path("/tmp/somewhere/shaders"));
+    EXPECT_EQ(shaderDirectoryFromEnvironment(), fs::path("/tmp/somewhere/shaders"));
+    EXPECT_EQ(ShaderCompiler().shaderDirectory(), fs::path("/tmp/somewhere/shaders"));
+    EXPECT_EQ(ShaderCompiler().describeSource(), "/tmp/somewhere/shaders");
+    setenv("STSV_SHADER_DIR", "", 1);
+    EXPECT_EQ(shaderDirectoryFromEnvironment(), std::nullopt);
     unsetenv("STSV_SHADER_DIR");
-    EXPECT_EQ(defaultShaderDirectory(), fs::path(STSV_SOURCE_DIR) / "shaders");
+    EXPECT_EQ(shaderDirectoryFromEnvironment(), std::nullopt);
+    EXPECT_TRUE(ShaderCompiler().shaderDirectory().empty());
+    EXPECT_EQ(ShaderCompiler().describeSource(),
+              "embedded (" + std::to_string(embeddedShaders().size()) + " files)");
     if (old != nullptr) setenv("STSV_SHADER_DIR", saved.c_str(), 1);
 }
 
