@@ -29,7 +29,8 @@ render_fence() {
     cd "$work/run"
     local render=(env -u STSV_SHADER_DIR -u LD_LIBRARY_PATH "$program" render fence --size 64x64 --validation -q
         -o fence.png --stats stats.json)
-    if unshare -rm true 2>/dev/null; then
+    mkdir -p "$work/probe"
+    if unshare -rm mount -t tmpfs none "$work/probe" 2>/dev/null; then
         echo "rendering with $source and $build hidden"
         # shellcheck disable=SC2016
         unshare -rm bash -c 'for d in "$1" "$2"; do mount -t tmpfs none "$d"; done
