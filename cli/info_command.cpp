@@ -45,9 +45,14 @@ int runInfo(const InfoArgs& args) {
                 knobs.push_back({{"name", k.name}, {"default", k.defaultValue}, {"help", k.description}});
             scenes.push_back({{"name", name}, {"description", describeBuiltinScene(name)}, {"knobs", knobs}});
         }
-        const ShaderCompiler shaders;
-        nlohmann::json shaderSource = {{"embedded", shaders.shaderDirectory().empty()},
-                                       {"source", shaders.describeSource()}};
+        nlohmann::json shaderSource;
+        try {
+            const ShaderCompiler shaders;
+            shaderSource = {{"embedded", shaders.shaderDirectory().empty()},
+                            {"source", shaders.describeSource()}};
+        } catch (const Error& e) {
+            shaderSource = {{"embedded", false}, {"error", e.what()}};
+        }
         out << nlohmann::json{{"version", version()},
                               {"methods", methodTableJson()},
                               {"scenes", scenes},
@@ -75,10 +80,14 @@ int runInfo(const InfoArgs& args) {
         for (const SceneKnob& k : builtinSceneKnobs(name))
             out << "      --set " << k << "  " << k.description << '\n';
     }
-    const ShaderCompiler shaders;
-    out << "shaders: " << shaders.describeSource()
-        << (shaders.shaderDirectory().empty() ? " (STSV_SHADER_DIR=FOLDER reads a folder instead)\n"
-                                              : " (STSV_SHADER_DIR)\n");
+    try {
+        const ShaderCompiler shaders;
+        out << "shaders: " << shaders.describeSource()
+            << (shaders.shaderDirectory().empty() ? " (STSV_SHADER_DIR=FOLDER reads a folder instead)\n"
+                                                  : " (STSV_SHADER_DIR)\n");
+    } catch (const Error& e) {
+        out << "shaders: " << e.what() << '\n';
+    }
     out << "cpu threads: " << std::thread::hardware_concurrency() << '\n';
     out << "embree: " << RTC_VERSION_STRING << '\n';
     try {

@@ -52,6 +52,13 @@ std::optional<FoundFile> findFile(const fs::path& candidate, bool onDisk) {
     return FoundFile{candidate.lexically_normal().string(), std::move(*text)};
 }
 
+void initializeGlslang() {
+    // glslang keeps process-wide tables; initialised once and never finalised (finalising
+    // while another compiler object lives would break it).
+    static std::once_flag once;
+    std::call_once(once, [] { glslang::InitializeProcess(); });
+}
+
 EShLanguage toLanguage(VkShaderStageFlagBits stage) {
     switch (stage) {
     case VK_SHADER_STAGE_VERTEX_BIT:
@@ -152,18 +159,10 @@ std::optional<fs::path> shaderDirectoryFromEnvironment() {
     return fs::path(dir);
 }
 
-namespace {
-
-void initializeGlslang() {
-    // glslang keeps process-wide tables; initialised once and never finalised (finalising
-    // while another compiler object lives would break it).
-    static std::once_flag once;
-    std::call_once(once, [] { glslang::InitializeProcess(); });
-}
-
-} // namespace
-
 ShaderCompiler::ShaderCompiler() : m_directory(shaderDirectoryFromEnvironment().value_or(fs::path())) {
+    std::error_code error;
+    if (!m_directory.empty() && !fs::is_directory(m_directory, error))
+        throw InputError(m_directory.string(), "STSV_SHADER_DIR names no folder");
     initializeGlslang();
 }
 

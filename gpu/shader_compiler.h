@@ -63,7 +63,8 @@ std::optional<std::filesystem::path> shaderDirectoryFromEnvironment();
 /// the headers) and the folder above it (a checkout's shaders/, whose headers sit beside it).
 class ShaderCompiler {
   public:
-    /// Reads the folder STSV_SHADER_DIR names when it is set, else the embedded set.
+    /// Reads the folder STSV_SHADER_DIR names when it is set (InputError when that is no
+    /// folder), else the embedded set.
     ShaderCompiler();
     /// Reads the shaders from `directory` on disk.
     explicit ShaderCompiler(std::filesystem::path directory);

@@ -41,7 +41,8 @@ TEST(Version, IsTheGitDescribeOfTheCheckout) {
         EXPECT_EQ(v.find('+'), std::string::npos) << v;
         return;
     }
-    if (const std::optional<std::string> tag = commandOutput(git + "describe --tags --exact-match --match 'v[0-9]*'")) {
+    if (const std::optional<std::string> tag =
+            commandOutput(git + "describe --tags --exact-match --match 'v[0-9]*'")) {
         EXPECT_EQ(v.rfind(tag->substr(1), 0), 0u) << v << " on tag " << *tag;
         return;
     }
@@ -56,15 +57,17 @@ TEST(Version, FlagPrintsIt) {
 
 TEST(Version, StatsAndBenchJsonCarryIt) {
     ScratchDir dir;
-    const std::vector<std::string> render = {"render",    "fence", "--backend", "cpu", "--size", "8x8",
-                                             "--samples", "16",    "--stats",   dir.file("s.json"), "-q"};
+    const std::vector<std::string> render = {
+        "render", "fence",   "--backend",        "cpu", "--size", "8x8", "--samples",
+        "16",     "--stats", dir.file("s.json"), "-q"};
     const CliResult r = runStsv(render);
     ASSERT_EQ(r.code, 0) << test::describe(render, r);
     EXPECT_EQ(readJson(dir.file("s.json"))["version"], version());
 
-    const std::vector<std::string> bench = {"bench",   "fence", "--methods", "stsv", "--backends", "cpu",
-                                            "--size",  "8x8",   "--samples", "16",   "--repeat",   "1",
-                                            "--warmup", "0",    "--json",    dir.file("b.json"), "-q"};
+    const std::vector<std::string> bench = {
+        "bench",     "fence", "--methods", "stsv", "--backends", "cpu", "--size", "8x8",
+        "--samples", "16",    "--repeat",  "1",    "--warmup",   "0",   "--json", dir.file("b.json"),
+        "-q"};
     const CliResult b = runStsv(bench);
     ASSERT_EQ(b.code, 0) << test::describe(bench, b);
     EXPECT_EQ(readJson(dir.file("b.json"))["version"], version());

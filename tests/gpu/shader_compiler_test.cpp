@@ -207,10 +207,19 @@ TEST(EmbeddedShaders, CompileAsTheCheckoutFolderDoes) {
 TEST(ShaderCompiler, ShaderDirectoryFromEnvironment) {
     const char* old = std::getenv("STSV_SHADER_DIR");
     const std::string saved = old != nullptr ? old : "";
-    setenv("STSV_SHADER_DIR", "/tmp/somewhere/shaders", 1);
-    EXPECT_EQ(shaderDirectoryFromEnvironment(), fs::path("/tmp/somewhere/shaders"));
-    EXPECT_EQ(ShaderCompiler().shaderDirectory(), fs::path("/tmp/somewhere/shaders"));
-    EXPECT_EQ(ShaderCompiler().describeSource(), "/tmp/somewhere/shaders");
+    const fs::path checkout = fs::path(STSV_SOURCE_DIR) / "shaders";
+    setenv("STSV_SHADER_DIR", checkout.c_str(), 1);
+    EXPECT_EQ(shaderDirectoryFromEnvironment(), checkout);
+    EXPECT_EQ(ShaderCompiler().shaderDirectory(), checkout);
+    EXPECT_EQ(ShaderCompiler().describeSource(), checkout.string());
+    setenv("STSV_SHADER_DIR", "/no/such/shader/folder", 1);
+    try {
+        ShaderCompiler compiler;
+        ADD_FAILURE() << "no error for a missing STSV_SHADER_DIR folder";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("/no/such/shader/folder"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("STSV_SHADER_DIR"), std::string::npos) << e.what();
+    }
     setenv("STSV_SHADER_DIR", "", 1);
     EXPECT_EQ(shaderDirectoryFromEnvironment(), std::nullopt);
     unsetenv("STSV_SHADER_DIR");

@@ -68,11 +68,13 @@ int main() {
     check(!alphaBlocks(scene.textures[0].alpha(texel.x, texel.y)), "texel (1, 0) is a hole");
 
     // s = (2.2, 2.2, 2): crossing at (1.2, 1.2), outside the triangle.
-    check(!stsvSampleCrosses(tri, px, vec2(1.95f, 1.95f), size, texel), "a sample past the hypotenuse misses");
+    check(!stsvSampleCrosses(tri, px, vec2(1.95f, 1.95f), size, texel),
+          "a sample past the hypotenuse misses");
 
     // A point between the triangle and the light: its segments never reach the plane.
     const StsvPixel above = stsvSetupPixel(tri, vec3(0.2f, 0.2f, 1.5f), c, T, B, SHADOW_T_MIN);
-    check(!stsvSampleCrosses(tri, above, vec2(-0.05f, -0.05f), size, texel), "a point above the triangle is lit");
+    check(!stsvSampleCrosses(tri, above, vec2(-0.05f, -0.05f), size, texel),
+          "a point above the triangle is lit");
 
     std::printf("%d of 9 checks failed\n", failures);
     return failures == 0 ? 0 : 1;
