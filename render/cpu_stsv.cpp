@@ -10,22 +10,22 @@
 #include "volumes/stsv.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 
 namespace stsv {
 
-/// The data access of volumes/stsv_fragment_dh.h on the CPU: the pixel's samples from its
-/// SamplePlan, the texels from the triangle's Texture (null for an opaque triangle).
+/// The data access of volumes/stsv_fragment_dh.h on the CPU: the pixel's sample points,
+/// computed once per pixel (pixelSamplePoint), the texels from the triangle's Texture (null for
+/// an opaque triangle).
 struct StsvSampleSource {
-    const SamplePlan* plan;
-    int x; ///< pixel
-    int y;
-    uint domain; ///< LightFrame::domain
+    const vec2* points; ///< the pixel's samples in frame coordinates, plan.count of them
     const Texture* texture;
 };
 inline vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
-    return pixelSamplePoint(*s.plan, s.x, s.y, int(k), s.domain);
+    return s.points[k];
 }
 inline bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
     return alphaBlocks(s.texture->alpha(texel.x, texel.y));
@@ -91,10 +91,24 @@ mat4 binningClipFromView(const Camera& camera, int width, int height) {
     return clipFromView(camera, float(width) / float(height), 0.01f, 1e4f);
 }
 
+Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile) {
+    Bounds box;
+    for (int y = tile.y0; y < tile.y1; ++y)
+        for (int x = tile.x0; x < tile.x1; ++x)
+            if (const std::size_t i = gbuffer.index(x, y); gbuffer.covered(i))
+                box.extend(gbuffer.position[i]);
+    return box;
+}
+
 nlohmann::json toJson(const StsvCpuStats& s) {
-    return {{"volumes", s.volumes},           {"degenerate_skipped", s.degenerateSkipped},
-            {"tile_entries", s.tileEntries},  {"point_in_volume_tests", s.pixelVolumeTests},
-            {"fragments", s.pixelVolumeHits}, {"bin_ms", s.bin_ms},
+    return {{"volumes", s.volumes},
+            {"degenerate_skipped", s.degenerateSkipped},
+            {"tile_entries", s.tileEntries},
+            {"tile_entries_culled", s.tileEntriesCulled},
+            {"fragments", s.pixelVolumeTests},
+            {"inside_fragments", s.pixelVolumeHits},
+            {"samples_tested", s.samplesTested},
+            {"bin_ms", s.bin_ms},
             {"shade_ms", s.shade_ms}};
 }
 
@@ -147,11 +161,30 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     timer.reset();
 
     // The fragment shader's work, per tile and pixel.
-    std::atomic<std::size_t> tests{0}, hits{0};
+    std::atomic<std::size_t> tests{0}, hits{0}, culled{0}, samples{0};
+    const bool counters = out.kind() == BufferKind::Counters;
+    const uint wordCount = lsMaskWordCount(uint(plan.count));
+    // The sample bits of mask word w.
+    const auto wordBits = [&](uint w) {
+        const uint n = std::min(32u, uint(plan.count) - 32u * w);
+        return n == 32u ? ~0u : (1u << n) - 1u;
+    };
     Progress progress("stsv (cpu)", tiles.size());
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
-        std::size_t localTests = 0, localHits = 0;
-        const std::vector<std::uint32_t>& candidates = tiles[std::size_t(tile.ty) * tilesX + tile.tx];
+        std::size_t localTests = 0, localHits = 0, localCulled = 0, localSamples = 0;
+        const Bounds box = tileReceiverBounds(gbuffer, tile);
+        std::vector<std::uint32_t> candidates;
+        if (!box.empty()) {
+            const std::vector<std::uint32_t>& binned = tiles[std::size_t(tile.ty) * tilesX + tile.tx];
+            candidates.reserve(binned.size());
+            for (std::uint32_t v : binned) {
+                if (stsvVolumeMissesBox(volumes[v].volume, box.lo, box.hi))
+                    ++localCulled;
+                else
+                    candidates.push_back(v);
+            }
+        }
+        std::array<vec2, 256> points;
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
@@ -159,7 +192,15 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 const vec3 p = gbuffer.position[i];
                 const LightFrame frame = lightFrame(light, p, farDistance);
                 const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+                for (int k = 0; k < plan.count; ++k)
+                    points[std::size_t(k)] = pixelSamplePoint(plan, x, y, k, frame.domain);
+                // A bitmask keeps the union of the triangles' bits: samples already occluded are
+                // not tested again, and a pixel whose samples are all occluded is done. Counters
+                // need every layer.
+                std::array<uint, 8> mask{};
+                uint open = wordCount;
                 for (std::uint32_t v : candidates) {
+                    if (open == 0) break;
                     const VolumeRecord& record = volumes[v];
                     if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
                     ++localTests;
@@ -171,20 +212,36 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     const Texture* texture =
                         (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
                     const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
-                    const StsvSampleSource src{&plan, x, y, frame.domain, texture};
-                    for (uint w = 0; w < lsMaskWordCount(uint(plan.count)); ++w) {
+                    const StsvSampleSource src{points.data(), texture};
+                    for (uint w = 0; w < wordCount; ++w) {
+                        if (!counters) {
+                            const uint untested = wordBits(w) & ~mask[w];
+                            if (untested == 0u) continue;
+                            localSamples += std::size_t(std::popcount(untested));
+                            mask[w] |= stsvOcclusionWordOf(tri, px, src, size, w, untested);
+                            if (mask[w] == wordBits(w)) --open;
+                            continue;
+                        }
+                        localSamples += std::size_t(std::popcount(wordBits(w)));
                         const uint bits = stsvOcclusionWord(tri, px, src, size, w,
                                                             std::min(32u, uint(plan.count) - 32u * w));
                         if (bits != 0u) out.addOccludingWord(x, y, int(w), bits);
                     }
                 }
+                if (!counters)
+                    for (uint w = 0; w < wordCount; ++w)
+                        if (mask[w] != 0u) out.addOccludingWord(x, y, int(w), mask[w]);
             }
         tests += localTests;
         hits += localHits;
+        culled += localCulled;
+        samples += localSamples;
         progress.advance();
     });
     stats.pixelVolumeTests = tests;
     stats.pixelVolumeHits = hits;
+    stats.tileEntriesCulled = culled;
+    stats.samplesTested = samples;
     stats.shade_ms = timer.milliseconds();
     return stats;
 }

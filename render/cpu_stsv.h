@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/gbuffer.h"
+#include "core/parallel.h"
 #include "render/methods.h"
 #include "sampling/ls_buffer.h"
 #include "sampling/pattern.h"
@@ -21,8 +22,10 @@ struct StsvCpuStats {
     std::size_t volumes = 0;           ///< volumes built (one or two per non-degenerate triangle)
     std::size_t degenerateSkipped = 0; ///< zero-area triangles, no volume
     std::size_t tileEntries = 0;       ///< (tile, volume) pairs after binning
-    std::size_t pixelVolumeTests = 0;  ///< point-in-volume tests run
-    std::size_t pixelVolumeHits = 0;   ///< of those, points inside (the "fragments" that run the sample loop)
+    std::size_t tileEntriesCulled = 0; ///< of those, dropped: the tile's visible points all outside a plane
+    std::size_t pixelVolumeTests = 0;  ///< point-in-volume tests run ("fragments", as the GPU counts them)
+    std::size_t pixelVolumeHits = 0;   ///< of those, points inside ("inside_fragments")
+    std::size_t samplesTested = 0;     ///< light samples tested by the fragments that own the pixel
     double bin_ms = 0.0;
     double shade_ms = 0.0;
 };
@@ -37,6 +40,12 @@ bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width,
 
 /// The projection the CPU passes bin with (any near/far: only x, y and w are used).
 mat4 binningClipFromView(const Camera& camera, int width, int height);
+
+/// The bounds of the visible points of one screen tile; empty when it covers no surface. The CPU
+/// passes drop, per tile, the volumes with the whole box outside one plane
+/// (stsvVolumeMissesBox): what the rasteriser's depth test and the fragments' plane tests would
+/// reject one pixel at a time.
+Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile);
 
 /// Which scene triangles a pass treats (all when empty).
 using TriangleFilter = std::function<bool(std::size_t triangle)>;

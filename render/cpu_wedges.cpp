@@ -212,13 +212,9 @@ void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* labe
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         const std::size_t tileIndex = std::size_t(tile.ty) * std::size_t(bins.tilesX) + std::size_t(tile.tx);
         const int x0 = tile.x0, x1 = tile.x1, y0 = tile.y0, y1 = tile.y1;
-        // The tile's visible points bound a box; records whose every volume has a plane with
-        // the whole box outside are dropped for the tile (what the rasteriser's depth test
-        // and the fragment's plane tests would reject one pixel at a time).
-        Bounds box;
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x)
-                if (gbuffer.covered(gbuffer.index(x, y))) box.extend(gbuffer.position[gbuffer.index(x, y)]);
+        // Records whose every volume misses the box of the tile's visible points are dropped
+        // for the tile (tileReceiverBounds).
+        const Bounds box = tileReceiverBounds(gbuffer, tile);
         if (box.empty()) {
             progress.advance();
             return;
@@ -228,18 +224,8 @@ void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* labe
         for (std::uint32_t r : bins.tiles[tileIndex]) {
             const FaceRecord& record = bins.records[r];
             bool any = false;
-            for (std::uint32_t v = 0; v < record.volumeCount && !any; ++v) {
-                const StsvVolume& volume = record.volumes[v];
-                bool outside = false;
-                for (uint k = 0; k < volume.planeCount && !outside; ++k) {
-                    const vec4 plane = volume.planes[k];
-                    const vec3 corner(plane.x >= 0.0f ? box.hi.x : box.lo.x,
-                                      plane.y >= 0.0f ? box.hi.y : box.lo.y,
-                                      plane.z >= 0.0f ? box.hi.z : box.lo.z);
-                    outside = dot(vec3(plane), corner) + plane.w < 0.0f;
-                }
-                any = !outside;
-            }
+            for (std::uint32_t v = 0; v < record.volumeCount && !any; ++v)
+                any = !stsvVolumeMissesBox(record.volumes[v], box.lo, box.hi);
             if (any) records.push_back(r);
         }
         for (int y = y0; y < y1; ++y)

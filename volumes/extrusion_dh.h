@@ -527,6 +527,24 @@ DH_FUNC bool stsvPointInVolume(StsvVolume v, vec3 p) {
     return true;
 }
 
+/// True when no point of the box [lo, hi] passes stsvPointInVolume: the whole box lies on the outer
+/// side of one of the volume's planes. A plane's value is linear in p, so its maximum over the box
+/// is at the corner its normal points to. The margin, 1e-6 of |p|₁ + |d| over the box, is five
+/// times the float rounding of the per-point test (three products and three sums, each within
+/// 2⁻²⁴ of |n·p| + |d|), so a culled box holds no point that the test would accept: culling with
+/// it changes no result.
+DH_FUNC bool stsvVolumeMissesBox(StsvVolume v, vec3 lo, vec3 hi) {
+    uint count = min(v.planeCount, STSV_VOLUME_MAX_PLANES);
+    vec3 far = max(abs(lo), abs(hi));
+    float extent = far.x + far.y + far.z;
+    for (uint i = 0u; i < count; ++i) {
+        vec3 n = vec3(v.planes[i]);
+        vec3 corner = vec3(n.x >= 0.0f ? hi.x : lo.x, n.y >= 0.0f ? hi.y : lo.y, n.z >= 0.0f ? hi.z : lo.z);
+        if (dot(n, corner) + v.planes[i].w < -1e-6f * (extent + abs(v.planes[i].w))) return true;
+    }
+    return false;
+}
+
 DH_END
 
 #endif // STSV_VOLUMES_EXTRUSION_DH_H

@@ -59,6 +59,26 @@ DH_FUNC uint stsvOcclusionWord(StsvTriangle t, StsvPixel px, StsvSampleSource sr
     return bits;
 }
 
+/// stsvOcclusionWord over the samples of mask word w whose bits are set in `untested` only: a
+/// caller that accumulates a bitmask skips the samples an earlier triangle already occluded (the
+/// result is OR-ed into the same word, so it is unchanged). Not for counters, which need every
+/// layer.
+DH_FUNC uint stsvOcclusionWordOf(StsvTriangle t, StsvPixel px, StsvSampleSource src, ivec2 textureSize,
+                                 uint w, uint untested) {
+    bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
+    uint bits = 0u;
+    while (untested != 0u) {
+        uint b = uint(findLSB(untested));
+        untested &= untested - 1u;
+        uint k = 32u * w + b;
+        ivec2 texel;
+        if (!stsvSampleCrosses(t, px, stsvSourcePoint(src, k), textureSize, texel)) continue;
+        if (!opaque && !stsvSourceBlocks(src, texel)) continue;
+        bits |= lsMaskBit(k);
+    }
+    return bits;
+}
+
 DH_END
 
 #endif // STSV_VOLUMES_STSV_FRAGMENT_DH_H

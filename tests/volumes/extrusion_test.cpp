@@ -741,3 +741,90 @@ TEST(ExtrusionHost, SecondVolumeExactlyWhenTheLightStraddlesThePlane) {
 
 } // namespace
 } // namespace stsv
+
+namespace stsv {
+namespace {
+
+TEST(ExtrusionCulling, ABoxTheVolumeMissesHoldsNoPointTheTestAccepts) {
+    // Random boxes, from 1e-6 of the scene box to half of it, some with a corner pulled onto one of
+    // the volume's planes (where the per-point test sits at its rounding): whenever
+    // stsvVolumeMissesBox culls a box, none of its corners, face centres or random points passes
+    // stsvPointInVolume.
+    Rng rng(2024);
+    long culled = 0, kept = 0, onPlane = 0, pointsChecked = 0;
+    for (int family = 0; family < FamilyCount; ++family) {
+        for (int config = 0; config < 300; ++config) {
+            const Config c = makeConfig(rng, family);
+            for (const StsvVolume& v : volumesOf(c)) {
+                if (v.flags & STSV_VOLUME_EMPTY) continue;
+                const float diag = length(c.bounds.extent());
+                for (int b = 0; b < 20; ++b) {
+                    vec3 centre = rng.inBox(c.bounds.lo, c.bounds.hi);
+                    const vec3 half = vec3(rng.logUniform(1e-6f, 0.5f), rng.logUniform(1e-6f, 0.5f),
+                                           rng.logUniform(1e-6f, 0.5f)) *
+                                      diag;
+                    if (b % 2 == 1 && v.planeCount > 0) {
+                        // Put the box's far corner (along the plane normal) on plane k.
+                        const vec4 plane = v.planes[uint(b / 2) % v.planeCount];
+                        const vec3 n = vec3(plane);
+                        const vec3 corner = centre + sign(n) * half;
+                        centre -= (dot(n, corner) + plane.w) * n;
+                        ++onPlane;
+                    }
+                    const vec3 lo = centre - half, hi = centre + half;
+                    if (!stsvVolumeMissesBox(v, lo, hi)) {
+                        ++kept;
+                        continue;
+                    }
+                    ++culled;
+                    std::vector<vec3> points;
+                    for (uint k = 0; k < 8; ++k) points.push_back(stsvBoxCorner(lo, hi, k));
+                    for (int axis = 0; axis < 3; ++axis) {
+                        vec3 a = centre, b2 = centre;
+                        a[axis] = lo[axis];
+                        b2[axis] = hi[axis];
+                        points.push_back(a);
+                        points.push_back(b2);
+                    }
+                    for (int k = 0; k < 20; ++k) points.push_back(rng.inBox(lo, hi));
+                    for (const vec3& p : points) {
+                        ++pointsChecked;
+                        if (p.x < lo.x || p.y < lo.y || p.z < lo.z || p.x > hi.x || p.y > hi.y || p.z > hi.z)
+                            continue; // rounding put the sample outside the box
+                        ASSERT_FALSE(stsvPointInVolume(v, p))
+                            << c << " box " << str(lo) << ".." << str(hi) << " culled, but holds " << str(p);
+                    }
+                }
+            }
+        }
+    }
+    std::printf("boxes culled %ld, kept %ld (%ld with a corner on a plane), points checked %ld\n", culled,
+                kept, onPlane, pointsChecked);
+    EXPECT_GT(culled, 10000);
+    EXPECT_GT(kept, 10000);
+}
+
+TEST(ExtrusionCulling, ABoxAroundAPointInsideIsKept) {
+    Rng rng(7);
+    long checked = 0;
+    for (int family = 0; family < FamilyCount; ++family) {
+        for (int config = 0; config < 300; ++config) {
+            const Config c = makeConfig(rng, family);
+            for (const StsvVolume& v : volumesOf(c)) {
+                if (v.flags & STSV_VOLUME_EMPTY) continue;
+                for (int k = 0; k < 50; ++k) {
+                    const vec3 p = rng.inBox(c.bounds.lo, c.bounds.hi);
+                    if (!stsvPointInVolume(v, p)) continue;
+                    ++checked;
+                    ASSERT_FALSE(stsvVolumeMissesBox(v, p, p)) << c << " point " << str(p);
+                    const vec3 pad(1e-3f * length(c.bounds.extent()));
+                    ASSERT_FALSE(stsvVolumeMissesBox(v, p - pad, p + pad)) << c << " point " << str(p);
+                }
+            }
+        }
+    }
+    EXPECT_GT(checked, 1000);
+}
+
+} // namespace
+} // namespace stsv
