@@ -294,5 +294,67 @@ TEST(Projective, NearlyParallelSegments) {
     EXPECT_EQ(total.uvBad, 0);
 }
 
+TEST(Projective, SampleRegionHoldsEverySampleThatCrosses) {
+    // stsvSampleRegion bounds the light-frame points whose segment crosses the triangle: over every
+    // family (grazing and straddling ones included), each crossing sample found by the per-sample
+    // test — random ones, the case's own, and points pulled onto the region's boundary lines by
+    // bisection between a crossing and a missing sample — lies inside the returned box.
+    Rng rng(4242);
+    long crossings = 0, boundary = 0, cases = 0, empty = 0;
+    double areaSum = 0.0;
+    for (int family = 0; family < FamilyCount; ++family) {
+        for (int i = 0; i < 20000; ++i) {
+            const Case k = makeCase(rng, family);
+            const StsvTriangle tri = stsvSetupTriangle(k.v0, k.v1, k.v2, k.t0, k.t1, k.t2, k.c, 0u, 0u, 0u);
+            if (tri.flags & STSV_FLAG_DEGENERATE) continue;
+            const StsvPixel px = stsvSetupPixel(tri, k.p, k.c, k.T, k.B, SHADOW_T_MIN);
+            vec2 lo, hi;
+            const bool any = stsvSampleRegion(px, vec2(-1.0f), vec2(1.0f), lo, hi);
+            ++cases;
+            if (any)
+                areaSum += double((hi.x - lo.x) * (hi.y - lo.y)) / 4.0;
+            else
+                ++empty;
+            auto crosses = [&](vec2 ab) {
+                vec2 bary;
+                return stsvSegmentHitsTriangle(stsvSampleH(px, ab), px.e, px.tMin, bary);
+            };
+            auto inRegion = [&](vec2 ab) {
+                return any && ab.x >= lo.x && ab.x <= hi.x && ab.y >= lo.y && ab.y <= hi.y;
+            };
+            std::vector<vec2> samples = {k.ab};
+            for (int j = 0; j < 64; ++j) samples.push_back(vec2(rng.uniformf(-1, 1), rng.uniformf(-1, 1)));
+            vec2 hit(2.0f), miss(2.0f);
+            for (const vec2& ab : samples) {
+                if (std::abs(ab.x) > 1.0f || std::abs(ab.y) > 1.0f) continue;
+                if (!crosses(ab)) {
+                    miss = ab;
+                    continue;
+                }
+                hit = ab;
+                ++crossings;
+                ASSERT_TRUE(inRegion(ab)) << "crossing sample " << str(ab) << " outside " << str(lo) << ".."
+                                          << str(hi) << " (family " << family << ")";
+            }
+            if (hit.x > 1.0f || miss.x > 1.0f) continue;
+            // Bisect to the boundary of the crossing set: the last crossing point must be inside.
+            for (int step = 0; step < 40; ++step) {
+                const vec2 mid = 0.5f * (hit + miss);
+                (crosses(mid) ? hit : miss) = mid;
+            }
+            ++boundary;
+            ASSERT_TRUE(inRegion(hit)) << "boundary sample " << str(hit) << " outside " << str(lo) << ".."
+                                       << str(hi) << " (family " << family << ")";
+        }
+    }
+    std::printf(
+        "cases %ld, crossing samples %ld, boundary samples %ld, empty regions %ld, mean area %.3f of the "
+        "square\n",
+        cases, crossings, boundary, empty, areaSum / double(cases));
+    EXPECT_GT(crossings, 100000);
+    EXPECT_GT(boundary, 10000);
+    EXPECT_LT(areaSum / double(cases), 0.8) << "the region should prune samples";
+}
+
 } // namespace
 } // namespace stsv
