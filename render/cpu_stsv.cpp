@@ -42,6 +42,10 @@ namespace {
 
 constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
 
+/// Blocks of SUB × SUB pixels within a tile, each culling the tile's volumes by its own box.
+constexpr int SUB = 4;
+constexpr int BLOCKS = TILE / SUB;
+
 /// The per-pixel sample grid: SAMPLE_CELLS² cells over the frame domain [−1, 1]².
 constexpr int SAMPLE_CELLS = 8;
 int sampleCell(float coordinate) {
@@ -179,6 +183,8 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     Progress progress("stsv (cpu)", tiles.size());
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         std::size_t localTests = 0, localHits = 0, localCulled = 0, localSamples = 0;
+        // The volumes of the tile's bin that may hold one of its visible points, then the same
+        // per SUB × SUB block of pixels (a smaller box culls more).
         const Bounds box = tileReceiverBounds(gbuffer, tile);
         std::vector<std::uint32_t> candidates;
         if (!box.empty()) {
@@ -191,11 +197,29 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     candidates.push_back(v);
             }
         }
+        std::array<std::vector<std::uint32_t>, BLOCKS * BLOCKS> blockCandidates;
+        for (int by = 0; by < BLOCKS && !candidates.empty(); ++by)
+            for (int bx = 0; bx < BLOCKS; ++bx) {
+                const PixelTile block{tile.x0 + bx * SUB,
+                                      tile.y0 + by * SUB,
+                                      std::min(tile.x1, tile.x0 + (bx + 1) * SUB),
+                                      std::min(tile.y1, tile.y0 + (by + 1) * SUB),
+                                      tile.tx,
+                                      tile.ty};
+                if (block.x0 >= block.x1 || block.y0 >= block.y1) continue;
+                const Bounds blockBox = tileReceiverBounds(gbuffer, block);
+                if (blockBox.empty()) continue;
+                std::vector<std::uint32_t>& list = blockCandidates[std::size_t(by * BLOCKS + bx)];
+                for (std::uint32_t v : candidates)
+                    if (!stsvVolumeMissesBox(volumes[v].volume, blockBox.lo, blockBox.hi)) list.push_back(v);
+            }
         std::array<vec2, 256> points;
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
-                if (!gbuffer.covered(i) || candidates.empty()) continue;
+                const std::vector<std::uint32_t>& pixelCandidates =
+                    blockCandidates[std::size_t(((y - tile.y0) / SUB) * BLOCKS + (x - tile.x0) / SUB)];
+                if (!gbuffer.covered(i) || pixelCandidates.empty()) continue;
                 const vec3 p = gbuffer.position[i];
                 const LightFrame frame = lightFrame(light, p, farDistance);
                 const float tMin = shadowTMin(p, frame.center, sceneDiameter);
@@ -213,7 +237,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 // need every layer.
                 std::array<uint, 8> mask{};
                 uint open = wordCount;
-                for (std::uint32_t v : candidates) {
+                for (std::uint32_t v : pixelCandidates) {
                     if (open == 0) break;
                     const VolumeRecord& record = volumes[v];
                     if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
