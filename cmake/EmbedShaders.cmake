@@ -1,6 +1,6 @@
 # Script mode (cmake -P): writes the C++ source that embeds the shader set in the program.
 #   -DMANIFEST=FILE  lines "NAME<TAB>PATH": NAME is the file's path inside the set, PATH its source
-#   -DOUTPUT=FILE    the generated source (rewritten only when its text changes)
+#   -DOUTPUT=FILE    the generated source (the build runs this only when a listed file changed)
 # Each file becomes a raw string literal; the script fails if a file contains the delimiter.
 cmake_minimum_required(VERSION 3.25)
 set(delimiter "stsv_embedded")
@@ -32,10 +32,4 @@ std::span<const ShaderFile> embeddedShaders() {
 
 } // namespace stsv
 ")
-if(EXISTS ${OUTPUT})
-  file(READ ${OUTPUT} old)
-  if(old STREQUAL source)
-    return()
-  endif()
-endif()
 file(WRITE ${OUTPUT} "${source}")
