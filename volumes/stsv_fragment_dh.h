@@ -41,40 +41,38 @@ DH_FUNC bool stsvFragmentPixel(StsvTriangle t, uint side, vec3 p, LightFrame lf,
     return side == 0u ? px.e > 0.0f : px.e < 0.0f;
 }
 
+/// True iff light sample k is occluded by triangle t: the projective test (Eq. 1–3) and, for a
+/// textured triangle of `textureSize` texels, the texel rule at the crossing (Eq. 4–5).
+DH_FUNC bool stsvSampleOccluded(StsvTriangle t, StsvPixel px, StsvSampleSource src, ivec2 textureSize,
+                                uint k) {
+    ivec2 texel;
+    if (!stsvSampleCrosses(t, px, stsvSourcePoint(src, k), textureSize, texel)) return false;
+    return (t.flags & STSV_FLAG_OPAQUE) != 0u || stsvSourceBlocks(src, texel);
+}
+
 /// Occlusion bits of mask word w (ls_buffer_dh.h): samples k = 32w + b, b < bitCount, against
-/// triangle t — the projective test (Eq. 1–3) and, for a textured triangle of `textureSize`
-/// texels, the texel rule at the crossing (Eq. 4–5). One word per call: the word index stays
-/// uniform across the fragments of a SIMD batch, so the mask lives in registers.
+/// triangle t. One word per call: the word index stays uniform across the fragments of a SIMD
+/// batch, so the mask lives in registers.
 DH_FUNC uint stsvOcclusionWord(StsvTriangle t, StsvPixel px, StsvSampleSource src, ivec2 textureSize, uint w,
                                uint bitCount) {
-    bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
     uint bits = 0u;
     for (uint b = 0u; b < bitCount; ++b) {
         uint k = 32u * w + b;
-        ivec2 texel;
-        if (!stsvSampleCrosses(t, px, stsvSourcePoint(src, k), textureSize, texel)) continue;
-        if (!opaque && !stsvSourceBlocks(src, texel)) continue;
-        bits |= lsMaskBit(k);
+        if (stsvSampleOccluded(t, px, src, textureSize, k)) bits |= lsMaskBit(k);
     }
     return bits;
 }
 
-/// stsvOcclusionWord over the samples of mask word w whose bits are set in `untested` only: a
-/// caller that accumulates a bitmask skips the samples an earlier triangle already occluded (the
-/// result is OR-ed into the same word, so it is unchanged). Not for counters, which need every
-/// layer.
+/// stsvOcclusionWord over the samples of word w whose bits are set in `untested` only: callers
+/// leave out samples that cannot change the result — those outside the triangle's projection
+/// (stsvSampleRegion), and with a bitmask those an earlier triangle already occluded.
 DH_FUNC uint stsvOcclusionWordOf(StsvTriangle t, StsvPixel px, StsvSampleSource src, ivec2 textureSize,
                                  uint w, uint untested) {
-    bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
     uint bits = 0u;
     while (untested != 0u) {
-        uint b = uint(findLSB(untested));
+        uint k = 32u * w + uint(findLSB(untested));
         untested &= untested - 1u;
-        uint k = 32u * w + b;
-        ivec2 texel;
-        if (!stsvSampleCrosses(t, px, stsvSourcePoint(src, k), textureSize, texel)) continue;
-        if (!opaque && !stsvSourceBlocks(src, texel)) continue;
-        bits |= lsMaskBit(k);
+        if (stsvSampleOccluded(t, px, src, textureSize, k)) bits |= lsMaskBit(k);
     }
     return bits;
 }
