@@ -179,6 +179,10 @@ Pipeline createGraphicsPipeline(const Device& device, const PipelineLayout& layo
     raster.cullMode = desc.cullMode;
     raster.frontFace = desc.frontFace;
     raster.lineWidth = 1.0f;
+    raster.depthBiasEnable =
+        desc.depthBiasConstant != 0.0f || desc.depthBiasSlope != 0.0f ? VK_TRUE : VK_FALSE;
+    raster.depthBiasConstantFactor = desc.depthBiasConstant;
+    raster.depthBiasSlopeFactor = desc.depthBiasSlope;
 
     VkPipelineMultisampleStateCreateInfo multisample{};
 

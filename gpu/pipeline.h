@@ -79,7 +79,11 @@ struct GraphicsPipelineDesc {
     bool depthTest = false;
     bool depthWrite = false;
     VkCompareOp depthCompare = VK_COMPARE_OP_LESS_OR_EQUAL;
-    bool depthClamp = false;    ///< needs DeviceInfo::depthClamp
+    bool depthClamp = false; ///< needs DeviceInfo::depthClamp
+    /// Depth bias (Vulkan's o = m·slope + r·constant, r the depth format's resolution at the
+    /// primitive): a positive value moves fragments farther before the depth test.
+    float depthBiasConstant = 0.0f;
+    float depthBiasSlope = 0.0f;
     bool logicOpEnable = false; ///< needs DeviceInfo::logicOp; applies to every (integer) attachment
     VkLogicOp logicOp = VK_LOGIC_OP_COPY;
     /// One per color attachment; empty: no blending, all channels written.

@@ -1,9 +1,17 @@
 #version 450
-// z-fail count of dcs_center.geom's volumes (DESIGN §4.5): only faces behind the visible point
-// pass the depth test (GREATER against the G-buffer depth, before the shader: early tests); a
-// back face is where the view ray leaves a volume (+w), a front face where it enters (−w), so a
-// point collects +1 per volume that contains it. The near cap of the visible triangle itself is
-// skipped (self-shadowing rule); wedge_fold.comp accounts for the rest of that triangle's volume.
+// z-fail count of dcs_center.geom's volumes (DESIGN §4.5): a back face behind the visible point
+// p is where the view ray leaves a volume (+w), a front face where it enters (−w), so p collects
+// +1 per volume that contains it. The near cap of the visible triangle itself is skipped
+// (self-shadowing rule); wedge_fold.comp accounts for the rest of that triangle's volume.
+//
+// "Behind p" is decided in world space, not by the depth buffer: the face is behind p when p
+// and the eye lie on the same side of the face's plane (the view ray through the pixel centre
+// meets the face, so it meets it beyond p). A near cap starts SHADOW_T_MIN·distance behind its
+// triangle, and on a closed box as thin as that gap (a 0.5 mm wire 5 m from the light) the cap
+// lies a tenth of a millimetre from the points of the box's far side: closer than the depth
+// buffer resolves there, far more than the float plane test does. The pipeline's depth test
+// (GREATER, early) only prunes: its bias (render/gpu_opaque_passes.cpp) lets faces slightly in
+// front of p through, and this test rejects them.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_bindings.glsl"
 
@@ -11,12 +19,19 @@ layout(early_fragment_tests) in;
 
 layout(location = 0) flat in int inWeight;
 layout(location = 1) flat in uint inSkipTriangle;
+layout(location = 2) flat in vec4 inPlane;
 
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = 0, binding = GPU_BINDING_CENTER, r32i) uniform iimage2D centerCount;
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     if (inSkipTriangle != GPU_NO_TRIANGLE && imageLoad(gTriangle, pixel).x == inSkipTriangle) return;
-    imageAtomicAdd(centerCount, pixel, gl_FrontFacing ? -inWeight : inWeight);
+    vec3 p = vec3(imageLoad(gPosition, pixel));
+    float eyeSide = dot(inPlane.xyz, vec3(frame.eye)) + inPlane.w;
+    float pointSide = dot(inPlane.xyz, p) + inPlane.w;
+    // The eye outside the face (eyeSide > 0): the ray enters the volume there.
+    if (eyeSide > 0.0 ? !(pointSide > 0.0) : !(pointSide < 0.0)) return;
+    imageAtomicAdd(centerCount, pixel, eyeSide > 0.0 ? -inWeight : inWeight);
 }

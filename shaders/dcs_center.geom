@@ -17,16 +17,25 @@ layout(triangle_strip, max_vertices = 6) out;
 
 layout(location = 0) flat out int outWeight;       ///< added as +w on back faces, −w on front faces
 layout(location = 1) flat out uint outSkipTriangle; ///< near cap of this triangle: not for its own points
+/// World plane of the face, xyz its unit outward normal: the fragment decides "behind the
+/// visible point" with it (dcs_center.frag).
+layout(location = 2) flat out vec4 outPlane;
 
 // Shared corners must land on identical clip coordinates in every face that uses them (the
 // rasteriser is watertight only then): every position below is `precise`.
 void emitTriangle(vec3 a, vec3 b, vec3 c, int weight, uint skip) {
     vec3 corners[3] = vec3[3](a, b, c);
+    vec3 normal = cross(b - a, c - a);
+    float area = length(normal);
+    if (!(area > 0.0)) return; // degenerate after rounding: covers no pixel centre
+    normal /= area;
+    vec4 plane = vec4(normal, -dot(normal, a));
     for (int i = 0; i < 3; ++i) {
         precise vec4 clip = frame.clipFromWorld * vec4(corners[i], 1.0);
         gl_Position = clip;
         outWeight = weight;
         outSkipTriangle = skip;
+        outPlane = plane;
         EmitVertex();
     }
     EndPrimitive();
