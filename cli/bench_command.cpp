@@ -489,7 +489,7 @@ int runBench(BenchArgs& args) {
                                                 {"bias", r.visibilityError->bias},
                                                 {"max_abs", r.visibilityError->maxAbs}};
             for (const char* key :
-                 {"light_sample_buffer_bytes", "stsv", "wedges", "shadow_maps", "gpu", "gpu_ms"})
+                 {"light_sample_buffer_bytes", "stsv", "wedges", "center", "shadow_maps", "gpu", "gpu_ms"})
                 if (r.lastStats.contains(key)) j[key] = r.lastStats[key];
             configurations.push_back(j);
         }

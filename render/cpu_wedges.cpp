@@ -45,8 +45,8 @@ nlohmann::json toJson(const WedgeCpuStats& s) {
             {"potential_silhouettes", s.potentialSilhouettes},
             {"volumes", s.volumes},
             {"tile_entries", s.tileEntries},
-            {"point_in_volume_tests", s.pixelVolumeTests},
-            {"pixel_edge_visits", s.pixelEdgeVisits},
+            {"fragments", s.pixelVolumeTests},
+            {"silhouette_fragments", s.pixelEdgeVisits},
             {"negative_counts", s.negativeCounts},
             {"setup_ms", s.setup_ms},
             {"shade_ms", s.shade_ms}};

@@ -26,9 +26,12 @@ struct WedgeCpuStats {
     std::size_t potentialSilhouettes = 0; ///< of those, potential silhouettes for this light
     std::size_t volumes = 0;              ///< face volumes built for binning
     std::size_t tileEntries = 0;          ///< (tile, face record) pairs
-    std::size_t pixelVolumeTests = 0;     ///< point-in-volume tests
-    std::size_t pixelEdgeVisits =
-        0; ///< (pixel, edge) pairs with the edge a silhouette from p, clipped non-empty
+    /// Point-in-volume tests of a face record's bound ("fragments"; one record holds the
+    /// face's potential silhouette edges, a GPU fragment one edge).
+    std::size_t pixelVolumeTests = 0;
+    /// (pixel, edge) pairs with the edge a silhouette from p, clipped non-empty
+    /// ("silhouette_fragments", as the GPU counts them; DCS tests every sample of each).
+    std::size_t pixelEdgeVisits = 0;
     std::size_t negativeCounts = 0; ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
     double setup_ms = 0.0;          ///< silhouettes, volumes, binning
     double shade_ms = 0.0;          ///< per-pixel centre count and edge loop

@@ -80,6 +80,7 @@ class CpuRenderer final : public FrameRenderer {
         initFrameImages(m_scene, frame.gbuffer, m_options.ambient, frame);
 
         nlohmann::json methodStats = nlohmann::json::array();
+        nlohmann::json stsvStats = nlohmann::json::array(); // the STSV part of pw+stsv, dcs+stsv
         const BufferKind kind = m_options.buffer;
         std::size_t bufferBytes = 0;
         for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
@@ -130,7 +131,11 @@ class CpuRenderer final : public FrameRenderer {
                             : pwCpuVisibility(occluders(), frame.gbuffer, light, m_farDistance, coverage);
                 }
                 passes[prefix + m_method.name] = timer.milliseconds();
-                methodStats.push_back({{"wedges", toJson(w)}, {"stsv", toJson(stsv)}});
+                nlohmann::json wedges = toJson(w);
+                if (m_method.opaque == OpaqueTechnique::Dcs)
+                    wedges["samples_tested"] = w.pixelEdgeVisits * std::size_t(m_options.samples);
+                methodStats.push_back(wedges);
+                if (withStsv) stsvStats.push_back(toJson(stsv));
             }
             timer.reset();
             // PW shades with all samples lit, scaled by its v_coef.
@@ -157,6 +162,7 @@ class CpuRenderer final : public FrameRenderer {
             frame.stats[m_method.shadowMap != ShadowFilter::None   ? "shadow_maps"
                         : m_method.opaque == OpaqueTechnique::None ? "stsv"
                                                                    : "wedges"] = methodStats;
+        if (!stsvStats.empty()) frame.stats["stsv"] = stsvStats;
         return frame;
     }
 

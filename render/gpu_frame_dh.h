@@ -91,10 +91,14 @@ struct GpuLight {
 /// Fragment statistics of one light's STSV and wedge passes (atomic counters in the fragment
 /// shaders).
 struct GpuStats {
-    uint fragments;      ///< STSV fragments that passed the depth test (volume behind the visible point)
-    uint inside;         ///< of those, p inside the volume and on its side: they run the sample loop
-    uint wedgeFragments; ///< wedge-pass fragments that passed the depth test
-    uint wedgeInside;    ///< of those, p inside the bound with the edge a silhouette seen from p
+    uint fragments;       ///< STSV fragments that passed the depth test (volume behind the visible point)
+    uint inside;          ///< of those, p inside the volume and on its side: they run the sample loop
+    uint wedgeFragments;  ///< wedge-pass fragments that passed the depth test
+    uint wedgeInside;     ///< of those, p inside the bound with the edge a silhouette seen from p
+    uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
+    uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
+    uint pad0;
+    uint pad1;
 };
 
 /// One welded edge of the opaque triangles (wedges/adjacency.h). std430: 3 × 16 bytes.
@@ -158,7 +162,7 @@ DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
 DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);
 DH_STATIC_ASSERT(sizeof(GpuFrame) == 176);
 DH_STATIC_ASSERT(sizeof(GpuLight) == 96);
-DH_STATIC_ASSERT(sizeof(GpuStats) == 16);
+DH_STATIC_ASSERT(sizeof(GpuStats) == 32);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
 DH_STATIC_ASSERT(sizeof(GpuEdge) == 48);
 DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);

@@ -107,6 +107,16 @@ std::vector<std::byte> frameConstants(const Scene& scene, const RenderOptions& o
 
 } // namespace
 
+void setBehindVisiblePointDepth(GraphicsPipelineDesc& desc) {
+    desc.depthFormat = DEPTH_FORMAT;
+    desc.depthTest = true;
+    desc.depthWrite = false;
+    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    desc.depthClamp = true;
+    desc.depthBiasConstant = 256.0f;
+    desc.depthBiasSlope = 1.0f;
+}
+
 int maskAttachmentCount(int samples) {
     return (samples + 63) / 64;
 }

@@ -26,20 +26,13 @@ std::vector<ShaderDefine> wedgeDefines(const RenderOptions& options, std::vector
     return defines;
 }
 
-/// The volume passes' common state: depth test "behind the visible point" against the G-buffer
-/// depth without writes, depth clamp (the far caps lie beyond the far plane), one point per
-/// primitive expanded by the geometry shader.
-constexpr float CENTER_DEPTH_BIAS_UNITS = 256.0f;
-
+/// The volume passes' common state: the depth test "behind the visible point"
+/// (setBehindVisiblePointDepth), one point per primitive expanded by the geometry shader.
 GraphicsPipelineDesc volumePipelineDesc(std::vector<ShaderStage> stages) {
     GraphicsPipelineDesc desc;
     desc.stages = std::move(stages);
     desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
-    desc.depthFormat = DEPTH_FORMAT;
-    desc.depthTest = true;
-    desc.depthWrite = false;
-    desc.depthCompare = VK_COMPARE_OP_GREATER;
-    desc.depthClamp = true;
+    setBehindVisiblePointDepth(desc);
     desc.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE; // outward faces are CCW
     return desc;
 }
@@ -114,14 +107,6 @@ CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, Opaqu
          {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("dcs_center.geom", defines)},
          {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("dcs_center.frag", defines)}});
     desc.cullMode = VK_CULL_MODE_NONE;
-    // dcs_center.frag decides "behind p" in world space; the depth test only prunes the faces
-    // clearly in front. The bias lets through every face the depth buffer cannot place on
-    // either side of p: 256 units of the depth format's resolution (D32: about 1.5e-5 of
-    // the depth range near the far plane) cover the G-buffer's rounding and the snapping of
-    // both triangles to the sub-pixel grid, and one pixel of the face's depth slope covers
-    // faces seen edge-on.
-    desc.depthBiasConstant = CENTER_DEPTH_BIAS_UNITS;
-    desc.depthBiasSlope = 1.0f;
     m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
 }
 
@@ -130,7 +115,8 @@ PassAccesses CenterCountPass::accesses(std::size_t) const {
     accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_opaque->center, ResourceUse::storageReadWrite(FRAGMENT));
+        .use(m_opaque->center, ResourceUse::storageReadWrite(FRAGMENT))
+        .use(m_frame->stats, ResourceUse::storageReadWrite(FRAGMENT));
     return accesses;
 }
 

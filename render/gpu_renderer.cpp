@@ -221,14 +221,28 @@ Frame VulkanFrame::render(double startupMs) {
 nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const {
     nlohmann::json stsvStats = nlohmann::json::array();
     nlohmann::json wedgeStats = nlohmann::json::array();
+    nlohmann::json centerStats = nlohmann::json::array();
+    // The fragment loops of stsv.frag and wedge.frag (DCS) test every sample of a fragment
+    // that gets that far, so the samples tested are those fragments times N.
+    const std::uint64_t n = std::uint64_t(m_options.samples);
+    const bool dcs = m_method.opaque == OpaqueTechnique::Dcs;
     for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
-        stsvStats.push_back({{"fragments", counts[l].fragments}, {"inside_fragments", counts[l].inside}});
-        wedgeStats.push_back({{"edges", m_opaqueResources.edgeCount()},
-                              {"fragments", counts[l].wedgeFragments},
-                              {"silhouette_fragments", counts[l].wedgeInside}});
+        stsvStats.push_back({{"fragments", counts[l].fragments},
+                             {"inside_fragments", counts[l].inside},
+                             {"samples_tested", n * counts[l].inside}});
+        nlohmann::json wedge = {{"edges", m_opaqueResources.edgeCount()},
+                                {"fragments", counts[l].wedgeFragments},
+                                {"silhouette_fragments", counts[l].wedgeInside}};
+        if (dcs) wedge["samples_tested"] = n * counts[l].wedgeInside;
+        wedgeStats.push_back(wedge);
+        centerStats.push_back(
+            {{"fragments", counts[l].centerFragments}, {"counted_fragments", counts[l].centerCounted}});
     }
     nlohmann::json stats = {{"stsv", stsvStats}};
-    if (m_opaque) stats["wedges"] = wedgeStats;
+    if (m_opaque) {
+        stats["wedges"] = wedgeStats;
+        stats["center"] = centerStats;
+    }
     return stats;
 }
 

@@ -44,8 +44,10 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 /// "passes" (GPU timestamps: gbuffer, light<i>/stsv, light<i>/{dcs_,pw_}center and wedges,
 /// light<i>/fold, light<i>/resolve, ambient without lights, copy = all outputs into one
 /// host-visible buffer; host: readback = unpacking it into the Frame),
-/// "stsv"[i] {"fragments", "inside_fragments"} counted by atomics in stsv.frag, "wedges"[i]
-/// {"edges", "fragments", "silhouette_fragments"} for methods with an opaque technique,
+/// "stsv"[i] {"fragments", "inside_fragments", "samples_tested"} counted by atomics in
+/// stsv.frag; for methods with an opaque technique "wedges"[i] {"edges", "fragments",
+/// "silhouette_fragments", DCS: "samples_tested"} (wedge.frag) and "center"[i] {"fragments",
+/// "counted_fragments"} (dcs_center.frag);
 /// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion}.
 class VulkanRenderer final : public FrameRenderer {
   public:

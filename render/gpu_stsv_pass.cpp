@@ -33,11 +33,7 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
         desc.logicOpEnable = true;
         desc.logicOp = VK_LOGIC_OP_OR;
     }
-    desc.depthFormat = DEPTH_FORMAT;
-    desc.depthTest = true;
-    desc.depthWrite = false;
-    desc.depthCompare = VK_COMPARE_OP_GREATER;
-    desc.depthClamp = true;
+    setBehindVisiblePointDepth(desc);
     // The strip faces outward (counter-clockwise seen from outside, extrusion_dh.h); the y-down
     // clip space keeps that orientation in framebuffer coordinates, so the back faces are the
     // clockwise ones.

@@ -10,9 +10,11 @@
 // triangle, and on a closed box as thin as that gap (a 0.5 mm wire 5 m from the light) the cap
 // lies a tenth of a millimetre from the points of the box's far side: closer than the depth
 // buffer resolves there, far more than the float plane test does. The pipeline's depth test
-// (GREATER, early) only prunes: its bias (render/gpu_opaque_passes.cpp) lets faces slightly in
-// front of p through, and this test rejects them.
+// (GREATER, early) only prunes: its bias (setBehindVisiblePointDepth, render/
+// gpu_frame_resources.h) lets faces slightly in front of p through, and this test rejects them.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "frame_bindings.glsl"
 
 layout(early_fragment_tests) in;
@@ -24,14 +26,23 @@ layout(location = 2) flat in vec4 inPlane;
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = 0, binding = GPU_BINDING_CENTER, r32i) uniform iimage2D centerCount;
+layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
-    if (inSkipTriangle != GPU_NO_TRIANGLE && imageLoad(gTriangle, pixel).x == inSkipTriangle) return;
-    vec3 p = vec3(imageLoad(gPosition, pixel));
-    float eyeSide = dot(inPlane.xyz, vec3(frame.eye)) + inPlane.w;
-    float pointSide = dot(inPlane.xyz, p) + inPlane.w;
-    // The eye outside the face (eyeSide > 0): the ray enters the volume there.
-    if (eyeSide > 0.0 ? !(pointSide > 0.0) : !(pointSide < 0.0)) return;
-    imageAtomicAdd(centerCount, pixel, eyeSide > 0.0 ? -inWeight : inWeight);
+    bool counted = false;
+    if (inSkipTriangle == GPU_NO_TRIANGLE || imageLoad(gTriangle, pixel).x != inSkipTriangle) {
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        float eyeSide = dot(inPlane.xyz, vec3(frame.eye)) + inPlane.w;
+        float pointSide = dot(inPlane.xyz, p) + inPlane.w;
+        // The eye outside the face (eyeSide > 0): the ray enters the volume there.
+        counted = eyeSide > 0.0 ? pointSide > 0.0 : pointSide < 0.0;
+        if (counted) imageAtomicAdd(centerCount, pixel, eyeSide > 0.0 ? -inWeight : inWeight);
+    }
+    uint fragments = subgroupAdd(1u);
+    uint countedCount = subgroupAdd(counted ? 1u : 0u);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].centerFragments, fragments);
+        atomicAdd(stats[pc.light].centerCounted, countedCount);
+    }
 }

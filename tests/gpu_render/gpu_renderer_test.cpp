@@ -221,6 +221,9 @@ TEST_F(GpuRenderer, LightSampleBufferMemoryIsNWHBits) {
     EXPECT_GT(frame.stats["stsv"][0]["fragments"].get<std::size_t>(), 0u);
     EXPECT_LE(frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>(),
               frame.stats["stsv"][0]["fragments"].get<std::size_t>());
+    // stsv.frag tests every sample of a fragment inside its volume.
+    EXPECT_EQ(frame.stats["stsv"][0]["samples_tested"].get<std::size_t>(),
+              128u * frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>());
 }
 
 TEST_F(GpuRenderer, RepeatedFramesAreIdentical) {

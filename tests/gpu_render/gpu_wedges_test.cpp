@@ -30,10 +30,30 @@ class GpuWedges : public test::GpuRenderTest {
         double worst = 1.0;
         for (std::size_t l = 0; l < scene.lights.size(); ++l) {
             LightSampleBuffer mirror(o.width, o.height, o.samples, BufferKind::Counters);
-            if (o.method == Method::DcsStsv)
-                dcsStsvCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror);
+            const WedgeCpuStats mirrorStats =
+                o.method == Method::DcsStsv
+                    ? dcsStsvCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror)
+                    : dcsCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror);
+            // Both count the (pixel, edge) pairs that pass the bound and silhouette tests of
+            // wedges/wedge_fragment_dh.h on the same points: the GPU per fragment, the mirror
+            // per loop step (a tie at a bound's plane may tip one pair).
+            const nlohmann::json& wedges = frame.stats["wedges"][l];
+            const auto silhouettes = wedges["silhouette_fragments"].get<std::size_t>();
+            std::cout << what << " light " << l << ": " << silhouettes << " silhouette fragments, mirror "
+                      << mirrorStats.pixelEdgeVisits << "\n";
+            if (why.empty())
+                EXPECT_EQ(silhouettes, mirrorStats.pixelEdgeVisits) << what;
             else
-                dcsCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror);
+                EXPECT_NEAR(double(silhouettes), double(mirrorStats.pixelEdgeVisits),
+                            1e-3 * double(mirrorStats.pixelEdgeVisits))
+                    << what;
+            EXPECT_LE(silhouettes, wedges["fragments"].get<std::size_t>()) << what;
+            EXPECT_EQ(wedges["samples_tested"].get<std::size_t>(), silhouettes * std::size_t(o.samples))
+                << what;
+            const nlohmann::json& center = frame.stats["center"][l];
+            EXPECT_GT(center["counted_fragments"].get<std::size_t>(), 0u) << what;
+            EXPECT_LE(center["counted_fragments"].get<std::size_t>(), center["fragments"].get<std::size_t>())
+                << what;
             const LightSampleDiff diff = compareLightSamples(frame.lightSamples[l], mirror, 8, true);
             const double agreement = 1.0 - double(diff.differingSamples) / double(diff.comparedSamples);
             const std::string differences =

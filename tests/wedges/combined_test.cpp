@@ -5,6 +5,8 @@
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu_wedges.h"
+#include "render/frame.h"
+#include "render/methods.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "scene/procedural.h"
@@ -119,6 +121,56 @@ TEST(Combined, PwStsvWithOpaqueMeshMeasured) {
     // sum over-darkens where the two shadows overlap (the paper's Fig. 4(a) artifact).
     EXPECT_LT(sum / double(pixels), 0.05);
     EXPECT_GE(signedSum, 0.0);
+}
+
+// The CPU frame's per-pass counts under the names the Vulkan frame uses: "wedges" per light
+// (fragments = bound tests, silhouette_fragments, DCS samples_tested = silhouettes × N) and,
+// for the combined methods, the STSV part under "stsv".
+TEST(Combined, CpuFrameStatsCountEachPass) {
+    Progress::setEnabled(false);
+    FenceParams params;
+    params.repeat = 4;
+    params.textureSize = 64;
+    const Scene fence = makeFenceScene(params);
+    const Scene sphere = makeMeshScene(test::makeSphereMesh(24, 12), "sphere");
+    for (Method method : {Method::Dcs, Method::DcsStsv, Method::PwStsv})
+        for (const Scene* scene : {&fence, &sphere}) {
+            RenderOptions o;
+            o.backend = Backend::Cpu;
+            o.method = method;
+            o.width = 64;
+            o.height = 48;
+            o.samples = 32;
+            o.buffer = methodInfo(method).output == MethodOutput::Visibility ? BufferKind::Bitmask
+                                                                             : BufferKind::Counters;
+            const Frame frame = makeRenderer(*scene, o)->render();
+            const std::string what = toString(method) + " on " + scene->source;
+            ASSERT_TRUE(frame.stats.contains("wedges")) << what;
+            const nlohmann::json& w = frame.stats["wedges"][0];
+            const auto silhouettes = w["silhouette_fragments"].get<std::size_t>();
+            EXPECT_LE(silhouettes, w["fragments"].get<std::size_t>() * w["edges"].get<std::size_t>()) << what;
+            if (scene == &sphere) {
+                EXPECT_GT(silhouettes, 100u) << what;
+            }
+            if (method == Method::PwStsv) {
+                EXPECT_FALSE(w.contains("samples_tested")) << what << ": PW integrates, it tests no samples";
+            } else {
+                EXPECT_EQ(w["samples_tested"].get<std::size_t>(), silhouettes * 32u) << what;
+            }
+            const bool stsvPart = method != Method::Dcs;
+            ASSERT_EQ(frame.stats.contains("stsv"), stsvPart) << what;
+            if (!stsvPart) continue;
+            const nlohmann::json& s = frame.stats["stsv"][0];
+            const auto inside = s["inside_fragments"].get<std::size_t>();
+            EXPECT_LE(inside, s["fragments"].get<std::size_t>()) << what;
+            EXPECT_LE(s["samples_tested"].get<std::size_t>(), inside * 32u) << what;
+            // The fence's quad shadows the ground; the sphere scene has no perforated triangle.
+            if (scene == &fence) {
+                EXPECT_GT(s["samples_tested"].get<std::size_t>(), 1000u) << what;
+            } else {
+                EXPECT_EQ(s["fragments"].get<std::size_t>(), 0u) << what;
+            }
+        }
 }
 
 } // namespace
