@@ -267,6 +267,8 @@ void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std:
                 args.pattern = value.get<std::string>();
             else if (key == "buffer")
                 args.buffer = value.get<std::string>();
+            else if (key == "extrusion")
+                args.extrusion = value.get<std::string>();
             else if (key == "seed")
                 args.options.seed = value.get<std::uint32_t>();
             else if (key == "set")
@@ -358,6 +360,78 @@ int runBench(BenchArgs& args) {
 
     std::vector<Result> results;
     bool failed = false;
+    // --json is rewritten after each scene variant ("complete": false until the end), so a run
+    // stopped early keeps what it measured.
+    const auto writeResults = [&](bool complete) {
+        if (args.json.empty()) return;
+        nlohmann::json deviceNames = nlohmann::json::array();
+        std::string device;
+        for (const Result& r : results)
+            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu"))
+                device = r.lastStats["gpu"].value("device", std::string());
+        const bool vulkanAsked = std::any_of(pairs.begin(), pairs.end(),
+                                             [](const auto& p) { return p.second == Backend::Vulkan; });
+        if (vulkanAsked) {
+            const std::string listed = vulkanDeviceName(base.device, deviceNames);
+            if (device.empty()) device = listed;
+        }
+        nlohmann::json configurations = nlohmann::json::array();
+        for (const Result& r : results) {
+            const Config& c = r.config;
+            RenderOptions o = base;
+            o.method = c.method;
+            o.params = c.params;
+            o.backend = c.backend;
+            o.samples = c.samples;
+            nlohmann::json j = {{"method", toString(c.method)},
+                                {"backend", toString(c.backend)},
+                                {"samples", c.samples},
+                                {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
+                                {"set", variants[c.variant].sceneOptions.set},
+                                {"variant", variants[c.variant].label},
+                                {"scene_name", variants[c.variant].scene},
+                                {"scene", r.scene},
+                                {"options", toJson(o)},
+                                {"warmup", args.warmup},
+                                {"repeat", r.frameMs.size()}};
+            if (!r.error.empty()) {
+                j["error"] = r.error;
+                configurations.push_back(j);
+                continue;
+            }
+            j["startup_ms"] = r.startupMs;
+            j["frame_ms"] = toJson(summarize(r.frameMs));
+            j["frame_ms_samples"] = r.frameMs;
+            nlohmann::json passes = nlohmann::json::object();
+            for (const auto& [name, values] : r.passes) passes[name] = toJson(summarize(values));
+            j["passes"] = passes;
+            j["speedup_vs_reference"] = r.speedup ? nlohmann::json(*r.speedup) : nlohmann::json(nullptr);
+            if (args.check && r.agreementPercent) {
+                j["identical_bits_percent"] = *r.agreementPercent;
+                j["differing_samples"] = r.differingSamples;
+            }
+            if (r.visibilityError)
+                j["visibility_vs_reference"] = {{"rmse", r.visibilityError->rmse},
+                                                {"bias", r.visibilityError->bias},
+                                                {"max_abs", r.visibilityError->maxAbs}};
+            for (const char* key :
+                 {"light_sample_buffer_bytes", "stsv", "wedges", "center", "shadow_maps", "gpu", "gpu_ms"})
+                if (r.lastStats.contains(key)) j[key] = r.lastStats[key];
+            configurations.push_back(j);
+        }
+        nlohmann::json out = {
+            {"scene", args.scene},
+            {"preset", args.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.preset)},
+            {"version", version()},
+            {"machine",
+             {{"cpu_threads", std::thread::hardware_concurrency()},
+              {"device", device.empty() ? nlohmann::json(nullptr) : nlohmann::json(device)},
+              {"vulkan_devices", deviceNames}}},
+            {"configurations", configurations},
+            {"skipped", skipped},
+            {"complete", complete}};
+        writeJson(args.json, out);
+    };
     for (std::size_t v = 0; v < variants.size(); ++v) {
         Timer loadTimer;
         const Scene scene = loadScene(variants[v].scene, variants[v].sceneOptions);
@@ -429,6 +503,7 @@ int runBench(BenchArgs& args) {
                 results[i].visibility = ImageF();
             }
         }
+        if (v + 1 < variants.size()) writeResults(false);
     }
 
     printTable(results, variants, args.check);
@@ -437,74 +512,7 @@ int runBench(BenchArgs& args) {
             std::printf("skipped %s/%s: %s\n", s["method"].get<std::string>().c_str(),
                         s["backend"].get<std::string>().c_str(), s["reason"].get<std::string>().c_str());
 
-    if (!args.json.empty()) {
-        nlohmann::json deviceNames = nlohmann::json::array();
-        std::string device;
-        for (const Result& r : results)
-            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu"))
-                device = r.lastStats["gpu"].value("device", std::string());
-        const bool vulkanAsked = std::any_of(pairs.begin(), pairs.end(),
-                                             [](const auto& p) { return p.second == Backend::Vulkan; });
-        if (vulkanAsked) {
-            const std::string listed = vulkanDeviceName(base.device, deviceNames);
-            if (device.empty()) device = listed;
-        }
-        nlohmann::json configurations = nlohmann::json::array();
-        for (const Result& r : results) {
-            const Config& c = r.config;
-            RenderOptions o = base;
-            o.method = c.method;
-            o.params = c.params;
-            o.backend = c.backend;
-            o.samples = c.samples;
-            nlohmann::json j = {{"method", toString(c.method)},
-                                {"backend", toString(c.backend)},
-                                {"samples", c.samples},
-                                {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
-                                {"set", variants[c.variant].sceneOptions.set},
-                                {"variant", variants[c.variant].label},
-                                {"scene_name", variants[c.variant].scene},
-                                {"scene", r.scene},
-                                {"options", toJson(o)},
-                                {"warmup", args.warmup},
-                                {"repeat", r.frameMs.size()}};
-            if (!r.error.empty()) {
-                j["error"] = r.error;
-                configurations.push_back(j);
-                continue;
-            }
-            j["startup_ms"] = r.startupMs;
-            j["frame_ms"] = toJson(summarize(r.frameMs));
-            j["frame_ms_samples"] = r.frameMs;
-            nlohmann::json passes = nlohmann::json::object();
-            for (const auto& [name, values] : r.passes) passes[name] = toJson(summarize(values));
-            j["passes"] = passes;
-            j["speedup_vs_reference"] = r.speedup ? nlohmann::json(*r.speedup) : nlohmann::json(nullptr);
-            if (args.check && r.agreementPercent) {
-                j["identical_bits_percent"] = *r.agreementPercent;
-                j["differing_samples"] = r.differingSamples;
-            }
-            if (r.visibilityError)
-                j["visibility_vs_reference"] = {{"rmse", r.visibilityError->rmse},
-                                                {"bias", r.visibilityError->bias},
-                                                {"max_abs", r.visibilityError->maxAbs}};
-            for (const char* key :
-                 {"light_sample_buffer_bytes", "stsv", "wedges", "center", "shadow_maps", "gpu", "gpu_ms"})
-                if (r.lastStats.contains(key)) j[key] = r.lastStats[key];
-            configurations.push_back(j);
-        }
-        nlohmann::json out = {
-            {"scene", args.scene},
-            {"preset", args.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.preset)},
-            {"version", version()},
-            {"machine",
-             {{"cpu_threads", std::thread::hardware_concurrency()},
-              {"device", device.empty() ? nlohmann::json(nullptr) : nlohmann::json(device)},
-              {"vulkan_devices", deviceNames}}},
-            {"configurations", configurations},
-            {"skipped", skipped}};
-        writeJson(args.json, out);
-    }
+    writeResults(true);
     return failed ? 1 : 0;
 }
 

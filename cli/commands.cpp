@@ -61,6 +61,11 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
     command->add_option("--device", a.options.device,
                         "Vulkan device: index or name substring (see stsv info)");
     command->add_flag("--validation", a.options.validation, "Vulkan validation layers (messages on stderr)");
+    command
+        ->add_option("--extrusion", a.extrusion,
+                     "Vulkan stage that builds the STSV volumes: auto | geometry | mesh (auto: mesh "
+                     "shaders where the device has them)")
+        ->capture_default_str();
     command->add_flag("-q,--quiet", a.quiet, "no progress display or summary line");
 }
 

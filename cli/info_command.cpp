@@ -53,10 +53,28 @@ int runInfo(const InfoArgs& args) {
         } catch (const Error& e) {
             shaderSource = {{"embedded", false}, {"error", e.what()}};
         }
+        nlohmann::json vulkan;
+        try {
+            nlohmann::json devices = nlohmann::json::array();
+            for (const DeviceInfo& d : listDevices())
+                devices.push_back({{"index", d.index},
+                                   {"name", d.name},
+                                   {"driver", d.driverName + " (" + d.driverInfo + ")"},
+                                   {"api", apiVersionString(d.apiVersion)},
+                                   {"geometry_shader", d.geometryShader},
+                                   {"mesh_shader", d.meshShader},
+                                   {"device_local_bytes", d.deviceLocalBytes}});
+            vulkan = {{"devices", devices}};
+        } catch (const Error& e) {
+            vulkan = {{"devices", nlohmann::json::array()}, {"error", e.what()}};
+        }
         out << nlohmann::json{{"version", version()},
                               {"methods", methodTableJson()},
                               {"scenes", scenes},
-                              {"shaders", shaderSource}}
+                              {"shaders", shaderSource},
+                              {"cpu_threads", std::thread::hardware_concurrency()},
+                              {"embree", RTC_VERSION_STRING},
+                              {"vulkan", vulkan}}
                    .dump(2)
             << '\n';
         return 0;

@@ -35,6 +35,7 @@ RenderOptions resolveFrameOptions(const FrameArgs& args) {
     RenderOptions o = args.options;
     o.pattern = parsePatternKind(args.pattern);
     o.buffer = parseBufferKind(args.buffer);
+    o.extrusion = parseExtrusionStage(args.extrusion);
     parseSize(args.size, o.width, o.height);
     validate(o);
     return o;

@@ -19,6 +19,7 @@ struct FrameArgs {
     std::string pattern = "poisson";
     std::string buffer = "bitmask";
     std::string size = "512x512";
+    std::string extrusion = "auto";
     std::vector<std::string> sets;   ///< scene knobs key=value
     std::vector<std::string> params; ///< method knobs name=value (render/methods.h)
     RenderOptions options;           ///< samples, seed, interleave, decorrelate, ambient, device, validation

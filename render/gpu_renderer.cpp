@@ -293,11 +293,12 @@ struct VulkanRenderer::Impl {
             throw UsageError(
                 "Vulkan device " + info.name +
                 " lacks depth clamp, logic op or fragment stores/atomics needed by the STSV pass");
-        if (config.extrusion == ExtrusionStage::Mesh && !info.meshShader)
+        const ExtrusionStage stage =
+            config.extrusion != ExtrusionStage::Auto ? config.extrusion : options.extrusion;
+        if (stage == ExtrusionStage::Mesh && !info.meshShader)
             throw UsageError("Vulkan device " + info.name +
                              " lacks VK_EXT_mesh_shader (mesh-shader STSV extrusion)");
-        mesh = config.extrusion == ExtrusionStage::Mesh ||
-               (config.extrusion == ExtrusionStage::Auto && info.meshShader);
+        mesh = stage == ExtrusionStage::Mesh || (stage == ExtrusionStage::Auto && info.meshShader);
         if (!mesh && !info.geometryShader)
             throw UsageError("Vulkan device " + info.name + " has neither geometry nor mesh shaders");
         frame = std::make_unique<VulkanFrame>(*device, scene, options, mesh);

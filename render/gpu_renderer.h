@@ -13,17 +13,11 @@ namespace stsv {
 
 class Device;
 
-/// Which stage builds the STSV volumes.
-enum class ExtrusionStage {
-    Auto,     ///< mesh shader when Device::info().meshShader, else geometry shader
-    Geometry, ///< shaders/stsv.geom
-    Mesh,     ///< shaders/stsv.mesh; UsageError naming VK_EXT_mesh_shader when the device lacks it
-};
-
 struct VulkanRendererConfig {
     /// Render on this device (it must outlive the renderer) instead of creating one from
     /// RenderOptions::device / RenderOptions::validation. Tests share one validated device.
     Device* device = nullptr;
+    /// Auto: RenderOptions::extrusion decides; Geometry or Mesh overrides it.
     ExtrusionStage extrusion = ExtrusionStage::Auto;
 };
 

@@ -32,6 +32,17 @@ MethodParams withDefaults(const RenderOptions& o) {
 
 } // namespace
 
+ExtrusionStage parseExtrusionStage(const std::string& name) {
+    if (name == "auto") return ExtrusionStage::Auto;
+    if (name == "geometry") return ExtrusionStage::Geometry;
+    if (name == "mesh") return ExtrusionStage::Mesh;
+    throw UsageError("unknown extrusion stage '" + name + "' (expected auto, geometry or mesh)");
+}
+
+std::string toString(ExtrusionStage stage) {
+    return stage == ExtrusionStage::Geometry ? "geometry" : stage == ExtrusionStage::Mesh ? "mesh" : "auto";
+}
+
 nlohmann::json toJson(const RenderOptions& o) {
     return {{"method", toString(o.method)},
             {"backend", toString(o.backend)},
@@ -46,6 +57,7 @@ nlohmann::json toJson(const RenderOptions& o) {
             {"ambient", o.ambient},
             {"device", o.device},
             {"validation", o.validation},
+            {"extrusion", toString(o.extrusion)},
             {"params", withDefaults(o)}};
 }
 

@@ -12,6 +12,16 @@
 
 namespace stsv {
 
+/// Which stage builds the STSV volumes on Vulkan.
+enum class ExtrusionStage {
+    Auto,     ///< mesh shader when Device::info().meshShader, else geometry shader
+    Geometry, ///< shaders/stsv.geom
+    Mesh,     ///< shaders/stsv.mesh; UsageError naming VK_EXT_mesh_shader when the device lacks it
+};
+
+ExtrusionStage parseExtrusionStage(const std::string& name); ///< auto | geometry | mesh
+std::string toString(ExtrusionStage stage);
+
 struct RenderOptions {
     Method method = Method::Stsv;
     Backend backend = Backend::Vulkan; ///< one of methodInfo(method).backends
@@ -23,10 +33,11 @@ struct RenderOptions {
     int interleave = 1;      ///< K of K×K interleaved sampling (1 = off), 1 … 8
     bool decorrelate = true; ///< per-pixel rotation of the pattern
     BufferKind buffer =
-        BufferKind::Bitmask;     ///< light-sample buffer: occlusion bits or depth-complexity counters
-    float ambient = 0.05f;       ///< ambient term, fraction of albedo
-    std::string device;          ///< Vulkan device: "" = best, an index, or a name substring
-    bool validation = false;     ///< Vulkan validation layers (always on in tests)
+        BufferKind::Bitmask; ///< light-sample buffer: occlusion bits or depth-complexity counters
+    float ambient = 0.05f;   ///< ambient term, fraction of albedo
+    std::string device;      ///< Vulkan device: "" = best, an index, or a name substring
+    bool validation = false; ///< Vulkan validation layers (always on in tests)
+    ExtrusionStage extrusion = ExtrusionStage::Auto; ///< Vulkan: stage of the STSV extrusion
     MethodParams params;         ///< the method's knobs (render/methods.h); missing ones take their defaults
     bool keepShadowMaps = false; ///< image-based methods: Frame::shadowMaps holds each light's map
 };

@@ -27,6 +27,44 @@ void expectSummary(const nlohmann::json& s, const std::string& what) {
     EXPECT_LE(s["median"].get<double>(), s["max"].get<double>()) << what;
 }
 
+// A run stopped during its second scene variant (here by an exception from the frame hook, as
+// by a time limit) leaves the JSON of the first variant, marked incomplete; a finished run is
+// marked complete.
+TEST(BenchCli, JsonIsWrittenAfterEachVariant) {
+    ScratchDir dir;
+    BenchArgs args;
+    args.scene = "foliage";
+    args.vary = "count=2,3";
+    args.methods = "stsv,reference";
+    args.backends = "cpu";
+    args.samples = "16";
+    args.size = "16x12";
+    args.repeat = 1;
+    args.warmup = 0;
+    args.quiet = true;
+    args.json = dir.file("bench.json");
+    struct Stop {};
+    int frames = 0;
+    args.onFrame = [&](const std::string&, bool) {
+        if (++frames == 3) throw Stop{};
+    };
+    testing::internal::CaptureStdout();
+    EXPECT_THROW(runBench(args), Stop);
+    testing::internal::GetCapturedStdout();
+    const nlohmann::json partial = readJson(args.json);
+    EXPECT_FALSE(partial["complete"].get<bool>());
+    ASSERT_EQ(partial["configurations"].size(), 2u);
+    for (const nlohmann::json& c : partial["configurations"]) EXPECT_EQ(c["set"]["count"], "2");
+
+    args.onFrame = nullptr;
+    testing::internal::CaptureStdout();
+    EXPECT_EQ(runBench(args), 0);
+    testing::internal::GetCapturedStdout();
+    const nlohmann::json done = readJson(args.json);
+    EXPECT_TRUE(done["complete"].get<bool>());
+    EXPECT_EQ(done["configurations"].size(), 4u);
+}
+
 TEST(BenchCli, JsonHasSummariesPerConfigurationAndCountsTimedFrames) {
     ScratchDir dir;
     BenchArgs args;

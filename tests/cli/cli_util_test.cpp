@@ -3,6 +3,8 @@
 #include "cli/commands.h"
 #include "cli/subcommands.h"
 #include "core/error.h"
+#include "render/frame.h"
+#include "scene/load.h"
 #include "tests/cli/cli_test_util.h"
 
 #include <gtest/gtest.h>
@@ -214,10 +216,40 @@ TEST(FrameMemory, AbsurdFramesAreRefusedBeforeAllocation) {
     EXPECT_EQ(estimateFrameBytes(o, 1), 256.0 * (28.0 + 16.0 + 32.0));
 }
 
+// The scale presets measure what their descriptions say: these occluder counts, with the
+// reference in the same run and the bit check.
+TEST(BenchPresets, ScalePresetsSpanTheirOccluderCountsWithTheReferenceAndCheck) {
+    const nlohmann::json presets = loadBenchPresets();
+    const struct {
+        const char* preset;
+        const char* countKey; ///< of the scene stats
+        std::vector<std::size_t> counts;
+    } cases[] = {{"foliage-scale", "perforated_triangles", {1000, 4000, 16000, 26000, 64000}},
+                 {"knot-scale", "triangles", {11520 + 2, 46080 + 2, 184320 + 2}}};
+    for (const auto& c : cases) {
+        BenchArgs args;
+        applyBenchPreset(args, presets, c.preset);
+        EXPECT_TRUE(args.check) << c.preset;
+        const std::vector<std::string> methods = splitList(args.methods);
+        EXPECT_NE(std::find(methods.begin(), methods.end(), "reference"), methods.end()) << c.preset;
+        const std::size_t eq = args.vary.find('=');
+        ASSERT_NE(eq, std::string::npos) << c.preset;
+        const std::vector<std::string> values = splitList(args.vary.substr(eq + 1));
+        ASSERT_EQ(values.size(), c.counts.size()) << c.preset;
+        for (std::size_t i = 0; i < values.size(); ++i) {
+            SceneOptions options;
+            options.set[args.vary.substr(0, eq)] = values[i];
+            const Scene scene = loadScene(args.scene, options);
+            EXPECT_EQ(sceneStats(scene)[c.countKey].get<std::size_t>(), c.counts[i])
+                << c.preset << " " << values[i];
+        }
+    }
+}
+
 TEST(BenchPresets, EveryPresetAppliesAndNamesValidOptions) {
     const nlohmann::json presets = loadBenchPresets();
     ASSERT_FALSE(presets.empty());
-    for (const std::string name : {"fence-1024", "fence-samples", "foliage-scale", "smoke"})
+    for (const std::string name : {"fence-1024", "fence-samples", "foliage-scale", "knot-scale", "smoke"})
         EXPECT_TRUE(presets.contains(name)) << "missing preset " << name;
     for (const auto& [name, preset] : presets.items()) {
         BenchArgs args;

@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <thread>
+
 #include <algorithm>
 #include <fstream>
 #include <sstream>
@@ -59,6 +61,16 @@ TEST(MethodTableCli, InfoListsEveryRowAndItsPairs) {
     ASSERT_EQ(j["methods"].size(), methodTable().size());
     for (std::size_t i = 0; i < methodTable().size(); ++i)
         EXPECT_EQ(j["methods"][i]["name"].get<std::string>(), methodTable()[i].name);
+    // The machine, as the text lists it (bench/gpu_measure.sh reads mesh_shader from here).
+    EXPECT_EQ(j["cpu_threads"].get<unsigned>(), std::thread::hardware_concurrency());
+    ASSERT_FALSE(j["vulkan"]["devices"].empty()) << j["vulkan"].dump();
+    for (const nlohmann::json& d : j["vulkan"]["devices"]) {
+        EXPECT_NE(info.out.find(": " + d["name"].get<std::string>()), std::string::npos) << d.dump();
+        EXPECT_NE(info.out.find(std::string("mesh shader (VK_EXT_mesh_shader): ") +
+                                (d["mesh_shader"].get<bool>() ? "yes" : "no")),
+                  std::string::npos)
+            << d.dump();
+    }
 }
 
 TEST(MethodTableCli, RenderHelpListsEveryMethod) {

@@ -155,8 +155,9 @@ TEST(RenderCli, StatsHaveEveryOptionTimingsCountsAndMemory) {
     EXPECT_FALSE(s["passes"].empty());
     for (const auto& [name, ms] : s["passes"].items()) EXPECT_TRUE(ms.is_number()) << name;
     // Every field of RenderOptions.
-    for (const char* key : {"method", "backend", "width", "height", "samples", "pattern", "seed",
-                            "interleave", "decorrelate", "buffer", "ambient", "device", "validation"})
+    for (const char* key :
+         {"method", "backend", "width", "height", "samples", "pattern", "seed", "interleave", "decorrelate",
+          "buffer", "ambient", "device", "validation", "extrusion"})
         EXPECT_TRUE(s["options"].contains(key)) << "options lacks " << key << ": " << s["options"].dump();
     EXPECT_EQ(s["options"]["width"], 32);
     EXPECT_EQ(s["options"]["height"], 16);
@@ -194,6 +195,7 @@ TEST(RenderCli, BadInputGivesOneLineAndNonZeroExit) {
         {{"render", "fence", "--stats", dir.path().string()}, "directory"},
         {{"render", "fence", "--method", "reference", "--backend", "vulkan"}, "CPU only"},
         {{"render", "fence", "--method", "wedges"}, "wedges"},
+        {{"render", "fence", "--extrusion", "compute"}, "compute"},
         {{"render", "fence", "--size", "16384x16384", "--samples", "256", "--buffer", "counters"}, "GiB"},
         {{"render"}, "scene"},
         {{"frobnicate"}, "frobnicate"},

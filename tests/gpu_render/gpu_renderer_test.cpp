@@ -252,13 +252,22 @@ TEST_F(GpuRenderer, MakeRendererChoosesVulkanForStsv) {
 TEST_F(GpuRenderer, MeshShaderExtrusionMatchesMirrorOrSkips) {
     const Scene scene = loadScene("fence");
     const RenderOptions o = gpuOptions(W, H, 64);
+    RenderOptions viaOptions = o; // --extrusion mesh
+    viaOptions.extrusion = ExtrusionStage::Mesh;
     if (!device().info().meshShader) {
         EXPECT_THROW(VulkanRenderer(scene, o, {&device(), ExtrusionStage::Mesh}), UsageError);
+        EXPECT_THROW(VulkanRenderer(scene, viaOptions, {&device()}), UsageError);
         GTEST_SKIP() << device().info().name
                      << " lacks VK_EXT_mesh_shader: stsv.mesh compiled and validated at build time, not run";
     }
     const Frame frame = renderGpu(scene, o, ExtrusionStage::Mesh);
     expectMirrorExact(scene, frame, o, 0, "mesh shader");
+    VulkanRenderer fromOptions(scene, viaOptions, {&device()});
+    EXPECT_TRUE(fromOptions.usesMeshShader());
+    const Frame geometry = renderGpu(scene, o, ExtrusionStage::Geometry);
+    const LightSampleDiff diff =
+        compareLightSamples(frame.lightSamples[0], geometry.lightSamples[0], 8, false);
+    EXPECT_EQ(diff.differingSamples, 0u) << "mesh and geometry shader extrusion differ";
 }
 
 } // namespace
