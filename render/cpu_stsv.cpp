@@ -46,13 +46,6 @@ constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/paral
 constexpr int SUB = 4;
 constexpr int BLOCKS = TILE / SUB;
 
-/// The per-pixel sample grid: SAMPLE_CELLS² cells over the frame domain [−1, 1]².
-constexpr int SAMPLE_CELLS = 8;
-int sampleCell(float coordinate) {
-    return std::clamp(int(std::floor((coordinate + 1.0f) * (0.5f * float(SAMPLE_CELLS)))), 0,
-                      SAMPLE_CELLS - 1);
-}
-
 struct VolumeRecord {
     StsvVolume volume;
     std::uint32_t triangle; ///< index into the StsvTriangle table
@@ -225,12 +218,11 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 const float tMin = shadowTMin(p, frame.center, sceneDiameter);
                 // The samples in an 8 × 8 grid over the frame's [−1, 1]²: a triangle tests only the
                 // samples of the cells its projection (stsvSampleRegion) touches.
-                std::array<std::array<uint, 8>, SAMPLE_CELLS * SAMPLE_CELLS> cells{};
+                SampleCells cells;
                 for (int k = 0; k < plan.count; ++k) {
                     const vec2 ab = pixelSamplePoint(plan, x, y, k, frame.domain);
                     points[std::size_t(k)] = ab;
-                    cells[std::size_t(sampleCell(ab.y) * SAMPLE_CELLS + sampleCell(ab.x))][uint(k) >> 5u] |=
-                        lsMaskBit(uint(k));
+                    cells.add(ab, uint(k));
                 }
                 // A bitmask keeps the union of the triangles' bits: samples already occluded are
                 // not tested again, and a pixel whose samples are all occluded is done. Counters
@@ -252,11 +244,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
                     vec2 regionLo, regionHi;
                     if (!stsvSampleRegion(px, vec2(-1.0f), vec2(1.0f), regionLo, regionHi)) continue;
-                    std::array<uint, 8> inRegion{};
-                    for (int cy = sampleCell(regionLo.y); cy <= sampleCell(regionHi.y); ++cy)
-                        for (int cx = sampleCell(regionLo.x); cx <= sampleCell(regionHi.x); ++cx)
-                            for (uint w = 0; w < wordCount; ++w)
-                                inRegion[w] |= cells[std::size_t(cy * SAMPLE_CELLS + cx)][w];
+                    const std::array<uint, 8> inRegion = cells.within(regionLo, regionHi, wordCount);
                     const StsvSampleSource src{points.data(), texture};
                     for (uint w = 0; w < wordCount; ++w) {
                         const uint untested = counters ? inRegion[w] : inRegion[w] & ~mask[w];

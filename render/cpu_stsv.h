@@ -7,12 +7,16 @@
 #include "core/parallel.h"
 #include "render/methods.h"
 #include "sampling/ls_buffer.h"
+#include "sampling/ls_buffer_dh.h"
 #include "sampling/pattern.h"
 #include "scene/scene.h"
 #include "volumes/extrusion_dh.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstddef>
 #include <functional>
 
@@ -46,6 +50,30 @@ mat4 binningClipFromView(const Camera& camera, int width, int height);
 /// (stsvVolumeMissesBox): what the rasteriser's depth test and the fragments' plane tests would
 /// reject one pixel at a time.
 Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile);
+
+/// A pixel's light samples in a CELLS × CELLS grid over the frame square [−1, 1]²: per cell the
+/// mask words (sampling/ls_buffer_dh.h) of the samples in it, so that a per-sample test bounded
+/// to a box of the frame (stsvSampleRegion, dcsSampleRegion) visits only the samples of the
+/// cells the box touches.
+struct SampleCells {
+    static constexpr int CELLS = 8;
+    std::array<std::array<uint, 8>, CELLS * CELLS> words{};
+
+    static int cellOf(float coordinate) {
+        return std::clamp(int(std::floor((coordinate + 1.0f) * (0.5f * float(CELLS)))), 0, CELLS - 1);
+    }
+    void add(vec2 ab, uint k) {
+        words[std::size_t(cellOf(ab.y) * CELLS + cellOf(ab.x))][k >> 5u] |= lsMaskBit(k);
+    }
+    /// The samples of the cells the box [lo, hi] touches, words 0 … wordCount − 1.
+    std::array<uint, 8> within(vec2 lo, vec2 hi, uint wordCount) const {
+        std::array<uint, 8> out{};
+        for (int cy = cellOf(lo.y); cy <= cellOf(hi.y); ++cy)
+            for (int cx = cellOf(lo.x); cx <= cellOf(hi.x); ++cx)
+                for (uint w = 0; w < wordCount; ++w) out[w] |= words[std::size_t(cy * CELLS + cx)][w];
+        return out;
+    }
+};
 
 /// Which scene triangles a pass treats (all when empty).
 using TriangleFilter = std::function<bool(std::size_t triangle)>;

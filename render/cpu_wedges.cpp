@@ -15,6 +15,7 @@
 #include <algorithm>
 #include <array>
 #include <atomic>
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -48,6 +49,7 @@ nlohmann::json toJson(const WedgeCpuStats& s) {
             {"fragments", s.pixelVolumeTests},
             {"silhouette_fragments", s.pixelEdgeVisits},
             {"negative_counts", s.negativeCounts},
+            {"samples_tested", s.samplesTested},
             {"setup_ms", s.setup_ms},
             {"shade_ms", s.shade_ms}};
 }
@@ -177,22 +179,75 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
     return bins;
 }
 
+/// A face record with the edges of it that may be a silhouette from some point of a box.
+struct RecordEdges {
+    std::uint32_t record;
+    std::uint32_t first; ///< into the list's edges
+    std::uint32_t count;
+};
+
+/// The records and edges a box of visible points keeps.
+struct EdgeList {
+    std::vector<RecordEdges> records;
+    std::vector<std::uint32_t> edges; ///< adjacency edge indices
+
+    void clear() {
+        records.clear();
+        edges.clear();
+    }
+};
+
+/// False when the edge's weight k_e (wedgeWorldWeight) is zero for every point of the box with
+/// any receiver: every face's plane leaves the box strictly on one side (dcsBoxSide) and the
+/// sides cancel. A face whose triangle is a receiver in the box has the receiver point on its
+/// plane, so that face is never strict and the edge is kept.
+bool edgeMayBeSilhouette(const EdgeAdjacency& adj, const MeshEdge& edge, vec3 lo, vec3 hi) {
+    const vec3 v0 = adj.positions[edge.v0], v1 = adj.positions[edge.v1];
+    int sum = 0;
+    for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
+        const int side = dcsBoxSide(v0, v1, adj.positions[adj.faces[f].opposite], lo, hi);
+        if (side == 0) return true;
+        sum += side;
+    }
+    return sum != 0;
+}
+
+/// Of `records` (their edges in `edges`), those whose bound reaches the box [lo, hi] and that may be a
+/// silhouette in it, into `to`. Both tests are conservative (stsvVolumeMissesBox,
+/// edgeMayBeSilhouette), so they change no result.
+void keepForBox(const EdgeBins& bins, const EdgeAdjacency& adj, const std::vector<RecordEdges>& records,
+                const std::vector<std::uint32_t>& edges, const Bounds& box, EdgeList& to) {
+    to.clear();
+    for (const RecordEdges& entry : records) {
+        const FaceRecord& record = bins.records[entry.record];
+        bool reaches = false;
+        for (std::uint32_t v = 0; v < record.volumeCount && !reaches; ++v)
+            reaches = !stsvVolumeMissesBox(record.volumes[v], box.lo, box.hi);
+        if (!reaches) continue;
+        const auto first = static_cast<std::uint32_t>(to.edges.size());
+        for (std::uint32_t i = entry.first; i < entry.first + entry.count; ++i)
+            if (edgeMayBeSilhouette(adj, adj.edges[edges[i]], box.lo, box.hi)) to.edges.push_back(edges[i]);
+        const auto count = static_cast<std::uint32_t>(to.edges.size()) - first;
+        if (count > 0) to.records.push_back({entry.record, first, count});
+    }
+}
+
 /// The fragment work of one pixel: calls visit(l, a, b, k) for every edge that is a silhouette
 /// from p (k ≠ 0, receiver face excluded) with a non-empty part between p and the light.
 template <class Visit>
-void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins,
-                       const std::vector<std::uint32_t>& tile, const DcsPixel& px, std::uint32_t receiver,
-                       std::size_t& tests, std::size_t& visits, Visit&& visit) {
+void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins, const EdgeList& list,
+                       const DcsPixel& px, std::uint32_t receiver, std::size_t& tests, std::size_t& visits,
+                       Visit&& visit) {
     const EdgeAdjacency& adj = occ.adjacency();
-    for (std::uint32_t r : tile) {
-        const FaceRecord& record = bins.records[r];
+    for (const RecordEdges& entry : list.records) {
+        const FaceRecord& record = bins.records[entry.record];
         ++tests;
         bool inside = false;
         for (std::uint32_t v = 0; v < record.volumeCount && !inside; ++v)
             inside = stsvPointInVolume(record.volumes[v], px.p);
         if (!inside) continue;
-        for (std::uint32_t i = record.firstEdge; i < record.firstEdge + record.edgeCount; ++i) {
-            const MeshEdge& edge = adj.edges[bins.edges[i]];
+        for (std::uint32_t i = entry.first; i < entry.first + entry.count; ++i) {
+            const MeshEdge& edge = adj.edges[list.edges[i]];
             const WedgeFaces faces{&adj, edge.firstFace, edge.faceCount};
             const vec3 v0 = adj.positions[edge.v0], v1 = adj.positions[edge.v1];
             if (wedgeWorldWeight(px.p, v0, v1, faces, receiver) == 0) continue;
@@ -205,33 +260,49 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins,
     }
 }
 
-/// Runs `pixel(x, y, i, tile)` over the covered pixels, tile by tile, on every core.
+/// Blocks of SUB × SUB pixels within a tile, each keeping what its own box keeps.
+constexpr int SUB = 4;
+constexpr int BLOCKS = TILE / SUB;
+
+/// Runs `pixel(x, y, i, list)` over the covered pixels, tile by tile, on every core. The list
+/// holds the records and edges kept first for the tile's box of visible points and then for
+/// the pixel's SUB × SUB block (keepForBox).
 template <class PixelFn>
-void forEachPixel(const GBuffer& gbuffer, const EdgeBins& bins, const char* label, PixelFn&& pixel) {
+void forEachPixel(const OpaqueOccluders& occ, const GBuffer& gbuffer, const EdgeBins& bins, const char* label,
+                  PixelFn&& pixel) {
+    const EdgeAdjacency& adj = occ.adjacency();
     Progress progress(label, bins.tiles.size());
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         const std::size_t tileIndex = std::size_t(tile.ty) * std::size_t(bins.tilesX) + std::size_t(tile.tx);
-        const int x0 = tile.x0, x1 = tile.x1, y0 = tile.y0, y1 = tile.y1;
-        // Records whose every volume misses the box of the tile's visible points are dropped
-        // for the tile (tileReceiverBounds).
         const Bounds box = tileReceiverBounds(gbuffer, tile);
         if (box.empty()) {
             progress.advance();
             return;
         }
-        std::vector<std::uint32_t> records;
-        records.reserve(bins.tiles[tileIndex].size());
-        for (std::uint32_t r : bins.tiles[tileIndex]) {
-            const FaceRecord& record = bins.records[r];
-            bool any = false;
-            for (std::uint32_t v = 0; v < record.volumeCount && !any; ++v)
-                any = !stsvVolumeMissesBox(record.volumes[v], box.lo, box.hi);
-            if (any) records.push_back(r);
-        }
-        for (int y = y0; y < y1; ++y)
-            for (int x = x0; x < x1; ++x) {
-                const std::size_t i = gbuffer.index(x, y);
-                if (gbuffer.covered(i)) pixel(x, y, i, records);
+        thread_local std::vector<RecordEdges> binned;
+        thread_local EdgeList tileList, blockList;
+        binned.clear();
+        for (std::uint32_t r : bins.tiles[tileIndex])
+            binned.push_back({r, bins.records[r].firstEdge, bins.records[r].edgeCount});
+        keepForBox(bins, adj, binned, bins.edges, box, tileList);
+        // Every covered pixel is visited, with whatever its block keeps (D(r) needs no edge).
+        for (int by = 0; by < BLOCKS; ++by)
+            for (int bx = 0; bx < BLOCKS; ++bx) {
+                const PixelTile block{tile.x0 + bx * SUB,
+                                      tile.y0 + by * SUB,
+                                      std::min(tile.x1, tile.x0 + (bx + 1) * SUB),
+                                      std::min(tile.y1, tile.y0 + (by + 1) * SUB),
+                                      tile.tx,
+                                      tile.ty};
+                if (block.x0 >= block.x1 || block.y0 >= block.y1) continue;
+                const Bounds blockBox = tileReceiverBounds(gbuffer, block);
+                if (blockBox.empty()) continue;
+                keepForBox(bins, adj, tileList.records, tileList.edges, blockBox, blockList);
+                for (int y = block.y0; y < block.y1; ++y)
+                    for (int x = block.x0; x < block.x1; ++x) {
+                        const std::size_t i = gbuffer.index(x, y);
+                        if (gbuffer.covered(i)) pixel(x, y, i, blockList);
+                    }
             }
         progress.advance();
     });
@@ -249,45 +320,59 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();
-    std::atomic<std::size_t> tests{0}, visits{0}, negative{0};
-    forEachPixel(
-        gbuffer, bins, "dcs (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
-            thread_local std::vector<std::uint32_t> scratch;
-            thread_local std::vector<vec2> ab;
-            thread_local std::vector<int> count;
-            const vec3 p = gbuffer.position[i];
-            const LightFrame frame = lightFrame(light, p, farDistance);
-            const float tMin = shadowTMin(p, frame.center, sceneDiameter);
-            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
-            // D(r): the layer count at the light centre (DESIGN §4.5).
-            const int base =
-                static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch));
-            count.assign(std::size_t(plan.count), base);
-            ab.resize(std::size_t(plan.count));
-            for (int k = 0; k < plan.count; ++k)
-                ab[std::size_t(k)] = pixelSamplePoint(plan, x, y, k, frame.domain);
-            std::size_t localTests = 0, localVisits = 0, localNegative = 0;
-            if (px.valid != 0.0f)
-                forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
-                                  [&](vec3 l, vec3 a, vec3 b, int k) {
-                                      for (std::size_t s = 0; s < ab.size(); ++s)
+    std::atomic<std::size_t> tests{0}, visits{0}, negative{0}, samples{0};
+    forEachPixel(occ, gbuffer, bins, "dcs (cpu)", [&](int x, int y, std::size_t i, const EdgeList& list) {
+        thread_local std::vector<std::uint32_t> scratch;
+        thread_local std::vector<vec2> ab;
+        thread_local std::vector<int> count;
+        const vec3 p = gbuffer.position[i];
+        const LightFrame frame = lightFrame(light, p, farDistance);
+        const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
+        // D(r): the layer count at the light centre (DESIGN §4.5).
+        const int base =
+            static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch));
+        count.assign(std::size_t(plan.count), base);
+        ab.resize(std::size_t(plan.count));
+        // The samples in a grid of cells: an edge tests only those of the cells its
+        // crossing region (dcsSampleRegion) touches.
+        SampleCells cells;
+        for (int k = 0; k < plan.count; ++k) {
+            ab[std::size_t(k)] = pixelSamplePoint(plan, x, y, k, frame.domain);
+            cells.add(ab[std::size_t(k)], uint(k));
+        }
+        const uint wordCount = uint(plan.count + 31) / 32u;
+        std::size_t localTests = 0, localVisits = 0, localNegative = 0, localSamples = 0;
+        if (px.valid != 0.0f)
+            forEachSilhouette(occ, bins, list, px, gbuffer.triangle[i], localTests, localVisits,
+                              [&](vec3 l, vec3 a, vec3 b, int k) {
+                                  vec2 lo, hi;
+                                  if (!dcsSampleRegion(l, a, b, vec2(-1.0f), vec2(1.0f), lo, hi)) return;
+                                  const std::array<uint, 8> tested = cells.within(lo, hi, wordCount);
+                                  for (uint w = 0; w < wordCount; ++w)
+                                      for (uint bits = tested[w]; bits != 0u; bits &= bits - 1u) {
+                                          const std::size_t s = 32u * w + uint(std::countr_zero(bits));
+                                          ++localSamples;
                                           count[s] += k * dcsSampleCrossing(l, a, b, ab[s]);
-                                  });
-            for (int k = 0; k < plan.count; ++k) {
-                int c = count[std::size_t(k)];
-                if (c < 0) {
-                    ++localNegative;
-                    c = 0;
-                }
-                if (c) counters.addCount(x, y, k, c);
+                                      }
+                              });
+        for (int k = 0; k < plan.count; ++k) {
+            int c = count[std::size_t(k)];
+            if (c < 0) {
+                ++localNegative;
+                c = 0;
             }
-            tests += localTests;
-            visits += localVisits;
-            negative += localNegative;
-        });
+            if (c) counters.addCount(x, y, k, c);
+        }
+        tests += localTests;
+        visits += localVisits;
+        negative += localNegative;
+        samples += localSamples;
+    });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.negativeCounts = negative;
+    stats.samplesTested = samples;
     stats.shade_ms = timer.milliseconds();
     return stats;
 }
@@ -319,27 +404,25 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     visibility = ImageF(gbuffer.width, gbuffer.height, 1);
     std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
     std::atomic<std::size_t> tests{0}, visits{0};
-    forEachPixel(
-        gbuffer, bins, "pw (cpu)", [&](int x, int y, std::size_t i, const std::vector<std::uint32_t>& tile) {
-            thread_local std::vector<std::uint32_t> scratch;
-            const vec3 p = gbuffer.position[i];
-            const LightFrame frame = lightFrame(light, p, farDistance);
-            const float tMin = shadowTMin(p, frame.center, sceneDiameter);
-            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
-            // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
-            float occlusion =
-                occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
-            std::size_t localTests = 0, localVisits = 0;
-            if (px.valid != 0.0f)
-                forEachSilhouette(occ, bins, tile, px, gbuffer.triangle[i], localTests, localVisits,
-                                  [&](vec3 l, vec3 a, vec3 b, int k) {
-                                      occlusion +=
-                                          float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, a, b, frame.domain);
-                                  });
-            visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
-            tests += localTests;
-            visits += localVisits;
-        });
+    forEachPixel(occ, gbuffer, bins, "pw (cpu)", [&](int x, int y, std::size_t i, const EdgeList& list) {
+        thread_local std::vector<std::uint32_t> scratch;
+        const vec3 p = gbuffer.position[i];
+        const LightFrame frame = lightFrame(light, p, farDistance);
+        const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
+        // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
+        float occlusion =
+            occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
+        std::size_t localTests = 0, localVisits = 0;
+        if (px.valid != 0.0f)
+            forEachSilhouette(occ, bins, list, px, gbuffer.triangle[i], localTests, localVisits,
+                              [&](vec3 l, vec3 a, vec3 b, int k) {
+                                  occlusion += float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, a, b, frame.domain);
+                              });
+        visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
+        tests += localTests;
+        visits += localVisits;
+    });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.shade_ms = timer.milliseconds();

@@ -33,8 +33,11 @@ struct WedgeCpuStats {
     /// ("silhouette_fragments", as the GPU counts them; DCS tests every sample of each).
     std::size_t pixelEdgeVisits = 0;
     std::size_t negativeCounts = 0; ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
-    double setup_ms = 0.0;          ///< silhouettes, volumes, binning
-    double shade_ms = 0.0;          ///< per-pixel centre count and edge loop
+    /// DCS: samples whose crossing with a silhouette edge was tested ("samples_tested"; only
+    /// those in the cells of the edge's dcsSampleRegion).
+    std::size_t samplesTested = 0;
+    double setup_ms = 0.0; ///< silhouettes, volumes, binning
+    double shade_ms = 0.0; ///< per-pixel centre count and edge loop
 };
 
 nlohmann::json toJson(const WedgeCpuStats& stats);

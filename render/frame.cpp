@@ -132,8 +132,7 @@ class CpuRenderer final : public FrameRenderer {
                 }
                 passes[prefix + m_method.name] = timer.milliseconds();
                 nlohmann::json wedges = toJson(w);
-                if (m_method.opaque == OpaqueTechnique::Dcs)
-                    wedges["samples_tested"] = w.pixelEdgeVisits * std::size_t(m_options.samples);
+                if (m_method.opaque != OpaqueTechnique::Dcs) wedges.erase("samples_tested"); // PW integrates
                 methodStats.push_back(wedges);
                 if (withStsv) stsvStats.push_back(toJson(stsv));
             }

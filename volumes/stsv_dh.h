@@ -18,6 +18,7 @@
 #define STSV_VOLUMES_STSV_DH_H
 
 #include "core/dh.h"
+#include "sampling/sample_region_dh.h"
 
 DH_BEGIN
 
@@ -203,8 +204,8 @@ DH_FUNC bool stsvSampleCrosses(StsvTriangle t, StsvPixel px, vec2 ab, ivec2 text
 /// p onto the light, cut to the segment. Every half-plane is widened by 1e-5 of the magnitudes
 /// of its terms, and the box by 1e-5 of the rectangle, far beyond the float rounding of the
 /// per-sample test and of the clipping, so a sample outside the returned box fails
-/// stsvSegmentHitsTriangle: testing only the samples inside it changes no result. False when no
-/// point of the rectangle can cross.
+/// stsvSegmentHitsTriangle (sampleRegionOfHalfPlanes): testing only the samples inside it
+/// changes no result. False when no point of the rectangle can cross.
 DH_FUNC bool stsvSampleRegion(StsvPixel px, vec2 lo, vec2 hi, DH_OUT(vec2) regionLo, DH_OUT(vec2) regionHi) {
     regionLo = lo;
     regionHi = hi;
@@ -215,54 +216,20 @@ DH_FUNC bool stsvSampleRegion(StsvPixel px, vec2 lo, vec2 hi, DH_OUT(vec2) regio
     vec3 hy = sigma * vec3(px.h0.y, px.hT.y, px.hB.y);
     vec3 hz = sigma * vec3(px.h0.z, px.hT.z, px.hB.z);
     vec3 es = vec3(sigma * px.e, 0.0f, 0.0f);
-    vec3 planes[5];
+    vec3 planes[SAMPLE_REGION_MAX_PLANES];
     planes[0] = hx;
     planes[1] = hy;
     planes[2] = hz - hx - hy;
     planes[3] = hz - es;
     planes[4] = es - px.tMin * hz;
     // The magnitudes the per-sample test rounds against: those of the terms before they cancel.
-    vec3 mags[5];
+    vec3 mags[SAMPLE_REGION_MAX_PLANES];
     mags[0] = abs(hx);
     mags[1] = abs(hy);
     mags[2] = abs(hx) + abs(hy) + abs(hz);
     mags[3] = abs(hz) + abs(es);
     mags[4] = abs(es) + px.tMin * abs(hz);
-    vec2 reach = max(abs(lo), abs(hi));
-    // The rectangle as a polygon (counter-clockwise), clipped by each half-plane in turn.
-    vec2 poly[9];
-    poly[0] = lo;
-    poly[1] = vec2(hi.x, lo.y);
-    poly[2] = hi;
-    poly[3] = vec2(lo.x, hi.y);
-    uint count = 4u;
-    for (uint j = 0u; j < 5u; ++j) {
-        vec3 c = planes[j];
-        float slack = 1e-5f * (mags[j].x + mags[j].y * reach.x + mags[j].z * reach.y);
-        vec2 clipped[9];
-        uint kept = 0u;
-        for (uint i = 0u; i < count; ++i) {
-            vec2 a = poly[i];
-            vec2 b = poly[(i + 1u) % count];
-            float fa = c.x + c.y * a.x + c.z * a.y + slack;
-            float fb = c.x + c.y * b.x + c.z * b.y + slack;
-            if (fa >= 0.0f) clipped[kept++] = a;
-            if ((fa >= 0.0f) != (fb >= 0.0f)) clipped[kept++] = a + (fa / (fa - fb)) * (b - a);
-        }
-        count = kept;
-        if (count == 0u) return false;
-        for (uint i = 0u; i < count; ++i) poly[i] = clipped[i];
-    }
-    vec2 boxLo = poly[0];
-    vec2 boxHi = poly[0];
-    for (uint i = 1u; i < count; ++i) {
-        boxLo = min(boxLo, poly[i]);
-        boxHi = max(boxHi, poly[i]);
-    }
-    vec2 pad = 1e-5f * (hi - lo);
-    regionLo = max(boxLo - pad, lo);
-    regionHi = min(boxHi + pad, hi);
-    return true;
+    return sampleRegionOfHalfPlanes(planes, mags, 5u, lo, hi, regionLo, regionHi);
 }
 
 DH_END

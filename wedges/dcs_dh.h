@@ -24,6 +24,7 @@
 #define STSV_WEDGES_DCS_DH_H
 
 #include "core/dh.h"
+#include "sampling/sample_region_dh.h"
 
 DH_BEGIN
 
@@ -97,6 +98,35 @@ DH_FUNC int dcsWorldSide(vec3 p, vec3 v0, vec3 v1, vec3 o) {
     return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
 }
 
+/// dcsWorldSide over a whole box [lo, hi]: ±1 when every point p of the box gets that side, 0
+/// when the box may hold points of either side (or on the plane). The determinant is
+/// n·(v0 − p) with n = (v1 − v0) × (o − v0), linear in p, so its range over the box is
+/// n·(v0 − c) ± |n|·e (centre c, half extent e). The margin, 10⁻⁵·M³ with M the largest
+/// L1 reach from the box to v0, v1 or o (plus 10⁻⁶ of the coordinates, for the subtractions),
+/// is over a hundred times the float rounding of the per-point determinant (a cross and a dot
+/// of differences, each within a few 2⁻²⁴ of its factors' products), so a strict answer is the
+/// answer dcsWorldSide gives at every point of the box.
+DH_FUNC int dcsBoxSide(vec3 v0, vec3 v1, vec3 o, vec3 lo, vec3 hi) {
+    vec3 c = 0.5f * (lo + hi);
+    vec3 e = 0.5f * (hi - lo);
+    vec3 n = cross(v1 - v0, o - v0);
+    float mid = dot(n, v0 - c);
+    float rad = dot(abs(n), e);
+    float spread = e.x + e.y + e.z;
+    float coords = abs(c.x) + abs(c.y) + abs(c.z) + spread;
+    vec3 d0 = abs(v0 - c);
+    vec3 d1 = abs(v1 - c);
+    vec3 d2 = abs(o - c);
+    float reach = max(max(d0.x + d0.y + d0.z, d1.x + d1.y + d1.z), d2.x + d2.y + d2.z) + spread;
+    float m = reach +
+              1e-6f * (coords + max(max(abs(v0.x) + abs(v0.y) + abs(v0.z), abs(v1.x) + abs(v1.y) + abs(v1.z)),
+                                    abs(o.x) + abs(o.y) + abs(o.z)));
+    float margin = 1e-5f * m * m * m;
+    if (mid - rad > margin) return 1;
+    if (mid + rad < -margin) return -1;
+    return 0;
+}
+
 /// Light-side culling of a manifold edge q0 q1 whose faces have third vertices o0 and o1: false
 /// iff the edge is a silhouette for no light point in `sphere` (centre xyz, radius w, world
 /// units). With face normals oriented by the edge, n_f = (q1 − q0) × (o_f − q0), the edge is a
@@ -151,6 +181,37 @@ DH_FUNC int dcsSampleCrossing(vec3 l, vec3 a, vec3 b, vec2 ab) {
     bool sideB = ab.x * b.y - ab.y * b.x > 0.0f;
     if (sideA == sideB) return 0;
     return sideX ? 1 : -1;
+}
+
+/// The frame points (a, b) of [lo, hi] that dcsSampleCrossing can count for the clipped edge
+/// a → b on the line l, bounded (sampleRegionOfHalfPlanes): x must end on the far side of l
+/// from r, l·X having the other sign than l.z, and lie in the cone from r between the directions
+/// of a and b. (The opposite cone, where a and b also lie on opposite sides of the line r x, is
+/// on r's side of l: there l·X = l.z·(1 + α + β) for x = −(αA + βB).) When r is within 1e-4 of
+/// the edge's line (a and b nearly collinear with r, the cone nearly a half-plane) the whole
+/// rectangle is returned. Testing only the samples in the box changes no result.
+DH_FUNC bool dcsSampleRegion(vec3 l, vec3 a, vec3 b, vec2 lo, vec2 hi, DH_OUT(vec2) regionLo,
+                             DH_OUT(vec2) regionHi) {
+    regionLo = lo;
+    regionHi = hi;
+    float d = a.x * b.y - a.y * b.x;
+    if (!(abs(d) > 1e-4f * length(vec2(a.x, a.y)) * length(vec2(b.x, b.y)))) return true;
+    vec3 planes[SAMPLE_REGION_MAX_PLANES];
+    vec3 mags[SAMPLE_REGION_MAX_PLANES];
+    float far = l.z > 0.0f ? -1.0f : 1.0f;
+    planes[0] = far * vec3(l.z, l.x, l.y);
+    mags[0] = abs(vec3(l.z, l.x, l.y));
+    // With d > 0 the cone is orient(a, x) ≥ 0 and orient(x, b) ≥ 0 (orient(u, v) = u.x v.y − u.y v.x).
+    float turn = d > 0.0f ? 1.0f : -1.0f;
+    planes[1] = turn * vec3(0.0f, -a.y, a.x);
+    planes[2] = turn * vec3(0.0f, b.y, -b.x);
+    mags[1] = vec3(0.0f, abs(a.y), abs(a.x));
+    mags[2] = vec3(0.0f, abs(b.y), abs(b.x));
+    for (uint j = 3u; j < SAMPLE_REGION_MAX_PLANES; ++j) {
+        planes[j] = vec3(0.0f);
+        mags[j] = vec3(0.0f);
+    }
+    return sampleRegionOfHalfPlanes(planes, mags, 3u, lo, hi, regionLo, regionHi);
 }
 
 DH_END

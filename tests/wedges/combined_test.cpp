@@ -124,7 +124,8 @@ TEST(Combined, PwStsvWithOpaqueMeshMeasured) {
 }
 
 // The CPU frame's per-pass counts under the names the Vulkan frame uses: "wedges" per light
-// (fragments = bound tests, silhouette_fragments, DCS samples_tested = silhouettes × N) and,
+// (fragments = bound tests, silhouette_fragments, DCS samples_tested ≤ silhouettes × N, only
+// those in each edge's crossing region) and,
 // for the combined methods, the STSV part under "stsv".
 TEST(Combined, CpuFrameStatsCountEachPass) {
     Progress::setEnabled(false);
@@ -155,7 +156,10 @@ TEST(Combined, CpuFrameStatsCountEachPass) {
             if (method == Method::PwStsv) {
                 EXPECT_FALSE(w.contains("samples_tested")) << what << ": PW integrates, it tests no samples";
             } else {
-                EXPECT_EQ(w["samples_tested"].get<std::size_t>(), silhouettes * 32u) << what;
+                EXPECT_LE(w["samples_tested"].get<std::size_t>(), silhouettes * 32u) << what;
+                if (scene == &sphere) {
+                    EXPECT_GT(w["samples_tested"].get<std::size_t>(), 0u) << what;
+                }
             }
             const bool stsvPart = method != Method::Dcs;
             ASSERT_EQ(frame.stats.contains("stsv"), stsvPart) << what;

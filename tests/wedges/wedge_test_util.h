@@ -17,6 +17,9 @@ namespace stsv::test {
 inline std::string str(vec3 v) {
     return glm::to_string(v);
 }
+inline std::string str(vec2 v) {
+    return glm::to_string(v);
+}
 
 class Rng {
   public:
