@@ -334,13 +334,10 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
             static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch));
         count.assign(std::size_t(plan.count), base);
         ab.resize(std::size_t(plan.count));
-        // The samples in a grid of cells: an edge tests only those of the cells its
-        // crossing region (dcsSampleRegion) touches.
+        // The samples in a grid of cells, made when the first edge needs them: an edge tests
+        // only those of the cells its crossing region (dcsSampleRegion) touches.
         SampleCells cells;
-        for (int k = 0; k < plan.count; ++k) {
-            ab[std::size_t(k)] = pixelSamplePoint(plan, x, y, k, frame.domain);
-            cells.add(ab[std::size_t(k)], uint(k));
-        }
+        bool sampled = false;
         const uint wordCount = uint(plan.count + 31) / 32u;
         std::size_t localTests = 0, localVisits = 0, localNegative = 0, localSamples = 0;
         if (px.valid != 0.0f)
@@ -348,6 +345,13 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
                               [&](vec3 l, vec3 a, vec3 b, int k) {
                                   vec2 lo, hi;
                                   if (!dcsSampleRegion(l, a, b, vec2(-1.0f), vec2(1.0f), lo, hi)) return;
+                                  if (!sampled) {
+                                      for (int s = 0; s < plan.count; ++s) {
+                                          ab[std::size_t(s)] = pixelSamplePoint(plan, x, y, s, frame.domain);
+                                          cells.add(ab[std::size_t(s)], uint(s));
+                                      }
+                                      sampled = true;
+                                  }
                                   const std::array<uint, 8> tested = cells.within(lo, hi, wordCount);
                                   for (uint w = 0; w < wordCount; ++w)
                                       for (uint bits = tested[w]; bits != 0u; bits &= bits - 1u) {
