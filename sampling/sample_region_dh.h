@@ -19,9 +19,9 @@ DH_CONST uint SAMPLE_REGION_MAX_PLANES = 5u;
 /// rectangle, far beyond the float rounding of a per-sample test that evaluates the same terms
 /// and of the clipping, so a point outside the box fails one of the tests. False when no point
 /// of the rectangle passes them all.
-DH_FUNC bool sampleRegionOfHalfPlanes(vec3 planes[SAMPLE_REGION_MAX_PLANES], vec3 mags[SAMPLE_REGION_MAX_PLANES],
-                                      uint count, vec2 lo, vec2 hi, DH_OUT(vec2) regionLo,
-                                      DH_OUT(vec2) regionHi) {
+DH_FUNC bool sampleRegionOfHalfPlanes(vec3 planes[SAMPLE_REGION_MAX_PLANES],
+                                      vec3 mags[SAMPLE_REGION_MAX_PLANES], uint count, vec2 lo, vec2 hi,
+                                      DH_OUT(vec2) regionLo, DH_OUT(vec2) regionHi) {
     regionLo = lo;
     regionHi = hi;
     vec2 reach = max(abs(lo), abs(hi));

@@ -29,7 +29,7 @@ done
 [[ ! -e $root/include && ! -e $root/lib/cmake ]] || fail "the bundle holds the development files"
 
 # The run path: DT_RPATH $ORIGIN/../lib (searched for the bundled libraries' own needs too).
-readelf -d "$root/bin/stsv" | grep -q 'Library rpath: \[\$ORIGIN/../lib\]' ||
+readelf -d "$root/bin/stsv" | grep 'Library rpath: \[\$ORIGIN/../lib\]' >/dev/null ||
     fail "bin/stsv has no DT_RPATH \$ORIGIN/../lib: $(readelf -d "$root/bin/stsv" | grep -i path)"
 # Every library the loader looks up resolves into lib/, but the C library family and the loader.
 while read -r library _ resolved _; do

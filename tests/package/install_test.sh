@@ -56,6 +56,9 @@ mkdir -p "$work/elsewhere"
 mv "$prefix" "$work/elsewhere/stsv"
 program=$work/elsewhere/stsv/bin/stsv
 check_no_checkout_path "$program" "$source"
-env -u STSV_SHADER_DIR "$program" info --json | grep -q '"embedded": true' || fail "stsv info: the shaders are not embedded"
+# (Read whole before matching: grep -q stops reading at the first match, and under pipefail the
+# writer's SIGPIPE would fail the pipeline.)
+info_json=$(env -u STSV_SHADER_DIR "$program" info --json) || fail "stsv info --json failed"
+grep -q '"embedded": true' <<<"$info_json" || fail "stsv info: the shaders are not embedded"
 render_fence "$program" "$source" "$build"
 echo "installed stsv renders fence from $work/elsewhere"

@@ -57,7 +57,8 @@ TEST(DcsCulling, SampleRegionHoldsEverySampleThatCrosses) {
     double area = 0.0;
     for (int c = 0; c < 50000; ++c) {
         vec3 h0 = rng.inBox(vec3(-2.0f, -2.0f, 0.01f), vec3(2.0f, 2.0f, 1.5f));
-        vec3 h1 = c % 5 == 0 ? h0 + rng.inBox(vec3(-0.05f), vec3(0.05f)) : rng.inBox(vec3(-2.0f, -2.0f, 0.01f), vec3(2.0f, 2.0f, 1.5f));
+        vec3 h1 = c % 5 == 0 ? h0 + rng.inBox(vec3(-0.05f), vec3(0.05f))
+                             : rng.inBox(vec3(-2.0f, -2.0f, 0.01f), vec3(2.0f, 2.0f, 1.5f));
         const vec3 l = cross(h0, h1);
         if (!dcsClipEdge(1e-4f, h0, h1)) continue;
         vec2 lo, hi;
@@ -70,8 +71,8 @@ TEST(DcsCulling, SampleRegionHoldsEverySampleThatCrosses) {
             if (dcsSampleCrossing(l, h0, h1, x) == 0) continue;
             ++crossing;
             ASSERT_TRUE(inside(x)) << "case " << c << " x " << test::str(x) << " l " << test::str(l) << " a "
-                                   << test::str(h0) << " b " << test::str(h1) << " box " << test::str(lo) << " "
-                                   << test::str(hi);
+                                   << test::str(h0) << " b " << test::str(h1) << " box " << test::str(lo)
+                                   << " " << test::str(hi);
             // The boundary towards a random point outside the crossing set.
             vec2 y = vec2(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
             if (dcsSampleCrossing(l, h0, h1, y) != 0) continue;
