@@ -42,10 +42,6 @@ namespace {
 
 constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
 
-/// Blocks of SUB × SUB pixels within a tile, each culling the tile's volumes by its own box.
-constexpr int SUB = 4;
-constexpr int BLOCKS = TILE / SUB;
-
 struct VolumeRecord {
     StsvVolume volume;
     std::uint32_t triangle; ///< index into the StsvTriangle table
@@ -93,6 +89,15 @@ bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width,
 
 mat4 binningClipFromView(const Camera& camera, int width, int height) {
     return clipFromView(camera, float(width) / float(height), 0.01f, 1e4f);
+}
+
+PixelTile tileBlock(const PixelTile& tile, int bx, int by) {
+    return {tile.x0 + bx * CPU_BLOCK,
+            tile.y0 + by * CPU_BLOCK,
+            std::min(tile.x1, tile.x0 + (bx + 1) * CPU_BLOCK),
+            std::min(tile.y1, tile.y0 + (by + 1) * CPU_BLOCK),
+            tile.tx,
+            tile.ty};
 }
 
 Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile) {
@@ -177,7 +182,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         std::size_t localTests = 0, localHits = 0, localCulled = 0, localSamples = 0;
         // The volumes of the tile's bin that may hold one of its visible points, then the same
-        // per SUB × SUB block of pixels (a smaller box culls more).
+        // per CPU_BLOCK × CPU_BLOCK block of pixels (a smaller box culls more).
         const Bounds box = tileReceiverBounds(gbuffer, tile);
         std::vector<std::uint32_t> candidates;
         if (!box.empty()) {
@@ -190,19 +195,14 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     candidates.push_back(v);
             }
         }
-        std::array<std::vector<std::uint32_t>, BLOCKS * BLOCKS> blockCandidates;
-        for (int by = 0; by < BLOCKS && !candidates.empty(); ++by)
-            for (int bx = 0; bx < BLOCKS; ++bx) {
-                const PixelTile block{tile.x0 + bx * SUB,
-                                      tile.y0 + by * SUB,
-                                      std::min(tile.x1, tile.x0 + (bx + 1) * SUB),
-                                      std::min(tile.y1, tile.y0 + (by + 1) * SUB),
-                                      tile.tx,
-                                      tile.ty};
+        std::array<std::vector<std::uint32_t>, CPU_BLOCKS * CPU_BLOCKS> blockCandidates;
+        for (int by = 0; by < CPU_BLOCKS && !candidates.empty(); ++by)
+            for (int bx = 0; bx < CPU_BLOCKS; ++bx) {
+                const PixelTile block = tileBlock(tile, bx, by);
                 if (block.x0 >= block.x1 || block.y0 >= block.y1) continue;
                 const Bounds blockBox = tileReceiverBounds(gbuffer, block);
                 if (blockBox.empty()) continue;
-                std::vector<std::uint32_t>& list = blockCandidates[std::size_t(by * BLOCKS + bx)];
+                std::vector<std::uint32_t>& list = blockCandidates[std::size_t(by * CPU_BLOCKS + bx)];
                 for (std::uint32_t v : candidates)
                     if (!stsvVolumeMissesBox(volumes[v].volume, blockBox.lo, blockBox.hi)) list.push_back(v);
             }
@@ -210,8 +210,8 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
-                const std::vector<std::uint32_t>& pixelCandidates =
-                    blockCandidates[std::size_t(((y - tile.y0) / SUB) * BLOCKS + (x - tile.x0) / SUB)];
+                const std::vector<std::uint32_t>& pixelCandidates = blockCandidates[std::size_t(
+                    ((y - tile.y0) / CPU_BLOCK) * CPU_BLOCKS + (x - tile.x0) / CPU_BLOCK)];
                 if (!gbuffer.covered(i) || pixelCandidates.empty()) continue;
                 const vec3 p = gbuffer.position[i];
                 const LightFrame frame = lightFrame(light, p, farDistance);

@@ -51,6 +51,14 @@ mat4 binningClipFromView(const Camera& camera, int width, int height);
 /// reject one pixel at a time.
 Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile);
 
+/// Blocks of CPU_BLOCK × CPU_BLOCK pixels within a tile: the CPU passes cull once more per block,
+/// by the block's own (smaller) box of visible points.
+constexpr int CPU_BLOCK = 4;
+constexpr int CPU_BLOCKS = CPU_TILE / CPU_BLOCK;
+
+/// Block (bx, by) of `tile`, clipped to it: empty (x0 ≥ x1 or y0 ≥ y1) past the image's edge.
+PixelTile tileBlock(const PixelTile& tile, int bx, int by);
+
 /// A pixel's light samples in a CELLS × CELLS grid over the frame square [−1, 1]²: per cell the
 /// mask words (sampling/ls_buffer_dh.h) of the samples in it, so that a per-sample test bounded
 /// to a box of the frame (stsvSampleRegion, dcsSampleRegion) visits only the samples of the

@@ -260,13 +260,9 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins, const E
     }
 }
 
-/// Blocks of SUB × SUB pixels within a tile, each keeping what its own box keeps.
-constexpr int SUB = 4;
-constexpr int BLOCKS = TILE / SUB;
-
 /// Runs `pixel(x, y, i, list)` over the covered pixels, tile by tile, on every core. The list
 /// holds the records and edges kept first for the tile's box of visible points and then for
-/// the pixel's SUB × SUB block (keepForBox).
+/// the pixel's CPU_BLOCK × CPU_BLOCK block (keepForBox).
 template <class PixelFn>
 void forEachPixel(const OpaqueOccluders& occ, const GBuffer& gbuffer, const EdgeBins& bins, const char* label,
                   PixelFn&& pixel) {
@@ -286,14 +282,9 @@ void forEachPixel(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Edge
             binned.push_back({r, bins.records[r].firstEdge, bins.records[r].edgeCount});
         keepForBox(bins, adj, binned, bins.edges, box, tileList);
         // Every covered pixel is visited, with whatever its block keeps (D(r) needs no edge).
-        for (int by = 0; by < BLOCKS; ++by)
-            for (int bx = 0; bx < BLOCKS; ++bx) {
-                const PixelTile block{tile.x0 + bx * SUB,
-                                      tile.y0 + by * SUB,
-                                      std::min(tile.x1, tile.x0 + (bx + 1) * SUB),
-                                      std::min(tile.y1, tile.y0 + (by + 1) * SUB),
-                                      tile.tx,
-                                      tile.ty};
+        for (int by = 0; by < CPU_BLOCKS; ++by)
+            for (int bx = 0; bx < CPU_BLOCKS; ++bx) {
+                const PixelTile block = tileBlock(tile, bx, by);
                 if (block.x0 >= block.x1 || block.y0 >= block.y1) continue;
                 const Bounds blockBox = tileReceiverBounds(gbuffer, block);
                 if (blockBox.empty()) continue;
