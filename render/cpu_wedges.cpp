@@ -42,16 +42,17 @@ inline vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
 namespace stsv {
 
 nlohmann::json toJson(const WedgeCpuStats& s) {
-    return {{"edges", s.edges},
-            {"potential_silhouettes", s.potentialSilhouettes},
-            {"volumes", s.volumes},
-            {"tile_entries", s.tileEntries},
-            {"fragments", s.pixelVolumeTests},
-            {"silhouette_fragments", s.pixelEdgeVisits},
-            {"negative_counts", s.negativeCounts},
-            {"samples_tested", s.samplesTested},
-            {"setup_ms", s.setup_ms},
-            {"shade_ms", s.shade_ms}};
+    nlohmann::json j = {{"edges", s.edges},
+                        {"potential_silhouettes", s.potentialSilhouettes},
+                        {"volumes", s.volumes},
+                        {"tile_entries", s.tileEntries},
+                        {"fragments", s.pixelVolumeTests},
+                        {"silhouette_fragments", s.pixelEdgeVisits},
+                        {"negative_counts", s.negativeCounts},
+                        {"setup_ms", s.setup_ms},
+                        {"shade_ms", s.shade_ms}};
+    if (s.samplesTested) j["samples_tested"] = *s.samplesTested;
+    return j;
 }
 
 OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
@@ -367,7 +368,7 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.negativeCounts = negative;
-    stats.samplesTested = samples;
+    stats.samplesTested = samples.load();
     stats.shade_ms = timer.milliseconds();
     return stats;
 }

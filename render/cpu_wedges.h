@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <vector>
 
 namespace stsv {
@@ -34,8 +35,8 @@ struct WedgeCpuStats {
     std::size_t pixelEdgeVisits = 0;
     std::size_t negativeCounts = 0; ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
     /// DCS: samples whose crossing with a silhouette edge was tested ("samples_tested"; only
-    /// those in the cells of the edge's dcsSampleRegion).
-    std::size_t samplesTested = 0;
+    /// those in the cells of the edge's dcsSampleRegion). Empty for PW, which tests no samples.
+    std::optional<std::size_t> samplesTested;
     double setup_ms = 0.0; ///< silhouettes, volumes, binning
     double shade_ms = 0.0; ///< per-pixel centre count and edge loop
 };

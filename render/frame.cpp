@@ -131,9 +131,7 @@ class CpuRenderer final : public FrameRenderer {
                             : pwCpuVisibility(occluders(), frame.gbuffer, light, m_farDistance, coverage);
                 }
                 passes[prefix + m_method.name] = timer.milliseconds();
-                nlohmann::json wedges = toJson(w);
-                if (m_method.opaque != OpaqueTechnique::Dcs) wedges.erase("samples_tested"); // PW integrates
-                methodStats.push_back(wedges);
+                methodStats.push_back(toJson(w));
                 if (withStsv) stsvStats.push_back(toJson(stsv));
             }
             timer.reset();
