@@ -244,6 +244,46 @@ DH_FUNC bool stsvClosePrism(vec4 s0, vec4 s1, vec4 s2, vec3 axis, float frontLev
     return ok && abs(frontTurn) > 1e-12f && frontTurn * backTurn > 0.0f;
 }
 
+/// Shortens the prism whose side edges run from f_i through b_i at its b end: b_i move along
+/// their edges onto the plane of the box face, moved `margin` outwards, that cuts all three edges
+/// nearest to f (the least sum of the edges' parameters). The box lies inside each of its faces'
+/// planes, so the shortened prism still holds prism ∩ box. A face qualifies when every f_i is
+/// strictly inside its plane and every b_i on it or beyond: the plane then crosses the three side
+/// edges and neither cap, and the section is the new cap. Nothing changes when no face does.
+/// (A prism leaving the box through its bottom under an oblique light reaches far below it
+/// behind the box's farthest corner: on screen that is a long streak of fragments behind every
+/// receiver that the point-in-volume test rejects.)
+DH_FUNC void stsvCutPrismAtBox(vec3 f0, vec3 f1, vec3 f2, DH_INOUT(vec3) b0, DH_INOUT(vec3) b1,
+                               DH_INOUT(vec3) b2, vec3 boxLo, vec3 boxHi, float margin) {
+    float best = 3.0f;
+    vec3 c0 = b0;
+    vec3 c1 = b1;
+    vec3 c2 = b2;
+    for (uint face = 0u; face < 6u; ++face) {
+        uint axis = face / 2u;
+        // Outward normal ±e_axis; a point x is beyond the plane where sgn·(x[axis] − level) > 0.
+        float sgn = (face & 1u) != 0u ? 1.0f : -1.0f;
+        float level = (face & 1u) != 0u ? boxHi[axis] + margin : boxLo[axis] - margin;
+        vec3 df = sgn * (vec3(f0[axis], f1[axis], f2[axis]) - vec3(level));
+        vec3 db = sgn * (vec3(b0[axis], b1[axis], b2[axis]) - vec3(level));
+        if (!(all(lessThan(df, vec3(0.0f))) && all(greaterThanEqual(db, vec3(0.0f))))) continue;
+        vec3 t = df / (df - db); // in (0, 1]: where each edge meets the plane
+        float sum = t.x + t.y + t.z;
+        if (!(sum < best)) continue;
+        best = sum;
+        c0 = f0 + t.x * (b0 - f0);
+        c1 = f1 + t.y * (b1 - f1);
+        c2 = f2 + t.z * (b2 - f2);
+        // On the plane exactly: interpolation rounds the cut coordinate.
+        c0[axis] = level;
+        c1[axis] = level;
+        c2[axis] = level;
+    }
+    b0 = c0;
+    b1 = c1;
+    b2 = c2;
+}
+
 /// Zero-area or non-finite triangle, by the criterion of stsvSetupTriangle (stsv_dh.h), so that a
 /// triangle without volume is also one that blocks nothing.
 DH_FUNC bool stsvTriangleIsDegenerate(vec3 v0, vec3 v1, vec3 v2) {
@@ -473,7 +513,6 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
         }
         ok = ok && stsvClosePrism(lateral[0], lateral[1], lateral[2], axis, hi + margin, lo - margin, f[0],
                                   f[1], f[2], b[0], b[1], b[2]);
-        toLight = axis;
     }
     if (!ok) {
         // Fallback: a prism around the whole box behind the triangle's plane.
@@ -505,9 +544,15 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
         b[0] = c0 + depthBack * n;
         b[1] = c1 + depthBack * n;
         b[2] = c2 + depthBack * n;
-        toLight = n;
     }
-    stsvWriteStrip(vol, f[0], f[1], f[2], b[0], b[1], b[2], toLight);
+    // Both ends no farther than the box: the back cap (and, for the cone strip and the box
+    // fallback, the front cap too) on the face where the prism leaves the box.
+    stsvCutPrismAtBox(f[0], f[1], f[2], b[0], b[1], b[2], boxLo, boxHi, margin);
+    stsvCutPrismAtBox(b[0], b[1], b[2], f[0], f[1], f[2], boxLo, boxHi, margin);
+    // A cut cap need not face along toLight; every cross section of the prism turns the same way
+    // about its side edges, so the front cap's outward normal is taken against them.
+    vec3 outward = -((b[0] - f[0]) + (b[1] - f[1]) + (b[2] - f[2]));
+    stsvWriteStrip(vol, f[0], f[1], f[2], b[0], b[1], b[2], outward);
 
     // Back to world space: x_world = v0 + scaleW·x; a plane (m, d) becomes (m, d·scaleW − m·v0).
     for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) {

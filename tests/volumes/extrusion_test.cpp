@@ -711,6 +711,91 @@ TEST(ExtrusionEdgeCases, TriangleBehindTheLight) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// The prism's ends cut at the box (stsvCutPrismAtBox).
+
+/// True iff p lies in the convex hull of the prism f_i → b_i, judged by the planes of its five
+/// faces (normals away from the centroid), within `tol`.
+bool inPrism(const vec3 f[3], const vec3 b[3], vec3 p, double tol) {
+    dvec3 centroid(0.0);
+    for (int i = 0; i < 3; ++i) centroid += (dvec3(f[i]) + dvec3(b[i])) / 6.0;
+    const dvec3 faces[5][3] = {{dvec3(f[0]), dvec3(f[1]), dvec3(f[2])},
+                               {dvec3(b[0]), dvec3(b[1]), dvec3(b[2])},
+                               {dvec3(f[0]), dvec3(f[1]), dvec3(b[0])},
+                               {dvec3(f[1]), dvec3(f[2]), dvec3(b[1])},
+                               {dvec3(f[2]), dvec3(f[0]), dvec3(b[2])}};
+    for (const auto& t : faces) {
+        dvec3 n = normalize(cross(t[1] - t[0], t[2] - t[0]));
+        if (dot(n, centroid - t[0]) > 0.0) n = -n;
+        if (dot(n, dvec3(p) - t[0]) > tol) return false;
+    }
+    return true;
+}
+
+TEST(ExtrusionCut, APrismLeavingThroughOneFaceEndsOnIt) {
+    // A flat box (a patch of ground and plants) and a prism leaning down and sideways from a small
+    // triangle inside it, its far end 20 box heights below: the end moves onto the bottom face,
+    // `margin` below it, each corner along its side edge.
+    const vec3 lo(-4.0f, 0.0f, -4.0f), hi(4.0f, 1.0f, 4.0f);
+    const float margin = 1e-3f;
+    const vec3 f[3] = {vec3(0.0f, 0.8f, 0.0f), vec3(0.3f, 0.8f, 0.1f), vec3(0.1f, 0.9f, 0.3f)};
+    const vec3 dir(0.4f, -1.0f, 0.7f);
+    const vec3 b[3] = {f[0] + 20.0f * dir, f[1] + 21.0f * dir + vec3(0.5f, 0.0f, 0.0f),
+                       f[2] + 19.0f * dir + vec3(0.0f, 0.0f, 0.5f)};
+    vec3 cut[3] = {b[0], b[1], b[2]};
+    stsvCutPrismAtBox(f[0], f[1], f[2], cut[0], cut[1], cut[2], lo, hi, margin);
+    for (int i = 0; i < 3; ++i) {
+        EXPECT_EQ(cut[i].y, lo.y - margin) << "corner " << i << " " << str(cut[i]);
+        // On the side edge f_i → b_i, between its ends.
+        const vec3 along = cut[i] - f[i], edge = b[i] - f[i];
+        EXPECT_LT(length(cross(along, edge)), 1e-5f * dot(edge, edge)) << "corner " << i;
+        EXPECT_GT(dot(along, edge), 0.0f);
+        EXPECT_LT(dot(along, edge), dot(edge, edge));
+    }
+    // The cut prism keeps every point of the prism inside the box.
+    Rng rng(31);
+    int inside = 0;
+    for (int k = 0; k < 20000; ++k) {
+        const vec3 p = rng.inBox(vec3(-0.2f, lo.y, -0.2f), vec3(1.0f, hi.y, 1.4f)); // around the prism
+        if (!inPrism(f, b, p, 0.0)) continue;
+        ++inside;
+        EXPECT_TRUE(inPrism(f, cut, p, 1e-5)) << "p=" << str(p);
+    }
+    EXPECT_GT(inside, 200);
+}
+
+TEST(ExtrusionCut, PrismsLeavingThroughSeveralFacesAreUnchanged) {
+    // Side edges fanning out of the box through its top and bottom: no one face crosses all
+    // three, and the end stays where it was.
+    const vec3 lo(-4.0f, 0.0f, -4.0f), hi(4.0f, 1.0f, 4.0f);
+    const vec3 f[3] = {vec3(0.0f, 0.5f, 0.0f), vec3(0.3f, 0.5f, 0.0f), vec3(0.0f, 0.5f, 0.3f)};
+    const vec3 b[3] = {vec3(-30.0f, -40.0f, -30.0f), vec3(30.0f, 25.0f, 60.0f), vec3(5.0f, -20.0f, 2.0f)};
+    vec3 cut[3] = {b[0], b[1], b[2]};
+    stsvCutPrismAtBox(f[0], f[1], f[2], cut[0], cut[1], cut[2], lo, hi, 1e-3f);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(cut[i], b[i]) << "corner " << i;
+    // An end that lies inside the box already is not moved either.
+    const vec3 inner[3] = {vec3(0.0f, 0.1f, 0.0f), vec3(0.3f, 0.1f, 0.0f), vec3(0.0f, 0.1f, 0.3f)};
+    vec3 kept[3] = {inner[0], inner[1], inner[2]};
+    stsvCutPrismAtBox(f[0], f[1], f[2], kept[0], kept[1], kept[2], lo, hi, 1e-3f);
+    for (int i = 0; i < 3; ++i) EXPECT_EQ(kept[i], inner[i]) << "corner " << i;
+}
+
+TEST(ExtrusionCut, FoliageStripsEndAtTheGround) {
+    // A leaf under a high oblique light over a wide, flat box (the foliage scene's shape): the back
+    // cap perpendicular to the light would pass the far corner of the box, tens of metres below
+    // the ground; the strip ends `margin` (1e-3 box diagonals) below it instead, and still
+    // encloses the volume there (StripIsClosedOutwardAndEnclosesTheVolume checks every family).
+    const vec3 lo(-28.0f, 0.0f, -28.0f), hi(28.0f, 1.2f, 28.0f);
+    const vec4 light(-11.8f, 17.4f, -18.3f, 4.2f);
+    const vec3 a(2.0f, 1.0f, 3.0f), b(2.0f, 0.0f, 3.0f), c(2.6f, 0.0f, 3.5f);
+    const StsvVolume v = stsvBuildVolume(a, b, c, light, lo, hi, 0u);
+    ASSERT_EQ(v.flags, 0u);
+    const float diag = length(hi - lo);
+    for (int i = 0; i < 10; ++i)
+        EXPECT_GE(v.vertices[i].y, lo.y - 1.01e-3f * diag)
+            << "strip vertex " << i << " " << str(v.vertices[i]);
+}
+
+// ---------------------------------------------------------------------------------------------
 // Host builder.
 
 TEST(ExtrusionHost, SecondVolumeExactlyWhenTheLightStraddlesThePlane) {
