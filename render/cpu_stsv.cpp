@@ -131,8 +131,11 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
     const vec3 lightCenter = vec3(sphere);
 
-    // Per-triangle constants and volumes (the geometry shader's work).
+    // Per-triangle constants, light planes and volumes (the geometry shader's work).
     std::vector<StsvTriangle> triangles(scene.triangleCount());
+    std::vector<StsvLightPlanes> lightPlanes(scene.triangleCount(), stsvNoLightPlanes());
+    LightFrame square;
+    const bool hasSquare = lightSampleSquare(light, farDistance, square);
     std::vector<VolumeRecord> volumes;
     volumes.reserve(scene.triangleCount());
     for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
@@ -144,6 +147,9 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
         }
         const uvec3 idx = scene.triangles[t];
         const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
+        if (hasSquare)
+            lightPlanes[t] =
+                stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, bounds.lo, bounds.hi);
         const uint sides = stsvSideCount(v0, v1, v2, sphere);
         for (uint side = 0; side < sides; ++side)
             volumes.push_back({stsvBuildVolume(v0, v1, v2, sphere, bounds.lo, bounds.hi, side),
@@ -169,6 +175,13 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     stats.bin_ms = timer.milliseconds();
     timer.reset();
 
+    // The volume's planes and its triangle's light planes: a box outside either holds no point
+    // that the fragment's test accepts.
+    const auto volumeMissesBox = [&](const VolumeRecord& record, const Bounds& box) {
+        return stsvVolumeMissesBox(record.volume, box.lo, box.hi) ||
+               stsvLightPlanesMissBox(lightPlanes[record.triangle], box.lo, box.hi);
+    };
+
     // The fragment shader's work, per tile and pixel.
     std::atomic<std::size_t> tests{0}, hits{0}, culled{0}, samples{0};
     const bool counters = out.kind() == BufferKind::Counters;
@@ -189,7 +202,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
             const std::vector<std::uint32_t>& binned = tiles[std::size_t(tile.ty) * tilesX + tile.tx];
             candidates.reserve(binned.size());
             for (std::uint32_t v : binned) {
-                if (stsvVolumeMissesBox(volumes[v].volume, box.lo, box.hi))
+                if (volumeMissesBox(volumes[v], box))
                     ++localCulled;
                 else
                     candidates.push_back(v);
@@ -204,7 +217,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 if (blockBox.empty()) continue;
                 std::vector<std::uint32_t>& list = blockCandidates[std::size_t(by * CPU_BLOCKS + bx)];
                 for (std::uint32_t v : candidates)
-                    if (!stsvVolumeMissesBox(volumes[v].volume, blockBox.lo, blockBox.hi)) list.push_back(v);
+                    if (!volumeMissesBox(volumes[v], blockBox)) list.push_back(v);
             }
         std::array<vec2, 256> points;
         for (int y = tile.y0; y < tile.y1; ++y)
@@ -234,7 +247,9 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     const VolumeRecord& record = volumes[v];
                     if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
                     ++localTests;
-                    if (!stsvPointInVolume(record.volume, p)) continue;
+                    if (!stsvPointInVolume(record.volume, p) ||
+                        !stsvPointInLightPlanes(lightPlanes[record.triangle], p))
+                        continue;
                     ++localHits;
                     const StsvTriangle& tri = triangles[record.triangle];
                     StsvPixel px;

@@ -96,6 +96,14 @@ DH_FUNC LightFrame lightFrame(Light light, vec3 p, float farDistance) {
     return f;
 }
 
+/// True when every light sample of `light` lies in one square, whatever the receiver: a
+/// rectangle's frame, or the square around a disk (c ± T ± B, world units). Sphere and directional
+/// lights turn their frame towards each receiver.
+DH_FUNC bool lightSampleSquare(Light light, float farDistance, DH_OUT(LightFrame) square) {
+    square = lightFrame(light, vec3(0.0f), farDistance);
+    return SAMPLING_LIGHT_TYPE(light) == LIGHT_RECTANGLE || SAMPLING_LIGHT_TYPE(light) == LIGHT_DISK;
+}
+
 /// Integer hash of Jarzynski & Olano 2020 ("Hash Functions for GPU Rendering", PCG variant).
 DH_FUNC uint pcgHash(uint v) {
     uint state = v * 747796405u + 2891336453u;

@@ -56,6 +56,7 @@ layout(location = 3) STSV_FLAT in vec4 inUv0E1;
 layout(location = 4) STSV_FLAT in vec4 inUvE2;
 layout(location = 5) STSV_FLAT in uvec4 inIds;
 layout(location = 6) STSV_FLAT in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
+layout(location = 11) STSV_FLAT in vec4 inLightPlanes[STSV_LIGHT_PLANES_MAX];
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
@@ -88,10 +89,13 @@ void main() {
     // rejects volumes wholly in front of p), and the plane test needs p alone.
     vec3 p = vec3(imageLoad(gPosition, pixel));
     StsvVolume vol;
-    vol.planeCount = inIds.w >> 8u;
+    vol.planeCount = (inIds.w >> 8u) & 255u;
     for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = inPlanes[i];
+    StsvLightPlanes lp;
+    lp.count = inIds.w >> 16u;
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = inLightPlanes[i];
     // Self-shadowing rule: the visible triangle never shadows its own point.
-    if (stsvPointInVolume(vol, p) && imageLoad(gTriangle, pixel).x != inIds.z) {
+    if (stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && imageLoad(gTriangle, pixel).x != inIds.z) {
         StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
         Light light = lights[pc.light].light;
         LightFrame lf = lightFrame(light, p, frame.farDistance);

@@ -5,26 +5,29 @@
 
 #include "volumes/extrusion_dh.h"
 
-/// Per-volume values as flat varyings: 11 vec4 (44 components, lavapipe allows 128).
+/// Per-volume values as flat varyings: 18 vec4 (72 components; Vulkan guarantees 64 per
+/// geometry-shader vertex, lavapipe and NVIDIA allow 128).
 struct StsvVaryings {
     vec4 m0;
     vec4 m1;
     vec4 m2;
     vec4 uv0E1;  ///< uv0 (xy), uvE1 (zw)
     vec4 uvE2;   ///< uvE2 (xy), zw unused
-    uvec4 ids;   ///< texture, flags, triangle, side | planeCount << 8
+    uvec4 ids;   ///< texture, flags, triangle, side | planeCount << 8 | light planes' count << 16
     vec4 planes[STSV_VOLUME_MAX_PLANES];
+    vec4 lightPlanes[STSV_LIGHT_PLANES_MAX];
 };
 
-StsvVaryings stsvPackVaryings(StsvTriangle t, StsvVolume v, uint side) {
+StsvVaryings stsvPackVaryings(StsvTriangle t, StsvVolume v, StsvLightPlanes lp, uint side) {
     StsvVaryings o;
     o.m0 = t.m0;
     o.m1 = t.m1;
     o.m2 = t.m2;
     o.uv0E1 = vec4(t.uv0, t.uvE1);
     o.uvE2 = vec4(t.uvE2, 0.0, 0.0);
-    o.ids = uvec4(t.texture, t.flags, t.triangle, side | (v.planeCount << 8u));
+    o.ids = uvec4(t.texture, t.flags, t.triangle, side | (v.planeCount << 8u) | (lp.count << 16u));
     for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) o.planes[i] = v.planes[i];
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) o.lightPlanes[i] = lp.planes[i];
     return o;
 }
 
@@ -84,13 +87,16 @@ bool stsvVolumeCannotShadowBox(StsvTriangle t, vec4 sphere, Light light) {
     return lightDistance > 0.0 && behind + rounding <= 0.99 * stsvShadowTMinLowerBound(light) * lightDistance;
 }
 
-/// The triangle constants and volume of (triangle, side) for light `lightIndex`: the same dh
-/// calls as render/cpu_stsv.cpp (stsvTriangleFor, stsvSideCount, stsvBuildVolume). False when
-/// this side has no volume (degenerate triangle, unlit side, empty volume).
-bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, out StsvVolume vol) {
+/// The triangle constants, volume and light planes of (triangle, side) for light `lightIndex`:
+/// the same dh calls as render/cpu_stsv.cpp (stsvTriangleFor, stsvSideCount, stsvBuildVolume,
+/// stsvLightPlanes). False when this side has no volume (degenerate triangle, unlit side, empty
+/// volume).
+bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, out StsvVolume vol,
+                     out StsvLightPlanes lp) {
     GpuTriangle g = triangles[tri];
     vol.planeCount = 0u;
     vol.flags = STSV_VOLUME_EMPTY;
+    lp = stsvNoLightPlanes();
     // Algorithm 2 with wedges: the opaque triangles are not STSV's.
     if ((pc.flags & GPU_PUSH_PERFORATED_ONLY) != 0u && (g.flags & STSV_FLAG_OPAQUE) != 0u) return false;
     vec4 sphere = lights[lightIndex].sphere;
@@ -105,6 +111,9 @@ bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, o
     if (side >= sides) return false;
     if (sides == 1u && stsvVolumeCannotShadowBox(t, sphere, lights[lightIndex].light)) return false;
     vol = stsvBuildVolume(v0, v1, v2, sphere, vec3(frame.boxLo), vec3(frame.boxHi), side);
+    LightFrame square;
+    if (lightSampleSquare(lights[lightIndex].light, frame.farDistance, square))
+        lp = stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, vec3(frame.boxLo), vec3(frame.boxHi));
     return (vol.flags & STSV_VOLUME_EMPTY) == 0u;
 }
 
