@@ -1,8 +1,8 @@
 // STSV extrusion (DESIGN §4.2, volumes/extrusion_dh.h): conservativeness against Embree, tightness,
 // the edge cases, and the ten-vertex strip as a closed, outward-oriented convex surface.
 #include "core/error.h"
-#include "volume_test_util.h"
 #include "sampling/light_sampling_dh.h"
+#include "volume_test_util.h"
 #include "volumes/extrusion.h"
 #include "volumes/stsv_dh.h"
 
