@@ -38,6 +38,7 @@
 #define STSV_VOLUMES_EXTRUSION_DH_H
 
 #include "core/dh.h"
+#include "volumes/clip_box_dh.h"
 
 DH_BEGIN
 
@@ -58,6 +59,11 @@ DH_CONST uint STSV_STRIP_VERTEX_COUNT = 10u;
 /// unit of the box's largest coordinate magnitude: float rounding of the construction and of the
 /// world-space plane test (a few 1e-7 of |p|) stays well below it.
 DH_CONST float STSV_VOLUME_SLACK = 1e-5f;
+/// The rasterised geometry (strip or clipped box) lies this much (box diagonals) beyond the slack
+/// outside the stored planes, and STSV_STRIP_MARGIN outside the box: more than the rounding of
+/// the corners it is built from, so it encloses every point the planes accept.
+DH_CONST float STSV_STRIP_EXPANSION = 4e-4f;
+DH_CONST float STSV_STRIP_MARGIN = 1e-3f;
 
 /// One STSV (one side of one S-triangle). std430: 16 × 16 bytes.
 struct StsvVolume {
@@ -295,6 +301,44 @@ DH_FUNC bool stsvTriangleIsDegenerate(vec3 v0, vec3 v1, vec3 v2) {
            !stsvFiniteVec(v2);
 }
 
+/// The frame a triangle's volume is built in: relative to v0, in units of the diagonal of the
+/// scene box grown to hold the triangle, so that thresholds are absolute and nothing overflows at
+/// huge or tiny scene scales; x_world = origin + scale·x.
+struct StsvVolumeFrame {
+    vec3 origin;    ///< world units: v0
+    float scale;    ///< world units per frame unit: the box diagonal
+    vec3 boxLo;     ///< frame units: the box, grown to hold the triangle
+    float invScale; ///< 1 / scale
+    vec3 boxHi;
+    float slack; ///< frame units: the outward slack of every stored plane (STSV_VOLUME_SLACK)
+};
+
+DH_FUNC StsvVolumeFrame stsvVolumeFrame(vec3 v0, vec3 v1, vec3 v2, vec3 boundsLo, vec3 boundsHi) {
+    StsvVolumeFrame f;
+    vec3 boxLoW = min(min(boundsLo, v0), min(v1, v2));
+    vec3 boxHiW = max(max(boundsHi, v0), max(v1, v2));
+    f.origin = v0;
+    f.scale = max(length(boxHiW - boxLoW), 1e-30f);
+    f.invScale = 1.0f / f.scale;
+    vec3 farW = max(abs(boxLoW), abs(boxHiW));
+    f.slack = STSV_VOLUME_SLACK * (1.0f + 0.2f * max(max(farW.x, farW.y), farW.z) * f.invScale);
+    f.boxLo = (boxLoW - v0) * f.invScale;
+    f.boxHi = (boxHiW - v0) * f.invScale;
+    return f;
+}
+
+/// A plane (n, d) of the frame in world space: x_world = origin + scale·x.
+DH_FUNC vec4 stsvPlaneToWorld(StsvVolumeFrame f, vec4 plane) {
+    vec3 m = vec3(plane);
+    return vec4(m, plane.w * f.scale - dot(m, f.origin));
+}
+
+/// A world-space plane in the frame.
+DH_FUNC vec4 stsvPlaneToFrame(StsvVolumeFrame f, vec4 plane) {
+    vec3 m = vec3(plane);
+    return vec4(m, (plane.w + dot(m, f.origin)) * f.invScale);
+}
+
 /// Number of volumes the triangle needs for this light: 2 when the light's bounding sphere
 /// (centre xyz, radius w) straddles the triangle's plane — both sides are lit (STSV §6) — else 1.
 /// Degenerate triangles: 1 (an empty volume). A sphere touching the plane within float rounding
@@ -321,20 +365,16 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     if (!finiteInput || stsvTriangleIsDegenerate(v0, v1, v2))
         return stsvEmptyVolume(finiteInput ? v0 : vec3(0.0f), STSV_VOLUME_DEGENERATE);
 
-    // Work relative to v0 in units of the box diagonal: thresholds become absolute and nothing
-    // overflows at huge or tiny scene scales.
-    vec3 boxLoW = min(min(boundsLo, v0), min(v1, v2));
-    vec3 boxHiW = max(max(boundsHi, v0), max(v1, v2));
-    float scaleW = max(length(boxHiW - boxLoW), 1e-30f);
-    float invScale = 1.0f / scaleW;
-    vec3 farW = max(abs(boxLoW), abs(boxHiW));
-    float slack = STSV_VOLUME_SLACK * (1.0f + 0.2f * max(max(farW.x, farW.y), farW.z) * invScale);
-    float margin = 1e-3f; // strip planes beyond the box, in box diagonals
+    // Work relative to v0 in units of the box diagonal (StsvVolumeFrame).
+    StsvVolumeFrame frame = stsvVolumeFrame(v0, v1, v2, boundsLo, boundsHi);
+    float invScale = frame.invScale;
+    float slack = frame.slack;
+    float margin = STSV_STRIP_MARGIN;
     // The strip's planes lie this much (box diagonals) outside the stored ones: more than the
     // rounding stsvClosePrism tolerates in its corners (≤ 2e-4), so the strip encloses the volume.
-    float stripExpansion = slack + 4e-4f;
-    vec3 boxLo = (boxLoW - v0) * invScale;
-    vec3 boxHi = (boxHiW - v0) * invScale;
+    float stripExpansion = slack + STSV_STRIP_EXPANSION;
+    vec3 boxLo = frame.boxLo;
+    vec3 boxHi = frame.boxHi;
     vec3 p0 = vec3(0.0f);
     vec3 p1 = e1 * invScale;
     vec3 p2 = e2 * invScale;
@@ -554,12 +594,9 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     vec3 outward = -((b[0] - f[0]) + (b[1] - f[1]) + (b[2] - f[2]));
     stsvWriteStrip(vol, f[0], f[1], f[2], b[0], b[1], b[2], outward);
 
-    // Back to world space: x_world = v0 + scaleW·x; a plane (m, d) becomes (m, d·scaleW − m·v0).
-    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) {
-        vec3 m = vec3(vol.planes[i]);
-        vol.planes[i] = vec4(m, vol.planes[i].w * scaleW - dot(m, v0));
-    }
-    for (uint i = 0u; i < 10u; ++i) vol.vertices[i] = vec4(v0 + scaleW * vec3(vol.vertices[i]), 1.0f);
+    // Back to world space: x_world = v0 + scale·x; a plane (m, d) becomes (m, d·scale − m·v0).
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = stsvPlaneToWorld(frame, vol.planes[i]);
+    for (uint i = 0u; i < 10u; ++i) vol.vertices[i] = vec4(v0 + frame.scale * vec3(vol.vertices[i]), 1.0f);
     return vol;
 }
 
@@ -651,13 +688,10 @@ DH_FUNC StsvLightPlanes stsvLightPlanes(vec3 v0, vec3 v1, vec3 v2, vec3 c, vec3 
     bool finiteInput = stsvFiniteVec(c) && stsvFiniteVec(T) && stsvFiniteVec(B) && stsvFiniteVec(boundsLo) &&
                        stsvFiniteVec(boundsHi);
     if (!finiteInput || stsvTriangleIsDegenerate(v0, v1, v2)) return lp;
-    // The frame of stsvBuildVolume: relative to v0, in box diagonals, with its slack.
-    vec3 boxLoW = min(min(boundsLo, v0), min(v1, v2));
-    vec3 boxHiW = max(max(boundsHi, v0), max(v1, v2));
-    float scaleW = max(length(boxHiW - boxLoW), 1e-30f);
-    float invScale = 1.0f / scaleW;
-    vec3 farW = max(abs(boxLoW), abs(boxHiW));
-    float slack = STSV_VOLUME_SLACK * (1.0f + 0.2f * max(max(farW.x, farW.y), farW.z) * invScale);
+    // The frame of stsvBuildVolume, with its slack.
+    StsvVolumeFrame frame = stsvVolumeFrame(v0, v1, v2, boundsLo, boundsHi);
+    float invScale = frame.invScale;
+    float slack = frame.slack;
     float touch = 3.0f * slack;
     float clear = 2.5f * slack;
     vec3 q[3];
@@ -703,11 +737,8 @@ DH_FUNC StsvLightPlanes stsvLightPlanes(vec3 v0, vec3 v1, vec3 v2, vec3 c, vec3 
         }
     }
     lp.count = count;
-    // Back to world space, as stsvBuildVolume.
-    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) {
-        vec3 m = vec3(lp.planes[i]);
-        lp.planes[i] = i < count ? vec4(m, lp.planes[i].w * scaleW - dot(m, v0)) : vec4(0.0f);
-    }
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i)
+        lp.planes[i] = i < count ? stsvPlaneToWorld(frame, lp.planes[i]) : vec4(0.0f);
     return lp;
 }
 
@@ -727,6 +758,46 @@ DH_FUNC bool stsvLightPlanesMissBox(StsvLightPlanes lp, vec3 lo, vec3 hi) {
         if (stsvPlaneMissesBox(lp.planes[i], lo, hi)) return true;
     }
     return false;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The geometry to rasterise: the accepted region itself.
+
+/// What the fragment accepts — the volume's planes, the triangle's light planes — inside the
+/// scene box, as a closed polyhedron (clip_box_dh.h) in world space: every plane moved outwards
+/// by the slack and STSV_STRIP_EXPANSION, the box by STSV_STRIP_MARGIN (box diagonals), far
+/// beyond the rounding of the clipping, so it encloses every point the tests accept. It is the
+/// smallest geometry whose back faces behind the visible point give a fragment for every point
+/// inside (DESIGN §4.2), where the strip of stsvBuildVolume, a prism closed by three side planes,
+/// can be many times larger. No faces when the volume is empty.
+DH_FUNC ClippedBox stsvVolumeHull(StsvVolume vol, StsvLightPlanes lp, vec3 v0, vec3 v1, vec3 v2,
+                                  vec3 boundsLo, vec3 boundsHi) {
+    StsvVolumeFrame frame = stsvVolumeFrame(v0, v1, v2, boundsLo, boundsHi);
+    float expansion = frame.slack + STSV_STRIP_EXPANSION;
+    vec4 planes[CLIP_MAX_PLANES];
+    uint count = 0u;
+    // The light planes first: the tightest, they leave the later planes little to cut.
+    for (uint i = 0u; i < min(lp.count, STSV_LIGHT_PLANES_MAX); ++i) {
+        planes[count] = stsvPlaneToFrame(frame, lp.planes[i]) + vec4(0.0f, 0.0f, 0.0f, expansion);
+        count += 1u;
+    }
+    // With light planes, the volume's own planes add slivers, not tightness: its triangle plane
+    // only (the rest still bound the region the fragment accepts, inside this larger one).
+    uint volumePlanes = lp.count > 0u ? min(vol.planeCount, 1u) : min(vol.planeCount, STSV_VOLUME_MAX_PLANES);
+    for (uint i = 0u; i < volumePlanes; ++i) {
+        planes[count] = stsvPlaneToFrame(frame, vol.planes[i]) + vec4(0.0f, 0.0f, 0.0f, expansion);
+        count += 1u;
+    }
+    for (uint i = count; i < CLIP_MAX_PLANES; ++i) planes[i] = vec4(0.0f);
+    ClippedBox b =
+        clipBox(frame.boxLo - vec3(STSV_STRIP_MARGIN), frame.boxHi + vec3(STSV_STRIP_MARGIN), planes, count);
+    if ((vol.flags & STSV_VOLUME_EMPTY) != 0u) b.faceCount = 0u;
+    for (uint f = 0u; f < b.faceCount; ++f)
+        for (uint i = 0u; i < b.count[f]; ++i) {
+            uint k = f * CLIP_MAX_FACE_VERTICES + i;
+            b.corner[k] = frame.origin + frame.scale * b.corner[k];
+        }
+    return b;
 }
 
 DH_END
