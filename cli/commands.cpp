@@ -63,8 +63,9 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
     command->add_flag("--validation", a.options.validation, "Vulkan validation layers (messages on stderr)");
     command
         ->add_option("--extrusion", a.extrusion,
-                     "Vulkan stage that builds the STSV volumes: auto | geometry | mesh (auto: mesh "
-                     "shaders where the device has them)")
+                     "Vulkan stage that builds the STSV volumes: auto | hull | geometry | mesh (auto: hull, "
+                     "the scene box clipped by each volume's and the light's planes in a compute pass; "
+                     "geometry, mesh: the paper's ten-vertex prism)")
         ->capture_default_str();
     command->add_flag("-q,--quiet", a.quiet, "no progress display or summary line");
 }

@@ -114,4 +114,43 @@ void Buffer::download(void* data, VkDeviceSize bytes, VkDeviceSize offset) const
     std::memcpy(data, staging.mapped(), bytes);
 }
 
+BufferView::BufferView(const Device& device, const Buffer& buffer, VkFormat format, VkDeviceSize texelBytes)
+    : m_device(&device) {
+    const VkDeviceSize texels = buffer.size() / texelBytes;
+    if (texels > device.limits().maxTexelBufferElements)
+        throw UsageError("a texel buffer of " + std::to_string(texels) +
+                         " texels exceeds the device's limit of " +
+                         std::to_string(device.limits().maxTexelBufferElements));
+    VkBufferViewCreateInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_BUFFER_VIEW_CREATE_INFO;
+    info.buffer = buffer.handle();
+    info.format = format;
+    info.offset = 0;
+    info.range = texels * texelBytes;
+    STSV_VK_CHECK(vkCreateBufferView(device.handle(), &info, nullptr, &m_view));
+}
+
+BufferView::~BufferView() {
+    destroy();
+}
+
+BufferView::BufferView(BufferView&& other) noexcept
+    : m_device(std::exchange(other.m_device, nullptr)), m_view(std::exchange(other.m_view, VK_NULL_HANDLE)) {}
+
+BufferView& BufferView::operator=(BufferView&& other) noexcept {
+    if (this != &other) {
+        destroy();
+        m_device = std::exchange(other.m_device, nullptr);
+        m_view = std::exchange(other.m_view, VK_NULL_HANDLE);
+    }
+    return *this;
+}
+
+void BufferView::destroy() noexcept {
+    if (m_device != nullptr && m_view != VK_NULL_HANDLE)
+        vkDestroyBufferView(m_device->handle(), m_view, nullptr);
+    m_view = VK_NULL_HANDLE;
+    m_device = nullptr;
+}
+
 } // namespace stsv

@@ -61,6 +61,29 @@ class Buffer {
     void destroy() noexcept;
 };
 
+/// A typed view of a buffer for texel-buffer descriptors (`uniform usamplerBuffer` read with
+/// texelFetch): on lavapipe a texel fetch at a per-lane index is a vector gather, where a
+/// storage-buffer load is a loop over the lanes. Move-only; must not outlive the buffer or its
+/// Device.
+class BufferView {
+  public:
+    BufferView() = default;
+    /// The whole buffer as texels of `format`; UsageError when it holds more texels than the
+    /// device's maxTexelBufferElements.
+    BufferView(const Device& device, const Buffer& buffer, VkFormat format, VkDeviceSize texelBytes);
+    ~BufferView();
+    BufferView(BufferView&& other) noexcept;
+    BufferView& operator=(BufferView&& other) noexcept;
+
+    VkBufferView handle() const { return m_view; }
+
+  private:
+    const Device* m_device = nullptr;
+    VkBufferView m_view = VK_NULL_HANDLE;
+
+    void destroy() noexcept;
+};
+
 /// A buffer holding `values` (device-local unless `memory` says otherwise).
 template <class T>
 Buffer createBuffer(const Device& device, std::span<const T> values, VkBufferUsageFlags usage,

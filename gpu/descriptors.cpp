@@ -116,7 +116,7 @@ VkDescriptorType DescriptorSet::typeOf(uint32_t binding) const {
 }
 
 void DescriptorSet::write(uint32_t binding, uint32_t arrayElement, const VkDescriptorBufferInfo* buffer,
-                          const VkDescriptorImageInfo* image) {
+                          const VkDescriptorImageInfo* image, const VkBufferView* texels) {
     VkWriteDescriptorSet write{};
     write.sType = VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET;
     write.dstSet = m_set;
@@ -126,6 +126,7 @@ void DescriptorSet::write(uint32_t binding, uint32_t arrayElement, const VkDescr
     write.descriptorType = typeOf(binding);
     write.pBufferInfo = buffer;
     write.pImageInfo = image;
+    write.pTexelBufferView = texels;
     vkUpdateDescriptorSets(m_device->handle(), 1, &write, 0, nullptr);
 }
 
@@ -133,6 +134,10 @@ void DescriptorSet::writeBuffer(uint32_t binding, const Buffer& buffer, VkDevice
                                 VkDeviceSize range, uint32_t arrayElement) {
     const VkDescriptorBufferInfo info{buffer.handle(), offset, range};
     write(binding, arrayElement, &info, nullptr);
+}
+
+void DescriptorSet::writeTexelBuffer(uint32_t binding, VkBufferView view, uint32_t arrayElement) {
+    write(binding, arrayElement, nullptr, nullptr, &view);
 }
 
 void DescriptorSet::writeStorageImage(uint32_t binding, const Image& image, VkImageLayout layout,

@@ -58,6 +58,8 @@ class DescriptorSet {
     /// Storage image (used in `layout`, GENERAL by default).
     void writeStorageImage(uint32_t binding, const Image& image,
                            VkImageLayout layout = VK_IMAGE_LAYOUT_GENERAL, uint32_t arrayElement = 0);
+    /// Uniform or storage texel buffer (the type the layout declares).
+    void writeTexelBuffer(uint32_t binding, VkBufferView view, uint32_t arrayElement = 0);
     /// Combined image sampler or sampled image (the type the layout declares).
     void writeSampledImage(uint32_t binding, VkImageView view, VkSampler sampler,
                            VkImageLayout layout = VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL,
@@ -70,9 +72,9 @@ class DescriptorSet {
     VkDescriptorSet m_set = VK_NULL_HANDLE;
 
     VkDescriptorType typeOf(uint32_t binding) const;
-    /// One descriptor at (binding, arrayElement) from exactly one of `buffer` and `image`.
+    /// One descriptor at (binding, arrayElement) from exactly one of `buffer`, `image` and `texels`.
     void write(uint32_t binding, uint32_t arrayElement, const VkDescriptorBufferInfo* buffer,
-               const VkDescriptorImageInfo* image);
+               const VkDescriptorImageInfo* image, const VkBufferView* texels = nullptr);
     void destroy() noexcept;
 };
 

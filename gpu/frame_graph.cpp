@@ -47,6 +47,10 @@ ResourceUse ResourceUse::storageRead(VkPipelineStageFlags2 stages) {
     return {stages, VK_ACCESS_2_SHADER_STORAGE_READ_BIT, VK_IMAGE_LAYOUT_GENERAL};
 }
 
+ResourceUse ResourceUse::sampledRead(VkPipelineStageFlags2 stages) {
+    return {stages, VK_ACCESS_2_SHADER_SAMPLED_READ_BIT, VK_IMAGE_LAYOUT_SHADER_READ_ONLY_OPTIMAL};
+}
+
 ResourceUse ResourceUse::storageReadWrite(VkPipelineStageFlags2 stages) {
     return {stages, VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT,
             VK_IMAGE_LAYOUT_GENERAL};
@@ -60,6 +64,11 @@ ResourceUse ResourceUse::transferWrite() {
 ResourceUse ResourceUse::transferRead() {
     return {VK_PIPELINE_STAGE_2_ALL_TRANSFER_BIT, VK_ACCESS_2_TRANSFER_READ_BIT,
             VK_IMAGE_LAYOUT_TRANSFER_SRC_OPTIMAL};
+}
+
+ResourceUse ResourceUse::indirectRead() {
+    return {VK_PIPELINE_STAGE_2_DRAW_INDIRECT_BIT, VK_ACCESS_2_INDIRECT_COMMAND_READ_BIT,
+            VK_IMAGE_LAYOUT_UNDEFINED};
 }
 
 ResourceUse ResourceUse::hostRead() {

@@ -32,10 +32,14 @@ struct ResourceUse {
     static ResourceUse depthTest();
     /// Storage image or buffer loads in `stages`.
     static ResourceUse storageRead(VkPipelineStageFlags2 stages);
+    /// Sampled-image or texel-buffer reads (texelFetch) in `stages`.
+    static ResourceUse sampledRead(VkPipelineStageFlags2 stages);
     /// Storage loads, stores and atomics in `stages`.
     static ResourceUse storageReadWrite(VkPipelineStageFlags2 stages);
     /// vkCmdClearColorImage / vkCmdFillBuffer.
     static ResourceUse transferWrite();
+    /// Arguments of an indirect draw or dispatch.
+    static ResourceUse indirectRead();
     /// Source of a copy (readback).
     static ResourceUse transferRead();
     /// Host reads of a mapped buffer after the frame's fence.

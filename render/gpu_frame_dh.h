@@ -8,6 +8,7 @@
 #include "core/dh.h"
 #include "scene/light_dh.h"
 #include "shadowmaps/shadow_map_dh.h"
+#include "volumes/extrusion_dh.h"
 #include "volumes/stsv_dh.h"
 
 DH_BEGIN
@@ -32,6 +33,12 @@ DH_CONST uint GPU_BINDING_COVERAGE = 15u;   ///< r32f storage image: PW occlusio
 DH_CONST uint GPU_BINDING_SHADOW_MAP = 16u; ///< the light's map: GpuShadowDepth words, faces × size² (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_VIEWS = 17u; ///< GpuShadowParams then ShadowMapView per light (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_TAPS = 18u;  ///< Poisson-disk taps: blocker set, then filter set (SSBO)
+DH_CONST uint GPU_BINDING_STSV_DRAW = 19u;    ///< GpuStsvDraw: the hull draw's arguments and counts (SSBO)
+DH_CONST uint GPU_BINDING_STSV_RECORDS = 20u; ///< GpuStsvRecord[] of the volumes the hull pass built (SSBO)
+DH_CONST uint GPU_BINDING_STSV_HULL = 21u;    ///< uvec4 per hull vertex: world xyz bits, record index (SSBO)
+DH_CONST uint GPU_BINDING_STSV_RECORD_TEXELS = 22u; ///< the records as rgba32ui texels (uniform texel buffer)
+DH_CONST uint GPU_BINDING_STSV_HULL_TEXELS =
+    23u; ///< the hull vertices as rgba32ui texels (uniform texel buffer)
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
 DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 samples each)
@@ -97,8 +104,45 @@ struct GpuStats {
     uint wedgeInside;     ///< of those, p inside the bound with the edge a silhouette seen from p
     uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
     uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
+    uint hullVolumes;     ///< STSV volumes the hull pass built (stsv_hull.comp)
+    uint hullTriangles;   ///< triangles of their hulls drawn (those facing away from the eye)
+    uint samplesTested;   ///< STSV (fragment, sample) pairs tested: the samples in each fragment's region
     uint pad0;
     uint pad1;
+    uint pad2;
+};
+
+/// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of
+/// Eq. 2–5, the volume's planes and the triangle's light planes. Flat varyings of the geometry
+/// and mesh shaders; a record of the hull pass, read by index. std430: 18 × 16 bytes.
+struct GpuStsvRecord {
+    vec4 m0;
+    vec4 m1;
+    vec4 m2;
+    vec4 uv0E1; ///< uv0 (xy), uvE1 (zw)
+    vec4 uvE2;  ///< uvE2 (xy), zw unused
+    uvec4 ids;  ///< texture, flags, triangle, side | planeCount << 8 | light planes' count << 16
+    vec4 planes[STSV_VOLUME_MAX_PLANES];
+    vec4 lightPlanes[STSV_LIGHT_PLANES_MAX];
+};
+
+/// GpuStsvRecord as 16-byte texels: its ids, its first plane, its first light plane, its size.
+DH_CONST uint GPU_STSV_RECORD_IDS = 5u;
+DH_CONST uint GPU_STSV_RECORD_PLANES = 6u;
+DH_CONST uint GPU_STSV_RECORD_LIGHT_PLANES = 11u;
+DH_CONST uint GPU_STSV_RECORD_TEXELS = 18u;
+
+/// The hull pass's counts and the arguments of the indirect draw of its triangles (the first
+/// four words are a VkDrawIndirectCommand). Zeroed before each light's hull pass.
+struct GpuStsvDraw {
+    uint vertexCount;   ///< 3 × the triangles appended
+    uint instanceCount; ///< 1, written by the hull pass
+    uint firstVertex;
+    uint firstInstance;
+    uint records; ///< GpuStsvRecord[] appended
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 /// One welded edge of the opaque triangles (wedges/adjacency.h). std430: 3 × 16 bytes.
@@ -162,7 +206,12 @@ DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
 DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);
 DH_STATIC_ASSERT(sizeof(GpuFrame) == 176);
 DH_STATIC_ASSERT(sizeof(GpuLight) == 96);
-DH_STATIC_ASSERT(sizeof(GpuStats) == 32);
+DH_STATIC_ASSERT(sizeof(GpuStats) == 48);
+DH_STATIC_ASSERT(sizeof(GpuStsvRecord) == 16 * GPU_STSV_RECORD_TEXELS);
+DH_STATIC_ASSERT(offsetof(GpuStsvRecord, ids) == 16 * GPU_STSV_RECORD_IDS);
+DH_STATIC_ASSERT(offsetof(GpuStsvRecord, planes) == 16 * GPU_STSV_RECORD_PLANES);
+DH_STATIC_ASSERT(offsetof(GpuStsvRecord, lightPlanes) == 16 * GPU_STSV_RECORD_LIGHT_PLANES);
+DH_STATIC_ASSERT(sizeof(GpuStsvDraw) == 32);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
 DH_STATIC_ASSERT(sizeof(GpuEdge) == 48);
 DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);

@@ -37,6 +37,7 @@ std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
     std::vector<DescriptorBinding> bindings = resources.bindings();
     for (const DescriptorBinding& b : OpaqueOccluderResources::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : ShadowMapResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : StsvHullResources::bindings()) bindings.push_back(b);
     return bindings;
 }
 
@@ -73,7 +74,8 @@ struct ShadowMapPasses {
 /// writes the stats. Barriers come from the passes' declared accesses (gpu/frame_graph.h).
 class VulkanFrame {
   public:
-    VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options, bool meshShader);
+    VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
+                StsvGeometry geometry);
     Frame render(double startupMs);
 
   private:
@@ -81,16 +83,19 @@ class VulkanFrame {
     const Scene& m_scene;
     RenderOptions m_options;
     const MethodInfo& m_method;
-    bool m_mesh;
+    StsvGeometry m_geometry;
     SamplePlan m_plan;
     FrameResources m_resources;
     OpaqueOccluderResources m_opaqueResources;
     ShadowMapResources m_shadowResources;
+    StsvHullResources m_hullResources;
     FrameDescriptors m_descriptors;
     ClearPass m_clearCounts;
+    ClearPass m_clearHullDraw;
     GBufferPass m_gbuffer;
     std::optional<OpaquePasses> m_opaque;
-    std::optional<StsvPass> m_stsv; ///< when the method draws STSV volumes in this scene
+    std::optional<StsvPass> m_stsv;          ///< when the method draws STSV volumes in this scene
+    std::optional<StsvHullPass> m_stsvHulls; ///< when m_stsv draws hulls
     std::optional<ShadowMapPasses> m_shadowMaps;
     ResolvePass m_resolve;
     FrameReadback m_readback;
@@ -100,23 +105,25 @@ class VulkanFrame {
 
     void record(VkCommandBuffer cmd);
     void recordLight(VkCommandBuffer cmd, std::size_t light);
+    void sizeHulls();
     nlohmann::json passStats(const std::vector<GpuStats>& counts) const;
 };
 
 VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
-                         bool meshShader)
+                         StsvGeometry geometry)
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
-      m_mesh(meshShader), m_plan(makeSamplePlan(options.pattern, options.samples, options.seed,
-                                                options.interleave, options.decorrelate)),
+      m_geometry(geometry), m_plan(makeSamplePlan(options.pattern, options.samples, options.seed,
+                                                  options.interleave, options.decorrelate)),
       m_resources(device, scene, options, m_plan), m_opaqueResources(device, scene, options),
-      m_shadowResources(device, scene, options),
+      m_shadowResources(device, scene, options), m_hullResources(device),
       m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
       m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
+      m_clearHullDraw({}, {&m_hullResources.draw}),
       m_gbuffer(device, m_resources, m_descriptors, layoutDefines(m_resources.tables.layout),
                 static_cast<std::uint32_t>(scene.triangleCount())),
       m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
       m_readback(device, scene, options, m_resources),
-      m_timer(device, 3 + 5 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
+      m_timer(device, 3 + 6 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
       m_commands(device) {
     const std::vector<ShaderDefine> defines = sampleDefines(options, m_resources.tables.layout);
     if (m_method.opaque != OpaqueTechnique::None)
@@ -125,8 +132,11 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
             CenterCountPass(device, scene, m_opaqueResources, m_resources, m_descriptors, defines),
             WedgePass(device, options, m_opaqueResources, m_resources, m_descriptors, defines),
             FoldPass(device, options, m_opaqueResources, m_resources, m_descriptors, defines)});
-    if (scene.lights.size() > 0 && drawsStsv(m_method.stsv, scene))
-        m_stsv.emplace(device, scene, options, m_resources, m_descriptors, meshShader);
+    if (scene.lights.size() > 0 && drawsStsv(m_method.stsv, scene)) {
+        m_stsv.emplace(device, scene, options, m_resources, m_hullResources, m_descriptors, geometry);
+        if (geometry == StsvGeometry::Hull)
+            m_stsvHulls.emplace(device, scene, options, m_resources, m_hullResources, m_descriptors);
+    }
     if (m_shadowResources.enabled()) {
         const bool pcss = m_method.shadowMap == ShadowFilter::Pcss;
         std::vector<ClearPass> clears;
@@ -144,7 +154,33 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
         m_resources.writeDescriptors(m_descriptors.set(l), l);
         m_opaqueResources.writeDescriptors(m_descriptors.set(l));
         m_shadowResources.writeDescriptors(m_descriptors.set(l), l);
+        m_hullResources.writeDescriptors(m_descriptors.set(l));
     }
+    if (m_stsvHulls) sizeHulls();
+}
+
+/// The hull pass once per light into 1-element buffers: it counts every volume and triangle
+/// while writing none, and the buffers get exactly the largest light's needs (the pass is
+/// deterministic: every frame appends the same counts).
+void VulkanFrame::sizeHulls() {
+    VkCommandBuffer cmd = m_commands.begin();
+    runPass(m_graph, cmd, "", m_clearCounts);
+    for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
+        runPass(m_graph, cmd, "", m_clearHullDraw, l);
+        runPass(m_graph, cmd, "", *m_stsvHulls, l);
+    }
+    PassAccesses host;
+    host.use(m_resources.stats, ResourceUse::hostRead());
+    m_graph.addPass(cmd, "", host, [](VkCommandBuffer) {});
+    m_commands.submitAndWait();
+    std::uint64_t volumes = 0, triangles = 0;
+    for (const GpuStats& s : m_resources.stats.download<GpuStats>(m_scene.lights.size())) {
+        volumes = std::max<std::uint64_t>(volumes, s.hullVolumes);
+        triangles = std::max<std::uint64_t>(triangles, s.hullTriangles);
+    }
+    m_hullResources.resize(volumes, triangles);
+    for (std::size_t l = 0; l < m_descriptors.setCount(); ++l)
+        m_hullResources.writeDescriptors(m_descriptors.set(l));
 }
 
 void VulkanFrame::record(VkCommandBuffer cmd) {
@@ -178,6 +214,10 @@ void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
     }
     std::vector<Image*> masks;
     for (Image& image : m_resources.samples.masks[light]) masks.push_back(&image);
+    if (m_stsvHulls) {
+        runPass(m_graph, cmd, "", m_clearHullDraw, light);
+        runPass(m_graph, cmd, prefix + "stsv_hulls", *m_stsvHulls, light);
+    }
     if (m_stsv)
         runPass(m_graph, cmd, prefix + "stsv", *m_stsv, light);
     else if (!masks.empty()) // no STSV volumes: every sample lit
@@ -212,7 +252,7 @@ Frame VulkanFrame::render(double startupMs) {
     frame.stats["passes"] = passes;
     frame.stats["light_sample_buffer_bytes"] = lightSampleBufferBytes(m_options);
     frame.stats["gpu"] = {{"device", m_device.info().name},
-                          {"extrusion", m_mesh ? "mesh shader" : "geometry shader"},
+                          {"extrusion", toString(m_geometry)},
                           {"fragment_counts", "atomic counters in stsv.frag"}};
     return frame;
 }
@@ -222,14 +262,27 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
     nlohmann::json stsvStats = nlohmann::json::array();
     nlohmann::json wedgeStats = nlohmann::json::array();
     nlohmann::json centerStats = nlohmann::json::array();
-    // The fragment loops of stsv.frag and wedge.frag (DCS) test every sample of a fragment
-    // that gets that far, so the samples tested are those fragments times N.
+    // wedge.frag (DCS) tests every sample of a fragment that gets that far, so its samples
+    // tested are those fragments times N; stsv.frag counts the samples in its regions.
     const std::uint64_t n = std::uint64_t(m_options.samples);
     const bool dcs = m_method.opaque == OpaqueTechnique::Dcs;
     for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
-        stsvStats.push_back({{"fragments", counts[l].fragments},
-                             {"inside_fragments", counts[l].inside},
-                             {"samples_tested", n * counts[l].inside}});
+        nlohmann::json stsv = {{"fragments", counts[l].fragments},
+                               {"inside_fragments", counts[l].inside},
+                               {"samples_tested", counts[l].samplesTested}};
+        if (m_stsvHulls) {
+            // The pass writes nothing past the buffers it was sized for at start-up; a frame that
+            // needs more is wrong, so it is an error, not a picture.
+            if (counts[l].hullVolumes > m_hullResources.volumeCapacity() ||
+                counts[l].hullTriangles > m_hullResources.triangleCapacity())
+                throw Error("internal error: light " + std::to_string(l) + "'s STSV hulls (" +
+                            std::to_string(counts[l].hullVolumes) + " volumes, " +
+                            std::to_string(counts[l].hullTriangles) +
+                            " triangles) outgrew the buffers sized at start-up");
+            stsv["hull_volumes"] = counts[l].hullVolumes;
+            stsv["hull_triangles"] = counts[l].hullTriangles;
+        }
+        stsvStats.push_back(stsv);
         nlohmann::json wedge = {{"edges", m_opaqueResources.edgeCount()},
                                 {"fragments", counts[l].wedgeFragments},
                                 {"silhouette_fragments", counts[l].wedgeInside}};
@@ -270,7 +323,7 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height) {
 struct VulkanRenderer::Impl {
     std::unique_ptr<Device> ownDevice;
     Device* device = nullptr;
-    bool mesh = false;
+    StsvGeometry geometry = StsvGeometry::Hull;
     std::unique_ptr<VulkanFrame> frame;
     double startupMs = 0.0;
 
@@ -298,10 +351,12 @@ struct VulkanRenderer::Impl {
         if (stage == ExtrusionStage::Mesh && !info.meshShader)
             throw UsageError("Vulkan device " + info.name +
                              " lacks VK_EXT_mesh_shader (mesh-shader STSV extrusion)");
-        mesh = stage == ExtrusionStage::Mesh || (stage == ExtrusionStage::Auto && info.meshShader);
-        if (!mesh && !info.geometryShader)
-            throw UsageError("Vulkan device " + info.name + " has neither geometry nor mesh shaders");
-        frame = std::make_unique<VulkanFrame>(*device, scene, options, mesh);
+        if (stage == ExtrusionStage::Geometry && !info.geometryShader)
+            throw UsageError("Vulkan device " + info.name + " lacks geometry shaders (--extrusion geometry)");
+        geometry = stage == ExtrusionStage::Mesh       ? StsvGeometry::MeshShaderPrism
+                   : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
+                                                       : StsvGeometry::Hull;
+        frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry);
         startupMs = startup.milliseconds();
     }
 };
@@ -323,7 +378,7 @@ const Device& VulkanRenderer::device() const {
 }
 
 bool VulkanRenderer::usesMeshShader() const {
-    return m_impl->mesh;
+    return m_impl->geometry == StsvGeometry::MeshShaderPrism;
 }
 
 } // namespace stsv

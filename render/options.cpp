@@ -36,11 +36,22 @@ ExtrusionStage parseExtrusionStage(const std::string& name) {
     if (name == "auto") return ExtrusionStage::Auto;
     if (name == "geometry") return ExtrusionStage::Geometry;
     if (name == "mesh") return ExtrusionStage::Mesh;
-    throw UsageError("unknown extrusion stage '" + name + "' (expected auto, geometry or mesh)");
+    if (name == "hull") return ExtrusionStage::Hull;
+    throw UsageError("unknown extrusion stage '" + name + "' (expected auto, hull, geometry or mesh)");
 }
 
 std::string toString(ExtrusionStage stage) {
-    return stage == ExtrusionStage::Geometry ? "geometry" : stage == ExtrusionStage::Mesh ? "mesh" : "auto";
+    switch (stage) {
+    case ExtrusionStage::Geometry:
+        return "geometry";
+    case ExtrusionStage::Mesh:
+        return "mesh";
+    case ExtrusionStage::Hull:
+        return "hull";
+    case ExtrusionStage::Auto:
+        break;
+    }
+    return "auto";
 }
 
 nlohmann::json toJson(const RenderOptions& o) {

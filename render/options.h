@@ -12,14 +12,16 @@
 
 namespace stsv {
 
-/// Which stage builds the STSV volumes on Vulkan.
+/// Which stage builds the STSV volumes on Vulkan, and what it draws.
 enum class ExtrusionStage {
-    Auto,     ///< mesh shader when Device::info().meshShader, else geometry shader
-    Geometry, ///< shaders/stsv.geom
-    Mesh,     ///< shaders/stsv.mesh; UsageError naming VK_EXT_mesh_shader when the device lacks it
+    Auto,     ///< Hull
+    Geometry, ///< shaders/stsv.geom: the paper's ten-vertex prism
+    Mesh, ///< shaders/stsv.mesh: the same prism; UsageError naming VK_EXT_mesh_shader when the device lacks
+          ///< it
+    Hull, ///< shaders/stsv_hull.comp: the box clipped by the volume's and the light's planes, drawn indirect
 };
 
-ExtrusionStage parseExtrusionStage(const std::string& name); ///< auto | geometry | mesh
+ExtrusionStage parseExtrusionStage(const std::string& name); ///< auto | hull | geometry | mesh
 std::string toString(ExtrusionStage stage);
 
 struct RenderOptions {

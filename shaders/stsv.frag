@@ -9,6 +9,10 @@
 #ifndef STSV_MESH_PATH
 #define STSV_MESH_PATH 0
 #endif
+// The volume's record from the hull pass (stsv_hull.comp), by index, instead of flat varyings.
+#ifndef STSV_HULL_PATH
+#define STSV_HULL_PATH 0
+#endif
 #if STSV_MESH_PATH
 #extension GL_EXT_mesh_shader : require
 #define STSV_FLAT perprimitiveEXT flat
@@ -49,6 +53,21 @@ bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
 // Counters: the G-buffer depth test must run before the atomics (DESIGN §4.4).
 layout(early_fragment_tests) in;
 
+// The volume's record (GpuStsvRecord): ids and planes first, the triangle only for points inside.
+#if STSV_HULL_PATH
+// Read as texels (GPU_STSV_RECORD_* offsets): a texel fetch at a per-lane index is a vector
+// gather on lavapipe, a storage-buffer load a loop over the lanes.
+layout(location = 0) flat in uint inRecord;
+layout(set = 0, binding = GPU_BINDING_STSV_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
+uvec4 recordTexel(uint i) { return texelFetch(recordTexels, int(inRecord * GPU_STSV_RECORD_TEXELS + i)); }
+vec4 recordVec4(uint i) { return uintBitsToFloat(recordTexel(i)); }
+uvec4 volumeIds() { return recordTexel(GPU_STSV_RECORD_IDS); }
+vec4 volumePlane(uint i) { return recordVec4(GPU_STSV_RECORD_PLANES + i); }
+vec4 volumeLightPlane(uint i) { return recordVec4(GPU_STSV_RECORD_LIGHT_PLANES + i); }
+StsvTriangle volumeTriangle(uvec4 ids) {
+    return stsvUnpackTriangle(recordVec4(0u), recordVec4(1u), recordVec4(2u), recordVec4(3u), recordVec4(4u), ids);
+}
+#else
 layout(location = 0) STSV_FLAT in vec4 inM0;
 layout(location = 1) STSV_FLAT in vec4 inM1;
 layout(location = 2) STSV_FLAT in vec4 inM2;
@@ -57,6 +76,11 @@ layout(location = 4) STSV_FLAT in vec4 inUvE2;
 layout(location = 5) STSV_FLAT in uvec4 inIds;
 layout(location = 6) STSV_FLAT in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
 layout(location = 11) STSV_FLAT in vec4 inLightPlanes[STSV_LIGHT_PLANES_MAX];
+uvec4 volumeIds() { return inIds; }
+vec4 volumePlane(uint i) { return inPlanes[i]; }
+vec4 volumeLightPlane(uint i) { return inLightPlanes[i]; }
+StsvTriangle volumeTriangle(uvec4 ids) { return stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, ids); }
+#endif
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
@@ -83,20 +107,26 @@ layout(location = 3) out uvec2 outMask3;
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
-    uint side = inIds.w & 255u;
+#if STSV_HULL_PATH
+    // A record past the buffer (an overflow the host reports): nothing to write.
+    if (inRecord >= uint(textureSize(recordTexels)) / GPU_STSV_RECORD_TEXELS) discard;
+#endif
+    uvec4 ids = volumeIds();
+    uint side = ids.w & 255u;
     bool inside = false;
+    uint tested = 0u;
     // Cheapest rejection first: most fragments lie in front of the volume (the depth test only
     // rejects volumes wholly in front of p), and the plane test needs p alone.
     vec3 p = vec3(imageLoad(gPosition, pixel));
     StsvVolume vol;
-    vol.planeCount = (inIds.w >> 8u) & 255u;
-    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = inPlanes[i];
+    vol.planeCount = (ids.w >> 8u) & 255u;
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = volumePlane(i);
     StsvLightPlanes lp;
-    lp.count = inIds.w >> 16u;
-    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = inLightPlanes[i];
+    lp.count = ids.w >> 16u;
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = volumeLightPlane(i);
     // Self-shadowing rule: the visible triangle never shadows its own point.
-    if (stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && imageLoad(gTriangle, pixel).x != inIds.z) {
-        StsvTriangle t = stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, inIds);
+    if (stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && imageLoad(gTriangle, pixel).x != ids.z) {
+        StsvTriangle t = volumeTriangle(ids);
         Light light = lights[pc.light].light;
         LightFrame lf = lightFrame(light, p, frame.farDistance);
         float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
@@ -114,10 +144,16 @@ void main() {
 #if STSV_COUNTERS
             uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
 #endif
-            // Words outside, bits inside (stsvOcclusionWord): a per-sample dynamic index into
+            // Only the samples in the triangle's projection onto the light (stsvSampleRegion)
+            // can be occluded. Words outside, bits inside: a per-sample dynamic index into
             // words[] would cost a scatter per lane on SIMD CPUs.
-            for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
-                uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
+            vec2 lo;
+            vec2 hi;
+            bool region = stsvSampleRegion(px, vec2(-1.0), vec2(1.0), lo, hi);
+            for (uint w = 0u; w < uint(WORD_COUNT) && region; ++w) {
+                uint candidates = stsvCandidateWord(src, w, uint(WORD_BITS), lo, hi);
+                tested += uint(bitCount(candidates));
+                uint bits = stsvOcclusionWordOf(t, px, src, size, w, candidates);
 #if STSV_COUNTERS
                 // One more layer on each occluded sample's 16-bit counter.
                 while (bits != 0u) {
@@ -134,9 +170,11 @@ void main() {
     // Fragment statistics, one atomic per subgroup (per-fragment atomics on one address serialise).
     uint fragments = subgroupAdd(1u);
     uint insideCount = subgroupAdd(inside ? 1u : 0u);
+    uint testedCount = subgroupAdd(tested);
     if (subgroupElect()) {
         atomicAdd(stats[pc.light].fragments, fragments);
         atomicAdd(stats[pc.light].inside, insideCount);
+        atomicAdd(stats[pc.light].samplesTested, testedCount);
     }
 #if !STSV_COUNTERS
     outMask0 = uvec2(words[0], words[1]);

@@ -26,7 +26,7 @@ void main() {
     StsvLightPlanes lp;
     uint side = uint(gl_InvocationID);
     if (!stsvSetupVolume(uint(gl_PrimitiveIDIn), side, pc.light, t, vol, lp)) return;
-    StsvVaryings v = stsvPackVaryings(t, vol, lp, side);
+    GpuStsvRecord v = stsvPackRecord(t, vol, lp, side);
     for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
         gl_Position = frame.clipFromWorld * vol.vertices[i];
         outM0 = v.m0;

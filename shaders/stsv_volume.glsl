@@ -5,21 +5,11 @@
 
 #include "volumes/extrusion_dh.h"
 
-/// Per-volume values as flat varyings: 18 vec4 (72 components; Vulkan guarantees 64 per
-/// geometry-shader vertex, lavapipe and NVIDIA allow 128).
-struct StsvVaryings {
-    vec4 m0;
-    vec4 m1;
-    vec4 m2;
-    vec4 uv0E1;  ///< uv0 (xy), uvE1 (zw)
-    vec4 uvE2;   ///< uvE2 (xy), zw unused
-    uvec4 ids;   ///< texture, flags, triangle, side | planeCount << 8 | light planes' count << 16
-    vec4 planes[STSV_VOLUME_MAX_PLANES];
-    vec4 lightPlanes[STSV_LIGHT_PLANES_MAX];
-};
-
-StsvVaryings stsvPackVaryings(StsvTriangle t, StsvVolume v, StsvLightPlanes lp, uint side) {
-    StsvVaryings o;
+/// The record of a volume (render/gpu_frame_dh.h GpuStsvRecord): flat varyings of the geometry
+/// and mesh shaders (72 components; Vulkan guarantees 64 per geometry-shader vertex, lavapipe
+/// and NVIDIA allow 128), or a record of the hull pass.
+GpuStsvRecord stsvPackRecord(StsvTriangle t, StsvVolume v, StsvLightPlanes lp, uint side) {
+    GpuStsvRecord o;
     o.m0 = t.m0;
     o.m1 = t.m1;
     o.m2 = t.m2;

@@ -17,11 +17,11 @@
 
 DH_BEGIN
 
-DH_CONST uint CLIP_MAX_PLANES = 12u;                 ///< half-spaces besides the box
+DH_CONST uint CLIP_MAX_PLANES = 8u;                  ///< half-spaces besides the box
 DH_CONST uint CLIP_MAX_FACES = 6u + CLIP_MAX_PLANES; ///< the box's faces and one per plane
-/// Vertices per face: a box face gains at most one per cut (4 + 12), a cut face has at most
-/// one per face cut before it (17).
-DH_CONST uint CLIP_MAX_FACE_VERTICES = 18u;
+/// Vertices per face: a box face gains at most one per cut (4 + 8), a cut face has at most
+/// one per face cut before it (13).
+DH_CONST uint CLIP_MAX_FACE_VERTICES = 13u;
 /// Triangles of a fan triangulation of every face: at most 2·V − 4 with V ≤ 2·F − 4 vertices.
 DH_CONST uint CLIP_MAX_TRIANGLES = 4u * CLIP_MAX_FACES - 12u;
 
@@ -40,185 +40,179 @@ DH_FUNC vec3 clipBoxCorner(vec3 lo, vec3 hi, uint bits) {
                 (bits & 4u) != 0u ? hi.z : lo.z);
 }
 
-/// Face i of the box [lo, hi] (−x, +x, −y, +y, −z, +z), counter-clockwise seen from outside.
-DH_FUNC void clipBoxFace(DH_INOUT(ClippedBox) b, uint i, vec3 lo, vec3 hi) {
-    uint axis = i / 2u;
-    bool upper = (i & 1u) != 0u;
-    // Two axes spanning the face, (u, w) right-handed with the outward normal.
-    uint u = (axis + 1u) % 3u;
-    uint w = (axis + 2u) % 3u;
-    if (!upper) {
-        uint t = u;
-        u = w;
-        w = t;
-    }
-    uint base = upper ? (1u << axis) : 0u;
-    uint o = i * CLIP_MAX_FACE_VERTICES;
-    b.corner[o] = clipBoxCorner(lo, hi, base);
-    b.corner[o + 1u] = clipBoxCorner(lo, hi, base | (1u << u));
-    b.corner[o + 2u] = clipBoxCorner(lo, hi, base | (1u << u) | (1u << w));
-    b.corner[o + 3u] = clipBoxCorner(lo, hi, base | (1u << w));
-    b.count[i] = 4u;
-}
-
 /// The point where edge (a inside, b outside) crosses the plane, from its inside end.
 DH_FUNC vec3 clipCrossing(vec3 a, float da, vec3 b, float db) {
     return a + (da / (da - db)) * (b - a);
 }
 
-/// Clips the polyhedron by {x : n·x + d ≥ 0} (plane = (n, d), unit n). The cut face closes the
-/// hole; faces left with fewer than three distinct corners are dropped. An empty result has no
-/// faces.
-DH_FUNC void clipBoxByPlane(DH_INOUT(ClippedBox) b, vec4 plane) {
-    vec3 n = vec3(plane);
-    // Nothing outside: nothing to do.
-    bool anyOutside = false;
-    for (uint f = 0u; f < b.faceCount; ++f) {
-        uint o = f * CLIP_MAX_FACE_VERTICES;
-        for (uint i = 0u; i < b.count[f]; ++i)
-            anyOutside = anyOutside || dot(n, b.corner[o + i]) + plane.w < 0.0f;
-    }
-    if (!anyOutside) return;
-    // Per cut face, the points where its boundary enters and leaves the half-space: the face's
-    // new edge runs exit → entry, so the cut face runs entry → exit, and one face's exit is the
-    // next one's entry (the same bits: clipCrossing from the edge's inside end on both sides).
-    vec3 entries[CLIP_MAX_FACES];
-    vec3 exits[CLIP_MAX_FACES];
-    uint cuts = 0u;
-    bool paired = true;
-    uint kept = 0u;
-    for (uint f = 0u; f < b.faceCount; ++f) {
-        uint o = f * CLIP_MAX_FACE_VERTICES;
-        uint m = b.count[f];
-        vec3 clipped[CLIP_MAX_FACE_VERTICES];
-        uint c = 0u;
-        uint faceEntries = 0u;
-        uint faceExits = 0u;
-        vec3 entry = vec3(0.0f);
-        vec3 exit = vec3(0.0f);
-        for (uint i = 0u; i < m; ++i) {
-            vec3 a = b.corner[o + i];
-            vec3 e = b.corner[o + (i + 1u) % m];
-            float da = dot(n, a) + plane.w;
-            float de = dot(n, e) + plane.w;
-            bool aIn = da >= 0.0f;
-            bool eIn = de >= 0.0f;
-            bool crosses = aIn != eIn;
-            vec3 x = aIn ? clipCrossing(a, da, e, de) : clipCrossing(e, de, a, da);
-            if (!aIn && eIn) {
-                entry = x;
-                faceEntries += 1u;
-            }
-            // Kept points, each once (a plane through a corner makes a crossing equal to it).
-            if (aIn && (c == 0u || clipped[c - 1u] != a) && c < CLIP_MAX_FACE_VERTICES) {
-                clipped[c] = a;
-                c += 1u;
-            }
-            if (crosses && (c == 0u || clipped[c - 1u] != x) && c < CLIP_MAX_FACE_VERTICES) {
-                clipped[c] = x;
-                c += 1u;
-            }
-            if (aIn && !eIn) {
-                exit = x;
-                faceExits += 1u;
-            }
-        }
-        if (faceEntries + faceExits > 0u) {
-            paired = paired && faceEntries == 1u && faceExits == 1u && cuts < CLIP_MAX_FACES;
-            if (cuts < CLIP_MAX_FACES) {
-                entries[cuts] = entry;
-                exits[cuts] = exit;
-                cuts += 1u;
-            }
-        }
-        if (c > 1u && clipped[c - 1u] == clipped[0]) c -= 1u;
-        // Fewer than three distinct points: nothing left of this face (or a sliver of no area).
-        if (c < 3u) continue;
-        uint ko = kept * CLIP_MAX_FACE_VERTICES;
-        for (uint i = 0u; i < c; ++i) b.corner[ko + i] = clipped[i];
-        b.count[kept] = c;
-        kept += 1u;
-    }
-    b.faceCount = kept;
-    if (cuts < 3u || kept >= CLIP_MAX_FACES) return;
-    // The cut face: from an exit, the face whose entry it is leads to that face's exit.
-    vec3 cap[CLIP_MAX_FACES];
-    cap[0] = exits[0];
-    bool used[CLIP_MAX_FACES];
-    for (uint k = 0u; k < CLIP_MAX_FACES; ++k) used[k] = k == 0u;
-    uint capCount = 1u;
-    bool chained = paired;
-    for (uint step = 1u; step < cuts && chained; ++step) {
-        uint next = CLIP_MAX_FACES;
-        for (uint k = 0u; k < cuts; ++k)
-            if (!used[k] && next == CLIP_MAX_FACES && entries[k] == cap[capCount - 1u]) next = k;
-        chained = next < CLIP_MAX_FACES;
-        if (chained) {
-            used[next] = true;
-            cap[capCount] = exits[next];
-            capCount += 1u;
-        }
-    }
-    chained = chained && entries[0] == cap[capCount - 1u];
-    if (!chained) {
-        // A plane through a corner shared by several faces: order the exits by angle about the
-        // cut face's outward normal −n instead, around their centroid, in a basis (u, w) with
-        // u × w = −n.
-        capCount = cuts;
-        vec3 centre = vec3(0.0f);
-        for (uint k = 0u; k < cuts; ++k) centre += exits[k];
-        centre /= float(cuts);
-        vec3 u = abs(n.x) < 0.6f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
-        u = normalize(u - dot(u, n) * n);
-        vec3 w = cross(-n, u);
-        float key[CLIP_MAX_FACES];
-        for (uint k = 0u; k < cuts; ++k) {
-            vec3 r = exits[k] - centre;
-            // Pseudo-angle in [0, 4): monotone in the angle of (r·u, r·w), no trigonometry.
-            float x = dot(r, u);
-            float y = dot(r, w);
-            float t = (abs(x) + abs(y)) > 0.0f ? y / (abs(x) + abs(y)) : 0.0f;
-            key[k] = x >= 0.0f ? (y >= 0.0f ? t : 4.0f + t) : 2.0f - t;
-            cap[k] = exits[k];
-        }
-        for (uint k = 1u; k < cuts; ++k) {
-            vec3 p = cap[k];
-            float pk = key[k];
-            uint j = k;
-            while (j > 0u && key[j - 1u] > pk) {
-                cap[j] = cap[j - 1u];
-                key[j] = key[j - 1u];
-                j -= 1u;
-            }
-            cap[j] = p;
-            key[j] = pk;
-        }
-    }
-    uint ko = kept * CLIP_MAX_FACE_VERTICES;
-    uint corners = 0u;
-    for (uint i = 0u; i < capCount; ++i) {
-        if (corners > 0u && b.corner[ko + corners - 1u] == cap[i]) continue;
-        b.corner[ko + corners] = cap[i];
-        corners += 1u;
-    }
-    if (corners > 1u && b.corner[ko + corners - 1u] == b.corner[ko]) corners -= 1u;
-    if (corners < 3u) return;
-    b.count[kept] = corners;
-    b.faceCount = kept + 1u;
-}
-
 /// The box [lo, hi] clipped by the first `count` planes (each (n, d), unit n, keeping
-/// n·x + d ≥ 0).
-DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint count) {
+/// n·x + d ≥ 0) that cut deeper than minCut (≥ 0), one plane after the other: each face polygon keeps its
+/// part inside the plane, and the cut face closes the hole; faces left with fewer than three distinct corners
+/// are dropped. An empty result has no faces. One function, no calls that take the polyhedron: GLSL copies a
+/// struct passed inout, and this one is 2 KB.
+DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint count, float minCut) {
     ClippedBox b;
-    for (uint i = 0u; i < 6u; ++i) clipBoxFace(b, i, lo, hi);
+    // The box's faces (−x, +x, −y, +y, −z, +z), counter-clockwise seen from outside: corners on
+    // the axes (u, w), right-handed with the outward normal.
+    for (uint i = 0u; i < 6u; ++i) {
+        uint axis = i / 2u;
+        bool upper = (i & 1u) != 0u;
+        uint u = upper ? (axis + 1u) % 3u : (axis + 2u) % 3u;
+        uint w = upper ? (axis + 2u) % 3u : (axis + 1u) % 3u;
+        uint base = upper ? (1u << axis) : 0u;
+        uint o = i * CLIP_MAX_FACE_VERTICES;
+        b.corner[o] = clipBoxCorner(lo, hi, base);
+        b.corner[o + 1u] = clipBoxCorner(lo, hi, base | (1u << u));
+        b.corner[o + 2u] = clipBoxCorner(lo, hi, base | (1u << u) | (1u << w));
+        b.corner[o + 3u] = clipBoxCorner(lo, hi, base | (1u << w));
+        b.count[i] = 4u;
+    }
     for (uint i = 6u; i < CLIP_MAX_FACES; ++i) b.count[i] = 0u;
     b.faceCount = 6u;
-    for (uint j = 0u; j < count && j < CLIP_MAX_PLANES && b.faceCount > 0u; ++j) clipBoxByPlane(b, planes[j]);
+    for (uint j = 0u; j < count && j < CLIP_MAX_PLANES && b.faceCount > 0u; ++j) {
+        vec4 plane = planes[j];
+        vec3 n = vec3(plane);
+        // A plane that would cut off no more than minCut deep is left out: the polyhedron stays
+        // a little larger, without the sliver faces such a cut makes (a rasteriser that snaps
+        // their corners to its grid can turn a sliver round, and count a pixel twice).
+        float deepest = 0.0f;
+        for (uint f = 0u; f < b.faceCount; ++f) {
+            uint o = f * CLIP_MAX_FACE_VERTICES;
+            for (uint i = 0u; i < b.count[f]; ++i)
+                deepest = max(deepest, -(dot(n, b.corner[o + i]) + plane.w));
+        }
+        if (!(deepest > minCut)) continue;
+        // Per cut face, the points where its boundary enters and leaves the half-space: the face's
+        // new edge runs exit → entry, so the cut face runs entry → exit, and one face's exit is the
+        // next one's entry (the same bits: clipCrossing from the edge's inside end on both sides).
+        vec3 entries[CLIP_MAX_FACES];
+        vec3 exits[CLIP_MAX_FACES];
+        uint cuts = 0u;
+        bool paired = true;
+        uint kept = 0u;
+        for (uint f = 0u; f < b.faceCount; ++f) {
+            uint o = f * CLIP_MAX_FACE_VERTICES;
+            uint m = b.count[f];
+            vec3 clipped[CLIP_MAX_FACE_VERTICES];
+            uint c = 0u;
+            uint faceEntries = 0u;
+            uint faceExits = 0u;
+            vec3 entry = vec3(0.0f);
+            vec3 exit = vec3(0.0f);
+            for (uint i = 0u; i < m; ++i) {
+                vec3 a = b.corner[o + i];
+                vec3 e = b.corner[o + (i + 1u) % m];
+                float da = dot(n, a) + plane.w;
+                float de = dot(n, e) + plane.w;
+                bool aIn = da >= 0.0f;
+                bool eIn = de >= 0.0f;
+                bool crosses = aIn != eIn;
+                vec3 x = aIn ? clipCrossing(a, da, e, de) : clipCrossing(e, de, a, da);
+                if (!aIn && eIn) {
+                    entry = x;
+                    faceEntries += 1u;
+                }
+                // Kept points, each once (a plane through a corner makes a crossing equal to it).
+                if (aIn && (c == 0u || clipped[c - 1u] != a) && c < CLIP_MAX_FACE_VERTICES) {
+                    clipped[c] = a;
+                    c += 1u;
+                }
+                if (crosses && (c == 0u || clipped[c - 1u] != x) && c < CLIP_MAX_FACE_VERTICES) {
+                    clipped[c] = x;
+                    c += 1u;
+                }
+                if (aIn && !eIn) {
+                    exit = x;
+                    faceExits += 1u;
+                }
+            }
+            if (faceEntries + faceExits > 0u) {
+                paired = paired && faceEntries == 1u && faceExits == 1u && cuts < CLIP_MAX_FACES;
+                if (cuts < CLIP_MAX_FACES) {
+                    entries[cuts] = entry;
+                    exits[cuts] = exit;
+                    cuts += 1u;
+                }
+            }
+            if (c > 1u && clipped[c - 1u] == clipped[0]) c -= 1u;
+            // Fewer than three distinct points: nothing left of this face (or a sliver of no area).
+            if (c < 3u) continue;
+            uint ko = kept * CLIP_MAX_FACE_VERTICES;
+            for (uint i = 0u; i < c; ++i) b.corner[ko + i] = clipped[i];
+            b.count[kept] = c;
+            kept += 1u;
+        }
+        b.faceCount = kept;
+        if (cuts < 3u || kept >= CLIP_MAX_FACES) continue;
+        // The cut face: from an exit, the face whose entry it is leads to that face's exit.
+        vec3 cap[CLIP_MAX_FACES];
+        cap[0] = exits[0];
+        bool used[CLIP_MAX_FACES];
+        for (uint k = 0u; k < CLIP_MAX_FACES; ++k) used[k] = k == 0u;
+        uint capCount = 1u;
+        bool chained = paired;
+        for (uint step = 1u; step < cuts && chained; ++step) {
+            uint next = CLIP_MAX_FACES;
+            for (uint k = 0u; k < cuts; ++k)
+                if (!used[k] && next == CLIP_MAX_FACES && entries[k] == cap[capCount - 1u]) next = k;
+            chained = next < CLIP_MAX_FACES;
+            if (chained) {
+                used[next] = true;
+                cap[capCount] = exits[next];
+                capCount += 1u;
+            }
+        }
+        chained = chained && entries[0] == cap[capCount - 1u];
+        if (!chained) {
+            // A plane through a corner shared by several faces: order the exits by angle about the
+            // cut face's outward normal −n instead, around their centroid, in a basis (u, w) with
+            // u × w = −n.
+            capCount = cuts;
+            vec3 centre = vec3(0.0f);
+            for (uint k = 0u; k < cuts; ++k) centre += exits[k];
+            centre /= float(cuts);
+            vec3 u = abs(n.x) < 0.6f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
+            u = normalize(u - dot(u, n) * n);
+            vec3 w = cross(-n, u);
+            float key[CLIP_MAX_FACES];
+            for (uint k = 0u; k < cuts; ++k) {
+                vec3 r = exits[k] - centre;
+                // Pseudo-angle in [0, 4): monotone in the angle of (r·u, r·w), no trigonometry.
+                float x = dot(r, u);
+                float y = dot(r, w);
+                float t = (abs(x) + abs(y)) > 0.0f ? y / (abs(x) + abs(y)) : 0.0f;
+                key[k] = x >= 0.0f ? (y >= 0.0f ? t : 4.0f + t) : 2.0f - t;
+                cap[k] = exits[k];
+            }
+            for (uint k = 1u; k < cuts; ++k) {
+                vec3 p = cap[k];
+                float pk = key[k];
+                uint slot = k;
+                while (slot > 0u && key[slot - 1u] > pk) {
+                    cap[slot] = cap[slot - 1u];
+                    key[slot] = key[slot - 1u];
+                    slot -= 1u;
+                }
+                cap[slot] = p;
+                key[slot] = pk;
+            }
+        }
+        uint ko = kept * CLIP_MAX_FACE_VERTICES;
+        uint corners = 0u;
+        for (uint i = 0u; i < capCount; ++i) {
+            if (corners > 0u && b.corner[ko + corners - 1u] == cap[i]) continue;
+            b.corner[ko + corners] = cap[i];
+            corners += 1u;
+        }
+        if (corners > 1u && b.corner[ko + corners - 1u] == b.corner[ko]) corners -= 1u;
+        if (corners < 3u) continue;
+        b.count[kept] = corners;
+        b.faceCount = kept + 1u;
+    }
     return b;
 }
 
-/// Number of triangles of the faces' fan triangulation (clipBoxTriangle).
+/// Number of triangles of a fan triangulation of every face.
 DH_FUNC uint clipBoxTriangleCount(ClippedBox b) {
     uint t = 0u;
     for (uint f = 0u; f < b.faceCount; ++f) t += b.count[f] - 2u;

@@ -21,4 +21,9 @@ std::vector<StsvVolume> buildTriangleVolumes(vec3 v0, vec3 v1, vec3 v2, vec4 lig
 /// True iff p lies in any of the volumes.
 bool pointInAnyVolume(const std::vector<StsvVolume>& volumes, vec3 p);
 
+/// The hull of a volume (stsvVolumeHullSetup clipped by clipBox) in world space: what
+/// shaders/stsv_hull.comp draws.
+ClippedBox volumeHull(const StsvVolume& volume, const StsvLightPlanes& lightPlanes, vec3 v0, vec3 v1, vec3 v2,
+                      const Bounds& bounds);
+
 } // namespace stsv

@@ -330,7 +330,10 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
             std::vector<std::string> expected = {"gbuffer", "copy", "readback"};
             for (const std::string light : {"light0/", "light1/"}) {
                 expected.push_back(light + "resolve");
-                if (method.stsv != StsvTriangles::None) expected.push_back(light + "stsv");
+                if (method.stsv != StsvTriangles::None) {
+                    expected.push_back(light + "stsv");
+                    expected.push_back(light + "stsv_hulls"); // Auto extrusion: the hull pass
+                }
                 if (method.shadowMap != ShadowFilter::None) {
                     expected.push_back(light + "shadow_map");
                     expected.push_back(light + "shadow_filter");

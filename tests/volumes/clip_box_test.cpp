@@ -1,5 +1,5 @@
 // A box clipped by half-spaces (volumes/clip_box_dh.h): the polyhedron is the intersection, closed
-// without cracks and wound outwards; and the STSV volume's hull (stsvVolumeHull) encloses every
+// without cracks and wound outwards; and the STSV volume's hull (volumeHull) encloses every
 // point the fragment's plane tests accept.
 #include "volume_test_util.h"
 #include "volumes/clip_box_dh.h"
@@ -78,7 +78,7 @@ TEST(ClipBox, RandomHalfSpacesGiveTheirIntersectionClosedAndOutward) {
             const vec3 through = rng.inBox(lo - 0.2f * (hi - lo), hi + 0.2f * (hi - lo));
             planes[j] = vec4(n, -dot(n, through));
         }
-        const ClippedBox b = clipBox(lo, hi, planes, count);
+        const ClippedBox b = clipBox(lo, hi, planes, count, 0.0f);
         const auto inPlanes = [&](vec3 p) {
             if (any(lessThan(p, lo)) || any(greaterThan(p, hi))) return false;
             for (uint j = 0; j < count; ++j)
@@ -129,6 +129,54 @@ TEST(ClipBox, RandomHalfSpacesGiveTheirIntersectionClosedAndOutward) {
     EXPECT_GT(inside, 50'000);
 }
 
+TEST(ClipBox, ShallowCutsAreLeftOutAndOnlyThey) {
+    // Planes that shave at most minCut off the box are skipped: the polyhedron holds the
+    // intersection, is no more than minCut outside any plane, and has no face of a skipped plane.
+    Rng rng(77);
+    long skipped = 0, applied = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        const vec3 lo(0.0f), hi(1.0f);
+        const float minCut = 0.01f;
+        vec4 planes[CLIP_MAX_PLANES];
+        const uint count = uint(rng.index(int(CLIP_MAX_PLANES)) + 1);
+        for (uint j = 0; j < count; ++j) {
+            const vec3 n = rng.onSphere();
+            // The box's farthest corner outside this plane lies 0 … 3·minCut beyond it.
+            float reach = -1e30f;
+            for (uint k = 0; k < 8; ++k) reach = std::max(reach, -dot(n, clipBoxCorner(lo, hi, k)));
+            planes[j] = vec4(n, reach - rng.uniformf(0.0f, 3.0f) * minCut);
+        }
+        const ClippedBox b = clipBox(lo, hi, planes, count, minCut);
+        ASSERT_GE(b.faceCount, 4u);
+        expectClosed(b, "trial " + std::to_string(trial));
+        const std::vector<dvec4> faces = facePlanes(b);
+        for (uint j = 0; j < count; ++j) {
+            float deepest = 0.0f;
+            for (uint k = 0; k < 8; ++k)
+                deepest = std::max(deepest, -(dot(vec3(planes[j]), clipBoxCorner(lo, hi, k)) + planes[j].w));
+            (deepest > minCut ? applied : skipped) += 1;
+        }
+        for (int i = 0; i < 200; ++i) {
+            const vec3 p = rng.inBox(lo, hi);
+            bool in = true, farOut = false;
+            for (uint j = 0; j < count; ++j) {
+                const float v = dot(vec3(planes[j]), p) + planes[j].w;
+                in = in && v >= 0.0f;
+                farOut = farOut || v < -1.0001f * minCut;
+            }
+            if (in) {
+                EXPECT_TRUE(insideFaces(faces, p, 1e-5)) << "p=" << str(p);
+            }
+            // Outside a plane by more than minCut: that plane cut deeper, so it was applied.
+            if (farOut) {
+                EXPECT_FALSE(insideFaces(faces, p, -1e-5)) << "p=" << str(p);
+            }
+        }
+    }
+    EXPECT_GT(skipped, 1000);
+    EXPECT_GT(applied, 1000);
+}
+
 TEST(ClipBox, PlanesThroughCornersAndEdgesStayClosed) {
     // Ties: planes through box corners, along box edges and through each other's lines.
     const vec3 lo(0.0f), hi(1.0f);
@@ -138,7 +186,7 @@ TEST(ClipBox, PlanesThroughCornersAndEdgesStayClosed) {
     planes[1] = vec4(normalize(vec3(-1.0f, 1.0f, 0.0f)), 0.0f); // through the edge x = y, z
     planes[2] = vec4(0.0f, 0.0f, 1.0f, 0.0f);                   // the face z = 0 itself
     planes[3] = vec4(normalize(vec3(1.0f, -1.0f, 1.0f)), 0.0f); // through the corner 0
-    const ClippedBox b = clipBox(lo, hi, planes, 4u);
+    const ClippedBox b = clipBox(lo, hi, planes, 4u, 0.0f);
     ASSERT_GE(b.faceCount, 4u);
     expectClosed(b, "tied planes");
 }
@@ -169,7 +217,7 @@ TEST(VolumeHull, EnclosesWhatTheFragmentAcceptsAndLittleMore) {
         const StsvLightPlanes lp = stsvLightPlanes(v0, v1, v2, centre, t, b, bounds.lo, bounds.hi);
         for (const StsvVolume& v : buildTriangleVolumes(v0, v1, v2, sphere, bounds)) {
             if (v.flags & STSV_VOLUME_EMPTY) continue;
-            const ClippedBox hull = stsvVolumeHull(v, lp, v0, v1, v2, bounds.lo, bounds.hi);
+            const ClippedBox hull = volumeHull(v, lp, v0, v1, v2, bounds);
             ++volumes;
             triangles += hull.faceCount ? clipBoxTriangleCount(hull) : 0;
             expectClosed(hull, "config " + std::to_string(config));

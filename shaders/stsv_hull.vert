@@ -1,0 +1,18 @@
+#version 450
+// STSV pass from the hulls of stsv_hull.comp: one vertex of a hull triangle, its volume's record
+// index as a flat varying (stsv.frag reads the record). The vertices are read as texels: a texel
+// fetch at a per-lane index is a vector gather on lavapipe, a storage-buffer load a loop.
+#extension GL_GOOGLE_include_directive : require
+#include "frame_bindings.glsl"
+
+layout(set = 0, binding = GPU_BINDING_STSV_HULL_TEXELS) uniform usamplerBuffer hullTexels;
+
+layout(location = 0) flat out uint outRecord;
+
+void main() {
+    // A draw past the buffer (an overflow the host reports) draws nothing there.
+    bool inBuffer = gl_VertexIndex < textureSize(hullTexels);
+    uvec4 v = inBuffer ? texelFetch(hullTexels, gl_VertexIndex) : uvec4(0u);
+    gl_Position = frame.clipFromWorld * vec4(uintBitsToFloat(v.xyz), 1.0);
+    outRecord = inBuffer ? v.w : 0xffffffffu;
+}
