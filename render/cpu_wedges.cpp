@@ -88,6 +88,7 @@ constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/paral
 /// One face that bounds the wedge region of the potential silhouette edges assigned to it.
 struct FaceRecord {
     StsvVolume volumes[2];
+    StsvLightPlanes lightPlanes; ///< of the face: a segment that touches an edge touches the face
     std::uint32_t volumeCount;
     std::uint32_t firstEdge; ///< into EdgeBins::edges
     std::uint32_t edgeCount;
@@ -110,6 +111,8 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
     const EdgeAdjacency& adj = occ.adjacency();
     const Bounds bounds = scene.bounds();
     const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
+    LightFrame square;
+    const bool hasSquare = lightSampleSquare(light, farDistance, square);
     const std::vector<std::uint32_t> candidates = potentialSilhouetteEdges(adj, sphere);
     stats.edges = adj.edges.size();
     stats.potentialSilhouettes = candidates.size();
@@ -142,6 +145,9 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
         for (; i < byFace.size() && byFace[i].first == tri; ++i) bins.edges.push_back(byFace[i].second);
         record.edgeCount = static_cast<std::uint32_t>(bins.edges.size()) - record.firstEdge;
         const auto c = corners(tri);
+        record.lightPlanes = hasSquare ? stsvLightPlanes(c[0], c[1], c[2], square.center, square.T, square.B,
+                                                         bounds.lo, bounds.hi)
+                                       : stsvNoLightPlanes();
         for (const StsvVolume& v : buildTriangleVolumes(c[0], c[1], c[2], sphere, bounds))
             if (!(v.flags & STSV_VOLUME_EMPTY)) record.volumes[record.volumeCount++] = v;
         if (record.volumeCount == 0) {
@@ -224,7 +230,7 @@ void keepForBox(const EdgeBins& bins, const EdgeAdjacency& adj, const std::vecto
         bool reaches = false;
         for (std::uint32_t v = 0; v < record.volumeCount && !reaches; ++v)
             reaches = !stsvVolumeMissesBox(record.volumes[v], box.lo, box.hi);
-        if (!reaches) continue;
+        if (!reaches || stsvLightPlanesMissBox(record.lightPlanes, box.lo, box.hi)) continue;
         const auto first = static_cast<std::uint32_t>(to.edges.size());
         for (std::uint32_t i = entry.first; i < entry.first + entry.count; ++i)
             if (edgeMayBeSilhouette(adj, adj.edges[edges[i]], box.lo, box.hi)) to.edges.push_back(edges[i]);
@@ -246,7 +252,7 @@ void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins, const E
         bool inside = false;
         for (std::uint32_t v = 0; v < record.volumeCount && !inside; ++v)
             inside = stsvPointInVolume(record.volumes[v], px.p);
-        if (!inside) continue;
+        if (!inside || !stsvPointInLightPlanes(record.lightPlanes, px.p)) continue;
         for (std::uint32_t i = entry.first; i < entry.first + entry.count; ++i) {
             const MeshEdge& edge = adj.edges[list.edges[i]];
             const WedgeFaces faces{&adj, edge.firstFace, edge.faceCount};

@@ -28,6 +28,7 @@ layout(early_fragment_tests) in;
 layout(location = 0) flat in uvec4 inIds;
 layout(location = 1) flat in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
 layout(location = 6) flat in vec4 inPlanesSide0[STSV_VOLUME_MAX_PLANES];
+layout(location = 11) flat in vec4 inLightPlanes[STSV_LIGHT_PLANES_MAX];
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
@@ -58,6 +59,10 @@ bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int
     vol.planeCount = inIds.z;
     for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = inPlanes[i];
     if (!stsvPointInVolume(vol, p)) return false;
+    StsvLightPlanes lp;
+    lp.count = inIds.y >> 8u;
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = inLightPlanes[i];
+    if (!stsvPointInLightPlanes(lp, p)) return false;
     if ((inIds.w & WEDGE_SIDE0_PRESENT) != 0u) {
         StsvVolume vol0;
         vol0.planeCount = inIds.w & 255u;

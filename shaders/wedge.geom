@@ -13,10 +13,13 @@
 layout(points, invocations = 2) in; // gl_InvocationID = side of the carrier face
 layout(triangle_strip, max_vertices = 10) out;
 
-layout(location = 0) flat out uvec4 outIds; ///< edge, side, planeCount, WEDGE_SIDE0_PRESENT | side 0's planeCount
+layout(location = 0) flat out uvec4 outIds; ///< edge, side | light planes' count << 8, planeCount, WEDGE_SIDE0_PRESENT | side 0's planeCount
 layout(location = 1) flat out vec4 outPlanes[STSV_VOLUME_MAX_PLANES];
 /// Side 1 only: its points inside side 0 are side 0's.
 layout(location = 6) flat out vec4 outPlanesSide0[STSV_VOLUME_MAX_PLANES];
+/// The carrier's light planes (extrusion_dh.h stsvLightPlanes): a segment from p to the light
+/// that touches the edge touches the carrier, whose shadow they bound.
+layout(location = 11) flat out vec4 outLightPlanes[STSV_LIGHT_PLANES_MAX];
 
 /// dcsPotentialSilhouette (wedges/dcs_dh.h) of the edge, as wedges/adjacency.cpp
 /// potentialSilhouetteEdges: open and non-manifold edges always.
@@ -50,13 +53,18 @@ void main() {
     for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) vol0.planes[k] = vec4(0.0);
     if (side == 1u) vol0 = stsvBuildVolume(v0, v1, v2, sphere, lo, hi, 0u);
     uint side0 = (vol0.flags & STSV_VOLUME_EMPTY) == 0u ? WEDGE_SIDE0_PRESENT | vol0.planeCount : 0u;
+    StsvLightPlanes lp = stsvNoLightPlanes();
+    LightFrame square;
+    if (lightSampleSquare(lights[pc.light].light, frame.farDistance, square))
+        lp = stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, lo, hi);
     for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
         gl_Position = frame.clipFromWorld * vol.vertices[i];
-        outIds = uvec4(e, side, vol.planeCount, side0);
+        outIds = uvec4(e, side | (lp.count << 8u), vol.planeCount, side0);
         for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) {
             outPlanes[k] = vol.planes[k];
             outPlanesSide0[k] = vol0.planes[k];
         }
+        for (uint k = 0u; k < STSV_LIGHT_PLANES_MAX; ++k) outLightPlanes[k] = lp.planes[k];
         EmitVertex();
     }
     EndPrimitive();
