@@ -33,11 +33,12 @@ DH_CONST uint GPU_BINDING_COVERAGE = 15u;   ///< r32f storage image: PW occlusio
 DH_CONST uint GPU_BINDING_SHADOW_MAP = 16u; ///< the light's map: GpuShadowDepth words, faces × size² (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_VIEWS = 17u; ///< GpuShadowParams then ShadowMapView per light (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_TAPS = 18u;  ///< Poisson-disk taps: blocker set, then filter set (SSBO)
-DH_CONST uint GPU_BINDING_STSV_DRAW = 19u;    ///< GpuStsvDraw: the hull draw's arguments and counts (SSBO)
-DH_CONST uint GPU_BINDING_STSV_RECORDS = 20u; ///< GpuStsvRecord[] of the volumes the hull pass built (SSBO)
-DH_CONST uint GPU_BINDING_STSV_HULL = 21u;    ///< uvec4 per hull vertex: world xyz bits, record index (SSBO)
-DH_CONST uint GPU_BINDING_STSV_RECORD_TEXELS = 22u; ///< the records as rgba32ui texels (uniform texel buffer)
-DH_CONST uint GPU_BINDING_STSV_HULL_TEXELS =
+DH_CONST uint GPU_BINDING_HULL_DRAW = 19u;    ///< GpuHullDraw: a hull pass's draw arguments and counts (SSBO)
+DH_CONST uint GPU_BINDING_HULL_RECORDS =
+    20u; ///< GPU_HULL_RECORD_TEXELS uvec4 per hull: its volume's record (SSBO)
+DH_CONST uint GPU_BINDING_HULL_VERTICES = 21u; ///< uvec4 per hull vertex: world xyz bits, record index (SSBO)
+DH_CONST uint GPU_BINDING_HULL_RECORD_TEXELS = 22u; ///< the records as rgba32ui texels (uniform texel buffer)
+DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS =
     23u; ///< the hull vertices as rgba32ui texels (uniform texel buffer)
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
@@ -98,19 +99,23 @@ struct GpuLight {
 /// Fragment statistics of one light's STSV and wedge passes (atomic counters in the fragment
 /// shaders).
 struct GpuStats {
-    uint fragments;       ///< STSV fragments that passed the depth test (volume behind the visible point)
-    uint inside;          ///< of those, p inside the volume and on its side: they run the sample loop
-    uint wedgeFragments;  ///< wedge-pass fragments that passed the depth test
-    uint wedgeInside;     ///< of those, p inside the bound with the edge a silhouette seen from p
-    uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
-    uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
-    uint hullVolumes;     ///< STSV volumes the hull pass built (stsv_hull.comp)
-    uint hullTriangles;   ///< triangles of their hulls drawn (those facing away from the eye)
-    uint samplesTested;   ///< STSV (fragment, sample) pairs tested: the samples in each fragment's region
+    uint fragments;          ///< STSV fragments that passed the depth test (volume behind the visible point)
+    uint inside;             ///< of those, p inside the volume and on its side: they run the sample loop
+    uint wedgeFragments;     ///< wedge-pass fragments that passed the depth test
+    uint wedgeInside;        ///< of those, p inside the bound with the edge a silhouette seen from p
+    uint centerFragments;    ///< counting-volume fragments that passed the (biased) depth test
+    uint centerCounted;      ///< of those, faces behind the visible point: they add ±w to D(r)
+    uint hullVolumes;        ///< STSV volumes the hull pass built (stsv_hull.comp)
+    uint hullTriangles;      ///< triangles of their hulls drawn (those facing away from the eye)
+    uint samplesTested;      ///< STSV (fragment, sample) pairs tested: the samples in each fragment's region
+    uint wedgeHulls;         ///< wedge bounds the wedge hull pass built (wedge_hull.comp)
+    uint wedgeHullTriangles; ///< triangles of their hulls drawn
     uint pad0;
-    uint pad1;
-    uint pad2;
 };
+
+/// A hull pass's record of one volume: GPU_HULL_RECORD_TEXELS 16-byte texels (GpuStsvRecord,
+/// GpuWedgeRecord), read by the fragments of hull.vert through their flat record index.
+DH_CONST uint GPU_HULL_RECORD_TEXELS = 18u;
 
 /// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of
 /// Eq. 2–5, the volume's planes and the triangle's light planes. Flat varyings of the geometry
@@ -126,20 +131,35 @@ struct GpuStsvRecord {
     vec4 lightPlanes[STSV_LIGHT_PLANES_MAX];
 };
 
-/// GpuStsvRecord as 16-byte texels: its ids, its first plane, its first light plane, its size.
+/// GpuStsvRecord as 16-byte texels: its ids, its first plane, its first light plane.
 DH_CONST uint GPU_STSV_RECORD_IDS = 5u;
 DH_CONST uint GPU_STSV_RECORD_PLANES = 6u;
 DH_CONST uint GPU_STSV_RECORD_LIGHT_PLANES = 11u;
-DH_CONST uint GPU_STSV_RECORD_TEXELS = 18u;
 
-/// The hull pass's counts and the arguments of the indirect draw of its triangles (the first
-/// four words are a VkDrawIndirectCommand). Zeroed before each light's hull pass.
-struct GpuStsvDraw {
+/// What a wedge fragment needs about its edge's bound (wedge.geom's flat varyings, or a record
+/// of the wedge hull pass): ids = (edge, side | light planes' count << 8, planeCount,
+/// WEDGE_SIDE0_PRESENT | side 0's planeCount), the volume's planes, side 0's planes (side 1
+/// leaves their points to side 0), the carrier's light planes. std430: 18 × 16 bytes.
+struct GpuWedgeRecord {
+    uvec4 ids;
+    vec4 planes[STSV_VOLUME_MAX_PLANES];
+    vec4 planesSide0[STSV_VOLUME_MAX_PLANES];
+    vec4 lightPlanes[STSV_LIGHT_PLANES_MAX];
+};
+
+/// GpuWedgeRecord as 16-byte texels.
+DH_CONST uint GPU_WEDGE_RECORD_PLANES = 1u;
+DH_CONST uint GPU_WEDGE_RECORD_PLANES_SIDE0 = 6u;
+DH_CONST uint GPU_WEDGE_RECORD_LIGHT_PLANES = 11u;
+
+/// A hull pass's counts and the arguments of the indirect draw of its triangles (the first
+/// four words are a VkDrawIndirectCommand). Zeroed before each hull pass.
+struct GpuHullDraw {
     uint vertexCount;   ///< 3 × the triangles appended
     uint instanceCount; ///< 1, written by the hull pass
     uint firstVertex;
     uint firstInstance;
-    uint records; ///< GpuStsvRecord[] appended
+    uint records; ///< records appended
     uint pad0;
     uint pad1;
     uint pad2;
@@ -207,11 +227,15 @@ DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);
 DH_STATIC_ASSERT(sizeof(GpuFrame) == 176);
 DH_STATIC_ASSERT(sizeof(GpuLight) == 96);
 DH_STATIC_ASSERT(sizeof(GpuStats) == 48);
-DH_STATIC_ASSERT(sizeof(GpuStsvRecord) == 16 * GPU_STSV_RECORD_TEXELS);
+DH_STATIC_ASSERT(sizeof(GpuStsvRecord) == 16 * GPU_HULL_RECORD_TEXELS);
+DH_STATIC_ASSERT(sizeof(GpuWedgeRecord) == 16 * GPU_HULL_RECORD_TEXELS);
+DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planes) == 16 * GPU_WEDGE_RECORD_PLANES);
+DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planesSide0) == 16 * GPU_WEDGE_RECORD_PLANES_SIDE0);
+DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, lightPlanes) == 16 * GPU_WEDGE_RECORD_LIGHT_PLANES);
 DH_STATIC_ASSERT(offsetof(GpuStsvRecord, ids) == 16 * GPU_STSV_RECORD_IDS);
 DH_STATIC_ASSERT(offsetof(GpuStsvRecord, planes) == 16 * GPU_STSV_RECORD_PLANES);
 DH_STATIC_ASSERT(offsetof(GpuStsvRecord, lightPlanes) == 16 * GPU_STSV_RECORD_LIGHT_PLANES);
-DH_STATIC_ASSERT(sizeof(GpuStsvDraw) == 32);
+DH_STATIC_ASSERT(sizeof(GpuHullDraw) == 32);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
 DH_STATIC_ASSERT(sizeof(GpuEdge) == 48);
 DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);

@@ -131,8 +131,8 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
 
 WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
                      FrameResources& frame, const FrameDescriptors& descriptors,
-                     const std::vector<ShaderDefine>& defines)
-    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
+                     const std::vector<ShaderDefine>& defines, const HullResources* hulls)
+    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_hulls(hulls),
       m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw) {
     VkFormatProperties coverageFormat{};
     vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), COVERAGE_FORMAT, &coverageFormat);
@@ -141,10 +141,20 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
                          " cannot blend into R32_SFLOAT attachments (penumbra-wedge coverage)");
     const ShaderCompiler compiler;
     // The back faces of the bound behind the visible point, as the STSV pass.
-    GraphicsPipelineDesc desc = volumePipelineDesc(
-        {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", defines)},
-         {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedge.geom", defines)},
-         {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", wedgeDefines(options, defines))}});
+    std::vector<ShaderDefine> fragmentDefines = wedgeDefines(options, defines);
+    GraphicsPipelineDesc desc;
+    if (m_hulls) {
+        fragmentDefines.push_back({"WEDGE_HULL_PATH", "1"});
+        desc = volumePipelineDesc(
+            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("hull.vert", defines)},
+             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", fragmentDefines)}});
+        desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    } else {
+        desc = volumePipelineDesc(
+            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", defines)},
+             {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedge.geom", defines)},
+             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", fragmentDefines)}});
+    }
     if (m_pw) {
         desc.colorFormats = {COVERAGE_FORMAT};
         desc.blend = {additiveBlend()};
@@ -159,6 +169,7 @@ PassAccesses WedgePass::accesses(std::size_t light) const {
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
         .use(m_frame->stats, ResourceUse::storageReadWrite(FRAGMENT));
+    if (m_hulls) m_hulls->declareDrawReads(accesses);
     if (m_pw)
         accesses.use(m_frame->samples.coverage, ResourceUse::colorAttachment());
     else
@@ -173,7 +184,10 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    if (m_opaque->edgeCount() > 0) vkCmdDraw(cmd, static_cast<uint32_t>(m_opaque->edgeCount()), 1, 0, 0);
+    if (m_hulls)
+        m_hulls->recordDraw(cmd);
+    else if (m_opaque->edgeCount() > 0)
+        vkCmdDraw(cmd, static_cast<uint32_t>(m_opaque->edgeCount()), 1, 0, 0);
     endRendering(cmd);
 }
 

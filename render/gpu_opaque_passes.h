@@ -10,6 +10,7 @@
 #include "gpu/pipeline.h"
 #include "render/gpu_frame_dh.h"
 #include "render/gpu_frame_resources.h"
+#include "render/gpu_hulls.h"
 #include "render/gpu_pass.h"
 #include "render/options.h"
 #include "scene/scene.h"
@@ -74,14 +75,15 @@ class CenterCountPass final : public GpuPass {
     Pipeline m_pipeline;
 };
 
-/// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume: DCS adds the
-/// signed crossings of each sample segment to the counters, PW the analytic wedge coverage to
-/// the coverage attachment.
+/// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume and light
+/// planes: DCS adds the signed crossings of each sample segment to the counters, PW the analytic
+/// wedge coverage to the coverage attachment. The bounds are drawn as the carrier's prism
+/// (wedge.geom) or, with `hulls`, as the hulls of wedge_hull.comp (render/gpu_hulls.h).
 class WedgePass final : public GpuPass {
   public:
     WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
               FrameResources& frame, const FrameDescriptors& descriptors,
-              const std::vector<ShaderDefine>& defines);
+              const std::vector<ShaderDefine>& defines, const HullResources* hulls);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -90,6 +92,7 @@ class WedgePass final : public GpuPass {
     OpaqueOccluderResources* m_opaque;
     FrameResources* m_frame;
     const FrameDescriptors* m_descriptors;
+    const HullResources* m_hulls; ///< null: the prisms of wedge.geom
     bool m_pw;
     Pipeline m_pipeline;
 };

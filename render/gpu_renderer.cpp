@@ -8,6 +8,7 @@
 #include "gpu/timer.h"
 #include "render/gpu_frame_resources.h"
 #include "render/gpu_gbuffer_pass.h"
+#include "render/gpu_hulls.h"
 #include "render/gpu_opaque_passes.h"
 #include "render/gpu_readback.h"
 #include "render/gpu_resolve_pass.h"
@@ -37,7 +38,7 @@ std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
     std::vector<DescriptorBinding> bindings = resources.bindings();
     for (const DescriptorBinding& b : OpaqueOccluderResources::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : ShadowMapResources::bindings()) bindings.push_back(b);
-    for (const DescriptorBinding& b : StsvHullResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : HullResources::bindings()) bindings.push_back(b);
     return bindings;
 }
 
@@ -88,14 +89,15 @@ class VulkanFrame {
     FrameResources m_resources;
     OpaqueOccluderResources m_opaqueResources;
     ShadowMapResources m_shadowResources;
-    StsvHullResources m_hullResources;
+    HullResources m_hullResources;
     FrameDescriptors m_descriptors;
     ClearPass m_clearCounts;
     ClearPass m_clearHullDraw;
     GBufferPass m_gbuffer;
     std::optional<OpaquePasses> m_opaque;
-    std::optional<StsvPass> m_stsv;          ///< when the method draws STSV volumes in this scene
-    std::optional<StsvHullPass> m_stsvHulls; ///< when m_stsv draws hulls
+    std::optional<StsvPass> m_stsv;       ///< when the method draws STSV volumes in this scene
+    std::optional<HullPass> m_stsvHulls;  ///< when m_stsv draws hulls
+    std::optional<HullPass> m_wedgeHulls; ///< when the wedge pass draws hulls
     std::optional<ShadowMapPasses> m_shadowMaps;
     ResolvePass m_resolve;
     FrameReadback m_readback;
@@ -106,6 +108,8 @@ class VulkanFrame {
     void record(VkCommandBuffer cmd);
     void recordLight(VkCommandBuffer cmd, std::size_t light);
     void sizeHulls();
+    void checkHullCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
+                           std::uint64_t triangles) const;
     nlohmann::json passStats(const std::vector<GpuStats>& counts) const;
 };
 
@@ -123,19 +127,29 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                 static_cast<std::uint32_t>(scene.triangleCount())),
       m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
       m_readback(device, scene, options, m_resources),
-      m_timer(device, 3 + 6 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
+      m_timer(device, 3 + 7 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
       m_commands(device) {
     const std::vector<ShaderDefine> defines = sampleDefines(options, m_resources.tables.layout);
-    if (m_method.opaque != OpaqueTechnique::None)
+    const bool hulls = geometry == StsvGeometry::Hull;
+    if (m_method.opaque != OpaqueTechnique::None) {
         m_opaque.emplace(OpaquePasses{
             ClearPass({&m_opaqueResources.center}, {}),
             CenterCountPass(device, scene, m_opaqueResources, m_resources, m_descriptors, defines),
-            WedgePass(device, options, m_opaqueResources, m_resources, m_descriptors, defines),
+            WedgePass(device, options, m_opaqueResources, m_resources, m_descriptors, defines,
+                      hulls ? &m_hullResources : nullptr),
             FoldPass(device, options, m_opaqueResources, m_resources, m_descriptors, defines)});
+        if (hulls && m_opaqueResources.edgeCount() > 0)
+            m_wedgeHulls.emplace(device, "wedge_hull.comp", layoutDefines(m_resources.tables.layout),
+                                 static_cast<std::uint32_t>(m_opaqueResources.edgeCount()), 0u, m_resources,
+                                 m_hullResources, m_descriptors);
+    }
     if (scene.lights.size() > 0 && drawsStsv(m_method.stsv, scene)) {
         m_stsv.emplace(device, scene, options, m_resources, m_hullResources, m_descriptors, geometry);
-        if (geometry == StsvGeometry::Hull)
-            m_stsvHulls.emplace(device, scene, options, m_resources, m_hullResources, m_descriptors);
+        if (hulls)
+            m_stsvHulls.emplace(device, "stsv_hull.comp", layoutDefines(m_resources.tables.layout),
+                                static_cast<std::uint32_t>(scene.triangleCount()),
+                                m_method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u,
+                                m_resources, m_hullResources, m_descriptors);
     }
     if (m_shadowResources.enabled()) {
         const bool pcss = m_method.shadowMap == ShadowFilter::Pcss;
@@ -156,27 +170,29 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
         m_shadowResources.writeDescriptors(m_descriptors.set(l), l);
         m_hullResources.writeDescriptors(m_descriptors.set(l));
     }
-    if (m_stsvHulls) sizeHulls();
+    if (m_stsvHulls || m_wedgeHulls) sizeHulls();
 }
 
-/// The hull pass once per light into 1-element buffers: it counts every volume and triangle
-/// while writing none, and the buffers get exactly the largest light's needs (the pass is
+/// The hull passes once per light into 1-element buffers: they count every volume and triangle
+/// while writing none, and the buffers get exactly the largest pass's needs (the passes are
 /// deterministic: every frame appends the same counts).
 void VulkanFrame::sizeHulls() {
     VkCommandBuffer cmd = m_commands.begin();
     runPass(m_graph, cmd, "", m_clearCounts);
-    for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
-        runPass(m_graph, cmd, "", m_clearHullDraw, l);
-        runPass(m_graph, cmd, "", *m_stsvHulls, l);
-    }
+    for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
+        for (const std::optional<HullPass>* pass : {&m_wedgeHulls, &m_stsvHulls}) {
+            if (!*pass) continue;
+            runPass(m_graph, cmd, "", m_clearHullDraw, l);
+            runPass(m_graph, cmd, "", **pass, l);
+        }
     PassAccesses host;
     host.use(m_resources.stats, ResourceUse::hostRead());
     m_graph.addPass(cmd, "", host, [](VkCommandBuffer) {});
     m_commands.submitAndWait();
     std::uint64_t volumes = 0, triangles = 0;
     for (const GpuStats& s : m_resources.stats.download<GpuStats>(m_scene.lights.size())) {
-        volumes = std::max<std::uint64_t>(volumes, s.hullVolumes);
-        triangles = std::max<std::uint64_t>(triangles, s.hullTriangles);
+        volumes = std::max<std::uint64_t>({volumes, s.hullVolumes, s.wedgeHulls});
+        triangles = std::max<std::uint64_t>({triangles, s.hullTriangles, s.wedgeHullTriangles});
     }
     m_hullResources.resize(volumes, triangles);
     for (std::size_t l = 0; l < m_descriptors.setCount(); ++l)
@@ -210,6 +226,10 @@ void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
         const std::string technique = prefix + (m_method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_");
         runPass(m_graph, cmd, "", m_opaque->clearCenter, light);
         runPass(m_graph, cmd, technique + "center", m_opaque->center, light);
+        if (m_wedgeHulls) {
+            runPass(m_graph, cmd, "", m_clearHullDraw, light);
+            runPass(m_graph, cmd, technique + "wedge_hulls", *m_wedgeHulls, light);
+        }
         runPass(m_graph, cmd, technique + "wedges", m_opaque->wedges, light);
     }
     std::vector<Image*> masks;
@@ -257,6 +277,16 @@ Frame VulkanFrame::render(double startupMs) {
     return frame;
 }
 
+/// A hull pass writes nothing past the buffers sized at start-up; a frame that needed more is
+/// wrong, so it is an error, not a picture.
+void VulkanFrame::checkHullCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
+                                    std::uint64_t triangles) const {
+    if (volumes > m_hullResources.recordCapacity() || triangles > m_hullResources.triangleCapacity())
+        throw Error("internal error: light " + std::to_string(light) + "'s " + pass + " hulls (" +
+                    std::to_string(volumes) + " volumes, " + std::to_string(triangles) +
+                    " triangles) outgrew the buffers sized at start-up");
+}
+
 /// "stsv" per light, and "wedges" per light for methods with an opaque technique.
 nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const {
     nlohmann::json stsvStats = nlohmann::json::array();
@@ -271,14 +301,7 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
                                {"inside_fragments", counts[l].inside},
                                {"samples_tested", counts[l].samplesTested}};
         if (m_stsvHulls) {
-            // The pass writes nothing past the buffers it was sized for at start-up; a frame that
-            // needs more is wrong, so it is an error, not a picture.
-            if (counts[l].hullVolumes > m_hullResources.volumeCapacity() ||
-                counts[l].hullTriangles > m_hullResources.triangleCapacity())
-                throw Error("internal error: light " + std::to_string(l) + "'s STSV hulls (" +
-                            std::to_string(counts[l].hullVolumes) + " volumes, " +
-                            std::to_string(counts[l].hullTriangles) +
-                            " triangles) outgrew the buffers sized at start-up");
+            checkHullCapacity(l, "STSV", counts[l].hullVolumes, counts[l].hullTriangles);
             stsv["hull_volumes"] = counts[l].hullVolumes;
             stsv["hull_triangles"] = counts[l].hullTriangles;
         }
@@ -287,6 +310,11 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
                                 {"fragments", counts[l].wedgeFragments},
                                 {"silhouette_fragments", counts[l].wedgeInside}};
         if (dcs) wedge["samples_tested"] = n * counts[l].wedgeInside;
+        if (m_wedgeHulls) {
+            checkHullCapacity(l, "wedge", counts[l].wedgeHulls, counts[l].wedgeHullTriangles);
+            wedge["hull_volumes"] = counts[l].wedgeHulls;
+            wedge["hull_triangles"] = counts[l].wedgeHullTriangles;
+        }
         wedgeStats.push_back(wedge);
         centerStats.push_back(
             {{"fragments", counts[l].centerFragments}, {"counted_fragments", counts[l].centerCounted}});

@@ -58,8 +58,8 @@ layout(early_fragment_tests) in;
 // Read as texels (GPU_STSV_RECORD_* offsets): a texel fetch at a per-lane index is a vector
 // gather on lavapipe, a storage-buffer load a loop over the lanes.
 layout(location = 0) flat in uint inRecord;
-layout(set = 0, binding = GPU_BINDING_STSV_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
-uvec4 recordTexel(uint i) { return texelFetch(recordTexels, int(inRecord * GPU_STSV_RECORD_TEXELS + i)); }
+layout(set = 0, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
+uvec4 recordTexel(uint i) { return texelFetch(recordTexels, int(inRecord * GPU_HULL_RECORD_TEXELS + i)); }
 vec4 recordVec4(uint i) { return uintBitsToFloat(recordTexel(i)); }
 uvec4 volumeIds() { return recordTexel(GPU_STSV_RECORD_IDS); }
 vec4 volumePlane(uint i) { return recordVec4(GPU_STSV_RECORD_PLANES + i); }
@@ -109,7 +109,7 @@ void main() {
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
 #if STSV_HULL_PATH
     // A record past the buffer (an overflow the host reports): nothing to write.
-    if (inRecord >= uint(textureSize(recordTexels)) / GPU_STSV_RECORD_TEXELS) discard;
+    if (inRecord >= uint(textureSize(recordTexels)) / GPU_HULL_RECORD_TEXELS) discard;
 #endif
     uvec4 ids = volumeIds();
     uint side = ids.w & 255u;

@@ -16,6 +16,10 @@
 #ifndef WEDGE_PW
 #define WEDGE_PW 0
 #endif
+// The edge's record from the wedge hull pass (wedge_hull.comp), by index, instead of flat varyings.
+#ifndef WEDGE_HULL_PATH
+#define WEDGE_HULL_PATH 0
+#endif
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "wedge_bindings.glsl"
@@ -25,10 +29,27 @@
 
 layout(early_fragment_tests) in;
 
+// The bound's record (GpuWedgeRecord).
+#if WEDGE_HULL_PATH
+// Read as texels (GPU_WEDGE_RECORD_* offsets): a texel fetch at a per-lane index is a vector
+// gather on lavapipe, a storage-buffer load a loop over the lanes.
+layout(location = 0) flat in uint inRecord;
+layout(set = 0, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
+uvec4 recordTexel(uint i) { return texelFetch(recordTexels, int(inRecord * GPU_HULL_RECORD_TEXELS + i)); }
+uvec4 boundIds() { return recordTexel(0u); }
+vec4 boundPlane(uint i) { return uintBitsToFloat(recordTexel(GPU_WEDGE_RECORD_PLANES + i)); }
+vec4 boundPlaneSide0(uint i) { return uintBitsToFloat(recordTexel(GPU_WEDGE_RECORD_PLANES_SIDE0 + i)); }
+vec4 boundLightPlane(uint i) { return uintBitsToFloat(recordTexel(GPU_WEDGE_RECORD_LIGHT_PLANES + i)); }
+#else
 layout(location = 0) flat in uvec4 inIds;
 layout(location = 1) flat in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
 layout(location = 6) flat in vec4 inPlanesSide0[STSV_VOLUME_MAX_PLANES];
 layout(location = 11) flat in vec4 inLightPlanes[STSV_LIGHT_PLANES_MAX];
+uvec4 boundIds() { return inIds; }
+vec4 boundPlane(uint i) { return inPlanes[i]; }
+vec4 boundPlaneSide0(uint i) { return inPlanesSide0[i]; }
+vec4 boundLightPlane(uint i) { return inLightPlanes[i]; }
+#endif
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
@@ -55,21 +76,26 @@ vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
 
 /// The wedge term of this fragment's edge at pixel `pixel`; false when it has none.
 bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int k, out LightFrame lf) {
+#if WEDGE_HULL_PATH
+    // A record past the buffer (an overflow the host reports): no term.
+    if (inRecord >= uint(textureSize(recordTexels)) / GPU_HULL_RECORD_TEXELS) return false;
+#endif
+    uvec4 ids = boundIds();
     StsvVolume vol;
-    vol.planeCount = inIds.z;
-    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = inPlanes[i];
+    vol.planeCount = ids.z;
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = boundPlane(i);
     if (!stsvPointInVolume(vol, p)) return false;
     StsvLightPlanes lp;
-    lp.count = inIds.y >> 8u;
-    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = inLightPlanes[i];
+    lp.count = ids.y >> 8u;
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = boundLightPlane(i);
     if (!stsvPointInLightPlanes(lp, p)) return false;
-    if ((inIds.w & WEDGE_SIDE0_PRESENT) != 0u) {
+    if ((ids.w & WEDGE_SIDE0_PRESENT) != 0u) {
         StsvVolume vol0;
-        vol0.planeCount = inIds.w & 255u;
-        for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol0.planes[i] = inPlanesSide0[i];
+        vol0.planeCount = ids.w & 255u;
+        for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol0.planes[i] = boundPlaneSide0(i);
         if (stsvPointInVolume(vol0, p)) return false;
     }
-    GpuEdge edge = edges[inIds.x];
+    GpuEdge edge = edges[ids.x];
     WedgeFaces faces;
     faces.first = edge.firstFace;
     faces.count = edge.faceCount;

@@ -21,50 +21,19 @@ layout(location = 6) flat out vec4 outPlanesSide0[STSV_VOLUME_MAX_PLANES];
 /// that touches the edge touches the carrier, whose shadow they bound.
 layout(location = 11) flat out vec4 outLightPlanes[STSV_LIGHT_PLANES_MAX];
 
-/// dcsPotentialSilhouette (wedges/dcs_dh.h) of the edge, as wedges/adjacency.cpp
-/// potentialSilhouetteEdges: open and non-manifold edges always.
-bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
-    if (edge.faceCount != 2u) return true;
-    return dcsPotentialSilhouette(edge.v0, edge.v1, edgeFaces[edge.firstFace].opposite,
-                                  edgeFaces[edge.firstFace + 1u].opposite, sphere);
-}
-
 void main() {
     uint e = uint(gl_PrimitiveIDIn);
     uint side = uint(gl_InvocationID);
-    GpuEdge edge = edges[e];
-    if (edge.carrier == GPU_NO_TRIANGLE) return;
-    vec4 sphere = lights[pc.light].sphere;
-    if (!potentialSilhouette(edge, sphere)) return;
-    GpuTriangle g = triangles[edge.carrier];
-    vec3 v0 = vec3(g.v0);
-    vec3 v1 = vec3(g.v1);
-    vec3 v2 = vec3(g.v2);
-    if (side >= stsvSideCount(v0, v1, v2, sphere)) return;
-    vec3 lo = vec3(frame.boxLo);
-    vec3 hi = vec3(frame.boxHi);
-    StsvVolume vol = stsvBuildVolume(v0, v1, v2, sphere, lo, hi, side);
-    if ((vol.flags & STSV_VOLUME_EMPTY) != 0u) return;
-    // Side 1 hands the points of the side-0 volume to side 0, so that every point is visited
-    // once (the CPU mirror tests "inside any of the face's volumes").
-    StsvVolume vol0;
-    vol0.planeCount = 0u;
-    vol0.flags = STSV_VOLUME_EMPTY;
-    for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) vol0.planes[k] = vec4(0.0);
-    if (side == 1u) vol0 = stsvBuildVolume(v0, v1, v2, sphere, lo, hi, 0u);
-    uint side0 = (vol0.flags & STSV_VOLUME_EMPTY) == 0u ? WEDGE_SIDE0_PRESENT | vol0.planeCount : 0u;
-    StsvLightPlanes lp = stsvNoLightPlanes();
-    LightFrame square;
-    if (lightSampleSquare(lights[pc.light].light, frame.farDistance, square))
-        lp = stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, lo, hi);
+    WedgeBound b;
+    if (!wedgeSetupBound(e, side, pc.light, b)) return;
     for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
-        gl_Position = frame.clipFromWorld * vol.vertices[i];
-        outIds = uvec4(e, side | (lp.count << 8u), vol.planeCount, side0);
+        gl_Position = frame.clipFromWorld * b.vol.vertices[i];
+        outIds = b.record.ids;
         for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) {
-            outPlanes[k] = vol.planes[k];
-            outPlanesSide0[k] = vol0.planes[k];
+            outPlanes[k] = b.record.planes[k];
+            outPlanesSide0[k] = b.record.planesSide0[k];
         }
-        for (uint k = 0u; k < STSV_LIGHT_PLANES_MAX; ++k) outLightPlanes[k] = lp.planes[k];
+        for (uint k = 0u; k < STSV_LIGHT_PLANES_MAX; ++k) outLightPlanes[k] = b.record.lightPlanes[k];
         EmitVertex();
     }
     EndPrimitive();

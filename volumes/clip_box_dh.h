@@ -25,10 +25,32 @@ DH_CONST uint CLIP_MAX_FACE_VERTICES = 13u;
 /// Triangles of a fan triangulation of every face: at most 2·V − 4 with V ≤ 2·F − 4 vertices.
 DH_CONST uint CLIP_MAX_TRIANGLES = 4u * CLIP_MAX_FACES - 12u;
 
-/// The polyhedron: face f has count[f] vertices, corner[f·CLIP_MAX_FACE_VERTICES + i], counter-
-/// clockwise seen from outside. Faces with fewer than three vertices are gone.
+/// Where the polyhedron's corners live. C++, and GLSL by default: a member array of ClippedBox.
+/// A GLSL compute shader may define CLIP_SHARED_INVOCATIONS (its workgroup size) before
+/// including this header to keep the corners, and the face being clipped, in shared memory
+/// instead, a slice per invocation: lavapipe turns a large local array indexed per lane into
+/// code that LLVM takes most of a minute to compile, and that runs slower than shared loads.
+/// CLIP_CORNER(b, k) is corner k of polyhedron b, CLIP_SCRATCH(k) point k of the face being
+/// clipped; clipBox's locals are declared with CLIP_SCRATCH_DECLARE.
+#ifdef CLIP_SHARED_INVOCATIONS
+shared vec3 clipSharedCorners[CLIP_SHARED_INVOCATIONS * CLIP_MAX_FACES * CLIP_MAX_FACE_VERTICES];
+shared vec3 clipSharedScratch[CLIP_SHARED_INVOCATIONS * CLIP_MAX_FACE_VERTICES];
+#define CLIP_CORNER(b, k)                                                                                    \
+    clipSharedCorners[gl_LocalInvocationIndex * (CLIP_MAX_FACES * CLIP_MAX_FACE_VERTICES) + (k)]
+#define CLIP_SCRATCH(k) clipSharedScratch[gl_LocalInvocationIndex * CLIP_MAX_FACE_VERTICES + (k)]
+#define CLIP_SCRATCH_DECLARE
+#else
+#define CLIP_CORNER(b, k) (b).corner[k]
+#define CLIP_SCRATCH(k) clipped[k]
+#define CLIP_SCRATCH_DECLARE vec3 clipped[CLIP_MAX_FACE_VERTICES];
+#endif
+
+/// The polyhedron: face f has count[f] vertices, CLIP_CORNER(b, f·CLIP_MAX_FACE_VERTICES + i),
+/// counter-clockwise seen from outside. Faces with fewer than three vertices are gone.
 struct ClippedBox {
+#ifndef CLIP_SHARED_INVOCATIONS
     vec3 corner[CLIP_MAX_FACES * CLIP_MAX_FACE_VERTICES];
+#endif
     uint count[CLIP_MAX_FACES];
     uint faceCount;
 };
@@ -61,10 +83,10 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
         uint w = upper ? (axis + 2u) % 3u : (axis + 1u) % 3u;
         uint base = upper ? (1u << axis) : 0u;
         uint o = i * CLIP_MAX_FACE_VERTICES;
-        b.corner[o] = clipBoxCorner(lo, hi, base);
-        b.corner[o + 1u] = clipBoxCorner(lo, hi, base | (1u << u));
-        b.corner[o + 2u] = clipBoxCorner(lo, hi, base | (1u << u) | (1u << w));
-        b.corner[o + 3u] = clipBoxCorner(lo, hi, base | (1u << w));
+        CLIP_CORNER(b, o) = clipBoxCorner(lo, hi, base);
+        CLIP_CORNER(b, o + 1u) = clipBoxCorner(lo, hi, base | (1u << u));
+        CLIP_CORNER(b, o + 2u) = clipBoxCorner(lo, hi, base | (1u << u) | (1u << w));
+        CLIP_CORNER(b, o + 3u) = clipBoxCorner(lo, hi, base | (1u << w));
         b.count[i] = 4u;
     }
     for (uint i = 6u; i < CLIP_MAX_FACES; ++i) b.count[i] = 0u;
@@ -79,7 +101,7 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
         for (uint f = 0u; f < b.faceCount; ++f) {
             uint o = f * CLIP_MAX_FACE_VERTICES;
             for (uint i = 0u; i < b.count[f]; ++i)
-                deepest = max(deepest, -(dot(n, b.corner[o + i]) + plane.w));
+                deepest = max(deepest, -(dot(n, CLIP_CORNER(b, o + i)) + plane.w));
         }
         if (!(deepest > minCut)) continue;
         // Per cut face, the points where its boundary enters and leaves the half-space: the face's
@@ -93,15 +115,15 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
         for (uint f = 0u; f < b.faceCount; ++f) {
             uint o = f * CLIP_MAX_FACE_VERTICES;
             uint m = b.count[f];
-            vec3 clipped[CLIP_MAX_FACE_VERTICES];
+            CLIP_SCRATCH_DECLARE
             uint c = 0u;
             uint faceEntries = 0u;
             uint faceExits = 0u;
             vec3 entry = vec3(0.0f);
             vec3 exit = vec3(0.0f);
             for (uint i = 0u; i < m; ++i) {
-                vec3 a = b.corner[o + i];
-                vec3 e = b.corner[o + (i + 1u) % m];
+                vec3 a = CLIP_CORNER(b, o + i);
+                vec3 e = CLIP_CORNER(b, o + (i + 1u) % m);
                 float da = dot(n, a) + plane.w;
                 float de = dot(n, e) + plane.w;
                 bool aIn = da >= 0.0f;
@@ -113,12 +135,13 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
                     faceEntries += 1u;
                 }
                 // Kept points, each once (a plane through a corner makes a crossing equal to it).
-                if (aIn && (c == 0u || clipped[c - 1u] != a) && c < CLIP_MAX_FACE_VERTICES) {
-                    clipped[c] = a;
+                if (aIn && (c == 0u || CLIP_SCRATCH(max(c, 1u) - 1u) != a) && c < CLIP_MAX_FACE_VERTICES) {
+                    CLIP_SCRATCH(c) = a;
                     c += 1u;
                 }
-                if (crosses && (c == 0u || clipped[c - 1u] != x) && c < CLIP_MAX_FACE_VERTICES) {
-                    clipped[c] = x;
+                if (crosses && (c == 0u || CLIP_SCRATCH(max(c, 1u) - 1u) != x) &&
+                    c < CLIP_MAX_FACE_VERTICES) {
+                    CLIP_SCRATCH(c) = x;
                     c += 1u;
                 }
                 if (aIn && !eIn) {
@@ -134,11 +157,11 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
                     cuts += 1u;
                 }
             }
-            if (c > 1u && clipped[c - 1u] == clipped[0]) c -= 1u;
+            if (c > 1u && CLIP_SCRATCH(max(c, 1u) - 1u) == CLIP_SCRATCH(0u)) c -= 1u;
             // Fewer than three distinct points: nothing left of this face (or a sliver of no area).
             if (c < 3u) continue;
             uint ko = kept * CLIP_MAX_FACE_VERTICES;
-            for (uint i = 0u; i < c; ++i) b.corner[ko + i] = clipped[i];
+            for (uint i = 0u; i < c; ++i) CLIP_CORNER(b, ko + i) = CLIP_SCRATCH(i);
             b.count[kept] = c;
             kept += 1u;
         }
@@ -200,11 +223,11 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
         uint ko = kept * CLIP_MAX_FACE_VERTICES;
         uint corners = 0u;
         for (uint i = 0u; i < capCount; ++i) {
-            if (corners > 0u && b.corner[ko + corners - 1u] == cap[i]) continue;
-            b.corner[ko + corners] = cap[i];
+            if (corners > 0u && CLIP_CORNER(b, ko + max(corners, 1u) - 1u) == cap[i]) continue;
+            CLIP_CORNER(b, ko + corners) = cap[i];
             corners += 1u;
         }
-        if (corners > 1u && b.corner[ko + corners - 1u] == b.corner[ko]) corners -= 1u;
+        if (corners > 1u && CLIP_CORNER(b, ko + max(corners, 1u) - 1u) == CLIP_CORNER(b, ko)) corners -= 1u;
         if (corners < 3u) continue;
         b.count[kept] = corners;
         b.faceCount = kept + 1u;

@@ -1,11 +1,12 @@
 #version 450
-// STSV pass from the hulls of stsv_hull.comp: one vertex of a hull triangle, its volume's record
-// index as a flat varying (stsv.frag reads the record). The vertices are read as texels: a texel
-// fetch at a per-lane index is a vector gather on lavapipe, a storage-buffer load a loop.
+// The volume passes from the hulls of stsv_hull.comp and wedge_hull.comp: one vertex of a hull
+// triangle, its volume's record index as a flat varying (the fragment reads the record). The
+// vertices are read as texels: a texel fetch at a per-lane index is a vector gather on
+// lavapipe, a storage-buffer load a loop over the lanes.
 #extension GL_GOOGLE_include_directive : require
 #include "frame_bindings.glsl"
 
-layout(set = 0, binding = GPU_BINDING_STSV_HULL_TEXELS) uniform usamplerBuffer hullTexels;
+layout(set = 0, binding = GPU_BINDING_HULL_VERTEX_TEXELS) uniform usamplerBuffer hullTexels;
 
 layout(location = 0) flat out uint outRecord;
 

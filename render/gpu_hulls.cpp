@@ -1,0 +1,113 @@
+#include "render/gpu_hulls.h"
+
+#include "core/error.h"
+#include "gpu/device.h"
+#include "gpu/shader_compiler.h"
+
+#include <algorithm>
+
+namespace stsv {
+
+namespace {
+
+constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkPipelineStageFlags2 VERTEX = VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT;
+constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+constexpr VkDeviceSize TEXEL_BYTES = 16; ///< rgba32ui
+
+/// Threads of the hull shaders' workgroups (CLIP_SHARED_INVOCATIONS): 8, a SIMD batch of
+/// lavapipe, or fewer where the device's shared memory cannot hold 8 polyhedra being clipped
+/// (their corners and one face, counted at 16 bytes a vec3).
+std::uint32_t hullThreadsPerGroup(const Device& device) {
+    constexpr std::uint32_t bytesPerThread = (CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES * 16;
+    std::uint32_t threads = 8;
+    while (threads > 1 && threads * bytesPerThread > device.limits().maxComputeSharedMemorySize) threads /= 2;
+    return threads;
+}
+
+} // namespace
+
+HullResources::HullResources(const Device& device) : m_device(&device) {
+    draw = Buffer(device, sizeof(GpuHullDraw), STORAGE | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                  MemoryUsage::DeviceLocal);
+    resize(1, 1);
+}
+
+std::vector<DescriptorBinding> HullResources::bindings() {
+    return {
+        {GPU_BINDING_HULL_DRAW, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_RECORDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_RECORD_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_VERTEX_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+}
+
+void HullResources::writeDescriptors(DescriptorSet& set) const {
+    set.writeBuffer(GPU_BINDING_HULL_DRAW, draw);
+    set.writeBuffer(GPU_BINDING_HULL_RECORDS, records);
+    set.writeBuffer(GPU_BINDING_HULL_VERTICES, vertices);
+    set.writeTexelBuffer(GPU_BINDING_HULL_RECORD_TEXELS, recordTexels.handle());
+    set.writeTexelBuffer(GPU_BINDING_HULL_VERTEX_TEXELS, vertexTexels.handle());
+}
+
+void HullResources::resize(std::uint64_t recordCount, std::uint64_t triangles) {
+    m_recordCapacity = std::max<std::uint64_t>(recordCount, 1);
+    m_triangleCapacity = std::max<std::uint64_t>(triangles, 1);
+    // Lengths in the shaders are 32-bit.
+    if (3 * m_triangleCapacity > 0xffffffffull || m_recordCapacity * GPU_HULL_RECORD_TEXELS > 0xffffffffull)
+        throw UsageError("the volumes' hulls need " + std::to_string(m_triangleCapacity) + " triangles of " +
+                         std::to_string(m_recordCapacity) +
+                         " volumes, more than one buffer holds; use --extrusion geometry");
+    constexpr VkBufferUsageFlags TEXELS = STORAGE | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    records = Buffer(*m_device, m_recordCapacity * GPU_HULL_RECORD_TEXELS * TEXEL_BYTES, TEXELS,
+                     MemoryUsage::DeviceLocal);
+    vertices = Buffer(*m_device, 3 * m_triangleCapacity * TEXEL_BYTES, TEXELS, MemoryUsage::DeviceLocal);
+    recordTexels = BufferView(*m_device, records, VK_FORMAT_R32G32B32A32_UINT, TEXEL_BYTES);
+    vertexTexels = BufferView(*m_device, vertices, VK_FORMAT_R32G32B32A32_UINT, TEXEL_BYTES);
+}
+
+void HullResources::declareDrawReads(PassAccesses& accesses) const {
+    accesses.use(draw, ResourceUse::indirectRead())
+        .use(vertices, ResourceUse::sampledRead(VERTEX))
+        .use(records, ResourceUse::sampledRead(FRAGMENT));
+}
+
+void HullResources::recordDraw(VkCommandBuffer cmd) const {
+    vkCmdDrawIndirect(cmd, draw.handle(), 0, 1, sizeof(VkDrawIndirectCommand));
+}
+
+HullPass::HullPass(const Device& device, const std::string& shader, const std::vector<ShaderDefine>& defines,
+                   std::uint32_t items, std::uint32_t pushFlags, FrameResources& resources,
+                   HullResources& hulls, const FrameDescriptors& descriptors)
+    : m_resources(&resources), m_hulls(&hulls), m_descriptors(&descriptors), m_items(items),
+      m_pushFlags(pushFlags), m_threadsPerGroup(hullThreadsPerGroup(device)) {
+    std::vector<ShaderDefine> withThreads = defines;
+    withThreads.push_back({"CLIP_SHARED_INVOCATIONS", std::to_string(m_threadsPerGroup)});
+    const ShaderCompiler compiler;
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       compiler.compileFile(shader, withThreads));
+}
+
+PassAccesses HullPass::accesses(std::size_t) const {
+    PassAccesses accesses;
+    accesses.use(m_hulls->draw, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_hulls->records, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_hulls->vertices, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_resources->stats, ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void HullPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, m_pushFlags, 0u});
+    // One thread per side of each item, in rows of at most 65535 workgroups (the minimum
+    // maxComputeWorkGroupCount[0]); the shaders number the threads row by row.
+    const std::uint64_t groups = (2ull * m_items + m_threadsPerGroup - 1) / m_threadsPerGroup;
+    const auto rowLength = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, 65535));
+    if (groups > 0)
+        vkCmdDispatch(cmd, rowLength, static_cast<std::uint32_t>((groups + rowLength - 1) / rowLength), 1);
+}
+
+} // namespace stsv
