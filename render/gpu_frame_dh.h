@@ -107,10 +107,10 @@ struct GpuStats {
     uint centerCounted;      ///< of those, faces behind the visible point: they add ±w to D(r)
     uint hullVolumes;        ///< STSV volumes the hull pass built (stsv_hull.comp)
     uint hullTriangles;      ///< triangles of their hulls drawn (those facing away from the eye)
-    uint samplesTested;      ///< STSV (fragment, sample) pairs tested: the samples in each fragment's region
     uint wedgeHulls;         ///< wedge bounds the wedge hull pass built (wedge_hull.comp)
     uint wedgeHullTriangles; ///< triangles of their hulls drawn
     uint pad0;
+    uint pad1;
 };
 
 /// A hull pass's record of one volume: GPU_HULL_RECORD_TEXELS 16-byte texels (GpuStsvRecord,

@@ -292,14 +292,14 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
     nlohmann::json stsvStats = nlohmann::json::array();
     nlohmann::json wedgeStats = nlohmann::json::array();
     nlohmann::json centerStats = nlohmann::json::array();
-    // wedge.frag (DCS) tests every sample of a fragment that gets that far, so its samples
-    // tested are those fragments times N; stsv.frag counts the samples in its regions.
+    // The fragment loops of stsv.frag and wedge.frag (DCS) test every sample of a fragment
+    // that gets that far, so the samples tested are those fragments times N.
     const std::uint64_t n = std::uint64_t(m_options.samples);
     const bool dcs = m_method.opaque == OpaqueTechnique::Dcs;
     for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
         nlohmann::json stsv = {{"fragments", counts[l].fragments},
                                {"inside_fragments", counts[l].inside},
-                               {"samples_tested", counts[l].samplesTested}};
+                               {"samples_tested", n * counts[l].inside}};
         if (m_stsvHulls) {
             checkHullCapacity(l, "STSV", counts[l].hullVolumes, counts[l].hullTriangles);
             stsv["hull_volumes"] = counts[l].hullVolumes;

@@ -114,7 +114,6 @@ void main() {
     uvec4 ids = volumeIds();
     uint side = ids.w & 255u;
     bool inside = false;
-    uint tested = 0u;
     // Cheapest rejection first: most fragments lie in front of the volume (the depth test only
     // rejects volumes wholly in front of p), and the plane test needs p alone.
     vec3 p = vec3(imageLoad(gPosition, pixel));
@@ -144,16 +143,12 @@ void main() {
 #if STSV_COUNTERS
             uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
 #endif
-            // Only the samples in the triangle's projection onto the light (stsvSampleRegion)
-            // can be occluded. Words outside, bits inside: a per-sample dynamic index into
-            // words[] would cost a scatter per lane on SIMD CPUs.
-            vec2 lo;
-            vec2 hi;
-            bool region = stsvSampleRegion(px, vec2(-1.0), vec2(1.0), lo, hi);
-            for (uint w = 0u; w < uint(WORD_COUNT) && region; ++w) {
-                uint candidates = stsvCandidateWord(src, w, uint(WORD_BITS), lo, hi);
-                tested += uint(bitCount(candidates));
-                uint bits = stsvOcclusionWordOf(t, px, src, size, w, candidates);
+            // Every sample: on lavapipe a loop over the samples with a uniform index is cheaper
+            // than finding the few in the triangle's projection (stsvSampleRegion's clipping in
+            // local arrays doubled the pass). Words outside, bits inside: a per-sample dynamic
+            // index into words[] would cost a scatter per lane on SIMD CPUs.
+            for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
+                uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
 #if STSV_COUNTERS
                 // One more layer on each occluded sample's 16-bit counter.
                 while (bits != 0u) {
@@ -170,11 +165,9 @@ void main() {
     // Fragment statistics, one atomic per subgroup (per-fragment atomics on one address serialise).
     uint fragments = subgroupAdd(1u);
     uint insideCount = subgroupAdd(inside ? 1u : 0u);
-    uint testedCount = subgroupAdd(tested);
     if (subgroupElect()) {
         atomicAdd(stats[pc.light].fragments, fragments);
         atomicAdd(stats[pc.light].inside, insideCount);
-        atomicAdd(stats[pc.light].samplesTested, testedCount);
     }
 #if !STSV_COUNTERS
     outMask0 = uvec2(words[0], words[1]);

@@ -77,21 +77,6 @@ DH_FUNC uint stsvOcclusionWordOf(StsvTriangle t, StsvPixel px, StsvSampleSource 
     return bits;
 }
 
-/// The samples of mask word w (k = 32w + b, b < bitCount) whose frame point lies in the box
-/// [lo, hi]: with the box of stsvSampleRegion, every sample the triangle can occlude. A loop over
-/// the samples that reads their points only, so that stsvOcclusionWordOf runs the projective test
-/// and the texel rule on these alone (on a SIMD device, as many times as the most candidates in
-/// a batch of fragments, instead of every sample).
-DH_FUNC uint stsvCandidateWord(StsvSampleSource src, uint w, uint bitCount, vec2 lo, vec2 hi) {
-    uint bits = 0u;
-    for (uint b = 0u; b < bitCount; ++b) {
-        uint k = 32u * w + b;
-        vec2 ab = stsvSourcePoint(src, k);
-        if (all(greaterThanEqual(ab, lo)) && all(lessThanEqual(ab, hi))) bits |= lsMaskBit(k);
-    }
-    return bits;
-}
-
 DH_END
 
 #endif // STSV_VOLUMES_STSV_FRAGMENT_DH_H

@@ -11,8 +11,6 @@
 
 #include <gtest/gtest.h>
 
-#include <bit>
-
 namespace stsv::test {
 namespace {
 
@@ -223,14 +221,9 @@ TEST_F(GpuRenderer, LightSampleBufferMemoryIsNWHBits) {
     EXPECT_GT(frame.stats["stsv"][0]["fragments"].get<std::size_t>(), 0u);
     EXPECT_LE(frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>(),
               frame.stats["stsv"][0]["fragments"].get<std::size_t>());
-    // stsv.frag tests the samples in each inside fragment's region (stsvSampleRegion): at most N
-    // per inside fragment, and at least one per occluded (pixel, sample) pair.
-    const std::size_t tested = frame.stats["stsv"][0]["samples_tested"].get<std::size_t>();
-    EXPECT_LE(tested, 128u * frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>());
-    std::size_t occluded = 0;
-    for (std::uint32_t word : frame.lightSamples[0].words()) occluded += std::size_t(std::popcount(word));
-    EXPECT_GE(tested, occluded);
-    EXPECT_GT(occluded, 0u);
+    // stsv.frag tests every sample of a fragment inside its volume.
+    EXPECT_EQ(frame.stats["stsv"][0]["samples_tested"].get<std::size_t>(),
+              128u * frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>());
 }
 
 TEST_F(GpuRenderer, RepeatedFramesAreIdentical) {
