@@ -98,11 +98,13 @@ stsv_pattern_q(128 STSV_Q128)
 # (STSV_PATTERN_VEC4S, STSV_ALPHA_BIT_VEC4S) on every pass; FIXED_LIGHT_TYPE per light type on
 # stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and
 # RESOLVE_COVERAGE (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
-# WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
+# STSV_HULL_PATH and WEDGE_HULL_PATH on the fragments behind hull.vert, CLIP_SHARED_INVOCATIONS
+# (render/gpu_hulls.cpp) on the hull passes; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
 # and each sample count with each buffer kind, without the full product (two cores).
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
 set(S ${PROJECT_SOURCE_DIR}/shaders) # shader folder, for the lines below
-foreach(source stsv.vert stsv.geom stsv.mesh gbuffer.vert gbuffer.frag dcs_center.geom dcs_center.frag wedge.geom)
+foreach(source stsv.vert stsv.geom stsv.mesh gbuffer.vert gbuffer.frag dcs_center.geom dcs_center.frag wedge.geom
+               hull.vert stsv_hull.comp wedge_hull.comp)
   stsv_check_shader(${S}/${source} ubo ${UBO})
 endforeach()
 
@@ -116,6 +118,11 @@ stsv_check_shader(${S}/stsv.frag s256_counters_l2 SAMPLE_COUNT=256 STSV_COUNTERS
 stsv_check_shader(${S}/stsv.frag mesh_s64_l1 STSV_MESH_PATH=1 SAMPLE_COUNT=64 FIXED_LIGHT_TYPE=1u)
 stsv_check_shader(${S}/stsv.frag mesh_s256_counters_ubo_l0 STSV_MESH_PATH=1 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO}
                   FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/stsv.frag hull_s64_l0 STSV_HULL_PATH=1 SAMPLE_COUNT=64 FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/stsv.frag hull_s256_counters_ubo_l2 STSV_HULL_PATH=1 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO}
+                  FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/stsv_hull.comp shared4 CLIP_SHARED_INVOCATIONS=4)
+stsv_check_shader(${S}/wedge_hull.comp shared1_ubo CLIP_SHARED_INVOCATIONS=1 ${UBO})
 
 stsv_check_shader(${S}/resolve.comp s16_q_l0 SAMPLE_COUNT=16 "${STSV_Q16}" RESOLVE_COVERAGE=0 FIXED_LIGHT_TYPE=0u)
 stsv_check_shader(${S}/resolve.comp s16_counters_l2 SAMPLE_COUNT=16 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
@@ -133,6 +140,8 @@ stsv_check_shader(${S}/wedge.frag dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 STSV_COUNTE
 stsv_check_shader(${S}/wedge.frag dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedge.frag pw WEDGE_PW=1 WEDGE_STSV=0)
 stsv_check_shader(${S}/wedge.frag pw_stsv_ubo WEDGE_PW=1 WEDGE_STSV=1 ${UBO})
+stsv_check_shader(${S}/wedge.frag hull_dcs_s64 WEDGE_HULL_PATH=1 WEDGE_PW=0 SAMPLE_COUNT=64 STSV_COUNTERS=1)
+stsv_check_shader(${S}/wedge.frag hull_pw_ubo WEDGE_HULL_PATH=1 WEDGE_PW=1 ${UBO})
 stsv_check_shader(${S}/wedge_fold.comp dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 STSV_COUNTERS=1)
 stsv_check_shader(${S}/wedge_fold.comp dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedge_fold.comp pw WEDGE_PW=1 WEDGE_STSV=0 SAMPLE_COUNT=64)
