@@ -1,5 +1,6 @@
-// The data an STSV fragment needs about its volume (STSV paper §3: passed from the extrusion
-// stage as flat varyings): the triangle constants of Eq. 2–5 and the volume's planes.
+// The data an STSV fragment needs about its volume (STSV paper §3): the triangle constants of
+// Eq. 2–5, the volume's planes and the light planes, packed as flat varyings by the extrusion
+// stage or as a record by the hull pass; and the volume's set-up, shared by all three.
 #ifndef STSV_SHADERS_STSV_VOLUME_GLSL
 #define STSV_SHADERS_STSV_VOLUME_GLSL
 
