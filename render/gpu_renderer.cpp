@@ -39,6 +39,7 @@ std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
     for (const DescriptorBinding& b : OpaqueOccluderResources::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : ShadowMapResources::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : HullResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : StsvDeferredResources::bindings()) bindings.push_back(b);
     return bindings;
 }
 
@@ -75,8 +76,9 @@ struct ShadowMapPasses {
 /// writes the stats. Barriers come from the passes' declared accesses (gpu/frame_graph.h).
 class VulkanFrame {
   public:
-    VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
-                StsvGeometry geometry);
+    /// `deferredCapacity`: the fragments the hull draw may defer to StsvSamplesPass.
+    VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options, StsvGeometry geometry,
+                std::uint64_t deferredCapacity);
     Frame render(double startupMs);
 
   private:
@@ -90,14 +92,18 @@ class VulkanFrame {
     OpaqueOccluderResources m_opaqueResources;
     ShadowMapResources m_shadowResources;
     HullResources m_hullResources;
+    StsvDeferredResources m_deferredResources;
     FrameDescriptors m_descriptors;
     ClearPass m_clearCounts;
     ClearPass m_clearHullDraw;
+    ClearPass m_clearDeferred;
     GBufferPass m_gbuffer;
     std::optional<OpaquePasses> m_opaque;
-    std::optional<StsvPass> m_stsv;       ///< when the method draws STSV volumes in this scene
-    std::optional<HullPass> m_stsvHulls;  ///< when m_stsv draws hulls
-    std::optional<HullPass> m_wedgeHulls; ///< when the wedge pass draws hulls
+    std::optional<StsvPass> m_stsv;               ///< when the method draws STSV volumes in this scene
+    std::optional<HullPass> m_stsvHulls;          ///< when m_stsv draws hulls
+    std::optional<HullPass> m_wedgeHulls;         ///< when the wedge pass draws hulls
+    std::optional<StsvSamplesPass> m_stsvSamples; ///< with m_stsvHulls: the deferred fragments
+    std::optional<StsvMergePass> m_stsvMerge;     ///< with m_stsvSamples in a bitmask frame
     std::optional<ShadowMapPasses> m_shadowMaps;
     ResolvePass m_resolve;
     FrameReadback m_readback;
@@ -114,20 +120,24 @@ class VulkanFrame {
 };
 
 VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
-                         StsvGeometry geometry)
+                         StsvGeometry geometry, std::uint64_t deferredCapacity)
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
       m_geometry(geometry), m_plan(makeSamplePlan(options.pattern, options.samples, options.seed,
                                                   options.interleave, options.decorrelate)),
       m_resources(device, scene, options, m_plan), m_opaqueResources(device, scene, options),
       m_shadowResources(device, scene, options), m_hullResources(device),
+      m_deferredResources(device, options,
+                          geometry == StsvGeometry::Hull && drawsStsv(m_method.stsv, scene) ? deferredCapacity
+                                                                                            : 1),
       m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
       m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
       m_clearHullDraw({}, {&m_hullResources.draw}),
+      m_clearDeferred({}, {&m_deferredResources.count, &m_deferredResources.maskWords}),
       m_gbuffer(device, m_resources, m_descriptors, layoutDefines(m_resources.tables.layout),
                 static_cast<std::uint32_t>(scene.triangleCount())),
       m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
       m_readback(device, scene, options, m_resources),
-      m_timer(device, 3 + 7 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
+      m_timer(device, 3 + 9 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
       m_commands(device) {
     const std::vector<ShaderDefine> defines = sampleDefines(options, m_resources.tables.layout);
     const bool hulls = geometry == StsvGeometry::Hull;
@@ -144,7 +154,14 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                                  m_hullResources, m_descriptors);
     }
     if (scene.lights.size() > 0 && drawsStsv(m_method.stsv, scene)) {
-        m_stsv.emplace(device, scene, options, m_resources, m_hullResources, m_descriptors, geometry);
+        m_stsv.emplace(device, scene, options, m_resources, m_hullResources, m_deferredResources,
+                       m_descriptors, geometry);
+        if (hulls) {
+            m_stsvSamples.emplace(device, scene, options, m_resources, m_hullResources, m_deferredResources,
+                                  m_descriptors);
+            if (options.buffer == BufferKind::Bitmask)
+                m_stsvMerge.emplace(device, options, m_resources, m_deferredResources, m_descriptors);
+        }
         if (hulls)
             m_stsvHulls.emplace(device, "stsv_hull.comp", layoutDefines(m_resources.tables.layout),
                                 static_cast<std::uint32_t>(scene.triangleCount()),
@@ -169,6 +186,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
         m_opaqueResources.writeDescriptors(m_descriptors.set(l));
         m_shadowResources.writeDescriptors(m_descriptors.set(l), l);
         m_hullResources.writeDescriptors(m_descriptors.set(l));
+        m_deferredResources.writeDescriptors(m_descriptors.set(l));
     }
     if (m_stsvHulls || m_wedgeHulls) sizeHulls();
 }
@@ -238,10 +256,14 @@ void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
         runPass(m_graph, cmd, "", m_clearHullDraw, light);
         runPass(m_graph, cmd, prefix + "stsv_hulls", *m_stsvHulls, light);
     }
-    if (m_stsv)
+    if (m_stsv) {
+        if (m_stsvSamples) runPass(m_graph, cmd, "", m_clearDeferred, light);
         runPass(m_graph, cmd, prefix + "stsv", *m_stsv, light);
-    else if (!masks.empty()) // no STSV volumes: every sample lit
+        if (m_stsvSamples) runPass(m_graph, cmd, prefix + "stsv_samples", *m_stsvSamples, light);
+        if (m_stsvMerge) runPass(m_graph, cmd, prefix + "stsv_merge", *m_stsvMerge, light);
+    } else if (!masks.empty()) { // no STSV volumes: every sample lit
         runPass(m_graph, cmd, "", ClearPass(masks, {}), light);
+    }
     if (m_opaque) runPass(m_graph, cmd, prefix + "fold", m_opaque->fold, light);
     runPass(m_graph, cmd, prefix + "resolve", m_resolve, light);
 }
@@ -304,6 +326,7 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
             checkHullCapacity(l, "STSV", counts[l].hullVolumes, counts[l].hullTriangles);
             stsv["hull_volumes"] = counts[l].hullVolumes;
             stsv["hull_triangles"] = counts[l].hullTriangles;
+            stsv["deferred_fragments"] = counts[l].deferred;
         }
         stsvStats.push_back(stsv);
         nlohmann::json wedge = {{"edges", m_opaqueResources.edgeCount()},
@@ -384,7 +407,12 @@ struct VulkanRenderer::Impl {
         geometry = stage == ExtrusionStage::Mesh       ? StsvGeometry::MeshShaderPrism
                    : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
                                                        : StsvGeometry::Hull;
-        frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry);
+        // Room for two deferred fragments a pixel (foliage with 16 k S-triangles defers 1.5 a
+        // pixel); a frame that defers more tests the rest in the fragment shader.
+        const std::uint64_t deferred = config.stsvDeferredCapacity > 0 ? config.stsvDeferredCapacity
+                                                                       : 2ull * std::uint64_t(options.width) *
+                                                                             std::uint64_t(options.height);
+        frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred);
         startupMs = startup.milliseconds();
     }
 };

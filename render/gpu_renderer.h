@@ -19,6 +19,9 @@ struct VulkanRendererConfig {
     Device* device = nullptr;
     /// Auto: RenderOptions::extrusion decides; Geometry or Mesh overrides it.
     ExtrusionStage extrusion = ExtrusionStage::Auto;
+    /// With hulls, the STSV fragments the draw may defer to the sample pass (0: two a pixel);
+    /// the rest test their samples in the fragment shader. Tests make it small.
+    std::uint64_t stsvDeferredCapacity = 0;
 };
 
 /// Payload bytes of one light's sample buffer for `options` without rendering: N·W·H/8 for

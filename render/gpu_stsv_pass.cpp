@@ -13,6 +13,15 @@ namespace stsv {
 namespace {
 
 constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+/// Workgroups of stsv_samples.comp (64 threads; thread i takes the deferred fragments i, i +
+/// groups · 64, ...): on a CPU device every group is a task with its own start-up, and a few
+/// hundred keep its cores busy (foliage 1000 plants at 512² on lavapipe: 4096 groups took
+/// 200-240 ms where 256 took 130-180); a GPU needs some 10⁵ threads in flight.
+std::uint32_t sampleGroups(const Device& device) {
+    return device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 256 : 8192;
+}
 
 } // namespace
 
@@ -28,10 +37,99 @@ const char* toString(StsvGeometry geometry) {
     return "?";
 }
 
+StsvDeferredResources::StsvDeferredResources(const Device& device, const RenderOptions& options,
+                                             std::uint64_t capacity) {
+    count = Buffer(device, 16, STORAGE, MemoryUsage::DeviceLocal);
+    fragments = Buffer(device, std::max<std::uint64_t>(capacity, 1) * 8, STORAGE, MemoryUsage::DeviceLocal);
+    const std::uint64_t words = options.buffer == BufferKind::Bitmask
+                                    ? std::uint64_t(options.width) * std::uint64_t(options.height) *
+                                          lsMaskWordCount(uint(options.samples))
+                                    : 1;
+    maskWords = Buffer(device, words * 4, STORAGE, MemoryUsage::DeviceLocal);
+}
+
+std::vector<DescriptorBinding> StsvDeferredResources::bindings() {
+    return {{GPU_BINDING_STSV_DEFERRED_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_STSV_DEFERRED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_STSV_MASK_WORDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+}
+
+void StsvDeferredResources::writeDescriptors(DescriptorSet& set) const {
+    set.writeBuffer(GPU_BINDING_STSV_DEFERRED_COUNT, count);
+    set.writeBuffer(GPU_BINDING_STSV_DEFERRED, fragments);
+    set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, maskWords);
+}
+
+StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
+                                 FrameResources& resources, HullResources& hulls,
+                                 StsvDeferredResources& deferred, const FrameDescriptors& descriptors)
+    : m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
+      m_descriptors(&descriptors), m_counters(options.buffer == BufferKind::Counters),
+      m_groups(sampleGroups(device)) {
+    const ShaderCompiler compiler;
+    const std::vector<ShaderDefine> defines = sampleDefines(options, resources.tables.layout);
+    std::array<bool, 4> used{};
+    for (const Light& light : scene.lights) used.at(light.type) = true;
+    for (uint type = 0; type < used.size(); ++type)
+        if (used[type])
+            m_pipelines[type] = createComputePipeline(
+                device, descriptors.pipelineLayout(),
+                compiler.compileFile("stsv_samples.comp", lightTypeDefines(defines, type)));
+}
+
+PassAccesses StsvSamplesPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_deferred->count, ResourceUse::storageRead(COMPUTE))
+        .use(m_deferred->fragments, ResourceUse::storageRead(COMPUTE))
+        .use(m_hulls->records, ResourceUse::sampledRead(COMPUTE))
+        .use(m_resources->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+        .use(m_resources->stats, ResourceUse::storageReadWrite(COMPUTE));
+    if (m_counters)
+        accesses.use(m_resources->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
+    else
+        accesses.use(m_deferred->maskWords, ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void StsvSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipelines.at(m_scene->lights[light].type).bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    vkCmdDispatch(cmd, m_groups, 1, 1);
+}
+
+StsvMergePass::StsvMergePass(const Device& device, const RenderOptions& options, FrameResources& resources,
+                             StsvDeferredResources& deferred, const FrameDescriptors& descriptors)
+    : m_resources(&resources), m_deferred(&deferred), m_descriptors(&descriptors),
+      m_width(static_cast<std::uint32_t>(options.width)),
+      m_height(static_cast<std::uint32_t>(options.height)) {
+    const ShaderCompiler compiler;
+    m_pipeline = createComputePipeline(
+        device, descriptors.pipelineLayout(),
+        compiler.compileFile("stsv_merge.comp", sampleDefines(options, resources.tables.layout)));
+}
+
+PassAccesses StsvMergePass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_deferred->maskWords, ResourceUse::storageRead(COMPUTE));
+    // The whole image array is bound (its unused elements a stand-in) and indexed by a loop
+    // counter, so the validator counts every element as written.
+    for (std::size_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
+        accesses.use(m_resources->samples.mask(light, i), ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void StsvMergePass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    vkCmdDispatch(cmd, (m_width + 15) / 16, (m_height + 15) / 16, 1);
+}
+
 StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
-                   FrameResources& resources, HullResources& hulls, const FrameDescriptors& descriptors,
-                   StsvGeometry geometry)
-    : m_device(&device), m_scene(&scene), m_resources(&resources), m_hulls(&hulls),
+                   FrameResources& resources, HullResources& hulls, StsvDeferredResources& deferred,
+                   const FrameDescriptors& descriptors, StsvGeometry geometry)
+    : m_device(&device), m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_geometry(geometry), m_counters(options.buffer == BufferKind::Counters),
       m_perforatedOnly(methodInfo(options.method).stsv == StsvTriangles::Perforated),
       m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
@@ -82,7 +180,11 @@ PassAccesses StsvPass::accesses(std::size_t light) const {
         .use(m_resources->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_resources->gbuffer.depth, ResourceUse::depthTest())
         .use(m_resources->stats, ResourceUse::storageReadWrite(FRAGMENT));
-    if (m_geometry == StsvGeometry::Hull) m_hulls->declareDrawReads(accesses);
+    if (m_geometry == StsvGeometry::Hull) {
+        m_hulls->declareDrawReads(accesses);
+        accesses.use(m_deferred->count, ResourceUse::storageReadWrite(FRAGMENT))
+            .use(m_deferred->fragments, ResourceUse::storageReadWrite(FRAGMENT));
+    }
     if (m_counters)
         accesses.use(m_resources->samples.counters[light], ResourceUse::storageReadWrite(FRAGMENT));
     for (Image& mask : m_resources->samples.masks[light]) accesses.use(mask, ResourceUse::colorAttachment());

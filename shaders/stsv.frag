@@ -29,44 +29,19 @@
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "frame_bindings.glsl"
 #include "stsv_volume.glsl"
-#include "sampling/light_sampling_dh.h"
+#include "stsv_samples.glsl"
 
-// The data access of volumes/stsv_fragment_dh.h: the pixel's samples through pixelSamplePoint
-// (frame_bindings.glsl), the texels through the triangle's texture record, loaded once per
-// fragment (storage-buffer loads are per-lane loops on lavapipe).
-struct StsvSampleSource {
-    uint base;        ///< interleaveSet · N: the pixel's sample set
-    uvec2 offset;     ///< decorrelationOffset of the pixel
-    bool decorrelate; ///< frame.decorrelate, loaded once
-    uint domain;      ///< LightFrame::domain
-    GpuTexture texture;
-};
-vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
-    return pixelSamplePoint(s.base, k, s.offset, s.decorrelate, s.domain);
-}
-bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
-    return alphaBlocks(alphaAtTexture(s.texture, texel));
-}
-#define STSV_SAMPLE_SOURCE
-#include "volumes/stsv_fragment_dh.h"
 
 // Counters: the G-buffer depth test must run before the atomics (DESIGN §4.4).
 layout(early_fragment_tests) in;
 
 // The volume's record (GpuStsvRecord): ids and planes first, the triangle only for points inside.
 #if STSV_HULL_PATH
-// Read as texels (GPU_STSV_RECORD_* offsets): a texel fetch at a per-lane index is a vector
-// gather on lavapipe, a storage-buffer load a loop over the lanes.
 layout(location = 0) flat in uint inRecord;
-layout(set = 0, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
-uvec4 recordTexel(uint i) { return texelFetch(recordTexels, int(inRecord * GPU_HULL_RECORD_TEXELS + i)); }
-vec4 recordVec4(uint i) { return uintBitsToFloat(recordTexel(i)); }
-uvec4 volumeIds() { return recordTexel(GPU_STSV_RECORD_IDS); }
-vec4 volumePlane(uint i) { return recordVec4(GPU_STSV_RECORD_PLANES + i); }
-vec4 volumeLightPlane(uint i) { return recordVec4(GPU_STSV_RECORD_LIGHT_PLANES + i); }
-StsvTriangle volumeTriangle(uvec4 ids) {
-    return stsvUnpackTriangle(recordVec4(0u), recordVec4(1u), recordVec4(2u), recordVec4(3u), recordVec4(4u), ids);
-}
+uvec4 volumeIds() { return stsvRecordTexel(inRecord, GPU_STSV_RECORD_IDS); }
+vec4 volumePlane(uint i) { return stsvRecordVec4(inRecord, GPU_STSV_RECORD_PLANES + i); }
+vec4 volumeLightPlane(uint i) { return stsvRecordVec4(inRecord, GPU_STSV_RECORD_LIGHT_PLANES + i); }
+StsvTriangle volumeTriangle(uvec4 ids) { return stsvRecordTriangle(inRecord, ids); }
 #else
 layout(location = 0) STSV_FLAT in vec4 inM0;
 layout(location = 1) STSV_FLAT in vec4 inM1;
@@ -86,10 +61,8 @@ layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 
-#define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
 // Attachment i holds mask words 2i and 2i + 1 (lsMaskAttachment).
 #define MASK_ATTACHMENTS ((WORD_COUNT + 1) / 2)
-#define WORD_BITS (SAMPLE_COUNT < 32 ? SAMPLE_COUNT : 32)
 
 #if STSV_COUNTERS
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
@@ -109,7 +82,7 @@ void main() {
     uint words[8] = uint[8](0u, 0u, 0u, 0u, 0u, 0u, 0u, 0u);
 #if STSV_HULL_PATH
     // A record past the buffer (an overflow the host reports): nothing to write.
-    if (inRecord >= uint(textureSize(recordTexels)) / GPU_HULL_RECORD_TEXELS) discard;
+    if (!stsvRecordExists(inRecord)) discard;
 #endif
     uvec4 ids = volumeIds();
     uint side = ids.w & 255u;
@@ -124,22 +97,26 @@ void main() {
     lp.count = ids.w >> 16u;
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = volumeLightPlane(i);
     // Self-shadowing rule: the visible triangle never shadows its own point.
-    if (stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && imageLoad(gTriangle, pixel).x != ids.z) {
+    bool accepted = stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && imageLoad(gTriangle, pixel).x != ids.z;
+#if STSV_HULL_PATH
+    // The samples of an accepted fragment are tested by stsv_samples.comp, one thread a fragment
+    // in full batches (a fragment batch on lavapipe runs its sample loop as long as its slowest
+    // lane, and small hull triangles leave its lanes mostly idle); past the list's end, here.
+    if (accepted) {
+        uint slot = atomicAdd(deferredCount.x, 1u);
+        if (slot < uint(deferred.length())) {
+            deferred[slot] = uvec2(lsPixelIndex(uvec2(pixel), frame.width), inRecord);
+            accepted = false;
+        }
+    }
+#endif
+    if (accepted) {
         StsvTriangle t = volumeTriangle(ids);
-        Light light = lights[pc.light].light;
-        LightFrame lf = lightFrame(light, p, frame.farDistance);
-        float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
         StsvPixel px;
-        if (stsvFragmentPixel(t, side, p, lf, shadowTMin(p, lf.center, sceneDiameter), px)) {
+        StsvSampleSource src;
+        ivec2 size;
+        if (stsvPixelSetup(uvec2(pixel), p, t, side, px, src, size)) {
             inside = true;
-            bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
-            StsvSampleSource src;
-            src.base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
-            src.offset = decorrelationOffset(uvec2(pixel), frame.seed);
-            src.decorrelate = frame.decorrelate != 0u;
-            src.domain = lf.domain;
-            src.texture = textures[opaque ? 0u : t.texture];
-            ivec2 size = opaque ? ivec2(1) : ivec2(src.texture.width, src.texture.height);
 #if STSV_COUNTERS
             uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
 #endif

@@ -275,7 +275,10 @@ TEST_F(GpuRenderer, HullsAndPrismsGiveTheSameBitsCountersAndInsideFragments) {
     for (const Case& c : cases)
         for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
             const RenderOptions o = gpuOptions(96, 72, 64, kind);
-            const Frame hull = renderGpu(c.scene, o, ExtrusionStage::Hull);
+            // Room for 16 deferred fragments a pixel: more than any case defers (the foliage at
+            // 96 × 72 defers 2.0 a pixel, past the default of 2).
+            VulkanRenderer hullRenderer(c.scene, o, {&device(), ExtrusionStage::Hull, 16 * 96 * 72});
+            const Frame hull = hullRenderer.render();
             const Frame prism = renderGpu(c.scene, o, ExtrusionStage::Geometry);
             const std::string what = std::string(c.name) + " " + toString(kind);
             EXPECT_EQ(hull.lightSamples[0].words(), prism.lightSamples[0].words()) << what;
@@ -290,9 +293,35 @@ TEST_F(GpuRenderer, HullsAndPrismsGiveTheSameBitsCountersAndInsideFragments) {
                       c.maxFragmentRatio * double(p["fragments"].get<std::size_t>()))
                 << what << ": hull " << h.dump() << ", prism " << p.dump();
             EXPECT_GT(h["hull_volumes"].get<std::size_t>(), 0u) << what;
+            // With room for them, the sample pass tested every inside fragment.
+            EXPECT_EQ(h["deferred_fragments"], h["inside_fragments"]) << what;
             EXPECT_EQ(hull.stats["gpu"]["extrusion"], "hull (compute)");
             EXPECT_EQ(prism.stats["gpu"]["extrusion"], "geometry shader");
         }
+}
+
+TEST_F(GpuRenderer, DeferredFragmentsPastTheListTestTheirSamplesInTheDraw) {
+    // A list with room for 50 fragments: the draw appends the first ones that pass the plane
+    // tests, tests the samples of the rest itself, and the buffers are those of the prism path,
+    // which defers nothing.
+    constexpr std::uint64_t CAPACITY = 50;
+    const Scene scene = loadScene("foliage");
+    for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
+        const RenderOptions o = gpuOptions(96, 72, 64, kind);
+        VulkanRenderer small(scene, o, {&device(), ExtrusionStage::Hull, CAPACITY});
+        const Frame hull = small.render();
+        const Frame prism = renderGpu(scene, o, ExtrusionStage::Geometry);
+        const std::string what = toString(kind);
+        EXPECT_EQ(hull.lightSamples[0].words(), prism.lightSamples[0].words()) << what;
+        EXPECT_EQ(hull.lightSamples[0].counters(), prism.lightSamples[0].counters()) << what;
+        const nlohmann::json& h = hull.stats["stsv"][0];
+        EXPECT_EQ(h["inside_fragments"], prism.stats["stsv"][0]["inside_fragments"]) << what;
+        // Appended fragments the side rule rejects are not counted: at most the capacity.
+        EXPECT_GT(h["deferred_fragments"].get<std::uint64_t>(), 0u) << what;
+        EXPECT_LE(h["deferred_fragments"].get<std::uint64_t>(), CAPACITY) << what;
+        EXPECT_GT(h["inside_fragments"].get<std::uint64_t>(), 10 * CAPACITY) << what;
+        EXPECT_EQ(small.device().validationMessageCount(), 0u) << what;
+    }
 }
 
 TEST_F(GpuRenderer, MeshShaderExtrusionMatchesMirrorOrSkips) {

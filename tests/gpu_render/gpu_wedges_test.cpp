@@ -371,7 +371,12 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                 expected.push_back(light + "resolve");
                 if (method.stsv != StsvTriangles::None) {
                     expected.push_back(light + "stsv");
-                    expected.push_back(light + "stsv_hulls"); // Auto extrusion: the hull pass
+                    // Auto extrusion: the hull pass, the deferred samples, for bitmasks their merge
+                    // (DCS writes counters whichever kind is asked for)
+                    expected.push_back(light + "stsv_hulls");
+                    expected.push_back(light + "stsv_samples");
+                    if (method.bufferKind(kind) == BufferKind::Bitmask)
+                        expected.push_back(light + "stsv_merge");
                 }
                 if (method.shadowMap != ShadowFilter::None) {
                     expected.push_back(light + "shadow_map");

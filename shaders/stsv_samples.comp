@@ -1,0 +1,62 @@
+#version 450
+// The samples of the STSV fragments the hull draw deferred (stsv.frag appends the pixel and the
+// volume's record of every fragment that passes the plane tests): one thread a fragment, with
+// the per-pixel set-up and per-sample test of the fragment (stsv_samples.glsl,
+// volumes/stsv_fragment_dh.h). Every thread of a batch has a fragment to test, where the hull
+// draw's batches hold the few pixels a small hull triangle covers and run as long as their
+// slowest lane. Bits go to the mask words that stsv_merge.comp ORs into the light's bitmask,
+// counters straight to the counters.
+#extension GL_GOOGLE_include_directive : require
+#ifndef STSV_COUNTERS
+#define STSV_COUNTERS 0
+#endif
+#include "frame_bindings.glsl"
+#include "stsv_samples.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+#if STSV_COUNTERS
+layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+#else
+layout(std430, set = 0, binding = GPU_BINDING_STSV_MASK_WORDS) buffer MaskWords { uint maskWords[]; };
+#endif
+
+void main() {
+    uint count = min(deferredCount.x, uint(deferred.length()));
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    for (uint e = gl_GlobalInvocationID.x; e < count; e += stride) {
+        uvec2 entry = deferred[e];
+        uvec2 pixel = uvec2(entry.x % frame.width, entry.x / frame.width);
+        vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
+        uvec4 ids = stsvRecordTexel(entry.y, GPU_STSV_RECORD_IDS);
+        StsvTriangle t = stsvRecordTriangle(entry.y, ids);
+        StsvPixel px;
+        StsvSampleSource src;
+        ivec2 size;
+        // The side-ownership rule of stsvFragmentPixel.
+        if (!stsvPixelSetup(pixel, p, t, ids.w & 255u, px, src, size)) continue;
+        atomicAdd(stats[pc.light].inside, 1u);
+        atomicAdd(stats[pc.light].deferred, 1u);
+#if STSV_COUNTERS
+        uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
+#endif
+        for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
+            uint bits = 0u;
+            for (uint b = 0u; b < uint(WORD_BITS); ++b) {
+                uint k = 32u * w + b;
+                if (!stsvSampleOccluded(t, px, src, size, k)) continue;
+#if STSV_COUNTERS
+                // One more layer on the sample's 16-bit counter.
+                atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
+#else
+                bits |= lsMaskBit(k);
+#endif
+            }
+#if !STSV_COUNTERS
+            if (bits != 0u) atomicOr(maskWords[entry.x * uint(WORD_COUNT) + w], bits);
+#endif
+        }
+    }
+}

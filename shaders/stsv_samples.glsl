@@ -1,0 +1,76 @@
+// The per-sample half of an STSV fragment (volumes/stsv_fragment_dh.h), for stsv.frag and for
+// stsv_samples.comp, which runs it for the fragments the hull draw deferred: the pixel's sample
+// source, the set-up of (triangle, pixel), and the hull records read as texels.
+#ifndef STSV_SHADERS_STSV_SAMPLES_GLSL
+#define STSV_SHADERS_STSV_SAMPLES_GLSL
+
+#include "frame_bindings.glsl"
+#include "stsv_volume.glsl"
+#include "sampling/light_sampling_dh.h"
+
+#ifndef SAMPLE_COUNT
+#define SAMPLE_COUNT 64
+#endif
+#define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
+#define WORD_BITS (SAMPLE_COUNT < 32 ? SAMPLE_COUNT : 32)
+
+// The data access of volumes/stsv_fragment_dh.h: the pixel's samples through pixelSamplePoint
+// (frame_bindings.glsl), the texels through the triangle's texture record, loaded once per
+// pixel (storage-buffer loads are per-lane loops on lavapipe).
+struct StsvSampleSource {
+    uint base;        ///< interleaveSet · N: the pixel's sample set
+    uvec2 offset;     ///< decorrelationOffset of the pixel
+    bool decorrelate; ///< frame.decorrelate, loaded once
+    uint domain;      ///< LightFrame::domain
+    GpuTexture texture;
+};
+vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
+    return pixelSamplePoint(s.base, k, s.offset, s.decorrelate, s.domain);
+}
+bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
+    return alphaBlocks(alphaAtTexture(s.texture, texel));
+}
+#define STSV_SAMPLE_SOURCE
+#include "volumes/stsv_fragment_dh.h"
+
+/// Triangle t against pixel `pixel` with visible point p, for volume side `side`: J applied to
+/// the light frame (stsvFragmentPixel), the sample source and the texture's size. False when the
+/// crossing belongs to the other side's volume.
+bool stsvPixelSetup(uvec2 pixel, vec3 p, StsvTriangle t, uint side, out StsvPixel px, out StsvSampleSource src,
+                    out ivec2 size) {
+    Light light = lights[pc.light].light;
+    LightFrame lf = lightFrame(light, p, frame.farDistance);
+    float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
+    bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
+    src.base = interleaveSet(pixel, frame.interleave) * uint(SAMPLE_COUNT);
+    src.offset = decorrelationOffset(pixel, frame.seed);
+    src.decorrelate = frame.decorrelate != 0u;
+    src.domain = lf.domain;
+    src.texture = textures[opaque ? 0u : t.texture];
+    size = opaque ? ivec2(1) : ivec2(src.texture.width, src.texture.height);
+    return stsvFragmentPixel(t, side, p, lf, shadowTMin(p, lf.center, sceneDiameter), px);
+}
+
+// The hull pass's records (GpuStsvRecord at GPU_STSV_RECORD_* texels): a texel fetch at a
+// per-lane index is a vector gather on lavapipe, a storage-buffer load a loop over the lanes.
+layout(set = 0, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
+uvec4 stsvRecordTexel(uint record, uint i) {
+    return texelFetch(recordTexels, int(record * GPU_HULL_RECORD_TEXELS + i));
+}
+vec4 stsvRecordVec4(uint record, uint i) {
+    return uintBitsToFloat(stsvRecordTexel(record, i));
+}
+bool stsvRecordExists(uint record) {
+    return record < uint(textureSize(recordTexels)) / GPU_HULL_RECORD_TEXELS;
+}
+StsvTriangle stsvRecordTriangle(uint record, uvec4 ids) {
+    return stsvUnpackTriangle(stsvRecordVec4(record, 0u), stsvRecordVec4(record, 1u), stsvRecordVec4(record, 2u),
+                              stsvRecordVec4(record, 3u), stsvRecordVec4(record, 4u), ids);
+}
+
+// The deferred fragments (render/gpu_frame_dh.h): the hull draw appends (pixel index, record)
+// for every fragment that passes the plane tests, stsv_samples.comp tests their samples.
+layout(std430, set = 0, binding = GPU_BINDING_STSV_DEFERRED_COUNT) buffer DeferredCount { uvec4 deferredCount; };
+layout(std430, set = 0, binding = GPU_BINDING_STSV_DEFERRED) buffer Deferred { uvec2 deferred[]; };
+
+#endif
