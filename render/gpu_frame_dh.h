@@ -118,6 +118,11 @@ struct GpuStats {
 /// GpuWedgeRecord), read by the fragments of hull.vert through their flat record index.
 DH_CONST uint GPU_HULL_RECORD_TEXELS = 18u;
 
+/// Items (sides of a triangle or an edge) per thread of a hull pass: a workgroup first finds
+/// which of its threads × GPU_HULL_ITEMS_PER_THREAD items have a volume (a cheap test), then its
+/// threads build and clip those, so that a SIMD batch clips as many volumes as it has lanes.
+DH_CONST uint GPU_HULL_ITEMS_PER_THREAD = 8u;
+
 /// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of
 /// Eq. 2–5, the volume's planes and the triangle's light planes. Flat varyings of the geometry
 /// and mesh shaders; a record of the hull pass, read by index. std430: 18 × 16 bytes.

@@ -18,9 +18,10 @@ constexpr VkDeviceSize TEXEL_BYTES = 16; ///< rgba32ui
 
 /// Threads of the hull shaders' workgroups (CLIP_SHARED_INVOCATIONS): 8, a SIMD batch of
 /// lavapipe, or fewer where the device's shared memory cannot hold 8 polyhedra being clipped
-/// (their corners and one face, counted at 16 bytes a vec3).
+/// (their corners and one face, counted at 16 bytes a vec3, and the queue of their items).
 std::uint32_t hullThreadsPerGroup(const Device& device) {
-    constexpr std::uint32_t bytesPerThread = (CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES * 16;
+    constexpr std::uint32_t bytesPerThread =
+        (CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES * 16 + GPU_HULL_ITEMS_PER_THREAD * 4;
     std::uint32_t threads = 8;
     while (threads > 1 && threads * bytesPerThread > device.limits().maxComputeSharedMemorySize) threads /= 2;
     return threads;
@@ -102,9 +103,10 @@ void HullPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, m_pushFlags, 0u});
-    // One thread per side of each item, in rows of at most 65535 workgroups (the minimum
-    // maxComputeWorkGroupCount[0]); the shaders number the threads row by row.
-    const std::uint64_t groups = (2ull * m_items + m_threadsPerGroup - 1) / m_threadsPerGroup;
+    // GPU_HULL_ITEMS_PER_THREAD sides of items per thread, in rows of at most 65535 workgroups
+    // (the minimum maxComputeWorkGroupCount[0]); the shaders number the workgroups row by row.
+    const std::uint64_t perGroup = std::uint64_t(m_threadsPerGroup) * GPU_HULL_ITEMS_PER_THREAD;
+    const std::uint64_t groups = (2ull * m_items + perGroup - 1) / perGroup;
     const auto rowLength = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, 65535));
     if (groups > 0)
         vkCmdDispatch(cmd, rowLength, static_cast<std::uint32_t>((groups + rowLength - 1) / rowLength), 1);

@@ -1,7 +1,7 @@
 #version 450
-// STSV volumes as their hulls (DESIGN §4.2; volumes/extrusion_dh.h stsvVolumeHullSetup): one
-// invocation per side of each S-triangle builds the volume with the same dh functions as the
-// geometry shader and the CPU mirror, then the closed polyhedron of what its fragment accepts
+// STSV volumes as their hulls (DESIGN §4.2; volumes/extrusion_dh.h stsvVolumeHullSetup): an
+// invocation per queued side of an S-triangle (hull_append.glsl) builds the volume with the
+// same dh functions as the geometry shader and the CPU mirror, then the closed polyhedron of what its fragment accepts
 // (the volume's and the light's planes inside the scene box), and appends the polyhedron's
 // triangles and the volume's record (GpuStsvRecord) for the indirect draw of hull.vert +
 // stsv.frag. Where the ten-vertex prism of stsv.geom reaches far beyond the accepted region (a
@@ -20,17 +20,20 @@ layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 
-void main() {
-    // Workgroups in rows of at most 65535 (the minimum maxComputeWorkGroupCount[0]).
-    uint thread = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * uint(CLIP_SHARED_INVOCATIONS) +
-                  gl_LocalInvocationID.x;
-    if (thread == 0u) draw.instanceCount = 1u;
-    // Every triangle's side 0, then every side 1: most triangles have one side, and the threads
-    // of a SIMD batch with nothing to build finish together.
+/// Item `item` (a side of a triangle: every side 0, then every side 1, for most triangles
+/// have one) and whether it may have a volume: the tests of stsvSetupVolume that build nothing.
+bool stsvHullItem(uint item, out uint tri, out uint side) {
     uint triangleCount = uint(triangles.length());
-    uint side = thread >= triangleCount ? 1u : 0u;
-    uint tri = thread - side * triangleCount;
-    if (side > 1u || tri >= triangleCount) return;
+    side = item >= triangleCount ? 1u : 0u;
+    tri = item - side * triangleCount;
+    if (side > 1u || tri >= triangleCount) return false;
+    GpuTriangle g = triangles[tri];
+    if ((pc.flags & GPU_PUSH_PERFORATED_ONLY) != 0u && (g.flags & STSV_FLAG_OPAQUE) != 0u) return false;
+    return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), lights[pc.light].sphere);
+}
+
+/// The volume of side `side` of triangle `tri`: its hull appended, its record written.
+void buildHull(uint tri, uint side) {
     StsvTriangle t;
     StsvVolume vol;
     StsvLightPlanes lp;
@@ -56,4 +59,23 @@ void main() {
         hullRecords[base + GPU_STSV_RECORD_PLANES + i] = floatBitsToUint(r.planes[i]);
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i)
         hullRecords[base + GPU_STSV_RECORD_LIGHT_PLANES + i] = floatBitsToUint(r.lightPlanes[i]);
+}
+
+void main() {
+    if (gl_WorkGroupID.x + gl_WorkGroupID.y + gl_LocalInvocationIndex == 0u) draw.instanceCount = 1u;
+    if (gl_LocalInvocationIndex == 0u) hullQueueCount = 0u;
+    barrier();
+    for (uint k = 0u; k < GPU_HULL_ITEMS_PER_THREAD; ++k) {
+        uint tri;
+        uint side;
+        if (stsvHullItem(hullGroupItem(k), tri, side)) hullQueue[atomicAdd(hullQueueCount, 1u)] = hullGroupItem(k);
+    }
+    barrier();
+    uint queued = hullQueueCount;
+    for (uint q = gl_LocalInvocationIndex; q < queued; q += uint(CLIP_SHARED_INVOCATIONS)) {
+        uint tri;
+        uint side;
+        stsvHullItem(hullQueue[q], tri, side);
+        buildHull(tri, side);
+    }
 }

@@ -1,6 +1,6 @@
 #version 450
-// Wedge bounds as their hulls (as stsv_hull.comp): one invocation per side of each potential
-// silhouette edge builds the bound of wedge.geom (wedgeSetupBound), then the closed polyhedron of
+// Wedge bounds as their hulls (as stsv_hull.comp): an invocation per queued side of a potential
+// silhouette edge (hull_append.glsl: a workgroup queues those of its edges that are one) builds the bound of wedge.geom (wedgeSetupBound), then the closed polyhedron of
 // the carrier's volume and light planes inside the scene box (extrusion_dh.h
 // stsvVolumeHullSetup), and appends its triangles and the edge's record (GpuWedgeRecord) for
 // the indirect draw of hull.vert + wedge.frag.
@@ -17,16 +17,23 @@ layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 
-void main() {
-    // Workgroups in rows of at most 65535 (the minimum maxComputeWorkGroupCount[0]).
-    uint thread = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * uint(CLIP_SHARED_INVOCATIONS) +
-                  gl_LocalInvocationID.x;
-    if (thread == 0u) draw.instanceCount = 1u;
-    // Every edge's side 0, then every side 1 (as stsv_hull.comp).
+/// Item `item` (a side of an edge: every side 0, then every side 1) and whether it may have a
+/// bound: the tests of wedgeSetupBound that build nothing.
+bool wedgeHullItem(uint item, out uint e, out uint side) {
     uint edgeCount = uint(edges.length());
-    uint side = thread >= edgeCount ? 1u : 0u;
-    uint e = thread - side * edgeCount;
-    if (side > 1u || e >= edgeCount) return;
+    side = item >= edgeCount ? 1u : 0u;
+    e = item - side * edgeCount;
+    if (side > 1u || e >= edgeCount) return false;
+    GpuEdge edge = edges[e];
+    if (edge.carrier == GPU_NO_TRIANGLE) return false;
+    vec4 sphere = lights[pc.light].sphere;
+    if (!potentialSilhouette(edge, sphere)) return false;
+    GpuTriangle g = triangles[edge.carrier];
+    return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), sphere);
+}
+
+/// The bound of side `side` of edge `e`: its hull appended, its record written.
+void buildHull(uint e, uint side) {
     WedgeBound b;
     if (!wedgeSetupBound(e, side, pc.light, b)) return;
     uint drawn;
@@ -44,4 +51,23 @@ void main() {
     }
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i)
         hullRecords[base + GPU_WEDGE_RECORD_LIGHT_PLANES + i] = floatBitsToUint(b.record.lightPlanes[i]);
+}
+
+void main() {
+    if (gl_WorkGroupID.x + gl_WorkGroupID.y + gl_LocalInvocationIndex == 0u) draw.instanceCount = 1u;
+    if (gl_LocalInvocationIndex == 0u) hullQueueCount = 0u;
+    barrier();
+    for (uint k = 0u; k < GPU_HULL_ITEMS_PER_THREAD; ++k) {
+        uint e;
+        uint side;
+        if (wedgeHullItem(hullGroupItem(k), e, side)) hullQueue[atomicAdd(hullQueueCount, 1u)] = hullGroupItem(k);
+    }
+    barrier();
+    uint queued = hullQueueCount;
+    for (uint q = gl_LocalInvocationIndex; q < queued; q += uint(CLIP_SHARED_INVOCATIONS)) {
+        uint e;
+        uint side;
+        wedgeHullItem(hullQueue[q], e, side);
+        buildHull(e, side);
+    }
 }
