@@ -600,13 +600,15 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     return vol;
 }
 
-/// STSV §2.3: p is inside iff it is on the inner side of every plane of the volume.
+/// STSV §2.3: p is inside iff it is on the inner side of every plane of the volume. The plane
+/// loops of these tests run a fixed number of times, so that a shader compiler unrolls them and
+/// keeps the planes in registers (lavapipe turns an array indexed by a loop of varying length
+/// into memory accesses lane by lane).
 DH_FUNC bool stsvPointInVolume(StsvVolume v, vec3 p) {
-    uint count = min(v.planeCount, STSV_VOLUME_MAX_PLANES);
-    for (uint i = 0u; i < count; ++i) {
-        if (dot(vec3(v.planes[i]), p) + v.planes[i].w < 0.0f) return false;
-    }
-    return true;
+    bool inside = true;
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i)
+        inside = inside && (i >= v.planeCount || !(dot(vec3(v.planes[i]), p) + v.planes[i].w < 0.0f));
+    return inside;
 }
 
 /// True when the whole box [lo, hi] lies on the outer side of `plane` (n, d): a plane's value is
@@ -625,11 +627,10 @@ DH_FUNC bool stsvPlaneMissesBox(vec4 plane, vec3 lo, vec3 hi) {
 /// True when no point of the box [lo, hi] passes stsvPointInVolume: the whole box lies on the outer
 /// side of one of the volume's planes (stsvPlaneMissesBox), so culling with it changes no result.
 DH_FUNC bool stsvVolumeMissesBox(StsvVolume v, vec3 lo, vec3 hi) {
-    uint count = min(v.planeCount, STSV_VOLUME_MAX_PLANES);
-    for (uint i = 0u; i < count; ++i) {
-        if (stsvPlaneMissesBox(v.planes[i], lo, hi)) return true;
-    }
-    return false;
+    bool misses = false;
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i)
+        misses = misses || (i < v.planeCount && stsvPlaneMissesBox(v.planes[i], lo, hi));
+    return misses;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -744,20 +745,18 @@ DH_FUNC StsvLightPlanes stsvLightPlanes(vec3 v0, vec3 v1, vec3 v2, vec3 c, vec3 
 
 /// True iff p is on the inner side of every light plane.
 DH_FUNC bool stsvPointInLightPlanes(StsvLightPlanes lp, vec3 p) {
-    uint count = min(lp.count, STSV_LIGHT_PLANES_MAX);
-    for (uint i = 0u; i < count; ++i) {
-        if (dot(vec3(lp.planes[i]), p) + lp.planes[i].w < 0.0f) return false;
-    }
-    return true;
+    bool inside = true;
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i)
+        inside = inside && (i >= lp.count || !(dot(vec3(lp.planes[i]), p) + lp.planes[i].w < 0.0f));
+    return inside;
 }
 
 /// True when no point of the box passes stsvPointInLightPlanes (stsvPlaneMissesBox).
 DH_FUNC bool stsvLightPlanesMissBox(StsvLightPlanes lp, vec3 lo, vec3 hi) {
-    uint count = min(lp.count, STSV_LIGHT_PLANES_MAX);
-    for (uint i = 0u; i < count; ++i) {
-        if (stsvPlaneMissesBox(lp.planes[i], lo, hi)) return true;
-    }
-    return false;
+    bool misses = false;
+    for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i)
+        misses = misses || (i < lp.count && stsvPlaneMissesBox(lp.planes[i], lo, hi));
+    return misses;
 }
 
 // ---------------------------------------------------------------------------------------------
