@@ -49,8 +49,9 @@ class HullResources {
     std::uint64_t m_triangleCapacity = 0;
 };
 
-/// One hull compute pass for one light: `shader` (stsv_hull.comp, wedge_hull.comp) with one
-/// thread per side of each of `items` (triangles, edges), side 0 of every item first. The
+/// One hull compute pass for one light: `shader` (stsv_hull.comp, wedge_hull.comp) over the
+/// sides of `items` (triangles, edges), side 0 of every item first, GPU_HULL_ITEMS_PER_THREAD
+/// sides a thread (a workgroup queues those with a volume, then clips them). The
 /// HullResources' draw arguments must be zeroed before (HullResources::draw).
 class HullPass final : public GpuPass {
   public:
