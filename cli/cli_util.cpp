@@ -1,6 +1,7 @@
 #include "cli/cli_util.h"
 
 #include "core/error.h"
+#include "render/gpu_renderer.h"
 
 #include <algorithm>
 #include <cmath>
@@ -160,7 +161,16 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
         const double edge = size == o.params.end() ? double(ShadowMapSettings{}.size) : size->second;
         perLight += 6.0 * edge * edge * sizeof(float);
     }
-    return gbuffer + images + perLight * double(std::max<std::size_t>(lights, 1));
+    // Vulkan STSV with hulls: the list of fragments whose samples a compute pass tests (two a
+    // pixel, 8 bytes each; render/gpu_renderer.cpp) and, for bitmasks, their word buffer.
+    double shared = 0.0;
+    if (o.backend == Backend::Vulkan && methodInfo(o.method).stsv != StsvTriangles::None) {
+        shared += std::min(2.0 * pixels, double(kMaxStsvDeferredFragments)) * 8.0;
+        if (methodInfo(o.method).bufferKind(o.buffer) == BufferKind::Bitmask)
+            shared +=
+                double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));
+    }
+    return gbuffer + images + shared + perLight * double(std::max<std::size_t>(lights, 1));
 }
 
 void checkFrameMemory(const RenderOptions& o, std::size_t lights) {

@@ -408,10 +408,13 @@ struct VulkanRenderer::Impl {
                    : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
                                                        : StsvGeometry::Hull;
         // Room for two deferred fragments a pixel (foliage with 16 k S-triangles defers 1.5 a
-        // pixel); a frame that defers more tests the rest in the fragment shader.
-        const std::uint64_t deferred = config.stsvDeferredCapacity > 0 ? config.stsvDeferredCapacity
-                                                                       : 2ull * std::uint64_t(options.width) *
-                                                                             std::uint64_t(options.height);
+        // pixel), at most kMaxStsvDeferredFragments; a frame that defers more tests the rest in
+        // the fragment shader.
+        const std::uint64_t deferred =
+            config.stsvDeferredCapacity > 0
+                ? config.stsvDeferredCapacity
+                : std::min<std::uint64_t>(2ull * std::uint64_t(options.width) * std::uint64_t(options.height),
+                                          kMaxStsvDeferredFragments);
         frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred);
         startupMs = startup.milliseconds();
     }

@@ -24,6 +24,9 @@ struct VulkanRendererConfig {
     std::uint64_t stsvDeferredCapacity = 0;
 };
 
+/// The most STSV fragments a hull draw lists for the sample pass by default (512 MiB of list).
+inline constexpr std::uint64_t kMaxStsvDeferredFragments = std::uint64_t(1) << 26;
+
 /// Payload bytes of one light's sample buffer for `options` without rendering: N·W·H/8 for
 /// bitmasks (8 MiB at 1024² × 64, the STSV paper's §5.1 figure), 2·N·W·H for 16-bit counters.
 std::size_t lightSampleBufferBytes(const RenderOptions& options);

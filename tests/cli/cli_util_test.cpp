@@ -212,7 +212,12 @@ TEST(FrameMemory, AbsurdFramesAreRefusedBeforeAllocation) {
     EXPECT_THROW(checkFrameMemory(o, 64), UsageError);
     o.width = o.height = 16;
     EXPECT_NO_THROW(checkFrameMemory(o, 1));
-    // A bitmask stores 32-bit words: 16² pixels × (28 + 16 + 4·8) bytes for 256 samples.
+    // A bitmask stores 32-bit words: 16² pixels × (28 + 16 + 4·8) bytes for 256 samples; Vulkan
+    // STSV adds the list of fragments for its sample pass (two a pixel, 8 bytes each) and their
+    // words (another 32 bytes a pixel), once for all lights.
+    EXPECT_EQ(estimateFrameBytes(o, 1), 256.0 * (28.0 + 16.0 + 32.0) + 256.0 * (16.0 + 32.0));
+    EXPECT_EQ(estimateFrameBytes(o, 2), 256.0 * (28.0 + 16.0 + 2.0 * 32.0) + 256.0 * (16.0 + 32.0));
+    o.backend = Backend::Cpu;
     EXPECT_EQ(estimateFrameBytes(o, 1), 256.0 * (28.0 + 16.0 + 32.0));
 }
 
