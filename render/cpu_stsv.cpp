@@ -230,13 +230,10 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 const LightFrame frame = lightFrame(light, p, farDistance);
                 const float tMin = shadowTMin(p, frame.center, sceneDiameter);
                 // The samples in an 8 × 8 grid over the frame's [−1, 1]²: a triangle tests only the
-                // samples of the cells its projection (stsvSampleRegion) touches.
+                // samples of the cells its projection (stsvSampleRegion) touches. Placed when the
+                // first volume holds p (most pixels with candidates are in none).
                 SampleCells cells;
-                for (int k = 0; k < plan.count; ++k) {
-                    const vec2 ab = pixelSamplePoint(plan, x, y, k, frame.domain);
-                    points[std::size_t(k)] = ab;
-                    cells.add(ab, uint(k));
-                }
+                bool placed = false;
                 // A bitmask keeps the union of the triangles' bits: samples already occluded are
                 // not tested again, and a pixel whose samples are all occluded is done. Counters
                 // need every layer.
@@ -259,6 +256,14 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
                     vec2 regionLo, regionHi;
                     if (!stsvSampleRegion(px, vec2(-1.0f), vec2(1.0f), regionLo, regionHi)) continue;
+                    if (!placed) {
+                        for (int k = 0; k < plan.count; ++k) {
+                            const vec2 ab = pixelSamplePoint(plan, x, y, k, frame.domain);
+                            points[std::size_t(k)] = ab;
+                            cells.add(ab, uint(k));
+                        }
+                        placed = true;
+                    }
                     const std::array<uint, 8> inRegion = cells.within(regionLo, regionHi, wordCount);
                     const StsvSampleSource src{points.data(), texture};
                     for (uint w = 0; w < wordCount; ++w) {
