@@ -15,19 +15,6 @@ layout(std430, set = 0, binding = GPU_BINDING_HULL_VERTICES) writeonly buffer Hu
 
 const uint HULL_NO_RECORD = 0xffffffffu;
 
-// A workgroup's items (sides of triangles or edges; every side 0, then every side 1) are
-// GPU_HULL_ITEMS_PER_THREAD per thread. It queues those with a volume (a cheap test) here, then
-// its threads build and clip the queued ones: a SIMD batch then clips as many volumes as it has
-// lanes, where most edges are no potential silhouette and a batch of them would clip one or two.
-shared uint hullQueue[CLIP_SHARED_INVOCATIONS * GPU_HULL_ITEMS_PER_THREAD];
-shared uint hullQueueCount;
-
-/// The k-th of this invocation's items.
-uint hullGroupItem(uint k) {
-    uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
-    return (group * GPU_HULL_ITEMS_PER_THREAD + k) * uint(CLIP_SHARED_INVOCATIONS) + gl_LocalInvocationIndex;
-}
-
 /// A hull corner in world space (x_world = origin + scale·x) with its record: `precise`, so that
 /// the corner two faces share gets the same bits in both (no contraction at one of them).
 uvec4 hullVertex(vec3 corner, vec3 origin, float scale, uint record) {

@@ -1,8 +1,8 @@
 #version 450
 // STSV volumes as their hulls (DESIGN §4.2; volumes/extrusion_dh.h stsvVolumeHullSetup): an
-// invocation per queued side of an S-triangle (hull_append.glsl) builds the volume with the
-// same dh functions as the geometry shader and the CPU mirror, then the closed polyhedron of what its fragment accepts
-// (the volume's and the light's planes inside the scene box), and appends the polyhedron's
+// invocation per queued side of an S-triangle (hull_queue.glsl) builds the volume with the
+// same dh functions as the geometry shader and the CPU mirror, then the closed polyhedron of
+// what its fragment accepts (the volume's and the light's planes inside the scene box), and appends the polyhedron's
 // triangles and the volume's record (GpuStsvRecord) for the indirect draw of hull.vert +
 // stsv.frag. Where the ten-vertex prism of stsv.geom reaches far beyond the accepted region (a
 // large light, a leaf edge-on), the hull costs no fragment that only rejects.
@@ -22,7 +22,7 @@ layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats sta
 
 /// Item `item` (a side of a triangle: every side 0, then every side 1, for most triangles
 /// have one) and whether it may have a volume: the tests of stsvSetupVolume that build nothing.
-bool stsvHullItem(uint item, out uint tri, out uint side) {
+bool hullItem(uint item, out uint tri, out uint side) {
     uint triangleCount = uint(triangles.length());
     side = item >= triangleCount ? 1u : 0u;
     tri = item - side * triangleCount;
@@ -61,21 +61,4 @@ void buildHull(uint tri, uint side) {
         hullRecords[base + GPU_STSV_RECORD_LIGHT_PLANES + i] = floatBitsToUint(r.lightPlanes[i]);
 }
 
-void main() {
-    if (gl_WorkGroupID.x + gl_WorkGroupID.y + gl_LocalInvocationIndex == 0u) draw.instanceCount = 1u;
-    if (gl_LocalInvocationIndex == 0u) hullQueueCount = 0u;
-    barrier();
-    for (uint k = 0u; k < GPU_HULL_ITEMS_PER_THREAD; ++k) {
-        uint tri;
-        uint side;
-        if (stsvHullItem(hullGroupItem(k), tri, side)) hullQueue[atomicAdd(hullQueueCount, 1u)] = hullGroupItem(k);
-    }
-    barrier();
-    uint queued = hullQueueCount;
-    for (uint q = gl_LocalInvocationIndex; q < queued; q += uint(CLIP_SHARED_INVOCATIONS)) {
-        uint tri;
-        uint side;
-        stsvHullItem(hullQueue[q], tri, side);
-        buildHull(tri, side);
-    }
-}
+#include "hull_queue.glsl"

@@ -1,7 +1,7 @@
 #version 450
 // Wedge bounds as their hulls (as stsv_hull.comp): an invocation per queued side of a potential
-// silhouette edge (hull_append.glsl: a workgroup queues those of its edges that are one) builds the bound of wedge.geom (wedgeSetupBound), then the closed polyhedron of
-// the carrier's volume and light planes inside the scene box (extrusion_dh.h
+// silhouette edge (hull_queue.glsl) builds the bound of wedge.geom (wedgeSetupBound), then the
+// closed polyhedron of the carrier's volume and light planes inside the scene box (extrusion_dh.h
 // stsvVolumeHullSetup), and appends its triangles and the edge's record (GpuWedgeRecord) for
 // the indirect draw of hull.vert + wedge.frag.
 #extension GL_GOOGLE_include_directive : require
@@ -19,7 +19,7 @@ layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats sta
 
 /// Item `item` (a side of an edge: every side 0, then every side 1) and whether it may have a
 /// bound: the tests of wedgeSetupBound that build nothing.
-bool wedgeHullItem(uint item, out uint e, out uint side) {
+bool hullItem(uint item, out uint e, out uint side) {
     uint edgeCount = uint(edges.length());
     side = item >= edgeCount ? 1u : 0u;
     e = item - side * edgeCount;
@@ -53,21 +53,4 @@ void buildHull(uint e, uint side) {
         hullRecords[base + GPU_WEDGE_RECORD_LIGHT_PLANES + i] = floatBitsToUint(b.record.lightPlanes[i]);
 }
 
-void main() {
-    if (gl_WorkGroupID.x + gl_WorkGroupID.y + gl_LocalInvocationIndex == 0u) draw.instanceCount = 1u;
-    if (gl_LocalInvocationIndex == 0u) hullQueueCount = 0u;
-    barrier();
-    for (uint k = 0u; k < GPU_HULL_ITEMS_PER_THREAD; ++k) {
-        uint e;
-        uint side;
-        if (wedgeHullItem(hullGroupItem(k), e, side)) hullQueue[atomicAdd(hullQueueCount, 1u)] = hullGroupItem(k);
-    }
-    barrier();
-    uint queued = hullQueueCount;
-    for (uint q = gl_LocalInvocationIndex; q < queued; q += uint(CLIP_SHARED_INVOCATIONS)) {
-        uint e;
-        uint side;
-        wedgeHullItem(hullQueue[q], e, side);
-        buildHull(e, side);
-    }
-}
+#include "hull_queue.glsl"
