@@ -225,7 +225,7 @@ void FoldPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
     // wedge_fold.comp works on 16 × 16 tiles.
-    vkCmdDispatch(cmd, (m_width + 15) / 16, (m_height + 15) / 16, 1);
+    dispatchPerPixel(cmd, m_width, m_height);
 }
 
 } // namespace stsv

@@ -8,6 +8,7 @@
 #include <vulkan/vulkan.h>
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,12 @@ class ClearPass final : public GpuPass {
     std::vector<Image*> m_images;
     std::vector<const Buffer*> m_buffers;
 };
+
+/// One workgroup per 16 × 16 pixels of a width × height frame: the dispatch of the per-pixel
+/// compute shaders (local size 16 × 16: resolve, fold, shadow filter, STSV merge).
+inline void dispatchPerPixel(VkCommandBuffer cmd, std::uint32_t width, std::uint32_t height) {
+    vkCmdDispatch(cmd, (width + 15) / 16, (height + 15) / 16, 1);
+}
 
 /// Runs `pass` for `light` in `graph`: its barriers, then its commands in the timer scope
 /// `scope` ("" = untimed).

@@ -49,7 +49,7 @@ void ResolvePass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set);
     m_descriptors->push(cmd, GpuPush{ambientOnly ? 0xffffffffu : uint(light), set == 0 ? 1u : 0u, 0u, 0u});
     // resolve.comp works on 16 × 16 tiles (fewer, larger workgroups: lavapipe pays per workgroup).
-    vkCmdDispatch(cmd, (m_width + 15) / 16, (m_height + 15) / 16, 1);
+    dispatchPerPixel(cmd, m_width, m_height);
 }
 
 } // namespace stsv

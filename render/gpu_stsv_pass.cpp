@@ -123,7 +123,7 @@ void StsvMergePass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    vkCmdDispatch(cmd, (m_width + 15) / 16, (m_height + 15) / 16, 1);
+    dispatchPerPixel(cmd, m_width, m_height);
 }
 
 StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
