@@ -295,7 +295,7 @@ Frame VulkanFrame::render(double startupMs) {
     frame.stats["light_sample_buffer_bytes"] = lightSampleBufferBytes(m_options);
     frame.stats["gpu"] = {{"device", m_device.info().name},
                           {"extrusion", toString(m_geometry)},
-                          {"fragment_counts", "atomic counters in stsv.frag"}};
+                          {"fragment_counts", "atomic counters in the volume passes' shaders"}};
     return frame;
 }
 
