@@ -128,7 +128,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
       m_shadowResources(device, scene, options), m_hullResources(device),
       m_deferredResources(device, options,
                           geometry == StsvGeometry::Hull && drawsStsv(m_method.stsv, scene) ? deferredCapacity
-                                                                                            : 1),
+                                                                                            : 0),
       m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
       m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
       m_clearHullDraw({}, {&m_hullResources.draw}),

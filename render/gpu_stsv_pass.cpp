@@ -41,7 +41,7 @@ StsvDeferredResources::StsvDeferredResources(const Device& device, const RenderO
                                              std::uint64_t capacity) {
     count = Buffer(device, 16, STORAGE, MemoryUsage::DeviceLocal);
     fragments = Buffer(device, std::max<std::uint64_t>(capacity, 1) * 8, STORAGE, MemoryUsage::DeviceLocal);
-    const std::uint64_t words = options.buffer == BufferKind::Bitmask
+    const std::uint64_t words = capacity > 0 && options.buffer == BufferKind::Bitmask
                                     ? std::uint64_t(options.width) * std::uint64_t(options.height) *
                                           lsMaskWordCount(uint(options.samples))
                                     : 1;

@@ -30,7 +30,8 @@ const char* toString(StsvGeometry geometry);
 /// bitmask frame the mask words the compute pass sets and stsv_merge.comp ORs into the images.
 class StsvDeferredResources {
   public:
-    /// Room for `capacity` fragments (at least one); mask words for a bitmask frame of `options`.
+    /// Room for `capacity` fragments and, in a bitmask frame of `options`, their mask words;
+    /// 0: a frame without the sample pass (one-element stand-ins for the descriptors).
     StsvDeferredResources(const Device& device, const RenderOptions& options, std::uint64_t capacity);
 
     /// The bindings these resources add to the frame's descriptor set layout.
