@@ -161,12 +161,11 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                                   m_descriptors);
             if (options.buffer == BufferKind::Bitmask)
                 m_stsvMerge.emplace(device, options, m_resources, m_deferredResources, m_descriptors);
-        }
-        if (hulls)
             m_stsvHulls.emplace(device, "stsv_hull.comp", layoutDefines(m_resources.tables.layout),
                                 static_cast<std::uint32_t>(scene.triangleCount()),
                                 m_method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u,
                                 m_resources, m_hullResources, m_descriptors);
+        }
     }
     if (m_shadowResources.enabled()) {
         const bool pcss = m_method.shadowMap == ShadowFilter::Pcss;

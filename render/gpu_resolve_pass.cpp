@@ -15,8 +15,7 @@ ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderO
     std::vector<ShaderDefine> defines =
         withPatternDefine(sampleDefines(options, resources.tables.layout), plan);
     defines.push_back({"RESOLVE_COVERAGE", m_coverage ? "1" : "0"});
-    std::array<bool, 4> used{};
-    for (const Light& light : scene.lights) used.at(light.type) = true;
+    std::array<bool, 4> used = lightTypesIn(scene);
     if (scene.lights.empty()) used[0] = true;
     for (uint type = 0; type < used.size(); ++type)
         if (used[type])

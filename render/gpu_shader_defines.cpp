@@ -49,4 +49,10 @@ std::vector<ShaderDefine> lightTypeDefines(std::vector<ShaderDefine> defines, ui
     return defines;
 }
 
+std::array<bool, 4> lightTypesIn(const Scene& scene) {
+    std::array<bool, 4> used{};
+    for (const Light& light : scene.lights) used.at(light.type) = true;
+    return used;
+}
+
 } // namespace stsv

@@ -7,7 +7,9 @@
 #include "gpu/shader_compiler.h"
 #include "render/options.h"
 #include "sampling/pattern.h"
+#include "scene/scene.h"
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -46,5 +48,9 @@ std::vector<ShaderDefine> withPatternDefine(std::vector<ShaderDefine> defines, c
 /// `defines` plus FIXED_LIGHT_TYPE (sampling/light_sampling_dh.h): one resolve and one STSV
 /// fragment shader per light type in the scene, with the type tests folded.
 std::vector<ShaderDefine> lightTypeDefines(std::vector<ShaderDefine> defines, uint lightType);
+
+/// The light types (LIGHT_*) among the scene's lights: the passes that specialise per type build
+/// a pipeline for each of these.
+std::array<bool, 4> lightTypesIn(const Scene& scene);
 
 } // namespace stsv

@@ -68,8 +68,7 @@ StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const
       m_groups(sampleGroups(device)) {
     const ShaderCompiler compiler;
     const std::vector<ShaderDefine> defines = sampleDefines(options, resources.tables.layout);
-    std::array<bool, 4> used{};
-    for (const Light& light : scene.lights) used.at(light.type) = true;
+    const std::array<bool, 4> used = lightTypesIn(scene);
     for (uint type = 0; type < used.size(); ++type)
         if (used[type])
             m_pipelines[type] = createComputePipeline(
@@ -165,8 +164,7 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
     // the back faces are the clockwise ones.
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
     desc.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE;
-    std::array<bool, 4> used{};
-    for (const Light& light : scene.lights) used.at(light.type) = true;
+    const std::array<bool, 4> used = lightTypesIn(scene);
     for (uint type = 0; type < used.size(); ++type) {
         if (!used[type]) continue;
         desc.stages.back().spirv = compiler.compileFile("stsv.frag", lightTypeDefines(fragmentDefines, type));

@@ -93,8 +93,6 @@ class StsvPass final : public GpuPass {
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
-    StsvGeometry geometry() const { return m_geometry; }
-
   private:
     const Device* m_device;
     const Scene* m_scene;

@@ -64,9 +64,7 @@ layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats sta
 // Attachment i holds mask words 2i and 2i + 1 (lsMaskAttachment).
 #define MASK_ATTACHMENTS ((WORD_COUNT + 1) / 2)
 
-#if STSV_COUNTERS
-layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
-#else
+#if !STSV_COUNTERS
 layout(location = 0) out uvec2 outMask0;
 #if MASK_ATTACHMENTS > 1
 layout(location = 1) out uvec2 outMask1;
@@ -127,12 +125,7 @@ void main() {
             for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
                 uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
 #if STSV_COUNTERS
-                // One more layer on each occluded sample's 16-bit counter.
-                while (bits != 0u) {
-                    uint k = 32u * w + uint(findLSB(bits));
-                    bits &= bits - 1u;
-                    atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
-                }
+                stsvAddOccludedLayers(counterWord, w, bits);
 #else
                 words[w] = bits;
 #endif

@@ -7,9 +7,6 @@
 // slowest lane. Bits go to the mask words that stsv_merge.comp ORs into the light's bitmask,
 // counters straight to the counters.
 #extension GL_GOOGLE_include_directive : require
-#ifndef STSV_COUNTERS
-#define STSV_COUNTERS 0
-#endif
 #include "frame_bindings.glsl"
 #include "stsv_samples.glsl"
 
@@ -17,9 +14,7 @@ layout(local_size_x = 64) in;
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
-#if STSV_COUNTERS
-layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
-#else
+#if !STSV_COUNTERS
 layout(std430, set = 0, binding = GPU_BINDING_STSV_MASK_WORDS) buffer MaskWords { uint maskWords[]; };
 #endif
 
@@ -43,18 +38,10 @@ void main() {
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
 #endif
         for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
-            uint bits = 0u;
-            for (uint b = 0u; b < uint(WORD_BITS); ++b) {
-                uint k = 32u * w + b;
-                if (!stsvSampleOccluded(t, px, src, size, k)) continue;
+            uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
 #if STSV_COUNTERS
-                // One more layer on the sample's 16-bit counter.
-                atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
+            stsvAddOccludedLayers(counterWord, w, bits);
 #else
-                bits |= lsMaskBit(k);
-#endif
-            }
-#if !STSV_COUNTERS
             if (bits != 0u) atomicOr(maskWords[entry.x * uint(WORD_COUNT) + w], bits);
 #endif
         }

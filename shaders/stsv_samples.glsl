@@ -51,6 +51,23 @@ bool stsvPixelSetup(uvec2 pixel, vec3 p, StsvTriangle t, uint side, out StsvPixe
     return stsvFragmentPixel(t, side, p, lf, shadowTMin(p, lf.center, sceneDiameter), px);
 }
 
+#ifndef STSV_COUNTERS
+#define STSV_COUNTERS 0
+#endif
+#if STSV_COUNTERS
+layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+
+/// One more layer on the 16-bit counter of each sample whose bit is set in `bits`, word w of the
+/// pixel whose counters start at `counterWord` (lsPixelCounterWord).
+void stsvAddOccludedLayers(uint counterWord, uint w, uint bits) {
+    while (bits != 0u) {
+        uint k = 32u * w + uint(findLSB(bits));
+        bits &= bits - 1u;
+        atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
+    }
+}
+#endif
+
 // The hull pass's records (GpuStsvRecord at GPU_STSV_RECORD_* texels): a texel fetch at a
 // per-lane index is a vector gather on lavapipe, a storage-buffer load a loop over the lanes.
 layout(set = 0, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
