@@ -35,19 +35,27 @@ struct WedgeBound {
     GpuWedgeRecord record;
 };
 
-/// The bound of edge e's side `side` for light `lightIndex`; false when it has none (not a
-/// potential silhouette of the light, no carrier, an empty or unlit side).
-bool wedgeSetupBound(uint e, uint side, uint lightIndex, out WedgeBound b) {
+/// Whether edge e's side `side` may have a bound for light `lightIndex`: the tests of
+/// wedgeSetupBound that build nothing (a carrier, a potential silhouette, a lit side).
+bool wedgeMayHaveBound(uint e, uint side, uint lightIndex) {
     GpuEdge edge = edges[e];
-    b.vol.flags = STSV_VOLUME_EMPTY;
     if (edge.carrier == GPU_NO_TRIANGLE) return false;
     vec4 sphere = lights[lightIndex].sphere;
     if (!potentialSilhouette(edge, sphere)) return false;
     GpuTriangle g = triangles[edge.carrier];
+    return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), sphere);
+}
+
+/// The bound of edge e's side `side` for light `lightIndex`; false when it has none (not a
+/// potential silhouette of the light, no carrier, an empty or unlit side).
+bool wedgeSetupBound(uint e, uint side, uint lightIndex, out WedgeBound b) {
+    b.vol.flags = STSV_VOLUME_EMPTY;
+    if (!wedgeMayHaveBound(e, side, lightIndex)) return false;
+    vec4 sphere = lights[lightIndex].sphere;
+    GpuTriangle g = triangles[edges[e].carrier];
     b.v0 = vec3(g.v0);
     b.v1 = vec3(g.v1);
     b.v2 = vec3(g.v2);
-    if (side >= stsvSideCount(b.v0, b.v1, b.v2, sphere)) return false;
     vec3 lo = vec3(frame.boxLo);
     vec3 hi = vec3(frame.boxHi);
     b.vol = stsvBuildVolume(b.v0, b.v1, b.v2, sphere, lo, hi, side);

@@ -18,18 +18,12 @@ layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 
 /// Item `item` (a side of an edge: every side 0, then every side 1) and whether it may have a
-/// bound: the tests of wedgeSetupBound that build nothing.
+/// bound (wedgeMayHaveBound).
 bool hullItem(uint item, out uint e, out uint side) {
     uint edgeCount = uint(edges.length());
     side = item >= edgeCount ? 1u : 0u;
     e = item - side * edgeCount;
-    if (side > 1u || e >= edgeCount) return false;
-    GpuEdge edge = edges[e];
-    if (edge.carrier == GPU_NO_TRIANGLE) return false;
-    vec4 sphere = lights[pc.light].sphere;
-    if (!potentialSilhouette(edge, sphere)) return false;
-    GpuTriangle g = triangles[edge.carrier];
-    return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), sphere);
+    return side <= 1u && e < edgeCount && wedgeMayHaveBound(e, side, pc.light);
 }
 
 /// The bound of side `side` of edge `e`: its hull appended, its record written.
