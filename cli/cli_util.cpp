@@ -1,6 +1,7 @@
 #include "cli/cli_util.h"
 
 #include "core/error.h"
+#include "render/gpu_deferred.h"
 #include "render/gpu_renderer.h"
 
 #include <algorithm>
@@ -161,11 +162,14 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
         const double edge = size == o.params.end() ? double(ShadowMapSettings{}.size) : size->second;
         perLight += 6.0 * edge * edge * sizeof(float);
     }
-    // Vulkan STSV with hulls: the list of fragments whose samples a compute pass tests (two a
-    // pixel, 8 bytes each; render/gpu_renderer.cpp) and, for bitmasks, their word buffer.
+    // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests
+    // (two a pixel at first, 8 bytes each; render/gpu_renderer.cpp) and, for STSV bitmasks,
+    // their word buffer.
     double shared = 0.0;
-    if (o.backend == Backend::Vulkan && methodInfo(o.method).stsv != StsvTriangles::None) {
-        shared += std::min(2.0 * pixels, double(kMaxStsvDeferredFragments)) * 8.0;
+    const bool stsv = methodInfo(o.method).stsv != StsvTriangles::None;
+    if (o.backend == Backend::Vulkan && (stsv || methodInfo(o.method).opaque == OpaqueTechnique::Dcs))
+        shared += std::min(2.0 * pixels, double(kMaxDeferredFragments)) * 8.0;
+    if (o.backend == Backend::Vulkan && stsv) {
         if (methodInfo(o.method).bufferKind(o.buffer) == BufferKind::Bitmask)
             shared +=
                 double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));

@@ -100,7 +100,7 @@ stsv_pattern_q(128 STSV_Q128)
 # RESOLVE_COVERAGE (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
 # STSV_HULL_PATH and WEDGE_HULL_PATH on the fragments behind hull.vert, CLIP_SHARED_INVOCATIONS
 # (render/gpu_hulls.cpp) on the hull passes; the sample defines and FIXED_LIGHT_TYPE on
-# stsv_samples.comp, the sample defines on stsv_merge.comp; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
+# stsv_samples.comp, the sample defines on stsv_merge.comp and wedge_samples.comp; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
 # and each sample count with each buffer kind, without the full product (two cores).
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
 set(S ${PROJECT_SOURCE_DIR}/shaders) # shader folder, for the lines below
@@ -149,6 +149,8 @@ stsv_check_shader(${S}/wedge.frag pw WEDGE_PW=1 WEDGE_STSV=0)
 stsv_check_shader(${S}/wedge.frag pw_stsv_ubo WEDGE_PW=1 WEDGE_STSV=1 ${UBO})
 stsv_check_shader(${S}/wedge.frag hull_dcs_s64 WEDGE_HULL_PATH=1 WEDGE_PW=0 SAMPLE_COUNT=64 STSV_COUNTERS=1)
 stsv_check_shader(${S}/wedge.frag hull_pw_ubo WEDGE_HULL_PATH=1 WEDGE_PW=1 ${UBO})
+stsv_check_shader(${S}/wedge_samples.comp s16 SAMPLE_COUNT=16 STSV_COUNTERS=1)
+stsv_check_shader(${S}/wedge_samples.comp s256_ubo SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedge_fold.comp dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 STSV_COUNTERS=1)
 stsv_check_shader(${S}/wedge_fold.comp dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedge_fold.comp pw WEDGE_PW=1 WEDGE_STSV=0 SAMPLE_COUNT=64)

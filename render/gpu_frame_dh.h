@@ -36,11 +36,11 @@ DH_CONST uint GPU_BINDING_SHADOW_TAPS = 18u;   ///< Poisson-disk taps: blocker s
 DH_CONST uint GPU_BINDING_HULL_DRAW = 19u;     ///< GpuHullDraw: draw arguments and counts (SSBO)
 DH_CONST uint GPU_BINDING_HULL_RECORDS = 20u;  ///< the hulls' records, 18 uvec4 each (SSBO)
 DH_CONST uint GPU_BINDING_HULL_VERTICES = 21u; ///< uvec4 per hull vertex: xyz bits, record (SSBO)
-DH_CONST uint GPU_BINDING_HULL_RECORD_TEXELS = 22u;  ///< the records as rgba32ui texels
-DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 23u;  ///< the hull vertices as rgba32ui texels
-DH_CONST uint GPU_BINDING_STSV_DEFERRED_COUNT = 24u; ///< uvec4, x: STSV fragments deferred (SSBO)
-DH_CONST uint GPU_BINDING_STSV_DEFERRED = 25u;       ///< uvec2 per deferred fragment: pixel, record (SSBO)
-DH_CONST uint GPU_BINDING_STSV_MASK_WORDS = 26u;     ///< their mask words, pixel-major (SSBO)
+DH_CONST uint GPU_BINDING_HULL_RECORD_TEXELS = 22u; ///< the records as rgba32ui texels
+DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 23u; ///< the hull vertices as rgba32ui texels
+DH_CONST uint GPU_BINDING_DEFERRED_COUNT = 24u;     ///< uvec4, x: fragments deferred (SSBO)
+DH_CONST uint GPU_BINDING_DEFERRED = 25u;           ///< uvec2 per deferred fragment: pixel, item (SSBO)
+DH_CONST uint GPU_BINDING_STSV_MASK_WORDS = 26u;    ///< their mask words, pixel-major (SSBO)
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
 DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 samples each)
@@ -111,7 +111,8 @@ struct GpuStats {
     uint wedgeHulls;         ///< wedge bounds the wedge hull pass built (wedge_hull.comp)
     uint wedgeHullTriangles; ///< triangles of their hulls drawn
     uint deferred;           ///< STSV fragments whose samples stsv_samples.comp tested
-    uint pad0;
+    uint
+        wedgeListed; ///< fragments the DCS wedge draw listed for wedge_samples.comp (past the list's end too)
 };
 
 /// A hull pass's record of one volume: GPU_HULL_RECORD_TEXELS 16-byte texels (GpuStsvRecord,

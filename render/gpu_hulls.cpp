@@ -18,10 +18,12 @@ constexpr VkDeviceSize TEXEL_BYTES = 16; ///< rgba32ui
 
 /// Threads of the hull shaders' workgroups (CLIP_SHARED_INVOCATIONS): 8, a SIMD batch of
 /// lavapipe, or fewer where the device's shared memory cannot hold 8 polyhedra being clipped
-/// (their corners and one face, counted at 16 bytes a vec3, and the queue of their items).
+/// (their corners, one face and a cut's entry and exit points, counted at 16 bytes a vec3, and
+/// the queue of their items).
 std::uint32_t hullThreadsPerGroup(const Device& device) {
     constexpr std::uint32_t bytesPerThread =
-        (CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES * 16 + GPU_HULL_ITEMS_PER_THREAD * 4;
+        ((CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES + 2 * CLIP_MAX_FACES) * 16 +
+        GPU_HULL_ITEMS_PER_THREAD * 4;
     std::uint32_t threads = 8;
     while (threads > 1 && threads * bytesPerThread > device.limits().maxComputeSharedMemorySize) threads /= 2;
     return threads;

@@ -131,8 +131,9 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
 
 WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
                      FrameResources& frame, const FrameDescriptors& descriptors,
-                     const std::vector<ShaderDefine>& defines, const HullResources* hulls)
-    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_hulls(hulls),
+                     const std::vector<ShaderDefine>& defines, const HullResources* hulls,
+                     DeferredFragments& deferred)
+    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_hulls(hulls), m_deferred(&deferred),
       m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw) {
     VkFormatProperties coverageFormat{};
     vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), COVERAGE_FORMAT, &coverageFormat);
@@ -163,7 +164,7 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
     m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
 }
 
-PassAccesses WedgePass::accesses(std::size_t light) const {
+PassAccesses WedgePass::accesses(std::size_t) const {
     PassAccesses accesses;
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
@@ -173,7 +174,8 @@ PassAccesses WedgePass::accesses(std::size_t light) const {
     if (m_pw)
         accesses.use(m_frame->samples.coverage, ResourceUse::colorAttachment());
     else
-        accesses.use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(FRAGMENT));
+        accesses.use(m_deferred->count, ResourceUse::storageReadWrite(FRAGMENT))
+            .use(m_deferred->fragments, ResourceUse::storageReadWrite(FRAGMENT));
     return accesses;
 }
 
@@ -189,6 +191,33 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     else if (m_opaque->edgeCount() > 0)
         vkCmdDraw(cmd, static_cast<uint32_t>(m_opaque->edgeCount()), 1, 0, 0);
     endRendering(cmd);
+}
+
+WedgeSamplesPass::WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
+                                   const FrameDescriptors& descriptors,
+                                   const std::vector<ShaderDefine>& defines)
+    : m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
+      m_groups(deferredSampleGroups(device)) {
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       ShaderCompiler().compileFile("wedge_samples.comp", defines));
+}
+
+PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_deferred->count, ResourceUse::storageRead(COMPUTE))
+        .use(m_deferred->fragments, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->stats, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void WedgeSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    vkCmdDispatch(cmd, m_groups, 1, 1);
 }
 
 FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,

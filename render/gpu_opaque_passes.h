@@ -8,6 +8,7 @@
 #include "gpu/descriptors.h"
 #include "gpu/image.h"
 #include "gpu/pipeline.h"
+#include "render/gpu_deferred.h"
 #include "render/gpu_frame_dh.h"
 #include "render/gpu_frame_resources.h"
 #include "render/gpu_hulls.h"
@@ -76,14 +77,16 @@ class CenterCountPass final : public GpuPass {
 };
 
 /// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume and light
-/// planes: DCS adds the signed crossings of each sample segment to the counters, PW the analytic
-/// wedge coverage to the coverage attachment. The bounds are drawn as the carrier's prism
-/// (wedge.geom) or, with `hulls`, as the hulls of wedge_hull.comp (render/gpu_hulls.h).
+/// planes: DCS lists the fragments with the edge a silhouette seen from p in `deferred` (for
+/// WedgeSamplesPass), PW adds the analytic wedge coverage to the coverage attachment. The
+/// bounds are drawn as the carrier's prism (wedge.geom) or, with `hulls`, as the hulls of
+/// wedge_hull.comp (render/gpu_hulls.h).
 class WedgePass final : public GpuPass {
   public:
     WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
               FrameResources& frame, const FrameDescriptors& descriptors,
-              const std::vector<ShaderDefine>& defines, const HullResources* hulls);
+              const std::vector<ShaderDefine>& defines, const HullResources* hulls,
+              DeferredFragments& deferred);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -93,7 +96,27 @@ class WedgePass final : public GpuPass {
     FrameResources* m_frame;
     const FrameDescriptors* m_descriptors;
     const HullResources* m_hulls; ///< null: the prisms of wedge.geom
+    DeferredFragments* m_deferred;
     bool m_pw;
+    Pipeline m_pipeline;
+};
+
+/// DCS after WedgePass: wedge_samples.comp runs the edge term and the sample loop of every listed
+/// fragment, adding the crossings to the light's counters; it also stores how many fragments the
+/// draw tried to list (GpuStats::wedgeListed), so that the host can grow a list that was short.
+class WedgeSamplesPass final : public GpuPass {
+  public:
+    WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
+                     const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    FrameResources* m_frame;
+    DeferredFragments* m_deferred;
+    const FrameDescriptors* m_descriptors;
+    std::uint32_t m_groups;
     Pipeline m_pipeline;
 };
 

@@ -39,7 +39,7 @@ std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
     for (const DescriptorBinding& b : OpaqueOccluderResources::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : ShadowMapResources::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : HullResources::bindings()) bindings.push_back(b);
-    for (const DescriptorBinding& b : StsvDeferredResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : DeferredFragments::bindings()) bindings.push_back(b);
     return bindings;
 }
 
@@ -60,6 +60,7 @@ struct OpaquePasses {
     CenterCountPass center;
     WedgePass wedges;
     FoldPass fold;
+    std::optional<WedgeSamplesPass> wedgeSamples; ///< DCS: the listed silhouette fragments
 };
 
 /// The passes of an image-based method (MethodInfo::shadowMap): per light the cleared map, its
@@ -76,7 +77,8 @@ struct ShadowMapPasses {
 /// writes the stats. Barriers come from the passes' declared accesses (gpu/frame_graph.h).
 class VulkanFrame {
   public:
-    /// `deferredCapacity`: the fragments the hull draw may defer to StsvSamplesPass.
+    /// `deferredCapacity`: the fragments the STSV hull draw and the DCS wedge draw may list for
+    /// their sample passes (the list grows when a frame needs more).
     VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options, StsvGeometry geometry,
                 std::uint64_t deferredCapacity);
     Frame render(double startupMs);
@@ -92,11 +94,12 @@ class VulkanFrame {
     OpaqueOccluderResources m_opaqueResources;
     ShadowMapResources m_shadowResources;
     HullResources m_hullResources;
-    StsvDeferredResources m_deferredResources;
+    DeferredFragments m_deferredResources;
     FrameDescriptors m_descriptors;
     ClearPass m_clearCounts;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferred;
+    ClearPass m_clearDeferredCount;
     GBufferPass m_gbuffer;
     std::optional<OpaquePasses> m_opaque;
     std::optional<StsvPass> m_stsv;               ///< when the method draws STSV volumes in this scene
@@ -114,6 +117,7 @@ class VulkanFrame {
     void record(VkCommandBuffer cmd);
     void recordLight(VkCommandBuffer cmd, std::size_t light);
     void sizeHulls();
+    bool growDeferredList(const std::vector<GpuStats>& counts);
     void checkHullCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
                            std::uint64_t triangles) const;
     nlohmann::json passStats(const std::vector<GpuStats>& counts) const;
@@ -127,17 +131,22 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
       m_resources(device, scene, options, m_plan), m_opaqueResources(device, scene, options),
       m_shadowResources(device, scene, options), m_hullResources(device),
       m_deferredResources(device, options,
-                          geometry == StsvGeometry::Hull && drawsStsv(m_method.stsv, scene) ? deferredCapacity
-                                                                                            : 0),
+                          (geometry == StsvGeometry::Hull && drawsStsv(m_method.stsv, scene)) ||
+                                  m_method.opaque == OpaqueTechnique::Dcs
+                              ? deferredCapacity
+                              : 0,
+                          geometry == StsvGeometry::Hull && drawsStsv(m_method.stsv, scene) &&
+                              options.buffer == BufferKind::Bitmask),
       m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
       m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
       m_clearHullDraw({}, {&m_hullResources.draw}),
       m_clearDeferred({}, {&m_deferredResources.count, &m_deferredResources.maskWords}),
+      m_clearDeferredCount({}, {&m_deferredResources.count}),
       m_gbuffer(device, m_resources, m_descriptors, layoutDefines(m_resources.tables.layout),
                 static_cast<std::uint32_t>(scene.triangleCount())),
       m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
       m_readback(device, scene, options, m_resources),
-      m_timer(device, 3 + 9 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
+      m_timer(device, 3 + 10 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
       m_commands(device) {
     const std::vector<ShaderDefine> defines = sampleDefines(options, m_resources.tables.layout);
     const bool hulls = geometry == StsvGeometry::Hull;
@@ -146,8 +155,10 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
             ClearPass({&m_opaqueResources.center}, {}),
             CenterCountPass(device, scene, m_opaqueResources, m_resources, m_descriptors, defines),
             WedgePass(device, options, m_opaqueResources, m_resources, m_descriptors, defines,
-                      hulls ? &m_hullResources : nullptr),
-            FoldPass(device, options, m_opaqueResources, m_resources, m_descriptors, defines)});
+                      hulls ? &m_hullResources : nullptr, m_deferredResources),
+            FoldPass(device, options, m_opaqueResources, m_resources, m_descriptors, defines), std::nullopt});
+        if (m_method.opaque == OpaqueTechnique::Dcs)
+            m_opaque->wedgeSamples.emplace(device, m_resources, m_deferredResources, m_descriptors, defines);
         if (hulls && m_opaqueResources.edgeCount() > 0)
             m_wedgeHulls.emplace(device, "wedge_hull.comp", layoutDefines(m_resources.tables.layout),
                                  static_cast<std::uint32_t>(m_opaqueResources.edgeCount()), 0u, m_resources,
@@ -247,7 +258,10 @@ void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
             runPass(m_graph, cmd, "", m_clearHullDraw, light);
             runPass(m_graph, cmd, technique + "wedge_hulls", *m_wedgeHulls, light);
         }
+        if (m_opaque->wedgeSamples) runPass(m_graph, cmd, "", m_clearDeferredCount, light);
         runPass(m_graph, cmd, technique + "wedges", m_opaque->wedges, light);
+        if (m_opaque->wedgeSamples)
+            runPass(m_graph, cmd, technique + "wedge_samples", *m_opaque->wedgeSamples, light);
     }
     std::vector<Image*> masks;
     for (Image& image : m_resources.samples.masks[light]) masks.push_back(&image);
@@ -267,18 +281,41 @@ void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
     runPass(m_graph, cmd, prefix + "resolve", m_resolve, light);
 }
 
+/// A DCS wedge draw lists every silhouette fragment, and one the list had no room for is lost:
+/// the list grows to what the frame needed (a quarter more) and the frame is rendered again.
+bool VulkanFrame::growDeferredList(const std::vector<GpuStats>& counts) {
+    std::uint64_t listed = 0;
+    for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
+        listed = std::max<std::uint64_t>(listed, counts[l].wedgeListed);
+    if (listed <= m_deferredResources.capacity()) return false;
+    if (listed > kMaxDeferredFragments)
+        throw Error("the DCS wedge pass lists " + std::to_string(listed) +
+                    " silhouette fragments for one light, more than the " +
+                    std::to_string(kMaxDeferredFragments) + " its list may hold; render a smaller --size");
+    m_deferredResources.resize(std::min(listed + listed / 4, kMaxDeferredFragments));
+    for (std::size_t l = 0; l < m_descriptors.setCount(); ++l)
+        m_deferredResources.writeDescriptors(m_descriptors.set(l));
+    return true;
+}
+
 Frame VulkanFrame::render(double startupMs) {
     Timer total;
     Frame frame;
-    record(m_commands.begin());
-    Timer gpu;
-    m_commands.submitAndWait();
-    const double gpuMs = gpu.milliseconds();
-
+    std::vector<GpuStats> counts;
+    double gpuMs = 0.0;
     nlohmann::json passes = nlohmann::json::object();
-    for (const GpuTiming& t : m_timer.results()) passes[t.name] = t.milliseconds;
     Timer readback;
-    const std::vector<GpuStats> counts = m_readback.unpack(frame);
+    do {
+        frame = Frame{};
+        record(m_commands.begin());
+        Timer gpu;
+        m_commands.submitAndWait();
+        gpuMs = gpu.milliseconds();
+        passes = nlohmann::json::object();
+        for (const GpuTiming& t : m_timer.results()) passes[t.name] = t.milliseconds;
+        readback = Timer();
+        counts = m_readback.unpack(frame);
+    } while (growDeferredList(counts));
     if (m_shadowMaps && m_options.keepShadowMaps)
         for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
             frame.shadowMaps.push_back(m_shadowResources.download(l));
@@ -313,7 +350,7 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
     nlohmann::json stsvStats = nlohmann::json::array();
     nlohmann::json wedgeStats = nlohmann::json::array();
     nlohmann::json centerStats = nlohmann::json::array();
-    // The fragment loops of stsv.frag and wedge.frag (DCS) test every sample of a fragment
+    // The sample loops of stsv.frag and wedge_samples.comp (DCS) test every sample of a fragment
     // that gets that far, so the samples tested are those fragments times N.
     const std::uint64_t n = std::uint64_t(m_options.samples);
     const bool dcs = m_method.opaque == OpaqueTechnique::Dcs;
@@ -331,7 +368,10 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
         nlohmann::json wedge = {{"edges", m_opaqueResources.edgeCount()},
                                 {"fragments", counts[l].wedgeFragments},
                                 {"silhouette_fragments", counts[l].wedgeInside}};
-        if (dcs) wedge["samples_tested"] = n * counts[l].wedgeInside;
+        if (dcs) {
+            wedge["listed_fragments"] = counts[l].wedgeListed;
+            wedge["samples_tested"] = n * counts[l].wedgeInside;
+        }
         if (m_wedgeHulls) {
             checkHullCapacity(l, "wedge", counts[l].wedgeHulls, counts[l].wedgeHullTriangles);
             wedge["hull_volumes"] = counts[l].wedgeHulls;
@@ -406,14 +446,14 @@ struct VulkanRenderer::Impl {
         geometry = stage == ExtrusionStage::Mesh       ? StsvGeometry::MeshShaderPrism
                    : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
                                                        : StsvGeometry::Hull;
-        // Room for two deferred fragments a pixel (foliage with 16 k S-triangles defers 1.5 a
-        // pixel), at most kMaxStsvDeferredFragments; a frame that defers more tests the rest in
-        // the fragment shader.
+        // Room for two listed fragments a pixel (foliage with 16 k S-triangles defers 1.5 a
+        // pixel), at most kMaxDeferredFragments. An STSV draw tests the fragments past the end in
+        // its fragment shader; a DCS wedge frame that lists more grows the list and runs again.
         const std::uint64_t deferred =
-            config.stsvDeferredCapacity > 0
-                ? config.stsvDeferredCapacity
+            config.deferredCapacity > 0
+                ? config.deferredCapacity
                 : std::min<std::uint64_t>(2ull * std::uint64_t(options.width) * std::uint64_t(options.height),
-                                          kMaxStsvDeferredFragments);
+                                          kMaxDeferredFragments);
         frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred);
         startupMs = startup.milliseconds();
     }

@@ -19,13 +19,11 @@ struct VulkanRendererConfig {
     Device* device = nullptr;
     /// Auto: RenderOptions::extrusion decides; Geometry or Mesh overrides it.
     ExtrusionStage extrusion = ExtrusionStage::Auto;
-    /// With hulls, the STSV fragments the draw may defer to the sample pass (0: two a pixel);
-    /// the rest test their samples in the fragment shader. Tests make it small.
-    std::uint64_t stsvDeferredCapacity = 0;
+    /// The fragments the STSV hull draw and the DCS wedge draw may list for their sample passes
+    /// (0: two a pixel). STSV tests the rest in its fragment shader; a DCS frame that needs more
+    /// grows the list and renders again. Tests make it small.
+    std::uint64_t deferredCapacity = 0;
 };
-
-/// The most STSV fragments a hull draw lists for the sample pass by default (512 MiB of list).
-inline constexpr std::uint64_t kMaxStsvDeferredFragments = std::uint64_t(1) << 26;
 
 /// Payload bytes of one light's sample buffer for `options` without rendering: N·W·H/8 for
 /// bitmasks (8 MiB at 1024² × 64, the STSV paper's §5.1 figure), 2·N·W·H for 16-bit counters.
@@ -46,7 +44,8 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 /// host-visible buffer; host: readback = unpacking it into the Frame),
 /// "stsv"[i] {"fragments", "inside_fragments", "samples_tested"} counted by atomics in
 /// stsv.frag; for methods with an opaque technique "wedges"[i] {"edges", "fragments",
-/// "silhouette_fragments", DCS: "samples_tested"} (wedge.frag) and "center"[i] {"fragments",
+/// "silhouette_fragments", DCS: "listed_fragments" (those wedge.frag listed for
+/// wedge_samples.comp), "samples_tested"} and "center"[i] {"fragments",
 /// "counted_fragments"} (dcs_center.frag);
 /// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion}.
 class VulkanRenderer final : public FrameRenderer {

@@ -15,14 +15,6 @@ namespace {
 constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
 constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-/// Workgroups of stsv_samples.comp (64 threads; thread i takes the deferred fragments i, i +
-/// groups · 64, ...): on a CPU device every group is a task with its own start-up, and a few
-/// hundred keep its cores busy (foliage 1000 plants at 512² on lavapipe: 4096 groups took
-/// 200-240 ms where 256 took 130-180); a GPU needs some 10⁵ threads in flight.
-std::uint32_t sampleGroups(const Device& device) {
-    return device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 256 : 8192;
-}
-
 } // namespace
 
 const char* toString(StsvGeometry geometry) {
@@ -37,35 +29,12 @@ const char* toString(StsvGeometry geometry) {
     return "?";
 }
 
-StsvDeferredResources::StsvDeferredResources(const Device& device, const RenderOptions& options,
-                                             std::uint64_t capacity) {
-    count = Buffer(device, 16, STORAGE, MemoryUsage::DeviceLocal);
-    fragments = Buffer(device, std::max<std::uint64_t>(capacity, 1) * 8, STORAGE, MemoryUsage::DeviceLocal);
-    const std::uint64_t words = capacity > 0 && options.buffer == BufferKind::Bitmask
-                                    ? std::uint64_t(options.width) * std::uint64_t(options.height) *
-                                          lsMaskWordCount(uint(options.samples))
-                                    : 1;
-    maskWords = Buffer(device, words * 4, STORAGE, MemoryUsage::DeviceLocal);
-}
-
-std::vector<DescriptorBinding> StsvDeferredResources::bindings() {
-    return {{GPU_BINDING_STSV_DEFERRED_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_STSV_DEFERRED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_STSV_MASK_WORDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
-}
-
-void StsvDeferredResources::writeDescriptors(DescriptorSet& set) const {
-    set.writeBuffer(GPU_BINDING_STSV_DEFERRED_COUNT, count);
-    set.writeBuffer(GPU_BINDING_STSV_DEFERRED, fragments);
-    set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, maskWords);
-}
-
 StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
-                                 FrameResources& resources, HullResources& hulls,
-                                 StsvDeferredResources& deferred, const FrameDescriptors& descriptors)
+                                 FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
+                                 const FrameDescriptors& descriptors)
     : m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_counters(options.buffer == BufferKind::Counters),
-      m_groups(sampleGroups(device)) {
+      m_groups(deferredSampleGroups(device)) {
     const ShaderCompiler compiler;
     const std::vector<ShaderDefine> defines = sampleDefines(options, resources.tables.layout);
     const std::array<bool, 4> used = lightTypesIn(scene);
@@ -98,7 +67,7 @@ void StsvSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
 }
 
 StsvMergePass::StsvMergePass(const Device& device, const RenderOptions& options, FrameResources& resources,
-                             StsvDeferredResources& deferred, const FrameDescriptors& descriptors)
+                             DeferredFragments& deferred, const FrameDescriptors& descriptors)
     : m_resources(&resources), m_deferred(&deferred), m_descriptors(&descriptors),
       m_width(static_cast<std::uint32_t>(options.width)),
       m_height(static_cast<std::uint32_t>(options.height)) {
@@ -126,7 +95,7 @@ void StsvMergePass::record(VkCommandBuffer cmd, std::size_t light) const {
 }
 
 StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
-                   FrameResources& resources, HullResources& hulls, StsvDeferredResources& deferred,
+                   FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
                    const FrameDescriptors& descriptors, StsvGeometry geometry)
     : m_device(&device), m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_geometry(geometry), m_counters(options.buffer == BufferKind::Counters),

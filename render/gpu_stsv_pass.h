@@ -6,6 +6,7 @@
 #pragma once
 
 #include "gpu/pipeline.h"
+#include "render/gpu_deferred.h"
 #include "render/gpu_frame_resources.h"
 #include "render/gpu_hulls.h"
 #include "render/gpu_pass.h"
@@ -25,30 +26,12 @@ enum class StsvGeometry {
 
 const char* toString(StsvGeometry geometry);
 
-/// The fragments the hull draw defers to stsv_samples.comp (stsv.frag: every fragment that
-/// passes the plane tests, while the list has room): their count, (pixel, record) pairs, and in a
-/// bitmask frame the mask words the compute pass sets and stsv_merge.comp ORs into the images.
-class StsvDeferredResources {
-  public:
-    /// Room for `capacity` fragments and, in a bitmask frame of `options`, their mask words;
-    /// 0: a frame without the sample pass (one-element stand-ins for the descriptors).
-    StsvDeferredResources(const Device& device, const RenderOptions& options, std::uint64_t capacity);
-
-    /// The bindings these resources add to the frame's descriptor set layout.
-    static std::vector<DescriptorBinding> bindings();
-    void writeDescriptors(DescriptorSet& set) const;
-
-    Buffer count;     ///< uvec4, x: fragments appended
-    Buffer fragments; ///< uvec2 per fragment: pixel index, record
-    Buffer maskWords; ///< bitmask frames: lsMaskWordCount(N) words per pixel; else a stand-in
-};
-
 /// stsv_samples.comp for one light: the deferred fragments' samples, into the mask words or the
 /// counters.
 class StsvSamplesPass final : public GpuPass {
   public:
     StsvSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
-                    FrameResources& resources, HullResources& hulls, StsvDeferredResources& deferred,
+                    FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
                     const FrameDescriptors& descriptors);
 
     PassAccesses accesses(std::size_t light) const override;
@@ -58,7 +41,7 @@ class StsvSamplesPass final : public GpuPass {
     const Scene* m_scene;
     FrameResources* m_resources;
     HullResources* m_hulls;
-    StsvDeferredResources* m_deferred;
+    DeferredFragments* m_deferred;
     const FrameDescriptors* m_descriptors;
     bool m_counters;
     std::uint32_t m_groups;              ///< workgroups dispatched
@@ -69,14 +52,14 @@ class StsvSamplesPass final : public GpuPass {
 class StsvMergePass final : public GpuPass {
   public:
     StsvMergePass(const Device& device, const RenderOptions& options, FrameResources& resources,
-                  StsvDeferredResources& deferred, const FrameDescriptors& descriptors);
+                  DeferredFragments& deferred, const FrameDescriptors& descriptors);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
     FrameResources* m_resources;
-    StsvDeferredResources* m_deferred;
+    DeferredFragments* m_deferred;
     const FrameDescriptors* m_descriptors;
     std::uint32_t m_width;
     std::uint32_t m_height;
@@ -87,7 +70,7 @@ class StsvPass final : public GpuPass {
   public:
     /// With hulls, `deferred` receives the fragments whose samples StsvSamplesPass tests.
     StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
-             FrameResources& resources, HullResources& hulls, StsvDeferredResources& deferred,
+             FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
              const FrameDescriptors& descriptors, StsvGeometry geometry);
 
     PassAccesses accesses(std::size_t light) const override;
@@ -98,7 +81,7 @@ class StsvPass final : public GpuPass {
     const Scene* m_scene;
     FrameResources* m_resources;
     HullResources* m_hulls;
-    StsvDeferredResources* m_deferred;
+    DeferredFragments* m_deferred;
     const FrameDescriptors* m_descriptors;
     StsvGeometry m_geometry;
     bool m_counters;       ///< counters buffer, else bitmask attachments

@@ -100,13 +100,7 @@ void main() {
     // The samples of an accepted fragment are tested by stsv_samples.comp, one thread a fragment
     // in full batches (a fragment batch on lavapipe runs its sample loop as long as its slowest
     // lane, and small hull triangles leave its lanes mostly idle); past the list's end, here.
-    if (accepted) {
-        uint slot = atomicAdd(deferredCount.x, 1u);
-        if (slot < uint(deferred.length())) {
-            deferred[slot] = uvec2(lsPixelIndex(uvec2(pixel), frame.width), inRecord);
-            accepted = false;
-        }
-    }
+    if (accepted && deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), inRecord)) accepted = false;
 #endif
     if (accepted) {
         StsvTriangle t = volumeTriangle(ids);

@@ -19,7 +19,7 @@ layout(std430, set = 0, binding = GPU_BINDING_STSV_MASK_WORDS) buffer MaskWords 
 #endif
 
 void main() {
-    uint count = min(deferredCount.x, uint(deferred.length()));
+    uint count = deferredEntries();
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint e = gl_GlobalInvocationID.x; e < count; e += stride) {
         uvec2 entry = deferred[e];

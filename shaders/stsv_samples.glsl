@@ -6,6 +6,7 @@
 
 #include "frame_bindings.glsl"
 #include "stsv_volume.glsl"
+#include "deferred_list.glsl"
 #include "sampling/light_sampling_dh.h"
 
 #ifndef SAMPLE_COUNT
@@ -84,10 +85,5 @@ StsvTriangle stsvRecordTriangle(uint record, uvec4 ids) {
     return stsvUnpackTriangle(stsvRecordVec4(record, 0u), stsvRecordVec4(record, 1u), stsvRecordVec4(record, 2u),
                               stsvRecordVec4(record, 3u), stsvRecordVec4(record, 4u), ids);
 }
-
-// The deferred fragments (render/gpu_frame_dh.h): the hull draw appends (pixel index, record)
-// for every fragment that passes the plane tests, stsv_samples.comp tests their samples.
-layout(std430, set = 0, binding = GPU_BINDING_STSV_DEFERRED_COUNT) buffer DeferredCount { uvec4 deferredCount; };
-layout(std430, set = 0, binding = GPU_BINDING_STSV_DEFERRED) buffer Deferred { uvec2 deferred[]; };
 
 #endif

@@ -1,12 +1,11 @@
 #version 450
-// Per-pixel edge term of the opaque occluders (DESIGN §4.5; wedges/wedge_fragment_dh.h, which
-// render/cpu_wedges.cpp forEachSilhouette calls too): for a visible point p inside the edge's
-// bound, the weight k_e of the edge seen from p (its faces except the visible triangle), the
-// edge projected onto the pixel's light frame and clipped to the part between p and the light,
-// then
-//   DCS (WEDGE_PW 0): for each light sample x, k_e·[r → x crosses the edge]·sign(ℓ·X) added to
-//     the sample's 16-bit counter (Forest, Barthe & Paulin 2008). The counters are modular:
-//     wedge_fold.comp adds D(r) and reads them as signed (a sample may go below D(r)).
+// Per-pixel edge term of the opaque occluders (DESIGN §4.5; shaders/wedge_term.glsl): a visible
+// point p inside the edge's bound, with the edge a silhouette seen from p (its weight k_e over its
+// faces except the visible triangle, in world space, is not zero), gets
+//   DCS (WEDGE_PW 0): listed for wedge_samples.comp, which projects the edge onto the pixel's
+//     light frame and adds k_e·[r → x crosses the edge]·sign(ℓ·X) to each light sample x's 16-bit
+//     counter (Forest, Barthe & Paulin 2008). The list grows and the frame is rendered again when
+//     it was too short (render/gpu_renderer.cpp).
 //   PW (WEDGE_PW 1): sign(k_e)·(signed fraction of the light beyond the edge), summed by
 //     additive blending (Assarsson & Akenine-Möller 2003).
 #extension GL_GOOGLE_include_directive : require
@@ -22,10 +21,12 @@
 #endif
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "wedge_bindings.glsl"
+#include "wedge_term.glsl"
 #include "volumes/extrusion_dh.h"
-#include "wedges/dcs_dh.h"
 #include "wedges/pw_dh.h"
+#if !WEDGE_PW
+#include "deferred_list.glsl"
+#endif
 
 layout(early_fragment_tests) in;
 
@@ -56,26 +57,13 @@ layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimag
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 #if WEDGE_PW
 layout(location = 0) out float outOcclusion;
-#else
-layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 #endif
 
-/// The data access of wedges/wedge_fragment_dh.h: the edge's faces in edgeFaces[].
-struct WedgeFaces {
-    uint first;
-    uint count;
-};
-uint wedgeFaceTriangle(WedgeFaces faces, uint f) {
-    return edgeFaces[f].triangle;
-}
-vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
-    return edgeFaces[f].opposite;
-}
-#define WEDGE_FACES
-#include "wedges/wedge_fragment_dh.h"
-
-/// The wedge term of this fragment's edge at pixel `pixel`; false when it has none.
-bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int k, out LightFrame lf) {
+/// Whether p lies inside the bound (its planes and light planes, not in side 0's volume when
+/// this is side 1) with the edge a silhouette seen from p (wedgeWorldWeight, the receiver's own
+/// face left out); the edge's index when it does.
+bool edgeGate(vec3 p, uint receiver, out uint e) {
+    e = 0u;
 #if WEDGE_HULL_PATH
     // A record past the buffer (an overflow the host reports): no term.
     if (inRecord >= uint(textureSize(recordTexels)) / GPU_HULL_RECORD_TEXELS) return false;
@@ -95,53 +83,34 @@ bool edgeTerm(ivec2 pixel, vec3 p, out vec3 l, out vec3 h0, out vec3 h1, out int
         for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol0.planes[i] = boundPlaneSide0(i);
         if (stsvPointInVolume(vol0, p)) return false;
     }
-    GpuEdge edge = edges[ids.x];
-    WedgeFaces faces;
-    faces.first = edge.firstFace;
-    faces.count = edge.faceCount;
-    uint receiver = imageLoad(gTriangle, pixel).x;
-    if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) == 0) return false;
-    Light light = lights[pc.light].light;
-    lf = lightFrame(light, p, frame.farDistance);
-    float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
-    DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
-    if (px.valid == 0.0) return false;
-    return wedgeEdgeTerm(px, edge.v0, edge.v1, faces, receiver, l, h0, h1, k);
+    e = ids.x;
+    GpuEdge edge = edges[e];
+    return wedgeWorldWeight(p, edge.v0, edge.v1, wedgeFacesOf(edge), receiver) != 0;
 }
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec3 p = vec3(imageLoad(gPosition, pixel));
+    uint receiver = imageLoad(gTriangle, pixel).x;
+    uint e;
+    bool gate = edgeGate(p, receiver, e);
+    uint fragments = subgroupAdd(1u);
+    if (subgroupElect()) atomicAdd(stats[pc.light].wedgeFragments, fragments);
+#if WEDGE_PW
     vec3 l;
     vec3 h0;
     vec3 h1;
     int k;
     LightFrame lf;
-    bool inside = edgeTerm(pixel, p, l, h0, h1, k, lf);
-    uint fragments = subgroupAdd(1u);
+    bool inside = gate && wedgePixelTerm(p, edges[e], receiver, l, h0, h1, k, lf);
     uint insideCount = subgroupAdd(inside ? 1u : 0u);
-    if (subgroupElect()) {
-        atomicAdd(stats[pc.light].wedgeFragments, fragments);
-        atomicAdd(stats[pc.light].wedgeInside, insideCount);
-    }
-#if WEDGE_PW
+    if (subgroupElect()) atomicAdd(stats[pc.light].wedgeInside, insideCount);
     // On lavapipe every wedge fragment pays for the analytic coverage (polygon clipping in
     // local arrays, about 0.5 µs), silhouette or not: PW runs about 10x slower than DCS there.
     if (!inside) discard;
     outOcclusion = float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain);
 #else
-    if (!inside) return; // no outputs: nothing to discard
-    uint base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
-    uvec2 offset = decorrelationOffset(uvec2(pixel), frame.seed);
-    uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
-    bool decorrelate = frame.decorrelate != 0u;
-    for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
-        vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);
-        int crossing = dcsSampleCrossing(l, h0, h1, ab);
-        // A negative addend wraps modulo 2^32 across the word's two 16-bit counters, which
-        // wedge_fold.comp undoes.
-        if (crossing != 0)
-            atomicAdd(counters[counterWord + lsCounterWord(s)], uint(k * crossing) << lsCounterShift(s));
-    }
+    // Past the list's end the entry is dropped; the host sees the count and renders again.
+    if (gate) deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), e);
 #endif
 }

@@ -31,18 +31,30 @@ DH_CONST uint CLIP_MAX_TRIANGLES = 4u * CLIP_MAX_FACES - 12u;
 /// instead, a slice per invocation: lavapipe turns a large local array indexed per lane into
 /// code that LLVM takes most of a minute to compile, and that runs slower than shared loads.
 /// CLIP_CORNER(b, k) is corner k of polyhedron b, CLIP_SCRATCH(k) point k of the face being
-/// clipped; clipBox's locals are declared with CLIP_SCRATCH_DECLARE.
+/// clipped, CLIP_ENTRY(k) and CLIP_EXIT(k) where the boundary of the k-th face a plane cuts
+/// enters and leaves its half-space; clipBox's locals are declared with CLIP_SCRATCH_DECLARE and
+/// CLIP_CUTS_DECLARE.
 #ifdef CLIP_SHARED_INVOCATIONS
 shared vec3 clipSharedCorners[CLIP_SHARED_INVOCATIONS * CLIP_MAX_FACES * CLIP_MAX_FACE_VERTICES];
 shared vec3 clipSharedScratch[CLIP_SHARED_INVOCATIONS * CLIP_MAX_FACE_VERTICES];
+shared vec3 clipSharedEntries[CLIP_SHARED_INVOCATIONS * CLIP_MAX_FACES];
+shared vec3 clipSharedExits[CLIP_SHARED_INVOCATIONS * CLIP_MAX_FACES];
 #define CLIP_CORNER(b, k)                                                                                    \
     clipSharedCorners[gl_LocalInvocationIndex * (CLIP_MAX_FACES * CLIP_MAX_FACE_VERTICES) + (k)]
 #define CLIP_SCRATCH(k) clipSharedScratch[gl_LocalInvocationIndex * CLIP_MAX_FACE_VERTICES + (k)]
+#define CLIP_ENTRY(k) clipSharedEntries[gl_LocalInvocationIndex * CLIP_MAX_FACES + (k)]
+#define CLIP_EXIT(k) clipSharedExits[gl_LocalInvocationIndex * CLIP_MAX_FACES + (k)]
 #define CLIP_SCRATCH_DECLARE
+#define CLIP_CUTS_DECLARE
 #else
 #define CLIP_CORNER(b, k) (b).corner[k]
 #define CLIP_SCRATCH(k) clipped[k]
+#define CLIP_ENTRY(k) entries[k]
+#define CLIP_EXIT(k) exits[k]
 #define CLIP_SCRATCH_DECLARE vec3 clipped[CLIP_MAX_FACE_VERTICES];
+#define CLIP_CUTS_DECLARE                                                                                    \
+    vec3 entries[CLIP_MAX_FACES];                                                                            \
+    vec3 exits[CLIP_MAX_FACES];
 #endif
 
 /// The polyhedron: face f has count[f] vertices, CLIP_CORNER(b, f·CLIP_MAX_FACE_VERTICES + i),
@@ -65,6 +77,14 @@ DH_FUNC vec3 clipBoxCorner(vec3 lo, vec3 hi, uint bits) {
 /// The point where edge (a inside, b outside) crosses the plane, from its inside end.
 DH_FUNC vec3 clipCrossing(vec3 a, float da, vec3 b, float db) {
     return a + (da / (da - db)) * (b - a);
+}
+
+/// Pseudo-angle in [0, 4) of (r·u, r·w): monotone in its angle, no trigonometry.
+DH_FUNC float clipPseudoAngle(vec3 r, vec3 u, vec3 w) {
+    float x = dot(r, u);
+    float y = dot(r, w);
+    float t = (abs(x) + abs(y)) > 0.0f ? y / (abs(x) + abs(y)) : 0.0f;
+    return x >= 0.0f ? (y >= 0.0f ? t : 4.0f + t) : 2.0f - t;
 }
 
 /// The box [lo, hi] clipped by the first `count` planes (each (n, d), unit n, keeping
@@ -107,8 +127,7 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
         // Per cut face, the points where its boundary enters and leaves the half-space: the face's
         // new edge runs exit → entry, so the cut face runs entry → exit, and one face's exit is the
         // next one's entry (the same bits: clipCrossing from the edge's inside end on both sides).
-        vec3 entries[CLIP_MAX_FACES];
-        vec3 exits[CLIP_MAX_FACES];
+        CLIP_CUTS_DECLARE
         uint cuts = 0u;
         bool paired = true;
         uint kept = 0u;
@@ -152,8 +171,8 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
             if (faceEntries + faceExits > 0u) {
                 paired = paired && faceEntries == 1u && faceExits == 1u && cuts < CLIP_MAX_FACES;
                 if (cuts < CLIP_MAX_FACES) {
-                    entries[cuts] = entry;
-                    exits[cuts] = exit;
+                    CLIP_ENTRY(cuts) = entry;
+                    CLIP_EXIT(cuts) = exit;
                     cuts += 1u;
                 }
             }
@@ -167,64 +186,55 @@ DH_FUNC ClippedBox clipBox(vec3 lo, vec3 hi, vec4 planes[CLIP_MAX_PLANES], uint 
         }
         b.faceCount = kept;
         if (cuts < 3u || kept >= CLIP_MAX_FACES) continue;
-        // The cut face: from an exit, the face whose entry it is leads to that face's exit.
-        vec3 cap[CLIP_MAX_FACES];
-        cap[0] = exits[0];
-        bool used[CLIP_MAX_FACES];
-        for (uint k = 0u; k < CLIP_MAX_FACES; ++k) used[k] = k == 0u;
+        // The cut face, written straight into its slot: from an exit, the face whose entry it is
+        // leads to that face's exit.
+        uint ko = kept * CLIP_MAX_FACE_VERTICES;
+        vec3 current = CLIP_EXIT(0u);
+        CLIP_CORNER(b, ko) = current;
+        uint used = 1u; // bit k: cut k's exit is on the cap
         uint capCount = 1u;
         bool chained = paired;
         for (uint step = 1u; step < cuts && chained; ++step) {
             uint next = CLIP_MAX_FACES;
-            for (uint k = 0u; k < cuts; ++k)
-                if (!used[k] && next == CLIP_MAX_FACES && entries[k] == cap[capCount - 1u]) next = k;
+            for (uint k = 1u; k < cuts; ++k)
+                if ((used & (1u << k)) == 0u && next == CLIP_MAX_FACES && CLIP_ENTRY(k) == current) next = k;
             chained = next < CLIP_MAX_FACES;
             if (chained) {
-                used[next] = true;
-                cap[capCount] = exits[next];
+                used |= 1u << next;
+                current = CLIP_EXIT(next);
+                CLIP_CORNER(b, ko + capCount) = current;
                 capCount += 1u;
             }
         }
-        chained = chained && entries[0] == cap[capCount - 1u];
+        chained = chained && CLIP_ENTRY(0u) == current;
         if (!chained) {
             // A plane through a corner shared by several faces: order the exits by angle about the
             // cut face's outward normal −n instead, around their centroid, in a basis (u, w) with
-            // u × w = −n.
+            // u × w = −n (an insertion sort on the pseudo-angle, recomputed from each point).
             capCount = cuts;
             vec3 centre = vec3(0.0f);
-            for (uint k = 0u; k < cuts; ++k) centre += exits[k];
+            for (uint k = 0u; k < cuts; ++k) centre += CLIP_EXIT(k);
             centre /= float(cuts);
             vec3 u = abs(n.x) < 0.6f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
             u = normalize(u - dot(u, n) * n);
             vec3 w = cross(-n, u);
-            float key[CLIP_MAX_FACES];
             for (uint k = 0u; k < cuts; ++k) {
-                vec3 r = exits[k] - centre;
-                // Pseudo-angle in [0, 4): monotone in the angle of (r·u, r·w), no trigonometry.
-                float x = dot(r, u);
-                float y = dot(r, w);
-                float t = (abs(x) + abs(y)) > 0.0f ? y / (abs(x) + abs(y)) : 0.0f;
-                key[k] = x >= 0.0f ? (y >= 0.0f ? t : 4.0f + t) : 2.0f - t;
-                cap[k] = exits[k];
-            }
-            for (uint k = 1u; k < cuts; ++k) {
-                vec3 p = cap[k];
-                float pk = key[k];
+                vec3 p = CLIP_EXIT(k);
+                float pk = clipPseudoAngle(p - centre, u, w);
                 uint slot = k;
-                while (slot > 0u && key[slot - 1u] > pk) {
-                    cap[slot] = cap[slot - 1u];
-                    key[slot] = key[slot - 1u];
+                while (slot > 0u && clipPseudoAngle(CLIP_CORNER(b, ko + slot - 1u) - centre, u, w) > pk) {
+                    CLIP_CORNER(b, ko + slot) = CLIP_CORNER(b, ko + slot - 1u);
                     slot -= 1u;
                 }
-                cap[slot] = p;
-                key[slot] = pk;
+                CLIP_CORNER(b, ko + slot) = p;
             }
         }
-        uint ko = kept * CLIP_MAX_FACE_VERTICES;
-        uint corners = 0u;
-        for (uint i = 0u; i < capCount; ++i) {
-            if (corners > 0u && CLIP_CORNER(b, ko + max(corners, 1u) - 1u) == cap[i]) continue;
-            CLIP_CORNER(b, ko + corners) = cap[i];
+        // Repeated points (a plane through a corner) only once, in place.
+        uint corners = 1u;
+        for (uint i = 1u; i < capCount; ++i) {
+            vec3 p = CLIP_CORNER(b, ko + i);
+            if (CLIP_CORNER(b, ko + corners - 1u) == p) continue;
+            CLIP_CORNER(b, ko + corners) = p;
             corners += 1u;
         }
         if (corners > 1u && CLIP_CORNER(b, ko + max(corners, 1u) - 1u) == CLIP_CORNER(b, ko)) corners -= 1u;

@@ -317,6 +317,28 @@ TEST_F(GpuWedges, HullsAndPrismsGiveTheSameCountersCoverageAndSilhouettes) {
         }
 }
 
+TEST_F(GpuWedges, AShortSilhouetteListGrowsAndTheFrameIsRenderedAgain) {
+    // A list with room for 50 fragments: the DCS wedge draw lists far more, drops those past the
+    // end, and the renderer grows the list and renders the frame again; the counters and counts
+    // are those of a renderer whose list had room from the start, in this frame and the next.
+    constexpr std::uint64_t CAPACITY = 50;
+    const Scene scene = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
+    const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+    VulkanRenderer small(scene, o, {&device(), ExtrusionStage::Auto, CAPACITY});
+    const Frame first = small.render();
+    const Frame second = small.render();
+    const Frame roomy = renderGpu(scene, o);
+    EXPECT_EQ(first.lightSamples[0].counters(), roomy.lightSamples[0].counters());
+    EXPECT_EQ(second.lightSamples[0].counters(), roomy.lightSamples[0].counters());
+    const nlohmann::json& w = first.stats["wedges"][0];
+    EXPECT_EQ(w, roomy.stats["wedges"][0]);
+    EXPECT_EQ(second.stats["wedges"][0], roomy.stats["wedges"][0]);
+    EXPECT_GT(w["listed_fragments"].get<std::uint64_t>(), 10 * CAPACITY);
+    EXPECT_LE(w["silhouette_fragments"].get<std::uint64_t>(), w["listed_fragments"].get<std::uint64_t>());
+    EXPECT_GT(w["silhouette_fragments"].get<std::uint64_t>(), 0u);
+    EXPECT_EQ(small.device().validationMessageCount(), 0u);
+}
+
 TEST_F(GpuWedges, MakeRendererChoosesVulkanForEveryWedgeMethod) {
     const Scene scene = makeMeshScene(test::makeSphereMesh(16, 8), "sphere");
     for (Method m : {Method::Pw, Method::Dcs, Method::PwStsv, Method::DcsStsv}) {
@@ -387,6 +409,8 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                 const std::string technique = method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_";
                 for (const char* pass : {"center", "wedges", "wedge_hulls"})
                     expected.push_back(light + technique + pass);
+                // DCS: the listed silhouette fragments' edge terms and samples
+                if (method.opaque == OpaqueTechnique::Dcs) expected.push_back(light + "dcs_wedge_samples");
                 expected.push_back(light + "fold");
             }
             EXPECT_EQ(passes.size(), expected.size()) << what << ": " << passes.dump();

@@ -1,0 +1,28 @@
+// The list of deferred fragments (render/gpu_deferred.h): a volume draw appends (pixel index,
+// item) for each fragment whose per-pixel set-up and sample loop a compute pass runs instead,
+// one thread a fragment (stsv_samples.comp, wedge_samples.comp). On lavapipe a fragment batch
+// runs every instruction of the shader for its lanes, masked, and its loops as long as its
+// slowest lane; the compute pass's batches hold only fragments that need the work.
+#ifndef STSV_SHADERS_DEFERRED_LIST_GLSL
+#define STSV_SHADERS_DEFERRED_LIST_GLSL
+
+#include "frame_bindings.glsl"
+
+layout(std430, set = 0, binding = GPU_BINDING_DEFERRED_COUNT) buffer DeferredCount { uvec4 deferredCount; };
+layout(std430, set = 0, binding = GPU_BINDING_DEFERRED) buffer Deferred { uvec2 deferred[]; };
+
+/// Appends (pixelIndex, item); false when the list is full (the count still grows past its end,
+/// so the host knows how much room the frame needed).
+bool deferredAppend(uint pixelIndex, uint item) {
+    uint slot = atomicAdd(deferredCount.x, 1u);
+    if (slot >= uint(deferred.length())) return false;
+    deferred[slot] = uvec2(pixelIndex, item);
+    return true;
+}
+
+/// The entries a compute pass reads: those appended, at most the list's length.
+uint deferredEntries() {
+    return min(deferredCount.x, uint(deferred.length()));
+}
+
+#endif

@@ -1,0 +1,51 @@
+#version 450
+// The DCS samples of the silhouette fragments the wedge draw listed (wedge.frag: every fragment
+// inside its edge's bound with the edge a silhouette seen from p): one thread a fragment, with the
+// pixel's light frame and edge term (wedge_term.glsl), then for each light sample x
+// k_e·[r → x crosses the edge]·sign(ℓ·X) added to its 16-bit counter (Forest, Barthe & Paulin
+// 2008). The counters are modular: wedge_fold.comp adds D(r) and reads them as signed.
+#extension GL_GOOGLE_include_directive : require
+#ifndef SAMPLE_COUNT
+#define SAMPLE_COUNT 64
+#endif
+#include "wedge_term.glsl"
+#include "deferred_list.glsl"
+
+layout(local_size_x = 64) in;
+
+layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+
+void main() {
+    // Everything the draw tried to list, past the end too: the host grows a short list.
+    if (gl_GlobalInvocationID.x == 0u) stats[pc.light].wedgeListed = deferredCount.x;
+    uint count = deferredEntries();
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    bool decorrelate = frame.decorrelate != 0u;
+    for (uint i = gl_GlobalInvocationID.x; i < count; i += stride) {
+        uvec2 entry = deferred[i];
+        uvec2 pixel = uvec2(entry.x % frame.width, entry.x / frame.width);
+        vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
+        uint receiver = imageLoad(gTriangle, ivec2(pixel)).x;
+        vec3 l;
+        vec3 h0;
+        vec3 h1;
+        int k;
+        LightFrame lf;
+        if (!wedgePixelTerm(p, edges[entry.y], receiver, l, h0, h1, k, lf)) continue;
+        atomicAdd(stats[pc.light].wedgeInside, 1u);
+        uint base = interleaveSet(pixel, frame.interleave) * uint(SAMPLE_COUNT);
+        uvec2 offset = decorrelationOffset(pixel, frame.seed);
+        uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
+        for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
+            vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);
+            int crossing = dcsSampleCrossing(l, h0, h1, ab);
+            // A negative addend wraps modulo 2^32 across the word's two 16-bit counters, which
+            // wedge_fold.comp undoes.
+            if (crossing != 0)
+                atomicAdd(counters[counterWord + lsCounterWord(s)], uint(k * crossing) << lsCounterShift(s));
+        }
+    }
+}

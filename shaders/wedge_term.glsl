@@ -1,0 +1,48 @@
+// The per-pixel edge term of a potential silhouette edge (DESIGN §4.5; wedges/
+// wedge_fragment_dh.h, which render/cpu_wedges.cpp forEachSilhouette calls too), for wedge.frag
+// (PW) and wedge_samples.comp (DCS): the edge's faces from edgeFaces[], the pixel's light frame,
+// the edge projected onto it, and DCS's signed crossings per light sample.
+#ifndef STSV_SHADERS_WEDGE_TERM_GLSL
+#define STSV_SHADERS_WEDGE_TERM_GLSL
+
+#include "wedge_bindings.glsl"
+
+/// The data access of wedges/wedge_fragment_dh.h: the edge's faces in edgeFaces[].
+struct WedgeFaces {
+    uint first;
+    uint count;
+};
+uint wedgeFaceTriangle(WedgeFaces faces, uint f) {
+    return edgeFaces[f].triangle;
+}
+vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
+    return edgeFaces[f].opposite;
+}
+#define WEDGE_FACES
+#include "wedges/wedge_fragment_dh.h"
+
+WedgeFaces wedgeFacesOf(GpuEdge edge) {
+    WedgeFaces faces;
+    faces.first = edge.firstFace;
+    faces.count = edge.faceCount;
+    return faces;
+}
+
+/// Edge `edge` seen from the visible point p of triangle `receiver`, light pc.light: the
+/// pixel's light frame lf, the edge projected onto it (h0, h1, l = h0 × h1) and its weight k;
+/// false when it adds nothing (no valid frame, k = 0, nothing between p and the light).
+bool wedgePixelTerm(vec3 p, GpuEdge edge, uint receiver, out vec3 l, out vec3 h0, out vec3 h1, out int k,
+                    out LightFrame lf) {
+    Light light = lights[pc.light].light;
+    lf = lightFrame(light, p, frame.farDistance);
+    float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
+    DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
+    l = vec3(0.0);
+    h0 = vec3(0.0);
+    h1 = vec3(0.0);
+    k = 0;
+    if (px.valid == 0.0) return false;
+    return wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, k);
+}
+
+#endif
