@@ -111,8 +111,9 @@ struct GpuStats {
     uint wedgeHulls;         ///< wedge bounds the wedge hull pass built (wedge_hull.comp)
     uint wedgeHullTriangles; ///< triangles of their hulls drawn
     uint deferred;           ///< STSV fragments whose samples stsv_samples.comp tested
-    uint
-        wedgeListed; ///< fragments the DCS wedge draw listed for wedge_samples.comp (past the list's end too)
+    uint listed;             ///< STSV hull-draw fragments listed for stsv_samples.comp, past the end too
+    uint wedgeListed;        ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
+    uint pad0;
 };
 
 /// A hull pass's record of one volume: GPU_HULL_RECORD_TEXELS 16-byte texels (GpuStsvRecord,
@@ -233,7 +234,7 @@ DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
 DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);
 DH_STATIC_ASSERT(sizeof(GpuFrame) == 176);
 DH_STATIC_ASSERT(sizeof(GpuLight) == 96);
-DH_STATIC_ASSERT(sizeof(GpuStats) == 48);
+DH_STATIC_ASSERT(sizeof(GpuStats) == 56);
 DH_STATIC_ASSERT(sizeof(GpuStsvRecord) == 16 * GPU_HULL_RECORD_TEXELS);
 DH_STATIC_ASSERT(sizeof(GpuWedgeRecord) == 16 * GPU_HULL_RECORD_TEXELS);
 DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planes) == 16 * GPU_WEDGE_RECORD_PLANES);

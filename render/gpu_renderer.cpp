@@ -281,17 +281,18 @@ void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
     runPass(m_graph, cmd, prefix + "resolve", m_resolve, light);
 }
 
-/// A DCS wedge draw lists every silhouette fragment, and one the list had no room for is lost:
-/// the list grows to what the frame needed (a quarter more) and the frame is rendered again.
+/// The STSV hull draw and the DCS wedge draw list their fragments, and one the list had no room
+/// for is lost: the list grows to what the frame needed (a quarter more) and the frame is
+/// rendered again.
 bool VulkanFrame::growDeferredList(const std::vector<GpuStats>& counts) {
     std::uint64_t listed = 0;
     for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
-        listed = std::max<std::uint64_t>(listed, counts[l].wedgeListed);
+        listed = std::max<std::uint64_t>({listed, counts[l].listed, counts[l].wedgeListed});
     if (listed <= m_deferredResources.capacity()) return false;
     if (listed > kMaxDeferredFragments)
-        throw Error("the DCS wedge pass lists " + std::to_string(listed) +
-                    " silhouette fragments for one light, more than the " +
-                    std::to_string(kMaxDeferredFragments) + " its list may hold; render a smaller --size");
+        throw Error("a volume pass lists " + std::to_string(listed) +
+                    " fragments for one light, more than the " + std::to_string(kMaxDeferredFragments) +
+                    " its list may hold; render a smaller --size");
     m_deferredResources.resize(std::min(listed + listed / 4, kMaxDeferredFragments));
     for (std::size_t l = 0; l < m_descriptors.setCount(); ++l)
         m_deferredResources.writeDescriptors(m_descriptors.set(l));
@@ -362,6 +363,7 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const
             checkHullCapacity(l, "STSV", counts[l].hullVolumes, counts[l].hullTriangles);
             stsv["hull_volumes"] = counts[l].hullVolumes;
             stsv["hull_triangles"] = counts[l].hullTriangles;
+            stsv["listed_fragments"] = counts[l].listed;
             stsv["deferred_fragments"] = counts[l].deferred;
         }
         stsvStats.push_back(stsv);
@@ -446,9 +448,9 @@ struct VulkanRenderer::Impl {
         geometry = stage == ExtrusionStage::Mesh       ? StsvGeometry::MeshShaderPrism
                    : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
                                                        : StsvGeometry::Hull;
-        // Room for two listed fragments a pixel (foliage with 16 k S-triangles defers 1.5 a
-        // pixel), at most kMaxDeferredFragments. An STSV draw tests the fragments past the end in
-        // its fragment shader; a DCS wedge frame that lists more grows the list and runs again.
+        // Room for two listed fragments a pixel (foliage with 16 k S-triangles lists 1.5 a
+        // pixel), at most kMaxDeferredFragments; a frame that lists more grows the list and runs
+        // again.
         const std::uint64_t deferred =
             config.deferredCapacity > 0
                 ? config.deferredCapacity

@@ -20,8 +20,8 @@ struct VulkanRendererConfig {
     /// Auto: RenderOptions::extrusion decides; Geometry or Mesh overrides it.
     ExtrusionStage extrusion = ExtrusionStage::Auto;
     /// The fragments the STSV hull draw and the DCS wedge draw may list for their sample passes
-    /// (0: two a pixel). STSV tests the rest in its fragment shader; a DCS frame that needs more
-    /// grows the list and renders again. Tests make it small.
+    /// at first (0: two a pixel); a frame that needs more grows the list and renders again.
+    /// Tests make it small.
     std::uint64_t deferredCapacity = 0;
 };
 
@@ -43,8 +43,9 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 /// light<i>/fold, light<i>/resolve, ambient without lights, copy = all outputs into one
 /// host-visible buffer; host: readback = unpacking it into the Frame),
 /// "stsv"[i] {"fragments", "inside_fragments", "samples_tested"} counted by atomics in
-/// stsv.frag; for methods with an opaque technique "wedges"[i] {"edges", "fragments",
-/// "silhouette_fragments", DCS: "listed_fragments" (those wedge.frag listed for
+/// stsv.frag (with hulls also "listed_fragments", those it listed for stsv_samples.comp, and
+/// "deferred_fragments", those of them inside); for methods with an opaque technique "wedges"[i] {"edges",
+/// "fragments", "silhouette_fragments", DCS: "listed_fragments" (those wedge.frag listed for
 /// wedge_samples.comp), "samples_tested"} and "center"[i] {"fragments",
 /// "counted_fragments"} (dcs_center.frag);
 /// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion}.

@@ -98,10 +98,12 @@ void main() {
     bool accepted = stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && imageLoad(gTriangle, pixel).x != ids.z;
 #if STSV_HULL_PATH
     // The samples of an accepted fragment are tested by stsv_samples.comp, one thread a fragment
-    // in full batches (a fragment batch on lavapipe runs its sample loop as long as its slowest
-    // lane, and small hull triangles leave its lanes mostly idle); past the list's end, here.
-    if (accepted && deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), inRecord)) accepted = false;
-#endif
+    // in full batches: a fragment batch on lavapipe runs every instruction for all its lanes and
+    // its sample loop as long as its slowest lane, and small hull triangles leave its lanes
+    // mostly idle. A frame whose list was too short grows it and runs again
+    // (render/gpu_renderer.cpp).
+    if (accepted) deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), inRecord);
+#else
     if (accepted) {
         StsvTriangle t = volumeTriangle(ids);
         StsvPixel px;
@@ -126,6 +128,7 @@ void main() {
             }
         }
     }
+#endif
     // Fragment statistics, one atomic per subgroup (per-fragment atomics on one address serialise).
     uint fragments = subgroupAdd(1u);
     uint insideCount = subgroupAdd(inside ? 1u : 0u);

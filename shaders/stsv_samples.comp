@@ -19,6 +19,8 @@ layout(std430, set = 0, binding = GPU_BINDING_STSV_MASK_WORDS) buffer MaskWords 
 #endif
 
 void main() {
+    // Everything the draw tried to list, past the end too: the host grows a short list.
+    if (gl_GlobalInvocationID.x == 0u) stats[pc.light].listed = deferredCount.x;
     uint count = deferredEntries();
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint e = gl_GlobalInvocationID.x; e < count; e += stride) {
