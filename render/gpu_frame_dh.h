@@ -41,8 +41,13 @@ DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 23u; ///< the hull vertices as rg
 DH_CONST uint GPU_BINDING_DEFERRED_COUNT = 24u;     ///< uvec4, x: fragments deferred (SSBO)
 DH_CONST uint GPU_BINDING_DEFERRED = 25u;           ///< uvec2 per deferred fragment: pixel, item (SSBO)
 DH_CONST uint GPU_BINDING_STSV_MASK_WORDS = 26u;    ///< their mask words, pixel-major (SSBO)
+DH_CONST uint GPU_BINDING_CARRIER_TEXELS = 27u; ///< rgba32ui per carrier face: triangle, its carried edges
+DH_CONST uint GPU_BINDING_EDGE_TEXELS = 28u;    ///< GpuEdge[] as rgba32ui texels, GPU_EDGE_TEXELS each
+DH_CONST uint GPU_BINDING_EDGE_FACE_TEXELS =
+    29u; ///< GpuEdgeFace[] as rgba32ui texels, GPU_EDGE_FACE_TEXELS each
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
+DH_CONST uint GPU_NO_EDGE = 0xffffffffu;     ///< an empty slot of a carrier's edges
 DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 samples each)
 
 /// GpuTriangle::flags: STSV_FLAG_CLAMP and STSV_FLAG_OPAQUE as in stsv_dh.h, plus:
@@ -144,8 +149,9 @@ DH_CONST uint GPU_STSV_RECORD_IDS = 5u;
 DH_CONST uint GPU_STSV_RECORD_PLANES = 6u;
 DH_CONST uint GPU_STSV_RECORD_LIGHT_PLANES = 11u;
 
-/// What a wedge fragment needs about its edge's bound (wedge.geom's flat varyings, or a record
-/// of the wedge hull pass): ids = (edge, side | light planes' count << 8, planeCount,
+/// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a
+/// record of the wedge hull pass): ids = (carrier, side | light planes' count << 8 | the
+/// carried edges that are potential silhouettes << 16 (bit k: slot k), planeCount,
 /// WEDGE_SIDE0_PRESENT | side 0's planeCount), the volume's planes, side 0's planes (side 1
 /// leaves their points to side 0), the carrier's light planes. std430: 18 × 16 bytes.
 struct GpuWedgeRecord {
@@ -173,17 +179,16 @@ struct GpuHullDraw {
     uint pad2;
 };
 
-/// One welded edge of the opaque triangles (wedges/adjacency.h). std430: 3 × 16 bytes.
+/// One welded edge of the opaque triangles (wedges/adjacency.h). std430: 2 × 16 bytes.
 struct GpuEdge {
     vec3 v0;        ///< world units
     uint firstFace; ///< into GpuEdgeFace[]
     vec3 v1;        ///< world units
     uint faceCount; ///< 1 open, 2 manifold, > 2 non-manifold
-    uint carrier;   ///< scene triangle whose STSV volume bounds the edge's wedge; GPU_NO_TRIANGLE: none
-    uint pad0;
-    uint pad1;
-    uint pad2;
 };
+
+/// GpuEdge as 16-byte texels: (v0, firstFace), (v1, faceCount).
+DH_CONST uint GPU_EDGE_TEXELS = 2u;
 
 /// One triangle incident to an edge. std430: 2 × 16 bytes.
 struct GpuEdgeFace {
@@ -194,6 +199,9 @@ struct GpuEdgeFace {
     uint pad1;
     uint pad2;
 };
+
+/// GpuEdgeFace as 16-byte texels: (opposite, triangle), (forward, pads).
+DH_CONST uint GPU_EDGE_FACE_TEXELS = 2u;
 
 /// The filter knobs of the image-based methods (shadowmaps/shadow_map.h ShadowMapSettings).
 /// std430: 2 × 16 bytes.
@@ -245,7 +253,7 @@ DH_STATIC_ASSERT(offsetof(GpuStsvRecord, planes) == 16 * GPU_STSV_RECORD_PLANES)
 DH_STATIC_ASSERT(offsetof(GpuStsvRecord, lightPlanes) == 16 * GPU_STSV_RECORD_LIGHT_PLANES);
 DH_STATIC_ASSERT(sizeof(GpuHullDraw) == 32);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
-DH_STATIC_ASSERT(sizeof(GpuEdge) == 48);
+DH_STATIC_ASSERT(sizeof(GpuEdge) == 32);
 DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);
 DH_STATIC_ASSERT(sizeof(GpuShadowParams) == 32);
 #endif

@@ -8,6 +8,7 @@
 #include "wedges/adjacency.h"
 
 #include <algorithm>
+#include <unordered_map>
 
 namespace stsv {
 
@@ -42,6 +43,7 @@ GraphicsPipelineDesc volumePipelineDesc(std::vector<ShaderStage> stages) {
 GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
     const EdgeAdjacency adj = buildEdgeAdjacency(scene, [&](std::size_t t) { return !scene.perforated(t); });
     GpuEdgeTables tables;
+    std::unordered_map<std::uint32_t, std::uint32_t> carrierOf; // triangle → its index in tables.carriers
     tables.faces.reserve(adj.faces.size());
     for (const EdgeFace& f : adj.faces)
         tables.faces.push_back({adj.positions[f.opposite], f.triangle, f.forward ? 1u : 0u, 0u, 0u, 0u});
@@ -52,14 +54,24 @@ GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
         g.v1 = adj.positions[e.v1];
         g.firstFace = e.firstFace;
         g.faceCount = e.faceCount;
-        g.carrier = GPU_NO_TRIANGLE;
         // Edges whose faces are all degenerate have k_e = 0 everywhere (their third vertices lie
         // on the edge's line): no carrier, no wedge.
         for (std::uint32_t f = e.firstFace; f < e.firstFace + e.faceCount; ++f) {
-            const uvec3 i = scene.triangles[adj.faces[f].triangle];
+            const std::uint32_t t = adj.faces[f].triangle;
+            const uvec3 i = scene.triangles[t];
             if (stsvTriangleIsDegenerate(scene.positions[i.x], scene.positions[i.y], scene.positions[i.z]))
                 continue;
-            g.carrier = adj.faces[f].triangle;
+            const auto [slot, added] = carrierOf.try_emplace(t, std::uint32_t(tables.carriers.size()));
+            if (added) tables.carriers.push_back({t, GPU_NO_EDGE, GPU_NO_EDGE, GPU_NO_EDGE});
+            uvec4& carrier = tables.carriers[slot->second];
+            // A triangle has three edges, so it carries at most three.
+            const std::uint32_t edge = std::uint32_t(tables.edges.size());
+            if (carrier.y == GPU_NO_EDGE)
+                carrier.y = edge;
+            else if (carrier.z == GPU_NO_EDGE)
+                carrier.z = edge;
+            else
+                carrier.w = edge;
             break;
         }
         tables.edges.push_back(g);
@@ -70,6 +82,9 @@ GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
 std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
     return {{GPU_BINDING_EDGES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
             {GPU_BINDING_EDGE_FACES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CARRIER_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_EDGE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
             {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1}};
 }
 
@@ -80,10 +95,19 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     GpuEdgeTables tables;
     if (enabled) tables = buildGpuEdgeTables(scene);
     m_edgeCount = tables.edges.size();
+    m_carrierCount = tables.carriers.size();
     if (tables.edges.empty()) tables.edges.push_back({});
     if (tables.faces.empty()) tables.faces.push_back({});
-    edges = createBuffer(device, std::span<const GpuEdge>(tables.edges), storage);
-    faces = createBuffer(device, std::span<const GpuEdgeFace>(tables.faces), storage);
+    if (tables.carriers.empty()) tables.carriers.push_back(uvec4(GPU_NO_EDGE));
+    // The fragments of the wedge pass read edges, faces and carriers at a per-lane index: as
+    // texels, a vector gather on lavapipe, where a storage-buffer load is a loop over the lanes.
+    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    edges = createBuffer(device, std::span<const GpuEdge>(tables.edges), storage | texels);
+    faces = createBuffer(device, std::span<const GpuEdgeFace>(tables.faces), storage | texels);
+    carriers = createBuffer(device, std::span<const uvec4>(tables.carriers), texels);
+    edgeTexels = BufferView(device, edges, VK_FORMAT_R32G32B32A32_UINT, 16);
+    faceTexels = BufferView(device, faces, VK_FORMAT_R32G32B32A32_UINT, 16);
+    carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     const uint32_t width = enabled ? static_cast<uint32_t>(options.width) : 1u;
     const uint32_t height = enabled ? static_cast<uint32_t>(options.height) : 1u;
     center = Image(device, {width, height, CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
@@ -92,6 +116,9 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
 void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set) const {
     set.writeBuffer(GPU_BINDING_EDGES, edges);
     set.writeBuffer(GPU_BINDING_EDGE_FACES, faces);
+    set.writeTexelBuffer(GPU_BINDING_CARRIER_TEXELS, carrierTexels.handle());
+    set.writeTexelBuffer(GPU_BINDING_EDGE_TEXELS, edgeTexels.handle());
+    set.writeTexelBuffer(GPU_BINDING_EDGE_FACE_TEXELS, faceTexels.handle());
     set.writeStorageImage(GPU_BINDING_CENTER, center);
 }
 
@@ -188,8 +215,8 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
     if (m_hulls)
         m_hulls->recordDraw(cmd);
-    else if (m_opaque->edgeCount() > 0)
-        vkCmdDraw(cmd, static_cast<uint32_t>(m_opaque->edgeCount()), 1, 0, 0);
+    else if (m_opaque->carrierCount() > 0)
+        vkCmdDraw(cmd, static_cast<uint32_t>(m_opaque->carrierCount()), 1, 0, 0);
     endRendering(cmd);
 }
 

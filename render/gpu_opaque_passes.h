@@ -28,10 +28,13 @@ class Device;
 
 /// The welded edges of the opaque triangles (wedges/adjacency.h) as the GPU reads them: edge
 /// endpoints, incident faces with their third vertices, and the carrier face whose STSV volume
-/// bounds the edge's wedge (the first non-degenerate face, as render/cpu_wedges.cpp).
+/// bounds the edge's wedge (the first non-degenerate face, as render/cpu_wedges.cpp). The
+/// carriers, each with the edges it carries (at most its three, GPU_NO_EDGE in the free slots),
+/// are what the wedge passes draw: one bound for all of a face's edges.
 struct GpuEdgeTables {
     std::vector<GpuEdge> edges;
     std::vector<GpuEdgeFace> faces;
+    std::vector<uvec4> carriers; ///< triangle, edges
 };
 
 GpuEdgeTables buildGpuEdgeTables(const Scene& scene);
@@ -47,13 +50,19 @@ class OpaqueOccluderResources {
     void writeDescriptors(DescriptorSet& set) const;
 
     std::size_t edgeCount() const { return m_edgeCount; }
+    std::size_t carrierCount() const { return m_carrierCount; }
 
-    Buffer edges; ///< GpuEdge[]
-    Buffer faces; ///< GpuEdgeFace[]
+    Buffer edges;    ///< GpuEdge[], read as storage and as texels
+    Buffer faces;    ///< GpuEdgeFace[], read as storage and as texels
+    Buffer carriers; ///< uvec4[]: triangle, carried edges, read as texels
+    BufferView edgeTexels;
+    BufferView faceTexels;
+    BufferView carrierTexels;
     Image center; ///< r32i z-fail layer count D(r) at the light centre
 
   private:
     std::size_t m_edgeCount = 0;
+    std::size_t m_carrierCount = 0;
 };
 
 /// D(r): every face of the counting volumes (the opaque triangles' caps and edge quads seen from

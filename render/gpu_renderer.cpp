@@ -159,10 +159,10 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
             FoldPass(device, options, m_opaqueResources, m_resources, m_descriptors, defines), std::nullopt});
         if (m_method.opaque == OpaqueTechnique::Dcs)
             m_opaque->wedgeSamples.emplace(device, m_resources, m_deferredResources, m_descriptors, defines);
-        if (hulls && m_opaqueResources.edgeCount() > 0)
+        if (hulls && m_opaqueResources.carrierCount() > 0)
             m_wedgeHulls.emplace(device, "wedge_hull.comp", layoutDefines(m_resources.tables.layout),
-                                 static_cast<std::uint32_t>(m_opaqueResources.edgeCount()), 0u, m_resources,
-                                 m_hullResources, m_descriptors);
+                                 static_cast<std::uint32_t>(m_opaqueResources.carrierCount()), 0u,
+                                 m_resources, m_hullResources, m_descriptors);
     }
     if (scene.lights.size() > 0 && drawsStsv(m_method.stsv, scene)) {
         m_stsv.emplace(device, scene, options, m_resources, m_hullResources, m_deferredResources,

@@ -1,7 +1,8 @@
 #version 450
-// Per-pixel edge term of the opaque occluders (DESIGN §4.5; shaders/wedge_term.glsl): a visible
-// point p inside the edge's bound, with the edge a silhouette seen from p (its weight k_e over its
-// faces except the visible triangle, in world space, is not zero), gets
+// Per-pixel edge terms of the opaque occluders (DESIGN §4.5; shaders/wedge_term.glsl): the
+// bound is a carrier face's, shared by the potential silhouette edges the face carries. A
+// visible point p inside it gets, for each of those edges that is a silhouette seen from p (its
+// weight k_e over its faces except the visible triangle, in world space, is not zero),
 //   DCS (WEDGE_PW 0): listed for wedge_samples.comp, which projects the edge onto the pixel's
 //     light frame and adds k_e·[r → x crosses the edge]·sign(ℓ·X) to each light sample x's 16-bit
 //     counter (Forest, Barthe & Paulin 2008). The list grows and the frame is rendered again when
@@ -60,21 +61,18 @@ layout(location = 0) out float outOcclusion;
 #endif
 
 /// Whether p lies inside the bound (its planes and light planes, not in side 0's volume when
-/// this is side 1) with the edge a silhouette seen from p (wedgeWorldWeight, the receiver's own
-/// face left out); the edge's index when it does.
-bool edgeGate(vec3 p, uint receiver, out uint e) {
-    e = 0u;
+/// this is side 1).
+bool insideBound(uvec4 ids, vec3 p) {
 #if WEDGE_HULL_PATH
     // A record past the buffer (an overflow the host reports): no term.
     if (inRecord >= uint(textureSize(recordTexels)) / GPU_HULL_RECORD_TEXELS) return false;
 #endif
-    uvec4 ids = boundIds();
     StsvVolume vol;
     vol.planeCount = ids.z;
     for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = boundPlane(i);
     if (!stsvPointInVolume(vol, p)) return false;
     StsvLightPlanes lp;
-    lp.count = ids.y >> 8u;
+    lp.count = (ids.y >> 8u) & 255u;
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = boundLightPlane(i);
     if (!stsvPointInLightPlanes(lp, p)) return false;
     if ((ids.w & WEDGE_SIDE0_PRESENT) != 0u) {
@@ -83,34 +81,49 @@ bool edgeGate(vec3 p, uint receiver, out uint e) {
         for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol0.planes[i] = boundPlaneSide0(i);
         if (stsvPointInVolume(vol0, p)) return false;
     }
-    e = ids.x;
-    GpuEdge edge = edges[e];
-    return wedgeWorldWeight(p, edge.v0, edge.v1, wedgeFacesOf(edge), receiver) != 0;
+    return true;
 }
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);
     vec3 p = vec3(imageLoad(gPosition, pixel));
     uint receiver = imageLoad(gTriangle, pixel).x;
-    uint e;
-    bool gate = edgeGate(p, receiver, e);
+    uvec4 ids = boundIds();
+    bool inBound = insideBound(ids, p);
+    uvec4 carried = inBound ? carrierAt(ids.x) : uvec4(GPU_NO_EDGE);
+    uint silhouettes = (ids.y >> 16u) & 7u; // bit k: carried.yzw[k] is a potential silhouette
     uint fragments = subgroupAdd(1u);
     if (subgroupElect()) atomicAdd(stats[pc.light].wedgeFragments, fragments);
 #if WEDGE_PW
-    vec3 l;
-    vec3 h0;
-    vec3 h1;
-    int k;
-    LightFrame lf;
-    bool inside = gate && wedgePixelTerm(p, edges[e], receiver, l, h0, h1, k, lf);
-    uint insideCount = subgroupAdd(inside ? 1u : 0u);
+    float occlusion = 0.0;
+    uint inside = 0u;
+#endif
+    for (uint k = 0u; k < 3u; ++k) {
+        uint e = carried[k + 1u];
+        if (!inBound || (silhouettes & (1u << k)) == 0u) continue;
+        // The edge is a silhouette seen from p (the receiver's own face left out).
+        WedgeEdge edge = wedgeEdgeAt(e);
+        if (wedgeWorldWeight(p, edge.v0, edge.v1, wedgeFacesOf(edge), receiver) == 0) continue;
+#if WEDGE_PW
+        vec3 l;
+        vec3 h0;
+        vec3 h1;
+        int kE;
+        LightFrame lf;
+        if (!wedgePixelTerm(p, edge, receiver, l, h0, h1, kE, lf)) continue;
+        inside += 1u;
+        occlusion += float(kE > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain);
+#else
+        // Past the list's end the entry is dropped; the host sees the count and renders again.
+        deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), e);
+#endif
+    }
+#if WEDGE_PW
+    uint insideCount = subgroupAdd(inside);
     if (subgroupElect()) atomicAdd(stats[pc.light].wedgeInside, insideCount);
     // On lavapipe every wedge fragment pays for the analytic coverage (polygon clipping in
     // local arrays, about 0.5 µs), silhouette or not: PW runs about 10x slower than DCS there.
-    if (!inside) discard;
-    outOcclusion = float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain);
-#else
-    // Past the list's end the entry is dropped; the host sees the count and renders again.
-    if (gate) deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), e);
+    if (inside == 0u) discard;
+    outOcclusion = occlusion;
 #endif
 }

@@ -1,10 +1,10 @@
 #version 450
-// Wedge bound of one potential silhouette edge (DESIGN §4.5; as render/cpu_wedges.cpp): the
-// STSV volume of the edge's carrier face (a segment towards the light that touches the edge
-// touches the closed face, which its STSV volume bounds conservatively), both sides when the
-// light straddles the face's plane (one invocation per side). Edges that cannot be a silhouette
-// for any point of the light emit nothing. The fragment (wedge.frag) gets the planes as flat
-// varyings and reads the edge by index.
+// Wedge bound of one carrier face, for the edges it carries (DESIGN §4.5; as
+// render/cpu_wedges.cpp): the STSV volume of the face (a segment towards the light that touches
+// an edge touches the closed face, which its STSV volume bounds conservatively), both sides when
+// the light straddles the face's plane (one invocation per side). A face none of whose edges can
+// be a silhouette for any point of the light emits nothing. The fragment (wedge.frag) gets the
+// planes as flat varyings and reads the carrier's edges by index.
 #extension GL_GOOGLE_include_directive : require
 #include "wedge_bindings.glsl"
 #include "volumes/extrusion_dh.h"
@@ -13,19 +13,19 @@
 layout(points, invocations = 2) in; // gl_InvocationID = side of the carrier face
 layout(triangle_strip, max_vertices = 10) out;
 
-layout(location = 0) flat out uvec4 outIds; ///< edge, side | light planes' count << 8, planeCount, WEDGE_SIDE0_PRESENT | side 0's planeCount
+layout(location = 0) flat out uvec4 outIds; ///< GpuWedgeRecord::ids
 layout(location = 1) flat out vec4 outPlanes[STSV_VOLUME_MAX_PLANES];
 /// Side 1 only: its points inside side 0 are side 0's.
 layout(location = 6) flat out vec4 outPlanesSide0[STSV_VOLUME_MAX_PLANES];
 /// The carrier's light planes (extrusion_dh.h stsvLightPlanes): a segment from p to the light
-/// that touches the edge touches the carrier, whose shadow they bound.
+/// that touches an edge touches the carrier, whose shadow they bound.
 layout(location = 11) flat out vec4 outLightPlanes[STSV_LIGHT_PLANES_MAX];
 
 void main() {
-    uint e = uint(gl_PrimitiveIDIn);
+    uint c = uint(gl_PrimitiveIDIn);
     uint side = uint(gl_InvocationID);
     WedgeBound b;
-    if (!wedgeSetupBound(e, side, pc.light, b)) return;
+    if (!wedgeSetupBound(c, side, pc.light, b)) return;
     for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
         gl_Position = frame.clipFromWorld * b.vol.vertices[i];
         outIds = b.record.ids;

@@ -9,6 +9,33 @@
 
 layout(std430, set = 0, binding = GPU_BINDING_EDGES) readonly buffer Edges { GpuEdge edges[]; };
 layout(std430, set = 0, binding = GPU_BINDING_EDGE_FACES) readonly buffer EdgeFaces { GpuEdgeFace edgeFaces[]; };
+// The same tables as texels, for reads at a per-lane index (a vector gather on lavapipe, where a
+// storage-buffer load is a loop over the lanes); per carrier face its triangle, then the edges it
+// carries (GPU_NO_EDGE in free slots).
+layout(set = 0, binding = GPU_BINDING_CARRIER_TEXELS) uniform usamplerBuffer carrierTexels;
+layout(set = 0, binding = GPU_BINDING_EDGE_TEXELS) uniform usamplerBuffer edgeTexels;
+layout(set = 0, binding = GPU_BINDING_EDGE_FACE_TEXELS) uniform usamplerBuffer edgeFaceTexels;
+
+uvec4 carrierAt(uint c) { return texelFetch(carrierTexels, int(c)); }
+uint carrierCount() { return uint(textureSize(carrierTexels)); }
+
+/// What the edge term reads of an edge (GpuEdge texels 0 and 1).
+struct WedgeEdge {
+    vec3 v0;
+    uint firstFace;
+    vec3 v1;
+    uint faceCount;
+};
+WedgeEdge wedgeEdgeAt(uint e) {
+    uvec4 a = texelFetch(edgeTexels, int(e * GPU_EDGE_TEXELS));
+    uvec4 b = texelFetch(edgeTexels, int(e * GPU_EDGE_TEXELS + 1u));
+    WedgeEdge edge;
+    edge.v0 = uintBitsToFloat(a.xyz);
+    edge.firstFace = a.w;
+    edge.v1 = uintBitsToFloat(b.xyz);
+    edge.faceCount = b.w;
+    return edge;
+}
 
 /// wedge.geom → wedge.frag: the fragment must leave the points of the side-0 volume to side 0.
 const uint WEDGE_SIDE0_PRESENT = 256u;
@@ -21,11 +48,11 @@ bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
                                   edgeFaces[edge.firstFace + 1u].opposite, sphere);
 }
 
-/// The bound of one potential silhouette edge's wedge (DESIGN §4.5; as render/cpu_wedges.cpp):
-/// the STSV volume of the edge's carrier face (a segment towards the light that touches the edge
-/// touches the closed face, which its STSV volume bounds conservatively), both sides when the
-/// light straddles the face's plane, and the carrier's light planes. `record` is what the wedge
-/// fragment reads (GpuWedgeRecord).
+/// The bound of the wedges of a carrier face's potential silhouette edges (DESIGN §4.5; as
+/// render/cpu_wedges.cpp): the STSV volume of the face (a segment towards the light that touches
+/// an edge touches the closed face, which its STSV volume bounds conservatively), both sides when
+/// the light straddles the face's plane, and the face's light planes. One bound serves all the
+/// edges the face carries. `record` is what the wedge fragment reads (GpuWedgeRecord).
 struct WedgeBound {
     vec3 v0; ///< the carrier's corners, world units
     vec3 v1;
@@ -35,24 +62,34 @@ struct WedgeBound {
     GpuWedgeRecord record;
 };
 
-/// Whether edge e's side `side` may have a bound for light `lightIndex`: the tests of
-/// wedgeSetupBound that build nothing (a carrier, a potential silhouette, a lit side).
-bool wedgeMayHaveBound(uint e, uint side, uint lightIndex) {
-    GpuEdge edge = edges[e];
-    if (edge.carrier == GPU_NO_TRIANGLE) return false;
+/// The edges carrier c carries that are potential silhouettes of light `lightIndex`: bit k for
+/// slot k of carriers[c].yzw.
+uint carrierSilhouettes(uint c, uint lightIndex) {
+    uvec4 carrier = carrierAt(c);
     vec4 sphere = lights[lightIndex].sphere;
-    if (!potentialSilhouette(edge, sphere)) return false;
-    GpuTriangle g = triangles[edge.carrier];
-    return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), sphere);
+    uint mask = 0u;
+    for (uint k = 0u; k < 3u; ++k) {
+        uint e = carrier[k + 1u];
+        if (e != GPU_NO_EDGE && potentialSilhouette(edges[e], sphere)) mask |= 1u << k;
+    }
+    return mask;
 }
 
-/// The bound of edge e's side `side` for light `lightIndex`; false when it has none (not a
-/// potential silhouette of the light, no carrier, an empty or unlit side).
-bool wedgeSetupBound(uint e, uint side, uint lightIndex, out WedgeBound b) {
+/// Whether carrier c's side `side` may have a bound for light `lightIndex`: the tests of
+/// wedgeSetupBound that build nothing (a potential silhouette among its edges, a lit side).
+bool wedgeMayHaveBound(uint c, uint side, uint lightIndex) {
+    if (carrierSilhouettes(c, lightIndex) == 0u) return false;
+    GpuTriangle g = triangles[carrierAt(c).x];
+    return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), lights[lightIndex].sphere);
+}
+
+/// The bound of carrier c's side `side` for light `lightIndex`; false when it has none (no
+/// potential silhouette of the light among its edges, an empty or unlit side).
+bool wedgeSetupBound(uint c, uint side, uint lightIndex, out WedgeBound b) {
     b.vol.flags = STSV_VOLUME_EMPTY;
-    if (!wedgeMayHaveBound(e, side, lightIndex)) return false;
+    if (!wedgeMayHaveBound(c, side, lightIndex)) return false;
     vec4 sphere = lights[lightIndex].sphere;
-    GpuTriangle g = triangles[edges[e].carrier];
+    GpuTriangle g = triangles[carrierAt(c).x];
     b.v0 = vec3(g.v0);
     b.v1 = vec3(g.v1);
     b.v2 = vec3(g.v2);
@@ -72,7 +109,7 @@ bool wedgeSetupBound(uint e, uint side, uint lightIndex, out WedgeBound b) {
     LightFrame square;
     if (lightSampleSquare(lights[lightIndex].light, frame.farDistance, square))
         b.lp = stsvLightPlanes(b.v0, b.v1, b.v2, square.center, square.T, square.B, lo, hi);
-    b.record.ids = uvec4(e, side | (b.lp.count << 8u), b.vol.planeCount, side0);
+    b.record.ids = uvec4(c, side | (b.lp.count << 8u) | (carrierSilhouettes(c, lightIndex) << 16u), b.vol.planeCount, side0);
     for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) {
         b.record.planes[k] = b.vol.planes[k];
         b.record.planesSide0[k] = vol0.planes[k];

@@ -1,9 +1,9 @@
 #version 450
-// Wedge bounds as their hulls (as stsv_hull.comp): an invocation per queued side of a potential
-// silhouette edge (hull_queue.glsl) builds the bound of wedge.geom (wedgeSetupBound), then the
-// closed polyhedron of the carrier's volume and light planes inside the scene box (extrusion_dh.h
-// stsvVolumeHullSetup), and appends its triangles and the edge's record (GpuWedgeRecord) for
-// the indirect draw of hull.vert + wedge.frag.
+// Wedge bounds as their hulls (as stsv_hull.comp): an invocation per queued side of a carrier
+// face with a potential silhouette among its edges (hull_queue.glsl) builds the bound of
+// wedge.geom (wedgeSetupBound), then the closed polyhedron of the carrier's volume and light
+// planes inside the scene box (extrusion_dh.h stsvVolumeHullSetup), and appends its triangles
+// and the carrier's record (GpuWedgeRecord) for the indirect draw of hull.vert + wedge.frag.
 #extension GL_GOOGLE_include_directive : require
 // Threads per workgroup, set by render/gpu_hulls.cpp to what shared memory holds: the clipping
 // keeps its polyhedron there (clip_box_dh.h).
@@ -17,19 +17,19 @@ layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 
-/// Item `item` (a side of an edge: every side 0, then every side 1) and whether it may have a
+/// Item `item` (a side of a carrier: every side 0, then every side 1) and whether it may have a
 /// bound (wedgeMayHaveBound).
-bool hullItem(uint item, out uint e, out uint side) {
-    uint edgeCount = uint(edges.length());
-    side = item >= edgeCount ? 1u : 0u;
-    e = item - side * edgeCount;
-    return side <= 1u && e < edgeCount && wedgeMayHaveBound(e, side, pc.light);
+bool hullItem(uint item, out uint c, out uint side) {
+    uint count = carrierCount();
+    side = item >= count ? 1u : 0u;
+    c = item - side * count;
+    return side <= 1u && c < count && wedgeMayHaveBound(c, side, pc.light);
 }
 
-/// The bound of side `side` of edge `e`: its hull appended, its record written.
-void buildHull(uint e, uint side) {
+/// The bound of side `side` of carrier `c`: its hull appended, its record written.
+void buildHull(uint c, uint side) {
     WedgeBound b;
-    if (!wedgeSetupBound(e, side, pc.light, b)) return;
+    if (!wedgeSetupBound(c, side, pc.light, b)) return;
     uint drawn;
     uint record = appendHull(
         stsvVolumeHullSetup(b.vol, b.lp, b.v0, b.v1, b.v2, vec3(frame.boxLo), vec3(frame.boxHi)), drawn);

@@ -34,7 +34,7 @@ void main() {
         vec3 h1;
         int k;
         LightFrame lf;
-        if (!wedgePixelTerm(p, edges[entry.y], receiver, l, h0, h1, k, lf)) continue;
+        if (!wedgePixelTerm(p, wedgeEdgeAt(entry.y), receiver, l, h0, h1, k, lf)) continue;
         atomicAdd(stats[pc.light].wedgeInside, 1u);
         uint base = interleaveSet(pixel, frame.interleave) * uint(SAMPLE_COUNT);
         uvec2 offset = decorrelationOffset(pixel, frame.seed);

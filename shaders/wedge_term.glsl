@@ -7,21 +7,22 @@
 
 #include "wedge_bindings.glsl"
 
-/// The data access of wedges/wedge_fragment_dh.h: the edge's faces in edgeFaces[].
+/// The data access of wedges/wedge_fragment_dh.h: the edge's faces, GpuEdgeFace texel 0
+/// (opposite, triangle).
 struct WedgeFaces {
     uint first;
     uint count;
 };
 uint wedgeFaceTriangle(WedgeFaces faces, uint f) {
-    return edgeFaces[f].triangle;
+    return texelFetch(edgeFaceTexels, int(f * GPU_EDGE_FACE_TEXELS)).w;
 }
 vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
-    return edgeFaces[f].opposite;
+    return uintBitsToFloat(texelFetch(edgeFaceTexels, int(f * GPU_EDGE_FACE_TEXELS)).xyz);
 }
 #define WEDGE_FACES
 #include "wedges/wedge_fragment_dh.h"
 
-WedgeFaces wedgeFacesOf(GpuEdge edge) {
+WedgeFaces wedgeFacesOf(WedgeEdge edge) {
     WedgeFaces faces;
     faces.first = edge.firstFace;
     faces.count = edge.faceCount;
@@ -31,7 +32,7 @@ WedgeFaces wedgeFacesOf(GpuEdge edge) {
 /// Edge `edge` seen from the visible point p of triangle `receiver`, light pc.light: the
 /// pixel's light frame lf, the edge projected onto it (h0, h1, l = h0 × h1) and its weight k;
 /// false when it adds nothing (no valid frame, k = 0, nothing between p and the light).
-bool wedgePixelTerm(vec3 p, GpuEdge edge, uint receiver, out vec3 l, out vec3 h0, out vec3 h1, out int k,
+bool wedgePixelTerm(vec3 p, WedgeEdge edge, uint receiver, out vec3 l, out vec3 h0, out vec3 h1, out int k,
                     out LightFrame lf) {
     Light light = lights[pc.light].light;
     lf = lightFrame(light, p, frame.farDistance);

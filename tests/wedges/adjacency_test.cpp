@@ -1,6 +1,7 @@
 // Edge adjacency with welding (seams, duplicated vertices, non-manifold and open edges) and
 // silhouette sets against brute force.
 #include "core/gbuffer.h"
+#include "render/gpu_opaque_passes.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "wedge_test_util.h"
@@ -121,6 +122,67 @@ TEST(Adjacency, NonManifoldOpenAndDegenerate) {
     const EdgeAdjacency one = buildEdgeAdjacency(s, [](std::size_t t) { return t == 0; });
     EXPECT_EQ(one.edges.size(), 3u);
     EXPECT_EQ(one.openEdges, 3u);
+}
+
+TEST(GpuEdgeTables, EveryEdgeWithALiveFaceIsCarriedOnceByItsFirstLiveFace) {
+    // A cube, a triangle with collinear corners on one of its edges' line (live for the adjacency,
+    // degenerate for the volumes) and a third face on a cube edge (non-manifold): the wedge passes
+    // draw one bound per carrier face for the edges it carries, so every edge with a
+    // non-degenerate face must be in exactly one carrier's slots, that of its first such face.
+    Scene s = emptyScene();
+    const vec3 c[8] = {{-.5f, -.5f, -.5f}, {.5f, -.5f, -.5f}, {.5f, .5f, -.5f}, {-.5f, .5f, -.5f},
+                       {-.5f, -.5f, .5f},  {.5f, -.5f, .5f},  {.5f, .5f, .5f},  {-.5f, .5f, .5f}};
+    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                             {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+    for (const auto& q : quads) {
+        addTri(s, c[q[0]], c[q[1]], c[q[2]]);
+        addTri(s, c[q[0]], c[q[2]], c[q[3]]);
+    }
+    addTri(s, c[0], c[1], vec3(2.0f, -0.5f, -0.5f)); // collinear with the edge c0–c1
+    addTri(s, c[4], c[5], vec3(0.0f, -2.0f, 0.5f));  // a third face on c4–c5
+    const GpuEdgeTables tables = buildGpuEdgeTables(s);
+    const EdgeAdjacency adj = buildEdgeAdjacency(s);
+    ASSERT_EQ(tables.edges.size(), adj.edges.size());
+    auto degenerate = [&](std::uint32_t t) {
+        const uvec3 i = s.triangles[t];
+        return stsvTriangleIsDegenerate(s.positions[i.x], s.positions[i.y], s.positions[i.z]);
+    };
+    std::vector<int> carried(tables.edges.size(), 0);
+    std::vector<bool> carrierTriangle(s.triangleCount(), false);
+    for (const uvec4& carrier : tables.carriers) {
+        EXPECT_FALSE(degenerate(carrier.x));
+        EXPECT_FALSE(carrierTriangle[carrier.x]) << "triangle " << carrier.x << " listed twice";
+        carrierTriangle[carrier.x] = true;
+        EXPECT_NE(carrier.y, GPU_NO_EDGE) << "a carrier without edges";
+        if (carrier.z == GPU_NO_EDGE) {
+            EXPECT_EQ(carrier.w, GPU_NO_EDGE) << "slots filled in order";
+        }
+        for (std::uint32_t e : {carrier.y, carrier.z, carrier.w}) {
+            if (e == GPU_NO_EDGE) continue;
+            ASSERT_LT(e, tables.edges.size());
+            carried[e] += 1;
+            // The carrier is the edge's first non-degenerate face.
+            const MeshEdge& edge = adj.edges[e];
+            std::uint32_t first = GPU_NO_TRIANGLE;
+            for (std::uint32_t f = edge.firstFace;
+                 f < edge.firstFace + edge.faceCount && first == GPU_NO_TRIANGLE; ++f)
+                if (!degenerate(adj.faces[f].triangle)) first = adj.faces[f].triangle;
+            EXPECT_EQ(carrier.x, first) << "edge " << e;
+        }
+    }
+    std::size_t live = 0;
+    for (std::size_t e = 0; e < adj.edges.size(); ++e) {
+        bool hasLive = false;
+        for (std::uint32_t f = adj.edges[e].firstFace; f < adj.edges[e].firstFace + adj.edges[e].faceCount;
+             ++f)
+            hasLive = hasLive || !degenerate(adj.faces[f].triangle);
+        EXPECT_EQ(carried[e], hasLive ? 1 : 0) << "edge " << e;
+        live += hasLive ? 1 : 0;
+    }
+    // The cube's 18 edges and the non-manifold face's two new ones; the collinear triangle's two
+    // new edges have no live face.
+    EXPECT_EQ(live, 20u);
+    EXPECT_EQ(adj.edges.size(), 22u);
 }
 
 TEST(Silhouettes, FromPointMatchesFrontBackBruteForce) {
