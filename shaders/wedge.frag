@@ -91,16 +91,20 @@ void main() {
     uvec4 ids = boundIds();
     bool inBound = insideBound(ids, p);
     uvec4 carried = inBound ? carrierAt(ids.x) : uvec4(GPU_NO_EDGE);
-    uint silhouettes = (ids.y >> 16u) & 7u; // bit k: carried.yzw[k] is a potential silhouette
+    // Bit k: carried.yzw[k] is a potential silhouette. A loop over the set bits runs as many
+    // times as the batch's lanes need (a fragment batch on lavapipe holds one record's fragments),
+    // where a loop over the three slots would run all three, masked.
+    uint silhouettes = inBound ? (ids.y >> 16u) & 7u : 0u;
     uint fragments = subgroupAdd(1u);
     if (subgroupElect()) atomicAdd(stats[pc.light].wedgeFragments, fragments);
 #if WEDGE_PW
     float occlusion = 0.0;
     uint inside = 0u;
 #endif
-    for (uint k = 0u; k < 3u; ++k) {
+    while (silhouettes != 0u) {
+        uint k = uint(findLSB(silhouettes));
+        silhouettes &= silhouettes - 1u;
         uint e = carried[k + 1u];
-        if (!inBound || (silhouettes & (1u << k)) == 0u) continue;
         // The edge is a silhouette seen from p (the receiver's own face left out).
         WedgeEdge edge = wedgeEdgeAt(e);
         if (wedgeWorldWeight(p, edge.v0, edge.v1, wedgeFacesOf(edge), receiver) == 0) continue;
