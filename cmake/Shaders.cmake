@@ -99,7 +99,7 @@ stsv_pattern_q(128 STSV_Q128)
 # stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and
 # RESOLVE_COVERAGE (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
 # STSV_HULL_PATH and WEDGE_HULL_PATH on the fragments behind hull.vert, CLIP_SHARED_INVOCATIONS
-# (render/gpu_hulls.cpp) on the hull passes; the sample defines and FIXED_LIGHT_TYPE on
+# and HULL_ITEMS_PER_THREAD (render/gpu_hulls.cpp) on the hull passes; the sample defines and FIXED_LIGHT_TYPE on
 # stsv_samples.comp, the sample defines on stsv_merge.comp and wedge_samples.comp; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
 # and each sample count with each buffer kind, without the full product (two cores).
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
@@ -122,7 +122,7 @@ stsv_check_shader(${S}/stsv.frag mesh_s256_counters_ubo_l0 STSV_MESH_PATH=1 SAMP
 stsv_check_shader(${S}/stsv.frag hull_s64_l0 STSV_HULL_PATH=1 SAMPLE_COUNT=64 FIXED_LIGHT_TYPE=0u)
 stsv_check_shader(${S}/stsv.frag hull_s256_counters_ubo_l2 STSV_HULL_PATH=1 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO}
                   FIXED_LIGHT_TYPE=2u)
-stsv_check_shader(${S}/stsv_hull.comp shared4 CLIP_SHARED_INVOCATIONS=4)
+stsv_check_shader(${S}/stsv_hull.comp shared4 CLIP_SHARED_INVOCATIONS=4 HULL_ITEMS_PER_THREAD=16)
 stsv_check_shader(${S}/wedge_hull.comp shared1_ubo CLIP_SHARED_INVOCATIONS=1 ${UBO})
 stsv_check_shader(${S}/stsv_samples.comp s16_l1 SAMPLE_COUNT=16 FIXED_LIGHT_TYPE=1u)
 stsv_check_shader(${S}/stsv_samples.comp s64_counters_ubo_l0 SAMPLE_COUNT=64 STSV_COUNTERS=1 ${UBO} FIXED_LIGHT_TYPE=0u)

@@ -125,10 +125,11 @@ struct GpuStats {
 /// GpuWedgeRecord), read by the fragments of hull.vert through their flat record index.
 DH_CONST uint GPU_HULL_RECORD_TEXELS = 18u;
 
-/// Items (sides of a triangle or an edge) per thread of a hull pass: a workgroup first finds
-/// which of its threads × GPU_HULL_ITEMS_PER_THREAD items have a volume (a cheap test), then its
-/// threads build and clip those, so that a SIMD batch clips as many volumes as it has lanes.
-DH_CONST uint GPU_HULL_ITEMS_PER_THREAD = 8u;
+/// Items (sides of a triangle or a carrier face) per thread of a hull pass, at most: a workgroup
+/// first finds which of its threads × HULL_ITEMS_PER_THREAD items have a volume (a cheap test),
+/// then its threads build and clip those, so that a SIMD batch clips as many volumes as it has
+/// lanes (render/gpu_hulls.cpp chooses HULL_ITEMS_PER_THREAD per device).
+DH_CONST uint GPU_HULL_MAX_ITEMS_PER_THREAD = 16u;
 
 /// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of
 /// Eq. 2–5, the volume's planes and the triangle's light planes. Flat varyings of the geometry

@@ -23,10 +23,18 @@ constexpr VkDeviceSize TEXEL_BYTES = 16; ///< rgba32ui
 std::uint32_t hullThreadsPerGroup(const Device& device) {
     constexpr std::uint32_t bytesPerThread =
         ((CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES + 2 * CLIP_MAX_FACES) * 16 +
-        GPU_HULL_ITEMS_PER_THREAD * 4;
+        GPU_HULL_MAX_ITEMS_PER_THREAD * 4;
     std::uint32_t threads = 8;
     while (threads > 1 && threads * bytesPerThread > device.limits().maxComputeSharedMemorySize) threads /= 2;
     return threads;
+}
+
+/// Items per thread of the hull passes (HULL_ITEMS_PER_THREAD): on a CPU device 16, so that a
+/// workgroup of the wedge pass, where most carriers have no potential silhouette, queues two or
+/// three full batches (knot: wedge hulls 68-71 ms with 8, 50-66 with 16, alternated runs); on a
+/// GPU 4, for more workgroups in flight.
+std::uint32_t hullItemsPerThread(const Device& device) {
+    return device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? GPU_HULL_MAX_ITEMS_PER_THREAD : 4u;
 }
 
 } // namespace
@@ -84,9 +92,11 @@ HullPass::HullPass(const Device& device, const std::string& shader, const std::v
                    std::uint32_t items, std::uint32_t pushFlags, FrameResources& resources,
                    HullResources& hulls, const FrameDescriptors& descriptors)
     : m_resources(&resources), m_hulls(&hulls), m_descriptors(&descriptors), m_items(items),
-      m_pushFlags(pushFlags), m_threadsPerGroup(hullThreadsPerGroup(device)) {
+      m_pushFlags(pushFlags), m_threadsPerGroup(hullThreadsPerGroup(device)),
+      m_itemsPerThread(hullItemsPerThread(device)) {
     std::vector<ShaderDefine> withThreads = defines;
     withThreads.push_back({"CLIP_SHARED_INVOCATIONS", std::to_string(m_threadsPerGroup)});
+    withThreads.push_back({"HULL_ITEMS_PER_THREAD", std::to_string(m_itemsPerThread)});
     const ShaderCompiler compiler;
     m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
                                        compiler.compileFile(shader, withThreads));
@@ -105,9 +115,9 @@ void HullPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, m_pushFlags, 0u});
-    // GPU_HULL_ITEMS_PER_THREAD sides of items per thread, in rows of at most 65535 workgroups
-    // (the minimum maxComputeWorkGroupCount[0]); the shaders number the workgroups row by row.
-    const std::uint64_t perGroup = std::uint64_t(m_threadsPerGroup) * GPU_HULL_ITEMS_PER_THREAD;
+    // m_itemsPerThread sides of items per thread, in rows of at most 65535 workgroups (the
+    // minimum maxComputeWorkGroupCount[0]); the shaders number the workgroups row by row.
+    const std::uint64_t perGroup = std::uint64_t(m_threadsPerGroup) * m_itemsPerThread;
     const std::uint64_t groups = (2ull * m_items + perGroup - 1) / perGroup;
     const auto rowLength = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, 65535));
     if (groups > 0)

@@ -50,7 +50,7 @@ class HullResources {
 };
 
 /// One hull compute pass for one light: `shader` (stsv_hull.comp, wedge_hull.comp) over the
-/// sides of `items` (triangles, edges), side 0 of every item first, GPU_HULL_ITEMS_PER_THREAD
+/// sides of `items` (triangles, carrier faces), side 0 of every item first, HULL_ITEMS_PER_THREAD
 /// sides a thread (a workgroup queues those with a volume, then clips them). The
 /// HullResources' draw arguments must be zeroed before (HullResources::draw).
 class HullPass final : public GpuPass {
@@ -69,6 +69,7 @@ class HullPass final : public GpuPass {
     std::uint32_t m_items;
     std::uint32_t m_pushFlags;
     std::uint32_t m_threadsPerGroup;
+    std::uint32_t m_itemsPerThread;
     Pipeline m_pipeline;
 };
 
