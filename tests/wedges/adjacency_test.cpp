@@ -48,6 +48,21 @@ void addTri(Scene& s, vec3 a, vec3 b, vec3 c) {
     s.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), 0);
 }
 
+/// The corners of the unit cube about the origin.
+const vec3 CUBE[8] = {{-.5f, -.5f, -.5f}, {.5f, -.5f, -.5f}, {.5f, .5f, -.5f}, {-.5f, .5f, -.5f},
+                      {-.5f, -.5f, .5f},  {.5f, -.5f, .5f},  {.5f, .5f, .5f},  {-.5f, .5f, .5f}};
+
+/// Every face of the cube with its own four vertices (as OBJ loaders emit at UV seams), two
+/// triangles a face, outward winding.
+void addCube(Scene& s) {
+    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
+                             {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
+    for (const auto& q : quads) {
+        addTri(s, CUBE[q[0]], CUBE[q[1]], CUBE[q[2]]);
+        addTri(s, CUBE[q[0]], CUBE[q[2]], CUBE[q[3]]);
+    }
+}
+
 /// Face count of the edge between two positions, 0 if absent.
 std::uint32_t facesOn(const EdgeAdjacency& adj, vec3 a, vec3 b) {
     for (const MeshEdge& e : adj.edges) {
@@ -61,14 +76,7 @@ TEST(Adjacency, CubeWithSeamsWeldsClosed) {
     // Every face of a unit cube with its own four vertices (as OBJ loaders emit at UV seams),
     // corners at ±0.5 but one face written with −0.0-free and one with signed-zero variants.
     Scene s = emptyScene();
-    const vec3 c[8] = {{-.5f, -.5f, -.5f}, {.5f, -.5f, -.5f}, {.5f, .5f, -.5f}, {-.5f, .5f, -.5f},
-                       {-.5f, -.5f, .5f},  {.5f, -.5f, .5f},  {.5f, .5f, .5f},  {-.5f, .5f, .5f}};
-    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                             {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
-    for (const auto& q : quads) {
-        addTri(s, c[q[0]], c[q[1]], c[q[2]]);
-        addTri(s, c[q[0]], c[q[2]], c[q[3]]);
-    }
+    addCube(s);
     ASSERT_EQ(s.positions.size(), 36u); // unindexed: nothing shared before welding
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
     EXPECT_EQ(adj.positions.size(), 8u);
@@ -130,16 +138,9 @@ TEST(GpuEdgeTables, EveryEdgeWithALiveFaceIsCarriedOnceByItsFirstLiveFace) {
     // draw one bound per carrier face for the edges it carries, so every edge with a
     // non-degenerate face must be in exactly one carrier's slots, that of its first such face.
     Scene s = emptyScene();
-    const vec3 c[8] = {{-.5f, -.5f, -.5f}, {.5f, -.5f, -.5f}, {.5f, .5f, -.5f}, {-.5f, .5f, -.5f},
-                       {-.5f, -.5f, .5f},  {.5f, -.5f, .5f},  {.5f, .5f, .5f},  {-.5f, .5f, .5f}};
-    const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                             {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
-    for (const auto& q : quads) {
-        addTri(s, c[q[0]], c[q[1]], c[q[2]]);
-        addTri(s, c[q[0]], c[q[2]], c[q[3]]);
-    }
-    addTri(s, c[0], c[1], vec3(2.0f, -0.5f, -0.5f)); // collinear with the edge c0–c1
-    addTri(s, c[4], c[5], vec3(0.0f, -2.0f, 0.5f));  // a third face on c4–c5
+    addCube(s);
+    addTri(s, CUBE[0], CUBE[1], vec3(2.0f, -0.5f, -0.5f)); // collinear with the edge 0–1
+    addTri(s, CUBE[4], CUBE[5], vec3(0.0f, -2.0f, 0.5f));  // a third face on 4–5
     const GpuEdgeTables tables = buildGpuEdgeTables(s);
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
     ASSERT_EQ(tables.edges.size(), adj.edges.size());
