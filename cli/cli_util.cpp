@@ -166,14 +166,13 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
     // (two a pixel at first, 8 bytes each; render/gpu_renderer.cpp) and, for STSV bitmasks,
     // their word buffer.
     double shared = 0.0;
-    const bool stsv = methodInfo(o.method).stsv != StsvTriangles::None;
-    if (o.backend == Backend::Vulkan && (stsv || methodInfo(o.method).opaque == OpaqueTechnique::Dcs))
+    const MethodInfo& method = methodInfo(o.method);
+    const bool vulkan = o.backend == Backend::Vulkan;
+    const bool stsv = method.stsv != StsvTriangles::None;
+    if (vulkan && (stsv || method.opaque == OpaqueTechnique::Dcs))
         shared += std::min(2.0 * pixels, double(kMaxDeferredFragments)) * 8.0;
-    if (o.backend == Backend::Vulkan && stsv) {
-        if (methodInfo(o.method).bufferKind(o.buffer) == BufferKind::Bitmask)
-            shared +=
-                double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));
-    }
+    if (vulkan && stsv && method.bufferKind(o.buffer) == BufferKind::Bitmask)
+        shared += double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));
     return gbuffer + images + shared + perLight * double(std::max<std::size_t>(lights, 1));
 }
 

@@ -60,7 +60,7 @@ void checkWritableFile(const std::string& path, const std::string& what);
 void prepareOutputDirectory(const std::string& dir, const std::string& what);
 
 /// UsageError when one frame of `options` with `lights` lights would need more memory than
-/// the machine has (G-buffer, images, light-sample buffers and the STSV sample pass's list).
+/// the machine has (G-buffer, images, light-sample buffers and the sample passes' list).
 void checkFrameMemory(const RenderOptions& options, std::size_t lights);
 /// Bytes one frame holds on the host, estimated from the buffers' sizes.
 double estimateFrameBytes(const RenderOptions& options, std::size_t lights);

@@ -41,10 +41,9 @@ DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 23u; ///< the hull vertices as rg
 DH_CONST uint GPU_BINDING_DEFERRED_COUNT = 24u;     ///< uvec4, x: fragments deferred (SSBO)
 DH_CONST uint GPU_BINDING_DEFERRED = 25u;           ///< uvec2 per deferred fragment: pixel, item (SSBO)
 DH_CONST uint GPU_BINDING_STSV_MASK_WORDS = 26u;    ///< their mask words, pixel-major (SSBO)
-DH_CONST uint GPU_BINDING_CARRIER_TEXELS = 27u; ///< rgba32ui per carrier face: triangle, its carried edges
-DH_CONST uint GPU_BINDING_EDGE_TEXELS = 28u;    ///< GpuEdge[] as rgba32ui texels, GPU_EDGE_TEXELS each
-DH_CONST uint GPU_BINDING_EDGE_FACE_TEXELS =
-    29u; ///< GpuEdgeFace[] as rgba32ui texels, GPU_EDGE_FACE_TEXELS each
+DH_CONST uint GPU_BINDING_CARRIER_TEXELS = 27u;   ///< rgba32ui per carrier face: triangle, its carried edges
+DH_CONST uint GPU_BINDING_EDGE_TEXELS = 28u;      ///< GpuEdge[] as rgba32ui texels, GPU_EDGE_TEXELS each
+DH_CONST uint GPU_BINDING_EDGE_FACE_TEXELS = 29u; ///< GpuEdgeFace[] as rgba32ui texels
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu;     ///< an empty slot of a carrier's edges

@@ -76,9 +76,11 @@ uint carrierSilhouettes(uint c, uint lightIndex) {
 }
 
 /// Whether carrier c's side `side` may have a bound for light `lightIndex`: the tests of
-/// wedgeSetupBound that build nothing (a potential silhouette among its edges, a lit side).
-bool wedgeMayHaveBound(uint c, uint side, uint lightIndex) {
-    if (carrierSilhouettes(c, lightIndex) == 0u) return false;
+/// wedgeSetupBound that build nothing (a potential silhouette among its edges, a lit side);
+/// `silhouettes` gets carrierSilhouettes.
+bool wedgeMayHaveBound(uint c, uint side, uint lightIndex, out uint silhouettes) {
+    silhouettes = carrierSilhouettes(c, lightIndex);
+    if (silhouettes == 0u) return false;
     GpuTriangle g = triangles[carrierAt(c).x];
     return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), lights[lightIndex].sphere);
 }
@@ -87,7 +89,8 @@ bool wedgeMayHaveBound(uint c, uint side, uint lightIndex) {
 /// potential silhouette of the light among its edges, an empty or unlit side).
 bool wedgeSetupBound(uint c, uint side, uint lightIndex, out WedgeBound b) {
     b.vol.flags = STSV_VOLUME_EMPTY;
-    if (!wedgeMayHaveBound(c, side, lightIndex)) return false;
+    uint silhouettes;
+    if (!wedgeMayHaveBound(c, side, lightIndex, silhouettes)) return false;
     vec4 sphere = lights[lightIndex].sphere;
     GpuTriangle g = triangles[carrierAt(c).x];
     b.v0 = vec3(g.v0);
@@ -109,7 +112,7 @@ bool wedgeSetupBound(uint c, uint side, uint lightIndex, out WedgeBound b) {
     LightFrame square;
     if (lightSampleSquare(lights[lightIndex].light, frame.farDistance, square))
         b.lp = stsvLightPlanes(b.v0, b.v1, b.v2, square.center, square.T, square.B, lo, hi);
-    b.record.ids = uvec4(c, side | (b.lp.count << 8u) | (carrierSilhouettes(c, lightIndex) << 16u), b.vol.planeCount, side0);
+    b.record.ids = uvec4(c, side | (b.lp.count << 8u) | (silhouettes << 16u), b.vol.planeCount, side0);
     for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) {
         b.record.planes[k] = b.vol.planes[k];
         b.record.planesSide0[k] = vol0.planes[k];

@@ -23,7 +23,8 @@ bool hullItem(uint item, out uint c, out uint side) {
     uint count = carrierCount();
     side = item >= count ? 1u : 0u;
     c = item - side * count;
-    return side <= 1u && c < count && wedgeMayHaveBound(c, side, pc.light);
+    uint silhouettes;
+    return side <= 1u && c < count && wedgeMayHaveBound(c, side, pc.light, silhouettes);
 }
 
 /// The bound of side `side` of carrier `c`: its hull appended, its record written.
