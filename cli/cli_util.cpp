@@ -1,6 +1,8 @@
 #include "cli/cli_util.h"
 
 #include "core/error.h"
+#include "core/files.h"
+#include "core/memory_budget.h"
 #include "render/gpu_deferred.h"
 #include "render/gpu_renderer.h"
 
@@ -138,6 +140,30 @@ void checkWritableFile(const std::string& path, const std::string& what) {
         throw UsageError(what + " " + path + ": file is not writable");
 }
 
+void checkOutputFiles(const std::vector<OutputFile>& outputs) {
+    std::vector<std::pair<fs::path, std::string>> seen;
+    for (const OutputFile& out : outputs) {
+        if (out.path.empty()) continue;
+        std::string ext = fs::path(out.path).extension().string();
+        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        if (std::find(out.extensions.begin(), out.extensions.end(), ext) == out.extensions.end()) {
+            std::string accepted;
+            for (const std::string& e : out.extensions) accepted += (accepted.empty() ? "" : " or ") + e;
+            throw UsageError(out.option + " " + out.path + ": the file's extension chooses its format, and " +
+                             out.option + " writes " + accepted + "; name a " + accepted + " file");
+        }
+        checkWritableFile(out.path, out.option);
+        std::error_code ec;
+        fs::path canonical = fs::weakly_canonical(fs::absolute(out.path), ec);
+        if (ec) canonical = fs::absolute(out.path).lexically_normal();
+        for (const auto& [other, option] : seen)
+            if (other == canonical)
+                throw UsageError(out.option + " " + out.path + ": " + option +
+                                 " names the same file; give each output its own path");
+        seen.emplace_back(canonical, out.option);
+    }
+}
+
 void prepareOutputDirectory(const std::string& dir, const std::string& what) {
     if (dir.empty()) throw UsageError(what + ": empty path");
     std::error_code ec;
@@ -177,28 +203,15 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
 }
 
 void checkFrameMemory(const RenderOptions& o, std::size_t lights) {
-    const double needed = estimateFrameBytes(o, lights);
-    const long pages = ::sysconf(_SC_PHYS_PAGES);
-    const long pageSize = ::sysconf(_SC_PAGE_SIZE);
-    if (pages <= 0 || pageSize <= 0) return;
-    const double available = double(pages) * double(pageSize);
-    // Outputs (PNG rows, .npy copies) and the renderer's own buffers come on top: ask for half.
-    if (needed > 0.5 * available) {
-        char text[256];
-        std::snprintf(
-            text, sizeof text,
-            "a %dx%d frame with %d samples and %zu light(s) needs about %.1f GiB, more than half of "
-            "this machine's %.1f GiB: use a smaller --size, fewer --samples or a smaller sm_size",
-            o.width, o.height, o.samples, lights, needed / double(1u << 30), available / double(1u << 30));
-        throw UsageError(text);
-    }
+    char what[160];
+    std::snprintf(what, sizeof what, "a %dx%d frame with %d samples and %zu light(s)", o.width, o.height, o.samples,
+                  lights);
+    checkMemory(what, estimateFrameBytes(o, lights), "use a smaller --size, fewer --samples or a smaller sm_size");
 }
 
 void writeJson(const std::string& path, const nlohmann::json& json) {
-    std::ofstream out(path);
-    if (!out) throw Error(path + ": cannot open for writing");
-    out << json.dump(2) << '\n';
-    if (!out) throw Error(path + ": write failed");
+    const std::string text = json.dump(2) + "\n";
+    writeFileBytes(path, text.data(), text.size());
 }
 
 Summary summarize(std::vector<double> values) {

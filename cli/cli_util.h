@@ -56,6 +56,18 @@ Backend defaultBackendFor(Method method, Backend preferred);
 /// missing, not a directory or not writable, or the path names a directory. `what` names
 /// the option ("-o", "--stats").
 void checkWritableFile(const std::string& path, const std::string& what);
+/// An output file of a command: the option that names it, its path (empty: not requested) and
+/// the extensions of the format it is written in.
+struct OutputFile {
+    std::string option;
+    std::string path;
+    std::vector<std::string> extensions; ///< lower case, with the dot: ".png"
+};
+/// UsageError before any work when an output's extension is not one of its format's (the format
+/// follows the extension; nothing is written under another format's name), when it cannot be
+/// written (checkWritableFile), or when two outputs name the same file.
+void checkOutputFiles(const std::vector<OutputFile>& outputs);
+
 /// Creates `dir` (and parents) if needed; UsageError when that fails or it is not writable.
 void prepareOutputDirectory(const std::string& dir, const std::string& what);
 

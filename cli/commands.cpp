@@ -3,6 +3,7 @@
 #include "cli/cli_util.h"
 #include "cli/subcommands.h"
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/version.h"
 
 #include <CLI/CLI.hpp>
@@ -67,6 +68,9 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
                      "the scene box clipped by each volume's and the light's planes in a compute pass; "
                      "geometry, mesh: the paper's ten-vertex prism)")
         ->capture_default_str();
+    command->add_option("--max-memory", a.maxMemory,
+                        "memory the scene and the frame may hold, e.g. 8G or 512M (default: half of this "
+                        "machine's physical memory); larger inputs are refused before they are allocated");
     command->add_flag("-q,--quiet", a.quiet, "no progress display or summary line");
 }
 
@@ -183,6 +187,9 @@ int runCli(int argc, char** argv) {
             throw UsageError("unknown command '" + std::string(argv[1]) +
                              "' (expected render, info, bench or compare)");
         app.parse(argc, argv);
+        for (const FrameArgs* a : {static_cast<const FrameArgs*>(&r), static_cast<const FrameArgs*>(&b),
+                                   static_cast<const FrameArgs*>(&c)})
+            if (!a->maxMemory.empty()) setMemoryLimit(parseMemorySize(a->maxMemory));
         if (*render) {
             r.argv.assign(argv, argv + argc);
             return runRender(r);
@@ -204,7 +211,10 @@ int runCli(int argc, char** argv) {
         std::fprintf(stderr, "stsv: error: %s\n", e.what());
         return 1;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr, "stsv: error: out of memory (try a smaller --size or fewer --samples)\n");
+        std::fprintf(stderr,
+                     "stsv: error: out of memory: an allocation failed below the memory limit of %s; the "
+                     "scene, the frame's --size and --samples or the lights need more than this machine gives\n",
+                     describeMemoryLimit().c_str());
         return 1;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "stsv: internal error: %s\n", e.what());

@@ -8,6 +8,7 @@
 
 #include "core/contact_sheet.h"
 #include "core/error.h"
+#include "core/files.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "render/frame.h"
@@ -47,7 +48,7 @@ struct Row {
     ImageF visibilityDisplay;       ///< kept for --converged, --report, --sheet
     ImageF litDisplay;
     double frameMs = 0.0;
-    bool perSample = true; ///< false for penumbra wedges: a v_coef per pixel, no per-sample result
+    bool perSample = true; ///< false when it or the method compared with has a v_coef per pixel only
     double identicalPercent() const {
         return comparedSamples ? 100.0 * double(comparedSamples - differingSamples) / double(comparedSamples)
                                : 100.0;
@@ -66,14 +67,18 @@ double frameMsOf(const Frame& frame, double fallback) {
     return it != frame.stats.end() && it->is_number() ? it->get<double>() : fallback;
 }
 
-Row compareFrames(const MethodBackend& mb, const Frame& frame, const Frame& against, double frameMs) {
+Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBackend& againstMb, const Frame& against,
+                  double frameMs) {
     Row row;
     row.mb = mb;
     row.frameMs = frameMs;
     if (frame.lightSamples.size() != against.lightSamples.size())
         throw Error(toString(mb) + " returned " + std::to_string(frame.lightSamples.size()) +
                     " light-sample buffers, the reference " + std::to_string(against.lightSamples.size()));
-    row.perSample = methodInfo(mb.method).output != MethodOutput::Visibility;
+    // Bits are counted only where both sides have them: a visibility-only method (pw, pcf, ...)
+    // holds no per-sample answer, and its buffer's zeros would read as "every sample lit".
+    row.perSample = methodInfo(mb.method).output != MethodOutput::Visibility &&
+                    methodInfo(againstMb.method).output != MethodOutput::Visibility;
     for (std::size_t l = 0; row.perSample && l < frame.lightSamples.size(); ++l) {
         const LightSampleDiff d = compareLightSamples(frame.lightSamples[l], against.lightSamples[l], 0);
         row.differingSamples += d.differingSamples;
@@ -96,7 +101,7 @@ void writeImages(const std::string& dir, const MethodBackend& mb, const Frame& f
     writePng(base.string() + "_lit.png", toImage8(frame.color, true));
     if (!row || !against) return;
     writePng(base.string() + "_diff.png", heatMap(row->visibility.absDifference, heatScale));
-    if (!frame.lightSamples.empty())
+    if (row->perSample && !frame.lightSamples.empty())
         writePng(base.string() + "_bitdiff.png",
                  heatMap(sampleDisagreement(frame.lightSamples[0], against->lightSamples[0]), heatScale));
 }
@@ -308,9 +313,8 @@ void writeReport(const std::string& dir, const Report& base, const std::vector<I
         report.imageRows.push_back(row);
     }
     const std::string path = (fs::path(dir) / "index.html").string();
-    std::ofstream out(path);
-    out << reportHtml(report);
-    if (!out) throw Error(path + ": write failed");
+    const std::string html = reportHtml(report);
+    writeFileBytes(path, html.data(), html.size());
 }
 
 void writeSheet(const std::string& path, const std::vector<ImageSet>& sets, const std::string& heatTitle) {
@@ -424,12 +428,12 @@ int runCompare(CompareArgs& args) {
         }
         rows.push_back(std::move(row));
     };
-    addRow(compareFrames(against, reference, reference, againstMs), reference);
+    addRow(compareFrames(against, reference, against, reference, againstMs), reference);
     for (const MethodBackend& mb : methods) {
         if (mb.method == against.method && mb.backend == against.backend) continue; // already the first row
         double ms = 0.0;
         const Frame frame = render(mb, ms);
-        addRow(compareFrames(mb, frame, reference, ms), frame);
+        addRow(compareFrames(mb, frame, against, reference, ms), frame);
     }
     if (converged && !args.out.empty()) {
         writePng((fs::path(args.out) / "converged_visibility.png").string(),
@@ -450,11 +454,18 @@ int runCompare(CompareArgs& args) {
                     identical.c_str(), differing.c_str(), r.visibility.rmse, r.visibility.maxAbs, r.lit.rmse,
                     r.lit.maxAbs, 100.0 * r.lit.fractionAbove, r.frameMs);
     }
-    const char* const equalNote =
-        "(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; >1/255 px = pixels "
-        "of the lit image off by more than one 8-bit step; n/a: penumbra wedges give a v_coef per pixel, "
-        "not per-sample bits)";
-    std::printf("%s\n", equalNote);
+    std::string visibilityOnly;
+    for (const MethodBackend& mb : methods)
+        if (methodInfo(mb.method).output == MethodOutput::Visibility &&
+            visibilityOnly.find(toString(mb.method)) == std::string::npos)
+            visibilityOnly += (visibilityOnly.empty() ? "" : ", ") + toString(mb.method);
+    if (methodInfo(against.method).output == MethodOutput::Visibility)
+        visibilityOnly = "every method: " + toString(against.method) + ", the method compared with,";
+    const std::string equalNote =
+        std::string("(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; >1/255 px = pixels "
+                    "of the lit image off by more than one 8-bit step") +
+        (visibilityOnly.empty() ? ")" : "; n/a: " + visibilityOnly + " give(s) a v_coef per pixel, not per-sample bits)");
+    std::printf("%s\n", equalNote.c_str());
 
     // The bias tables: against the equal-sample reference, and against the converged one with
     // the equal-sample reference's own error as the noise floor.

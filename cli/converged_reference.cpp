@@ -1,6 +1,7 @@
 #include "cli/converged_reference.h"
 
 #include "core/error.h"
+#include "core/files.h"
 #include "core/progress.h"
 #include "core/version.h"
 
@@ -133,11 +134,8 @@ void writeEntry(const fs::path& dir, const nlohmann::json& description, const Co
     fs::create_directories(staging);
     writeImageNpy((staging / kVisibilityFile).string(), images.visibility);
     writeImageNpy((staging / kLitFile).string(), images.color);
-    {
-        std::ofstream out(staging / kKeyFile);
-        out << description.dump(2) << '\n';
-        if (!out) throw Error((staging / kKeyFile).string() + ": write failed");
-    }
+    const std::string key = description.dump(2) + "\n";
+    writeFileBytes((staging / kKeyFile).string(), key.data(), key.size());
     fs::remove_all(dir);
     fs::rename(staging, dir);
 }

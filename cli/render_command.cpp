@@ -62,25 +62,26 @@ int runRender(RenderArgs& args) {
         o.backend = parseBackend(args.backend);
     checkBackendSupports(o.method, o.backend);
 
-    // Every output is checked before the (possibly long) render.
+    // Every output is checked before the (possibly long) render: its format is the one its
+    // extension names, no two outputs share a path, and a method writes only what it has.
     if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty())
         args.output = std::filesystem::path(args.scene).stem().string() + ".png";
-    if (!args.output.empty()) checkWritableFile(args.output, "-o");
-    if (!args.visibility.empty()) checkWritableFile(args.visibility, "--visibility");
-    if (!args.stats.empty()) checkWritableFile(args.stats, "--stats");
-    if (!args.dumpLs.empty()) {
-        checkWritableFile(args.dumpLs, "--dump-ls");
-        if (o.buffer == BufferKind::Bitmask && o.samples % 8 != 0)
-            throw UsageError("--dump-ls of a bitmask needs a sample count that is a multiple of 8");
-    }
-
-    if (!args.shadowMap.empty()) {
-        checkWritableFile(args.shadowMap, "--shadow-map");
-        if (methodInfo(o.method).shadowMap == ShadowFilter::None)
-            throw UsageError("--shadow-map: method " + toString(o.method) +
-                             " renders no shadow map (image-based methods do)");
-        o.keepShadowMaps = true;
-    }
+    const MethodInfo& method = methodInfo(o.method);
+    if (!args.dumpLs.empty() && method.output == MethodOutput::Visibility)
+        throw UsageError("--dump-ls: method " + method.name +
+                         " has no per-sample answer (it writes a v_coef per pixel); write that with "
+                         "--visibility, or dump the light samples of a per-sample method");
+    if (!args.shadowMap.empty() && method.shadowMap == ShadowFilter::None)
+        throw UsageError("--shadow-map: method " + method.name + " renders no shadow map (image-based methods do)");
+    const std::vector<OutputFile> outputs = {{"-o", args.output, {".png"}},
+                                             {"--visibility", args.visibility, {".png"}},
+                                             {"--dump-ls", args.dumpLs, {".npy"}},
+                                             {"--shadow-map", args.shadowMap, {".npy"}},
+                                             {"--stats", args.stats, {".json"}}};
+    checkOutputFiles(outputs);
+    if (!args.dumpLs.empty() && o.buffer == BufferKind::Bitmask && o.samples % 8 != 0)
+        throw UsageError("--dump-ls of a bitmask needs a sample count that is a multiple of 8");
+    if (!args.shadowMap.empty()) o.keepShadowMaps = true;
 
     const SceneOptions sceneOptions = parseSets(args.sets);
     Timer loadTimer;

@@ -23,6 +23,7 @@ struct FrameArgs {
     std::vector<std::string> sets;   ///< scene knobs key=value
     std::vector<std::string> params; ///< method knobs name=value (render/methods.h)
     RenderOptions options;           ///< samples, seed, interleave, decorrelate, ambient, device, validation
+    std::string maxMemory;           ///< --max-memory (core/memory_budget.h); empty: the default
     bool quiet = false;
 };
 

@@ -32,11 +32,15 @@ struct ImageF {
     float at(int x, int y, int c) const { return pixels[(std::size_t(y) * width + x) * channels + c]; }
 };
 
+/// The largest image side stsv reads (Vulkan's common maxImageDimension2D).
+constexpr int MAX_IMAGE_SIDE = 16384;
+
 /// Reads a PNG (any bit depth/colour type stb accepts) expanded to RGBA8.
-/// Throws InputError naming the file when it is missing or not a readable image.
+/// Throws InputError naming the file when it is missing, not a regular file, not a readable image,
+/// larger than MAX_IMAGE_SIDE a side, or too large for the memory limit (core/memory_budget.h).
 Image8 readPngRgba(const std::string& path);
 
-/// Writes an 8-bit PNG; throws Error on failure.
+/// Writes an 8-bit PNG; throws Error naming the file when any part of the write fails.
 void writePng(const std::string& path, const Image8& image);
 
 /// Converts linear floats to 8 bits: optional sRGB encoding, clamped to [0, 1].
@@ -53,6 +57,11 @@ struct NpyArray {
     std::vector<std::size_t> shape;
     std::vector<std::uint8_t> bytes;
 };
+/// Reads a C-order .npy (versions 1 to 3); InputError naming the file when it is missing,
+/// malformed, in Fortran order, of another dtype than little-endian integers and floats, or
+/// holds other than the bytes its shape needs.
 NpyArray readNpy(const std::string& path);
+/// The same from the file's bytes (`path` only names it in errors).
+NpyArray parseNpy(const std::string& path, const std::string& file);
 
 } // namespace stsv

@@ -64,6 +64,11 @@ VkDebugUtilsMessengerCreateInfoEXT messengerInfo(ValidationLog* log) {
 }
 
 /// A Vulkan 1.3 instance without surface extensions; `log` non-null enables validation.
+/// What a user without a Vulkan driver reads, and can act on.
+constexpr const char* kNoDriver =
+    "no Vulkan driver was found: install one (on Debian: apt install mesa-vulkan-drivers for lavapipe, "
+    "the CPU driver; or your GPU vendor's driver), or render without Vulkan with --backend cpu";
+
 VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
@@ -100,7 +105,10 @@ VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
         if (synchronizationValidation) messenger.pNext = &features;
     }
     VkInstance instance = VK_NULL_HANDLE;
-    STSV_VK_CHECK(vkCreateInstance(&info, nullptr, &instance));
+    const VkResult result = vkCreateInstance(&info, nullptr, &instance);
+    if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
+        throw Error(std::string(kNoDriver) + " (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER)");
+    STSV_VK_CHECK(result);
     return instance;
 }
 
@@ -220,6 +228,7 @@ std::size_t selectDevice(const std::vector<DeviceInfo>& infos, const std::string
             for (std::size_t i = 0; i < infos.size() && chosen == infos.size(); ++i)
                 if (infos[i].type == type && usable(infos[i])) chosen = i;
         }
+        if (infos.empty()) throw Error(std::string(kNoDriver) + " (the Vulkan loader lists no device)");
         if (chosen == infos.size())
             throw Error("no Vulkan 1.3 device with dynamic rendering and synchronization2 (devices: " +
                         names() + ")");

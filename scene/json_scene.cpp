@@ -1,6 +1,8 @@
 #include "scene/json_scene.h"
 
 #include "core/error.h"
+#include "core/files.h"
+#include "core/memory_budget.h"
 #include "core/image.h"
 #include "scene/geometry.h"
 #include "scene/mesh_io.h"
@@ -107,7 +109,11 @@ class Reader {
     static std::string index(const std::string& where, std::size_t i) {
         return where + "[" + std::to_string(i) + "]";
     }
+    /// A value in an error message: its type and, for a scalar, its text cut to 40 characters;
+    /// an array or object by its size only (never dumped whole).
     static std::string describe(const Json& j) {
+        if (j.is_array()) return "an array of " + std::to_string(j.size()) + " item(s)";
+        if (j.is_object()) return "an object of " + std::to_string(j.size()) + " member(s)";
         std::string text = j.dump();
         if (text.size() > 40) text = text.substr(0, 37) + "...";
         return std::string(j.type_name()) + " " + text;
@@ -204,8 +210,8 @@ class SceneBuilder {
                 m_r.fail(Reader::join(w, "name"), "duplicate material name '" + m.name + "'");
             if (j.contains("albedo")) {
                 m.albedo = m_r.color(j["albedo"], Reader::join(w, "albedo"));
-                if (m.albedo.x > 1.0f || m.albedo.y > 1.0f || m.albedo.z > 1.0f)
-                    m_r.fail(Reader::join(w, "albedo"), "components must be ≤ 1");
+                if (const std::string problem = albedoProblem(m.albedo); !problem.empty())
+                    m_r.fail(Reader::join(w, "albedo"), problem);
             }
             AlphaSource channel = AlphaSource::Auto;
             if (j.contains("alphaChannel")) {
@@ -245,9 +251,8 @@ class SceneBuilder {
             const fs::path file = m_dir / j.get<std::string>();
             const std::string key = file.lexically_normal().string() + "|" + std::to_string(int(channel));
             if (const auto it = m_textureByKey.find(key); it != m_textureByKey.end()) return it->second;
-            std::error_code ec;
-            if (!fs::is_regular_file(file, ec))
-                m_r.fail(w, "texture file '" + file.string() + "' does not exist");
+            if (const std::string reason = notAFileReason(file.string()); !reason.empty())
+                m_r.fail(w, "texture file '" + file.string() + "' " + reason);
             Image8 image;
             try {
                 image = readPngRgba(file.string());
@@ -292,9 +297,8 @@ class SceneBuilder {
         MeshData mesh;
         if (j.contains("file")) {
             const fs::path file = m_dir / m_r.string(j["file"], Reader::join(w, "file"));
-            std::error_code ec;
-            if (!fs::is_regular_file(file, ec))
-                m_r.fail(Reader::join(w, "file"), "mesh file '" + file.string() + "' does not exist");
+            if (const std::string reason = notAFileReason(file.string()); !reason.empty())
+                m_r.fail(Reader::join(w, "file"), "mesh file '" + file.string() + "' " + reason);
             try {
                 mesh = loadMeshFile(file.string());
             } catch (const UsageError& e) {
@@ -433,6 +437,11 @@ class SceneBuilder {
             c.fovY = float(m_r.number(j["fovY"], "camera.fovY"));
             if (!(c.fovY > 0.0f && c.fovY < 180.0f)) m_r.fail("camera.fovY", "must be in (0, 180) degrees");
         }
+        for (const char* key : {"eye", "target"}) {
+            const vec3 v = std::string(key) == "eye" ? c.eye : c.target;
+            if (!withinSceneRange(v))
+                m_r.fail(Reader::join(w, key), "coordinates must lie within ±" + sceneRangeText() + " world units");
+        }
         const vec3 forward = c.target - c.eye;
         if (!(length(forward) > 0.0f)) m_r.fail(w, "eye and target coincide");
         if (length(cross(normalize(forward), c.up)) < 1e-4f)
@@ -449,15 +458,19 @@ class SceneBuilder {
 } // namespace
 
 Scene loadJsonScene(const std::string& path) {
-    std::error_code ec;
-    if (!fs::is_regular_file(path, ec)) throw InputError(path, "cannot open scene file: file does not exist");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, "cannot open scene file (unreadable)");
-    std::ostringstream text;
-    text << in.rdbuf();
+    const std::string text = readFileBytes(path, "scene file", std::size_t(memoryLimitBytes() / 8));
     Json root;
     try {
-        root = Json::parse(text.str(), nullptr, true, /*ignore_comments=*/true);
+        // Nesting is limited while parsing: a scene is a few levels deep, and a deep value would
+        // exhaust the stack of whatever walks it afterwards.
+        const Json::parser_callback_t limitDepth = [&path](int depth, Json::parse_event_t event, Json&) {
+            if (depth > MAX_JSON_DEPTH &&
+                (event == Json::parse_event_t::object_start || event == Json::parse_event_t::array_start))
+                throw InputError(path, "JSON nested deeper than " + std::to_string(MAX_JSON_DEPTH) +
+                                           " levels; a scene needs a handful");
+            return true;
+        };
+        root = Json::parse(text, limitDepth, true, /*ignore_comments=*/true);
     } catch (const Json::out_of_range& e) { // number overflow ("1e999")
         std::string message = e.what();
         if (const auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
@@ -466,7 +479,7 @@ Scene loadJsonScene(const std::string& path) {
         // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
         std::string message = e.what();
         if (const auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
-        const std::string source = text.str();
+        const std::string& source = text;
         std::size_t line = 1;
         for (std::size_t i = 0; i < std::min(e.byte, source.size()); ++i) line += source[i] == '\n' ? 1 : 0;
         throw InputError(path, line, "invalid JSON: " + message);

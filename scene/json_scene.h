@@ -7,10 +7,14 @@
 
 namespace stsv {
 
+/// The deepest nesting of arrays and objects a scene file may have.
+constexpr int MAX_JSON_DEPTH = 64;
+
 /// Reads a JSON scene: materials, meshes (inline quads/triangles or .obj/.off files relative to
 /// the JSON file) placed with transforms, camera, lights. Unknown keys, missing or mistyped
 /// fields, non-finite numbers, non-positive sizes, zero normals and missing files throw
-/// InputError naming the file and the JSON path of the value (syntax errors: line and column).
+/// InputError naming the file and the JSON path of the value (syntax errors: line and column;
+/// nesting deeper than MAX_JSON_DEPTH is refused while parsing).
 Scene loadJsonScene(const std::string& path);
 
 } // namespace stsv

@@ -185,6 +185,8 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
         if (spec == "knot") {
             const int segments = int(knobs.integer("segments", 480, 3, 100000));
             const int sides = int(knobs.integer("sides", 12, 3, 1000));
+            checkSceneMemory("scene 'knot' (segments=" + std::to_string(segments) + ", sides=" + std::to_string(sides) + ")",
+                             2.0 * segments * sides);
             return makeMeshScene(makeTorusKnotMesh(segments, sides, 0.12f), "knot");
         }
         FoliageParams p;
@@ -193,6 +195,7 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
         p.spacing = knobs.real("spacing", p.spacing, 0.0f, 100.0f, true);
         p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 1000.0f, false);
         p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
+        checkSceneMemory("scene 'foliage' (count=" + std::to_string(p.count) + ")", 4.0 * p.count + 2.0);
         return makeFoliageScene(p);
     }
     const std::string ext = lowerExtension(spec);
@@ -203,8 +206,9 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
         throw UsageError("scene file '" + spec + "' has an unsupported extension '" + ext +
                          "' (expected .json, .obj or .off)");
     const Knobs knobs(spec, options, {}); // files take no knobs
-    if (ext == ".json") return loadJsonScene(spec);
-    return makeMeshScene(loadMeshFile(spec), spec);
+    Scene scene = ext == ".json" ? loadJsonScene(spec) : makeMeshScene(loadMeshFile(spec), spec);
+    checkSceneMemory(spec, double(scene.triangles.size()));
+    return scene;
 }
 
 } // namespace stsv

@@ -9,6 +9,9 @@
 
 namespace stsv {
 
+/// The most texels (of the texture as repeated over the quad) makeTexelBoxMesh visits.
+constexpr double MAX_TEXEL_BOX_TEXELS = double(1u << 28);
+
 struct TexelBoxOptions {
     float thickness = 0.0005f; ///< world units; box depth along the quad's normal (z)
     bool mergeRows = true;     ///< merge identical runs of consecutive rows into one rectangle
@@ -22,7 +25,8 @@ struct TexelBoxOptions {
 /// Boxes over the opaque texels (alpha ≥ 128, the texel rule) of `texture` repeated over the
 /// quad of makeQuad(size, uvRepeat) (xy plane, centred, u along +x from the left edge, v from the
 /// top edge down) under `wrap`; z ∈ [−thickness/2, thickness/2]. One opaque material (index 0);
-/// 12 triangles and 8 vertices per box. UsageError for an empty texture or non-positive sizes.
+/// 12 triangles and 8 vertices per box. UsageError for an empty texture, non-positive sizes,
+/// more than MAX_TEXEL_BOX_TEXELS texels, or a mesh above the memory limit.
 MeshData makeTexelBoxMesh(const Texture& texture, WrapMode wrap, vec2 size, vec2 uvRepeat,
                           const TexelBoxOptions& options = {});
 

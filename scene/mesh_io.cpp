@@ -1,6 +1,8 @@
 #include "scene/mesh_io.h"
 
 #include "core/error.h"
+#include "core/files.h"
+#include "core/memory_budget.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -28,17 +30,10 @@ namespace fs = std::filesystem;
 // writes the polygon's texcoords onto one fan triangle only (garbage on the others).
 using PolyMesh = OpenMesh::PolyMesh_ArrayKernelT<>;
 
+/// A text input whole; a file that would not fit the memory limit a few times over (the mesh it
+/// describes takes several times its text) is refused before it is read.
 std::string readText(const std::string& path, const char* what) {
-    std::error_code ec;
-    if (!fs::exists(path, ec))
-        throw InputError(path, std::string("cannot open ") + what + ": file does not exist");
-    if (fs::is_directory(path, ec))
-        throw InputError(path, std::string("cannot open ") + what + ": is a directory");
-    std::ifstream in(path, std::ios::binary);
-    if (!in) throw InputError(path, std::string("cannot open ") + what + " (unreadable)");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
+    return readFileBytes(path, what, std::size_t(memoryLimitBytes() / 8));
 }
 
 /// Lines of a text file with 1-based numbers; comments (# …) and a trailing \r removed.
@@ -204,9 +199,8 @@ int loadTextureFile(const std::string& referer, std::size_t line, const fs::path
                     MeshData& into, TextureCache& cache) {
     const std::string key = file.lexically_normal().string() + "|" + std::to_string(int(source));
     if (const auto it = cache.byKey.find(key); it != cache.byKey.end()) return it->second;
-    std::error_code ec;
-    if (!fs::is_regular_file(file, ec))
-        throw InputError(referer, line, "texture file '" + file.string() + "' does not exist");
+    if (const std::string reason = notAFileReason(file.string()); !reason.empty())
+        throw InputError(referer, line, "texture file '" + file.string() + "' " + reason);
     Image8 image;
     try {
         image = readPngRgba(file.string());
@@ -344,7 +338,8 @@ void loadMtl(const std::string& path, MeshData& into) {
             } else if (tokens.size() == 3) {
                 throw InputError(path, number, "'Kd' needs 1 or 3 numbers, got 2");
             }
-            if (kd.x < 0.0f || kd.y < 0.0f || kd.z < 0.0f) throw InputError(path, number, "negative 'Kd'");
+            if (const std::string problem = albedoProblem(kd); !problem.empty())
+                throw InputError(path, number, "'Kd' " + problem);
             current->albedo = kd;
         } else if (key == "map_Kd") {
             pending.back().kd = parseMapStatement(tokens, path, number);
@@ -417,9 +412,8 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
             anyMtllib = true;
             for (std::size_t k = 1; k < tokens.size(); ++k) {
                 const fs::path mtl = dir / std::string(tokens[k]);
-                std::error_code ec;
-                if (!fs::is_regular_file(mtl, ec))
-                    throw InputError(path, number, "material library '" + mtl.string() + "' does not exist");
+                if (const std::string reason = notAFileReason(mtl.string()); !reason.empty())
+                    throw InputError(path, number, "material library '" + mtl.string() + "' " + reason);
                 const std::size_t before = out.materials.size();
                 loadMtl(mtl.string(), out);
                 for (std::size_t m = before; m < out.materials.size(); ++m)

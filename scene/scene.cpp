@@ -1,6 +1,7 @@
 #include "scene/scene.h"
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 
 #include <cmath>
 
@@ -11,6 +12,29 @@ bool finite(vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 } // namespace
+
+bool withinSceneRange(vec3 v) {
+    for (int k = 0; k < 3; ++k)
+        if (!(std::abs(v[k]) <= MAX_SCENE_COORDINATE)) return false;
+    return true;
+}
+
+std::string sceneRangeText() {
+    return "1e9";
+}
+
+std::string albedoProblem(vec3 albedo) {
+    if (!finite(albedo)) return "must be finite";
+    if (albedo.x < 0.0f || albedo.y < 0.0f || albedo.z < 0.0f) return "components must be ≥ 0";
+    if (albedo.x > 1.0f || albedo.y > 1.0f || albedo.z > 1.0f)
+        return "components must be ≤ 1 (a diffuse reflectance)";
+    return {};
+}
+
+void checkSceneMemory(const std::string& what, double triangles) {
+    checkMemory(what + ": " + std::to_string(std::llround(triangles)) + " triangles", triangles * SCENE_BYTES_PER_TRIANGLE,
+                "use a coarser mesh");
+}
 
 Bounds Scene::bounds() const {
     Bounds b;
@@ -34,6 +58,9 @@ void Scene::validate() const {
         const vec3 p = positions[i];
         if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
             throw InputError(source, "vertex " + std::to_string(i) + " has a non-finite coordinate");
+        if (!withinSceneRange(p))
+            throw InputError(source, "vertex " + std::to_string(i) + " lies beyond ±" + sceneRangeText() +
+                                         " world units");
         if (!std::isfinite(texcoords[i].x) || !std::isfinite(texcoords[i].y))
             throw InputError(source, "vertex " + std::to_string(i) + " has a non-finite texture coordinate");
     }
@@ -50,13 +77,16 @@ void Scene::validate() const {
     for (const Material& m : materials) {
         if (m.alphaTexture >= static_cast<int>(textures.size()))
             throw InputError(source, "material '" + m.name + "' refers to a missing texture");
-        if (!(finite(m.albedo) && m.albedo.x >= 0.0f && m.albedo.y >= 0.0f && m.albedo.z >= 0.0f))
-            throw InputError(source, "material '" + m.name + "' has a negative or non-finite albedo");
+        if (const std::string problem = albedoProblem(m.albedo); !problem.empty())
+            throw InputError(source, "material '" + m.name + "' albedo: " + problem);
     }
     for (const Texture& t : textures)
         if (t.width <= 0 || t.height <= 0 || t.rgba.size() != std::size_t(t.width) * t.height * 4)
             throw InputError(source, "texture '" + t.name + "' is empty or has the wrong byte count");
     if (lights.empty()) throw InputError(source, "scene has no lights");
+    if (lights.size() > MAX_SCENE_LIGHTS)
+        throw InputError(source, "scene has " + std::to_string(lights.size()) + " lights, more than the " +
+                                     std::to_string(MAX_SCENE_LIGHTS) + " a frame renders");
     for (std::size_t i = 0; i < lights.size(); ++i) {
         const Light& l = lights[i];
         const std::string which = "light " + std::to_string(i);
@@ -64,6 +94,8 @@ void Scene::validate() const {
         if (!(finite(l.position) && finite(l.normal) && finite(l.axisU) && finite(l.axisV) &&
               finite(l.radiance) && std::isfinite(l.radius) && std::isfinite(l.angularRadius)))
             throw InputError(source, which + " has a non-finite parameter");
+        if (!withinSceneRange(l.position))
+            throw InputError(source, which + " lies beyond ±" + sceneRangeText() + " world units");
         if (std::abs(length(l.normal) - 1.0f) > 1e-3f)
             throw InputError(source, which + " has a non-unit normal");
         if (l.radiance.x < 0.0f || l.radiance.y < 0.0f || l.radiance.z < 0.0f)
@@ -73,6 +105,8 @@ void Scene::validate() const {
         if (l.type == LIGHT_DIRECTIONAL && !(l.angularRadius >= 0.0f && l.angularRadius < 1.5707963f))
             throw InputError(source, which + " has an angular radius outside [0, 90) degrees");
     }
+    if (!withinSceneRange(camera.eye) || !withinSceneRange(camera.target))
+        throw InputError(source, "camera eye or target lies beyond ±" + sceneRangeText() + " world units");
     const vec3 forward = camera.target - camera.eye;
     if (!(finite(camera.eye) && finite(camera.target) && finite(camera.up) && length(forward) > 0.0f &&
           length(cross(forward, camera.up)) > 0.0f && camera.fovY > 0.0f && camera.fovY < 180.0f))

@@ -60,6 +60,29 @@ struct Bounds {
     bool empty() const { return lo.x > hi.x; }
 };
 
+/// Bytes a scene triangle costs from loading to a rendered frame on the host, all stages
+/// together (positions, the loaders' meshes, adjacency, the ray tracer's BVH, GPU tables): 2 M
+/// triangles held 5.3 GB in `stsv render` (2026-12), about 2.6 KB each.
+constexpr double SCENE_BYTES_PER_TRIANGLE = 2600.0;
+/// The most lights a scene may have: a frame runs its per-light passes once for each.
+constexpr std::size_t MAX_SCENE_LIGHTS = 1024;
+
+/// The largest coordinate a scene may hold, world units: float math squares distances, and a
+/// square above 3e38 is infinite.
+constexpr float MAX_SCENE_COORDINATE = 1e9f;
+/// Whether every component of v is finite and within ±MAX_SCENE_COORDINATE.
+bool withinSceneRange(vec3 v);
+/// "1e+09": the range in messages.
+std::string sceneRangeText();
+
+/// Empty when `albedo` is a diffuse reflectance (each component finite and in [0, 1]); else
+/// what is wrong with it. Every loader checks albedos (JSON albedo, MTL Kd) with it.
+std::string albedoProblem(vec3 albedo);
+
+/// UsageError (core/memory_budget.h) when `triangles` scene triangles would not fit the memory
+/// limit; `what` names the scene or file.
+void checkSceneMemory(const std::string& what, double triangles);
+
 struct Scene {
     std::string source;                          ///< file or built-in name it came from
     std::vector<vec3> positions;                 ///< world units
