@@ -2,7 +2,8 @@
 # Behaviour check for changes that must not alter results: renders every method on every backend
 # that implements it, on the built-in scenes fence, foliage and knot and on
 # tests/data/scene/example.json, at a fixed seed, and writes each light-sample buffer (--dump-ls)
-# with its SHA-256.
+# with its SHA-256. Methods without per-sample bits (pw, pcf, ...) refuse --dump-ls; their
+# float32 visibility (--visibility .npy) is checked instead.
 #
 #   bench/dump_ls_check.sh record DIR [STSV]    render and write DIR/sha256.txt
 #   bench/dump_ls_check.sh compare DIR [STSV]   render again and compare with DIR/sha256.txt
@@ -34,8 +35,15 @@ while read -r method backend; do
     size=96x72; [ "$name" = knot ] && size=64x48
     for buffer in bitmask counters; do
       file="$out/${name}_${method/+/_}_${backend}_${buffer}.npy"
-      "$stsv" render "$scene" --method "$method" --backend "$backend" --size "$size" --samples 64 \
-        --seed 7 --buffer "$buffer" --dump-ls "$file" -q
+      common=("$scene" --method "$method" --backend "$backend" --size "$size" --samples 64 --seed 7
+        --buffer "$buffer" -q)
+      if ! err=$("$stsv" render "${common[@]}" --dump-ls "$file" 2>&1); then
+        case "$err" in
+        *"no per-sample answer"*)
+          "$stsv" render "${common[@]}" --visibility "${file%.npy}_visibility.npy" ;;
+        *) echo "$err" >&2; exit 1 ;;
+        esac
+      fi
     done
   done
 done <<<"$pairs"

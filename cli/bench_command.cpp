@@ -156,6 +156,9 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
         const double wallMs = wall.milliseconds();
         progress.advance();
         if (onFrame) onFrame(label, timed);
+        if (i == 0)
+            for (const std::string& warning : frameWarnings(frame.stats))
+                std::fprintf(stderr, "stsv: warning: %s: %s\n", label.c_str(), warning.c_str());
         if (i == 0 && frame.stats.contains("startup_ms") && frame.stats["startup_ms"].is_number())
             result.startupMs = frame.stats["startup_ms"].get<double>();
         if (!timed) continue;

@@ -144,15 +144,14 @@ void checkOutputFiles(const std::vector<OutputFile>& outputs) {
     std::vector<std::pair<fs::path, std::string>> seen;
     for (const OutputFile& out : outputs) {
         if (out.path.empty()) continue;
-        std::string ext = fs::path(out.path).extension().string();
-        std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+        checkWritableFile(out.path, out.option);
+        const std::string ext = lowerExtension(out.path);
         if (std::find(out.extensions.begin(), out.extensions.end(), ext) == out.extensions.end()) {
             std::string accepted;
             for (const std::string& e : out.extensions) accepted += (accepted.empty() ? "" : " or ") + e;
             throw UsageError(out.option + " " + out.path + ": the file's extension chooses its format, and " +
                              out.option + " writes " + accepted + "; name a " + accepted + " file");
         }
-        checkWritableFile(out.path, out.option);
         std::error_code ec;
         fs::path canonical = fs::weakly_canonical(fs::absolute(out.path), ec);
         if (ec) canonical = fs::absolute(out.path).lexically_normal();
@@ -204,9 +203,10 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
 
 void checkFrameMemory(const RenderOptions& o, std::size_t lights) {
     char what[160];
-    std::snprintf(what, sizeof what, "a %dx%d frame with %d samples and %zu light(s)", o.width, o.height, o.samples,
-                  lights);
-    checkMemory(what, estimateFrameBytes(o, lights), "use a smaller --size, fewer --samples or a smaller sm_size");
+    std::snprintf(what, sizeof what, "a %dx%d frame with %d samples and %zu light(s)", o.width, o.height,
+                  o.samples, lights);
+    checkMemory(what, estimateFrameBytes(o, lights),
+                "use a smaller --size, fewer --samples or a smaller sm_size");
 }
 
 void writeJson(const std::string& path, const nlohmann::json& json) {

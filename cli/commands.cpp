@@ -35,6 +35,29 @@ std::string perLightPath(const std::string& path, std::size_t light) {
 
 namespace {
 
+/// A message as the terminal should show it: bytes that are not printable ASCII or UTF-8 text
+/// (a garbage file's contents quoted by a loader) as \xNN escapes.
+std::string printable(const std::string& message) {
+    std::string out;
+    for (unsigned char c : message) {
+        if (c >= 0x20 && c != 0x7f) {
+            out.push_back(char(c)); // printable ASCII, and UTF-8 sequences passed through
+        } else {
+            char escaped[8];
+            std::snprintf(escaped, sizeof escaped, "\\x%02x", c);
+            out += escaped;
+        }
+    }
+    return out;
+}
+
+/// "a .json scene, an .obj/.off mesh, or a built-in name (fence, foliage, ...)".
+std::string sceneHelp() {
+    std::string names;
+    for (const std::string& n : builtinSceneNames()) names += (names.empty() ? "" : ", ") + n;
+    return "a .json scene, an .obj/.off mesh, or a built-in name (" + names + "; see stsv info)";
+}
+
 /// --method's help: every row of the method table.
 std::string methodHelp() {
     std::string text = "one of:";
@@ -98,10 +121,7 @@ int runCli(int argc, char** argv) {
     r.options.samples = 64;
     CLI::App* render =
         app.add_subcommand("render", "render a scene: image, visibility, light-sample buffers, stats");
-    render
-        ->add_option("scene", r.scene,
-                     "a .json scene, an .obj/.off mesh, or a built-in name (fence, foliage)")
-        ->required();
+    render->add_option("scene", r.scene, sceneHelp())->required();
     render->add_option("--method", r.method, methodHelp())->capture_default_str();
     render->add_option("--backend", r.backend,
                        "vulkan | cpu (default " + toString(defaultBackend()) +
@@ -111,7 +131,8 @@ int runCli(int argc, char** argv) {
     addFrameOptions(render, r);
     render->add_option("-o,--output", r.output,
                        "lit image (PNG, sRGB); default SCENE.png when no output is given");
-    render->add_option("--visibility", r.visibility, "visibility v_coef image (PNG, linear gray)");
+    render->add_option("--visibility", r.visibility,
+                       "visibility v_coef: .png (linear gray, 8 bits) or .npy (float32 [H, W])");
     render->add_option("--dump-ls", r.dumpLs, "light-sample buffer as NumPy .npy (one file per light)");
     render->add_option(
         "--shadow-map", r.shadowMap,
@@ -129,7 +150,7 @@ int runCli(int argc, char** argv) {
 
     BenchArgs b;
     CLI::App* bench = app.add_subcommand("bench", "time frames per method, backend and sample count");
-    bench->add_option("scene", b.scene, "a .json scene, an .obj/.off mesh, or a built-in name");
+    bench->add_option("scene", b.scene, sceneHelp());
     bench->add_option("--methods", b.methods, "comma-separated, of: " + methodNameList("and"))
         ->capture_default_str();
     bench->add_option("--backends", b.backends,
@@ -187,6 +208,7 @@ int runCli(int argc, char** argv) {
             throw UsageError("unknown command '" + std::string(argv[1]) +
                              "' (expected render, info, bench or compare)");
         app.parse(argc, argv);
+        setMemoryLimit(0); // the default, unless this command says otherwise
         for (const FrameArgs* a : {static_cast<const FrameArgs*>(&r), static_cast<const FrameArgs*>(&b),
                                    static_cast<const FrameArgs*>(&c)})
             if (!a->maxMemory.empty()) setMemoryLimit(parseMemorySize(a->maxMemory));
@@ -205,19 +227,20 @@ int runCli(int argc, char** argv) {
         }
     } catch (const CLI::ParseError& e) {
         if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
-        std::fprintf(stderr, "stsv: error: %s (see stsv --help)\n", e.what());
+        std::fprintf(stderr, "stsv: error: %s (see stsv --help)\n", printable(e.what()).c_str());
         return 1;
     } catch (const Error& e) {
-        std::fprintf(stderr, "stsv: error: %s\n", e.what());
+        std::fprintf(stderr, "stsv: error: %s\n", printable(e.what()).c_str());
         return 1;
     } catch (const std::bad_alloc&) {
-        std::fprintf(stderr,
-                     "stsv: error: out of memory: an allocation failed below the memory limit of %s; the "
-                     "scene, the frame's --size and --samples or the lights need more than this machine gives\n",
-                     describeMemoryLimit().c_str());
+        std::fprintf(
+            stderr,
+            "stsv: error: out of memory: an allocation failed below the memory limit of %s; the "
+            "scene, the frame's --size and --samples or the lights need more than this machine gives\n",
+            describeMemoryLimit().c_str());
         return 1;
     } catch (const std::exception& e) {
-        std::fprintf(stderr, "stsv: internal error: %s\n", e.what());
+        std::fprintf(stderr, "stsv: internal error: %s\n", printable(e.what()).c_str());
         return 2;
     }
     return 0;

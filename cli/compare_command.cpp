@@ -67,8 +67,8 @@ double frameMsOf(const Frame& frame, double fallback) {
     return it != frame.stats.end() && it->is_number() ? it->get<double>() : fallback;
 }
 
-Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBackend& againstMb, const Frame& against,
-                  double frameMs) {
+Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBackend& againstMb,
+                  const Frame& against, double frameMs) {
     Row row;
     row.mb = mb;
     row.frameMs = frameMs;
@@ -384,6 +384,8 @@ int runCompare(CompareArgs& args) {
         Timer wall;
         Frame frame = renderFrame(scene, optionsOf(mb));
         frameMs = frameMsOf(frame, wall.milliseconds());
+        for (const std::string& warning : frameWarnings(frame.stats))
+            std::fprintf(stderr, "stsv: warning: %s\n", warning.c_str());
         return frame;
     };
     double againstMs = 0.0;
@@ -462,9 +464,12 @@ int runCompare(CompareArgs& args) {
     if (methodInfo(against.method).output == MethodOutput::Visibility)
         visibilityOnly = "every method: " + toString(against.method) + ", the method compared with,";
     const std::string equalNote =
-        std::string("(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; >1/255 px = pixels "
-                    "of the lit image off by more than one 8-bit step") +
-        (visibilityOnly.empty() ? ")" : "; n/a: " + visibilityOnly + " give(s) a v_coef per pixel, not per-sample bits)");
+        std::string(
+            "(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; >1/255 px = pixels "
+            "of the lit image off by more than one 8-bit step") +
+        (visibilityOnly.empty()
+             ? ")"
+             : "; n/a: " + visibilityOnly + " give(s) a v_coef per pixel, not per-sample bits)");
     std::printf("%s\n", equalNote.c_str());
 
     // The bias tables: against the equal-sample reference, and against the converged one with

@@ -68,13 +68,6 @@ nlohmann::json executableStamp() {
             {"mtime_ns", std::int64_t(st.st_mtim.tv_nsec)}};
 }
 
-/// A float32 image as .npy: [H, W] for one channel, [H, W, C] otherwise.
-void writeImageNpy(const std::string& path, const ImageF& image) {
-    std::vector<std::size_t> shape{std::size_t(image.height), std::size_t(image.width)};
-    if (image.channels != 1) shape.push_back(std::size_t(image.channels));
-    writeNpy(path, "<f4", shape, image.pixels.data(), image.pixels.size() * sizeof(float));
-}
-
 /// The .npy at `path` as an image of exactly width × height × channels floats; InputError
 /// naming the file and what is wrong otherwise.
 ImageF readImageNpy(const std::string& path, int width, int height, int channels) {
@@ -132,8 +125,8 @@ void writeEntry(const fs::path& dir, const nlohmann::json& description, const Co
         dir.parent_path() / (dir.filename().string() + ".tmp" + std::to_string(::getpid()));
     fs::remove_all(staging);
     fs::create_directories(staging);
-    writeImageNpy((staging / kVisibilityFile).string(), images.visibility);
-    writeImageNpy((staging / kLitFile).string(), images.color);
+    writeNpy((staging / kVisibilityFile).string(), images.visibility);
+    writeNpy((staging / kLitFile).string(), images.color);
     const std::string key = description.dump(2) + "\n";
     writeFileBytes((staging / kKeyFile).string(), key.data(), key.size());
     fs::remove_all(dir);

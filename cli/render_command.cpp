@@ -5,6 +5,7 @@
 #include "cli/subcommands.h"
 
 #include "core/error.h"
+#include "core/files.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "core/version.h"
@@ -72,9 +73,10 @@ int runRender(RenderArgs& args) {
                          " has no per-sample answer (it writes a v_coef per pixel); write that with "
                          "--visibility, or dump the light samples of a per-sample method");
     if (!args.shadowMap.empty() && method.shadowMap == ShadowFilter::None)
-        throw UsageError("--shadow-map: method " + method.name + " renders no shadow map (image-based methods do)");
+        throw UsageError("--shadow-map: method " + method.name +
+                         " renders no shadow map (image-based methods do)");
     const std::vector<OutputFile> outputs = {{"-o", args.output, {".png"}},
-                                             {"--visibility", args.visibility, {".png"}},
+                                             {"--visibility", args.visibility, {".png", ".npy"}},
                                              {"--dump-ls", args.dumpLs, {".npy"}},
                                              {"--shadow-map", args.shadowMap, {".npy"}},
                                              {"--stats", args.stats, {".json"}}};
@@ -92,9 +94,16 @@ int runRender(RenderArgs& args) {
     Timer total;
     Frame frame = renderFrame(scene, o);
     const double renderMs = total.milliseconds();
+    for (const std::string& warning : frameWarnings(frame.stats))
+        std::fprintf(stderr, "stsv: warning: %s\n", warning.c_str());
 
     if (!args.output.empty()) writePng(args.output, toImage8(frame.color, true));
-    if (!args.visibility.empty()) writePng(args.visibility, toImage8(frame.visibility, false));
+    if (!args.visibility.empty()) {
+        if (lowerExtension(args.visibility) == ".png")
+            writePng(args.visibility, toImage8(frame.visibility, false));
+        else
+            writeNpy(args.visibility, frame.visibility); // float32 v_coef, unquantised
+    }
     std::vector<std::string> npyFiles;
     if (!args.dumpLs.empty())
         for (std::size_t l = 0; l < frame.lightSamples.size(); ++l) {

@@ -1,6 +1,9 @@
 # stsv_module(NAME DEPS ...): a static library from every .cpp in the calling folder.
 # Headers are included as "folder/file.h" from the repository root.
-set(STSV_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion -Werror)
+set(STSV_WARNINGS -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion)
+if(STSV_WERROR)
+  list(APPEND STSV_WARNINGS -Werror)
+endif()
 # GCC 12 at -O3 reports -Wrestrict inside libstdc++'s std::string (GCC bugs 105329 and 105651,
 # fixed in 13): a warning there, never an error, so every build type builds.
 if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU" AND CMAKE_CXX_COMPILER_VERSION VERSION_LESS 13)

@@ -2,6 +2,8 @@
 
 #include "core/error.h"
 
+#include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -23,14 +25,22 @@ std::string notAFileReason(const std::string& path) {
     return {};
 }
 
+std::string lowerExtension(const std::string& path) {
+    std::string ext = fs::path(path).extension().string();
+    std::transform(ext.begin(), ext.end(), ext.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return ext;
+}
+
 std::string readFileBytes(const std::string& path, const char* what, std::size_t maxBytes) {
     if (const std::string reason = notAFileReason(path); !reason.empty())
         throw InputError(path, std::string("cannot open ") + what + ": " + reason);
     std::error_code ec;
     const auto size = fs::file_size(path, ec);
     if (!ec && size > maxBytes)
-        throw InputError(path, std::string(what) + " of " + std::to_string(size) + " bytes is larger than the " +
-                                   std::to_string(maxBytes) + " bytes accepted");
+        throw InputError(path, std::string(what) + " of " + std::to_string(size) +
+                                   " bytes is larger than the " + std::to_string(maxBytes) +
+                                   " bytes accepted");
     std::ifstream in(path, std::ios::binary);
     if (!in) throw InputError(path, std::string("cannot open ") + what + " (unreadable)");
     std::ostringstream text;

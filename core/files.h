@@ -11,6 +11,9 @@ namespace stsv {
 /// exist", "is a directory, not a file", "is a device, pipe or socket, not a regular file".
 std::string notAFileReason(const std::string& path);
 
+/// The extension of `path` in lower case, with the dot (".png"); empty when it has none.
+std::string lowerExtension(const std::string& path);
+
 /// Reads a whole regular file; InputError naming it when it is missing, not a regular file,
 /// unreadable, or larger than `maxBytes`.
 std::string readFileBytes(const std::string& path, const char* what, std::size_t maxBytes);

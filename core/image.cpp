@@ -28,6 +28,21 @@ Image8 readPngRgba(const std::string& path) {
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int length = static_cast<int>(bytes.size());
     int w = 0, h = 0, n = 0;
+    // A PNG's size is read from its header first: stb refuses images over 1 GiB without saying why.
+    if (bytes.size() >= 24 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 &&
+        bytes.compare(12, 4, "IHDR") == 0) {
+        auto be32 = [&](std::size_t at) {
+            return std::uint64_t(std::uint8_t(bytes[at])) << 24 |
+                   std::uint64_t(std::uint8_t(bytes[at + 1])) << 16 |
+                   std::uint64_t(std::uint8_t(bytes[at + 2])) << 8 |
+                   std::uint64_t(std::uint8_t(bytes[at + 3]));
+        };
+        const std::uint64_t pw = be32(16), ph = be32(20);
+        if (pw > std::uint64_t(MAX_IMAGE_SIDE) || ph > std::uint64_t(MAX_IMAGE_SIDE))
+            throw InputError(path, "image of " + std::to_string(pw) + "x" + std::to_string(ph) +
+                                       " pixels is larger than the " + std::to_string(MAX_IMAGE_SIDE) +
+                                       " pixels a side accepted");
+    }
     // stb's failure reason is not reset between calls (it may be null, or left over from a format
     // tried earlier), so the messages below do not quote it.
     if (!stbi_info_from_memory(data, length, &w, &h, &n))
@@ -39,7 +54,7 @@ Image8 readPngRgba(const std::string& path) {
     checkMemory(path + ": image of " + std::to_string(w) + "x" + std::to_string(h) + " pixels",
                 4.0 * double(w) * double(h));
     std::unique_ptr<stbi_uc, void (*)(void*)> pixels(stbi_load_from_memory(data, length, &w, &h, &n, 4),
-                                                      stbi_image_free);
+                                                     stbi_image_free);
     if (!pixels) throw InputError(path, "not a readable image (its header reads, its pixel data is corrupt)");
     Image8 image;
     image.width = w;
@@ -100,6 +115,12 @@ void writeNpy(const std::string& path, const std::string& dtype, const std::vect
     writeFileBytes(path, file.data(), file.size());
 }
 
+void writeNpy(const std::string& path, const ImageF& image) {
+    std::vector<std::size_t> shape{std::size_t(image.height), std::size_t(image.width)};
+    if (image.channels != 1) shape.push_back(std::size_t(image.channels));
+    writeNpy(path, "<f4", shape, image.pixels.data(), image.pixels.size() * sizeof(float));
+}
+
 namespace {
 
 /// The value of `key` in a .npy header dict ("{'descr': '<u2', 'fortran_order': False, ...}"),
@@ -114,7 +135,8 @@ std::string npyHeaderValue(const std::string& path, const std::string& header, c
     const char close = open == '\'' ? '\'' : open == '(' ? ')' : '\0';
     if (close) {
         const auto end = header.find(close, at + 1);
-        if (end == std::string::npos) throw InputError(path, "malformed .npy header: '" + key + "' is unterminated");
+        if (end == std::string::npos)
+            throw InputError(path, "malformed .npy header: '" + key + "' is unterminated");
         return header.substr(at + 1, end - at - 1);
     }
     const auto end = header.find_first_of(",}", at);
@@ -131,25 +153,28 @@ NpyArray parseNpy(const std::string& path, const std::string& file) {
     if (file.size() < 10 || std::memcmp(file.data(), "\x93NUMPY", 6) != 0)
         throw InputError(path, "not a .npy file (no \\x93NUMPY magic)");
     const auto major = std::uint8_t(file[6]);
-    if (major < 1 || major > 3) throw InputError(path, ".npy version " + std::to_string(major) + " is not supported");
+    if (major < 1 || major > 3)
+        throw InputError(path, ".npy version " + std::to_string(major) + " is not supported");
     const std::size_t lengthBytes = major == 1 ? 2 : 4;
     if (file.size() < 8 + lengthBytes) throw InputError(path, "truncated .npy header");
     std::size_t headerLen = 0;
-    for (std::size_t b = 0; b < lengthBytes; ++b) headerLen |= std::size_t(std::uint8_t(file[8 + b])) << (8 * b);
+    for (std::size_t b = 0; b < lengthBytes; ++b)
+        headerLen |= std::size_t(std::uint8_t(file[8 + b])) << (8 * b);
     const std::size_t dataStart = 8 + lengthBytes + headerLen;
     if (headerLen > 65536 || file.size() < dataStart) throw InputError(path, "truncated .npy header");
     const std::string header = file.substr(8 + lengthBytes, headerLen);
 
     NpyArray array;
     array.dtype = npyHeaderValue(path, header, "descr");
-    static const std::pair<const char*, std::size_t> known[] = {{"|u1", 1}, {"<u1", 1}, {"|i1", 1}, {"<u2", 2},
-                                                                {"<i2", 2}, {"<u4", 4}, {"<i4", 4}, {"<f4", 4},
-                                                                {"<f8", 8}, {"|b1", 1}};
+    static const std::pair<const char*, std::size_t> known[] = {
+        {"|u1", 1}, {"<u1", 1}, {"|i1", 1}, {"<u2", 2}, {"<i2", 2},
+        {"<u4", 4}, {"<i4", 4}, {"<f4", 4}, {"<f8", 8}, {"|b1", 1}};
     std::size_t itemBytes = 0;
     for (const auto& [name, bytes] : known)
         if (array.dtype == name) itemBytes = bytes;
     if (itemBytes == 0)
-        throw InputError(path, "dtype '" + array.dtype + "' is not supported (little-endian integers or floats)");
+        throw InputError(path,
+                         "dtype '" + array.dtype + "' is not supported (little-endian integers or floats)");
     const std::string order = npyHeaderValue(path, header, "fortran_order");
     if (order == "True")
         throw InputError(path, "is in Fortran (column-major) order; save it in C order "
@@ -170,14 +195,16 @@ NpyArray parseNpy(const std::string& path, const std::string& file) {
             throw InputError(path, "malformed .npy shape (" + dims + ")");
         const std::size_t extent = std::stoull(item);
         array.shape.push_back(extent);
-        count = extent == 0 ? 0 : (count > (std::size_t(1) << 40) / extent ? (std::size_t(1) << 41) : count * extent);
+        count = extent == 0
+                    ? 0
+                    : (count > (std::size_t(1) << 40) / extent ? (std::size_t(1) << 41) : count * extent);
     }
     const std::size_t dataBytes = file.size() - dataStart;
     if (count > (std::size_t(1) << 40) || count * itemBytes != dataBytes)
-        throw InputError(path, "holds " + std::to_string(dataBytes) + " bytes of data where its shape (" + dims +
-                                   ") of " + array.dtype + " needs " +
+        throw InputError(path, "holds " + std::to_string(dataBytes) + " bytes of data where its shape (" +
+                                   dims + ") of " + array.dtype + " needs " +
                                    (count > (std::size_t(1) << 40) ? std::string("more than 2^40")
-                                                                    : std::to_string(count * itemBytes)));
+                                                                   : std::to_string(count * itemBytes)));
     array.bytes.assign(file.begin() + std::ptrdiff_t(dataStart), file.end());
     return array;
 }

@@ -51,6 +51,9 @@ Image8 toImage8(const ImageF& image, bool srgb);
 void writeNpy(const std::string& path, const std::string& dtype, const std::vector<std::size_t>& shape,
               const void* bytes, std::size_t byteCount);
 
+/// A float image as float32 .npy: [H, W] for one channel, [H, W, C] otherwise.
+void writeNpy(const std::string& path, const ImageF& image);
+
 /// A NumPy array read back (used by tests and the compare tool).
 struct NpyArray {
     std::string dtype;

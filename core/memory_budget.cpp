@@ -49,9 +49,10 @@ std::string formatBytes(double bytes) {
 std::string describeMemoryLimit() {
     if (g_limit.load() > 0) return formatBytes(double(g_limit.load())) + " (--max-memory)";
     const std::uint64_t physical = physicalMemoryBytes();
-    if (physical == 0) return formatBytes(double(memoryLimitBytes())) + " (the default; raise it with --max-memory)";
-    return formatBytes(double(memoryLimitBytes())) + ", half of this machine's " + formatBytes(double(physical)) +
-           " (raise it with --max-memory)";
+    if (physical == 0)
+        return formatBytes(double(memoryLimitBytes())) + " (the default; raise it with --max-memory)";
+    return formatBytes(double(memoryLimitBytes())) + ", half of this machine's " +
+           formatBytes(double(physical)) + " (raise it with --max-memory)";
 }
 
 std::uint64_t parseMemorySize(const std::string& text) {
@@ -65,11 +66,16 @@ std::uint64_t parseMemorySize(const std::string& text) {
     std::string unit = text.substr(used);
     for (char& c : unit) c = char(std::toupper(static_cast<unsigned char>(c)));
     double scale = 0.0;
-    if (unit.empty() || unit == "B") scale = 1.0;
-    else if (unit == "K" || unit == "KB" || unit == "KIB") scale = 1024.0;
-    else if (unit == "M" || unit == "MB" || unit == "MIB") scale = 1024.0 * 1024.0;
-    else if (unit == "G" || unit == "GB" || unit == "GIB") scale = GIB;
-    else if (unit == "T" || unit == "TB" || unit == "TIB") scale = GIB * 1024.0;
+    if (unit.empty() || unit == "B")
+        scale = 1.0;
+    else if (unit == "K" || unit == "KB" || unit == "KIB")
+        scale = 1024.0;
+    else if (unit == "M" || unit == "MB" || unit == "MIB")
+        scale = 1024.0 * 1024.0;
+    else if (unit == "G" || unit == "GB" || unit == "GIB")
+        scale = GIB;
+    else if (unit == "T" || unit == "TB" || unit == "TIB")
+        scale = GIB * 1024.0;
     if (used == 0 || scale == 0.0 || !std::isfinite(value) || value <= 0.0 || value * scale > 1e18)
         throw UsageError("--max-memory '" + text + "' is not a size such as 8G, 512M or 2.5GiB");
     return std::uint64_t(value * scale);

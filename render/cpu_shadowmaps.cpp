@@ -6,6 +6,7 @@
 #include "reference/embree_scene.h"
 #include "shadowmaps/shadow_filter.h"
 
+#include <atomic>
 #include <cmath>
 
 namespace stsv {
@@ -29,7 +30,15 @@ ShadowMapSettings shadowMapSettings(const RenderOptions& options) {
     s.blockerTaps = int(param(options, "pcss_blocker_taps", s.blockerTaps));
     s.filterTaps = int(param(options, "pcss_filter_taps", s.filterTaps));
     s.maxKernel = float(param(options, "pcss_max_kernel", s.maxKernel));
+    s.maxSearch = float(param(options, "pcss_max_search", s.maxSearch));
     return s;
+}
+
+nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+    std::size_t covered = 0;
+    for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;
+    return {{"kernel_clamped_pixels", clampedPixels},
+            {"kernel_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
 }
 
 nlohmann::json toJson(const ShadowMapCpuStats& s) {
@@ -82,14 +91,18 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
     // PCSS in two passes, as on the GPU: the blocker search leaves the kernel radius (or −1:
     // no blocker, lit) in `coverage`, the filter replaces it with the visibility.
     const uint blockerTaps = uint(settings.blockerTaps), filterTaps = uint(settings.filterTaps);
+    std::atomic<std::uint64_t> clamped{0};
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
         const std::size_t i = gbuffer.index(x, y);
         if (!gbuffer.covered(i)) return;
         const ShadowReceiver r = receiver(x, y, i);
-        const float blocker = pcssAverageBlocker(view, src, r, blockerTaps, settings.maxKernel);
+        const float blocker = pcssAverageBlocker(view, src, r, blockerTaps, settings.maxSearch);
         coverage.at(x, y, 0) =
             blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
+        if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
+            clamped.fetch_add(1, std::memory_order_relaxed);
     });
+    if (stats) stats->kernelClamped = clamped.load();
     if (stats) stats->blocker_ms = timer.milliseconds();
     timer.reset();
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {

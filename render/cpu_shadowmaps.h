@@ -26,10 +26,15 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);
 struct ShadowMapCpuStats {
     std::size_t texels = 0; ///< faces × size²
     std::size_t faces = 0;
-    double map_ms = 0.0;     ///< tracing the map
-    double blocker_ms = 0.0; ///< PCSS blocker search (0 for PCF)
-    double filter_ms = 0.0;  ///< PCF, or PCSS's filter
+    double map_ms = 0.0;             ///< tracing the map
+    double blocker_ms = 0.0;         ///< PCSS blocker search (0 for PCF)
+    double filter_ms = 0.0;          ///< PCF, or PCSS's filter
+    std::uint64_t kernelClamped = 0; ///< PCSS: pixels whose filter radius pcss_max_kernel clamped
 };
+
+/// {"kernel_clamped_pixels", "kernel_clamped_fraction"}: how many of the pixels with a visible
+/// surface had their PCSS kernel cut to pcss_max_kernel, counted and as a fraction (both backends).
+nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer);
 
 nlohmann::json toJson(const ShadowMapCpuStats& stats);
 

@@ -106,7 +106,9 @@ class CpuRenderer final : public FrameRenderer {
                 passes[prefix + "shadow_map"] = s.map_ms;
                 if (m_shadowMaps.filter == ShadowFilter::Pcss) passes[prefix + "pcss_blocker"] = s.blocker_ms;
                 passes[prefix + "shadow_filter"] = s.filter_ms;
-                methodStats.push_back(toJson(s));
+                nlohmann::json mapStats = toJson(s);
+                mapStats.update(kernelClampStats(s.kernelClamped, frame.gbuffer));
+                methodStats.push_back(mapStats);
             } else if (m_method.opaque == OpaqueTechnique::None) {
                 const StsvCpuStats s = stsvCpuSamples(m_scene, frame.gbuffer, light, m_plan, m_farDistance,
                                                       buffer, stsvFilter(m_scene, m_method.stsv));
@@ -155,6 +157,7 @@ class CpuRenderer final : public FrameRenderer {
                        {"frame_ms", total.milliseconds()},
                        {"passes", passes},
                        {"light_sample_buffer_bytes", bufferBytes}};
+        frame.stats.update(methodSceneNotes(m_scene, m_method));
         if (!methodStats.empty())
             frame.stats[m_method.shadowMap != ShadowFilter::None   ? "shadow_maps"
                         : m_method.opaque == OpaqueTechnique::None ? "stsv"
@@ -192,6 +195,44 @@ std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOpti
                          " (it runs on " + toString(method.backends.front()) + ")");
     if (options.backend == Backend::Vulkan) return std::make_unique<VulkanRenderer>(scene, options);
     return std::make_unique<CpuRenderer>(scene, options);
+}
+
+nlohmann::json methodSceneNotes(const Scene& scene, const MethodInfo& method) {
+    nlohmann::json notes = nlohmann::json::object();
+    // pw and dcs shade opaque triangles only; the traced reference and the shadow maps
+    // alpha-test perforated ones, and every STSV method draws them.
+    if (method.opaque != OpaqueTechnique::None && method.stsv == StsvTriangles::None) {
+        std::size_t perforated = 0;
+        for (std::size_t t = 0; t < scene.triangleCount(); ++t) perforated += scene.perforated(t) ? 1 : 0;
+        notes["ignored_perforated_triangles"] = perforated;
+        if (perforated > 0) notes["ignored_perforated_triangles_use"] = method.name + "+stsv";
+    }
+    return notes;
+}
+
+std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
+    std::vector<std::string> warnings;
+    const std::string method = stats.contains("options") ? stats["options"].value("method", "") : "";
+    if (stats.value("ignored_perforated_triangles", std::size_t(0)) > 0)
+        warnings.push_back(method + " shades opaque triangles only: the shadows of the scene's " +
+                           std::to_string(stats["ignored_perforated_triangles"].get<std::size_t>()) +
+                           " perforated triangles are missing (" +
+                           stats.value("ignored_perforated_triangles_use", std::string()) + " draws them)");
+    if (stats.contains("shadow_maps") && stats["shadow_maps"].is_array()) {
+        double worst = 0.0;
+        for (const nlohmann::json& map : stats["shadow_maps"])
+            worst = std::max(worst, map.value("kernel_clamped_fraction", 0.0));
+        if (worst > KERNEL_CLAMP_WARNING) {
+            char text[200];
+            std::snprintf(
+                text, sizeof text,
+                "%s clamped the filter kernel of %.1f %% of the pixels to pcss_max_kernel: their "
+                "penumbrae are narrower than PCSS estimates (raise it with --param pcss_max_kernel=...)",
+                method.c_str(), 100.0 * worst);
+            warnings.emplace_back(text);
+        }
+    }
+    return warnings;
 }
 
 Frame renderFrame(const Scene& scene, const RenderOptions& options) {

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include <memory>
+#include <string>
 #include <vector>
 
 namespace stsv {
@@ -44,6 +45,20 @@ std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOpti
 
 /// One frame with a fresh renderer (start-up included in the call, not in frame_ms).
 Frame renderFrame(const Scene& scene, const RenderOptions& options);
+
+struct MethodInfo;
+/// What a frame's stats say of a method on a scene, on every backend: the perforated triangles
+/// a method without an STSV pass leaves out of its shadows ("ignored_perforated_triangles" and
+/// "ignored_perforated_triangles_use", the method that draws them).
+nlohmann::json methodSceneNotes(const Scene& scene, const MethodInfo& method);
+
+/// The fraction of clamped PCSS kernels above which frameWarnings speaks.
+constexpr double KERNEL_CLAMP_WARNING = 0.01;
+
+/// Sentences a user should read about a frame's result, from its stats: perforated triangles a
+/// method left out ("ignored_perforated_triangles"), PCSS kernels clamped for more than
+/// KERNEL_CLAMP_WARNING of the pixels. The CLI prints them on stderr.
+std::vector<std::string> frameWarnings(const nlohmann::json& stats);
 
 /// Resolve of one light's buffer: adds albedo/π · (1/N) Σ_k V_k · L_k G_k A to `color`
 /// (the paper's "Direct MC") and v_coef·weight to `visibility`. With `coverage` (penumbra

@@ -117,7 +117,7 @@ struct GpuStats {
     uint deferred;           ///< STSV fragments whose samples stsv_samples.comp tested
     uint listed;             ///< STSV hull-draw fragments listed for stsv_samples.comp, past the end too
     uint wedgeListed;        ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
-    uint pad0;
+    uint kernelClamped; ///< PCSS: pixels whose filter radius pcss_max_kernel clamped (shadow_filter.comp)
 };
 
 /// A hull pass's record of one volume: GPU_HULL_RECORD_TEXELS 16-byte texels (GpuStsvRecord,
@@ -208,11 +208,11 @@ DH_CONST uint GPU_EDGE_FACE_TEXELS = 2u;
 struct GpuShadowParams {
     float bias;         ///< texels
     float normalOffset; ///< texels
-    float maxKernel;    ///< texels
+    float maxKernel;    ///< texels: the filter's radius
     int pcfRadius;      ///< texels
     uint blockerTaps;
     uint filterTaps;
-    uint pad0;
+    float maxSearch; ///< texels: the blocker search's radius
     uint pad1;
 };
 

@@ -111,10 +111,10 @@ void setBehindVisiblePointDepth(GraphicsPipelineDesc& desc) {
     desc.depthFormat = DEPTH_FORMAT;
     desc.depthTest = true;
     desc.depthWrite = false;
-    desc.depthCompare = VK_COMPARE_OP_GREATER;
+    desc.depthCompare = VK_COMPARE_OP_LESS;
     desc.depthClamp = true;
-    desc.depthBiasConstant = 256.0f;
-    desc.depthBiasSlope = 1.0f;
+    desc.depthBiasConstant = -256.0f;
+    desc.depthBiasSlope = -1.0f;
 }
 
 int maskAttachmentCount(int samples) {

@@ -26,16 +26,20 @@ constexpr VkFormat POSITION_FORMAT = VK_FORMAT_R32G32B32A32_SFLOAT; ///< world u
 constexpr VkFormat TRIANGLE_FORMAT = VK_FORMAT_R32_UINT;
 constexpr VkFormat DEPTH_FORMAT = VK_FORMAT_D32_SFLOAT;
 
+/// The G-buffer's depth where no surface is seen: reversed depth (gpuClipFromWorld) puts infinity at 0.
+constexpr float GPU_DEPTH_CLEAR = 0.0f;
+
 /// Depth state of the shadow-volume passes (STSV, wedges, counting volume): a face's fragment
-/// runs only where the face lies behind the G-buffer's visible point p (GREATER, early tests,
-/// no writes, depth clamp for the far caps beyond the far plane). Every volume pass decides in
-/// world space whether p is inside (a point-in-volume or plane test on p), so the depth test
-/// only prunes; its bias lets through every face the depth buffer cannot place on either side
-/// of p. D32 resolves 2^-24·z²/near in depth z (fence: near plane 0.025 m, so 6e-5 m at 5 m),
-/// while a volume face can lie 1e-4 m from p (the near cap of a thin box's near side, seen
-/// from its far side). 256 units of the format's resolution cover the G-buffer's rounding and the
-/// snapping of both triangles to the sub-pixel grid; one pixel of the face's depth slope
-/// covers faces seen edge-on. Faces let through in front of p fail the world test.
+/// runs only where the face lies behind the G-buffer's visible point p (LESS under reversed
+/// depth, early tests, no writes, depth clamp for faces in front of the near plane). Every volume
+/// pass decides in world space whether p is inside (a point-in-volume or plane test on p), so the
+/// depth test only prunes; its bias, toward the eye, lets through every face the depth buffer
+/// cannot place on either side of p. Reversed float depth resolves about 2^-23 of the distance
+/// at any distance (1.2e-7·z), while a volume face can lie 1e-4 m from p (the near cap of a thin
+/// box's near side, seen from its far side). 256 units of the format's resolution cover the
+/// G-buffer's rounding and the snapping of both triangles to the sub-pixel grid; one pixel of the
+/// face's depth slope covers faces seen edge-on. Faces let through in front of p fail the world
+/// test.
 void setBehindVisiblePointDepth(GraphicsPipelineDesc& desc);
 constexpr VkFormat MASK_FORMAT = VK_FORMAT_R32G32_UINT;          ///< 64 sample bits
 constexpr VkFormat COLOR_FORMAT = VK_FORMAT_R32G32B32A32_SFLOAT; ///< linear RGB

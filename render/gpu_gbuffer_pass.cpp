@@ -16,7 +16,7 @@ GBufferPass::GBufferPass(const Device& device, FrameResources& resources, const 
     desc.depthFormat = DEPTH_FORMAT;
     desc.depthTest = true;
     desc.depthWrite = true;
-    desc.depthCompare = VK_COMPARE_OP_LESS;
+    desc.depthCompare = VK_COMPARE_OP_GREATER; // reversed depth: nearer is larger
     m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
 }
 
@@ -33,7 +33,7 @@ void GBufferPass::record(VkCommandBuffer cmd, std::size_t) const {
     noTriangle.uint32[0] = GPU_NO_TRIANGLE;
     const ColorTarget targets[] = {{&m_gbuffer->position, true, {}},
                                    {&m_gbuffer->triangleId, true, noTriangle}};
-    beginRendering(cmd, targets, DepthTarget{&m_gbuffer->depth, true, 1.0f, false});
+    beginRendering(cmd, targets, DepthTarget{&m_gbuffer->depth, true, GPU_DEPTH_CLEAR, false});
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, 0);
     m_descriptors->push(cmd, GpuPush{0u, 0u, 0u, 0u});

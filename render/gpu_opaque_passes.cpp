@@ -148,7 +148,7 @@ PassAccesses CenterCountPass::accesses(std::size_t) const {
 }
 
 void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
-    beginRendering(cmd, {}, DepthTarget{&m_frame->gbuffer.depth, false, 1.0f, true});
+    beginRendering(cmd, {}, DepthTarget{&m_frame->gbuffer.depth, false, GPU_DEPTH_CLEAR, true});
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
@@ -209,7 +209,7 @@ PassAccesses WedgePass::accesses(std::size_t) const {
 void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     std::vector<ColorTarget> targets;
     if (m_pw) targets.push_back({&m_frame->samples.coverage, true, {}});
-    beginRendering(cmd, targets, DepthTarget{&m_frame->gbuffer.depth, false, 1.0f, true});
+    beginRendering(cmd, targets, DepthTarget{&m_frame->gbuffer.depth, false, GPU_DEPTH_CLEAR, true});
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});

@@ -1,5 +1,7 @@
 #include "render/gpu_renderer.h"
 
+#include "render/cpu_shadowmaps.h"
+
 #include "core/error.h"
 #include "core/timer.h"
 #include "gpu/commands.h"
@@ -120,7 +122,7 @@ class VulkanFrame {
     bool growDeferredList(const std::vector<GpuStats>& counts);
     void checkHullCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
                            std::uint64_t triangles) const;
-    nlohmann::json passStats(const std::vector<GpuStats>& counts) const;
+    nlohmann::json passStats(const std::vector<GpuStats>& counts, const GBuffer& gbuffer) const;
 };
 
 VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
@@ -322,9 +324,10 @@ Frame VulkanFrame::render(double startupMs) {
             frame.shadowMaps.push_back(m_shadowResources.download(l));
     passes["readback"] = readback.milliseconds();
 
-    frame.stats = passStats(counts);
+    frame.stats = passStats(counts, frame.gbuffer);
     frame.stats["options"] = toJson(m_options);
     frame.stats["scene"] = sceneStats(m_scene);
+    frame.stats.update(methodSceneNotes(m_scene, m_method));
     frame.stats["startup_ms"] = startupMs;
     frame.stats["frame_ms"] = total.milliseconds();
     frame.stats["gpu_ms"] = gpuMs;
@@ -346,8 +349,15 @@ void VulkanFrame::checkHullCapacity(std::size_t light, const char* pass, std::ui
                     " triangles) outgrew the buffers sized at start-up");
 }
 
-/// "stsv" per light, and "wedges" per light for methods with an opaque technique.
-nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts) const {
+/// "stsv" per light, "wedges" and "center" per light for methods with an opaque technique, and
+/// "shadow_maps" per light for image-based methods.
+nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts, const GBuffer& gbuffer) const {
+    if (m_method.shadowMap != ShadowFilter::None) {
+        nlohmann::json maps = nlohmann::json::array();
+        for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
+            maps.push_back(kernelClampStats(counts[l].kernelClamped, gbuffer));
+        return {{"shadow_maps", maps}};
+    }
     nlohmann::json stsvStats = nlohmann::json::array();
     nlohmann::json wedgeStats = nlohmann::json::array();
     nlohmann::json centerStats = nlohmann::json::array();
@@ -397,18 +407,14 @@ std::size_t lightSampleBufferBytes(const RenderOptions& options) {
     return LightSampleBuffer::payloadBytes(options.width, options.height, options.samples, options.buffer);
 }
 
-vec2 gpuDepthRange(const Scene& scene) {
+float gpuNearPlane(const Scene& scene) {
     const Bounds box = scene.bounds();
-    const float radius = 0.5f * length(box.extent());
-    const float distance = length(box.center() - scene.camera.eye);
-    const float zFar = std::max((distance + radius) * 1.01f, 1e-3f);
-    const float zNear = std::max(0.99f * (distance - radius), 1e-3f * zFar);
-    return {zNear, zFar};
+    const float reach = length(box.center() - scene.camera.eye) + 0.5f * length(box.extent());
+    return std::max(GPU_NEAR_FRACTION * reach, 1e-30f);
 }
 
 mat4 gpuClipFromWorld(const Scene& scene, int width, int height) {
-    const vec2 range = gpuDepthRange(scene);
-    return clipFromView(scene.camera, float(width) / float(height), range.x, range.y) *
+    return clipFromViewReversedInfinite(scene.camera, float(width) / float(height), gpuNearPlane(scene)) *
            viewFromWorld(scene.camera);
 }
 

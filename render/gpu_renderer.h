@@ -29,11 +29,18 @@ struct VulkanRendererConfig {
 /// bitmasks (8 MiB at 1024² × 64, the STSV paper's §5.1 figure), 2·N·W·H for 16-bit counters.
 std::size_t lightSampleBufferBytes(const RenderOptions& options);
 
-/// Near and far plane distances (world units) of the GPU camera: the scene box seen from the
-/// eye, near clamped to 1e-3·far when the eye is inside (or close to) the box.
-vec2 gpuDepthRange(const Scene& scene);
+/// The GPU camera's near plane as a fraction of the scene's reach from the eye (the distance to
+/// the box's centre plus its radius). The projection has no far plane and a reversed float depth
+/// (scene/camera.h), so the near plane costs no precision: the rasteriser sees what the ray
+/// tracer sees except surfaces within this fraction of the reach from the eye (3 mm of a 30 km
+/// scene), which the G-buffer clips and Embree's primary rays hit.
+constexpr float GPU_NEAR_FRACTION = 1e-7f;
 
-/// clipFromView(near, far)·viewFromWorld for a width × height image (scene/camera.h).
+/// The GPU camera's near plane distance, world units: GPU_NEAR_FRACTION of the scene's reach.
+float gpuNearPlane(const Scene& scene);
+
+/// clipFromViewReversedInfinite(gpuNearPlane)·viewFromWorld for a width × height image
+/// (scene/camera.h): depth 1 at the near plane, toward 0 at infinity.
 mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 
 /// Start-up in the constructor: device, shader compilation, pipelines, scene uploads, images.

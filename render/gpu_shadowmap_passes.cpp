@@ -32,6 +32,7 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     params.bias = m_settings.bias;
     params.normalOffset = m_settings.normalOffset;
     params.maxKernel = m_settings.maxKernel;
+    params.maxSearch = m_settings.maxSearch;
     params.pcfRadius = m_settings.pcfRadius;
     params.blockerTaps = uint(m_settings.blockerTaps);
     params.filterTaps = uint(m_settings.filterTaps);
@@ -116,7 +117,8 @@ PassAccesses ShadowFilterPass::accesses(std::size_t light) const {
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_maps->depth[light], ResourceUse::storageRead(COMPUTE))
-        .use(m_frame->samples.coverage, ResourceUse::storageReadWrite(COMPUTE));
+        .use(m_frame->samples.coverage, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_frame->stats, ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 

@@ -161,7 +161,7 @@ PassAccesses StsvPass::accesses(std::size_t light) const {
 void StsvPass::record(VkCommandBuffer cmd, std::size_t light) const {
     std::vector<ColorTarget> targets; // bitmask attachments, cleared by the pass
     for (Image& image : m_resources->samples.masks[light]) targets.push_back({&image, true, {}});
-    beginRendering(cmd, targets, DepthTarget{&m_resources->gbuffer.depth, false, 1.0f, true});
+    beginRendering(cmd, targets, DepthTarget{&m_resources->gbuffer.depth, false, GPU_DEPTH_CLEAR, true});
     m_pipelines.at(m_scene->lights[light].type).bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, m_perforatedOnly ? GPU_PUSH_PERFORATED_ONLY : 0u, 0u});

@@ -131,11 +131,18 @@ std::vector<MethodInfo> buildTable() {
                                  .integer = true,
                                  .help = "Poisson-disk taps of the filter"},
                                 {.name = "pcss_max_kernel",
-                                 .defaultValue = 64,
+                                 .defaultValue = double(ShadowMapSettings{}.maxKernel),
                                  .min = 1,
-                                 .max = 1024,
+                                 .max = 8192,
                                  .integer = false,
-                                 .help = "largest search and filter radius, texels"}}),
+                                 .help = "largest filter radius, texels (the stats count the pixels it "
+                                         "clamps)"},
+                                {.name = "pcss_max_search",
+                                 .defaultValue = double(ShadowMapSettings{}.maxSearch),
+                                 .min = 1,
+                                 .max = 8192,
+                                 .integer = false,
+                                 .help = "largest blocker-search radius, texels"}}),
          .shadowMap = ShadowFilter::Pcss},
     };
     for (std::size_t i = 0; i < table.size(); ++i)

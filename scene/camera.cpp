@@ -16,6 +16,16 @@ mat4 clipFromView(const Camera& camera, float aspect, float zNear, float zFar) {
     return proj;
 }
 
+mat4 clipFromViewReversedInfinite(const Camera& camera, float aspect, float zNear) {
+    mat4 proj = clipFromView(camera, aspect, zNear, 2.0f * zNear);
+    // clip.z = zNear and clip.w = −z_view (glm's columns: [column][row]).
+    proj[2][2] = 0.0f;
+    proj[3][2] = zNear;
+    proj[2][3] = -1.0f;
+    proj[3][3] = 0.0f;
+    return proj;
+}
+
 Ray primaryRay(const Camera& camera, int x, int y, int width, int height) {
     const float tanHalf = std::tan(glm::radians(camera.fovY) * 0.5f);
     const float aspect = float(width) / float(height);

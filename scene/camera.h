@@ -18,6 +18,12 @@ mat4 viewFromWorld(const Camera& camera);
 /// View → Vulkan clip space for a width/height aspect ratio; y points down in framebuffer.
 mat4 clipFromView(const Camera& camera, float aspect, float zNear, float zFar);
 
+/// View → Vulkan clip space with reversed depth and no far plane: depth = zNear / distance along
+/// the view axis, 1 at the near plane and falling toward 0 at infinity. With a float depth buffer
+/// the relative precision is the same at every distance, so no far plane has to be fitted to the
+/// scene and the near plane can sit a millionth of the scene's reach from the eye.
+mat4 clipFromViewReversedInfinite(const Camera& camera, float aspect, float zNear);
+
 /// Ray from the eye through the centre of pixel (x, y) of a width × height image; agrees with
 /// rasterising through clipFromView(...) · viewFromWorld(...).
 Ray primaryRay(const Camera& camera, int x, int y, int width, int height);

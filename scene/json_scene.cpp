@@ -2,8 +2,8 @@
 
 #include "core/error.h"
 #include "core/files.h"
-#include "core/memory_budget.h"
 #include "core/image.h"
+#include "core/memory_budget.h"
 #include "scene/geometry.h"
 #include "scene/mesh_io.h"
 #include "scene/procedural.h"
@@ -440,7 +440,8 @@ class SceneBuilder {
         for (const char* key : {"eye", "target"}) {
             const vec3 v = std::string(key) == "eye" ? c.eye : c.target;
             if (!withinSceneRange(v))
-                m_r.fail(Reader::join(w, key), "coordinates must lie within ±" + sceneRangeText() + " world units");
+                m_r.fail(Reader::join(w, key),
+                         "coordinates must lie within ±" + sceneRangeText() + " world units");
         }
         const vec3 forward = c.target - c.eye;
         if (!(length(forward) > 0.0f)) m_r.fail(w, "eye and target coincide");

@@ -1,6 +1,7 @@
 #include "scene/load.h"
 
 #include "core/error.h"
+#include "core/files.h"
 #include "scene/geometry.h"
 #include "scene/json_scene.h"
 #include "scene/mesh_fence.h"
@@ -128,13 +129,6 @@ class Knobs {
     const SceneOptions& m_options;
 };
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = std::filesystem::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
-
 } // namespace
 
 std::ostream& operator<<(std::ostream& out, const SceneKnob& knob) {
@@ -185,7 +179,8 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
         if (spec == "knot") {
             const int segments = int(knobs.integer("segments", 480, 3, 100000));
             const int sides = int(knobs.integer("sides", 12, 3, 1000));
-            checkSceneMemory("scene 'knot' (segments=" + std::to_string(segments) + ", sides=" + std::to_string(sides) + ")",
+            checkSceneMemory("scene 'knot' (segments=" + std::to_string(segments) +
+                                 ", sides=" + std::to_string(sides) + ")",
                              2.0 * segments * sides);
             return makeMeshScene(makeTorusKnotMesh(segments, sides, 0.12f), "knot");
         }

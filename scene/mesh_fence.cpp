@@ -49,9 +49,11 @@ MeshData makeTexelBoxMesh(const Texture& texture, WrapMode wrap, vec2 size, vec2
     const double rowCount = std::ceil(double(uvRepeat.y) * texture.height);
     // The mesher visits every texel of the repeated texture; 2^28 of them take about ten seconds.
     if (columnCount * rowCount > double(MAX_TEXEL_BOX_TEXELS))
-        throw UsageError("texel boxes: texture '" + texture.name + "' repeated " + std::to_string(uvRepeat.x) + " x " +
-                         std::to_string(uvRepeat.y) + " times is " + std::to_string(std::llround(columnCount)) + " x " +
-                         std::to_string(std::llround(rowCount)) + " texels, more than the 2^28 the mesher takes; "
+        throw UsageError("texel boxes: texture '" + texture.name + "' repeated " +
+                         std::to_string(uvRepeat.x) + " x " + std::to_string(uvRepeat.y) + " times is " +
+                         std::to_string(std::llround(columnCount)) + " x " +
+                         std::to_string(std::llround(rowCount)) +
+                         " texels, more than the 2^28 the mesher takes; "
                          "use a smaller repeat or texture_size");
     const int columns = static_cast<int>(columnCount);
     const int rows = static_cast<int>(rowCount);
@@ -73,7 +75,8 @@ MeshData makeTexelBoxMesh(const Texture& texture, WrapMode wrap, vec2 size, vec2
     const float halfT = 0.5f * options.thickness;
     auto emit = [&](int i0, int i1, int j0, int j1) {
         if (mesh.triangles.size() % 49152 == 0) // every 4096 boxes, before the mesh outgrows the limit
-            checkSceneMemory("texel boxes of texture '" + texture.name + "'", double(mesh.triangles.size()) + 49152.0);
+            checkSceneMemory("texel boxes of texture '" + texture.name + "'",
+                             double(mesh.triangles.size()) + 49152.0);
         addBox(mesh, vec3(xOf(i0), yOf(double(j1) - options.rowGap), -halfT),
                vec3(xOf(i1), yOf(double(j0) + options.rowGap), halfT));
     };

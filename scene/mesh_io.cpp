@@ -96,13 +96,6 @@ double finiteNumber(std::string_view token, const std::string& file, std::size_t
     return value;
 }
 
-std::string lowerExtension(const std::string& path) {
-    std::string ext = fs::path(path).extension().string();
-    std::transform(ext.begin(), ext.end(), ext.begin(),
-                   [](unsigned char c) { return char(std::tolower(c)); });
-    return ext;
-}
-
 /// OpenMesh writes warnings ("Material not defined", "complex edge") to its own streams; our
 /// validator reports problems itself, so they are muted while OpenMesh reads. The streams are
 /// global, hence the mutex.

@@ -32,8 +32,8 @@ std::string albedoProblem(vec3 albedo) {
 }
 
 void checkSceneMemory(const std::string& what, double triangles) {
-    checkMemory(what + ": " + std::to_string(std::llround(triangles)) + " triangles", triangles * SCENE_BYTES_PER_TRIANGLE,
-                "use a coarser mesh");
+    checkMemory(what + ": " + std::to_string(std::llround(triangles)) + " triangles",
+                triangles * SCENE_BYTES_PER_TRIANGLE, "use a coarser mesh");
 }
 
 Bounds Scene::bounds() const {

@@ -16,6 +16,9 @@ layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) uniform image2D coverage;
+#if SHADOW_FILTER_STEP == 1
+layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+#endif
 
 // The data access of shadowmaps/shadow_filter_dh.h: the rasterised map, the uploaded taps.
 struct ShadowMapSource {
@@ -45,8 +48,10 @@ void main() {
 #if SHADOW_FILTER_STEP == 0
     float result = pcfVisibility(v, src, r, shadowParams.pcfRadius);
 #elif SHADOW_FILTER_STEP == 1
-    float blocker = pcssAverageBlocker(v, src, r, shadowParams.blockerTaps, shadowParams.maxKernel);
+    float blocker = pcssAverageBlocker(v, src, r, shadowParams.blockerTaps, shadowParams.maxSearch);
     float result = blocker < 0.0 ? -1.0 : pcssFilterRadius(v, r, blocker, shadowParams.maxKernel);
+    if (blocker >= 0.0 && pcssKernelClamped(v, r, blocker, shadowParams.maxKernel))
+        atomicAdd(stats[pc.light].kernelClamped, 1u);
 #else
     float radius = imageLoad(coverage, pixel).x;
     float result = radius < 0.0 ? 1.0

@@ -171,6 +171,12 @@ DH_FUNC float pcssFilterRadius(ShadowMapView v, ShadowReceiver r, float blockerD
     return min(radius, maxTexels / float(v.size));
 }
 
+/// Whether pcssFilterRadius cut the penumbra's kernel to maxTexels: the picture then shows a
+/// penumbra narrower than the one PCSS estimated (the stats count such pixels).
+DH_FUNC bool pcssKernelClamped(ShadowMapView v, ShadowReceiver r, float blockerDepth, float maxTexels) {
+    return pcssFilterRadius(v, r, blockerDepth, 3.0e38f) > maxTexels / float(v.size);
+}
+
 /// Step 3: PCF over `taps` Poisson taps (from tap index `firstTap`) of radius `radius` (uv).
 DH_FUNC float pcssFilter(ShadowMapView v, ShadowMapSource src, ShadowReceiver r, float radius, uint firstTap,
                          uint taps) {

@@ -57,10 +57,18 @@ struct ShadowMapSettings {
     float bias = 1.0f;         ///< sm_bias: constant depth bias, texels at the receiver
     float normalOffset = 0.0f; ///< sm_normal_offset: receiver moved along its normal, texels
     ShadowFilter filter = ShadowFilter::None;
-    int pcfRadius = 2;       ///< pcf_radius: PCF kernel (2r+1)² texels
-    int blockerTaps = 32;    ///< pcss_blocker_taps
-    int filterTaps = 64;     ///< pcss_filter_taps
-    float maxKernel = 64.0f; ///< pcss_max_kernel: largest search and filter radius, texels
+    int pcfRadius = 2;    ///< pcf_radius: PCF kernel (2r+1)² texels
+    int blockerTaps = 32; ///< pcss_blocker_taps
+    int filterTaps = 64;  ///< pcss_filter_taps
+    /// pcss_max_kernel: largest filter radius, texels. PCSS's cost is its taps, not its radius,
+    /// so the default clips no plausible penumbra: a 1 m penumbra on a 2048² map spans about 256
+    /// texels, and 1024 is half the map.
+    float maxKernel = 1024.0f;
+    /// pcss_max_search: largest blocker-search radius, texels. The search covers the light as
+    /// seen from the receiver through the map's near plane, which for a near plane close to the
+    /// light is most of the map: a few dozen taps spread that wide miss thin blockers (a fence's
+    /// wires), so the search is bounded apart from the filter.
+    float maxSearch = 64.0f;
 };
 
 /// The taps a frame uploads: the blocker-search set, then the filter set (seeded apart).

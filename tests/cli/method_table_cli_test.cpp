@@ -3,7 +3,9 @@
 // that list, so the two cannot drift apart. `--param` errors name the method's knobs.
 #include "cli_test_util.h"
 
+#include "cli/subcommands.h"
 #include "render/methods.h"
+#include "scene/load.h"
 
 #include <gtest/gtest.h>
 
@@ -25,6 +27,27 @@ std::string readReadme() {
     std::stringstream text;
     text << in.rdbuf();
     return text.str();
+}
+
+// The lists a reader looks for: every built-in scene (with its knobs) and every bench preset is
+// named in the README and in the command line's help, so a new one cannot be left out.
+TEST(MethodTableCli, ReadmeAndHelpNameEveryBuiltInSceneAndPreset) {
+    const std::string readme = readReadme();
+    const test::CliResult help = runStsv({"render", "--help"});
+    for (const std::string& scene : builtinSceneNames()) {
+        EXPECT_NE(readme.find("| `" + scene + "` |"), std::string::npos)
+            << "README's scene table lacks " << scene;
+        EXPECT_NE(help.out.find(scene), std::string::npos) << "render --help lacks " << scene << ":\n"
+                                                           << help.out;
+        for (const SceneKnob& knob : builtinSceneKnobs(scene))
+            EXPECT_NE(readme.find("`" + knob.name + "`"), std::string::npos)
+                << "README lacks knob " << knob.name << " of " << scene;
+    }
+    const nlohmann::json presets = loadBenchPresets();
+    ASSERT_TRUE(presets.is_object());
+    for (auto it = presets.begin(); it != presets.end(); ++it)
+        EXPECT_NE(readme.find("`" + it.key() + "`"), std::string::npos)
+            << "README's preset list lacks " << it.key();
 }
 
 TEST(MethodTableCli, ReadmeMethodListIsTheTable) {

@@ -40,6 +40,49 @@ TEST_F(GpuRenderer, GBufferAgreesWithEmbreePrimaryRays) {
     EXPECT_GE(double(same) / double(cpu.triangle.size()), 0.995) << same << " of " << cpu.triangle.size();
 }
 
+/// Fraction of pixels whose visible triangle the raster G-buffer and Embree's primary rays agree
+/// on, and whether every pixel Embree covers is covered on the GPU too.
+double gbufferAgreement(const Scene& scene, const Frame& frame, std::size_t& coveredOnlyOnCpu) {
+    const GBuffer cpu = EmbreeScene(scene).traceGBuffer(W, H);
+    std::size_t same = 0;
+    coveredOnlyOnCpu = 0;
+    for (std::size_t i = 0; i < cpu.triangle.size(); ++i) {
+        same += frame.gbuffer.triangle[i] == cpu.triangle[i] ? 1 : 0;
+        coveredOnlyOnCpu += cpu.covered(i) && !frame.gbuffer.covered(i) ? 1 : 0;
+    }
+    return double(same) / double(cpu.triangle.size());
+}
+
+// A ground 10 km across under the fence, and a stray triangle 30 km away: the scene's reach
+// grows a thousandfold, yet the rasteriser must see the same surfaces as the ray tracer (a near
+// plane at a fixed fraction of the far one cut the foreground away).
+TEST_F(GpuRenderer, VastGroundAndAStrayFarTriangleLeaveTheVisibleSurfacesAsEmbreeSees) {
+    for (int variant = 0; variant < 2; ++variant) {
+        Scene scene = loadScene("fence");
+        const std::uint32_t ground = scene.triangleMaterial.back();
+        if (variant == 0) {
+            const float r = 5000.0f;
+            scene.addTriangle(vec3(-r, -1e-3f, -r), vec3(-r, -1e-3f, r), vec3(r, -1e-3f, r), vec2(0), vec2(0),
+                              vec2(0), ground);
+            scene.addTriangle(vec3(-r, -1e-3f, -r), vec3(r, -1e-3f, r), vec3(r, -1e-3f, -r), vec2(0), vec2(0),
+                              vec2(0), ground);
+        } else {
+            scene.addTriangle(vec3(30000, 0, 0), vec3(30001, 0, 0), vec3(30000, 1, 0), vec2(0), vec2(0),
+                              vec2(0), ground);
+        }
+        scene.validate();
+        const RenderOptions o = gpuOptions(W, H, 16);
+        const Frame frame = renderGpu(scene, o);
+        std::size_t lost = 0;
+        const double agreement = gbufferAgreement(scene, frame, lost);
+        EXPECT_EQ(lost, 0u) << "variant " << variant << ": pixels Embree sees a surface at and the GPU not";
+        // Pixel centres on a triangle edge or a texel boundary may go either way.
+        EXPECT_GE(agreement, 0.995) << "variant " << variant;
+        // And the shadow computed on them is the mirror's, bit for bit.
+        expectMirrorExact(scene, frame, o, 0, variant == 0 ? "10 km ground" : "stray triangle 30 km away");
+    }
+}
+
 struct SceneSamples {
     const char* scene;
     int samples;

@@ -18,7 +18,8 @@ namespace {
 
 using namespace test;
 
-const MethodParams kPcssParams = {{"sm_size", double(kMapSize)}, {"pcss_max_kernel", 128.0}};
+const MethodParams kPcssParams = {
+    {"sm_size", double(kMapSize)}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
 const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}};
 const MethodParams& paramsFor(Method m) {
     return m == Method::Pcss ? kPcssParams : kPcfParams;
