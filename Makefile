@@ -7,9 +7,17 @@ PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev l
             vulkan-validationlayers vulkan-tools clang-format
 # Only the tests need these: the --report test renders the page in a headless browser.
 TEST_PACKAGES := chromium
+# make fuzz: libFuzzer harnesses of the loaders (tests/fuzz), built with clang.
+FUZZ_PACKAGES := clang-14 libfuzzer-14-dev
+FUZZ_BUILD    ?= build-fuzz
+FUZZ_SECONDS  ?= 60
+FUZZ_TARGETS  := json obj off png npy
+# make sanitize: the library and the CPU test suites under AddressSanitizer and UBSan.
+SANITIZE_BUILD ?= build-asan
+SANITIZE_TESTS := core scene sampling volumes shadowmaps wedges render fuzz
 SUDO     := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps test-deps configure build demo test bundle clean format format-check
+.PHONY: all deps test-deps configure build demo test bundle clean format format-check fuzz fuzz-deps sanitize
 
 all: build
 
@@ -44,6 +52,27 @@ demo: build
 test: build test-deps
 	cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
+fuzz-deps:
+	$(call install_missing,$(FUZZ_PACKAGES))
+
+# Each loader's fuzzer for FUZZ_SECONDS (default 60); fails on a crash, leak or timeout.
+fuzz: deps fuzz-deps
+	cmake -S . -B $(FUZZ_BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++-14 \
+	  -DSTSV_FUZZ=ON -DSTSV_WERROR=OFF \
+	  -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined"
+	cmake --build $(FUZZ_BUILD) -j $(JOBS) --target $(addprefix fuzz_,$(FUZZ_TARGETS))
+	bash tests/fuzz/run.sh $(FUZZ_BUILD) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+# The CPU test suites under AddressSanitizer and UndefinedBehaviorSanitizer (the suites that render
+# on lavapipe stay out: see the README's Tests section). UBSan's vptr check is off: it needs the
+# RTTI of glslang's classes, which Debian builds without.
+sanitize: deps
+	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=Debug -DSTSV_WERROR=OFF \
+	  -DCMAKE_CXX_FLAGS="-O1 -fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
+	cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target $(addprefix test_,$(SANITIZE_TESTS))
+	cd $(SANITIZE_BUILD) && ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+	  ctest --output-on-failure -j $(JOBS) -L '^($(subst $(eval) ,|,$(SANITIZE_TESTS)))$$'
+
 # dist/stsv-VERSION-linux-ARCH.tar.gz: the program with its shared libraries (cmake/Bundle.cmake).
 bundle: build
 	cmake -DBUILD_DIR=$(BUILD) -DOUTPUT_DIR=dist -P cmake/Bundle.cmake
@@ -56,4 +85,4 @@ format-check: deps
 	git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run -Werror
 
 clean:
-	rm -rf $(BUILD) out dist
+	rm -rf $(BUILD) $(FUZZ_BUILD) $(SANITIZE_BUILD) out dist

@@ -186,6 +186,9 @@ class SceneBuilder {
         if (m_scene.triangles.empty()) m_r.fail("meshes", "the scene has no triangles");
         const Json& lights = m_r.require(root, "lights", "");
         if (!lights.is_array() || lights.empty()) m_r.fail("lights", "expected a non-empty array of lights");
+        if (lights.size() > MAX_SCENE_LIGHTS)
+            m_r.fail("lights", std::to_string(lights.size()) + " lights, more than the " +
+                                   std::to_string(MAX_SCENE_LIGHTS) + " a frame renders");
         for (std::size_t i = 0; i < lights.size(); ++i) readLight(lights[i], Reader::index("lights", i));
         if (root.contains("camera")) {
             readCamera(root["camera"]);
@@ -424,6 +427,8 @@ class SceneBuilder {
             m_r.fail(at("type"),
                      "unknown light type \"" + type + "\" (expected rectangle, disk, sphere or directional)");
         }
+        if (const std::string problem = lightProblem(m_scene.lights.back()); !problem.empty())
+            m_r.fail(w, problem);
     }
 
     void readCamera(const Json& j) {

@@ -48,8 +48,8 @@ const std::vector<Builtin>& builtins() {
         {"knot",
          "a closed (2, 3) torus-knot mesh on a ground plane under a square light (opaque occluders: dcs, "
          "pw)",
-         {{"segments", "480", "tube segments along the knot, [3, 100000]"},
-          {"sides", "12", "tube sides around the knot (triangles = 2 x segments x sides), [3, 1000]"}}},
+         {{"segments", "480", "tube segments along the knot, [3, 20000]"},
+          {"sides", "12", "tube sides around the knot (triangles = 2 x segments x sides), [3, 200]"}}},
     };
     return list;
 }
@@ -177,8 +177,8 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
             return makeFenceMeshScene(p, boxes);
         }
         if (spec == "knot") {
-            const int segments = int(knobs.integer("segments", 480, 3, 100000));
-            const int sides = int(knobs.integer("sides", 12, 3, 1000));
+            const int segments = int(knobs.integer("segments", 480, 3, 20000));
+            const int sides = int(knobs.integer("sides", 12, 3, 200));
             checkSceneMemory("scene 'knot' (segments=" + std::to_string(segments) +
                                  ", sides=" + std::to_string(sides) + ")",
                              2.0 * segments * sides);

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/files.h"
 #include "core/memory_budget.h"
+#include "core/progress.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <string_view>
@@ -36,12 +38,20 @@ std::string readText(const std::string& path, const char* what) {
     return readFileBytes(path, what, std::size_t(memoryLimitBytes() / 8));
 }
 
-/// Lines of a text file with 1-based numbers; comments (# …) and a trailing \r removed.
+/// Lines of a text file with 1-based numbers; comments (# …) and a trailing \r removed. A file
+/// of more than a few MiB shows its reading's progress (`label`).
 struct Lines {
-    explicit Lines(const std::string& text) : m_text(text) {}
+    explicit Lines(const std::string& text, const char* label = "reading")
+        : m_text(text),
+          m_progress(text.size() > PROGRESS_BYTES ? std::make_unique<Progress>(label, text.size())
+                                                  : nullptr) {}
     bool next(std::string_view& line, std::size_t& number) {
         if (m_pos > m_text.size() || (m_pos == m_text.size() && m_pos != 0)) return false;
         if (m_text.empty()) return false;
+        if (m_progress && m_pos - m_reported > PROGRESS_BYTES / 16) {
+            m_progress->advance(m_pos - m_reported);
+            m_reported = m_pos;
+        }
         std::size_t end = m_text.find('\n', m_pos);
         if (end == std::string::npos) end = m_text.size();
         line = std::string_view(m_text).substr(m_pos, end - m_pos);
@@ -55,8 +65,11 @@ struct Lines {
     std::size_t lastLine() const { return m_number; }
 
   private:
+    static constexpr std::size_t PROGRESS_BYTES = std::size_t(8) << 20;
     const std::string& m_text;
+    std::unique_ptr<Progress> m_progress;
     std::size_t m_pos = 0;
+    std::size_t m_reported = 0;
     std::size_t m_number = 0;
 };
 
@@ -395,7 +408,7 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
     std::map<std::string, std::uint32_t> materialByName;
     bool anyMtllib = false;
     {
-        Lines lines(text);
+        Lines lines(text, "OBJ: material libraries");
         std::string_view line;
         std::size_t number = 0;
         while (lines.next(line, number)) {
@@ -427,7 +440,7 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
         return index;
     };
 
-    Lines lines(text);
+    Lines lines(text, "OBJ: reading");
     std::string_view line;
     std::size_t number = 0;
     while (lines.next(line, number)) {
@@ -645,7 +658,7 @@ MeshData loadObj(const std::string& path) {
 
 MeshData loadOff(const std::string& path) {
     const std::string text = readText(path, "OFF file");
-    Lines lines(text);
+    Lines lines(text, "OFF: reading");
     std::string_view line;
     std::size_t number = 0;
     std::vector<std::string_view> tokens;

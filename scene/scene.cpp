@@ -31,6 +31,20 @@ std::string albedoProblem(vec3 albedo) {
     return {};
 }
 
+std::string lightProblem(const Light& l) {
+    if (l.type > LIGHT_DIRECTIONAL) return "has an unknown type";
+    if (!(finite(l.position) && finite(l.normal) && finite(l.axisU) && finite(l.axisV) &&
+          finite(l.radiance) && std::isfinite(l.radius) && std::isfinite(l.angularRadius)))
+        return "has a non-finite parameter";
+    if (!withinSceneRange(l.position)) return "lies beyond ±" + sceneRangeText() + " world units";
+    if (std::abs(length(l.normal) - 1.0f) > 1e-3f) return "has a non-unit normal";
+    if (l.radiance.x < 0.0f || l.radiance.y < 0.0f || l.radiance.z < 0.0f) return "has a negative radiance";
+    if (l.type != LIGHT_DIRECTIONAL && !(l.radius > 0.0f)) return "has no extent";
+    if (l.type == LIGHT_DIRECTIONAL && !(l.angularRadius >= 0.0f && l.angularRadius < 1.5707963f))
+        return "has an angular radius outside [0, 90) degrees";
+    return {};
+}
+
 void checkSceneMemory(const std::string& what, double triangles) {
     checkMemory(what + ": " + std::to_string(std::llround(triangles)) + " triangles",
                 triangles * SCENE_BYTES_PER_TRIANGLE, "use a coarser mesh");
@@ -87,24 +101,9 @@ void Scene::validate() const {
     if (lights.size() > MAX_SCENE_LIGHTS)
         throw InputError(source, "scene has " + std::to_string(lights.size()) + " lights, more than the " +
                                      std::to_string(MAX_SCENE_LIGHTS) + " a frame renders");
-    for (std::size_t i = 0; i < lights.size(); ++i) {
-        const Light& l = lights[i];
-        const std::string which = "light " + std::to_string(i);
-        if (l.type > LIGHT_DIRECTIONAL) throw InputError(source, which + " has an unknown type");
-        if (!(finite(l.position) && finite(l.normal) && finite(l.axisU) && finite(l.axisV) &&
-              finite(l.radiance) && std::isfinite(l.radius) && std::isfinite(l.angularRadius)))
-            throw InputError(source, which + " has a non-finite parameter");
-        if (!withinSceneRange(l.position))
-            throw InputError(source, which + " lies beyond ±" + sceneRangeText() + " world units");
-        if (std::abs(length(l.normal) - 1.0f) > 1e-3f)
-            throw InputError(source, which + " has a non-unit normal");
-        if (l.radiance.x < 0.0f || l.radiance.y < 0.0f || l.radiance.z < 0.0f)
-            throw InputError(source, which + " has a negative radiance");
-        if (l.type != LIGHT_DIRECTIONAL && !(l.radius > 0.0f))
-            throw InputError(source, which + " has no extent");
-        if (l.type == LIGHT_DIRECTIONAL && !(l.angularRadius >= 0.0f && l.angularRadius < 1.5707963f))
-            throw InputError(source, which + " has an angular radius outside [0, 90) degrees");
-    }
+    for (std::size_t i = 0; i < lights.size(); ++i)
+        if (const std::string problem = lightProblem(lights[i]); !problem.empty())
+            throw InputError(source, "light " + std::to_string(i) + " " + problem);
     if (!withinSceneRange(camera.eye) || !withinSceneRange(camera.target))
         throw InputError(source, "camera eye or target lies beyond ±" + sceneRangeText() + " world units");
     const vec3 forward = camera.target - camera.eye;

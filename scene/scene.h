@@ -79,6 +79,11 @@ std::string sceneRangeText();
 /// what is wrong with it. Every loader checks albedos (JSON albedo, MTL Kd) with it.
 std::string albedoProblem(vec3 albedo);
 
+/// Empty when `light` is well-formed (known type, finite, within range, unit normal, radiance ≥ 0,
+/// an extent); else what is wrong with it. Scene::validate and the JSON loader (with the light's
+/// JSON path) use it.
+std::string lightProblem(const Light& light);
+
 /// UsageError (core/memory_budget.h) when `triangles` scene triangles would not fit the memory
 /// limit; `what` names the scene or file.
 void checkSceneMemory(const std::string& what, double triangles);

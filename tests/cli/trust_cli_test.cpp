@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -138,8 +139,11 @@ TEST(TrustCli, MalformedAndHostileInputsGiveOneClearLine) {
          "'Kd' components must be"},
         {"1500 lights", {"render", dir.file("many_lights.json")}, "1500 lights"},
         {"binary garbage as OBJ", {"render", dir.file("garbage.obj")}, "garbage.obj"},
-        {"a knot no machine holds",
-         {"render", "knot", "--set", "segments=100000", "--set", "sides=1000"},
+        {"a knot above the narrowed knob range",
+         {"render", "knot", "--set", "segments=100000"},
+         "[3, 20000]"},
+        {"a knot above the memory limit",
+         {"render", "knot", "--set", "segments=20000", "--set", "sides=200", "--max-memory", "4G"},
          "memory limit"},
         {"a frame above --max-memory",
          {"render", "fence", "--size", "64x64", "--max-memory", "1K"},
@@ -274,6 +278,34 @@ TEST(TrustCli, PcssWarnsWhenItsKernelLimitShapesThePicture) {
         EXPECT_EQ(readJson(dir.file(backend + "_default.json"))["shadow_maps"][0]["kernel_clamped_pixels"],
                   0);
     }
+}
+
+} // namespace
+} // namespace stsv::test
+
+namespace stsv::test {
+namespace {
+
+// Without a Vulkan driver (the loader pointed at none), the Vulkan backend says what is missing
+// and how to render without it, and the CPU backend renders. ctest runs each test in its own
+// process, so the environment set here reaches only this test's loader.
+TEST(TrustCli, NoVulkanDriverSaysWhatToInstallAndTheCpuBackendStillRenders) {
+    ScratchDir dir;
+    ::setenv("VK_DRIVER_FILES", "/nonexistent/stsv_no_driver.json", 1);
+    ::setenv("VK_ICD_FILENAMES", "/nonexistent/stsv_no_driver.json", 1);
+    expectOneLineError({"no driver",
+                        {"render", "fence", "--backend", "vulkan", "--size", "8x8", "-o", dir.file("v.png")},
+                        "no Vulkan driver was found"});
+    const CliResult hint =
+        runStsv({"render", "fence", "--backend", "vulkan", "--size", "8x8", "-o", dir.file("v.png")});
+    EXPECT_NE(hint.err.find("--backend cpu"), std::string::npos) << hint.err;
+    EXPECT_NE(hint.err.find("mesa-vulkan-drivers"), std::string::npos) << hint.err;
+    const CliResult cpu =
+        runStsv({"render", "fence", "--backend", "cpu", "--size", "8x8", "-o", dir.file("c.png"), "-q"});
+    EXPECT_EQ(cpu.code, 0) << cpu.err;
+    EXPECT_TRUE(fs::exists(dir.file("c.png")));
+    ::unsetenv("VK_DRIVER_FILES");
+    ::unsetenv("VK_ICD_FILENAMES");
 }
 
 } // namespace
