@@ -71,6 +71,23 @@ std::string jsonScene(const std::string& material, const std::string& extraTop =
            extraTop + "}";
 }
 
+/// Whether `text` is valid UTF-8 (what a terminal shows as text).
+bool isUtf8Text(const std::string& text) {
+    for (std::size_t i = 0; i < text.size();) {
+        const auto c = static_cast<unsigned char>(text[i]);
+        const std::size_t n = c < 0x80           ? 1
+                              : (c >> 5) == 0x6  ? 2
+                              : (c >> 4) == 0xe  ? 3
+                              : (c >> 3) == 0x1e ? 4
+                                                 : 0;
+        if (n == 0 || i + n > text.size()) return false;
+        for (std::size_t k = 1; k < n; ++k)
+            if ((static_cast<unsigned char>(text[i + k]) & 0xc0) != 0x80) return false;
+        i += n;
+    }
+    return true;
+}
+
 struct Case {
     std::string name;
     std::vector<std::string> args;
@@ -88,7 +105,10 @@ void expectOneLineError(const Case& c, int expectedCode = 1) {
     EXPECT_EQ(r.err.rfind("stsv: error: ", 0), 0u) << c.name << "\n" << describe(args, r);
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << c.name << "\n" << describe(args, r);
     for (unsigned char ch : r.err)
-        EXPECT_TRUE(ch == '\n' || ch >= 0x20) << c.name << ": control byte " << int(ch) << " in the message";
+        EXPECT_TRUE(ch == '\n' || (ch >= 0x20 && ch < 0x7f) || isUtf8Text(r.err))
+            << c.name << ": byte " << int(ch) << " in the message";
+    EXPECT_TRUE(isUtf8Text(r.err)) << c.name << ": the message is not UTF-8 text";
+    EXPECT_LT(r.err.size(), 600u) << c.name << ": a message a terminal can show";
 }
 
 TEST(TrustCli, MalformedAndHostileInputsGiveOneClearLine) {
@@ -120,6 +140,10 @@ TEST(TrustCli, MalformedAndHostileInputsGiveOneClearLine) {
             lights + "]}");
     writeText(dir.file("garbage.obj"), std::string("\x01\x02\x03\xff\xfe garbage\n", 15));
     fs::create_directories(dir.file("folder.json"));
+    writeText(dir.file("long_token.obj"), "v " + std::string(1000000, '1') + " 0 0\n");
+    std::string utf16 = "\xff\xfe";
+    for (char ch : std::string(R"({"meshes": []})")) utf16 += std::string{ch, '\0'};
+    writeText(dir.file("utf16.json"), utf16);
 
     const std::vector<Case> cases = {
         {"corrupt PNG named by a JSON alphaTexture",
@@ -139,6 +163,8 @@ TEST(TrustCli, MalformedAndHostileInputsGiveOneClearLine) {
          "'Kd' components must be"},
         {"1500 lights", {"render", dir.file("many_lights.json")}, "1500 lights"},
         {"binary garbage as OBJ", {"render", dir.file("garbage.obj")}, "garbage.obj"},
+        {"a megabyte-long number", {"render", dir.file("long_token.obj")}, "malformed number"},
+        {"a UTF-16 JSON file", {"render", dir.file("utf16.json")}, "invalid JSON"},
         {"a knot above the narrowed knob range",
          {"render", "knot", "--set", "segments=100000"},
          "[3, 20000]"},
