@@ -159,8 +159,15 @@ int runCli(int argc, char** argv) {
     render->add_option("--stats", r.stats, "parameters, counts, timings and buffer memory as JSON");
 
     InfoArgs i;
-    CLI::App* info =
-        app.add_subcommand("info", "list methods, built-in scenes and the machine's capabilities");
+    i.options.samples = 64;
+    CLI::App* info = app.add_subcommand(
+        "info", "list methods, built-in scenes and the machine's capabilities; with a SCENE, what it holds "
+                "and the memory a frame of the given options would take, without rendering");
+    info->add_option("scene", i.scene, sceneHelp());
+    info->add_option("--method", i.method, "method whose frame memory is estimated")->capture_default_str();
+    info->add_option("--backend", i.backend, "vulkan | cpu");
+    info->add_option("--samples", i.options.samples, "light samples per pixel")->capture_default_str();
+    addFrameOptions(info, i);
     info->add_flag("--methods", i.methodPairs,
                    "only the method/backend pairs, one 'method backend' per line");
     info->add_flag("--markdown", i.markdown, "only the method table, in Markdown (the README's method list)");

@@ -3,10 +3,14 @@
 #include "cli/subcommands.h"
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "core/version.h"
 #include "gpu/device.h"
 #include "gpu/shader_compiler.h"
+#include "render/frame.h"
 #include "scene/load.h"
+
+#include <glm/trigonometric.hpp>
 
 #include <embree3/rtcore.h>
 
@@ -24,10 +28,146 @@ std::string backendList(const MethodInfo& m) {
     return text;
 }
 
+const char* lightTypeName(uint type) {
+    switch (type) {
+    case LIGHT_RECTANGLE:
+        return "rectangle";
+    case LIGHT_DISK:
+        return "disk";
+    case LIGHT_SPHERE:
+        return "sphere";
+    default:
+        return "directional";
+    }
+}
+
+nlohmann::json vec(vec3 v) {
+    return {v.x, v.y, v.z};
+}
+
+/// What a scene holds and what a frame of `args`' options would hold, as JSON (printed as text
+/// or as it is with --json).
+nlohmann::json sceneInfo(const InfoArgs& args) {
+    RenderOptions o = resolveFrameOptions(args);
+    o.method = parseMethod(args.method);
+    o.params = parseMethodParams(methodInfo(o.method), args.params);
+    o.backend =
+        args.backend.empty() ? defaultBackendFor(o.method, defaultBackend()) : parseBackend(args.backend);
+    checkBackendSupports(o.method, o.backend);
+    const Scene scene = loadScene(args.scene, parseSets(args.sets));
+
+    nlohmann::json j = sceneStats(scene);
+    j["opaque_triangles"] = scene.triangleCount() - j["perforated_triangles"].get<std::size_t>();
+    nlohmann::json materials = nlohmann::json::array();
+    for (const Material& m : scene.materials) {
+        nlohmann::json e = {{"name", m.name}, {"albedo", vec(m.albedo)}, {"double_sided", m.doubleSided}};
+        if (m.perforated()) {
+            const Texture& t = scene.textures[std::size_t(m.alphaTexture)];
+            e["alpha_texture"] = {{"name", t.name},
+                                  {"width", t.width},
+                                  {"height", t.height},
+                                  {"wrap", m.wrap == WrapMode::Repeat ? "repeat" : "clamp"}};
+        }
+        materials.push_back(e);
+    }
+    j["materials"] = materials;
+    nlohmann::json lights = nlohmann::json::array();
+    for (const Light& l : scene.lights) {
+        nlohmann::json e = {{"type", lightTypeName(l.type)}, {"radiance", vec(l.radiance)}};
+        if (l.type == LIGHT_DIRECTIONAL) {
+            e["direction"] = vec(l.normal);
+            e["angular_radius_degrees"] = glm::degrees(l.angularRadius);
+        } else {
+            e["position"] = vec(l.position);
+            if (l.type != LIGHT_SPHERE) e["normal"] = vec(l.normal);
+            if (l.type == LIGHT_RECTANGLE)
+                e["size"] = {2.0f * length(l.axisU), 2.0f * length(l.axisV)};
+            else
+                e["radius"] = l.radius;
+        }
+        lights.push_back(e);
+    }
+    j["light_list"] = lights;
+    const Bounds b = scene.bounds();
+    j["bounds"] = {{"lo", vec(b.lo)}, {"hi", vec(b.hi)}, {"extent", vec(b.extent())}};
+    j["camera"] = {{"eye", vec(scene.camera.eye)},
+                   {"target", vec(scene.camera.target)},
+                   {"up", vec(scene.camera.up)},
+                   {"fov_y_degrees", scene.camera.fovY}};
+    const double sceneBytes = double(scene.triangleCount()) * SCENE_BYTES_PER_TRIANGLE;
+    const double frameBytes = estimateFrameBytes(o, scene.lights.size());
+    j["memory"] = {{"scene_bytes", sceneBytes},
+                   {"frame_bytes", frameBytes},
+                   {"limit_bytes", memoryLimitBytes()},
+                   {"frame",
+                    {{"method", toString(o.method)},
+                     {"backend", toString(o.backend)},
+                     {"width", o.width},
+                     {"height", o.height},
+                     {"samples", o.samples},
+                     {"buffer", toString(o.buffer)}}}};
+    return j;
+}
+
+void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
+    auto v3 = [](const nlohmann::json& v) {
+        std::ostringstream s;
+        s << '(' << v[0].get<double>() << ", " << v[1].get<double>() << ", " << v[2].get<double>() << ')';
+        return s.str();
+    };
+    out << j["source"].get<std::string>() << '\n';
+    out << "  triangles: " << j["triangles"] << " (" << j["opaque_triangles"] << " opaque, "
+        << j["perforated_triangles"] << " perforated); faces skipped as degenerate: " << j["skipped_faces"]
+        << '\n';
+    out << "  materials:\n";
+    for (const nlohmann::json& m : j["materials"]) {
+        out << "    " << m["name"].get<std::string>() << ": albedo " << v3(m["albedo"])
+            << (m["double_sided"].get<bool>() ? ", double-sided" : "");
+        if (m.contains("alpha_texture")) {
+            const nlohmann::json& t = m["alpha_texture"];
+            out << ", alpha texture " << t["name"].get<std::string>() << " (" << t["width"] << "x"
+                << t["height"] << ", " << t["wrap"].get<std::string>() << ")";
+        }
+        out << '\n';
+    }
+    out << "  lights:\n";
+    for (const nlohmann::json& l : j["light_list"]) {
+        out << "    " << l["type"].get<std::string>();
+        if (l.contains("position")) out << " at " << v3(l["position"]);
+        if (l.contains("direction")) out << " towards " << v3(l["direction"]);
+        if (l.contains("normal")) out << ", normal " << v3(l["normal"]);
+        if (l.contains("size"))
+            out << ", " << l["size"][0].get<double>() << " x " << l["size"][1].get<double>();
+        if (l.contains("radius")) out << ", radius " << l["radius"].get<double>();
+        if (l.contains("angular_radius_degrees"))
+            out << ", angular radius " << l["angular_radius_degrees"].get<double>() << " degrees";
+        out << ", radiance " << v3(l["radiance"]) << '\n';
+    }
+    out << "  bounds: " << v3(j["bounds"]["lo"]) << " to " << v3(j["bounds"]["hi"]) << '\n';
+    const nlohmann::json& c = j["camera"];
+    out << "  camera: eye " << v3(c["eye"]) << ", target " << v3(c["target"]) << ", up " << v3(c["up"])
+        << ", fovY " << c["fov_y_degrees"].get<double>() << " degrees\n";
+    const nlohmann::json& m = j["memory"];
+    const nlohmann::json& f = m["frame"];
+    out << "  memory: scene about " << formatBytes(m["scene_bytes"].get<double>()) << "; a " << f["width"]
+        << "x" << f["height"] << " frame of " << f["method"].get<std::string>() << " on "
+        << f["backend"].get<std::string>() << " with " << f["samples"] << " samples ("
+        << f["buffer"].get<std::string>() << ") about " << formatBytes(m["frame_bytes"].get<double>())
+        << "; limit " << describeMemoryLimit() << '\n';
+}
+
 } // namespace
 
 int runInfo(const InfoArgs& args) {
     std::ostream& out = std::cout;
+    if (!args.scene.empty()) {
+        const nlohmann::json j = sceneInfo(args);
+        if (args.json)
+            out << j.dump(2) << '\n';
+        else
+            printSceneInfo(j, out);
+        return 0;
+    }
     if (args.methodPairs) {
         for (const MethodInfo& m : methodTable())
             for (Backend b : m.backends) out << m.name << ' ' << toString(b) << '\n';

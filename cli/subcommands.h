@@ -43,10 +43,13 @@ struct RenderArgs : FrameArgs {
 };
 int runRender(RenderArgs& args);
 
-struct InfoArgs {
+struct InfoArgs : FrameArgs {
     bool methodPairs = false; ///< "method backend" lines only
     bool markdown = false;    ///< the method table in Markdown only
     bool json = false;        ///< methods and scenes as JSON
+    std::string scene;        ///< when given: that scene's contents and a frame's memory, nothing else
+    std::string method = "stsv";
+    std::string backend;
 };
 int runInfo(const InfoArgs& args);
 
