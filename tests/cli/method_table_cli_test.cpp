@@ -12,8 +12,10 @@
 #include <thread>
 
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 namespace stsv {
 namespace {
@@ -29,25 +31,47 @@ std::string readReadme() {
     return text.str();
 }
 
+// README.md followed by every docs/*.md page, in name order: the whole documentation.
+std::string readDocs() {
+    std::string text = readReadme();
+    const std::filesystem::path dir = std::string(STSV_TEST_DATA) + "/../../docs";
+    std::error_code error;
+    std::vector<std::filesystem::path> pages;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, error))
+        if (entry.is_regular_file() && entry.path().extension() == ".md") pages.push_back(entry.path());
+    EXPECT_FALSE(error) << "cannot list " << dir << ": " << error.message();
+    EXPECT_FALSE(pages.empty()) << "no .md page in " << dir;
+    std::sort(pages.begin(), pages.end());
+    for (const std::filesystem::path& page : pages) {
+        std::ifstream in(page);
+        EXPECT_TRUE(in.good()) << "cannot read " << page;
+        std::stringstream body;
+        body << in.rdbuf();
+        text += "\n" + body.str();
+    }
+    return text;
+}
+
 // The lists a reader looks for: every built-in scene (with its knobs) and every bench preset is
-// named in the README and in the command line's help, so a new one cannot be left out.
-TEST(MethodTableCli, ReadmeAndHelpNameEveryBuiltInSceneAndPreset) {
-    const std::string readme = readReadme();
+// named in the documentation (README.md or a docs/*.md page) and in the command line's help, so a
+// new one cannot be left out.
+TEST(MethodTableCli, DocsAndHelpNameEveryBuiltInSceneAndPreset) {
+    const std::string docs = readDocs();
     const test::CliResult help = runStsv({"render", "--help"});
     for (const std::string& scene : builtinSceneNames()) {
-        EXPECT_NE(readme.find("| `" + scene + "` |"), std::string::npos)
-            << "README's scene table lacks " << scene;
+        EXPECT_NE(docs.find("| `" + scene + "` |"), std::string::npos)
+            << "the docs' scene table lacks " << scene;
         EXPECT_NE(help.out.find(scene), std::string::npos) << "render --help lacks " << scene << ":\n"
                                                            << help.out;
         for (const SceneKnob& knob : builtinSceneKnobs(scene))
-            EXPECT_NE(readme.find("`" + knob.name + "`"), std::string::npos)
-                << "README lacks knob " << knob.name << " of " << scene;
+            EXPECT_NE(docs.find("`" + knob.name + "`"), std::string::npos)
+                << "the docs lack knob " << knob.name << " of " << scene;
     }
     const nlohmann::json presets = loadBenchPresets();
     ASSERT_TRUE(presets.is_object());
     for (auto it = presets.begin(); it != presets.end(); ++it)
-        EXPECT_NE(readme.find("`" + it.key() + "`"), std::string::npos)
-            << "README's preset list lacks " << it.key();
+        EXPECT_NE(docs.find("`" + it.key() + "`"), std::string::npos)
+            << "the docs' preset list lacks " << it.key();
 }
 
 TEST(MethodTableCli, ReadmeMethodListIsTheTable) {
