@@ -108,7 +108,7 @@ std::string vulkanDeviceName(const std::string& select, nlohmann::json& allNames
 }
 
 std::vector<Variant> makeVariants(const BenchArgs& args, const std::string& vary) {
-    const SceneOptions base = parseSets(args.sets);
+    const SceneOptions base = sceneOptionsOf(args);
     if (vary.empty()) return {{"", base, args.scene}};
     const auto eq = vary.find('=');
     if (eq == std::string::npos || eq == 0)

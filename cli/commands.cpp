@@ -98,6 +98,16 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
         ->capture_default_str();
     command->add_option("--size", a.size, "image size WIDTHxHEIGHT")->capture_default_str();
     command->add_option("--set", a.sets, "scene knob key=value (repeatable), e.g. --set count=256");
+    command->add_option("--camera", a.camera,
+                        "the camera, as the scene format's object: "
+                        "'{\"eye\": [0, 2, 6], \"target\": [0, 0, 0], \"up\": [0, 1, 0], \"fovY\": 45}'");
+    command->add_option(
+        "--light", a.lights,
+        "a light replacing the scene's, as the scene format's object (repeatable), e.g. "
+        "'{\"type\": \"disk\", \"position\": [0, 4, 0], \"normal\": [0, -1, 0], \"radius\": 0.5, "
+        "\"radiance\": [40, 40, 40]}'");
+    command->add_option("--add-light", a.addLights,
+                        "a light added to the scene's, as the scene format's object (repeatable)");
     command->add_option("--param", a.params,
                         "method parameter name=value (repeatable; see stsv info for each method's)");
     command->add_option("--device", a.options.device,

@@ -369,7 +369,7 @@ int runCompare(CompareArgs& args) {
         checkWritableFile(args.sheet, "--sheet");
     }
 
-    const SceneOptions sceneSets = parseSets(args.sets);
+    const SceneOptions sceneSets = sceneOptionsOf(args);
     const Scene scene = loadScene(spec, sceneSets);
     checkFrameMemory(base, scene.lights.size());
 

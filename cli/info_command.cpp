@@ -54,7 +54,7 @@ nlohmann::json sceneInfo(const InfoArgs& args) {
     o.backend =
         args.backend.empty() ? defaultBackendFor(o.method, defaultBackend()) : parseBackend(args.backend);
     checkBackendSupports(o.method, o.backend);
-    const Scene scene = loadScene(args.scene, parseSets(args.sets));
+    const Scene scene = loadScene(args.scene, sceneOptionsOf(args));
 
     nlohmann::json j = sceneStats(scene);
     j["opaque_triangles"] = scene.triangleCount() - j["perforated_triangles"].get<std::size_t>();

@@ -32,6 +32,14 @@ void writeShadowMapNpy(const std::string& path, const ShadowMap& map) {
 
 } // namespace
 
+SceneOptions sceneOptionsOf(const FrameArgs& args) {
+    SceneOptions o = parseSets(args.sets);
+    o.camera = args.camera;
+    o.lights = args.lights;
+    o.addLights = args.addLights;
+    return o;
+}
+
 RenderOptions resolveFrameOptions(const FrameArgs& args) {
     RenderOptions o = args.options;
     o.pattern = parsePatternKind(args.pattern);
@@ -85,7 +93,7 @@ int runRender(RenderArgs& args) {
         throw UsageError("--dump-ls of a bitmask needs a sample count that is a multiple of 8");
     if (!args.shadowMap.empty()) o.keepShadowMaps = true;
 
-    const SceneOptions sceneOptions = parseSets(args.sets);
+    const SceneOptions sceneOptions = sceneOptionsOf(args);
     Timer loadTimer;
     const Scene scene = loadScene(args.scene, sceneOptions);
     const double loadMs = loadTimer.milliseconds();

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "render/options.h"
+#include "scene/load.h"
 
 #include <nlohmann/json.hpp>
 
@@ -23,9 +24,15 @@ struct FrameArgs {
     std::vector<std::string> sets;   ///< scene knobs key=value
     std::vector<std::string> params; ///< method knobs name=value (render/methods.h)
     RenderOptions options;           ///< samples, seed, interleave, decorrelate, ambient, device, validation
-    std::string maxMemory;           ///< --max-memory (core/memory_budget.h); empty: the default
+    std::string camera;              ///< --camera JSON (scene/load.h SceneOptions)
+    std::vector<std::string> lights; ///< --light JSON, repeatable
+    std::vector<std::string> addLights; ///< --add-light JSON, repeatable
+    std::string maxMemory;              ///< --max-memory (core/memory_budget.h); empty: the default
     bool quiet = false;
 };
+
+/// The scene options of a command: --set knobs, --camera, --light, --add-light.
+SceneOptions sceneOptionsOf(const FrameArgs& args);
 
 /// args.options with pattern, buffer and size parsed, validated (UsageError naming the option).
 RenderOptions resolveFrameOptions(const FrameArgs& args);

@@ -200,6 +200,17 @@ class SceneBuilder {
         return std::move(m_scene);
     }
 
+    /// One light object of the format (the command line's --light); `w` its place in messages.
+    Light lightFrom(const Json& j, const std::string& w) {
+        readLight(j, w);
+        return m_scene.lights.back();
+    }
+    /// A camera object of the format (the command line's --camera).
+    Camera cameraFrom(const Json& j) {
+        readCamera(j);
+        return m_scene.camera;
+    }
+
   private:
     void readMaterials(const Json& list) {
         if (!list.is_array()) m_r.fail("materials", "expected an array, got " + Reader::describe(list));
@@ -461,10 +472,8 @@ class SceneBuilder {
     std::map<std::string, int> m_textureByKey;
 };
 
-} // namespace
-
-Scene loadJsonScene(const std::string& path) {
-    const std::string text = readFileBytes(path, "scene file", std::size_t(memoryLimitBytes() / 8));
+/// `text` parsed as JSON with comments, nesting limited; InputError naming `path` (and the line).
+Json parseJsonText(const std::string& path, const std::string& text) {
     Json root;
     try {
         // Nesting is limited while parsing: a scene is a few levels deep, and a deep value would
@@ -490,7 +499,22 @@ Scene loadJsonScene(const std::string& path) {
         for (std::size_t i = 0; i < std::min(e.byte, source.size()); ++i) line += source[i] == '\n' ? 1 : 0;
         throw InputError(path, line, "invalid JSON: " + message);
     }
-    return SceneBuilder(path).build(root);
+    return root;
+}
+
+} // namespace
+
+Scene loadJsonScene(const std::string& path) {
+    const std::string text = readFileBytes(path, "scene file", std::size_t(memoryLimitBytes() / 8));
+    return SceneBuilder(path).build(parseJsonText(path, text));
+}
+
+Light parseLightJson(const std::string& what, const std::string& text) {
+    return SceneBuilder(what).lightFrom(parseJsonText(what, text), "");
+}
+
+Camera parseCameraJson(const std::string& what, const std::string& text) {
+    return SceneBuilder(what).cameraFrom(parseJsonText(what, text));
 }
 
 } // namespace stsv

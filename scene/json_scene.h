@@ -1,4 +1,4 @@
-// JSON scene files (format documented in the README, example in tests/data/scene/example.json).
+// JSON scene files (format documented in docs/user-guide.md, example in tests/data/scene/example.json).
 #pragma once
 
 #include "scene/scene.h"
@@ -16,5 +16,11 @@ constexpr int MAX_JSON_DEPTH = 64;
 /// InputError naming the file and the JSON path of the value (syntax errors: line and column;
 /// nesting deeper than MAX_JSON_DEPTH is refused while parsing).
 Scene loadJsonScene(const std::string& path);
+
+/// A light object of the scene format given as JSON text (the command line's --light); `what`
+/// names it in errors, with the key at fault ("--light: radius: must be > 0, got 0").
+Light parseLightJson(const std::string& what, const std::string& text);
+/// A camera object of the scene format given as JSON text (the command line's --camera).
+Camera parseCameraJson(const std::string& what, const std::string& text);
 
 } // namespace stsv

@@ -157,7 +157,26 @@ std::string describeBuiltinScene(const std::string& name) {
     return b->description;
 }
 
+namespace {
+
+Scene loadWithoutOverrides(const std::string& spec, const SceneOptions& options);
+
+} // namespace
+
 Scene loadScene(const std::string& spec, const SceneOptions& options) {
+    Scene scene = loadWithoutOverrides(spec, options);
+    if (!options.camera.empty()) scene.camera = parseCameraJson("--camera", options.camera);
+    if (!options.lights.empty()) scene.lights.clear();
+    for (const std::string& light : options.lights) scene.lights.push_back(parseLightJson("--light", light));
+    for (const std::string& light : options.addLights)
+        scene.lights.push_back(parseLightJson("--add-light", light));
+    if (!options.camera.empty() || !options.lights.empty() || !options.addLights.empty()) scene.validate();
+    return scene;
+}
+
+namespace {
+
+Scene loadWithoutOverrides(const std::string& spec, const SceneOptions& options) {
     if (const Builtin* b = findBuiltin(spec)) {
         const Knobs knobs(spec, options, b->knobs);
         if (spec == "fence") {
@@ -205,5 +224,7 @@ Scene loadScene(const std::string& spec, const SceneOptions& options) {
     checkSceneMemory(spec, double(scene.triangles.size()));
     return scene;
 }
+
+} // namespace
 
 } // namespace stsv

@@ -10,9 +10,12 @@
 
 namespace stsv {
 
-/// Scene knobs from the command line (`--set key=value`), as given.
+/// Scene knobs and overrides from the command line, as given.
 struct SceneOptions {
-    std::map<std::string, std::string> set;
+    std::map<std::string, std::string> set; ///< `--set key=value`
+    std::string camera;                     ///< `--camera JSON`: replaces the scene's camera
+    std::vector<std::string> lights;        ///< `--light JSON` (each): replace the scene's lights
+    std::vector<std::string> addLights;     ///< `--add-light JSON` (each): added to its lights
 };
 
 /// One knob a built-in scene accepts (for `stsv info` and error messages).
@@ -28,7 +31,9 @@ std::ostream& operator<<(std::ostream& out, const SceneKnob& knob);
 /// `spec` is a built-in name (see builtinSceneNames()), a `.json` scene file, or a bare `.obj` /
 /// `.off` mesh (placed on a ground plane under a default light, with a camera that frames it).
 /// Unknown names, unknown extensions and unknown or malformed knobs throw UsageError; bad files
-/// throw InputError naming the file (and line). The returned scene has passed Scene::validate().
+/// throw InputError naming the file (and line). Then the options' camera and lights, in the JSON
+/// scene format's objects, replace or join the scene's. The returned scene has passed
+/// Scene::validate().
 Scene loadScene(const std::string& spec, const SceneOptions& options = {});
 
 /// "fence", "foliage".

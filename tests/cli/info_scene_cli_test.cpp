@@ -54,5 +54,40 @@ TEST(InfoScene, TextNamesTheFilesTexturesAndTheLimitAndRefusesABadScene) {
     EXPECT_NE(bad.err.find("nosuchscene"), std::string::npos) << bad.err;
 }
 
+// A bare mesh becomes usable without a JSON file: the camera and the lights from the command
+// line, in the scene format's objects, with the same validation and messages.
+TEST(InfoScene, CameraAndLightsFromTheCommandLineReplaceOrJoinTheScenes) {
+    const std::string crate = std::string(STSV_TEST_DATA) + "/scene/crate.obj";
+    const std::string disk =
+        R"({"type": "disk", "position": [0, 4, 0], "normal": [0, -1, 0], "radius": 0.5, "radiance": [40, 40, 40]})";
+    const std::string sphere =
+        R"({"type": "sphere", "position": [2, 3, 1], "radius": 0.25, "radiance": [9, 9, 9]})";
+    const CliResult r = runStsv({"info", crate, "--json", "--camera",
+                                 R"({"eye": [3, 2, 5], "target": [0, 0.5, 0], "fovY": 40})", "--light", disk,
+                                 "--add-light", sphere});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const nlohmann::json j = nlohmann::json::parse(r.out);
+    EXPECT_EQ(j["camera"]["eye"], nlohmann::json({3.0, 2.0, 5.0}));
+    EXPECT_EQ(j["camera"]["fov_y_degrees"], 40.0);
+    ASSERT_EQ(j["light_list"].size(), 2u);
+    EXPECT_EQ(j["light_list"][0]["type"], "disk");
+    EXPECT_EQ(j["light_list"][0]["radius"], 0.5);
+    EXPECT_EQ(j["light_list"][1]["type"], "sphere");
+    // --add-light alone keeps the scene's own light.
+    const CliResult added = runStsv({"info", "fence", "--json", "--add-light", sphere});
+    ASSERT_EQ(added.code, 0) << added.err;
+    EXPECT_EQ(nlohmann::json::parse(added.out)["light_list"].size(), 2u);
+    // Bad values are refused with the option and the key.
+    const CliResult bad = runStsv({"info", "fence", "--light",
+                                   R"({"type": "disk", "position": [0, 4, 0], )"
+                                   R"("normal": [0, -1, 0], "radius": 0, "radiance": [1, 1, 1]})"});
+    EXPECT_EQ(bad.code, 1);
+    EXPECT_NE(bad.err.find("--light: radius"), std::string::npos) << bad.err;
+    const CliResult camera =
+        runStsv({"info", "fence", "--camera", R"({"eye": [0, 1, 0], "target": [0, 1, 0]})"});
+    EXPECT_EQ(camera.code, 1);
+    EXPECT_NE(camera.err.find("--camera"), std::string::npos) << camera.err;
+}
+
 } // namespace
 } // namespace stsv::test
