@@ -1,0 +1,180 @@
+// Every `stsv …` command the README and docs/ show runs: each is taken from the Markdown (code
+// blocks, with `\` continuations, and inline code spans), made small (a 16×12 frame, 16 samples,
+// one timed frame, a converged reference of 2) and run in a scratch folder, and must exit 0. A
+// renamed option, a removed preset or a wrong example fails here. Synopses with placeholders
+// (SCENE, [options], a|b) are not commands and are skipped.
+#include "cli_test_util.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace stsv::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct DocCommand {
+    std::string file;
+    std::size_t line = 0;
+    std::string text;
+};
+
+std::vector<std::string> docFiles() {
+    const fs::path root(STSV_SOURCE_DIR);
+    std::vector<std::string> files{(root / "README.md").string()};
+    for (const fs::directory_entry& e : fs::directory_iterator(root / "docs"))
+        if (e.path().extension() == ".md") files.push_back(e.path().string());
+    std::sort(files.begin(), files.end());
+    return files;
+}
+
+/// The `stsv …` commands of one Markdown file: lines of code blocks (a leading `$ ` dropped,
+/// continuations joined; a synopsis with a description column, after three spaces, left out) and
+/// inline code spans that start with "stsv ".
+std::vector<DocCommand> commandsIn(const std::string& path) {
+    std::ifstream in(path);
+    std::vector<DocCommand> commands;
+    std::string line;
+    std::size_t number = 0;
+    bool inBlock = false;
+    DocCommand pending;
+    static const std::regex span("`(stsv [^`]+)`");
+    while (std::getline(in, line)) {
+        ++number;
+        if (line.rfind("```", 0) == 0) {
+            inBlock = !inBlock;
+            continue;
+        }
+        if (inBlock) {
+            std::string text = line;
+            if (!pending.text.empty()) {
+                pending.text += " " + text;
+            } else {
+                if (text.rfind("$ ", 0) == 0) text.erase(0, 2);
+                if (text.rfind("stsv ", 0) != 0 && text != "stsv") continue;
+                pending = {path, number, text};
+            }
+            if (!pending.text.empty() && pending.text.back() == '\\') {
+                pending.text.pop_back();
+                continue;
+            }
+            // A synopsis table ("stsv info      what it prints") is no command.
+            if (pending.text.find("   ") == std::string::npos) commands.push_back(pending);
+            pending = {};
+            continue;
+        }
+        for (std::sregex_iterator it(line.begin(), line.end(), span), end; it != end; ++it)
+            commands.push_back({path, number, (*it)[1].str()});
+    }
+    return commands;
+}
+
+/// Shell-like words: spaces separate, single and double quotes group.
+std::vector<std::string> words(const std::string& text) {
+    std::vector<std::string> out;
+    std::string word;
+    bool any = false;
+    char quote = 0;
+    for (char c : text) {
+        if (quote) {
+            if (c == quote)
+                quote = 0;
+            else
+                word += c;
+        } else if (c == '\'' || c == '"') {
+            quote = c;
+            any = true;
+        } else if (c == ' ') {
+            if (any || !word.empty()) out.push_back(word);
+            word.clear();
+            any = false;
+        } else {
+            word += c;
+        }
+    }
+    if (any || !word.empty()) out.push_back(word);
+    return out;
+}
+
+/// A synopsis, not a command: placeholders in capitals, alternatives, optional parts.
+bool isSynopsis(const std::vector<std::string>& args) {
+    static const std::regex placeholder(
+        "(^|[^a-z])(SCENE|NAME|DIR|FILE|WxH|A\\.npy|B\\.npy|M|B|N|K)([^a-z]|$)");
+    for (const std::string& a : args) {
+        if (a.find('[') != std::string::npos || a.find("…") != std::string::npos ||
+            a.find("...") != std::string::npos)
+            return true;
+        if (a.find('|') != std::string::npos && a.front() != '{') return true;
+        if (a.front() != '{' && std::regex_search(a, placeholder)) return true;
+    }
+    return false;
+}
+
+/// The command made small enough for the test suite, with paths of the checkout made absolute.
+std::vector<std::string> smallVersion(std::vector<std::string> args) {
+    const std::string command = args.size() > 1 ? args[1] : "";
+    auto set = [&](const std::string& option, const std::string& value) {
+        for (std::size_t i = 0; i + 1 < args.size(); ++i)
+            if (args[i] == option) {
+                args[i + 1] = value;
+                return;
+            }
+        args.push_back(option);
+        args.push_back(value);
+    };
+    const bool listing = std::find(args.begin(), args.end(), "--list-presets") != args.end();
+    const bool npyPair =
+        args.size() > 2 && args[2].size() > 4 && args[2].substr(args[2].size() - 4) == ".npy";
+    const bool framed = command == "render" || command == "compare" || command == "bench" ||
+                        (command == "info" && args.size() > 2 && args[2].front() != '-');
+    if (framed && !listing && !npyPair) {
+        set("--size", "16x12");
+        if (command != "info") set("--samples", "16");
+    }
+    if (command == "bench" && !listing) {
+        set("--repeat", "1");
+        set("--warmup", "0");
+    }
+    for (std::size_t i = 0; i + 1 < args.size(); ++i)
+        if (args[i] == "--converged") args[i + 1] = "2";
+    for (std::size_t i = 2; i < args.size(); ++i)
+        if (args[i].find('/') != std::string::npos && args[i].front() != '-' &&
+            fs::exists(fs::path(STSV_SOURCE_DIR) / args[i]))
+            args[i] = (fs::path(STSV_SOURCE_DIR) / args[i]).string();
+    args.erase(args.begin()); // "stsv"
+    if (command != "info" && !listing) args.push_back("-q");
+    return args;
+}
+
+TEST(DocsCommands, EveryStsvCommandInTheReadmeAndDocsRuns) {
+    ScratchDir dir;
+    const fs::path before = fs::current_path();
+    fs::current_path(dir.path());
+    std::size_t ran = 0;
+    for (const std::string& file : docFiles())
+        for (const DocCommand& c : commandsIn(file)) {
+            const std::vector<std::string> all = words(c.text);
+            if (all.empty() || all[0] != "stsv" || isSynopsis(all)) continue;
+            // A subcommand named in prose ("`stsv bench` times frames") is no example to run.
+            if (all.size() == 2 && all[1] != "info") continue;
+            const std::vector<std::string> args = smallVersion(all);
+            const CliResult r = runStsv(args);
+            std::string shown;
+            for (const std::string& a : args) shown += " " + a;
+            EXPECT_EQ(r.code, 0) << fs::path(c.file).filename().string() << ":" << c.line << ": " << c.text
+                                 << "\n  ran: stsv" << shown << "\n  stderr: " << r.err;
+            ++ran;
+        }
+    fs::current_path(before);
+    std::printf("ran %zu commands from the README and docs/\n", ran);
+    EXPECT_GE(ran, 10u);
+}
+
+} // namespace
+} // namespace stsv::test
