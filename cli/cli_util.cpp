@@ -266,7 +266,60 @@ ImageError compareImages(const ImageF& a, const ImageF& b, float threshold) {
     e.rmse = values > 0 ? std::sqrt(sumSquares / values) : 0.0;
     e.bias = values > 0 ? sum / values : 0.0;
     e.fractionAbove = pixels > 0 ? double(above) / pixels : 0.0;
+    e.ssim = structuralSimilarity(a, b);
     return e;
+}
+
+namespace {
+
+ImageF lumaOf(const ImageF& image) {
+    ImageF y(image.width, image.height, 1);
+    for (int j = 0; j < image.height; ++j)
+        for (int i = 0; i < image.width; ++i)
+            y.at(i, j, 0) = image.channels >= 3 ? 0.2126f * image.at(i, j, 0) + 0.7152f * image.at(i, j, 1) +
+                                                      0.0722f * image.at(i, j, 2)
+                                                : image.at(i, j, 0);
+    return y;
+}
+
+} // namespace
+
+double structuralSimilarity(const ImageF& a, const ImageF& b) {
+    if (a.width != b.width || a.height != b.height)
+        throw UsageError("cannot compare images of different sizes");
+    const ImageF x = lumaOf(a), y = lumaOf(b);
+    constexpr int R = 5; // 11×11 window
+    constexpr double SIGMA = 1.5;
+    constexpr double C1 = 0.01 * 0.01, C2 = 0.03 * 0.03; // (K1·L)², (K2·L)² with L = 1
+    double weights[2 * R + 1];
+    for (int k = -R; k <= R; ++k) weights[k + R] = std::exp(-0.5 * k * k / (SIGMA * SIGMA));
+    double total = 0.0;
+    for (int j = 0; j < x.height; ++j)
+        for (int i = 0; i < x.width; ++i) {
+            double w = 0.0, mx = 0.0, my = 0.0, xx = 0.0, yy = 0.0, xy = 0.0;
+            for (int dj = -R; dj <= R; ++dj) {
+                const int v = j + dj;
+                if (v < 0 || v >= x.height) continue;
+                for (int di = -R; di <= R; ++di) {
+                    const int u = i + di;
+                    if (u < 0 || u >= x.width) continue;
+                    const double g = weights[di + R] * weights[dj + R];
+                    const double p = x.at(u, v, 0), q = y.at(u, v, 0);
+                    w += g;
+                    mx += g * p;
+                    my += g * q;
+                    xx += g * p * p;
+                    yy += g * q * q;
+                    xy += g * p * q;
+                }
+            }
+            mx /= w, my /= w;
+            const double vx = std::max(xx / w - mx * mx, 0.0), vy = std::max(yy / w - my * my, 0.0);
+            const double cxy = xy / w - mx * my;
+            total += (2.0 * mx * my + C1) * (2.0 * cxy + C2) / ((mx * mx + my * my + C1) * (vx + vy + C2));
+        }
+    const double pixels = double(x.width) * double(x.height);
+    return pixels > 0 ? total / pixels : 1.0;
 }
 
 Image8 heatMap(const ImageF& values, float scale) {

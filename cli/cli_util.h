@@ -100,8 +100,16 @@ struct ImageError {
     double bias = 0.0;          ///< mean signed a − b over every pixel and channel (a above b: positive)
     double maxAbs = 0.0;        ///< largest |a − b| of any channel
     double fractionAbove = 0.0; ///< pixels where some channel differs by more than `threshold`
+    double ssim = 1.0;          ///< structural similarity of the two images' luma (structuralSimilarity)
     ImageF absDifference;       ///< one channel: max over channels of |a − b|
 };
+
+/// Mean structural similarity (SSIM, Wang, Bovik, Sheikh and Simoncelli 2004, Eq. 13 with the
+/// 11×11 Gaussian window of σ = 1.5, K1 = 0.01, K2 = 0.03, dynamic range L = 1) of the luma
+/// (Rec. 709 weights, of the values as given: display-encoded for the lit image) of two images of
+/// one size; the window is cut at the borders and its weights renormalised, so every pixel counts.
+/// 1 for equal images, lower as structure, contrast or brightness differ; −1 at worst.
+double structuralSimilarity(const ImageF& a, const ImageF& b);
 ImageError compareImages(const ImageF& a, const ImageF& b, float threshold = 1.0f / 255.0f);
 
 /// Heat map of a one-channel image: 0 black → scale/2 red → ≥ scale yellow.

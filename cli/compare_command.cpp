@@ -188,6 +188,7 @@ nlohmann::json errorJson(const ImageError& visibility, const ImageError& lit) {
              {{"rmse", lit.rmse},
               {"bias", lit.bias},
               {"max_abs", lit.maxAbs},
+              {"ssim", lit.ssim},
               {"fraction_above_1_255", lit.fractionAbove}}}};
 }
 
@@ -199,14 +200,14 @@ const char* const kBiasNote =
 /// The existing table's cells (what the terminal prints first), for the HTML page.
 ReportTable equalSampleTable(const std::vector<Row>& rows) {
     ReportTable t;
-    t.header = {"method",   "identical %", "diff. bits", "vis RMSE", "vis max",
-                "lit RMSE", "lit max",     ">1/255 px",  "frame ms"};
+    t.header = {"method",   "identical %", "diff. bits", "vis RMSE",  "vis max",
+                "lit RMSE", "lit max",     "lit SSIM",   ">1/255 px", "frame ms"};
     for (const Row& r : rows)
-        t.rows.push_back({toString(r.mb), r.perSample ? formatFixed(r.identicalPercent(), 4) : "n/a",
-                          r.perSample ? std::to_string(r.differingSamples) : "n/a",
-                          formatFixed(r.visibility.rmse, 5), formatFixed(r.visibility.maxAbs, 5),
-                          formatFixed(r.lit.rmse, 5), formatFixed(r.lit.maxAbs, 5),
-                          formatPercent(r.lit.fractionAbove), formatFixed(r.frameMs, 1)});
+        t.rows.push_back(
+            {toString(r.mb), r.perSample ? formatFixed(r.identicalPercent(), 4) : "n/a",
+             r.perSample ? std::to_string(r.differingSamples) : "n/a", formatFixed(r.visibility.rmse, 5),
+             formatFixed(r.visibility.maxAbs, 5), formatFixed(r.lit.rmse, 5), formatFixed(r.lit.maxAbs, 5),
+             formatFixed(r.lit.ssim, 5), formatPercent(r.lit.fractionAbove), formatFixed(r.frameMs, 1)});
     return t;
 }
 
@@ -447,14 +448,15 @@ int runCompare(CompareArgs& args) {
     std::printf("%s, %dx%d, %d samples (%s, seed %u), against %s\n", scene.source.c_str(), base.width,
                 base.height, base.samples, toString(base.pattern).c_str(), base.seed,
                 toString(against).c_str());
-    std::printf("%-16s %12s %12s %10s %10s %10s %10s %10s %11s\n", "method", "identical %", "diff. bits",
-                "vis RMSE", "vis max", "lit RMSE", "lit max", ">1/255 px", "frame ms");
+    std::printf("%-16s %12s %12s %10s %10s %10s %10s %10s %10s %11s\n", "method", "identical %", "diff. bits",
+                "vis RMSE", "vis max", "lit RMSE", "lit max", "lit SSIM", ">1/255 px", "frame ms");
     for (const Row& r : rows) {
         const std::string identical = r.perSample ? formatFixed(r.identicalPercent(), 4) : "n/a";
         const std::string differing = r.perSample ? std::to_string(r.differingSamples) : "n/a";
-        std::printf("%-16s %12s %12s %10.5f %10.5f %10.5f %10.5f %9.4f%% %11.1f\n", toString(r.mb).c_str(),
-                    identical.c_str(), differing.c_str(), r.visibility.rmse, r.visibility.maxAbs, r.lit.rmse,
-                    r.lit.maxAbs, 100.0 * r.lit.fractionAbove, r.frameMs);
+        std::printf("%-16s %12s %12s %10.5f %10.5f %10.5f %10.5f %10.5f %9.4f%% %11.1f\n",
+                    toString(r.mb).c_str(), identical.c_str(), differing.c_str(), r.visibility.rmse,
+                    r.visibility.maxAbs, r.lit.rmse, r.lit.maxAbs, r.lit.ssim, 100.0 * r.lit.fractionAbove,
+                    r.frameMs);
     }
     std::string visibilityOnly;
     for (const MethodBackend& mb : methods)
@@ -464,9 +466,11 @@ int runCompare(CompareArgs& args) {
     if (methodInfo(against.method).output == MethodOutput::Visibility)
         visibilityOnly = "every method: " + toString(against.method) + ", the method compared with,";
     const std::string equalNote =
-        std::string(
-            "(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; >1/255 px = pixels "
-            "of the lit image off by more than one 8-bit step") +
+        std::string("(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; lit SSIM = "
+                    "structural "
+                    "similarity of the lit images' luma, 1 when equal; >1/255 px = pixels of the lit image "
+                    "off by more "
+                    "than one 8-bit step") +
         (visibilityOnly.empty()
              ? ")"
              : "; n/a: " + visibilityOnly + " give(s) a v_coef per pixel, not per-sample bits)");
@@ -547,6 +551,7 @@ int runCompare(CompareArgs& args) {
                  {{"rmse", r.lit.rmse},
                   {"bias", r.lit.bias},
                   {"max_abs", r.lit.maxAbs},
+                  {"ssim", r.lit.ssim},
                   {"fraction_above_1_255", r.lit.fractionAbove}}},
                 {"frame_ms", r.frameMs}};
             if (converged) row["converged"] = errorJson(r.convergedVisibility, r.convergedLit);

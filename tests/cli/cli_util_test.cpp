@@ -304,3 +304,38 @@ TEST(BenchPresets, UnknownKeyAndBadFileAreErrors) {
 
 } // namespace
 } // namespace stsv
+
+namespace stsv {
+namespace {
+
+// SSIM (Wang et al. 2004, Eq. 13): 1 for equal images; for two flat images only the luminance
+// term is left, (2·μx·μy + C1) / (μx² + μy² + C1), the same at every pixel; a pattern against
+// its inverse has contrast and structure terms of −1.
+TEST(StructuralSimilarity, EqualFlatAndInvertedImagesGiveTheClosedForms) {
+    ImageF a(24, 20, 3), b(24, 20, 3);
+    for (int y = 0; y < 20; ++y)
+        for (int x = 0; x < 24; ++x)
+            for (int c = 0; c < 3; ++c) a.at(x, y, c) = float((x * 7 + y * 3 + c) % 11) / 10.0f;
+    EXPECT_DOUBLE_EQ(structuralSimilarity(a, a), 1.0);
+
+    ImageF flat3(16, 16, 1), flat5(16, 16, 1);
+    std::fill(flat3.pixels.begin(), flat3.pixels.end(), 0.3f);
+    std::fill(flat5.pixels.begin(), flat5.pixels.end(), 0.5f);
+    const double c1 = 1e-4, mx = double(0.3f), my = double(0.5f);
+    // Floats of 0.3 and 0.5 through a weighted mean: agreement to 1e-6 of the closed form.
+    EXPECT_NEAR(structuralSimilarity(flat3, flat5), (2 * mx * my + c1) / (mx * mx + my * my + c1), 1e-6);
+
+    ImageF checker(16, 16, 1), inverse(16, 16, 1);
+    for (int y = 0; y < 16; ++y)
+        for (int x = 0; x < 16; ++x) {
+            checker.at(x, y, 0) = (x + y) % 2 ? 0.9f : 0.1f;
+            inverse.at(x, y, 0) = 1.0f - checker.at(x, y, 0);
+        }
+    // Means are ≈ 0.5 in both, so luminance ≈ 1 and the rest ≈ −1 (C2 = 9e-4 against σ² = 0.16).
+    EXPECT_LT(structuralSimilarity(checker, inverse), -0.95);
+    // compareImages reports it.
+    EXPECT_DOUBLE_EQ(compareImages(a, a).ssim, 1.0);
+}
+
+} // namespace
+} // namespace stsv
