@@ -1,7 +1,7 @@
 # Thin wrapper over CMake. `make demo` and `make test` do all the set-up on Debian 12.
 BUILD    ?= build
 JOBS     ?= $(shell nproc)
-PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev libtbb-dev \
+PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev libtbb-dev libopenexr-dev \
             nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libgmock-dev \
             glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers \
             vulkan-validationlayers vulkan-tools clang-format

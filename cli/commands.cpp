@@ -157,10 +157,13 @@ int runCli(int argc, char** argv) {
     render->add_option("--samples", r.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
         ->capture_default_str();
     addFrameOptions(render, r);
-    render->add_option("-o,--output", r.output,
-                       "lit image (PNG, sRGB); default SCENE.png when no output is given");
-    render->add_option("--visibility", r.visibility,
-                       "visibility v_coef: .png (linear gray, 8 bits) or .npy (float32 [H, W])");
+    render->add_option(
+        "-o,--output", r.output,
+        "lit image: .png (sRGB, 8 bits) or .exr (linear RGB, half floats); default SCENE.png when no output "
+        "is given");
+    render->add_option(
+        "--visibility", r.visibility,
+        "visibility v_coef: .png (linear gray, 8 bits), .exr (float32 Y) or .npy (float32 [H, W])");
     render->add_option("--dump-ls", r.dumpLs, "light-sample buffer as NumPy .npy (one file per light)");
     render->add_option(
         "--shadow-map", r.shadowMap,

@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -32,7 +33,50 @@ std::string formatFixed(double value, int decimals) {
 }
 
 bool isNpy(const std::string& path) {
-    return fs::path(path).extension() == ".npy";
+    return lowerExtension(path) == ".npy";
+}
+
+bool isExr(const std::string& path) {
+    return lowerExtension(path) == ".exr";
+}
+
+/// A visibility image from `render --visibility`: an EXR (its Y channel), or a float32 [H, W] .npy.
+ImageF readVisibilityFile(const std::string& path) {
+    if (isExr(path)) {
+        ImageF image = readExr(path);
+        if (image.channels != 1) throw InputError(path, "a visibility EXR has one channel, Y");
+        return image;
+    }
+    const NpyArray a = readNpy(path);
+    if (a.dtype != "<f4" || a.shape.size() != 2)
+        throw InputError(path, "a visibility .npy is float32 [H, W], not " + a.dtype + " of " +
+                                   std::to_string(a.shape.size()) + " dimensions");
+    ImageF image(int(a.shape[1]), int(a.shape[0]), 1);
+    std::memcpy(image.pixels.data(), a.bytes.data(), a.bytes.size());
+    return image;
+}
+
+/// Two visibility images (.exr, or float32 .npy [H, W]): RMSE, bias, max, SSIM, and the heat map.
+int compareVisibilityFiles(const CompareArgs& args) {
+    const ImageF a = readVisibilityFile(args.inputs[0]), b = readVisibilityFile(args.inputs[1]);
+    if (a.width != b.width || a.height != b.height)
+        throw UsageError(args.inputs[0] + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
+                         ", " + args.inputs[1] + " is " + std::to_string(b.width) + "x" +
+                         std::to_string(b.height));
+    if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
+    const ImageError e = compareImages(a, b, 0.1f);
+    std::printf("%s vs %s: %dx%d visibility\n", args.inputs[0].c_str(), args.inputs[1].c_str(), a.width,
+                a.height);
+    std::printf(
+        "RMSE %.6f, bias %+.6f, max |difference| %.6f, |dv| > 0.1 in %.4f %% of the pixels, SSIM %.6f\n",
+        e.rmse, e.bias, e.maxAbs, 100.0 * e.fractionAbove, e.ssim);
+    if (!args.out.empty()) {
+        const std::string path = (fs::path(args.out) / "difference.png").string();
+        writePng(path, heatMap(e.absDifference, args.heatScale));
+        std::printf("wrote %s (|difference| per pixel, yellow at %.3g)\n", path.c_str(),
+                    double(args.heatScale));
+    }
+    return 0;
 }
 
 struct Row {
@@ -338,13 +382,18 @@ int runCompare(CompareArgs& args) {
                          std::to_string(kMaxConvergedFrames));
     if (args.noCache && !args.converged) throw UsageError("--no-cache applies to --converged only");
     if (args.inputs.size() == 2) {
-        if (!isNpy(args.inputs[0]) || !isNpy(args.inputs[1]))
-            throw UsageError("compare takes one SCENE, or two .npy light-sample files");
+        const bool files = (isNpy(args.inputs[0]) || isExr(args.inputs[0])) &&
+                           (isNpy(args.inputs[1]) || isExr(args.inputs[1]));
+        if (!files)
+            throw UsageError("compare takes one SCENE, two .npy light-sample files, or two visibility files "
+                             "(.exr or float32 .npy)");
         if (args.converged || !args.report.empty() || !args.sheet.empty())
             throw UsageError(std::string(args.converged         ? "--converged"
                                          : !args.report.empty() ? "--report"
                                                                 : "--sheet") +
                              " compares renders of a SCENE, not two .npy light-sample files");
+        if (isExr(args.inputs[0]) || isExr(args.inputs[1]) || readNpy(args.inputs[0]).dtype == "<f4")
+            return compareVisibilityFiles(args);
         return compareNpy(args);
     }
     if (args.inputs.size() != 1) throw UsageError("compare takes one SCENE, or two .npy light-sample files");

@@ -83,8 +83,8 @@ int runRender(RenderArgs& args) {
     if (!args.shadowMap.empty() && method.shadowMap == ShadowFilter::None)
         throw UsageError("--shadow-map: method " + method.name +
                          " renders no shadow map (image-based methods do)");
-    const std::vector<OutputFile> outputs = {{"-o", args.output, {".png"}},
-                                             {"--visibility", args.visibility, {".png", ".npy"}},
+    const std::vector<OutputFile> outputs = {{"-o", args.output, {".png", ".exr"}},
+                                             {"--visibility", args.visibility, {".png", ".npy", ".exr"}},
                                              {"--dump-ls", args.dumpLs, {".npy"}},
                                              {"--shadow-map", args.shadowMap, {".npy"}},
                                              {"--stats", args.stats, {".json"}}};
@@ -105,10 +105,18 @@ int runRender(RenderArgs& args) {
     for (const std::string& warning : frameWarnings(frame.stats))
         std::fprintf(stderr, "stsv: warning: %s\n", warning.c_str());
 
-    if (!args.output.empty()) writePng(args.output, toImage8(frame.color, true));
+    if (!args.output.empty()) {
+        if (lowerExtension(args.output) == ".exr")
+            writeExr(args.output, frame.color, true); // linear RGB, half floats: no clipped highlights
+        else
+            writePng(args.output, toImage8(frame.color, true));
+    }
     if (!args.visibility.empty()) {
-        if (lowerExtension(args.visibility) == ".png")
+        const std::string ext = lowerExtension(args.visibility);
+        if (ext == ".png")
             writePng(args.visibility, toImage8(frame.visibility, false));
+        else if (ext == ".exr")
+            writeExr(args.visibility, frame.visibility, false); // float32 Y: v_coef unquantised
         else
             writeNpy(args.visibility, frame.visibility); // float32 v_coef, unquantised
     }

@@ -1,4 +1,5 @@
-// Images in memory and on disk: 8-bit PNG (stb) and NumPy .npy (raw buffers).
+// Images in memory and on disk: 8-bit PNG (stb), OpenEXR (linear floats) and NumPy .npy (raw
+// buffers).
 // Row 0 is the top row everywhere in stsv.
 #pragma once
 
@@ -53,6 +54,13 @@ void writeNpy(const std::string& path, const std::string& dtype, const std::vect
 
 /// A float image as float32 .npy: [H, W] for one channel, [H, W, C] otherwise.
 void writeNpy(const std::string& path, const ImageF& image);
+
+/// Writes an OpenEXR file of linear values: 3 channels as R, G, B, 1 as Y; half floats when
+/// `halfFloat`, else 32-bit floats. Error naming the file when encoding or the write fails.
+void writeExr(const std::string& path, const ImageF& image, bool halfFloat);
+/// Reads an OpenEXR file's Y channel, or its R, G and B, as 32-bit floats; InputError naming the
+/// file when it is not a readable EXR or has neither.
+ImageF readExr(const std::string& path);
 
 /// A NumPy array read back (used by tests and the compare tool).
 struct NpyArray {
