@@ -97,6 +97,12 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
     command->add_option("--ambient", a.options.ambient, "ambient light, fraction of albedo")
         ->capture_default_str();
     command->add_option("--size", a.size, "image size WIDTHxHEIGHT")->capture_default_str();
+    command
+        ->add_option(
+            "--supersample", a.options.supersample,
+            "K: K×K visible points per pixel, each with the pixel's light samples, averaged (1 to 4; "
+            "--dump-ls keeps every sub-pixel)")
+        ->capture_default_str();
     command->add_option("--set", a.sets, "scene knob key=value (repeatable), e.g. --set count=256");
     command->add_option("--camera", a.camera,
                         "the camera, as the scene format's object: "

@@ -44,7 +44,8 @@ class MemoryIStream final : public Imf::IStream {
   public:
     explicit MemoryIStream(std::string bytes) : Imf::IStream("memory"), m_bytes(std::move(bytes)) {}
     bool read(char c[], int n) override {
-        if (n < 0 || m_pos + std::size_t(n) > m_bytes.size()) throw std::runtime_error("unexpected end of file");
+        if (n < 0 || m_pos + std::size_t(n) > m_bytes.size())
+            throw std::runtime_error("unexpected end of file");
         std::memcpy(c, m_bytes.data() + m_pos, std::size_t(n));
         m_pos += std::size_t(n);
         return m_pos < m_bytes.size();
@@ -63,11 +64,13 @@ const char* const kRgb[] = {"R", "G", "B"};
 
 void writeExr(const std::string& path, const ImageF& image, bool halfFloat) {
     if (image.channels != 1 && image.channels != 3)
-        throw Error(path + ": an EXR is written from 1 (Y) or 3 (RGB) channels, not " + std::to_string(image.channels));
+        throw Error(path + ": an EXR is written from 1 (Y) or 3 (RGB) channels, not " +
+                    std::to_string(image.channels));
     std::vector<half> halves;
     if (halfFloat) {
         halves.resize(image.pixels.size());
-        std::transform(image.pixels.begin(), image.pixels.end(), halves.begin(), [](float v) { return half(v); });
+        std::transform(image.pixels.begin(), image.pixels.end(), halves.begin(),
+                       [](float v) { return half(v); });
     }
     MemoryOStream stream;
     try {
@@ -80,9 +83,10 @@ void writeExr(const std::string& path, const ImageF& image, bool halfFloat) {
         for (int c = 0; c < image.channels; ++c) {
             const char* name = image.channels == 1 ? "Y" : kRgb[c];
             header.channels().insert(name, Imf::Channel(type));
-            frame.insert(name, Imf::Slice(type, base + std::size_t(c) * valueBytes,
-                                          valueBytes * std::size_t(image.channels),
-                                          valueBytes * std::size_t(image.channels) * std::size_t(image.width)));
+            frame.insert(name,
+                         Imf::Slice(type, base + std::size_t(c) * valueBytes,
+                                    valueBytes * std::size_t(image.channels),
+                                    valueBytes * std::size_t(image.channels) * std::size_t(image.width)));
         }
         Imf::OutputFile file(stream, header);
         file.setFrameBuffer(frame);
@@ -98,23 +102,28 @@ ImageF readExr(const std::string& path) {
     try {
         Imf::InputFile file(stream);
         const Imath::Box2i window = file.header().dataWindow();
-        const long width = long(window.max.x) - window.min.x + 1, height = long(window.max.y) - window.min.y + 1;
+        const long width = long(window.max.x) - window.min.x + 1,
+                   height = long(window.max.y) - window.min.y + 1;
         if (width < 1 || height < 1 || width > MAX_IMAGE_SIDE || height > MAX_IMAGE_SIDE)
             throw InputError(path, "EXR of " + std::to_string(width) + "x" + std::to_string(height) +
                                        " pixels (1 to " + std::to_string(MAX_IMAGE_SIDE) + " a side)");
         const Imf::ChannelList& channels = file.header().channels();
         std::vector<std::string> names;
-        if (channels.findChannel("Y")) names = {"Y"};
-        else if (channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B")) names = {"R", "G", "B"};
-        else throw InputError(path, "EXR has neither a Y channel nor R, G and B");
+        if (channels.findChannel("Y"))
+            names = {"Y"};
+        else if (channels.findChannel("R") && channels.findChannel("G") && channels.findChannel("B"))
+            names = {"R", "G", "B"};
+        else
+            throw InputError(path, "EXR has neither a Y channel nor R, G and B");
         ImageF image(int(width), int(height), int(names.size()));
         Imf::FrameBuffer frame;
         char* base = reinterpret_cast<char*>(image.pixels.data()) -
                      (std::ptrdiff_t(window.min.x) + std::ptrdiff_t(window.min.y) * width) *
                          std::ptrdiff_t(sizeof(float) * names.size());
         for (std::size_t c = 0; c < names.size(); ++c)
-            frame.insert(names[c], Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(float) * names.size(),
-                                              sizeof(float) * names.size() * std::size_t(width)));
+            frame.insert(names[c],
+                         Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(float) * names.size(),
+                                    sizeof(float) * names.size() * std::size_t(width)));
         file.setFrameBuffer(frame);
         file.readPixels(window.min.y, window.max.y);
         return image;

@@ -70,13 +70,14 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
 
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
                            const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
-                           ImageF& coverage, ShadowMapCpuStats* stats) {
+                           ImageF& coverage, ShadowMapCpuStats* stats, int supersample) {
     const ShadowMapView& view = map.view;
     const ShadowMapSource src{&map, taps.data()};
     auto receiver = [&](int x, int y, std::size_t i) {
         return shadowReceiver(view, gbuffer.position[i], gbuffer.normal[i], settings.bias,
                               settings.normalOffset,
-                              shadowTapRotation(uvec2(unsigned(x), unsigned(y)), seed, decorrelate));
+                              shadowTapRotation(uvec2(unsigned(x / supersample), unsigned(y / supersample)),
+                                                seed, decorrelate));
     };
     Timer timer;
     if (settings.filter == ShadowFilter::Pcf) {
@@ -118,7 +119,7 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const Light& light, const ShadowMapSettings& settings,
                                          std::uint32_t seed, bool decorrelate, ImageF& coverage,
-                                         ShadowMap* keep) {
+                                         ShadowMap* keep, int supersample) {
     ShadowMapCpuStats stats;
     Timer timer;
     ShadowMap map = traceShadowMap(embree, fitShadowMap(light, embree.scene().bounds(), settings.size));
@@ -126,7 +127,7 @@ ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffe
     stats.faces = map.view.faces;
     stats.texels = map.depth.size();
     shadowMapFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, coverage,
-                          &stats);
+                          &stats, supersample);
     if (keep) *keep = std::move(map);
     return stats;
 }

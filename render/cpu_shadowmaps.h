@@ -39,15 +39,16 @@ nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuf
 nlohmann::json toJson(const ShadowMapCpuStats& stats);
 
 /// PCF or PCSS visibility of every covered pixel into `coverage` (v_coef; uncovered pixels
-/// untouched), with the per-pixel tap rotation of `seed` when `decorrelate`.
+/// untouched), with the per-pixel tap rotation of `seed` when `decorrelate` (the sub-pixels of a
+/// supersampled G-buffer take their pixel's rotation).
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const Light& light, const ShadowMapSettings& settings,
                                          std::uint32_t seed, bool decorrelate, ImageF& coverage,
-                                         ShadowMap* keep = nullptr);
+                                         ShadowMap* keep = nullptr, int supersample = 1);
 
 /// The filter step alone, for a given map (tests feed both backends the same map).
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
                            const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
-                           ImageF& coverage, ShadowMapCpuStats* stats = nullptr);
+                           ImageF& coverage, ShadowMapCpuStats* stats = nullptr, int supersample = 1);
 
 } // namespace stsv

@@ -61,9 +61,8 @@ namespace {
 class CpuRenderer final : public FrameRenderer {
   public:
     CpuRenderer(const Scene& scene, const RenderOptions& options)
-        : m_scene(scene), m_options(frameOptions(options)), m_method(methodInfo(options.method)),
-          m_plan(makeSamplePlan(options.pattern, options.samples, options.seed, options.interleave,
-                                options.decorrelate)),
+        : m_scene(scene), m_requested(options), m_options(frameOptions(options)),
+          m_method(methodInfo(options.method)), m_plan(samplePlanOf(options)),
           m_farDistance(farDistanceFor(scene.bounds())), m_embree((validate(options), scene)),
           m_shadowMaps(shadowMapSettings(m_options)), m_startupMs(0.0) {
         if (m_method.opaque != OpaqueTechnique::None) occluders();
@@ -102,7 +101,7 @@ class CpuRenderer final : public FrameRenderer {
                 ShadowMap* keep = m_options.keepShadowMaps ? &frame.shadowMaps.emplace_back() : nullptr;
                 const ShadowMapCpuStats s =
                     shadowMapCpuVisibility(m_embree, frame.gbuffer, light, m_shadowMaps, m_options.seed,
-                                           m_options.decorrelate, coverage, keep);
+                                           m_options.decorrelate, coverage, keep, m_options.supersample);
                 passes[prefix + "shadow_map"] = s.map_ms;
                 if (m_shadowMaps.filter == ShadowFilter::Pcss) passes[prefix + "pcss_blocker"] = s.blocker_ms;
                 passes[prefix + "shadow_filter"] = s.filter_ms;
@@ -163,6 +162,7 @@ class CpuRenderer final : public FrameRenderer {
                         : m_method.opaque == OpaqueTechnique::None ? "stsv"
                                                                    : "wedges"] = methodStats;
         if (!stsvStats.empty()) frame.stats["stsv"] = stsvStats;
+        resolveSupersampling(frame, m_requested);
         return frame;
     }
 
@@ -174,6 +174,7 @@ class CpuRenderer final : public FrameRenderer {
     }
 
     const Scene& m_scene;
+    RenderOptions m_requested;
     RenderOptions m_options;
     const MethodInfo& m_method;
     Timer m_startup;

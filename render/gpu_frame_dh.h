@@ -91,7 +91,7 @@ struct GpuFrame {
     float lightWeight; ///< 1 / lightCount: weight of each light's v_coef in the visibility image
     float farDistance; ///< world units: distance of a directional light's samples (light_bounds.h)
     float ambient;     ///< ambient term, fraction of albedo
-    uint pad0;
+    uint supersample;  ///< K: sub-pixel (x, y) takes the light samples of pixel (x/K, y/K)
     uint pad1;
 };
 

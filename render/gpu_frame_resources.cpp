@@ -94,6 +94,7 @@ std::vector<std::byte> frameConstants(const Scene& scene, const RenderOptions& o
     frame.interleave = static_cast<uint>(options.interleave);
     frame.seed = options.seed;
     frame.decorrelate = options.decorrelate ? 1u : 0u;
+    frame.supersample = uint(options.supersample);
     frame.lightCount = static_cast<uint>(lightCount);
     frame.lightWeight = lightCount > 0 ? 1.0f / float(lightCount) : 0.0f;
     std::vector<std::byte> bytes(sizeof(GpuFrame) + sizeof(GpuLight) * std::max<std::size_t>(lightCount, 1));

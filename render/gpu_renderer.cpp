@@ -128,10 +128,9 @@ class VulkanFrame {
 VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
                          StsvGeometry geometry, std::uint64_t deferredCapacity)
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
-      m_geometry(geometry), m_plan(makeSamplePlan(options.pattern, options.samples, options.seed,
-                                                  options.interleave, options.decorrelate)),
-      m_resources(device, scene, options, m_plan), m_opaqueResources(device, scene, options),
-      m_shadowResources(device, scene, options), m_hullResources(device),
+      m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
+      m_opaqueResources(device, scene, options), m_shadowResources(device, scene, options),
+      m_hullResources(device),
       m_deferredResources(device, options,
                           (geometry == StsvGeometry::Hull && drawsStsv(m_method.stsv, scene)) ||
                                   m_method.opaque == OpaqueTechnique::Dcs
@@ -423,12 +422,14 @@ struct VulkanRenderer::Impl {
     Device* device = nullptr;
     StsvGeometry geometry = StsvGeometry::Hull;
     std::unique_ptr<VulkanFrame> frame;
+    RenderOptions requestedOptions; ///< as asked: the frame renders the sub-pixel grid
     double startupMs = 0.0;
 
     Impl(const Scene& scene, const RenderOptions& requested, const VulkanRendererConfig& config) {
         Timer startup;
+        validate(requested);
+        requestedOptions = requested;
         const RenderOptions options = frameOptions(requested);
-        validate(options);
         if (config.device) {
             device = config.device;
         } else {
@@ -476,7 +477,9 @@ VulkanRenderer::~VulkanRenderer() {
 }
 
 Frame VulkanRenderer::render() {
-    return m_impl->frame->render(m_impl->startupMs);
+    Frame frame = m_impl->frame->render(m_impl->startupMs);
+    resolveSupersampling(frame, m_impl->requestedOptions);
+    return frame;
 }
 
 const Device& VulkanRenderer::device() const {

@@ -1,6 +1,7 @@
 #include "render/options.h"
 
 #include "core/error.h"
+#include "render/frame.h"
 
 namespace stsv {
 
@@ -13,12 +14,50 @@ void validate(const RenderOptions& o) {
     if (o.interleave < 1 || o.interleave > 8)
         throw UsageError("--interleave " + std::to_string(o.interleave) + " is out of range (1 to 8)");
     if (!(o.ambient >= 0.0f && o.ambient <= 1.0f)) throw UsageError("--ambient must lie in [0, 1]");
+    if (o.supersample < 1 || o.supersample > 4)
+        throw UsageError("--supersample " + std::to_string(o.supersample) + " is out of range (1 to 4)");
+    if (o.width * o.supersample > 16384 || o.height * o.supersample > 16384)
+        throw UsageError("--supersample " + std::to_string(o.supersample) + " of " + std::to_string(o.width) +
+                         "x" + std::to_string(o.height) + " needs a sub-pixel grid above 16384 per side");
     validateMethodParams(methodInfo(o.method), o.params);
 }
 
 RenderOptions frameOptions(RenderOptions options) {
     options.buffer = methodInfo(options.method).bufferKind(options.buffer);
+    options.width *= options.supersample;
+    options.height *= options.supersample;
     return options;
+}
+
+SamplePlan samplePlanOf(const RenderOptions& o) {
+    SamplePlan plan = makeSamplePlan(o.pattern, o.samples, o.seed, o.interleave, o.decorrelate);
+    plan.supersample = o.supersample;
+    return plan;
+}
+
+void resolveSupersampling(Frame& frame, const RenderOptions& requested) {
+    const int k = requested.supersample;
+    if (k > 1) {
+        auto average = [&](const ImageF& fine) {
+            ImageF out(requested.width, requested.height, fine.channels);
+            const float weight = 1.0f / float(k * k);
+            for (int y = 0; y < requested.height; ++y)
+                for (int x = 0; x < requested.width; ++x)
+                    for (int c = 0; c < fine.channels; ++c) {
+                        float sum = 0.0f;
+                        for (int j = 0; j < k; ++j)
+                            for (int i = 0; i < k; ++i) sum += fine.at(x * k + i, y * k + j, c);
+                        out.at(x, y, c) = sum * weight;
+                    }
+            return out;
+        };
+        frame.color = average(frame.color);
+        frame.visibility = average(frame.visibility);
+    }
+    if (frame.stats.contains("options")) {
+        frame.stats["options"]["width"] = requested.width;
+        frame.stats["options"]["height"] = requested.height;
+    }
 }
 
 namespace {
@@ -69,6 +108,7 @@ nlohmann::json toJson(const RenderOptions& o) {
             {"device", o.device},
             {"validation", o.validation},
             {"extrusion", toString(o.extrusion)},
+            {"supersample", o.supersample},
             {"params", withDefaults(o)}};
 }
 

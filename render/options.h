@@ -24,6 +24,8 @@ enum class ExtrusionStage {
 ExtrusionStage parseExtrusionStage(const std::string& name); ///< auto | hull | geometry | mesh
 std::string toString(ExtrusionStage stage);
 
+struct Frame;
+
 struct RenderOptions {
     Method method = Method::Stsv;
     Backend backend = Backend::Vulkan; ///< one of methodInfo(method).backends
@@ -42,14 +44,28 @@ struct RenderOptions {
     ExtrusionStage extrusion = ExtrusionStage::Auto; ///< Vulkan: stage of the STSV extrusion
     MethodParams params;         ///< the method's knobs (render/methods.h); missing ones take their defaults
     bool keepShadowMaps = false; ///< image-based methods: Frame::shadowMaps holds each light's map
+    /// K: K×K visible points per pixel (sub-pixel centres), each with the pixel's own light
+    /// samples, averaged into the images; the G-buffer and light-sample buffers keep every
+    /// sub-pixel (K·width × K·height). 1 … 4.
+    int supersample = 1;
 };
 
 /// Throws UsageError naming the first option out of range (method parameters included).
 void validate(const RenderOptions& options);
 
 /// The options a frame runs with: `buffer` becomes the kind the method writes
-/// (MethodInfo::bufferKind), so stats and light-sample buffers say what was rendered.
+/// (MethodInfo::bufferKind), so stats and light-sample buffers say what was rendered, and width
+/// and height are those of the sub-pixel grid (K·width × K·height for supersample K).
 RenderOptions frameOptions(RenderOptions options);
+
+/// The end of a supersampled frame (options.supersample = K > 1, the frame rendered on the
+/// sub-pixel grid): colour and visibility averaged over each pixel's K×K sub-pixels, the stats'
+/// options back to the requested size. Every backend calls it.
+void resolveSupersampling(Frame& frame, const RenderOptions& requested);
+
+/// The sample sets of a frame of `options` (pattern, count, seed, interleave, decorrelation, and
+/// the supersampling that makes sub-pixels share their pixel's samples).
+SamplePlan samplePlanOf(const RenderOptions& options);
 
 nlohmann::json toJson(const RenderOptions& options);
 

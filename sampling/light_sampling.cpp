@@ -31,8 +31,9 @@ inline bool resolveSourceOccluded(ResolveSource, uint word, uint k) {
 namespace stsv {
 
 vec2 pixelSamplePoint(const SamplePlan& plan, int x, int y, int k, uint domain) {
-    return samplePoint(plan.patternPoint(x, y, k), uvec2(unsigned(x), unsigned(y)), plan.seed,
-                       plan.decorrelate, domain);
+    // Sub-pixels of a supersampled frame share their pixel's samples.
+    const uvec2 pixel(unsigned(x / plan.supersample), unsigned(y / plan.supersample));
+    return samplePoint(plan.patternPoint(x, y, k), pixel, plan.seed, plan.decorrelate, domain);
 }
 
 vec3 pixelLightSample(const SamplePlan& plan, int x, int y, int k, const LightFrame& frame) {

@@ -45,14 +45,16 @@ struct SamplePlan {
     int interleave = 1; ///< K of the K×K interleaved sets
     std::uint32_t seed = 0;
     bool decorrelate = true; ///< per-pixel Cranley–Patterson rotation (light_sampling_dh.h)
+    int supersample = 1;     ///< K: sub-pixel (x, y) takes the samples of pixel (x/K, y/K)
     std::vector<vec2> points;
 
     int setCount() const { return interleave * interleave; }
     /// Keller & Heidrich: pixel (x, y) uses set (y mod K)·K + (x mod K).
     int setIndex(int x, int y) const { return (y % interleave) * interleave + (x % interleave); }
-    /// Pattern point k of pixel (x, y), before decorrelation and domain mapping.
+    /// Pattern point k of (sub-)pixel (x, y), before decorrelation and domain mapping.
     vec2 patternPoint(int x, int y, int k) const {
-        return points[std::size_t(setIndex(x, y)) * std::size_t(count) + std::size_t(k)];
+        return points[std::size_t(setIndex(x / supersample, y / supersample)) * std::size_t(count) +
+                      std::size_t(k)];
     }
 };
 

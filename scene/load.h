@@ -12,10 +12,10 @@ namespace stsv {
 
 /// Scene knobs and overrides from the command line, as given.
 struct SceneOptions {
-    std::map<std::string, std::string> set; ///< `--set key=value`
-    std::string camera;                     ///< `--camera JSON`: replaces the scene's camera
-    std::vector<std::string> lights;        ///< `--light JSON` (each): replace the scene's lights
-    std::vector<std::string> addLights;     ///< `--add-light JSON` (each): added to its lights
+    std::map<std::string, std::string> set;  ///< `--set key=value`
+    std::string camera = {};                 ///< `--camera JSON`: replaces the scene's camera
+    std::vector<std::string> lights = {};    ///< `--light JSON` (each): replace the scene's lights
+    std::vector<std::string> addLights = {}; ///< `--add-light JSON` (each): added to its lights
 };
 
 /// One knob a built-in scene accepts (for `stsv info` and error messages).

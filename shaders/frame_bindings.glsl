@@ -53,6 +53,10 @@ uint alphaAtTexture(GpuTexture t, ivec2 texel) {
 
 uint alphaAt(uint texture, ivec2 texel) { return alphaAtTexture(textures[texture], texel); }
 
+/// The pixel whose light samples (sample set, decorrelation, tap rotation) a sub-pixel of the
+/// frame's grid takes: itself, or with supersampling K its pixel (x/K, y/K).
+uvec2 samplePixelOf(uvec2 pixel) { return pixel / frame.supersample; }
+
 /// samplePoint (sampling/light_sampling_dh.h) with the pixel's decorrelationOffset computed once
 /// per pixel instead of per sample: the same fixed-point rotation, bit for bit.
 vec2 samplePointWithOffset(vec2 patternPoint, uvec2 offset, bool decorrelated, uint domain) {

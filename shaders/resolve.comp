@@ -100,8 +100,8 @@ void main() {
             vec3 n = gpuShadingNormal(triangles[tri], vec3(frame.eye), p);
             LightFrame lf = lightFrame(light, p, frame.farDistance);
             ResolveSource src;
-            src.base = interleaveSet(uvec2(pixel), frame.interleave) * uint(SAMPLE_COUNT);
-            src.offset = decorrelationOffset(uvec2(pixel), frame.seed);
+            src.base = interleaveSet(samplePixelOf(uvec2(pixel)), frame.interleave) * uint(SAMPLE_COUNT);
+            src.offset = decorrelationOffset(samplePixelOf(uvec2(pixel)), frame.seed);
             src.decorrelate = frame.decorrelate != 0u;
             src.domain = lf.domain;
             src.counterWord =

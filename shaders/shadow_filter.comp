@@ -44,7 +44,7 @@ void main() {
     vec3 p = vec3(imageLoad(gPosition, pixel));
     vec3 n = gpuShadingNormal(triangles[tri], vec3(frame.eye), p);
     ShadowReceiver r = shadowReceiver(v, p, n, shadowParams.bias, shadowParams.normalOffset,
-                                      shadowTapRotation(uvec2(pixel), frame.seed, frame.decorrelate != 0u));
+                                      shadowTapRotation(samplePixelOf(uvec2(pixel)), frame.seed, frame.decorrelate != 0u));
 #if SHADOW_FILTER_STEP == 0
     float result = pcfVisibility(v, src, r, shadowParams.pcfRadius);
 #elif SHADOW_FILTER_STEP == 1

@@ -43,8 +43,8 @@ bool stsvPixelSetup(uvec2 pixel, vec3 p, StsvTriangle t, uint side, out StsvPixe
     LightFrame lf = lightFrame(light, p, frame.farDistance);
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
-    src.base = interleaveSet(pixel, frame.interleave) * uint(SAMPLE_COUNT);
-    src.offset = decorrelationOffset(pixel, frame.seed);
+    src.base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
+    src.offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
     src.decorrelate = frame.decorrelate != 0u;
     src.domain = lf.domain;
     src.texture = textures[opaque ? 0u : t.texture];

@@ -36,8 +36,8 @@ void main() {
         LightFrame lf;
         if (!wedgePixelTerm(p, wedgeEdgeAt(entry.y), receiver, l, h0, h1, k, lf)) continue;
         atomicAdd(stats[pc.light].wedgeInside, 1u);
-        uint base = interleaveSet(pixel, frame.interleave) * uint(SAMPLE_COUNT);
-        uvec2 offset = decorrelationOffset(pixel, frame.seed);
+        uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
+        uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
         for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
             vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);

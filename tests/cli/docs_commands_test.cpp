@@ -143,10 +143,22 @@ std::vector<std::string> smallVersion(std::vector<std::string> args) {
     }
     for (std::size_t i = 0; i + 1 < args.size(); ++i)
         if (args[i] == "--converged") args[i + 1] = "2";
-    for (std::size_t i = 2; i < args.size(); ++i)
-        if (args[i].find('/') != std::string::npos && args[i].front() != '-' &&
-            fs::exists(fs::path(STSV_SOURCE_DIR) / args[i]))
+    // Inputs of the checkout become absolute; outputs stay in the scratch folder (their folders
+    // made there), so that no example overwrites a file of the checkout.
+    static const std::vector<std::string> outputOptions = {
+        "-o",           "--output", "--visibility", "--dump-ls", "--stats",
+        "--shadow-map", "--json",   "--out",        "--report",  "--sheet"};
+    for (std::size_t i = 2; i < args.size(); ++i) {
+        const bool output =
+            std::find(outputOptions.begin(), outputOptions.end(), args[i - 1]) != outputOptions.end();
+        if (output) {
+            const fs::path parent = fs::path(args[i]).parent_path();
+            if (!parent.empty() && parent.is_relative()) fs::create_directories(parent);
+        } else if (args[i].find('/') != std::string::npos && args[i].front() != '-' &&
+                   fs::exists(fs::path(STSV_SOURCE_DIR) / args[i])) {
             args[i] = (fs::path(STSV_SOURCE_DIR) / args[i]).string();
+        }
+    }
     args.erase(args.begin()); // "stsv"
     if (command != "info" && !listing) args.push_back("-q");
     return args;

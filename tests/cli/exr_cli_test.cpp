@@ -18,8 +18,8 @@ namespace {
 
 TEST(ExrCli, LitAndVisibilityHoldTheFramesValuesAndMatchTheNpy) {
     ScratchDir dir;
-    const std::vector<std::string> common = {"render", "fence", "--backend", "cpu", "--size", "48x32", "--samples", "16",
-                                             "--seed", "3", "-q"};
+    const std::vector<std::string> common = {"render",    "fence", "--backend", "cpu", "--size", "48x32",
+                                             "--samples", "16",    "--seed",    "3",   "-q"};
     auto run = [&](std::vector<std::string> extra) {
         std::vector<std::string> args = common;
         args.insert(args.end(), extra.begin(), extra.end());
@@ -54,21 +54,24 @@ TEST(ExrCli, LitAndVisibilityHoldTheFramesValuesAndMatchTheNpy) {
     ASSERT_EQ(lit.channels, 3);
     ASSERT_EQ(lit.pixels.size(), frame.color.pixels.size());
     for (std::size_t i = 0; i < lit.pixels.size(); ++i)
-        ASSERT_NEAR(lit.pixels[i], frame.color.pixels[i], std::abs(frame.color.pixels[i]) * 0.0005f + 1e-7f) << i;
+        ASSERT_NEAR(lit.pixels[i], frame.color.pixels[i], std::abs(frame.color.pixels[i]) * 0.0005f + 1e-7f)
+            << i;
 }
 
 TEST(ExrCli, CompareTakesTwoVisibilityFiles) {
     ScratchDir dir;
     for (const char* method : {"stsv", "pcss"}) {
-        const CliResult r = runStsv({"render", "fence", "--backend", "cpu", "--method", method, "--size", "48x32",
-                                     "--samples", "16", "--visibility", dir.file(std::string(method) + ".exr"), "-q"});
+        const CliResult r =
+            runStsv({"render", "fence", "--backend", "cpu", "--method", method, "--size", "48x32",
+                     "--samples", "16", "--visibility", dir.file(std::string(method) + ".exr"), "-q"});
         ASSERT_EQ(r.code, 0) << r.err;
     }
     const CliResult same = runStsv({"compare", dir.file("stsv.exr"), dir.file("stsv.exr")});
     ASSERT_EQ(same.code, 0) << same.err;
     EXPECT_NE(same.out.find("RMSE 0.000000"), std::string::npos) << same.out;
     EXPECT_NE(same.out.find("SSIM 1.000000"), std::string::npos) << same.out;
-    const CliResult diff = runStsv({"compare", dir.file("stsv.exr"), dir.file("pcss.exr"), "--out", dir.file("d")});
+    const CliResult diff =
+        runStsv({"compare", dir.file("stsv.exr"), dir.file("pcss.exr"), "--out", dir.file("d")});
     ASSERT_EQ(diff.code, 0) << diff.err;
     EXPECT_EQ(diff.out.find("RMSE 0.000000"), std::string::npos) << diff.out;
     EXPECT_TRUE(std::filesystem::exists(dir.file("d/difference.png")));

@@ -83,6 +83,56 @@ TEST_F(GpuRenderer, VastGroundAndAStrayFarTriangleLeaveTheVisibleSurfacesAsEmbre
     }
 }
 
+// --supersample K: the G-buffer and the light-sample buffer hold the K·W × K·H sub-pixels, each
+// with its pixel's light samples; the GPU's bits equal the mirror's on that grid, the CPU frame's
+// on its own, and the images are W × H, the visibility the mean of the sub-pixels' bits.
+TEST_F(GpuRenderer, SupersampledFramesKeepEverySubPixelAndAverageThem) {
+    const Scene scene = loadScene("fence");
+    RenderOptions o = gpuOptions(48, 36, 64);
+    o.supersample = 2;
+    const Frame gpu = renderGpu(scene, o);
+    ASSERT_EQ(gpu.gbuffer.width, 96);
+    ASSERT_EQ(gpu.lightSamples[0].width(), 96);
+    ASSERT_EQ(gpu.color.width, 48);
+    ASSERT_EQ(gpu.visibility.height, 36);
+    EXPECT_EQ(gpu.stats["options"]["width"], 48);
+    EXPECT_EQ(gpu.stats["options"]["supersample"], 2);
+    // The mirror on the GPU's sub-pixel grid, every sub-pixel with its pixel's samples.
+    SamplePlan plan = makeSamplePlan(o.pattern, o.samples, o.seed, o.interleave, o.decorrelate);
+    plan.supersample = 2;
+    LightSampleBuffer mirror(96, 72, 64, BufferKind::Bitmask);
+    stsvCpuSamples(scene, gpu.gbuffer, scene.lights[0], plan, farDistanceFor(scene.bounds()), mirror);
+    const LightSampleDiff diff = compareLightSamples(gpu.lightSamples[0], mirror, 8, false);
+    EXPECT_EQ(diff.differingSamples, 0u)
+        << describeDifferences(gpu.lightSamples[0], mirror, gpu.gbuffer, false);
+    // The visibility of a pixel is the mean over its 2×2 sub-pixels' samples (the fence is the
+    // only light's occluder; background sub-pixels count as visible, 1).
+    for (int y = 0; y < 36; ++y)
+        for (int x = 0; x < 48; ++x) {
+            double visible = 0.0;
+            for (int j = 0; j < 2; ++j)
+                for (int i = 0; i < 2; ++i) {
+                    const int sx = 2 * x + i, sy = 2 * y + j;
+                    if (!gpu.gbuffer.covered(gpu.gbuffer.index(sx, sy))) {
+                        visible += 1.0;
+                        continue;
+                    }
+                    int lit = 0;
+                    for (int k = 0; k < 64; ++k) lit += gpu.lightSamples[0].occluded(sx, sy, k) ? 0 : 1;
+                    visible += lit / 64.0;
+                }
+            // Float sums of 4 · 64 terms against a double mean: 1e-5.
+            ASSERT_NEAR(gpu.visibility.at(x, y, 0), visible / 4.0, 1e-5) << "pixel " << x << ", " << y;
+        }
+    // A sub-pixel's samples are its pixel's: the two sub-pixels of one pixel on the same surface
+    // point would see the same bits; with the plan of a frame without supersampling, pixel (x, y)
+    // gives sub-pixel (2x + 1, 2y)'s sample positions.
+    const SamplePlan single = makeSamplePlan(o.pattern, o.samples, o.seed, o.interleave, o.decorrelate);
+    for (int k = 0; k < 64; k += 7)
+        EXPECT_EQ(pixelSamplePoint(plan, 2 * 5 + 1, 2 * 3, k, 0u), pixelSamplePoint(single, 5, 3, k, 0u))
+            << k;
+}
+
 struct SceneSamples {
     const char* scene;
     int samples;
