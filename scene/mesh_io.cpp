@@ -390,6 +390,11 @@ struct ObjScan {
     std::vector<std::int64_t> cornerVertex;   ///< 0-based
     std::vector<std::int64_t> cornerTexcoord; ///< 0-based, −1 = none
     std::vector<std::uint32_t> faceMaterial;  ///< into MeshData::materials
+    /// The file as OpenMesh reads it: the validated v, vt and f statements only (the numbers as
+    /// written, indices absolute, a face's texcoords only where every corner has one), so that
+    /// OpenMesh never meets what it mishandles (a comment after a face corner wrote one
+    /// texcoord out of bounds, found by fuzzing).
+    std::string canonical;
     std::vector<std::size_t> faceLine;
 };
 
@@ -455,6 +460,9 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
                                  "vertex needs 3 coordinates, got " + std::to_string(tokens.size() - 1));
             for (std::size_t k = 1; k < tokens.size(); ++k) finiteNumber(tokens[k], path, number, "vertex");
             ++scan.vertexCount;
+            scan.canonical.append("v ").append(tokens[1]).append(" ").append(tokens[2]).append(" ").append(
+                tokens[3]);
+            scan.canonical.push_back('\n');
         } else if (key == "vt") {
             if (tokens.size() < 2) throw InputError(path, number, "texture coordinate needs at least u");
             vec2 uv(0.0f);
@@ -463,6 +471,9 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
                 if (k <= 2) uv[int(k - 1)] = float(value);
             }
             scan.texcoords.push_back(uv);
+            scan.canonical.append("vt ").append(tokens[1]).append(" ").append(tokens.size() > 2 ? tokens[2]
+                                                                                                : "0");
+            scan.canonical.push_back('\n');
         } else if (key == "vn") {
             if (tokens.size() < 4) throw InputError(path, number, "normal needs 3 numbers");
             for (std::size_t k = 1; k < tokens.size(); ++k) finiteNumber(tokens[k], path, number, "normal");
@@ -518,7 +529,17 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
                                              "'");
                 }
             }
+            const std::size_t first = scan.faceStart.back();
             scan.faceStart.push_back(static_cast<std::uint32_t>(scan.cornerVertex.size()));
+            bool allTexcoords = true;
+            for (std::size_t c = first; c < scan.cornerVertex.size(); ++c)
+                allTexcoords &= scan.cornerTexcoord[c] >= 0;
+            scan.canonical.push_back('f');
+            for (std::size_t c = first; c < scan.cornerVertex.size(); ++c) {
+                scan.canonical += " " + std::to_string(scan.cornerVertex[c] + 1);
+                if (allTexcoords) scan.canonical += "/" + std::to_string(scan.cornerTexcoord[c] + 1);
+            }
+            scan.canonical.push_back('\n');
             if (currentMaterial < 0) currentMaterial = static_cast<int>(defaultMaterial());
             scan.faceMaterial.push_back(static_cast<std::uint32_t>(currentMaterial));
             scan.faceLine.push_back(number);
@@ -568,7 +589,7 @@ MeshData loadObj(const std::string& path) {
     const ObjScan scan = scanObj(path, text, out);
 
     PolyMesh mesh;
-    readThroughOpenMesh(path, mesh, true);
+    readThroughOpenMesh(path, mesh, true, &scan.canonical, ".obj");
 
     // OpenMesh adds the faces in file order, drops faces with a repeated vertex ("equal
     // vertices") and adds faces that would break manifoldness on fresh copies of their
