@@ -46,7 +46,6 @@ std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOpti
 /// One frame with a fresh renderer (start-up included in the call, not in frame_ms).
 Frame renderFrame(const Scene& scene, const RenderOptions& options);
 
-struct MethodInfo;
 /// What a frame's stats say of a method on a scene, on every backend: the perforated triangles
 /// a method without an STSV pass leaves out of its shadows ("ignored_perforated_triangles" and
 /// "ignored_perforated_triangles_use", the method that draws them).

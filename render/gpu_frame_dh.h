@@ -76,7 +76,7 @@ struct GpuTexture {
 
 /// Frame constants. std430: 11 × 16 bytes.
 struct GpuFrame {
-    mat4 clipFromWorld; ///< Vulkan clip space (scene/camera.h), near/far from the scene box
+    mat4 clipFromWorld; ///< Vulkan clip space, reversed depth and no far plane (gpuClipFromWorld)
     vec4 eye;           ///< world units, w unused
     vec4 boxLo;         ///< scene box (world units), w unused
     vec4 boxHi;         ///< scene box (world units), w unused
