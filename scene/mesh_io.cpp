@@ -785,7 +785,9 @@ MeshData loadOff(const std::string& path) {
                     break;
                 }
         faceStart.push_back(static_cast<std::uint32_t>(corners.size()));
-        appendLine(tokens);
+        // Face colours are validated but not used: OpenMesh reads a huge one as a colour count
+        // and allocates without bound (found by fuzzing), so it gets the indices only.
+        appendLine({tokens.begin(), tokens.begin() + std::ptrdiff_t(n + 1)});
     }
 
     PolyMesh mesh;
