@@ -28,9 +28,15 @@ Image8 readPngRgba(const std::string& path) {
     const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
     const int length = static_cast<int>(bytes.size());
     int w = 0, h = 0, n = 0;
+    // Only PNG is read: stb would also try JPEG, BMP, GIF, PSD, PIC, PNM, HDR and TGA on anything
+    // else, and Debian's stb has faults in some of those decoders (fuzzing crashed its PNM reader).
+    // A PNG starting with the signature goes to stb's PNG decoder, which it tries first.
+    if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0)
+        throw InputError(path, "not a PNG file (it lacks the PNG signature); textures must be PNG");
+    if (bytes.size() < 24 || bytes.compare(12, 4, "IHDR") != 0)
+        throw InputError(path, "not a readable PNG (no IHDR chunk after the signature)");
     // A PNG's size is read from its header first: stb refuses images over 1 GiB without saying why.
-    if (bytes.size() >= 24 && bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") == 0 &&
-        bytes.compare(12, 4, "IHDR") == 0) {
+    {
         auto be32 = [&](std::size_t at) {
             return std::uint64_t(std::uint8_t(bytes[at])) << 24 |
                    std::uint64_t(std::uint8_t(bytes[at + 1])) << 16 |
@@ -46,7 +52,7 @@ Image8 readPngRgba(const std::string& path) {
     // stb's failure reason is not reset between calls (it may be null, or left over from a format
     // tried earlier), so the messages below do not quote it.
     if (!stbi_info_from_memory(data, length, &w, &h, &n))
-        throw InputError(path, "not a readable image (not a PNG, nor another format stb reads)");
+        throw InputError(path, "not a readable PNG (its header is corrupt)");
     if (w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE)
         throw InputError(path, "image of " + std::to_string(w) + "x" + std::to_string(h) +
                                    " pixels is larger than the " + std::to_string(MAX_IMAGE_SIDE) +

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 
@@ -34,6 +35,27 @@ TEST(Image, MissingPngNamesTheFile) {
         FAIL() << "expected InputError";
     } catch (const InputError& e) {
         EXPECT_NE(std::string(e.what()).find("/nonexistent/texture.png"), std::string::npos) << e.what();
+    }
+}
+
+TEST(Image, OnlyPngIsDecoded) {
+    // A valid binary PPM (2x1, white and black): stb can decode it, yet a texture must be a PNG, and
+    // stb's other decoders stay out of reach (fuzzing crashed its PNM reader on a broken one).
+    const std::string ppm = std::string("P6\n2 1\n255\n") + std::string(3, '\xff') + std::string(3, '\0');
+    const std::string path = tempPath("texture_is_ppm.png");
+    {
+        std::FILE* f = std::fopen(path.c_str(), "wb");
+        ASSERT_NE(f, nullptr);
+        ASSERT_EQ(std::fwrite(ppm.data(), 1, ppm.size(), f), ppm.size());
+        std::fclose(f);
+    }
+    try {
+        readPngRgba(path);
+        FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find(path), std::string::npos) << what;
+        EXPECT_NE(what.find("not a PNG file"), std::string::npos) << what;
     }
 }
 
