@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -322,6 +323,14 @@ double structuralSimilarity(const ImageF& a, const ImageF& b) {
     return pixels > 0 ? total / pixels : 1.0;
 }
 
+Rgb8 heatColour(float t) {
+    t = std::clamp(t, 0.0f, 1.0f);
+    const float r = std::min(1.0f, 2.0f * t);
+    const float g = std::max(0.0f, 2.0f * t - 1.0f);
+    return {static_cast<std::uint8_t>(std::lround(r * 255.0f)), static_cast<std::uint8_t>(std::lround(g * 255.0f)),
+            0};
+}
+
 Image8 heatMap(const ImageF& values, float scale) {
     Image8 out;
     out.width = values.width;
@@ -331,13 +340,59 @@ Image8 heatMap(const ImageF& values, float scale) {
     for (int y = 0; y < values.height; ++y)
         for (int x = 0; x < values.width; ++x) {
             const float v = values.at(x, y, 0);
-            const float t = scale > 0.0f ? std::clamp(v / scale, 0.0f, 1.0f) : (v > 0.0f ? 1.0f : 0.0f);
-            // black → red over [0, 1/2], red → yellow over [1/2, 1]
-            const float r = std::min(1.0f, 2.0f * t);
-            const float g = std::max(0.0f, 2.0f * t - 1.0f);
-            out.at(x, y, 0) = static_cast<std::uint8_t>(std::lround(r * 255.0f));
-            out.at(x, y, 1) = static_cast<std::uint8_t>(std::lround(g * 255.0f));
+            const float t = scale > 0.0f ? v / scale : (v > 0.0f ? 1.0f : 0.0f);
+            const Rgb8 c = heatColour(t);
+            for (int ch = 0; ch < 3; ++ch) out.at(x, y, ch) = c[std::size_t(ch)];
         }
+    return out;
+}
+
+namespace {
+
+/// A tick label: three significant digits, no trailing zeros (0.1, 0.05, 0.25).
+std::string tickText(float value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.3g", double(value));
+    return text;
+}
+
+} // namespace
+
+Image8 heatLegend(float scale, int width, const std::string& caption, int textScale) {
+    const int s = std::max(1, textScale);
+    const int pad = 4 * s, line = textLineHeight(s), barHeight = 6 * s, gap = 2 * s;
+    Image8 out;
+    // Room for the caption, and for the three numbers with space between them.
+    out.width = std::max({width, textWidth(caption, s) + 2 * pad, 120 * s});
+    out.height = pad + line + barHeight + gap + line + pad;
+    out.channels = 3;
+    out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 3, 0);
+    fillRect(out, 0, 0, out.width, out.height, kSheetBackground);
+    drawText(out, pad, pad, caption, s, kSheetText);
+    const int x0 = pad, x1 = out.width - pad; // the bar covers [x0, x1)
+    const int barY = pad + line;
+    for (int x = x0; x < x1; ++x)
+        fillRect(out, x, barY, 1, barHeight, heatColour(float(x - x0) / float(std::max(1, x1 - x0 - 1))));
+    const int labelY = barY + barHeight + gap;
+    const std::string mid = tickText(scale / 2.0f), top = tickText(scale) + "+";
+    drawText(out, x0, labelY, "0", s, kSheetText);
+    drawText(out, (x0 + x1) / 2 - textWidth(mid, s) / 2, labelY, mid, s, kSheetText);
+    drawText(out, x1 - textWidth(top, s), labelY, top, s, kSheetText);
+    return out;
+}
+
+Image8 heatMapWithLegend(const ImageF& values, float scale, const std::string& caption) {
+    const Image8 heat = heatMap(values, scale);
+    const int textScale = heat.width >= 512 ? 2 : 1;
+    const Image8 legend = heatLegend(scale, heat.width, caption, textScale);
+    Image8 out;
+    out.width = legend.width;
+    out.height = heat.height + legend.height;
+    out.channels = 3;
+    out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 3, 0);
+    fillRect(out, 0, 0, out.width, heat.height, kSheetBackground);
+    pasteScaled(out, heat, 0, 0, 1);
+    pasteScaled(out, legend, 0, heat.height, 1);
     return out;
 }
 

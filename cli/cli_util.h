@@ -3,6 +3,7 @@
 // turns exceptions into exit codes.
 #pragma once
 
+#include "core/contact_sheet.h"
 #include "core/image.h"
 #include "render/frame.h"
 #include "scene/load.h"
@@ -112,8 +113,23 @@ struct ImageError {
 double structuralSimilarity(const ImageF& a, const ImageF& b);
 ImageError compareImages(const ImageF& a, const ImageF& b, float threshold = 1.0f / 255.0f);
 
+/// The heat maps' colour at t in [0, 1] (clamped): black → red over [0, 1/2], red → yellow over
+/// [1/2, 1].
+Rgb8 heatColour(float t);
+
 /// Heat map of a one-channel image: 0 black → scale/2 red → ≥ scale yellow.
 Image8 heatMap(const ImageF& values, float scale);
+
+/// The heat maps' colour scale as an RGB strip on the sheets' dark background: `caption` on the
+/// first line, then the gradient bar from 0 to `scale`, then the numbers 0, scale/2 and "scale+"
+/// under its left end, middle and right end, text at `textScale` pixels per font unit. The strip is
+/// `width` pixels wide, or wider where the caption or the numbers need it.
+Image8 heatLegend(float scale, int width, const std::string& caption, int textScale);
+
+/// A heat map with its colour scale beneath: the top values.height rows are heatMap(values, scale)
+/// pixel for pixel (its left columns, where the legend needs more width than the frame has); below
+/// them heatLegend at 1 pixel per font unit (2 for frames of 512 pixels or wider).
+Image8 heatMapWithLegend(const ImageF& values, float scale, const std::string& caption);
 
 /// Per pixel, the fraction of the N samples whose occlusion state differs between a and b
 /// (same size and N; UsageError otherwise).

@@ -26,6 +26,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// Captions of the colour scales under the heat maps written to --out.
+constexpr const char* kVisibilityCaption = "|visibility difference|";
+constexpr const char* kSampleCaption = "fraction of light samples that differ";
+
 std::string formatFixed(double value, int decimals) {
     char text[64];
     std::snprintf(text, sizeof text, "%.*f", decimals, value);
@@ -72,7 +76,7 @@ int compareVisibilityFiles(const CompareArgs& args) {
         e.rmse, e.bias, e.maxAbs, 100.0 * e.fractionAbove, e.ssim);
     if (!args.out.empty()) {
         const std::string path = (fs::path(args.out) / "difference.png").string();
-        writePng(path, heatMap(e.absDifference, args.heatScale));
+        writePng(path, heatMapWithLegend(e.absDifference, args.heatScale, kVisibilityCaption));
         std::printf("wrote %s (|difference| per pixel, yellow at %.3g)\n", path.c_str(),
                     double(args.heatScale));
     }
@@ -144,10 +148,12 @@ void writeImages(const std::string& dir, const MethodBackend& mb, const Frame& f
     writePng(base.string() + "_visibility.png", toImage8(frame.visibility, false));
     writePng(base.string() + "_lit.png", toImage8(frame.color, true));
     if (!row || !against) return;
-    writePng(base.string() + "_diff.png", heatMap(row->visibility.absDifference, heatScale));
+    writePng(base.string() + "_diff.png",
+             heatMapWithLegend(row->visibility.absDifference, heatScale, kVisibilityCaption));
     if (row->perSample && !frame.lightSamples.empty())
         writePng(base.string() + "_bitdiff.png",
-                 heatMap(sampleDisagreement(frame.lightSamples[0], against->lightSamples[0]), heatScale));
+                 heatMapWithLegend(sampleDisagreement(frame.lightSamples[0], against->lightSamples[0]), heatScale,
+                                   kSampleCaption));
 }
 
 int compareNpy(const CompareArgs& args) {
@@ -187,7 +193,7 @@ int compareNpy(const CompareArgs& args) {
     }
     if (!args.out.empty()) {
         const std::string path = (fs::path(args.out) / "difference.png").string();
-        writePng(path, heatMap(sampleDisagreement(a, b), args.heatScale));
+        writePng(path, heatMapWithLegend(sampleDisagreement(a, b), args.heatScale, kSampleCaption));
         std::printf("wrote %s (fraction of differing samples per pixel, yellow at %.3g)\n", path.c_str(),
                     double(args.heatScale));
     }
@@ -340,8 +346,11 @@ Report describeReport(const CompareArgs& args, const Scene& scene, const SceneOp
 }
 
 void writeReport(const std::string& dir, const Report& base, const std::vector<ImageSet>& sets,
-                 const std::string& heatTitle) {
+                 const std::string& heatTitle, float heatScale) {
     Report report = base;
+    const Image8 legend = heatLegend(heatScale, 512, "heat maps: " + heatTitle, 2);
+    report.heatScale = {"colour scale of the heat maps", "heat_scale.png", legend.width, legend.height};
+    writePng((fs::path(dir) / report.heatScale.file).string(), legend);
     for (const ImageSet& set : sets) {
         ReportImageRow row;
         row.name = set.name;
@@ -362,12 +371,24 @@ void writeReport(const std::string& dir, const Report& base, const std::vector<I
     writeFileBytes(path, html.data(), html.size());
 }
 
-void writeSheet(const std::string& path, const std::vector<ImageSet>& sets, const std::string& heatTitle) {
+/// The contact sheet, with the heat maps' colour scale as a strip across its foot.
+void writeSheet(const std::string& path, const std::vector<ImageSet>& sets, const std::string& heatTitle,
+                float heatScale) {
     std::vector<SheetRow> rows;
     for (const ImageSet& set : sets) rows.push_back({set.name, {set.lit, set.visibility, set.heat}});
     const SheetLayout layout =
         sheetLayout(sets.front().lit.width, sets.front().lit.height, 3, int(rows.size()));
-    writePng(path, contactSheet(layout, {"lit", "visibility", heatTitle}, rows));
+    const Image8 sheet = contactSheet(layout, {"lit", "visibility", heatTitle}, rows);
+    const Image8 legend = heatLegend(heatScale, sheet.width, "heat maps: " + heatTitle, layout.textScale);
+    Image8 out;
+    out.width = std::max(sheet.width, legend.width);
+    out.height = sheet.height + legend.height;
+    out.channels = 3;
+    out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 3, 0);
+    fillRect(out, 0, 0, out.width, out.height, kSheetBackground);
+    pasteScaled(out, sheet, 0, 0, 1);
+    pasteScaled(out, legend, 0, sheet.height, 1);
+    writePng(path, out);
 }
 
 } // namespace
@@ -476,7 +497,8 @@ int runCompare(CompareArgs& args) {
                         args.heatScale);
             if (converged)
                 writePng((fs::path(args.out) / (fileStem(row.mb) + "_converged_diff.png")).string(),
-                         heatMap(row.convergedVisibility.absDifference, args.heatScale));
+                         heatMapWithLegend(row.convergedVisibility.absDifference, args.heatScale,
+                                           "|visibility - converged reference|"));
         }
         rows.push_back(std::move(row));
     };
@@ -571,11 +593,11 @@ int runCompare(CompareArgs& args) {
             if (converged) tables.push_back(convergedTable);
             const Report report = describeReport(args, scene, sceneSets, optionsOf(against), rows, tables,
                                                  converged ? convergedSummary : "not requested");
-            writeReport(args.report, report, sets, "|Δ visibility| vs " + heatAgainst);
+            writeReport(args.report, report, sets, "|visibility - " + heatAgainst + "|", args.heatScale);
             std::printf("report in %s\n", (fs::path(args.report) / "index.html").string().c_str());
         }
         if (!args.sheet.empty()) {
-            writeSheet(args.sheet, sets, "|dv| " + heatAgainst); // fits a 192-pixel tile at scale 2
+            writeSheet(args.sheet, sets, "|dv| " + heatAgainst, args.heatScale); // fits a 192-pixel tile at scale 2
             std::printf("contact sheet in %s\n", args.sheet.c_str());
         }
     }

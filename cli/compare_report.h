@@ -40,6 +40,7 @@ struct Report {
     std::vector<std::pair<std::string, std::string>> settings; ///< name, value
     std::vector<ReportTable> tables;
     std::string imagesNote; ///< what the heat maps show
+    ReportImage heatScale;  ///< the heat maps' colour scale with its numbers (no file: none)
     std::vector<ReportImageRow> imageRows;
 };
 

@@ -250,14 +250,29 @@ TEST(CompareCli, ReferenceRowIsIdenticalAndImagesAreWritten) {
     ASSERT_GE(stsv.size(), 9u) << r.out;
     EXPECT_GE(std::stod(stsv[1]), 99.9) << r.out;
 
-    for (const char* file :
-         {"reference_cpu_visibility.png", "reference_cpu_lit.png", "stsv_cpu_visibility.png",
-          "stsv_cpu_diff.png", "stsv_cpu_lit.png", "stsv_cpu_bitdiff.png"}) {
+    for (const char* file : {"reference_cpu_visibility.png", "reference_cpu_lit.png", "stsv_cpu_visibility.png",
+                             "stsv_cpu_lit.png"}) {
         const std::string path = dir.file("cmp/" + std::string(file));
         ASSERT_TRUE(std::filesystem::exists(path)) << path;
         const Image8 image = readPngRgba(path);
         EXPECT_EQ(image.width, 32) << file;
         EXPECT_EQ(image.height, 24) << file;
+    }
+    // The heat maps carry their colour scale beneath the frame's 24 rows: 40 pixels high at one
+    // pixel per font unit (padding 4, caption 12, bar 6, gap 2, numbers 12, padding 4), as wide as
+    // its caption needs (wider than the 32-pixel frame); the bar runs from black to yellow.
+    for (const char* file : {"stsv_cpu_diff.png", "stsv_cpu_bitdiff.png"}) {
+        const std::string path = dir.file("cmp/" + std::string(file));
+        ASSERT_TRUE(std::filesystem::exists(path)) << path;
+        const Image8 image = readPngRgba(path);
+        EXPECT_GT(image.width, 32) << file;
+        ASSERT_EQ(image.height, 24 + 40) << file;
+        const int barY = 24 + 4 + 12 + 3;
+        EXPECT_EQ(image.at(4, barY, 0), 0) << file;
+        EXPECT_EQ(image.at(4, barY, 1), 0) << file;
+        EXPECT_EQ(image.at(image.width - 5, barY, 0), 255) << file;
+        EXPECT_EQ(image.at(image.width - 5, barY, 1), 255) << file;
+        EXPECT_EQ(image.at(image.width - 5, barY, 2), 0) << file;
     }
     const nlohmann::json j = readJson(dir.file("c.json"));
     ASSERT_EQ(j["rows"].size(), 2u);
@@ -290,8 +305,9 @@ TEST(CompareCli, NpyFiles) {
     ASSERT_EQ(other.code, 0) << other.err;
     EXPECT_EQ(other.out.find("differing samples: 0 of"), std::string::npos) << other.out;
     const Image8 difference = readPngRgba(dir.file("diff/difference.png"));
-    EXPECT_EQ(difference.width, 24);
-    EXPECT_EQ(difference.height, 16);
+    // The 24x16 frame, then its colour scale: 40 rows (see ReferenceRowIsIdenticalAndImagesAreWritten).
+    EXPECT_GT(difference.width, 24);
+    EXPECT_EQ(difference.height, 16 + 40);
 
     const CliResult mismatch = runStsv({"compare", dir.file("a.npy"), dir.file("d.npy")});
     EXPECT_NE(mismatch.code, 0);

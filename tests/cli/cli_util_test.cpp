@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <fstream>
 
 namespace stsv {
@@ -171,6 +172,50 @@ TEST(HeatMap, BlackRedYellow) {
     EXPECT_EQ(rgb(1), (std::array<int, 3>{255, 0, 0}));
     EXPECT_EQ(rgb(2), (std::array<int, 3>{255, 255, 0}));
     EXPECT_EQ(rgb(3), (std::array<int, 3>{255, 255, 0}));
+}
+
+TEST(HeatMap, LegendShowsTheScaleAndItsNumbers) {
+    const int s = 2, pad = 4 * s, line = 12 * s;
+    const Image8 legend = heatLegend(0.2f, 300, "caption", s);
+    ASSERT_EQ(legend.width, 300);
+    ASSERT_EQ(legend.height, pad + line + 6 * s + 2 * s + line + pad);
+    // The bar spans [pad, width - pad): black at its left end, red at its middle, yellow at its
+    // right end, as the heat maps colour 0, scale/2 and scale.
+    const int barY = pad + line + 3 * s;
+    auto rgb = [&](int x, int y) {
+        return std::array<int, 3>{legend.at(x, y, 0), legend.at(x, y, 1), legend.at(x, y, 2)};
+    };
+    EXPECT_EQ(rgb(pad, barY), (std::array<int, 3>{0, 0, 0}));
+    EXPECT_EQ(rgb(legend.width - pad - 1, barY), (std::array<int, 3>{255, 255, 0}));
+    const std::array<int, 3> middle = rgb(legend.width / 2, barY);
+    EXPECT_EQ(middle[0], 255);
+    EXPECT_LE(middle[1], 2); // within a column of the bar's middle
+    // The numbers under the bar: "0" at its left end, "0.1" centred, "0.2+" ending at its right
+    // end, each exactly as the font draws that text.
+    const int labelY = pad + line + 6 * s + 2 * s;
+    auto matches = [&](const std::string& text, int x) {
+        Image8 expected;
+        expected.width = legend.width;
+        expected.height = legend.height;
+        expected.channels = 3;
+        expected.pixels.assign(std::size_t(expected.width) * expected.height * 3, 0);
+        fillRect(expected, 0, 0, expected.width, expected.height, kSheetBackground);
+        drawText(expected, x, labelY, text, s, kSheetText);
+        int lit = 0, differing = 0;
+        for (int y = labelY; y < labelY + line; ++y)
+            for (int u = x; u < x + textWidth(text, s); ++u) {
+                const bool want = expected.at(u, y, 0) == 255, have = legend.at(u, y, 0) == 255;
+                lit += want ? 1 : 0;
+                differing += want != have ? 1 : 0;
+            }
+        return lit > 0 && differing == 0;
+    };
+    EXPECT_TRUE(matches("0", pad));
+    EXPECT_TRUE(matches("0.1", (pad + legend.width - pad) / 2 - textWidth("0.1", s) / 2));
+    EXPECT_TRUE(matches("0.2+", legend.width - pad - textWidth("0.2+", s)));
+    EXPECT_FALSE(matches("0.3+", legend.width - pad - textWidth("0.3+", s))); // the check can fail
+    // A long caption widens the strip rather than being cut.
+    EXPECT_EQ(heatLegend(0.2f, 10, std::string(80, 'x'), 1).width, textWidth(std::string(80, 'x'), 1) + 8);
 }
 
 TEST(SampleDisagreement, FractionOfDifferingSamplesPerPixel) {

@@ -8,6 +8,9 @@
 #include "tests/cli/cli_test_util.h"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -369,11 +372,20 @@ TEST(ReportCli, PageNamesTheCommandEscapesTextAndReferencesItsImages) {
     EXPECT_EQ(html.find("<script"), std::string::npos);
     for (const char* text :
          {"noise floor", "against the converged reference", "stsv/cpu: lit", "dcs+stsv/cpu: visibility",
-          "reference/cpu: |Δ visibility| vs converged", "converged reference (32 spp): lit"})
+          "reference/cpu: |visibility - converged|", "converged reference (32 spp): lit",
+          "alt=\"colour scale of the heat maps\""})
         EXPECT_NE(html.find(text), std::string::npos) << text;
-    // Per row lit, visibility and a heat map; the converged row lit and visibility.
-    const std::vector<std::string> sources = imageSources(html);
-    EXPECT_EQ(sources.size(), 3u * 3u + 2u) << html;
+    // Per row lit, visibility and a heat map; the converged row lit and visibility; and the heat
+    // maps' colour scale: 512 pixels wide at 2 pixels per font unit, 4 + 12 + 6 + 2 + 12 + 4 font
+    // units high (padding, caption, bar, gap, numbers, padding).
+    std::vector<std::string> sources = imageSources(html);
+    EXPECT_EQ(sources.size(), 3u * 3u + 2u + 1u) << html;
+    const auto scaleSource = std::find(sources.begin(), sources.end(), "heat_scale.png");
+    ASSERT_NE(scaleSource, sources.end()) << html;
+    sources.erase(scaleSource);
+    const Image8 legend = readPngRgba(report + "/heat_scale.png");
+    EXPECT_EQ(legend.width, 512);
+    EXPECT_EQ(legend.height, 2 * 40);
     for (const std::string& source : sources) {
         EXPECT_EQ(source.find('/'), std::string::npos) << source << " is not relative to the page";
         std::string file = source;
@@ -485,7 +497,16 @@ TEST(SheetCli, OneRowPerMethodAndTheConvergedReferenceWithLabels) {
     // line, so a band (title or label) is 24 + 8 px.
     const int tileW = 256, tileH = 192, pad = 8, band = 32, rows = 3, columns = 3;
     ASSERT_EQ(sheet.width, columns * tileW + (columns + 1) * pad);
-    ASSERT_EQ(sheet.height, pad + band + rows * (band + tileH + pad));
+    // Below the rows, the heat maps' colour scale: 40 font units high (padding 4, caption 12, bar
+    // 6, gap 2, numbers 12, padding 4); its bar starts black and ends yellow.
+    const int legendH = 2 * 40;
+    ASSERT_EQ(sheet.height, pad + band + rows * (band + tileH + pad) + legendH);
+    const int barY = pad + band + rows * (band + tileH + pad) + 2 * (4 + 12) + 2 * 3;
+    auto pixel = [&](int x, int y) {
+        return std::array<int, 3>{sheet.at(x, y, 0), sheet.at(x, y, 1), sheet.at(x, y, 2)};
+    };
+    EXPECT_EQ(pixel(2 * 4, barY), (std::array<int, 3>{0, 0, 0}));
+    EXPECT_EQ(pixel(sheet.width - 2 * 4 - 1, barY), (std::array<int, 3>{255, 255, 0}));
     auto isText = [&](int x, int y) {
         return sheet.at(x, y, 0) == 255 && sheet.at(x, y, 1) == 255 && sheet.at(x, y, 2) == 255;
     };
