@@ -327,8 +327,8 @@ Rgb8 heatColour(float t) {
     t = std::clamp(t, 0.0f, 1.0f);
     const float r = std::min(1.0f, 2.0f * t);
     const float g = std::max(0.0f, 2.0f * t - 1.0f);
-    return {static_cast<std::uint8_t>(std::lround(r * 255.0f)), static_cast<std::uint8_t>(std::lround(g * 255.0f)),
-            0};
+    return {static_cast<std::uint8_t>(std::lround(r * 255.0f)),
+            static_cast<std::uint8_t>(std::lround(g * 255.0f)), 0};
 }
 
 Image8 heatMap(const ImageF& values, float scale) {

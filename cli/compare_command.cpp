@@ -152,8 +152,8 @@ void writeImages(const std::string& dir, const MethodBackend& mb, const Frame& f
              heatMapWithLegend(row->visibility.absDifference, heatScale, kVisibilityCaption));
     if (row->perSample && !frame.lightSamples.empty())
         writePng(base.string() + "_bitdiff.png",
-                 heatMapWithLegend(sampleDisagreement(frame.lightSamples[0], against->lightSamples[0]), heatScale,
-                                   kSampleCaption));
+                 heatMapWithLegend(sampleDisagreement(frame.lightSamples[0], against->lightSamples[0]),
+                                   heatScale, kSampleCaption));
 }
 
 int compareNpy(const CompareArgs& args) {
@@ -597,7 +597,8 @@ int runCompare(CompareArgs& args) {
             std::printf("report in %s\n", (fs::path(args.report) / "index.html").string().c_str());
         }
         if (!args.sheet.empty()) {
-            writeSheet(args.sheet, sets, "|dv| " + heatAgainst, args.heatScale); // fits a 192-pixel tile at scale 2
+            writeSheet(args.sheet, sets, "|dv| " + heatAgainst,
+                       args.heatScale); // fits a 192-pixel tile at scale 2
             std::printf("contact sheet in %s\n", args.sheet.c_str());
         }
     }

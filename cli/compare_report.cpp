@@ -137,9 +137,9 @@ std::string reportHtml(const Report& r) {
     out << "<h2>Images</h2>\n";
     if (!r.imagesNote.empty()) out << "<p class=\"note\">" << escapeHtml(r.imagesNote) << "</p>\n";
     if (!r.heatScale.file.empty())
-        out << "<p><img src=\"" << escapeHtml(urlPath(r.heatScale.file)) << "\" width=\""
-            << r.heatScale.width << "\" height=\"" << r.heatScale.height << "\" alt=\""
-            << escapeHtml(r.heatScale.title) << "\"></p>\n";
+        out << "<p><img src=\"" << escapeHtml(urlPath(r.heatScale.file)) << "\" width=\"" << r.heatScale.width
+            << "\" height=\"" << r.heatScale.height << "\" alt=\"" << escapeHtml(r.heatScale.title)
+            << "\"></p>\n";
     for (const ReportImageRow& row : r.imageRows) {
         out << "<h3>" << escapeHtml(row.name) << "</h3>\n";
         if (!row.note.empty()) out << "<p class=\"note\">" << escapeHtml(row.note) << "</p>\n";

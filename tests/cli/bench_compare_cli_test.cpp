@@ -250,8 +250,8 @@ TEST(CompareCli, ReferenceRowIsIdenticalAndImagesAreWritten) {
     ASSERT_GE(stsv.size(), 9u) << r.out;
     EXPECT_GE(std::stod(stsv[1]), 99.9) << r.out;
 
-    for (const char* file : {"reference_cpu_visibility.png", "reference_cpu_lit.png", "stsv_cpu_visibility.png",
-                             "stsv_cpu_lit.png"}) {
+    for (const char* file : {"reference_cpu_visibility.png", "reference_cpu_lit.png",
+                             "stsv_cpu_visibility.png", "stsv_cpu_lit.png"}) {
         const std::string path = dir.file("cmp/" + std::string(file));
         ASSERT_TRUE(std::filesystem::exists(path)) << path;
         const Image8 image = readPngRgba(path);

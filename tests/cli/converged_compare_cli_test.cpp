@@ -370,10 +370,9 @@ TEST(ReportCli, PageNamesTheCommandEscapesTextAndReferencesItsImages) {
               std::string::npos)
         << html.substr(0, 2000);
     EXPECT_EQ(html.find("<script"), std::string::npos);
-    for (const char* text :
-         {"noise floor", "against the converged reference", "stsv/cpu: lit", "dcs+stsv/cpu: visibility",
-          "reference/cpu: |visibility - converged|", "converged reference (32 spp): lit",
-          "alt=\"colour scale of the heat maps\""})
+    for (const char* text : {"noise floor", "against the converged reference", "stsv/cpu: lit",
+                             "dcs+stsv/cpu: visibility", "reference/cpu: |visibility - converged|",
+                             "converged reference (32 spp): lit", "alt=\"colour scale of the heat maps\""})
         EXPECT_NE(html.find(text), std::string::npos) << text;
     // Per row lit, visibility and a heat map; the converged row lit and visibility; and the heat
     // maps' colour scale: 512 pixels wide at 2 pixels per font unit, 4 + 12 + 6 + 2 + 12 + 4 font
