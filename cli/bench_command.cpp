@@ -2,6 +2,7 @@
 // start-up excluded, warm-up frames discarded, K timed frames summarised as median/min/max.
 #include "cli/cli_util.h"
 #include "cli/commands.h"
+#include "cli/compare_report.h"
 #include "cli/subcommands.h"
 
 #include "core/error.h"
@@ -72,38 +73,6 @@ void collectPasses(const nlohmann::json& passes, const std::string& prefix,
             out[prefix + name].push_back(value.get<double>());
         else if (value.is_object())
             collectPasses(value, prefix + name + "/", out);
-    }
-}
-
-/// The name of the device the Vulkan backend picks (DeviceOptions::select's rule), or a
-/// short reason why there is none.
-std::string vulkanDeviceName(const std::string& select, nlohmann::json& allNames) {
-    try {
-        const std::vector<DeviceInfo> devices = listDevices();
-        for (const DeviceInfo& d : devices) allNames.push_back(d.name);
-        if (!select.empty() &&
-            std::all_of(select.begin(), select.end(), [](unsigned char c) { return std::isdigit(c); })) {
-            const unsigned long index = select.size() > 9 ? ~0ul : std::stoul(select);
-            return index < devices.size() ? devices[index].name : "no device " + select;
-        }
-        if (!select.empty()) {
-            auto lower = [](std::string s) {
-                for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
-                return s;
-            };
-            for (const DeviceInfo& d : devices)
-                if (lower(d.name).find(lower(select)) != std::string::npos) return d.name;
-            return "no device matching " + select;
-        }
-        for (VkPhysicalDeviceType type :
-             {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU,
-              VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU, VK_PHYSICAL_DEVICE_TYPE_CPU,
-              VK_PHYSICAL_DEVICE_TYPE_OTHER})
-            for (const DeviceInfo& d : devices)
-                if (d.type == type && d.vulkan13) return d.name;
-        return "no Vulkan 1.3 device";
-    } catch (const Error& e) {
-        return std::string("vulkan unavailable: ") + e.what();
     }
 }
 
@@ -367,17 +336,12 @@ int runBench(BenchArgs& args) {
     // stopped early keeps what it measured.
     const auto writeResults = [&](bool complete) {
         if (args.json.empty()) return;
-        nlohmann::json deviceNames = nlohmann::json::array();
-        std::string device;
-        for (const Result& r : results)
-            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu"))
-                device = r.lastStats["gpu"].value("device", std::string());
         const bool vulkanAsked = std::any_of(pairs.begin(), pairs.end(),
                                              [](const auto& p) { return p.second == Backend::Vulkan; });
-        if (vulkanAsked) {
-            const std::string listed = vulkanDeviceName(base.device, deviceNames);
-            if (device.empty()) device = listed;
-        }
+        nlohmann::json machine = machineJson(vulkanAsked, base.device);
+        for (const Result& r : results)
+            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu"))
+                machine["device"] = r.lastStats["gpu"].value("device", std::string());
         nlohmann::json configurations = nlohmann::json::array();
         for (const Result& r : results) {
             const Config& c = r.config;
@@ -426,10 +390,8 @@ int runBench(BenchArgs& args) {
             {"scene", args.scene},
             {"preset", args.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.preset)},
             {"version", version()},
-            {"machine",
-             {{"cpu_threads", std::thread::hardware_concurrency()},
-              {"device", device.empty() ? nlohmann::json(nullptr) : nlohmann::json(device)},
-              {"vulkan_devices", deviceNames}}},
+            {"command", shellCommandLine(args.argv)},
+            {"machine", machine},
             {"configurations", configurations},
             {"skipped", skipped},
             {"complete", complete}};

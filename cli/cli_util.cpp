@@ -5,12 +5,14 @@
 #include "core/memory_budget.h"
 #include "render/gpu_deferred.h"
 #include "render/gpu_renderer.h"
+#include "gpu/device.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <thread>
 #include <unistd.h>
 
 namespace stsv {
@@ -321,6 +323,63 @@ double structuralSimilarity(const ImageF& a, const ImageF& b) {
         }
     const double pixels = double(x.width) * double(x.height);
     return pixels > 0 ? total / pixels : 1.0;
+}
+
+/// The name of the device the Vulkan backend picks (DeviceOptions::select's rule), or a
+/// short reason why there is none.
+namespace {
+
+std::string vulkanDeviceName(const std::string& select, nlohmann::json& allNames) {
+    try {
+        const std::vector<DeviceInfo> devices = listDevices();
+        for (const DeviceInfo& d : devices) allNames.push_back(d.name);
+        if (!select.empty() &&
+            std::all_of(select.begin(), select.end(), [](unsigned char c) { return std::isdigit(c); })) {
+            const unsigned long index = select.size() > 9 ? ~0ul : std::stoul(select);
+            return index < devices.size() ? devices[index].name : "no device " + select;
+        }
+        if (!select.empty()) {
+            auto lower = [](std::string s) {
+                for (char& c : s) c = char(std::tolower(static_cast<unsigned char>(c)));
+                return s;
+            };
+            for (const DeviceInfo& d : devices)
+                if (lower(d.name).find(lower(select)) != std::string::npos) return d.name;
+            return "no device matching " + select;
+        }
+        for (VkPhysicalDeviceType type :
+             {VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU, VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU,
+              VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU, VK_PHYSICAL_DEVICE_TYPE_CPU,
+              VK_PHYSICAL_DEVICE_TYPE_OTHER})
+            for (const DeviceInfo& d : devices)
+                if (d.type == type && d.vulkan13) return d.name;
+        return "no Vulkan 1.3 device";
+    } catch (const Error& e) {
+        return std::string("vulkan unavailable: ") + e.what();
+    }
+}
+
+/// The CPU's model name from /proc/cpuinfo ("unknown" where it has none).
+std::string cpuModel() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("model name", 0) == 0) {
+            const std::size_t colon = line.find(':');
+            if (colon != std::string::npos) return line.substr(line.find_first_not_of(' ', colon + 1));
+        }
+    return "unknown";
+}
+
+} // namespace
+
+nlohmann::json machineJson(bool vulkan, const std::string& select) {
+    nlohmann::json machine = {{"cpu_model", cpuModel()},
+                              {"cpu_threads", std::thread::hardware_concurrency()},
+                              {"memory_bytes", physicalMemoryBytes()},
+                              {"device", nullptr},
+                              {"vulkan_devices", nlohmann::json::array()}};
+    if (vulkan) machine["device"] = vulkanDeviceName(select, machine["vulkan_devices"]);
+    return machine;
 }
 
 Rgb8 heatColour(float t) {

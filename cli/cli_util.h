@@ -113,6 +113,12 @@ struct ImageError {
 double structuralSimilarity(const ImageF& a, const ImageF& b);
 ImageError compareImages(const ImageF& a, const ImageF& b, float threshold = 1.0f / 255.0f);
 
+/// The machine a measurement ran on, for --json files: "cpu_model", "cpu_threads",
+/// "memory_bytes", and with `vulkan` the name of the device the Vulkan backend picks by `select`
+/// (--device's rule; else why there is none) as "device" and every listed device's name as
+/// "vulkan_devices" (null and empty without).
+nlohmann::json machineJson(bool vulkan, const std::string& select);
+
 /// The heat maps' colour at t in [0, 1] (clamped): black → red over [0, 1/2], red → yellow over
 /// [1/2, 1].
 Rgb8 heatColour(float t);

@@ -263,6 +263,7 @@ int runCli(int argc, char** argv) {
         if (*info) return runInfo(i);
         if (*bench) {
             b.given = givenOptions(bench);
+            b.argv.assign(argv, argv + argc);
             return runBench(b);
         }
         if (*compare) {

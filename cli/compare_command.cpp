@@ -8,6 +8,7 @@
 
 #include "core/contact_sheet.h"
 #include "core/error.h"
+#include "core/version.h"
 #include "core/files.h"
 #include "core/progress.h"
 #include "core/timer.h"
@@ -629,7 +630,12 @@ int runCompare(CompareArgs& args) {
             if (converged) row["converged"] = errorJson(r.convergedVisibility, r.convergedLit);
             list.push_back(row);
         }
+        const bool vulkan = std::any_of(rows.begin(), rows.end(),
+                                        [](const Row& r) { return r.mb.backend == Backend::Vulkan; });
         nlohmann::json j = {{"scene", spec},
+                            {"version", version()},
+                            {"command", shellCommandLine(args.argv)},
+                            {"machine", machineJson(vulkan, optionsOf(against).device)},
                             {"against", toString(against)},
                             {"options", toJson(optionsOf(against))},
                             {"rows", list}};

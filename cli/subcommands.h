@@ -76,6 +76,7 @@ struct BenchArgs : FrameArgs {
     std::string presetsFile; ///< empty: the built-in bench/presets.json
     bool listPresets = false;
     std::vector<std::string> given;
+    std::vector<std::string> argv; ///< the command line, recorded in --json
     /// Called after every frame a configuration renders (tests count timed frames with it).
     std::function<void(const std::string& configuration, bool timed)> onFrame;
 };

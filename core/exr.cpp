@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/files.h"
+#include "core/memory_budget.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -44,7 +45,8 @@ class MemoryIStream final : public Imf::IStream {
   public:
     explicit MemoryIStream(std::string bytes) : Imf::IStream("memory"), m_bytes(std::move(bytes)) {}
     bool read(char c[], int n) override {
-        if (n < 0 || m_pos + std::size_t(n) > m_bytes.size())
+        // A seek may have moved past the end (to any 64-bit offset a corrupt file names).
+        if (n < 0 || m_pos > m_bytes.size() || std::size_t(n) > m_bytes.size() - m_pos)
             throw std::runtime_error("unexpected end of file");
         std::memcpy(c, m_bytes.data() + m_pos, std::size_t(n));
         m_pos += std::size_t(n);
@@ -115,15 +117,23 @@ ImageF readExr(const std::string& path) {
             names = {"R", "G", "B"};
         else
             throw InputError(path, "EXR has neither a Y channel nor R, G and B");
+        for (const std::string& name : names) {
+            const Imf::Channel& channel = *channels.findChannel(name);
+            if (channel.xSampling != 1 || channel.ySampling != 1)
+                throw InputError(path, "EXR channel " + name + " is subsampled (" +
+                                           std::to_string(channel.xSampling) + "x" +
+                                           std::to_string(channel.ySampling) +
+                                           "); only full-resolution channels are read");
+        }
+        checkMemory(path + ": EXR of " + std::to_string(width) + "x" + std::to_string(height) + " pixels",
+                    double(width) * double(height) * double(names.size()) * sizeof(float));
         ImageF image(int(width), int(height), int(names.size()));
         Imf::FrameBuffer frame;
-        char* base = reinterpret_cast<char*>(image.pixels.data()) -
-                     (std::ptrdiff_t(window.min.x) + std::ptrdiff_t(window.min.y) * width) *
-                         std::ptrdiff_t(sizeof(float) * names.size());
+        // Slice::Make offsets the pointer by the data window's origin in integer arithmetic.
+        const std::size_t xStride = sizeof(float) * names.size(), yStride = xStride * std::size_t(width);
         for (std::size_t c = 0; c < names.size(); ++c)
             frame.insert(names[c],
-                         Imf::Slice(Imf::FLOAT, base + c * sizeof(float), sizeof(float) * names.size(),
-                                    sizeof(float) * names.size() * std::size_t(width)));
+                         Imf::Slice::Make(Imf::FLOAT, image.pixels.data() + c, window, xStride, yStride));
         file.setFrameBuffer(frame);
         file.readPixels(window.min.y, window.max.y);
         return image;

@@ -46,7 +46,7 @@ std::string write(const std::string& name, const char* data, std::size_t size) {
 } // namespace
 
 const std::vector<std::string>& targetNames() {
-    static const std::vector<std::string> names = {"json", "obj", "off", "png", "npy"};
+    static const std::vector<std::string> names = {"json", "obj", "off", "png", "npy", "exr"};
     return names;
 }
 
@@ -70,6 +70,8 @@ void runTarget(const std::string& target, const std::uint8_t* data, std::size_t 
             const std::string path = write("input.npy", text, size);
             (void)LightSampleBuffer::readNpy(path);
             (void)LightSampleBuffer::readNpy(path, BufferKind::Counters);
+        } else if (target == "exr") {
+            (void)readExr(write("input.exr", text, size));
         } else {
             throw std::invalid_argument("unknown fuzz target " + target);
         }
