@@ -2,8 +2,9 @@
 #   -DBUILD_DIR=DIR    the build tree          -DOUTPUT_DIR=DIR  where the .tar.gz goes (dist)
 # Writes OUTPUT_DIR/stsv-VERSION-linux-ARCH.tar.gz, one folder of that name holding bin/stsv,
 # lib/ with every shared library the program needs except the C library family and the Vulkan
-# loader (found through the program's $ORIGIN/../lib run path), share/stsv/shaders, README.md and
-# LICENSE. Fails when a library of the folder would be looked up outside it.
+# loader (found through the program's $ORIGIN/../lib run path), share/stsv/shaders, README.md,
+# LICENSE and docs/ (so the README's links work in the unpacked folder). Fails when a library of
+# the folder would be looked up outside it.
 cmake_minimum_required(VERSION 3.25)
 foreach(var BUILD_DIR OUTPUT_DIR)
   if(NOT ${var})
@@ -31,6 +32,7 @@ foreach(component runtime bundle)
 endforeach()
 file(RENAME ${root}/share/doc/stsv/README.md ${root}/README.md)
 file(RENAME ${root}/share/doc/stsv/LICENSE ${root}/LICENSE)
+file(RENAME ${root}/share/doc/stsv/docs ${root}/docs)
 file(REMOVE_RECURSE ${root}/share/doc)
 
 # Every library the loader would look up for the program must resolve into lib/ or be one the

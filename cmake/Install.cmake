@@ -1,7 +1,7 @@
 # `cmake --install BUILD --prefix P`:
 #   P/bin/stsv                      the program (shaders embedded; component runtime)
 #   P/share/stsv/shaders/           the shader set as embedded, readable (runtime)
-#   P/share/doc/stsv/               README.md, LICENSE (runtime)
+#   P/share/doc/stsv/               README.md, LICENSE and docs/, the manual the README links to (runtime)
 #   P/include/stsv/MODULE/*.h       the modules' headers (development; cmake/StsvModule.cmake)
 #   P/lib/libstsv_MODULE.a          the modules' static libraries (development)
 #   P/lib/cmake/stsv/               the CMake package: find_package(stsv CONFIG) (development)
@@ -16,6 +16,7 @@ foreach(name path IN ZIP_LISTS STSV_SHADER_SET_NAMES STSV_SHADER_SET_PATHS)
 endforeach()
 install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/LICENSE DESTINATION ${CMAKE_INSTALL_DOCDIR}
         COMPONENT runtime)
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/docs DESTINATION ${CMAKE_INSTALL_DOCDIR} COMPONENT runtime)
 
 set(STSV_CMAKE_INSTALL_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/stsv)
 install(EXPORT stsvTargets NAMESPACE stsv:: DESTINATION ${STSV_CMAKE_INSTALL_DIR} COMPONENT development)

@@ -14,7 +14,7 @@ for f in bin/stsv lib/libstsv_volumes.a lib/libstsv_render.a include/stsv/volume
     include/stsv/render/methods.h lib/cmake/stsv/stsvConfig.cmake lib/cmake/stsv/stsvConfigVersion.cmake \
     lib/cmake/stsv/stsvTargets.cmake share/stsv/shaders/stsv.frag share/stsv/shaders/frame_bindings.glsl \
     share/stsv/shaders/volumes/stsv_dh.h share/stsv/shaders/core/dh.h share/doc/stsv/README.md \
-    share/doc/stsv/LICENSE; do
+    share/doc/stsv/LICENSE share/doc/stsv/docs/user-guide.md share/doc/stsv/docs/demo.png; do
     [[ -f $prefix/$f ]] || fail "cmake --install wrote no $f"
 done
 

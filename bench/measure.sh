@@ -1,0 +1,61 @@
+#!/usr/bin/env bash
+# Runs the measurements docs/measurements.md shows and writes their --json files to
+# bench/results/, then regenerates the document's tables from them (bench/tables.py update).
+#
+#   bench/measure.sh [NAME...]     (no NAME: all of them; STSV=path/to/stsv to use another binary)
+#
+# Each measurement is one stsv command; its file records the command, the stsv version (the
+# commit) and the machine. Commit the files with the document: the tables are never edited by
+# hand, and `bench/tables.py check docs/measurements.md` (run by the test suite) fails when a
+# table does not match its file.
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(dirname "$here")
+stsv=${STSV:-$root/build/cli/stsv}
+cd "$root" # the commands, recorded in the files, name paths relative to the repository
+results=bench/results
+mkdir -p "$results"
+
+every_method="stsv/vulkan,stsv/cpu,dcs+stsv/vulkan,dcs+stsv/cpu,pw+stsv/vulkan,pw+stsv/cpu"
+opaque_methods="stsv/vulkan,stsv/cpu,dcs/vulkan,dcs/cpu,pw/vulkan,pw/cpu"
+all_methods="stsv,pw,dcs,pw+stsv,dcs+stsv,pcf,pcss"
+example=tests/data/scene/example.json
+
+# name, then the stsv arguments (the --json file is added).
+measurement() {
+  case $1 in
+    compare-fence) echo compare fence --methods "$every_method" --size 256x192 --samples 64 ;;
+    compare-foliage) echo compare foliage --methods "$every_method" --size 256x192 --samples 64 ;;
+    compare-example) echo compare "$example" --methods "$every_method" --size 256x192 --samples 64 ;;
+    compare-knot) echo compare knot --methods "$opaque_methods" --size 256x192 --samples 64 ;;
+    bench-fence-1024) echo bench --preset fence-1024 ;;
+    bench-knot-methods) echo bench --preset knot-methods ;;
+    bench-baselines) echo bench --preset baselines ;;
+    converged-fence) echo compare fence --methods "$all_methods" --converged 16 --size 512x512 ;;
+    converged-foliage) echo compare foliage --methods "$all_methods" --converged 16 --size 512x512 ;;
+    converged-knot) echo compare knot --methods "$all_methods" --converged 16 --size 512x512 ;;
+    converged-example) echo compare "$example" --methods "$all_methods" --converged 16 --size 512x512 ;;
+    sheet-fence) echo compare fence --methods "$all_methods" --converged 16 --size 192x144 \
+      --sheet docs/fence-sheet.png ;;
+    bench-fence-vs-mesh) echo bench --preset fence-vs-mesh ;;
+    *) return 1 ;;
+  esac
+}
+all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
+     bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
+     bench-fence-vs-mesh)
+
+names=("$@")
+[ ${#names[@]} -gt 0 ] || names=("${all[@]}")
+for name in "${names[@]}"; do
+  if ! args=$(measurement "$name"); then
+    echo "measure.sh: unknown measurement '$name' (known: ${all[*]})" >&2
+    exit 2
+  fi
+  echo "== $name: stsv $args"
+  start=$(date +%s)
+  # shellcheck disable=SC2086 # the arguments hold no spaces
+  "$stsv" $args --json "$results/$name.json"
+  echo "== $name: $(($(date +%s) - start)) s"
+done
+python3 bench/tables.py update docs/measurements.md
