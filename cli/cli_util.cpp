@@ -3,9 +3,9 @@
 #include "core/error.h"
 #include "core/files.h"
 #include "core/memory_budget.h"
+#include "gpu/device.h"
 #include "render/gpu_deferred.h"
 #include "render/gpu_renderer.h"
-#include "gpu/device.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,10 +8,10 @@
 
 #include "core/contact_sheet.h"
 #include "core/error.h"
-#include "core/version.h"
 #include "core/files.h"
 #include "core/progress.h"
 #include "core/timer.h"
+#include "core/version.h"
 #include "render/frame.h"
 #include "scene/load.h"
 

@@ -34,7 +34,9 @@ ShellResult shell(const std::string& command) {
     return r;
 }
 
-std::string tables() { return "python3 '" + (fs::path(STSV_SOURCE_DIR) / "bench" / "tables.py").string() + "'"; }
+std::string tables() {
+    return "python3 '" + (fs::path(STSV_SOURCE_DIR) / "bench" / "tables.py").string() + "'";
+}
 
 std::string readText(const fs::path& path) {
     std::ifstream in(path);
@@ -92,7 +94,8 @@ TEST(MeasurementTables, ACompareRunsNumbersLandInTheirCells) {
     EXPECT_NE(r.out.find("`stsv compare fence --methods stsv/cpu,pcf/cpu --size 16x12"), std::string::npos)
         << r.out;
     EXPECT_NE(r.out.find("stsv " + j["version"].get<std::string>()), std::string::npos) << r.out;
-    EXPECT_NE(r.out.find(std::to_string(j["machine"]["cpu_threads"].get<int>()) + " threads"), std::string::npos)
+    EXPECT_NE(r.out.find(std::to_string(j["machine"]["cpu_threads"].get<int>()) + " threads"),
+              std::string::npos)
         << r.out;
 }
 
