@@ -5,9 +5,10 @@ PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev l
             nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libgmock-dev \
             glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers \
             vulkan-validationlayers vulkan-tools clang-format
-# Only the tests need these: the --report test renders the page in a headless browser, and
-# bench/tables.py (the measurement tables, checked by the suite) is Python.
-TEST_PACKAGES := chromium python3
+# Only the tests need these: the --report test renders the page in a headless browser,
+# bench/tables.py (the measurement tables, checked by the suite) is Python, and the EXR test reads
+# the files back with OpenEXR's own exrheader.
+TEST_PACKAGES := chromium python3 openexr
 # make fuzz: libFuzzer harnesses of the loaders (tests/fuzz), built with clang.
 FUZZ_PACKAGES := clang-14 libfuzzer-14-dev
 FUZZ_BUILD    ?= build-fuzz

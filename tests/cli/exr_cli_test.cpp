@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <string>
 
@@ -28,6 +29,23 @@ TEST(ExrCli, LitAndVisibilityHoldTheFramesValuesAndMatchTheNpy) {
     };
     run({"-o", dir.file("lit.exr"), "--visibility", dir.file("v.exr")});
     run({"--visibility", dir.file("v.npy")});
+
+    // Another reader, OpenEXR's exrheader (Debian's openexr), sees the layout the docs give.
+    auto header = [](const std::string& path) {
+        std::string out;
+        std::FILE* pipe = ::popen(("exrheader '" + path + "' 2>&1").c_str(), "r");
+        if (!pipe) return out;
+        char buffer[1024];
+        for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
+        EXPECT_EQ(::pclose(pipe), 0) << out;
+        return out;
+    };
+    const std::string vHeader = header(dir.file("v.exr")), litHeader = header(dir.file("lit.exr"));
+    EXPECT_NE(vHeader.find("Y, 32-bit floating-point, sampling 1 1"), std::string::npos) << vHeader;
+    EXPECT_NE(vHeader.find("dataWindow (type box2i): (0 0) - (47 31)"), std::string::npos) << vHeader;
+    for (const char* channel :
+         {"R, 16-bit floating-point", "G, 16-bit floating-point", "B, 16-bit floating-point"})
+        EXPECT_NE(litHeader.find(channel), std::string::npos) << litHeader;
 
     const ImageF v = readExr(dir.file("v.exr"));
     ASSERT_EQ(v.channels, 1);
