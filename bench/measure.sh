@@ -38,12 +38,15 @@ measurement() {
     sheet-fence) echo compare fence --methods "$all_methods" --converged 16 --size 192x144 \
       --sheet docs/fence-sheet.png ;;
     bench-fence-vs-mesh) echo bench --preset fence-vs-mesh ;;
+    bench-foliage-count) echo bench foliage --methods stsv,reference --backends vulkan,cpu \
+      --vary count=250,1000,4000 --size 512x512 --samples 64 --repeat 3 --check ;;
+    bench-knot-scale) echo bench --preset knot-scale ;;
     *) return 1 ;;
   esac
 }
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
-     bench-fence-vs-mesh)
+     bench-fence-vs-mesh bench-foliage-count bench-knot-scale)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")

@@ -135,6 +135,19 @@ def passes_text(passes):
     return ", ".join("%s %.1f" % (name, p["median"]) for name, p in sorted(passes.items()))
 
 
+def work_text(c):
+    """The frame's work from its --stats, the same on every machine: fragments (point-in-volume and
+    wedge tests) and light samples tested, summed over the passes and lights."""
+    fragments = samples = 0
+    for key in ("stsv", "wedges", "center"):
+        for light in c.get(key, []):
+            fragments += light.get("fragments", 0)
+            samples += light.get("samples_tested", 0)
+    if not fragments and not samples:
+        return "–"
+    return "%.2f M / %.2f M" % (fragments / 1e6, samples / 1e6)
+
+
 def bench_table(files):
     out = []
     for _, data in files:
@@ -150,6 +163,7 @@ def bench_table(files):
                 "–" if speedup is None else "%.2f×" % speedup,
                 percent(c.get("identical_bits_percent")) if "identical_bits_percent" in c else "–",
                 fixed(err["rmse"], 5) if err else "–",
+                work_text(c),
                 passes_text(c.get("passes", {})),
             ])
         first = data["configurations"][0] if data["configurations"] else {}
@@ -157,7 +171,8 @@ def bench_table(files):
                    "CPU timers on cpu)" % (first.get("size", "?"), first.get("repeat", "?"),
                                            first.get("warmup", "?")))
         out.append(table(["scene", "method", "samples", "median frame ms", "speed-up vs reference",
-                          "identical bits", "vis RMSE", "passes (median ms)"], rows))
+                          "identical bits", "vis RMSE", "fragments / samples tested", "passes (median ms)"],
+                         rows))
     return "\n\n".join(out)
 
 

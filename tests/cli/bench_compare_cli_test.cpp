@@ -117,9 +117,9 @@ TEST(BenchCli, JsonHasSummariesPerConfigurationAndCountsTimedFrames) {
             EXPECT_EQ(c["speedup_vs_reference"], 1.0);
             EXPECT_EQ(c["identical_bits_percent"], 100.0);
         }
-        // The mirror agrees with Embree to ≥ 99.9 % of bits (the mirror-vs-reference bound) on this frame
-        // too.
-        EXPECT_GE(c["identical_bits_percent"].get<double>(), 99.9) << name;
+        // The mirror agrees with Embree bit for bit on this frame, as the README says.
+        EXPECT_EQ(c["identical_bits_percent"].get<double>(), 100.0) << name;
+        EXPECT_EQ(c["differing_samples"], 0) << name;
     }
     EXPECT_TRUE(j["skipped"].empty());
 }
@@ -248,7 +248,8 @@ TEST(CompareCli, ReferenceRowIsIdenticalAndImagesAreWritten) {
     EXPECT_EQ(reference[2], "0") << r.out;        // differing bits
     const std::vector<std::string> stsv = tableRow(r.out, "stsv/cpu");
     ASSERT_GE(stsv.size(), 9u) << r.out;
-    EXPECT_GE(std::stod(stsv[1]), 99.9) << r.out;
+    EXPECT_EQ(stsv[1], "100.0000") << r.out; // the mirror and Embree agree bit for bit here
+    EXPECT_EQ(stsv[2], "0") << r.out;
 
     for (const char* file : {"reference_cpu_visibility.png", "reference_cpu_lit.png",
                              "stsv_cpu_visibility.png", "stsv_cpu_lit.png"}) {
@@ -337,11 +338,18 @@ TEST(CompareCli, CountersFileAgainstBitmaskFileComparesOcclusion) {
         EXPECT_NE(r.out.find("comparing occlusion (count > 0)"), std::string::npos) << r.out;
         EXPECT_NE(r.out.find("differing samples: 0 of 24576"), std::string::npos) << r.out;
     }
-    // The reference's bits against STSV's counters: the same samples, a few boundary bits apart.
+    // The reference's bits against STSV's counters: as many samples differ as between the
+    // reference's bits and STSV's bits, compared bit by bit (the counters' occlusion is the bits).
     dump("reference.npy", "reference", "bitmask");
+    const CliResult bits = runStsv({"compare", dir.file("bits.npy"), dir.file("reference.npy")});
+    ASSERT_EQ(bits.code, 0) << bits.err;
+    const std::size_t at = bits.out.find("differing samples: ");
+    ASSERT_NE(at, std::string::npos) << bits.out;
+    const std::string differing = bits.out.substr(at, bits.out.find('\n', at) - at);
+    EXPECT_NE(differing.find(" of 24576"), std::string::npos) << bits.out;
     const CliResult r = runStsv({"compare", dir.file("counts.npy"), dir.file("reference.npy")});
     ASSERT_EQ(r.code, 0) << r.err;
-    EXPECT_NE(r.out.find("of 24576"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(differing), std::string::npos) << "expected '" << differing << "' in\n" << r.out;
 }
 
 } // namespace
