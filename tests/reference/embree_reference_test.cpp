@@ -52,7 +52,7 @@ TEST(EmbreeReference, HalfPlaneBlocksExactlyTheSegmentsThatCrossIt) {
         ++tested;
     }
     EXPECT_GT(tested, 19000);
-    EXPECT_GT(blocked, 5000);          // both outcomes well represented
+    EXPECT_GT(blocked, 5000); // both outcomes well represented
     EXPECT_LT(blocked, tested - 5000);
 }
 
@@ -78,7 +78,8 @@ TEST(EmbreeReference, TexelRuleOfAHandMadeTexture) {
         for (int i = 0; i < 4; ++i) {
             const float x = (float(i) + 0.5f) / 4.0f, z = (float(j) + 0.5f) / 2.0f;
             const bool expected = alphas[j][i] >= 128;
-            EXPECT_EQ(embree.occluded(vec3(x, 0.0f, z), vec3(x, 2.0f, z), SHADOW_T_MIN, NO_TRIANGLE), expected)
+            EXPECT_EQ(embree.occluded(vec3(x, 0.0f, z), vec3(x, 2.0f, z), SHADOW_T_MIN, NO_TRIANGLE),
+                      expected)
                 << "texel (" << i << ", " << j << ") alpha " << int(alphas[j][i]);
             // The primary ray sees the same: through a hole to nothing, else the quad.
             Hit hit;
@@ -178,7 +179,8 @@ TEST(EmbreeReference, ReferenceSamplesOfADiskLightBehindAHalfPlane) {
     for (int k = 0; k < plan.count; ++k) {
         const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, 0, 0, k, frame.domain));
         // The segment meets y = 1 at x = p.x + (s.x − p.x)·(1 − p.y)/(s.y − p.y).
-        const double qx = double(p.x) + (double(s.x) - double(p.x)) * (1.0 - double(p.y)) / (double(s.y) - double(p.y));
+        const double qx =
+            double(p.x) + (double(s.x) - double(p.x)) * (1.0 - double(p.y)) / (double(s.y) - double(p.y));
         if (std::abs(qx) < 1e-4) continue;
         EXPECT_EQ(bits.occluded(0, 0, k), qx < 0.0) << "sample " << k << " at x " << s.x;
         blocked += qx < 0.0 ? 1 : 0;
