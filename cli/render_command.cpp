@@ -11,6 +11,7 @@
 #include "core/version.h"
 #include "render/frame.h"
 #include "scene/load.h"
+#include "shadowmaps/shadow_map_dh.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +20,20 @@
 namespace stsv {
 
 namespace {
+
+/// How to read a --shadow-map file: its projection and frame (shadowmaps/shadow_map_dh.h). Texel
+/// (i, j) of a face covers u in [i, i + 1)/size, v in [j, j + 1)/size of the face's window.
+nlohmann::json shadowMapViewJson(const ShadowMapView& v) {
+    auto vec = [](vec3 x) { return nlohmann::json::array({x.x, x.y, x.z}); };
+    const char* projection = v.projection == SHADOW_MAP_CUBE           ? "cube"
+                             : v.projection == SHADOW_MAP_ORTHOGRAPHIC ? "orthographic"
+                                                                       : "perspective";
+    return {{"projection", projection}, {"origin", vec(v.origin)},
+            {"axis_x", vec(v.axisX)},   {"axis_y", vec(v.axisY)},
+            {"axis_z", vec(v.axisZ)},   {"window", {v.window.x, v.window.y, v.window.z, v.window.w}},
+            {"near", v.near},           {"far", v.far},
+            {"size", v.size},           {"faces", v.faces}};
+}
 
 /// float32 [faces, size, size], +inf where the texel sees no surface (NumPy's np.isinf).
 void writeShadowMapNpy(const std::string& path, const ShadowMap& map) {
@@ -128,12 +143,15 @@ int runRender(RenderArgs& args) {
         }
 
     std::vector<std::string> mapFiles;
+    nlohmann::json mapViews = nlohmann::json::array();
     for (std::size_t l = 0; l < frame.shadowMaps.size(); ++l) {
         mapFiles.push_back(perLightPath(args.shadowMap, l));
         writeShadowMapNpy(mapFiles.back(), frame.shadowMaps[l]);
+        mapViews.push_back(shadowMapViewJson(frame.shadowMaps[l].view));
     }
 
     nlohmann::json& stats = frame.stats;
+    if (!mapViews.empty()) stats["shadow_map_views"] = mapViews;
     if (!stats.contains("options")) stats["options"] = toJson(o);
     if (!stats.contains("scene")) stats["scene"] = sceneStats(scene);
     stats["scene"]["spec"] = args.scene;
