@@ -46,16 +46,31 @@ constexpr const char* kScene = R"({
 struct Vec {
     double x, y, z;
 };
-Vec vecOf(const nlohmann::json& j) { return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()}; }
+Vec vecOf(const nlohmann::json& j) {
+    return {j[0].get<double>(), j[1].get<double>(), j[2].get<double>()};
+}
 
 void checkMap(const std::string& backend) {
     SCOPED_TRACE(backend);
     ScratchDir dir;
     std::ofstream(dir.file("planes.json")) << kScene;
-    const std::vector<std::string> args = {"render",   dir.file("planes.json"), "--method",  "pcf", "--backend",
-                                           backend,    "--size",                "16x12",     "--samples",
-                                           "16",       "--param",               "sm_size=256", "--shadow-map",
-                                           dir.file("map.npy"), "--stats",      dir.file("stats.json"), "-q"};
+    const std::vector<std::string> args = {"render",
+                                           dir.file("planes.json"),
+                                           "--method",
+                                           "pcf",
+                                           "--backend",
+                                           backend,
+                                           "--size",
+                                           "16x12",
+                                           "--samples",
+                                           "16",
+                                           "--param",
+                                           "sm_size=256",
+                                           "--shadow-map",
+                                           dir.file("map.npy"),
+                                           "--stats",
+                                           dir.file("stats.json"),
+                                           "-q"};
     const CliResult r = runStsv(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     nlohmann::json stats;
@@ -89,9 +104,11 @@ void checkMap(const std::string& backend) {
             auto hit = [&](double h, double lo, double hi, double& a) {
                 a = (h - o.y) / d.y;
                 const double x = o.x + a * d.x, z = o.z + a * d.z, margin = texel * (4.0 - h) / 4.0 + 1e-3;
-                if (x < lo - margin || x > hi + margin || z < lo - margin || z > hi + margin) return 0; // outside
-                if (x < lo + margin || x > hi - margin || z < lo + margin || z > hi - margin) return 1; // border
-                return 2;                                                                              // inside
+                if (x < lo - margin || x > hi + margin || z < lo - margin || z > hi + margin)
+                    return 0; // outside
+                if (x < lo + margin || x > hi - margin || z < lo + margin || z > hi - margin)
+                    return 1; // border
+                return 2;     // inside
             };
             double aOcc = 0.0, aGround = 0.0;
             const int occ = hit(2.0, 0.2, 0.7, aOcc), gnd = hit(0.0, -1.0, 1.0, aGround);
@@ -113,10 +130,12 @@ void checkMap(const std::string& backend) {
             }
             if (!ok && ++mismatches <= 5)
                 ADD_FAILURE() << "texel (" << i << ", " << j << "): " << got << ", expected "
-                              << (occ == 2 ? aOcc : gnd == 2 ? aGround : INFINITY);
+                              << (occ == 2   ? aOcc
+                                  : gnd == 2 ? aGround
+                                             : INFINITY);
         }
-    std::printf("%s: %d occluder, %d ground and %d empty texels checked, %d wrong\n", backend.c_str(), occluder,
-                ground, empty, mismatches);
+    std::printf("%s: %d occluder, %d ground and %d empty texels checked, %d wrong\n", backend.c_str(),
+                occluder, ground, empty, mismatches);
     EXPECT_EQ(mismatches, 0);
     EXPECT_GT(occluder, 300);
     EXPECT_GT(ground, 3000);
