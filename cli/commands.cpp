@@ -10,6 +10,7 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <functional>
 #include <new>
 #include <regex>
 
@@ -146,6 +147,28 @@ std::vector<std::string> givenOptions(const CLI::App* command) {
 
 } // namespace
 
+int runReportingErrors(const std::function<int()>& command) {
+    try {
+        return command();
+    } catch (const Error& e) {
+        std::fprintf(stderr, "stsv: error: %s\n", printable(e.what()).c_str());
+        return 1;
+    } catch (const std::bad_alloc&) {
+        std::fprintf(
+            stderr,
+            "stsv: error: out of memory: an allocation failed below the memory limit of %s; the "
+            "scene, the frame's --size and --samples or the lights need more than this machine gives\n",
+            describeMemoryLimit().c_str());
+        return 1;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "stsv: internal error: %s\n", printable(e.what()).c_str());
+        return 2;
+    } catch (...) {
+        std::fprintf(stderr, "stsv: internal error: an exception of unknown type\n");
+        return 2;
+    }
+}
+
 int runCli(int argc, char** argv) {
     CLI::App app{"stsv: soft shadows from area lights for opaque and perforated triangles"};
     app.require_subcommand(1);
@@ -246,49 +269,39 @@ int runCli(int argc, char** argv) {
     compare->add_option("--sheet", c.sheet, "contact sheet PNG: per method lit, visibility, heat map");
     addFrameOptions(compare, c);
 
-    try {
-        const std::string first = argc > 1 ? argv[1] : "-";
-        if (first[0] != '-' && first != "render" && first != "info" && first != "bench" && first != "compare")
-            throw UsageError("unknown command '" + std::string(argv[1]) +
-                             "' (expected render, info, bench or compare)");
-        app.parse(argc, argv);
-        setMemoryLimit(0); // the default, unless this command says otherwise
-        for (const FrameArgs* a : {static_cast<const FrameArgs*>(&r), static_cast<const FrameArgs*>(&b),
-                                   static_cast<const FrameArgs*>(&c)})
-            if (!a->maxMemory.empty()) setMemoryLimit(parseMemorySize(a->maxMemory));
-        if (*render) {
-            r.argv.assign(argv, argv + argc);
-            return runRender(r);
+    return runReportingErrors([&]() -> int {
+        try {
+            const std::string first = argc > 1 ? argv[1] : "-";
+            if (first[0] != '-' && first != "render" && first != "info" && first != "bench" &&
+                first != "compare")
+                throw UsageError("unknown command '" + std::string(argv[1]) +
+                                 "' (expected render, info, bench or compare)");
+            app.parse(argc, argv);
+            setMemoryLimit(0); // the default, unless this command says otherwise
+            for (const FrameArgs* a : {static_cast<const FrameArgs*>(&r), static_cast<const FrameArgs*>(&b),
+                                       static_cast<const FrameArgs*>(&c)})
+                if (!a->maxMemory.empty()) setMemoryLimit(parseMemorySize(a->maxMemory));
+            if (*render) {
+                r.argv.assign(argv, argv + argc);
+                return runRender(r);
+            }
+            if (*info) return runInfo(i);
+            if (*bench) {
+                b.given = givenOptions(bench);
+                b.argv.assign(argv, argv + argc);
+                return runBench(b);
+            }
+            if (*compare) {
+                c.argv.assign(argv, argv + argc);
+                return runCompare(c);
+            }
+        } catch (const CLI::ParseError& e) {
+            if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
+            std::fprintf(stderr, "stsv: error: %s (see stsv --help)\n", printable(e.what()).c_str());
+            return 1;
         }
-        if (*info) return runInfo(i);
-        if (*bench) {
-            b.given = givenOptions(bench);
-            b.argv.assign(argv, argv + argc);
-            return runBench(b);
-        }
-        if (*compare) {
-            c.argv.assign(argv, argv + argc);
-            return runCompare(c);
-        }
-    } catch (const CLI::ParseError& e) {
-        if (e.get_exit_code() == 0) return app.exit(e); // --help, --version
-        std::fprintf(stderr, "stsv: error: %s (see stsv --help)\n", printable(e.what()).c_str());
-        return 1;
-    } catch (const Error& e) {
-        std::fprintf(stderr, "stsv: error: %s\n", printable(e.what()).c_str());
-        return 1;
-    } catch (const std::bad_alloc&) {
-        std::fprintf(
-            stderr,
-            "stsv: error: out of memory: an allocation failed below the memory limit of %s; the "
-            "scene, the frame's --size and --samples or the lights need more than this machine gives\n",
-            describeMemoryLimit().c_str());
-        return 1;
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "stsv: internal error: %s\n", printable(e.what()).c_str());
-        return 2;
-    }
-    return 0;
+        return 0;
+    });
 }
 
 } // namespace stsv

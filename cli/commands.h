@@ -2,6 +2,7 @@
 // process exit code and reports errors as one line on stderr.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -9,6 +10,11 @@ namespace stsv {
 
 /// Runs the command line (argv without the program name is parsed by CLI11). Never throws.
 int runCli(int argc, char** argv);
+
+/// Runs `command` and maps what escapes it to the exit status and one line on stderr: a
+/// stsv::Error (bad input, usage) "stsv: error: …" and 1; running out of memory the message naming
+/// the memory limit and 1; any other exception "stsv: internal error: …" and 2 (a bug).
+int runReportingErrors(const std::function<int()>& command);
 
 /// Parses "WxH" (e.g. "512x512"); throws UsageError on anything else.
 void parseSize(const std::string& text, int& width, int& height);

@@ -59,13 +59,15 @@ struct Expected {
 /// view 120°), its ground point, and what the image must hold there.
 Expected expected(int x, int y) {
     const double tanHalf = std::tan(60.0 * M_PI / 180.0), aspect = double(W) / H;
-    const double sx = (2.0 * (x + 0.5) / W - 1.0) * tanHalf * aspect, sy = (1.0 - 2.0 * (y + 0.5) / H) * tanHalf;
+    const double sx = (2.0 * (x + 0.5) / W - 1.0) * tanHalf * aspect,
+                 sy = (1.0 - 2.0 * (y + 0.5) / H) * tanHalf;
     // direction (sx, −1, −sy): right·sx + up·sy + forward, up = (0, 0, −1); the ground at t = 0.8.
     const double px = 0.8 * sx, pz = -0.8 * sy;
     const double pixel = 0.8 * 2.0 * tanHalf / H; // a pixel's footprint on the ground, metres
     Expected e;
     const double edge = std::max(std::abs(px), std::abs(pz));
-    if (std::abs(edge - 1.0) < 1.5 * pixel || std::abs(pz + 0.8 / 3.0) < 1.5 * pixel + 0.01) return e; // borders
+    if (std::abs(edge - 1.0) < 1.5 * pixel || std::abs(pz + 0.8 / 3.0) < 1.5 * pixel + 0.01)
+        return e; // borders
     if (edge > 1.0) {
         e.kind = Expected::Background;
         for (int c = 0; c < 3; ++c) e.rgb[c] = kBackground[c];
@@ -93,9 +95,21 @@ void checkImages(const std::string& backend) {
     SCOPED_TRACE(backend);
     ScratchDir dir;
     std::ofstream(dir.file("roof.json")) << kScene;
-    const std::vector<std::string> args = {"render", dir.file("roof.json"), "--method", "stsv", "--backend", backend,
-                                           "--size", std::to_string(W) + "x" + std::to_string(H), "--samples", "16",
-                                           "-o", dir.file("lit.exr"), "--visibility", dir.file("v.npy"), "-q"};
+    const std::vector<std::string> args = {"render",
+                                           dir.file("roof.json"),
+                                           "--method",
+                                           "stsv",
+                                           "--backend",
+                                           backend,
+                                           "--size",
+                                           std::to_string(W) + "x" + std::to_string(H),
+                                           "--samples",
+                                           "16",
+                                           "-o",
+                                           dir.file("lit.exr"),
+                                           "--visibility",
+                                           dir.file("v.npy"),
+                                           "-q"};
     const CliResult r = runStsv(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
     const ImageF lit = readExr(dir.file("lit.exr"));
