@@ -33,9 +33,11 @@ long differingSamples(const std::string& a, const std::string& b) {
 TEST(VulkanCli, SamplingOptionsReachBothBackendsAlike) {
     ScratchDir dir;
     auto dump = [&](const std::string& name, const std::string& backend, std::vector<std::string> extra) {
-        std::vector<std::string> args = {"render",    "fence", "--backend", backend,         "--size", "24x16",
-                                         "--samples", "16",    "--dump-ls", dir.file(name), "--stats",
-                                         dir.file(name + ".json"), "-q", "-o", dir.file(name + ".png")};
+        std::vector<std::string> args = {"render",       "fence",   "--backend",
+                                         backend,        "--size",  "24x16",
+                                         "--samples",    "16",      "--dump-ls",
+                                         dir.file(name), "--stats", dir.file(name + ".json"),
+                                         "-q",           "-o",      dir.file(name + ".png")};
         args.insert(args.end(), extra.begin(), extra.end());
         const CliResult r = runStsv(args);
         EXPECT_EQ(r.code, 0) << describe(args, r);
@@ -67,8 +69,9 @@ TEST(VulkanCli, SamplingOptionsReachBothBackendsAlike) {
 
 TEST(VulkanCli, DeviceSelection) {
     ScratchDir dir;
-    const std::vector<std::string> common = {"render", "fence", "--backend", "vulkan", "--size", "8x8",
-                                             "--samples", "16", "-q", "-o", dir.file("x.png")};
+    const std::vector<std::string> common = {"render", "fence", "--backend",      "vulkan",
+                                             "--size", "8x8",   "--samples",      "16",
+                                             "-q",     "-o",    dir.file("x.png")};
     auto with = [&](std::vector<std::string> extra) {
         std::vector<std::string> args = common;
         args.insert(args.end(), extra.begin(), extra.end());
@@ -91,8 +94,8 @@ TEST(VulkanCli, CompareAgainstAnotherMethodAndBackend) {
     ScratchDir dir;
     // Against the CPU mirror, the Vulkan STSV row is identical bit for bit and the mirror's own
     // row is the reference row of the table.
-    const CliResult r = runStsv({"compare", "fence", "--methods", "stsv/vulkan", "--against", "stsv/cpu", "--size",
-                                 "24x16", "--samples", "16", "--json", dir.file("c.json"), "-q"});
+    const CliResult r = runStsv({"compare", "fence", "--methods", "stsv/vulkan", "--against", "stsv/cpu",
+                                 "--size", "24x16", "--samples", "16", "--json", dir.file("c.json"), "-q"});
     ASSERT_EQ(r.code, 0) << r.err;
     const nlohmann::json j = readJson(dir.file("c.json"));
     EXPECT_EQ(j["against"], "stsv/cpu");
@@ -132,7 +135,8 @@ TEST(VulkanCli, DefaultOutputIsTheScenesNameAsPng) {
     ScratchDir dir;
     const fs::path before = fs::current_path();
     fs::current_path(dir.path());
-    const CliResult r = runStsv({"render", "fence", "--backend", "vulkan", "--size", "12x8", "--samples", "16", "-q"});
+    const CliResult r =
+        runStsv({"render", "fence", "--backend", "vulkan", "--size", "12x8", "--samples", "16", "-q"});
     fs::current_path(before);
     ASSERT_EQ(r.code, 0) << r.err;
     ASSERT_TRUE(fs::exists(dir.file("fence.png")));
@@ -143,13 +147,14 @@ TEST(VulkanCli, DefaultOutputIsTheScenesNameAsPng) {
 
 TEST(VulkanCli, StatsHoldTheKeysTheUserGuideLists) {
     ScratchDir dir;
-    const CliResult r = runStsv({"render", "fence", "--backend", "vulkan", "--method", "pcss", "--size", "12x8",
-                                 "--samples", "16", "--param", "pcss_filter_taps=24", "--stats",
+    const CliResult r = runStsv({"render", "fence", "--backend", "vulkan", "--method", "pcss", "--size",
+                                 "12x8", "--samples", "16", "--param", "pcss_filter_taps=24", "--stats",
                                  dir.file("s.json"), "-q", "-o", dir.file("x.png")});
     ASSERT_EQ(r.code, 0) << r.err;
     const nlohmann::json j = readJson(dir.file("s.json"));
-    for (const char* key : {"method", "backend", "width", "height", "samples", "pattern", "seed", "interleave",
-                            "decorrelate", "buffer", "ambient", "device", "validation", "extrusion", "params"})
+    for (const char* key :
+         {"method", "backend", "width", "height", "samples", "pattern", "seed", "interleave", "decorrelate",
+          "buffer", "ambient", "device", "validation", "extrusion", "params"})
         EXPECT_TRUE(j["options"].contains(key)) << "options." << key;
     for (const char* key :
          {"source", "spec", "set", "triangles", "perforated_triangles", "skipped_faces", "lights"})
@@ -158,8 +163,39 @@ TEST(VulkanCli, StatsHoldTheKeysTheUserGuideLists) {
         EXPECT_TRUE(j.contains(key)) << key;
     // Every parameter of the method, given or default.
     EXPECT_EQ(j["options"]["params"]["pcss_filter_taps"], 24);
-    for (const char* param : {"sm_size", "sm_bias", "pcss_blocker_taps", "pcss_max_kernel", "pcss_max_search"})
+    for (const char* param :
+         {"sm_size", "sm_bias", "pcss_blocker_taps", "pcss_max_kernel", "pcss_max_search"})
         EXPECT_TRUE(j["options"]["params"].contains(param)) << param;
+}
+
+TEST(VulkanCli, BenchReportsAFailingConfigurationAndRunsTheOthers) {
+    // No Vulkan device 97: the Vulkan configuration fails, the CPU ones run; the run exits 1, the
+    // table and stderr name the failure, and the JSON holds it as "error" with no timings.
+    ScratchDir dir;
+    const std::vector<std::string> args = {
+        "bench",    "fence",  "--methods", "stsv,reference",  "--backends", "vulkan,cpu", "--device",
+        "97",       "--size", "8x8",       "--samples",       "16",         "--repeat",   "1",
+        "--warmup", "0",      "--json",    dir.file("b.json")};
+    const CliResult r = runStsv(args);
+    EXPECT_EQ(r.code, 1) << describe(args, r);
+    EXPECT_NE(r.err.find("stsv: error: stsv/vulkan 16: device index 97"), std::string::npos) << r.err;
+    EXPECT_NE(r.out.find("failed: device index 97"), std::string::npos) << r.out;
+    const nlohmann::json j = readJson(dir.file("b.json"));
+    EXPECT_EQ(j["complete"], true);
+    int failed = 0, ran = 0;
+    for (const nlohmann::json& c : j["configurations"]) {
+        if (c["backend"] == "vulkan") {
+            ++failed;
+            EXPECT_NE(c["error"].get<std::string>().find("device index 97"), std::string::npos) << c.dump();
+            EXPECT_FALSE(c.contains("frame_ms") && c["frame_ms"].is_object()) << c.dump();
+        } else {
+            ++ran;
+            EXPECT_FALSE(c.contains("error") && !c["error"].is_null()) << c.dump();
+            EXPECT_EQ(c["frame_ms_samples"].size(), 1u) << c.dump();
+        }
+    }
+    EXPECT_EQ(failed, 1);
+    EXPECT_EQ(ran, 2);
 }
 
 TEST(ExitStatus, ErrorsOutOfMemoryAndBugsAreTold) {

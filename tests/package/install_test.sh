@@ -45,11 +45,13 @@ c++ -std=c++20 -fsyntax-only -DGLM_FORCE_XYZW_ONLY -DGLM_ENABLE_EXPERIMENTAL -I"
     -I"$prefix/include/stsv" "$work/math.cpp" 2>"$work/math.log" || fail "math headers: $(head -20 "$work/math.log")"
 echo "$(wc -l <"$work/math.cpp") math headers compile without Vulkan"
 
-# A separate project: find_package(stsv CONFIG), link stsv::volumes, check Eq. 1-5 on known cases.
+# A separate project: find_package(stsv CONFIG), link stsv::volumes, check Eq. 1-5 on known cases;
+# and link every exported library, rendering a frame through them.
 cmake -S "$source/tests/package/consumer" -B "$work/consumer" -DCMAKE_PREFIX_PATH="$prefix" \
     -DCMAKE_BUILD_TYPE=Release >"$work/consumer.log" 2>&1 || fail "configuring the consumer: $(cat "$work/consumer.log")"
 cmake --build "$work/consumer" >>"$work/consumer.log" 2>&1 || fail "building the consumer: $(cat "$work/consumer.log")"
 "$work/consumer/consumer" || fail "the consumer's checks failed"
+"$work/consumer/consumer_all" || fail "the consumer of every exported library failed"
 
 # The program from a moved copy of the prefix: nothing points back at where it was installed.
 mkdir -p "$work/elsewhere"
