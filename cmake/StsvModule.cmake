@@ -45,7 +45,8 @@ function(stsv_tests module)
   add_executable(test_${module} ${sources})
   target_compile_options(test_${module} PRIVATE ${STSV_WARNINGS})
   target_link_libraries(test_${module} PRIVATE ${ARG_DEPS} GTest::gtest GTest::gtest_main)
-  target_compile_definitions(test_${module} PRIVATE STSV_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/data"
-                                                    STSV_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
+  target_compile_definitions(
+    test_${module} PRIVATE STSV_TEST_DATA="${CMAKE_CURRENT_SOURCE_DIR}/data" STSV_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
+                           STSV_TEST_IMAGES_DIR="${PROJECT_BINARY_DIR}/Testing/Temporary/images")
   gtest_discover_tests(test_${module} DISCOVERY_TIMEOUT 60 PROPERTIES LABELS ${module})
 endfunction()

@@ -6,6 +6,7 @@
 #include "cli_test_util.h"
 
 #include "core/image.h"
+#include "tests/failure_images.h"
 
 #include <gtest/gtest.h>
 
@@ -137,10 +138,23 @@ void checkImages(const std::string& backend) {
                               << visibility[std::size_t(y) * W + x] << "; expected (" << e.rgb[0] << ", "
                               << e.rgb[1] << ", " << e.rgb[2] << ") visibility " << e.visibility;
         }
+    // The expectation as an image, for writeFailureImages (unsure pixels: the actual value).
+    ImageF expectedLit(W, H, 3), expectedVisibility(W, H, 1), actualVisibility(W, H, 1);
+    for (int y = 0; y < H; ++y)
+        for (int x = 0; x < W; ++x) {
+            const Expected e = expected(x, y);
+            const float have = visibility[std::size_t(y) * W + x];
+            actualVisibility.at(x, y, 0) = have;
+            expectedVisibility.at(x, y, 0) = e.kind == Expected::Unsure ? have : float(e.visibility);
+            for (int c = 0; c < 3; ++c)
+                expectedLit.at(x, y, c) = e.kind == Expected::Unsure ? lit.at(x, y, c) : float(e.rgb[c]);
+        }
     std::printf("%s: %d background, %d shadow, %d lit pixels checked, %d wrong\n", backend.c_str(), counts[0],
                 counts[1], counts[2], wrong);
     EXPECT_EQ(wrong, 0);
     for (int k = 0; k < 3; ++k) EXPECT_GT(counts[k], 100) << "class " << k;
+    writeFailureImages(backend + "_lit", lit, expectedLit, true, 40.0f);
+    writeFailureImages(backend + "_visibility", actualVisibility, expectedVisibility);
 }
 
 TEST(LitImageCli, AmbientBackgroundLightSumAndRowOrderAsWorkedOutByHand) {

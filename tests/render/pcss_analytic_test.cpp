@@ -204,7 +204,7 @@ TEST(PcssParallelPlanes, CubeMapOfALightInsideTheBoxKeepsThePenumbraWidthOffAxis
     // √(1/6/256) = 0.026 RMS there: together 0.040. (Before PCSS took axial depths on cube
     // maps, its kernel here was 10 % too narrow: 0.059.)
     EXPECT_LT(rmse.rmse, 0.05);
-    writeImagesIfFailed("pcss_cube_off_axis", pcssFrame.visibility, refFrame.visibility);
+    writeFailureImages("pcss_cube_off_axis", pcssFrame.visibility, refFrame.visibility);
 }
 
 TEST(PcssOverlappingOccluders, AveragedBlockerDepthWidensTheLowPenumbraWhereDcsStsvStaysExact) {
@@ -258,7 +258,7 @@ TEST(PcssOverlappingOccluders, AveragedBlockerDepthWidensTheLowPenumbraWhereDcsS
     // exactly here (no sample grazes an edge of these axis-aligned quads).
     EXPECT_EQ(dcs.rmse, 0.0);
     EXPECT_EQ(dcs.maxAbs, 0.0);
-    writeImagesIfFailed("pcss_overlap", pcssWith.visibility, refWith.visibility);
+    writeFailureImages("pcss_overlap", pcssWith.visibility, refWith.visibility);
 }
 
 } // namespace

@@ -71,7 +71,7 @@ TEST(PcssFence, TinyLightGivesTheReferencesHardChainLinkShadow) {
     // alpha test (a solid fence) would be dark everywhere here: RMSE √0.55 ≈ 0.74; an empty one
     // lit everywhere: √0.28 ≈ 0.53.
     EXPECT_LT(d.rmse, 0.32);
-    test::writeImagesIfFailed("pcss_fence_tiny_light", pcss.visibility, ref.visibility);
+    test::writeFailureImages("pcss_fence_tiny_light", pcss.visibility, ref.visibility);
 }
 
 /// Acne and peter-panning of one filter setting, measured against the reference.

@@ -56,7 +56,7 @@ void checkDiskPenumbra(const Scene& scene, double W, unsigned projection, const 
     // Same shape on both sides: what is left is the reference's Monte-Carlo noise at 256
     // samples (≤ 0.031 a pixel, over the penumbra only) and PCSS's 64 rotated taps.
     EXPECT_LT(d.rmse, 0.03) << what;
-    writeImagesIfFailed(what, pcss.visibility, ref.visibility);
+    writeFailureImages(what, pcss.visibility, ref.visibility);
 }
 
 TEST(ShadowMapLights, SphereLightCubeMapGivesTheDiskPenumbra) {
@@ -194,7 +194,7 @@ TEST(ShadowMapScenes, OnlyPerforatedTrianglesRenderLikeTheReference) {
         EXPECT_LT(meanRef, 0.9) << "the canopy must shadow the floor";
         EXPECT_NEAR(mean, meanRef, 0.05) << methodInfo(m).name;
         EXPECT_LT(d.rmse, m == Method::Pcss ? 0.1 : 0.3) << methodInfo(m).name;
-        writeImagesIfFailed(std::string("perforated_only_") + methodInfo(m).name, f.visibility, ref);
+        writeFailureImages(std::string("perforated_only_") + methodInfo(m).name, f.visibility, ref);
     }
 }
 

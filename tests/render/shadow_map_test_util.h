@@ -1,11 +1,12 @@
 // Helpers of the image-based baselines' rendering tests: CPU frames of one method, visibility
-// comparisons over a pixel mask, the converged reference, and the images a failed comparison
-// leaves behind (actual, expected, difference).
+// comparisons over a pixel mask and the converged reference (tests/failure_images.h writes the
+// images a failed comparison leaves behind).
 #pragma once
 
 #include "core/image.h"
 #include "render/frame.h"
 #include "render/options.h"
+#include "tests/failure_images.h"
 
 #include <gtest/gtest.h>
 
@@ -75,22 +76,6 @@ inline VisibilityDiff compareVisibility(const ImageF& actual, const ImageF& expe
         d.meanSigned = sum / double(d.pixels);
     }
     return d;
-}
-
-/// When the running test has failed: writes `name`_actual, _expected and _diff (|a − e|, ×4) PNGs
-/// into a folder under the temp directory and prints where.
-inline void writeImagesIfFailed(const std::string& name, const ImageF& actual, const ImageF& expected) {
-    if (!::testing::Test::HasFailure()) return;
-    const auto dir =
-        std::filesystem::temp_directory_path() / ("stsv_test_images_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    ImageF diff(actual.width, actual.height, 1);
-    for (std::size_t i = 0; i < diff.pixels.size(); ++i)
-        diff.pixels[i] = std::min(1.0f, 4.0f * std::abs(actual.pixels[i] - expected.pixels[i]));
-    writePng((dir / (name + "_actual.png")).string(), toImage8(actual, false));
-    writePng((dir / (name + "_expected.png")).string(), toImage8(expected, false));
-    writePng((dir / (name + "_diff.png")).string(), toImage8(diff, false));
-    std::printf("wrote %s/%s_{actual,expected,diff}.png\n", dir.string().c_str(), name.c_str());
 }
 
 } // namespace stsv::test
