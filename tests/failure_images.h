@@ -20,7 +20,8 @@ namespace stsv::test {
 /// The folder of the running test's failure images (not created).
 inline std::filesystem::path failureImageDir() {
     const char* env = std::getenv("STSV_TEST_IMAGES");
-    std::filesystem::path root = env && *env ? std::filesystem::path(env) : std::filesystem::path(STSV_TEST_IMAGES_DIR);
+    std::filesystem::path root =
+        env && *env ? std::filesystem::path(env) : std::filesystem::path(STSV_TEST_IMAGES_DIR);
     const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
     if (info) root /= std::string(info->test_suite_name()) + "." + info->name();
     return root;
@@ -33,7 +34,8 @@ inline std::filesystem::path failureImageDir() {
 inline void writeFailureImages(const std::string& name, const ImageF& actual, const ImageF& expected,
                                bool srgb = false, float diffGain = 4.0f) {
     if (!::testing::Test::HasFailure()) return;
-    if (actual.width != expected.width || actual.height != expected.height || actual.channels != expected.channels)
+    if (actual.width != expected.width || actual.height != expected.height ||
+        actual.channels != expected.channels)
         return;
     const std::filesystem::path dir = failureImageDir();
     std::filesystem::create_directories(dir);
@@ -41,7 +43,8 @@ inline void writeFailureImages(const std::string& name, const ImageF& actual, co
     for (int y = 0; y < actual.height; ++y)
         for (int x = 0; x < actual.width; ++x) {
             float d = 0.0f;
-            for (int c = 0; c < actual.channels; ++c) d = std::max(d, std::abs(actual.at(x, y, c) - expected.at(x, y, c)));
+            for (int c = 0; c < actual.channels; ++c)
+                d = std::max(d, std::abs(actual.at(x, y, c) - expected.at(x, y, c)));
             diff.at(x, y, 0) = std::min(1.0f, diffGain * d);
         }
     writePng((dir / (name + "_actual.png")).string(), toImage8(actual, srgb));
