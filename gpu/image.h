@@ -86,7 +86,7 @@ class Image {
 };
 
 /// Move-only VkSampler (no mipmaps, no anisotropy). Alpha textures are read with texelFetch
-/// and the shared texel rule (volumes/stsv_dh.h texelAt), so NEAREST is the usual choice.
+/// and the shared texel rule (scene/occlusion_rules_dh.h texelAt), so NEAREST is the usual choice.
 class Sampler {
   public:
     Sampler() = default;

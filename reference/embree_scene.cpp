@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
-#include "volumes/stsv_dh.h"
+#include "scene/occlusion_rules_dh.h"
 
 #include <algorithm>
 #include <string>

@@ -1,5 +1,5 @@
 // Embree 3 view of a Scene: the independent oracle (DESIGN §4.7). Primary rays and shadow
-// segments both apply the texel rule of volumes/stsv_dh.h, so rays see through holes.
+// segments both apply the texel rule of scene/occlusion_rules_dh.h, so rays see through holes.
 #pragma once
 
 #include "core/gbuffer.h"
@@ -32,7 +32,7 @@ class EmbreeScene {
     bool intersect(vec3 o, vec3 d, float tNear, float tFar, Hit& hit) const;
 
     /// True iff the segment p → s, from t = tMin to 1 of (s − p), meets a triangle whose texel
-    /// there is opaque. tMin: shadowTMin (volumes/stsv_dh.h) of the pixel's light frame.
+    /// there is opaque. tMin: shadowTMin (scene/occlusion_rules_dh.h) of the pixel's light frame.
     /// `ignoreTriangle` never blocks (self-shadowing rule).
     bool occluded(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle) const;
 

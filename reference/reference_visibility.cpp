@@ -3,7 +3,7 @@
 #include "core/parallel.h"
 #include "core/progress.h"
 #include "sampling/light_sampling.h"
-#include "volumes/stsv_dh.h"
+#include "scene/occlusion_rules_dh.h"
 
 namespace stsv {
 

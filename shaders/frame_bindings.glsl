@@ -43,7 +43,7 @@ uint alphaAtTexture(GpuTexture t, ivec2 texel) {
 #else
 layout(std430, set = 0, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
 
-/// The shared texel rule's alpha byte (volumes/stsv_dh.h texelAt + alphaBlocks decide) of
+/// The shared texel rule's alpha byte (scene/occlusion_rules_dh.h texelAt + alphaBlocks decide) of
 /// texture record `t` (loaded once by callers that fetch many texels of one texture).
 uint alphaAtTexture(GpuTexture t, ivec2 texel) {
     uint byteIndex = t.offset + uint(texel.y) * uint(t.width) + uint(texel.x);

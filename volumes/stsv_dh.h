@@ -1,5 +1,6 @@
-// Soft Textured Shadow Volumes: projective transmittance lookup (STSV paper §2.4, Eq. 1–5)
-// and the texel rule shared by every method. Compiles as C++ and as GLSL (see core/dh.h).
+// Soft Textured Shadow Volumes: projective transmittance lookup (STSV paper §2.4, Eq. 1–5).
+// The texel rule and the segments' start, which every method shares, are in
+// scene/occlusion_rules_dh.h. Compiles as C++ and as GLSL (see core/dh.h).
 //
 // Formulation (DESIGN §4.3). For an S-triangle (v0, v1, v2) with unit normal n oriented
 // towards the light centre:
@@ -19,27 +20,9 @@
 
 #include "core/dh.h"
 #include "sampling/sample_region_dh.h"
+#include "scene/occlusion_rules_dh.h"
 
 DH_BEGIN
-
-/// Shadow segments start at t = SHADOW_T_MIN (fraction of p→s) in every method, so a receiver
-/// touching an occluder (a shared mesh edge) is not shadowed by it through round-off. For a
-/// light frame centred farther than one scene diameter from p (directional lights sit 100
-/// diameters away), shadowTMin lowers the start so that it stays within SHADOW_T_MIN·D of p.
-DH_CONST float SHADOW_T_MIN = 1e-4f;
-
-/// Start parameter of the segments p → s of the pixel whose light frame is centred at
-/// `lightCenter` (world units; sceneDiameter = length of the scene box's extent): SHADOW_T_MIN
-/// when |lightCenter − p| ≤ sceneDiameter, else SHADOW_T_MIN·sceneDiameter / |lightCenter − p|,
-/// so the segments never start farther than SHADOW_T_MIN·sceneDiameter from p.
-DH_FUNC float shadowTMin(vec3 p, vec3 lightCenter, float sceneDiameter) {
-    float centerDistance = length(lightCenter - p);
-    return centerDistance <= sceneDiameter ? SHADOW_T_MIN : SHADOW_T_MIN * (sceneDiameter / centerDistance);
-}
-
-/// Texture addressing, as Material::wrap.
-DH_CONST uint WRAP_REPEAT = 0u;
-DH_CONST uint WRAP_CLAMP = 1u;
 
 /// StsvTriangle::flags bits.
 DH_CONST uint STSV_FLAG_CLAMP = 1u;      ///< texture wrap mode is clamp (else repeat)
@@ -162,24 +145,6 @@ DH_FUNC bool stsvSegmentHitsTriangle(vec3 h, float e, float tMin, DH_OUT(vec2) b
 /// Texture coordinates of the crossing (Eq. 4–5: S applied, then the projection).
 DH_FUNC vec2 stsvTexcoord(StsvTriangle t, vec2 bary) {
     return t.uv0 + bary.x * t.uvE1 + bary.y * t.uvE2;
-}
-
-/// The texel rule shared by GPU, CPU mirror and Embree: nearest texel of mip 0 at uv, with
-/// the material's wrap mode. Row 0 of the texture is v = 0.
-DH_FUNC ivec2 texelAt(vec2 uv, ivec2 size, uint wrap) {
-    // Index arithmetic in float, clamped before the conversion to int: beyond |uv·size| = 2^24
-    // texel/size rounds (the modulo could come out negative) and beyond 2^31 an int overflows.
-    // Below 2^24 every step is exact, so the result is the exact floor-and-wrap.
-    vec2 sizeF = vec2(size);
-    vec2 texel = floor(uv * sizeF);
-    // Repeat: a non-negative modulo.
-    if (wrap != WRAP_CLAMP) texel = texel - sizeF * floor(texel / sizeF);
-    return ivec2(clamp(texel, vec2(0.0f), sizeF - vec2(1.0f)));
-}
-
-/// Binary transmittance: alpha below one half (alpha8 < 128) is a hole.
-DH_FUNC bool alphaBlocks(uint alpha8) {
-    return alpha8 >= 128u;
 }
 
 /// One light sample against one S-triangle, as the fragment shader and the CPU mirror run it:

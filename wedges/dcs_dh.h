@@ -31,7 +31,7 @@ DH_BEGIN
 /// Per-pixel projection onto the light frame's plane. std430: 4 × 16 bytes.
 struct DcsPixel {
     vec3 row0;  ///< H(q) = (dot(row0, q − p), dot(row1, q − p), dot(row2, q − p))
-    float tMin; ///< segments p → s start at this parameter (shadowTMin, volumes/stsv_dh.h)
+    float tMin; ///< segments p → s start at this parameter (shadowTMin, scene/occlusion_rules_dh.h)
     vec3 row1;
     float valid; ///< 1 if p lies strictly in front of the light plane, else 0 (no crossings)
     vec3 row2;   ///< n / n·(c − p)

@@ -5,11 +5,14 @@
 #include "reference/reference_visibility.h"
 #include "sampling/light_sampling.h"
 #include "sampling/pattern.h"
-#include "volumes/stsv_dh.h"
+#include "scene/occlusion_rules_dh.h"
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <random>
+#include <sstream>
 
 namespace stsv {
 namespace {
@@ -189,6 +192,24 @@ TEST(EmbreeReference, ReferenceSamplesOfADiskLightBehindAHalfPlane) {
     EXPECT_GE(checked, plan.count - 2);
     // About the disk's area left of x = −0.6: (acos(0.6) − 0.6·0.8)/π ≈ 14.2 % of the samples.
     EXPECT_GT(blocked, 0);
+}
+
+TEST(EmbreeReference, DependsOnNoMethod) {
+    // The oracle must not share code with the methods it checks beyond the rules they all follow
+    // (scene/occlusion_rules_dh.h): none of its files includes a method's folder.
+    int files = 0;
+    for (const auto& e :
+         std::filesystem::directory_iterator(std::filesystem::path(STSV_SOURCE_DIR) / "reference")) {
+        if (e.path().extension() != ".h" && e.path().extension() != ".cpp") continue;
+        std::ifstream in(e.path());
+        std::stringstream text;
+        text << in.rdbuf();
+        for (const char* folder : {"\"volumes/", "\"wedges/", "\"shadowmaps/", "\"render/", "\"gpu/"})
+            EXPECT_EQ(text.str().find(std::string("#include ") + folder), std::string::npos)
+                << e.path() << " includes " << folder;
+        ++files;
+    }
+    EXPECT_GE(files, 4);
 }
 
 } // namespace
