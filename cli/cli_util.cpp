@@ -186,8 +186,7 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
                                                              methodInfo(o.method).bufferKind(o.buffer)));
     // Image-based methods: a map per light, six faces at most.
     if (methodInfo(o.method).shadowMap != ShadowFilter::None) {
-        const auto size = o.params.find("sm_size");
-        const double edge = size == o.params.end() ? double(ShadowMapSettings{}.size) : size->second;
+        const double edge = shadowMapSettingsFrom(methodInfo(o.method).shadowMap, o.params).size;
         perLight += 6.0 * edge * edge * sizeof(float);
     }
     // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests

@@ -11,27 +11,8 @@
 
 namespace stsv {
 
-namespace {
-
-double param(const RenderOptions& options, const char* name, double fallback) {
-    const auto it = options.params.find(name);
-    return it == options.params.end() ? fallback : it->second;
-}
-
-} // namespace
-
 ShadowMapSettings shadowMapSettings(const RenderOptions& options) {
-    ShadowMapSettings s;
-    s.filter = methodInfo(options.method).shadowMap;
-    s.size = int(param(options, "sm_size", s.size));
-    s.bias = float(param(options, "sm_bias", s.bias));
-    s.normalOffset = float(param(options, "sm_normal_offset", s.normalOffset));
-    s.pcfRadius = int(param(options, "pcf_radius", s.pcfRadius));
-    s.blockerTaps = int(param(options, "pcss_blocker_taps", s.blockerTaps));
-    s.filterTaps = int(param(options, "pcss_filter_taps", s.filterTaps));
-    s.maxKernel = float(param(options, "pcss_max_kernel", s.maxKernel));
-    s.maxSearch = float(param(options, "pcss_max_search", s.maxSearch));
-    return s;
+    return shadowMapSettingsFrom(methodInfo(options.method).shadowMap, options.params);
 }
 
 nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {

@@ -11,30 +11,19 @@ namespace stsv {
 
 namespace {
 
-/// The knobs of every shadow-map method, then the method's own.
-std::vector<MethodKnob> withMapKnobs(std::vector<MethodKnob> own) {
-    const ShadowMapSettings d;
-    std::vector<MethodKnob> knobs = {
-        {.name = "sm_size",
-         .defaultValue = double(d.size),
-         .min = 256,
-         .max = 8192,
-         .integer = true,
-         .help = "shadow map texels per face edge (32-bit linear depth)"},
-        {.name = "sm_bias",
-         .defaultValue = double(d.bias),
-         .min = 0,
-         .max = 64,
-         .integer = false,
-         .help = "constant depth bias, in texels at the receiver"},
-        {.name = "sm_normal_offset",
-         .defaultValue = double(d.normalOffset),
-         .min = 0,
-         .max = 64,
-         .integer = false,
-         .help = "receiver moved along its normal before the lookup, in texels"},
-    };
-    knobs.insert(knobs.end(), own.begin(), own.end());
+/// The knobs a shadow-map method reads (shadowmaps/shadow_map.h: the one list, with the defaults
+/// of ShadowMapSettings).
+std::vector<MethodKnob> mapKnobs(ShadowFilter filter) {
+    const ShadowMapSettings defaults;
+    std::vector<MethodKnob> knobs;
+    for (const ShadowMapKnob& k : shadowMapKnobs())
+        if (k.readBy(filter))
+            knobs.push_back({.name = k.name,
+                             .defaultValue = k.get(defaults),
+                             .min = k.min,
+                             .max = k.max,
+                             .integer = k.integer,
+                             .help = k.help});
     return knobs;
 }
 
@@ -104,12 +93,7 @@ std::vector<MethodInfo> buildTable() {
          .family = MethodFamily::ImageBased,
          .output = MethodOutput::Visibility,
          .backends = {B::Vulkan, B::Cpu},
-         .knobs = withMapKnobs({{.name = "pcf_radius",
-                                 .defaultValue = 2,
-                                 .min = 0,
-                                 .max = 32,
-                                 .integer = true,
-                                 .help = "kernel radius in texels: (2r+1)^2 taps"}}),
+         .knobs = mapKnobs(ShadowFilter::Pcf),
          .shadowMap = ShadowFilter::Pcf},
         {.id = Method::Pcss,
          .name = "pcss",
@@ -118,31 +102,7 @@ std::vector<MethodInfo> buildTable() {
          .family = MethodFamily::ImageBased,
          .output = MethodOutput::Visibility,
          .backends = {B::Vulkan, B::Cpu},
-         .knobs = withMapKnobs({{.name = "pcss_blocker_taps",
-                                 .defaultValue = 32,
-                                 .min = 1,
-                                 .max = 256,
-                                 .integer = true,
-                                 .help = "Poisson-disk taps of the blocker search"},
-                                {.name = "pcss_filter_taps",
-                                 .defaultValue = 64,
-                                 .min = 1,
-                                 .max = 256,
-                                 .integer = true,
-                                 .help = "Poisson-disk taps of the filter"},
-                                {.name = "pcss_max_kernel",
-                                 .defaultValue = double(ShadowMapSettings{}.maxKernel),
-                                 .min = 1,
-                                 .max = 8192,
-                                 .integer = false,
-                                 .help = "largest filter radius, texels (the stats count the pixels it "
-                                         "clamps)"},
-                                {.name = "pcss_max_search",
-                                 .defaultValue = double(ShadowMapSettings{}.maxSearch),
-                                 .min = 1,
-                                 .max = 8192,
-                                 .integer = false,
-                                 .help = "largest blocker-search radius, texels"}}),
+         .knobs = mapKnobs(ShadowFilter::Pcss),
          .shadowMap = ShadowFilter::Pcss},
     };
     for (std::size_t i = 0; i < table.size(); ++i)

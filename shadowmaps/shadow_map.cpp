@@ -200,4 +200,40 @@ std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings) {
     return taps;
 }
 
+const std::vector<ShadowMapKnob>& shadowMapKnobs() {
+    using F = ShadowFilter;
+    using S = ShadowMapSettings;
+    static const std::vector<ShadowMapKnob> knobs = {
+        {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", F::None,
+         nullptr, &S::size},
+        {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", F::None, &S::bias},
+        {"sm_normal_offset", 0, 64, false, "receiver moved along its normal before the lookup, in texels",
+         F::None, &S::normalOffset},
+        {"pcf_radius", 0, 32, true, "kernel radius in texels: (2r+1)^2 taps", F::Pcf, nullptr, &S::pcfRadius},
+        {"pcss_blocker_taps", 1, 256, true, "Poisson-disk taps of the blocker search", F::Pcss, nullptr,
+         &S::blockerTaps},
+        {"pcss_filter_taps", 1, 256, true, "Poisson-disk taps of the filter", F::Pcss, nullptr,
+         &S::filterTaps},
+        {"pcss_max_kernel", 1, 8192, false,
+         "largest filter radius, texels (the stats count the pixels it clamps)", F::Pcss, &S::maxKernel},
+        {"pcss_max_search", 1, 8192, false, "largest blocker-search radius, texels", F::Pcss, &S::maxSearch},
+    };
+    return knobs;
+}
+
+ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params) {
+    ShadowMapSettings s;
+    s.filter = filter;
+    for (const auto& [name, value] : params) {
+        const auto& knobs = shadowMapKnobs();
+        const auto knob = std::find_if(knobs.begin(), knobs.end(), [&](const ShadowMapKnob& k) {
+            return k.readBy(filter) && name == k.name;
+        });
+        if (knob == knobs.end())
+            throw UsageError("shadow maps have no parameter '" + name + "' for this method");
+        knob->set(s, value);
+    }
+    return s;
+}
+
 } // namespace stsv

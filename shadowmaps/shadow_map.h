@@ -8,6 +8,8 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <string>
 #include <vector>
 
 namespace stsv {
@@ -70,6 +72,37 @@ struct ShadowMapSettings {
     /// wires), so the search is bounded apart from the filter.
     float maxSearch = 64.0f;
 };
+
+/// One knob of ShadowMapSettings as a method's `--param`: its name, range and help, which filters
+/// read it, and the member it sets. The one list of the knobs: the method table's parameters are
+/// made from it (render/methods.cpp) and frames read the settings through it, so a name, a
+/// default or a range is written once.
+struct ShadowMapKnob {
+    const char* name;
+    double min;
+    double max;
+    bool integer;
+    const char* help;                         ///< one line, with the unit
+    ShadowFilter only;                        ///< the one filter that reads it; None: every filter
+    float ShadowMapSettings::*real = nullptr; ///< the member, for a float knob
+    int ShadowMapSettings::*whole = nullptr;  ///< the member, for an integer knob
+
+    double get(const ShadowMapSettings& s) const { return whole ? double(s.*whole) : double(s.*real); }
+    void set(ShadowMapSettings& s, double value) const {
+        if (whole)
+            s.*whole = int(value);
+        else
+            s.*real = float(value);
+    }
+    bool readBy(ShadowFilter filter) const { return only == ShadowFilter::None || only == filter; }
+};
+
+/// Every knob, the ones all filters share first.
+const std::vector<ShadowMapKnob>& shadowMapKnobs();
+
+/// The settings of a `filter` frame: the defaults of ShadowMapSettings, with each (name, value)
+/// of `params` set on its knob. UsageError for a name that is no knob of `filter`.
+ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params);
 
 /// The taps a frame uploads: the blocker-search set, then the filter set (seeded apart).
 std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings);

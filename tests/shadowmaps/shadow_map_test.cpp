@@ -379,3 +379,33 @@ TEST(PoissonDiskTaps, CountUnitDiskMinimumDistanceAndDeterminism) {
 
 } // namespace
 } // namespace stsv
+
+namespace stsv {
+namespace {
+
+TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
+    // Every knob, set to a value inside its range and unlike its default, changes exactly its
+    // member: read back through the knob, and every other knob keeps its default.
+    const ShadowMapSettings defaults;
+    for (const ShadowMapKnob& knob : shadowMapKnobs()) {
+        const ShadowFilter filter = knob.only == ShadowFilter::None ? ShadowFilter::Pcss : knob.only;
+        const double value = knob.get(defaults) == knob.max ? knob.min : knob.max;
+        const ShadowMapSettings s = shadowMapSettingsFrom(filter, {{knob.name, value}});
+        EXPECT_EQ(knob.get(s), value) << knob.name;
+        EXPECT_EQ(s.filter, filter);
+        for (const ShadowMapKnob& other : shadowMapKnobs()) {
+            if (std::string(other.name) == knob.name) continue;
+            EXPECT_EQ(other.get(s), other.get(defaults)) << knob.name << " also moved " << other.name;
+        }
+        EXPECT_TRUE((knob.whole != nullptr) == knob.integer) << knob.name;
+        EXPECT_LE(knob.min, knob.get(defaults)) << knob.name;
+        EXPECT_GE(knob.max, knob.get(defaults)) << knob.name;
+    }
+    // A misspelt name, and a PCSS knob given to PCF, are errors rather than silent defaults.
+    EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcss, {{"pcss_filter_tap", 8}}), UsageError);
+    EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcss_filter_taps", 8}}), UsageError);
+    EXPECT_EQ(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcf_radius", 5}}).pcfRadius, 5);
+}
+
+} // namespace
+} // namespace stsv
