@@ -348,13 +348,18 @@ void VulkanFrame::checkHullCapacity(std::size_t light, const char* pass, std::ui
                     " triangles) outgrew the buffers sized at start-up");
 }
 
-/// "stsv" per light, "wedges" and "center" per light for methods with an opaque technique, and
-/// "shadow_maps" per light for image-based methods.
+/// Per light: "stsv" for methods that run STSV, "wedges" and "center" for methods with an opaque
+/// technique, "shadow_maps" for image-based methods.
 nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts, const GBuffer& gbuffer) const {
     if (m_method.shadowMap != ShadowFilter::None) {
         nlohmann::json maps = nlohmann::json::array();
-        for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
-            maps.push_back(kernelClampStats(counts[l].kernelClamped, gbuffer));
+        for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
+            const ShadowMapView& view = m_shadowResources.view(l);
+            nlohmann::json map = {{"faces", view.faces},
+                                  {"texels", std::size_t(view.faces) * view.size * view.size}};
+            map.update(kernelClampStats(counts[l].kernelClamped, gbuffer));
+            maps.push_back(map);
+        }
         return {{"shadow_maps", maps}};
     }
     nlohmann::json stsvStats = nlohmann::json::array();
@@ -392,7 +397,9 @@ nlohmann::json VulkanFrame::passStats(const std::vector<GpuStats>& counts, const
         centerStats.push_back(
             {{"fragments", counts[l].centerFragments}, {"counted_fragments", counts[l].centerCounted}});
     }
-    nlohmann::json stats = {{"stsv", stsvStats}};
+    // A family the method does not run writes nothing (its counters would read zero).
+    nlohmann::json stats = nlohmann::json::object();
+    if (m_method.stsv != StsvTriangles::None) stats["stsv"] = stsvStats;
     if (m_opaque) {
         stats["wedges"] = wedgeStats;
         stats["center"] = centerStats;

@@ -10,6 +10,8 @@
 
 #include <gtest/gtest.h>
 
+#include <map>
+
 #include <set>
 
 namespace stsv {
@@ -129,6 +131,44 @@ TEST_F(MethodTableRender, EveryMethodRendersOnEveryBackendItClaims) {
                 EXPECT_LT(darkest, 0.9f) << label;
             }
         }
+}
+
+TEST_F(MethodTableRender, StatsNameTheSameFamiliesOnBothBackends) {
+    // The families a frame reports are those its method runs, on either backend: "stsv" where
+    // STSV runs, "wedges" where an opaque technique does, "shadow_maps" for image-based methods
+    // (with the same keys), and "center" only from Vulkan, whose centre pass rasterises and counts
+    // fragments (the CPU counts the centre's layers by ray casting and has no fragments to count).
+    const Scene scene = loadScene("fence");
+    for (const MethodInfo& m : methodTable()) {
+        if (!m.implementedOn(Backend::Cpu) || !m.implementedOn(Backend::Vulkan)) continue;
+        std::map<Backend, nlohmann::json> stats;
+        for (Backend backend : {Backend::Cpu, Backend::Vulkan}) {
+            RenderOptions o = test::gpuOptions(16, 12, 16);
+            o.method = m.id;
+            o.backend = backend;
+            o.params = parseMethodParams(m, {});
+            stats[backend] =
+                (backend == Backend::Vulkan ? renderGpu(scene, o) : makeRenderer(scene, o)->render()).stats;
+        }
+        const bool opaque = m.opaque != OpaqueTechnique::None;
+        for (Backend backend : {Backend::Cpu, Backend::Vulkan}) {
+            const nlohmann::json& j = stats[backend];
+            const std::string label = m.name + "/" + toString(backend);
+            EXPECT_EQ(j.contains("stsv"), m.stsv != StsvTriangles::None) << label;
+            EXPECT_EQ(j.contains("wedges"), opaque) << label;
+            EXPECT_EQ(j.contains("shadow_maps"), m.shadowMap != ShadowFilter::None) << label;
+            EXPECT_EQ(j.contains("center"), opaque && backend == Backend::Vulkan) << label;
+        }
+        if (m.shadowMap != ShadowFilter::None) {
+            const nlohmann::json& cpu = stats[Backend::Cpu]["shadow_maps"][0];
+            const nlohmann::json& gpu = stats[Backend::Vulkan]["shadow_maps"][0];
+            EXPECT_EQ(cpu.size(), gpu.size()) << m.name << ": " << cpu.dump() << " vs " << gpu.dump();
+            for (const auto& [key, value] : cpu.items())
+                EXPECT_TRUE(gpu.contains(key)) << m.name << ": " << key;
+            EXPECT_EQ(cpu["faces"], gpu["faces"]) << m.name;
+            EXPECT_EQ(cpu["texels"], gpu["texels"]) << m.name;
+        }
+    }
 }
 
 TEST(MethodTable, MakeRendererRefusesABackendTheRowLacks) {
