@@ -94,7 +94,7 @@ stsv_pattern_q(64 STSV_Q64)
 stsv_pattern_q(128 STSV_Q128)
 
 # The combinations render/gpu_renderer.cpp and render/gpu_wedges.cpp build: SAMPLE_COUNT and
-# STSV_COUNTERS (--samples, --buffer) on the sample passes; the uniform-buffer layouts
+# LS_COUNTERS (--samples, --buffer) on the sample passes; the uniform-buffer layouts
 # (STSV_PATTERN_VEC4S, STSV_ALPHA_BIT_VEC4S) on every pass; FIXED_LIGHT_TYPE per light type on
 # stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and
 # RESOLVE_COVERAGE (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
@@ -110,52 +110,52 @@ foreach(source stsv.vert stsv.geom stsv.mesh gbuffer.vert gbuffer.frag dcs_cente
 endforeach()
 
 stsv_check_shader(${S}/stsv.frag s16_l0 SAMPLE_COUNT=16 FIXED_LIGHT_TYPE=0u)
-stsv_check_shader(${S}/stsv.frag s16_counters_l1 SAMPLE_COUNT=16 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=1u)
+stsv_check_shader(${S}/stsv.frag s16_counters_l1 SAMPLE_COUNT=16 LS_COUNTERS=1 FIXED_LIGHT_TYPE=1u)
 stsv_check_shader(${S}/stsv.frag s64_ubo_l2 SAMPLE_COUNT=64 ${UBO} FIXED_LIGHT_TYPE=2u)
-stsv_check_shader(${S}/stsv.frag s64_counters_l3 SAMPLE_COUNT=64 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=3u)
-stsv_check_shader(${S}/stsv.frag s128_ubo_counters_l0 SAMPLE_COUNT=128 STSV_COUNTERS=1 ${UBO} FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/stsv.frag s64_counters_l3 SAMPLE_COUNT=64 LS_COUNTERS=1 FIXED_LIGHT_TYPE=3u)
+stsv_check_shader(${S}/stsv.frag s128_ubo_counters_l0 SAMPLE_COUNT=128 LS_COUNTERS=1 ${UBO} FIXED_LIGHT_TYPE=0u)
 stsv_check_shader(${S}/stsv.frag s256_l3 SAMPLE_COUNT=256 FIXED_LIGHT_TYPE=3u)
-stsv_check_shader(${S}/stsv.frag s256_counters_l2 SAMPLE_COUNT=256 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/stsv.frag s256_counters_l2 SAMPLE_COUNT=256 LS_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
 stsv_check_shader(${S}/stsv.frag mesh_s64_l1 STSV_MESH_PATH=1 SAMPLE_COUNT=64 FIXED_LIGHT_TYPE=1u)
-stsv_check_shader(${S}/stsv.frag mesh_s256_counters_ubo_l0 STSV_MESH_PATH=1 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO}
+stsv_check_shader(${S}/stsv.frag mesh_s256_counters_ubo_l0 STSV_MESH_PATH=1 SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO}
                   FIXED_LIGHT_TYPE=0u)
 stsv_check_shader(${S}/stsv.frag hull_s64_l0 STSV_HULL_PATH=1 SAMPLE_COUNT=64 FIXED_LIGHT_TYPE=0u)
-stsv_check_shader(${S}/stsv.frag hull_s256_counters_ubo_l2 STSV_HULL_PATH=1 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO}
+stsv_check_shader(${S}/stsv.frag hull_s256_counters_ubo_l2 STSV_HULL_PATH=1 SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO}
                   FIXED_LIGHT_TYPE=2u)
 stsv_check_shader(${S}/stsv_hull.comp shared4 CLIP_SHARED_INVOCATIONS=4 HULL_ITEMS_PER_THREAD=16)
 stsv_check_shader(${S}/wedge_hull.comp shared1_ubo CLIP_SHARED_INVOCATIONS=1 ${UBO})
 stsv_check_shader(${S}/stsv_samples.comp s16_l1 SAMPLE_COUNT=16 FIXED_LIGHT_TYPE=1u)
-stsv_check_shader(${S}/stsv_samples.comp s64_counters_ubo_l0 SAMPLE_COUNT=64 STSV_COUNTERS=1 ${UBO} FIXED_LIGHT_TYPE=0u)
+stsv_check_shader(${S}/stsv_samples.comp s64_counters_ubo_l0 SAMPLE_COUNT=64 LS_COUNTERS=1 ${UBO} FIXED_LIGHT_TYPE=0u)
 stsv_check_shader(${S}/stsv_samples.comp s256_l3 SAMPLE_COUNT=256 FIXED_LIGHT_TYPE=3u)
-stsv_check_shader(${S}/stsv_samples.comp s256_counters_l2 SAMPLE_COUNT=256 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/stsv_samples.comp s256_counters_l2 SAMPLE_COUNT=256 LS_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
 stsv_check_shader(${S}/stsv_merge.comp s16 SAMPLE_COUNT=16)
 stsv_check_shader(${S}/stsv_merge.comp s256_ubo SAMPLE_COUNT=256 ${UBO})
 
 stsv_check_shader(${S}/resolve.comp s16_q_l0 SAMPLE_COUNT=16 "${STSV_Q16}" RESOLVE_COVERAGE=0 FIXED_LIGHT_TYPE=0u)
-stsv_check_shader(${S}/resolve.comp s16_counters_l2 SAMPLE_COUNT=16 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/resolve.comp s16_counters_l2 SAMPLE_COUNT=16 LS_COUNTERS=1 FIXED_LIGHT_TYPE=2u)
 stsv_check_shader(${S}/resolve.comp s64_q_l1 SAMPLE_COUNT=64 "${STSV_Q64}" FIXED_LIGHT_TYPE=1u)
-stsv_check_shader(${S}/resolve.comp s64_q_counters_ubo_l2 SAMPLE_COUNT=64 STSV_COUNTERS=1 "${STSV_Q64}" ${UBO}
+stsv_check_shader(${S}/resolve.comp s64_q_counters_ubo_l2 SAMPLE_COUNT=64 LS_COUNTERS=1 "${STSV_Q64}" ${UBO}
                   FIXED_LIGHT_TYPE=2u)
 stsv_check_shader(${S}/resolve.comp s64_coverage_l3 SAMPLE_COUNT=64 RESOLVE_COVERAGE=1 FIXED_LIGHT_TYPE=3u)
 stsv_check_shader(${S}/resolve.comp s128_q_coverage_counters_l0 SAMPLE_COUNT=128 "${STSV_Q128}" RESOLVE_COVERAGE=1
-                  STSV_COUNTERS=1 FIXED_LIGHT_TYPE=0u)
+                  LS_COUNTERS=1 FIXED_LIGHT_TYPE=0u)
 stsv_check_shader(${S}/resolve.comp s128_ubo_l3 SAMPLE_COUNT=128 ${UBO} FIXED_LIGHT_TYPE=3u)
 stsv_check_shader(${S}/resolve.comp s256_l1 SAMPLE_COUNT=256 FIXED_LIGHT_TYPE=1u)
-stsv_check_shader(${S}/resolve.comp s256_counters_l3 SAMPLE_COUNT=256 STSV_COUNTERS=1 FIXED_LIGHT_TYPE=3u)
+stsv_check_shader(${S}/resolve.comp s256_counters_l3 SAMPLE_COUNT=256 LS_COUNTERS=1 FIXED_LIGHT_TYPE=3u)
 
-stsv_check_shader(${S}/wedge.frag dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 STSV_COUNTERS=1)
-stsv_check_shader(${S}/wedge.frag dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
+stsv_check_shader(${S}/wedge.frag dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 LS_COUNTERS=1)
+stsv_check_shader(${S}/wedge.frag dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedge.frag pw WEDGE_PW=1 WEDGE_STSV=0)
 stsv_check_shader(${S}/wedge.frag pw_stsv_ubo WEDGE_PW=1 WEDGE_STSV=1 ${UBO})
-stsv_check_shader(${S}/wedge.frag hull_dcs_s64 WEDGE_HULL_PATH=1 WEDGE_PW=0 SAMPLE_COUNT=64 STSV_COUNTERS=1)
+stsv_check_shader(${S}/wedge.frag hull_dcs_s64 WEDGE_HULL_PATH=1 WEDGE_PW=0 SAMPLE_COUNT=64 LS_COUNTERS=1)
 stsv_check_shader(${S}/wedge.frag hull_pw_ubo WEDGE_HULL_PATH=1 WEDGE_PW=1 ${UBO})
-stsv_check_shader(${S}/wedge_samples.comp s16 SAMPLE_COUNT=16 STSV_COUNTERS=1)
-stsv_check_shader(${S}/wedge_samples.comp s256_ubo SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
-stsv_check_shader(${S}/wedge_fold.comp dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 STSV_COUNTERS=1)
-stsv_check_shader(${S}/wedge_fold.comp dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 STSV_COUNTERS=1 ${UBO})
+stsv_check_shader(${S}/wedge_samples.comp s16 SAMPLE_COUNT=16 LS_COUNTERS=1)
+stsv_check_shader(${S}/wedge_samples.comp s256_ubo SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO})
+stsv_check_shader(${S}/wedge_fold.comp dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 LS_COUNTERS=1)
+stsv_check_shader(${S}/wedge_fold.comp dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedge_fold.comp pw WEDGE_PW=1 WEDGE_STSV=0 SAMPLE_COUNT=64)
 stsv_check_shader(${S}/wedge_fold.comp pw_stsv_s256 WEDGE_PW=1 WEDGE_STSV=1 SAMPLE_COUNT=256)
-stsv_check_shader(${S}/wedge_fold.comp pw_stsv_s16_counters WEDGE_PW=1 WEDGE_STSV=1 SAMPLE_COUNT=16 STSV_COUNTERS=1)
+stsv_check_shader(${S}/wedge_fold.comp pw_stsv_s16_counters WEDGE_PW=1 WEDGE_STSV=1 SAMPLE_COUNT=16 LS_COUNTERS=1)
 
 # The image-based passes: the map raster with the uniform layouts; SHADOW_FILTER_STEP 1, 2 (PCSS).
 stsv_check_shader(${S}/shadowmap.vert ubo ${UBO})

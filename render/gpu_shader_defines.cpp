@@ -25,7 +25,7 @@ std::vector<ShaderDefine> layoutDefines(const FrameTableLayout& tables) {
 std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const FrameTableLayout& tables) {
     std::vector<ShaderDefine> defines = layoutDefines(tables);
     defines.push_back({"SAMPLE_COUNT", std::to_string(options.samples)});
-    defines.push_back({"STSV_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"});
+    defines.push_back({"LS_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"});
     return defines;
 }
 

@@ -32,7 +32,8 @@ std::size_t patternVec4Count(const SamplePlan& plan);
 /// Defines every shader of the frame needs to match the descriptor set layout.
 std::vector<ShaderDefine> layoutDefines(const FrameTableLayout& tables);
 
-/// layoutDefines plus SAMPLE_COUNT and STSV_COUNTERS (the buffer kind the frame writes).
+/// layoutDefines plus SAMPLE_COUNT and LS_COUNTERS: 1 when the light-sample buffer holds layer
+/// counters (DCS, and --buffer counters), 0 for occlusion bits; any method's passes read it.
 std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const FrameTableLayout& tables);
 
 /// `defines` plus STSV_PATTERN_Q when the plan has one sample set (no interleaving) whose points

@@ -8,8 +8,8 @@
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
-#ifndef STSV_COUNTERS
-#define STSV_COUNTERS 0
+#ifndef LS_COUNTERS
+#define LS_COUNTERS 0
 #endif
 #ifndef RESOLVE_COVERAGE
 #define RESOLVE_COVERAGE 0
@@ -31,7 +31,7 @@ layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = 0, binding = GPU_BINDING_COLOR, rgba32f) uniform image2D colorImage;
 layout(set = 0, binding = GPU_BINDING_VISIBILITY, r32f) uniform image2D visibilityImage;
-#if STSV_COUNTERS
+#if LS_COUNTERS
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) readonly buffer Counters { uint counters[]; };
 #else
 layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
@@ -66,7 +66,7 @@ uint resolveSourceWord(ResolveSource s, uint w) {
 bool resolveSourceOccluded(ResolveSource s, uint word, uint k) {
 #if RESOLVE_COVERAGE
     return false; // PW: every sample lit, scaled by v_coef
-#elif STSV_COUNTERS
+#elif LS_COUNTERS
     return ((counters[s.counterWord + lsCounterWord(k)] >> lsCounterShift(k)) & 65535u) != 0u;
 #else
     return (word & lsMaskBit(k)) != 0u;
@@ -106,7 +106,7 @@ void main() {
             src.domain = lf.domain;
             src.counterWord =
                 lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
-#if STSV_COUNTERS || RESOLVE_COVERAGE
+#if LS_COUNTERS || RESOLVE_COVERAGE
             src.m0 = uvec2(0u);
             src.m1 = uvec2(0u);
             src.m2 = uvec2(0u);

@@ -22,8 +22,8 @@
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
-#ifndef STSV_COUNTERS
-#define STSV_COUNTERS 0
+#ifndef LS_COUNTERS
+#define LS_COUNTERS 0
 #endif
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -64,7 +64,7 @@ layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats sta
 // Attachment i holds mask words 2i and 2i + 1 (lsMaskAttachment).
 #define MASK_ATTACHMENTS ((WORD_COUNT + 1) / 2)
 
-#if !STSV_COUNTERS
+#if !LS_COUNTERS
 layout(location = 0) out uvec2 outMask0;
 #if MASK_ATTACHMENTS > 1
 layout(location = 1) out uvec2 outMask1;
@@ -111,7 +111,7 @@ void main() {
         ivec2 size;
         if (stsvPixelSetup(uvec2(pixel), p, t, side, px, src, size)) {
             inside = true;
-#if STSV_COUNTERS
+#if LS_COUNTERS
             uint counterWord = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
 #endif
             // Every sample: on lavapipe a loop over the samples with a uniform index is cheaper
@@ -120,7 +120,7 @@ void main() {
             // index into words[] would cost a scatter per lane on SIMD CPUs.
             for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
                 uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
-#if STSV_COUNTERS
+#if LS_COUNTERS
                 stsvAddOccludedLayers(counterWord, w, bits);
 #else
                 words[w] = bits;
@@ -136,7 +136,7 @@ void main() {
         atomicAdd(stats[pc.light].fragments, fragments);
         atomicAdd(stats[pc.light].inside, insideCount);
     }
-#if !STSV_COUNTERS
+#if !LS_COUNTERS
     outMask0 = uvec2(words[0], words[1]);
 #if MASK_ATTACHMENTS > 1
     outMask1 = uvec2(words[2], words[3]);

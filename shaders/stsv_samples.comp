@@ -14,7 +14,7 @@ layout(local_size_x = 64) in;
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
-#if !STSV_COUNTERS
+#if !LS_COUNTERS
 layout(std430, set = 0, binding = GPU_BINDING_STSV_MASK_WORDS) buffer MaskWords { uint maskWords[]; };
 #endif
 
@@ -36,12 +36,12 @@ void main() {
         if (!stsvPixelSetup(pixel, p, t, ids.w & 255u, px, src, size)) continue;
         atomicAdd(stats[pc.light].inside, 1u);
         atomicAdd(stats[pc.light].deferred, 1u);
-#if STSV_COUNTERS
+#if LS_COUNTERS
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
 #endif
         for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
             uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
-#if STSV_COUNTERS
+#if LS_COUNTERS
             stsvAddOccludedLayers(counterWord, w, bits);
 #else
             if (bits != 0u) atomicOr(maskWords[entry.x * uint(WORD_COUNT) + w], bits);

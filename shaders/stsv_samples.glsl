@@ -52,10 +52,10 @@ bool stsvPixelSetup(uvec2 pixel, vec3 p, StsvTriangle t, uint side, out StsvPixe
     return stsvFragmentPixel(t, side, p, lf, shadowTMin(p, lf.center, sceneDiameter), px);
 }
 
-#ifndef STSV_COUNTERS
-#define STSV_COUNTERS 0
+#ifndef LS_COUNTERS
+#define LS_COUNTERS 0
 #endif
-#if STSV_COUNTERS
+#if LS_COUNTERS
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 
 /// One more layer on the 16-bit counter of each sample whose bit is set in `bits`, word w of the

@@ -11,8 +11,8 @@
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
-#ifndef STSV_COUNTERS
-#define STSV_COUNTERS 0
+#ifndef LS_COUNTERS
+#define LS_COUNTERS 0
 #endif
 #ifndef WEDGE_PW
 #define WEDGE_PW 0
@@ -47,7 +47,7 @@ int centerLayers(ivec2 pixel, uint tri) {
 /// Occluded fraction of the pixel's STSV samples (the perforated triangles, Algorithm 2 line 13).
 float stsvOccludedFraction(ivec2 pixel) {
     uint occluded = 0u;
-#if STSV_COUNTERS
+#if LS_COUNTERS
     uint pixelBase = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
     for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) {
         occluded += uint(bitCount(lsCounterPairBits(counters[pixelBase + j])));
