@@ -54,7 +54,7 @@ class Image {
     /// it still records a full memory dependency). Passes that reuse an image in the same
     /// layout with a hazard (e.g. storage writes then reads) add their own barrier.
     void transition(VkCommandBuffer cmd, VkImageLayout newLayout);
-    /// Notes that a barrier recorded elsewhere (gpu/frame_graph.h) leaves the image in `layout`.
+    /// Notes that a barrier recorded elsewhere (gpu/pass_recorder.h) leaves the image in `layout`.
     void assumeLayout(VkImageLayout layout) { m_layout = layout; }
 
     /// Records a transition to TRANSFER_SRC_OPTIMAL and a copy of byteSize() tightly packed

@@ -1,9 +1,9 @@
 // A pass of the Vulkan frame (DESIGN §2, §5): a type that owns its pipelines, declares what it
-// reads and writes for one light (gpu/frame_graph.h derives the barriers from that), and records
+// reads and writes for one light (gpu/pass_recorder.h derives the barriers from that), and records
 // itself. A method's frame is a sequence of these per light (STSV paper Algorithm 2).
 #pragma once
 
-#include "gpu/frame_graph.h"
+#include "gpu/pass_recorder.h"
 
 #include <vulkan/vulkan.h>
 
@@ -46,11 +46,11 @@ inline void dispatchPerPixel(VkCommandBuffer cmd, std::uint32_t width, std::uint
     vkCmdDispatch(cmd, (width + 15) / 16, (height + 15) / 16, 1);
 }
 
-/// Runs `pass` for `light` in `graph`: its barriers, then its commands in the timer scope
+/// Runs `pass` for `light` through `recorder`: its barriers, then its commands in the timer scope
 /// `scope` ("" = untimed).
-inline void runPass(FrameGraph& graph, VkCommandBuffer cmd, const std::string& scope, const GpuPass& pass,
-                    std::size_t light = 0) {
-    graph.addPass(cmd, scope, pass.accesses(light), [&](VkCommandBuffer c) { pass.record(c, light); });
+inline void runPass(PassRecorder& recorder, VkCommandBuffer cmd, const std::string& scope,
+                    const GpuPass& pass, std::size_t light = 0) {
+    recorder.addPass(cmd, scope, pass.accesses(light), [&](VkCommandBuffer c) { pass.record(c, light); });
 }
 
 } // namespace stsv

@@ -6,7 +6,7 @@
 #include "core/timer.h"
 #include "gpu/commands.h"
 #include "gpu/device.h"
-#include "gpu/frame_graph.h"
+#include "gpu/pass_recorder.h"
 #include "gpu/timer.h"
 #include "render/gpu_frame_resources.h"
 #include "render/gpu_gbuffer_pass.h"
@@ -76,7 +76,7 @@ struct ShadowMapPasses {
 
 /// One frame of one method on the GPU: allocates the shared resources, builds the passes the
 /// method's table row composes, orders them per light (STSV paper Algorithm 2), reads back and
-/// writes the stats. Barriers come from the passes' declared accesses (gpu/frame_graph.h).
+/// writes the stats. Barriers come from the passes' declared accesses (gpu/pass_recorder.h).
 class VulkanFrame {
   public:
     /// `deferredCapacity`: the fragments the STSV hull draw and the DCS wedge draw may list for
@@ -113,7 +113,7 @@ class VulkanFrame {
     ResolvePass m_resolve;
     FrameReadback m_readback;
     GpuTimer m_timer;
-    FrameGraph m_graph;
+    PassRecorder m_recorder;
     CommandBuffer m_commands;
 
     void record(VkCommandBuffer cmd);
@@ -147,7 +147,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                 static_cast<std::uint32_t>(scene.triangleCount())),
       m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
       m_readback(device, scene, options, m_resources),
-      m_timer(device, 3 + 10 * static_cast<std::uint32_t>(scene.lights.size())), m_graph(m_timer),
+      m_timer(device, 3 + 10 * static_cast<std::uint32_t>(scene.lights.size())), m_recorder(m_timer),
       m_commands(device) {
     const std::vector<ShaderDefine> defines = sampleDefines(options, m_resources.tables.layout);
     const bool hulls = geometry == StsvGeometry::Hull;
@@ -207,16 +207,16 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
 /// deterministic: every frame appends the same counts).
 void VulkanFrame::sizeHulls() {
     VkCommandBuffer cmd = m_commands.begin();
-    runPass(m_graph, cmd, "", m_clearCounts);
+    runPass(m_recorder, cmd, "", m_clearCounts);
     for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
         for (const std::optional<HullPass>* pass : {&m_wedgeHulls, &m_stsvHulls}) {
             if (!*pass) continue;
-            runPass(m_graph, cmd, "", m_clearHullDraw, l);
-            runPass(m_graph, cmd, "", **pass, l);
+            runPass(m_recorder, cmd, "", m_clearHullDraw, l);
+            runPass(m_recorder, cmd, "", **pass, l);
         }
     PassAccesses host;
     host.use(m_resources.stats, ResourceUse::hostRead());
-    m_graph.addPass(cmd, "", host, [](VkCommandBuffer) {});
+    m_recorder.addPass(cmd, "", host, [](VkCommandBuffer) {});
     m_commands.submitAndWait();
     std::uint64_t volumes = 0, triangles = 0;
     for (const GpuStats& s : m_resources.stats.download<GpuStats>(m_scene.lights.size())) {
@@ -230,13 +230,13 @@ void VulkanFrame::sizeHulls() {
 
 void VulkanFrame::record(VkCommandBuffer cmd) {
     m_timer.reset(cmd);
-    runPass(m_graph, cmd, "", m_clearCounts);
+    runPass(m_recorder, cmd, "", m_clearCounts);
     // Pass 0: G-buffer (ambient is written by the first resolve).
-    runPass(m_graph, cmd, "gbuffer", m_gbuffer);
+    runPass(m_recorder, cmd, "gbuffer", m_gbuffer);
     for (std::size_t l = 0; l < m_scene.lights.size(); ++l) recordLight(cmd, l);
-    if (m_scene.lights.empty()) runPass(m_graph, cmd, "ambient", m_resolve, ResolvePass::AMBIENT_ONLY);
-    runPass(m_graph, cmd, "copy", m_readback);
-    m_graph.addPass(cmd, "", m_readback.hostAccesses(), [](VkCommandBuffer) {});
+    if (m_scene.lights.empty()) runPass(m_recorder, cmd, "ambient", m_resolve, ResolvePass::AMBIENT_ONLY);
+    runPass(m_recorder, cmd, "copy", m_readback);
+    m_recorder.addPass(cmd, "", m_readback.hostAccesses(), [](VkCommandBuffer) {});
 }
 
 /// Algorithm 2 for one light: the opaque triangles through the method's technique, the
@@ -245,41 +245,41 @@ void VulkanFrame::record(VkCommandBuffer cmd) {
 void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
     const std::string prefix = "light" + std::to_string(light) + "/";
     if (m_shadowMaps) {
-        runPass(m_graph, cmd, "", m_shadowMaps->clear[light], light);
-        runPass(m_graph, cmd, prefix + "shadow_map", m_shadowMaps->map, light);
+        runPass(m_recorder, cmd, "", m_shadowMaps->clear[light], light);
+        runPass(m_recorder, cmd, prefix + "shadow_map", m_shadowMaps->map, light);
         if (m_shadowMaps->blocker)
-            runPass(m_graph, cmd, prefix + "pcss_blocker", *m_shadowMaps->blocker, light);
-        runPass(m_graph, cmd, prefix + "shadow_filter", m_shadowMaps->filter, light);
+            runPass(m_recorder, cmd, prefix + "pcss_blocker", *m_shadowMaps->blocker, light);
+        runPass(m_recorder, cmd, prefix + "shadow_filter", m_shadowMaps->filter, light);
     }
     if (m_opaque) {
         const std::string technique = prefix + (m_method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_");
-        runPass(m_graph, cmd, "", m_opaque->clearCenter, light);
-        runPass(m_graph, cmd, technique + "center", m_opaque->center, light);
+        runPass(m_recorder, cmd, "", m_opaque->clearCenter, light);
+        runPass(m_recorder, cmd, technique + "center", m_opaque->center, light);
         if (m_wedgeHulls) {
-            runPass(m_graph, cmd, "", m_clearHullDraw, light);
-            runPass(m_graph, cmd, technique + "wedge_hulls", *m_wedgeHulls, light);
+            runPass(m_recorder, cmd, "", m_clearHullDraw, light);
+            runPass(m_recorder, cmd, technique + "wedge_hulls", *m_wedgeHulls, light);
         }
-        if (m_opaque->wedgeSamples) runPass(m_graph, cmd, "", m_clearDeferredCount, light);
-        runPass(m_graph, cmd, technique + "wedges", m_opaque->wedges, light);
+        if (m_opaque->wedgeSamples) runPass(m_recorder, cmd, "", m_clearDeferredCount, light);
+        runPass(m_recorder, cmd, technique + "wedges", m_opaque->wedges, light);
         if (m_opaque->wedgeSamples)
-            runPass(m_graph, cmd, technique + "wedge_samples", *m_opaque->wedgeSamples, light);
+            runPass(m_recorder, cmd, technique + "wedge_samples", *m_opaque->wedgeSamples, light);
     }
     std::vector<Image*> masks;
     for (Image& image : m_resources.samples.masks[light]) masks.push_back(&image);
     if (m_stsvHulls) {
-        runPass(m_graph, cmd, "", m_clearHullDraw, light);
-        runPass(m_graph, cmd, prefix + "stsv_hulls", *m_stsvHulls, light);
+        runPass(m_recorder, cmd, "", m_clearHullDraw, light);
+        runPass(m_recorder, cmd, prefix + "stsv_hulls", *m_stsvHulls, light);
     }
     if (m_stsv) {
-        if (m_stsvSamples) runPass(m_graph, cmd, "", m_clearDeferred, light);
-        runPass(m_graph, cmd, prefix + "stsv", *m_stsv, light);
-        if (m_stsvSamples) runPass(m_graph, cmd, prefix + "stsv_samples", *m_stsvSamples, light);
-        if (m_stsvMerge) runPass(m_graph, cmd, prefix + "stsv_merge", *m_stsvMerge, light);
+        if (m_stsvSamples) runPass(m_recorder, cmd, "", m_clearDeferred, light);
+        runPass(m_recorder, cmd, prefix + "stsv", *m_stsv, light);
+        if (m_stsvSamples) runPass(m_recorder, cmd, prefix + "stsv_samples", *m_stsvSamples, light);
+        if (m_stsvMerge) runPass(m_recorder, cmd, prefix + "stsv_merge", *m_stsvMerge, light);
     } else if (!masks.empty()) { // no STSV volumes: every sample lit
-        runPass(m_graph, cmd, "", ClearPass(masks, {}), light);
+        runPass(m_recorder, cmd, "", ClearPass(masks, {}), light);
     }
-    if (m_opaque) runPass(m_graph, cmd, prefix + "fold", m_opaque->fold, light);
-    runPass(m_graph, cmd, prefix + "resolve", m_resolve, light);
+    if (m_opaque) runPass(m_recorder, cmd, prefix + "fold", m_opaque->fold, light);
+    runPass(m_recorder, cmd, prefix + "resolve", m_resolve, light);
 }
 
 /// The STSV hull draw and the DCS wedge draw list their fragments, and one the list had no room

@@ -1,10 +1,10 @@
-// Barrier derivation of gpu/frame_graph.h from declared accesses, without a device: default
+// Barrier derivation of gpu/pass_recorder.h from declared accesses, without a device: default
 // Images and Buffers serve as resource identities (the tracker makes no Vulkan calls). The
 // Vulkan frame's passes check the same derivation under the synchronisation validation layer
 // (tests/gpu_render).
 #include "gpu/buffer.h"
-#include "gpu/frame_graph.h"
 #include "gpu/image.h"
+#include "gpu/pass_recorder.h"
 
 #include <gtest/gtest.h>
 
@@ -27,7 +27,7 @@ std::string describe(const std::vector<ResourceBarrier>& barriers) {
     return text;
 }
 
-TEST(FrameGraphTest, AttachmentWriteThenStorageReadTransitionsAndMakesTheWriteVisible) {
+TEST(PassRecorderTest, AttachmentWriteThenStorageReadTransitionsAndMakesTheWriteVisible) {
     // The G-buffer pass writes the position attachment; the STSV pass loads it in its fragment
     // shader as a storage image.
     Image position;
@@ -76,7 +76,7 @@ TEST(FrameGraphTest, AttachmentWriteThenStorageReadTransitionsAndMakesTheWriteVi
     EXPECT_EQ(third[0].newLayout, VK_IMAGE_LAYOUT_GENERAL);
 }
 
-TEST(FrameGraphTest, ConsecutiveReadersShareOneBarrier) {
+TEST(PassRecorderTest, ConsecutiveReadersShareOneBarrier) {
     Image depth;
     AccessTracker tracker;
     PassAccesses write;
@@ -89,7 +89,7 @@ TEST(FrameGraphTest, ConsecutiveReadersShareOneBarrier) {
     EXPECT_TRUE(again.empty()) << describe(again);
 }
 
-TEST(FrameGraphTest, ReadInANewStageWaitsForTheWriteAgain) {
+TEST(PassRecorderTest, ReadInANewStageWaitsForTheWriteAgain) {
     // Storage atomics in a fragment shader, then loads in the fragment shader (one barrier), again
     // in the fragment shader (none), then in a compute shader (a second barrier: the first one's
     // destination scope did not include compute).
@@ -115,7 +115,7 @@ TEST(FrameGraphTest, ReadInANewStageWaitsForTheWriteAgain) {
     EXPECT_EQ(rawCompute[0].dstStages, COMPUTE);
 }
 
-TEST(FrameGraphTest, WriteAfterReadsWaitsForEveryReader) {
+TEST(PassRecorderTest, WriteAfterReadsWaitsForEveryReader) {
     // The centre count image: atomics in a fragment shader, loads in the fold (compute), then
     // the next light's clear: it must wait for the fold's reads (WAR) and the atomics (WAW).
     Image center;
@@ -138,7 +138,7 @@ TEST(FrameGraphTest, WriteAfterReadsWaitsForEveryReader) {
     EXPECT_EQ(war[0].newLayout, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL);
 }
 
-TEST(FrameGraphTest, HostReadEndsTheHazards) {
+TEST(PassRecorderTest, HostReadEndsTheHazards) {
     Buffer staging;
     AccessTracker tracker;
     PassAccesses copy;
@@ -155,7 +155,7 @@ TEST(FrameGraphTest, HostReadEndsTheHazards) {
     EXPECT_TRUE(tracker.enter(copy.list()).empty());
 }
 
-TEST(FrameGraphTest, DeclaringAResourceTwiceMergesTheUses) {
+TEST(PassRecorderTest, DeclaringAResourceTwiceMergesTheUses) {
     Image mask;
     PassAccesses accesses;
     accesses.use(mask, ResourceUse::storageRead(FRAGMENT)).use(mask, ResourceUse::storageRead(COMPUTE));

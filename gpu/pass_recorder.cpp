@@ -1,4 +1,4 @@
-#include "gpu/frame_graph.h"
+#include "gpu/pass_recorder.h"
 
 #include "core/error.h"
 #include "gpu/buffer.h"
@@ -197,8 +197,8 @@ void recordBarriers(VkCommandBuffer cmd, std::span<const ResourceBarrier> barrie
     vkCmdPipelineBarrier2(cmd, &dependency);
 }
 
-void FrameGraph::addPass(VkCommandBuffer cmd, const std::string& scope, const PassAccesses& accesses,
-                         const std::function<void(VkCommandBuffer)>& record) {
+void PassRecorder::addPass(VkCommandBuffer cmd, const std::string& scope, const PassAccesses& accesses,
+                           const std::function<void(VkCommandBuffer)>& record) {
     recordBarriers(cmd, m_tracker.enter(accesses.list()));
     if (!scope.empty()) m_timer->begin(cmd, scope);
     record(cmd);

@@ -1,5 +1,6 @@
-// Barriers from declared accesses (a minimal Filament FrameGraph / Falcor RenderPass::reflect):
-// every pass says which images and buffers it reads and writes and how; the frame graph derives
+// Barriers from declared accesses, after Filament's FrameGraph and Falcor's RenderPass::reflect
+// but without building a graph (each pass is recorded as it is added): every pass says which
+// images and buffers it reads and writes and how; the recorder derives
 // the pipeline barriers and image layout transitions between consecutive passes from that, so
 // no pass places a barrier by hand. One queue, passes recorded in submission order.
 #pragma once
@@ -114,10 +115,10 @@ class AccessTracker {
 void recordBarriers(VkCommandBuffer cmd, std::span<const ResourceBarrier> barriers);
 
 /// Records passes in order: the derived barriers, then the pass inside a GPU timer scope.
-class FrameGraph {
+class PassRecorder {
   public:
-    /// `timer` must outlive the graph.
-    explicit FrameGraph(GpuTimer& timer) : m_timer(&timer) {}
+    /// `timer` must outlive the recorder.
+    explicit PassRecorder(GpuTimer& timer) : m_timer(&timer) {}
 
     /// Records the barriers `accesses` need, then `record` in the timer scope `scope` ("" =
     /// untimed).
