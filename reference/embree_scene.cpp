@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "scene/occlusion_rules_dh.h"
+#include "scene/surface_dh.h"
 
 #include <algorithm>
 #include <string>
@@ -162,16 +163,13 @@ std::uint32_t EmbreeScene::countLayers(vec3 p, vec3 s, float tMin, std::uint32_t
 
 vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary) {
     const uvec3 idx = scene.triangles[tri];
-    const vec3 v0 = scene.positions[idx.x];
-    return v0 + bary.x * (scene.positions[idx.y] - v0) + bary.y * (scene.positions[idx.z] - v0);
+    return trianglePoint(scene.positions[idx.x], scene.positions[idx.y], scene.positions[idx.z], bary);
 }
 
 vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p) {
     const uvec3 idx = scene.triangles[tri];
-    const vec3 v0 = scene.positions[idx.x];
-    vec3 n = normalize(cross(scene.positions[idx.y] - v0, scene.positions[idx.z] - v0));
-    if (scene.materialOf(tri).doubleSided && dot(n, eye - p) < 0.0f) n = -n;
-    return n;
+    return triangleShadingNormal(scene.positions[idx.x], scene.positions[idx.y], scene.positions[idx.z],
+                                 scene.materialOf(tri).doubleSided, eye, p);
 }
 
 GBuffer EmbreeScene::traceGBuffer(int width, int height) const {

@@ -7,6 +7,7 @@
 
 #include "core/dh.h"
 #include "scene/light_dh.h"
+#include "scene/surface_dh.h"
 #include "shadowmaps/shadow_map_dh.h"
 #include "volumes/extrusion_dh.h"
 #include "volumes/stsv_dh.h"
@@ -258,19 +259,15 @@ DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);
 DH_STATIC_ASSERT(sizeof(GpuShadowParams) == 32);
 #endif
 
-/// The visible point at barycentrics (b1, b2), as reference/embree_scene.h's pointOnTriangle.
+/// The visible point at barycentrics (b1, b2) (scene/surface_dh.h, as the Embree G-buffer).
 DH_FUNC vec3 gpuPointOnTriangle(GpuTriangle t, vec2 bary) {
-    vec3 v0 = vec3(t.v0);
-    return v0 + bary.x * (vec3(t.v1) - v0) + bary.y * (vec3(t.v2) - v0);
+    return trianglePoint(vec3(t.v0), vec3(t.v1), vec3(t.v2), bary);
 }
 
-/// Shading normal as reference/embree_scene.h's shadingNormal: the winding normal, flipped
-/// towards the eye for double-sided materials.
+/// The shading normal (scene/surface_dh.h, as the Embree G-buffer).
 DH_FUNC vec3 gpuShadingNormal(GpuTriangle t, vec3 eye, vec3 p) {
-    vec3 v0 = vec3(t.v0);
-    vec3 n = normalize(cross(vec3(t.v1) - v0, vec3(t.v2) - v0));
-    if ((t.flags & GPU_TRIANGLE_DOUBLE_SIDED) != 0u && dot(n, eye - p) < 0.0f) n = -n;
-    return n;
+    return triangleShadingNormal(vec3(t.v0), vec3(t.v1), vec3(t.v2),
+                                 (t.flags & GPU_TRIANGLE_DOUBLE_SIDED) != 0u, eye, p);
 }
 
 /// Byte of a packed byte array held in 32-bit words (little endian).
