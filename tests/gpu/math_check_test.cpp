@@ -1,5 +1,6 @@
-// GPU vs CPU on the STSV math of volumes/stsv_dh.h (DESIGN §3): shaders/stsv_math_check.comp
-// and this file call the same runMathCheck() (shaders/math_check_dh.h) on the same cases.
+// GPU vs CPU on the STSV math of volumes/stsv_dh.h (DESIGN §3): tests/gpu/shaders/stsv_math_check.comp
+// and this file call the same runMathCheck() (tests/gpu/shaders/math_check_dh.h) on the same cases.
+// The shader is the test's, not part of the shipped set: it is compiled from the checkout.
 // This proves the device/host header path end to end: glslang include callback, std430
 // layouts matching the C++ structs, and the functions agreeing on both sides.
 #include "gpu/buffer.h"
@@ -7,9 +8,11 @@
 #include "gpu/descriptors.h"
 #include "gpu/pipeline.h"
 #include "gpu_fixture.h"
-#include "shaders/math_check_dh.h"
+#include "tests/gpu/shaders/math_check_dh.h"
 
 #include <gtest/gtest.h>
+
+#include <filesystem>
 
 #include <algorithm>
 #include <cmath>
@@ -47,14 +50,17 @@ std::vector<MathCheckCase> makeCases(uint32_t count, uint32_t seed) {
     return cases;
 }
 
-std::vector<MathCheckResult> runOnGpu(Device& device, const ShaderCompiler& compiler,
-                                      const std::vector<MathCheckCase>& cases) {
+std::vector<MathCheckResult> runOnGpu(Device& device, const std::vector<MathCheckCase>& cases) {
+    // The checkout's shader folder: its headers are the ones the shipped set embeds, and the
+    // test's own shader sits in tests/gpu/shaders beside this file.
+    const ShaderCompiler compiler(std::filesystem::path(STSV_SOURCE_DIR) / "shaders");
     DescriptorSetLayout setLayout(
         device,
         {{MATH_CHECK_BINDING_CASES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
          {MATH_CHECK_BINDING_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}});
     PipelineLayout layout(device, {setLayout.handle()}, sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
-    Pipeline pipeline = createComputePipeline(device, layout, compiler.compileFile("stsv_math_check.comp"));
+    Pipeline pipeline = createComputePipeline(
+        device, layout, compiler.compileFile("../tests/gpu/shaders/stsv_math_check.comp"));
     Buffer caseBuffer =
         createBuffer(device, std::span<const MathCheckCase>(cases), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     Buffer resultBuffer(device, cases.size() * sizeof(MathCheckResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
@@ -117,7 +123,7 @@ using MathCheckTest = GpuTest;
 
 TEST_F(MathCheckTest, GpuAgreesWithCpuOnStsvHeader) {
     const std::vector<MathCheckCase> cases = makeCases(kCaseCount, 20240611u);
-    const std::vector<MathCheckResult> gpu = runOnGpu(device(), compiler(), cases);
+    const std::vector<MathCheckResult> gpu = runOnGpu(device(), cases);
     ASSERT_EQ(gpu.size(), cases.size());
 
     // Float ties. The GPU may contract a·b + c into FMAs and evaluates inverse(mat3) with its
@@ -170,7 +176,7 @@ TEST_F(MathCheckTest, GpuAgreesWithCpuOnStsvHeader) {
 TEST_F(MathCheckTest, DegenerateTrianglesNeverHitOnEitherSide) {
     std::vector<MathCheckCase> cases = makeCases(256, 7u);
     for (MathCheckCase& k : cases) k.v2 = k.v1; // zero area
-    const std::vector<MathCheckResult> gpu = runOnGpu(device(), compiler(), cases);
+    const std::vector<MathCheckResult> gpu = runOnGpu(device(), cases);
     for (std::size_t i = 0; i < cases.size(); ++i) {
         EXPECT_EQ(runMathCheck(cases[i]).hit, 0u) << "case " << i;
         EXPECT_EQ(gpu[i].hit, 0u) << "case " << i;

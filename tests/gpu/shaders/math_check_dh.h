@@ -1,5 +1,5 @@
 // Cases and results of the GPU-vs-CPU check of the STSV math (tests/gpu/math_check_test.cpp,
-// shaders/stsv_math_check.comp). runMathCheck() is the per-invocation body: the shader's
+// tests/gpu/shaders/stsv_math_check.comp). runMathCheck() is the per-invocation body: the shader's
 // main() and the CPU oracle call this same function (STYLE §4).
 #ifndef STSV_SHADERS_MATH_CHECK_DH_H
 #define STSV_SHADERS_MATH_CHECK_DH_H
