@@ -5,6 +5,7 @@
 
 #include "core/gbuffer.h"
 #include "core/parallel.h"
+#include "render/cpu_binning.h"
 #include "render/methods.h"
 #include "sampling/ls_buffer.h"
 #include "sampling/ls_buffer_dh.h"
@@ -35,53 +36,6 @@ struct StsvCpuStats {
 };
 
 nlohmann::json toJson(const StsvCpuStats& stats);
-
-/// Pixel rectangle that may hold points of the convex volume `v`: its strip vertices projected,
-/// and its edges crossing the near plane clipped there (so volumes reaching behind the eye are
-/// bounded correctly). False when nothing of it lies in front of the camera. The CPU passes bin
-/// volumes to screen tiles with it, the way the rasteriser would cover them.
-bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect);
-
-/// The projection the CPU passes bin with (any near/far: only x, y and w are used).
-mat4 binningClipFromView(const Camera& camera, int width, int height);
-
-/// The bounds of the visible points of one screen tile; empty when it covers no surface. The CPU
-/// passes drop, per tile, the volumes with the whole box outside one plane
-/// (stsvVolumeMissesBox): what the rasteriser's depth test and the fragments' plane tests would
-/// reject one pixel at a time.
-Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile);
-
-/// Blocks of CPU_BLOCK × CPU_BLOCK pixels within a tile: the CPU passes cull once more per block,
-/// by the block's own (smaller) box of visible points.
-constexpr int CPU_BLOCK = 4;
-constexpr int CPU_BLOCKS = CPU_TILE / CPU_BLOCK;
-
-/// Block (bx, by) of `tile`, clipped to it: empty (x0 ≥ x1 or y0 ≥ y1) past the image's edge.
-PixelTile tileBlock(const PixelTile& tile, int bx, int by);
-
-/// A pixel's light samples in a CELLS × CELLS grid over the frame square [−1, 1]²: per cell the
-/// mask words (sampling/ls_buffer_dh.h) of the samples in it, so that a per-sample test bounded
-/// to a box of the frame (stsvSampleRegion, dcsSampleRegion) visits only the samples of the
-/// cells the box touches.
-struct SampleCells {
-    static constexpr int CELLS = 8;
-    std::array<std::array<uint, 8>, CELLS * CELLS> words{};
-
-    static int cellOf(float coordinate) {
-        return std::clamp(int(std::floor((coordinate + 1.0f) * (0.5f * float(CELLS)))), 0, CELLS - 1);
-    }
-    void add(vec2 ab, uint k) {
-        words[std::size_t(cellOf(ab.y) * CELLS + cellOf(ab.x))][k >> 5u] |= lsMaskBit(k);
-    }
-    /// The samples of the cells the box [lo, hi] touches, words 0 … wordCount − 1.
-    std::array<uint, 8> within(vec2 lo, vec2 hi, uint wordCount) const {
-        std::array<uint, 8> out{};
-        for (int cy = cellOf(lo.y); cy <= cellOf(hi.y); ++cy)
-            for (int cx = cellOf(lo.x); cx <= cellOf(hi.x); ++cx)
-                for (uint w = 0; w < wordCount; ++w) out[w] |= words[std::size_t(cy * CELLS + cx)][w];
-        return out;
-    }
-};
 
 /// Which scene triangles a pass treats (all when empty).
 using TriangleFilter = std::function<bool(std::size_t triangle)>;
