@@ -11,10 +11,6 @@
 
 namespace stsv {
 
-ShadowMapSettings shadowMapSettings(const RenderOptions& options) {
-    return shadowMapSettingsFrom(methodInfo(options.method).shadowMap, options.params);
-}
-
 nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
     std::size_t covered = 0;
     for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;

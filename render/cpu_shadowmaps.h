@@ -16,9 +16,6 @@ namespace stsv {
 
 class EmbreeScene;
 
-/// The method's knobs (render/methods.cpp) read from `options.params`, and its filter.
-ShadowMapSettings shadowMapSettings(const RenderOptions& options);
-
 /// The map of `view`, one Embree ray per texel centre (shadowMapTexelRay), hits between near and
 /// far, holes of perforated triangles let through.
 ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);

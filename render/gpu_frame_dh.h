@@ -32,7 +32,7 @@ DH_CONST uint GPU_BINDING_EDGE_FACES = 13u; ///< GpuEdgeFace[], grouped per edge
 DH_CONST uint GPU_BINDING_CENTER = 14u;     ///< r32i storage image: z-fail layer count at the light centre
 DH_CONST uint GPU_BINDING_COVERAGE = 15u;   ///< r32f storage image: PW occlusion sum, then v_coef
 DH_CONST uint GPU_BINDING_SHADOW_MAP = 16u; ///< the light's map: GpuShadowDepth words, faces × size² (SSBO)
-DH_CONST uint GPU_BINDING_SHADOW_VIEWS = 17u;  ///< GpuShadowParams then ShadowMapView per light (SSBO)
+DH_CONST uint GPU_BINDING_SHADOW_VIEWS = 17u;  ///< ShadowFilterParams then ShadowMapView per light (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_TAPS = 18u;   ///< Poisson-disk taps: blocker set, then filter set (SSBO)
 DH_CONST uint GPU_BINDING_HULL_DRAW = 19u;     ///< GpuHullDraw: draw arguments and counts (SSBO)
 DH_CONST uint GPU_BINDING_HULL_RECORDS = 20u;  ///< the hulls' records, 18 uvec4 each (SSBO)
@@ -204,19 +204,6 @@ struct GpuEdgeFace {
 /// GpuEdgeFace as 16-byte texels: (opposite, triangle), (forward, pads).
 DH_CONST uint GPU_EDGE_FACE_TEXELS = 2u;
 
-/// The filter knobs of the image-based methods (shadowmaps/shadow_map.h ShadowMapSettings).
-/// std430: 2 × 16 bytes.
-struct GpuShadowParams {
-    float bias;         ///< texels
-    float normalOffset; ///< texels
-    float maxKernel;    ///< texels: the filter's radius
-    int pcfRadius;      ///< texels
-    uint blockerTaps;
-    uint filterTaps;
-    float maxSearch; ///< texels: the blocker search's radius
-    uint pad1;
-};
-
 /// A map texel as the rasteriser writes it with atomicMax: the bits of the depth (a positive
 /// float, whose bits order as its value) inverted, so the nearest surface wins and a cleared
 /// word (0) reads as no surface.
@@ -256,7 +243,6 @@ DH_STATIC_ASSERT(sizeof(GpuHullDraw) == 32);
 DH_STATIC_ASSERT(sizeof(GpuPush) == 16);
 DH_STATIC_ASSERT(sizeof(GpuEdge) == 32);
 DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);
-DH_STATIC_ASSERT(sizeof(GpuShadowParams) == 32);
 #endif
 
 /// The visible point at barycentrics (b1, b2) (scene/surface_dh.h, as the Embree G-buffer).

@@ -4,7 +4,7 @@
 #include "gpu/device.h"
 #include "gpu/rendering.h"
 #include "gpu/shader_compiler.h"
-#include "render/cpu_shadowmaps.h"
+#include "render/options.h"
 
 #include <cstring>
 #include <string>
@@ -28,14 +28,7 @@ std::vector<DescriptorBinding> ShadowMapResources::bindings() {
 ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene, const RenderOptions& options)
     : m_enabled(methodInfo(options.method).shadowMap != ShadowFilter::None && !scene.lights.empty()),
       m_settings(shadowMapSettings(options)) {
-    GpuShadowParams params{};
-    params.bias = m_settings.bias;
-    params.normalOffset = m_settings.normalOffset;
-    params.maxKernel = m_settings.maxKernel;
-    params.maxSearch = m_settings.maxSearch;
-    params.pcfRadius = m_settings.pcfRadius;
-    params.blockerTaps = uint(m_settings.blockerTaps);
-    params.filterTaps = uint(m_settings.filterTaps);
+    const ShadowFilterParams params = shadowFilterParams(m_settings);
     std::vector<vec2> tapPoints{vec2(0.0f)};
     if (m_enabled) {
         for (const Light& light : scene.lights) {
@@ -46,7 +39,7 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     } else {
         depth.emplace_back(device, sizeof(uint), STORAGE, MemoryUsage::DeviceLocal);
     }
-    std::vector<std::byte> table(sizeof(GpuShadowParams) +
+    std::vector<std::byte> table(sizeof(ShadowFilterParams) +
                                  sizeof(ShadowMapView) * std::max<std::size_t>(m_views.size(), 1));
     std::memcpy(table.data(), &params, sizeof params);
     if (!m_views.empty())

@@ -38,7 +38,7 @@ class ShadowMapResources {
     const ShadowMapView& view(std::size_t light) const { return m_views.at(light); }
 
     std::vector<Buffer> depth; ///< [light]: gpuShadowDepthWord per texel, faces × size²
-    Buffer views;              ///< GpuShadowParams, then ShadowMapView per light
+    Buffer views;              ///< ShadowFilterParams, then ShadowMapView per light
     Buffer taps;               ///< vec2: blocker taps, then filter taps
 
   private:

@@ -112,4 +112,9 @@ nlohmann::json toJson(const RenderOptions& o) {
             {"params", withDefaults(o)}};
 }
 
+ShadowMapSettings shadowMapSettings(const RenderOptions& options) {
+    const ShadowFilter filter = methodInfo(options.method).shadowMap;
+    return filter == ShadowFilter::None ? ShadowMapSettings{} : shadowMapSettingsFrom(filter, options.params);
+}
+
 } // namespace stsv

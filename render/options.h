@@ -67,6 +67,10 @@ void resolveSupersampling(Frame& frame, const RenderOptions& requested);
 /// the supersampling that makes sub-pixels share their pixel's samples).
 SamplePlan samplePlanOf(const RenderOptions& options);
 
+/// The shadow-map settings of a frame of `options` (shadowmaps/shadow_map.h), read from its
+/// method's parameters on both backends; the defaults for a method without shadow maps.
+ShadowMapSettings shadowMapSettings(const RenderOptions& options);
+
 nlohmann::json toJson(const RenderOptions& options);
 
 } // namespace stsv

@@ -12,7 +12,7 @@ layout(std430, set = 0, binding = GPU_BINDING_SHADOW_MAP) buffer ShadowDepth { u
 layout(std430, set = 0, binding = GPU_BINDING_SHADOW_MAP) readonly buffer ShadowDepth { uint shadowDepth[]; };
 #endif
 layout(std430, set = 0, binding = GPU_BINDING_SHADOW_VIEWS) readonly buffer ShadowViews {
-    GpuShadowParams shadowParams;
+    ShadowFilterParams shadowParams;
     ShadowMapView shadowViews[];
 };
 layout(std430, set = 0, binding = GPU_BINDING_SHADOW_TAPS) readonly buffer ShadowTaps { vec2 shadowTaps[]; };

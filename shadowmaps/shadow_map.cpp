@@ -200,6 +200,18 @@ std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings) {
     return taps;
 }
 
+ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
+    ShadowFilterParams params{};
+    params.bias = settings.bias;
+    params.normalOffset = settings.normalOffset;
+    params.maxKernel = settings.maxKernel;
+    params.maxSearch = settings.maxSearch;
+    params.pcfRadius = settings.pcfRadius;
+    params.blockerTaps = uint(settings.blockerTaps);
+    params.filterTaps = uint(settings.filterTaps);
+    return params;
+}
+
 const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     using F = ShadowFilter;
     using S = ShadowMapSettings;

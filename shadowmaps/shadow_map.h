@@ -104,6 +104,9 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs();
 /// of `params` set on its knob. UsageError for a name that is no knob of `filter`.
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params);
 
+/// The settings the filter shaders read, in their buffer layout.
+ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings);
+
 /// The taps a frame uploads: the blocker-search set, then the filter set (seeded apart).
 std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings);
 

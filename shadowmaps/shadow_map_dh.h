@@ -48,6 +48,23 @@ struct ShadowMapView {
 DH_STATIC_ASSERT(sizeof(ShadowMapView) == 96);
 #endif
 
+/// The filter knobs of a frame as the shaders read them, ahead of the views in one buffer
+/// (ShadowMapSettings on the host, shadowFilterParams). std430: 2 × 16 bytes.
+struct ShadowFilterParams {
+    float bias;         ///< texels
+    float normalOffset; ///< texels
+    float maxKernel;    ///< texels: the filter's radius
+    int pcfRadius;      ///< texels
+    uint blockerTaps;
+    uint filterTaps;
+    float maxSearch; ///< texels: the blocker search's radius
+    uint pad1;
+};
+
+#ifdef __cplusplus
+DH_STATIC_ASSERT(sizeof(ShadowFilterParams) == 32);
+#endif
+
 /// The orthonormal frame of face `face` (X, Y across, Z along the view). A cube map's faces
 /// look along +x, −x, +y, −y, +z, −z of the map's frame (axisX, axisY, axisZ).
 DH_FUNC void shadowMapFaceBasis(ShadowMapView v, uint face, DH_OUT(vec3) X, DH_OUT(vec3) Y, DH_OUT(vec3) Z) {
