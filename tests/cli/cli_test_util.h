@@ -8,9 +8,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <sys/wait.h>
 #include <unistd.h>
 #include <vector>
 
@@ -33,6 +35,23 @@ inline CliResult runStsv(std::vector<std::string> args) {
     r.code = runCli(int(args.size()), argv.data());
     r.out = testing::internal::GetCapturedStdout();
     r.err = testing::internal::GetCapturedStderr();
+    return r;
+}
+
+/// A shell command's exit status and its stdout and stderr together (another program the tests
+/// check stsv's files with: python3, exrheader, git).
+struct ShellResult {
+    int code = -1; ///< -1 when it could not run or was killed
+    std::string out;
+};
+inline ShellResult runShell(const std::string& command) {
+    ShellResult r;
+    std::FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
+    if (!pipe) return r;
+    char buffer[4096];
+    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) r.out.append(buffer, n);
+    const int status = ::pclose(pipe);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
     return r;
 }
 

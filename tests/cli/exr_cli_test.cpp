@@ -32,13 +32,9 @@ TEST(ExrCli, LitAndVisibilityHoldTheFramesValuesAndMatchTheNpy) {
 
     // Another reader, OpenEXR's exrheader (Debian's openexr), sees the layout the docs give.
     auto header = [](const std::string& path) {
-        std::string out;
-        std::FILE* pipe = ::popen(("exrheader '" + path + "' 2>&1").c_str(), "r");
-        if (!pipe) return out;
-        char buffer[1024];
-        for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
-        EXPECT_EQ(::pclose(pipe), 0) << out;
-        return out;
+        const ShellResult r = runShell("exrheader '" + path + "'");
+        EXPECT_EQ(r.code, 0) << r.out;
+        return r.out;
     };
     const std::string vHeader = header(dir.file("v.exr")), litHeader = header(dir.file("lit.exr"));
     EXPECT_NE(vHeader.find("Y, 32-bit floating-point, sampling 1 1"), std::string::npos) << vHeader;

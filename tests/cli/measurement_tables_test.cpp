@@ -18,22 +18,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ShellResult {
-    int code = -1;
-    std::string out; ///< stdout and stderr
-};
-
-ShellResult shell(const std::string& command) {
-    ShellResult r;
-    std::FILE* pipe = ::popen((command + " 2>&1").c_str(), "r");
-    if (!pipe) return r;
-    char buffer[4096];
-    for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) r.out.append(buffer, n);
-    const int status = ::pclose(pipe);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-}
-
 std::string tables() {
     return "python3 '" + (fs::path(STSV_SOURCE_DIR) / "bench" / "tables.py").string() + "'";
 }
@@ -47,7 +31,8 @@ std::string readText(const fs::path& path) {
 
 TEST(MeasurementTables, CommittedTablesAreWhatTheirFilesGive) {
     for (const char* doc : {"README.md", "docs/measurements.md"}) {
-        const ShellResult r = shell(tables() + " check '" + (fs::path(STSV_SOURCE_DIR) / doc).string() + "'");
+        const ShellResult r =
+            runShell(tables() + " check '" + (fs::path(STSV_SOURCE_DIR) / doc).string() + "'");
         EXPECT_EQ(r.code, 0) << doc << ": " << r.out;
     }
 }
@@ -66,7 +51,7 @@ TEST(MeasurementTables, AnEditedTableFailsTheCheck) {
     digit = digit == '9' ? '0' : char(digit + 1);
     const std::string edited = dir.file("measurements.md");
     std::ofstream(edited) << text;
-    const ShellResult r = shell(tables() + " check '" + edited + "'");
+    const ShellResult r = runShell(tables() + " check '" + edited + "'");
     EXPECT_EQ(r.code, 1) << r.out;
     EXPECT_NE(r.out.find("differs from its --json files"), std::string::npos) << r.out;
 }
@@ -79,7 +64,7 @@ TEST(MeasurementTables, ACompareRunsNumbersLandInTheirCells) {
     ASSERT_EQ(run.code, 0) << run.err;
     nlohmann::json j;
     std::ifstream(json) >> j;
-    const ShellResult r = shell(tables() + " compare '" + json + "'");
+    const ShellResult r = runShell(tables() + " compare '" + json + "'");
     ASSERT_EQ(r.code, 0) << r.out;
     // The reference's row, then each method's, with the values of the file.
     EXPECT_NE(r.out.find("| fence | reference/cpu | 100.0000 % | 0 | 0.00000 |"), std::string::npos) << r.out;

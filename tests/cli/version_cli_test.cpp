@@ -19,16 +19,12 @@ using test::readJson;
 using test::runStsv;
 using test::ScratchDir;
 
-/// stdout of a shell command, trailing newline removed; nullopt when it fails.
+/// stdout of a shell command (stderr dropped), trailing newline removed; nullopt when it fails.
 std::optional<std::string> commandOutput(const std::string& command) {
-    FILE* pipe = ::popen((command + " 2>/dev/null").c_str(), "r");
-    if (pipe == nullptr) return std::nullopt;
-    std::string text;
-    std::array<char, 256> buffer{};
-    while (std::fgets(buffer.data(), int(buffer.size()), pipe) != nullptr) text += buffer.data();
-    if (::pclose(pipe) != 0) return std::nullopt;
-    while (!text.empty() && text.back() == '\n') text.pop_back();
-    return text;
+    test::ShellResult r = test::runShell("(" + command + " 2>/dev/null)");
+    if (r.code != 0) return std::nullopt;
+    while (!r.out.empty() && r.out.back() == '\n') r.out.pop_back();
+    return r.out;
 }
 
 TEST(Version, IsTheGitDescribeOfTheCheckout) {
