@@ -10,7 +10,7 @@
 #include "core/timer.h"
 #include "core/version.h"
 #include "gpu/device.h"
-#include "render/frame.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 
 #include <algorithm>

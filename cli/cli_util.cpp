@@ -4,8 +4,8 @@
 #include "core/files.h"
 #include "core/memory_budget.h"
 #include "gpu/device.h"
-#include "render/gpu_deferred.h"
-#include "render/gpu_renderer.h"
+#include "render/vulkan/gpu_deferred.h"
+#include "render/vulkan/gpu_renderer.h"
 
 #include <algorithm>
 #include <cmath>

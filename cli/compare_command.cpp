@@ -12,7 +12,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "core/version.h"
-#include "render/frame.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 
 #include <algorithm>

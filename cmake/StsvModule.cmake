@@ -17,10 +17,23 @@ set(STSV_PREFIX_MAP "-fmacro-prefix-map=${PROJECT_SOURCE_DIR}/=")
 include(GNUInstallDirs)
 
 # Static library stsv_NAME (stsv::NAME, in the build and in the installed CMake package) from
-# every .cpp in the calling folder, with the folder's headers installed to include/stsv/NAME.
+# every .cpp in the calling folder (or SOURCES), with the folder's headers (or HEADERS) installed
+# to include/stsv/DIR (DIR defaults to NAME: "render/cpu" for the library render_cpu).
 function(stsv_module name)
-  cmake_parse_arguments(ARG "" "" "DEPS" ${ARGN})
-  file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  cmake_parse_arguments(ARG "" "DIR" "DEPS;SOURCES;HEADERS" ${ARGN})
+  if(ARG_SOURCES)
+    list(TRANSFORM ARG_SOURCES PREPEND ${CMAKE_CURRENT_SOURCE_DIR}/ OUTPUT_VARIABLE sources)
+  else()
+    file(GLOB sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.cpp)
+  endif()
+  if(ARG_HEADERS)
+    list(TRANSFORM ARG_HEADERS PREPEND ${CMAKE_CURRENT_SOURCE_DIR}/ OUTPUT_VARIABLE headers)
+  else()
+    file(GLOB headers CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.h)
+  endif()
+  if(NOT ARG_DIR)
+    set(ARG_DIR ${name})
+  endif()
   add_library(stsv_${name} STATIC ${sources})
   add_library(stsv::${name} ALIAS stsv_${name})
   set_target_properties(stsv_${name} PROPERTIES EXPORT_NAME ${name})
@@ -31,8 +44,7 @@ function(stsv_module name)
   target_link_libraries(stsv_${name} PUBLIC ${ARG_DEPS})
   install(TARGETS stsv_${name} EXPORT stsvTargets ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
           COMPONENT development)
-  file(GLOB headers CONFIGURE_DEPENDS ${CMAKE_CURRENT_SOURCE_DIR}/*.h)
-  install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stsv/${name} COMPONENT development)
+  install(FILES ${headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stsv/${ARG_DIR} COMPONENT development)
 endfunction()
 
 # stsv_tests(MODULE DEPS ...): tests/MODULE/*.cpp into one GoogleTest executable test_MODULE.

@@ -1,5 +1,6 @@
-// One frame: G-buffer, per light a light-sample buffer from the chosen method, then the
-// resolve into visibility and Monte-Carlo direct lighting (STSV paper, Algorithm 2).
+// What both backends' frames share: the Frame they fill, the FrameRenderer interface, the
+// stats and warnings every frame writes. One frame: G-buffer, per light a light-sample buffer from the chosen
+// method, then the resolve into visibility and Monte-Carlo direct lighting (STSV paper, Algorithm 2).
 #pragma once
 
 #include "core/gbuffer.h"
@@ -40,12 +41,6 @@ class FrameRenderer {
     virtual Frame render() = 0;
 };
 
-/// The renderer for options.backend. `scene` must outlive it.
-std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOptions& options);
-
-/// One frame with a fresh renderer (start-up included in the call, not in frame_ms).
-Frame renderFrame(const Scene& scene, const RenderOptions& options);
-
 /// What a frame's stats say of a method on a scene, on every backend: the perforated triangles
 /// a method without an STSV pass leaves out of its shadows ("ignored_perforated_triangles" and
 /// "ignored_perforated_triangles_use", the method that draws them).
@@ -59,15 +54,12 @@ constexpr double KERNEL_CLAMP_WARNING = 0.01;
 /// KERNEL_CLAMP_WARNING of the pixels. The CLI prints them on stderr.
 std::vector<std::string> frameWarnings(const nlohmann::json& stats);
 
-/// Resolve of one light's buffer: adds albedo/π · (1/N) Σ_k V_k · L_k G_k A to `color`
-/// (the paper's "Direct MC") and v_coef·weight to `visibility`. With `coverage` (penumbra
-/// wedges), v_coef is read from it and scales the direct lighting of `samples` instead.
-void resolveLight(const Scene& scene, const GBuffer& gbuffer, const Light& light, const SamplePlan& plan,
-                  float farDistance, const LightSampleBuffer& samples, float weight, ImageF& color,
-                  ImageF& visibility, const ImageF* coverage = nullptr);
-
 /// Shared by every backend: ambient colour / background of a fresh frame, and scene counts.
 void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, Frame& frame);
 nlohmann::json sceneStats(const Scene& scene);
+
+/// {"kernel_clamped_pixels", "kernel_clamped_fraction"}: how many of the pixels with a visible
+/// surface had their PCSS kernel cut to pcss_max_kernel, counted and as a fraction (both backends).
+nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer);
 
 } // namespace stsv

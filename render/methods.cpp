@@ -142,6 +142,15 @@ const MethodInfo& methodInfo(Method method) {
     return methodTable().at(static_cast<std::size_t>(method));
 }
 
+std::vector<TechniqueFamily> MethodInfo::techniques() const {
+    std::vector<TechniqueFamily> families;
+    if (traced) families.push_back(TechniqueFamily::Traced);
+    if (opaque != OpaqueTechnique::None) families.push_back(TechniqueFamily::OpaqueWedges);
+    if (stsv != StsvTriangles::None) families.push_back(TechniqueFamily::StsvVolumes);
+    if (shadowMap != ShadowFilter::None) families.push_back(TechniqueFamily::ShadowMap);
+    return families;
+}
+
 bool MethodInfo::implementedOn(Backend backend) const {
     return std::find(backends.begin(), backends.end(), backend) != backends.end();
 }

@@ -48,6 +48,15 @@ enum class OpaqueTechnique {
     Pw,  ///< hard shadow at the light centre plus analytic wedge coverage per pixel
 };
 
+/// A family's work per light, with a CPU side (render/cpu/cpu_techniques.h) and a Vulkan side
+/// (render/vulkan/vulkan_techniques.h). A row composes one or two, in the order a frame runs them.
+enum class TechniqueFamily {
+    Traced,       ///< Embree shadow rays to every sample (MethodInfo::traced)
+    OpaqueWedges, ///< DCS or PW over the opaque triangles (MethodInfo::opaque), then the fold
+    StsvVolumes,  ///< STSV over all or the perforated triangles (MethodInfo::stsv)
+    ShadowMap,    ///< a light-centre map and its filter (MethodInfo::shadowMap)
+};
+
 /// One knob of a method, set with `--param name=value`.
 struct MethodKnob {
     std::string name;
@@ -66,7 +75,8 @@ struct MethodInfo {
     MethodOutput output;
     std::vector<Backend> backends; ///< the backends that implement it, preferred first
     std::vector<MethodKnob> knobs;
-    // Composition per light (STSV paper Algorithm 2): rays, or opaque pass then STSV pass.
+    // Composition per light (STSV paper Algorithm 2): each field is one family's part of the
+    // row, read by that family's technique; techniques() lists those the row uses.
     bool traced = false; ///< Embree shadow rays to every sample (the ground truth)
     StsvTriangles stsv = StsvTriangles::None;
     OpaqueTechnique opaque = OpaqueTechnique::None;
@@ -74,6 +84,9 @@ struct MethodInfo {
     ShadowFilter shadowMap = ShadowFilter::None;
 
     bool implementedOn(Backend backend) const;
+    /// The families the row composes, in the order a frame runs them per light: rays, or the
+    /// opaque wedges and then STSV (Algorithm 2), or the shadow map.
+    std::vector<TechniqueFamily> techniques() const;
     /// The buffer a frame of this method holds per light for the requested kind: counters for
     /// SampleCounters (signed sums), else the requested kind (for Visibility methods it holds
     /// the STSV part of the perforated triangles, or every sample lit).

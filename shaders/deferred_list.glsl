@@ -1,4 +1,4 @@
-// The list of deferred fragments (render/gpu_deferred.h): a volume draw appends (pixel index,
+// The list of deferred fragments (render/vulkan/gpu_deferred.h): a volume draw appends (pixel index,
 // item) for each fragment whose per-pixel set-up and sample loop a compute pass runs instead,
 // one thread a fragment (stsv_samples.comp, wedge_samples.comp). On lavapipe a fragment batch
 // runs every instruction of the shader for its lanes, masked, and its loops as long as its

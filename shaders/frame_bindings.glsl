@@ -1,8 +1,8 @@
-// Descriptor declarations shared by the frame's passes (bindings from render/gpu_frame_dh.h).
+// Descriptor declarations shared by the frame's passes (bindings from render/vulkan/gpu_frame_dh.h).
 #ifndef STSV_SHADERS_FRAME_BINDINGS_GLSL
 #define STSV_SHADERS_FRAME_BINDINGS_GLSL
 
-#include "render/gpu_frame_dh.h"
+#include "render/vulkan/gpu_frame_dh.h"
 #include "sampling/light_sampling_dh.h"
 #include "sampling/ls_buffer_dh.h"
 

@@ -1,9 +1,9 @@
-// Descriptor declarations of the image-based passes (bindings from render/gpu_frame_dh.h): the
+// Descriptor declarations of the image-based passes (bindings from render/vulkan/gpu_frame_dh.h): the
 // light's map, the map views and filter knobs, the Poisson-disk taps.
 #ifndef STSV_SHADERS_SHADOW_BINDINGS_GLSL
 #define STSV_SHADERS_SHADOW_BINDINGS_GLSL
 
-#include "render/gpu_frame_dh.h"
+#include "render/vulkan/gpu_frame_dh.h"
 #include "shadowmaps/shadow_map_dh.h"
 
 #ifdef SHADOW_MAP_WRITE

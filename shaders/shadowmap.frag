@@ -1,7 +1,7 @@
 #version 450
 // Light-space map (DESIGN §4.6): the nearest surface per texel centre, alpha-tested with the
 // shared texel rule as the G-buffer, as linear depth (axial, or radial for cube maps) kept by
-// atomicMax of gpuShadowDepthWord (render/gpu_frame_dh.h). No attachments: the map is a buffer
+// atomicMax of gpuShadowDepthWord (render/vulkan/gpu_frame_dh.h). No attachments: the map is a buffer
 // the filters read texel by texel, as the CPU reads its traced map.
 #extension GL_GOOGLE_include_directive : require
 #define SHADOW_MAP_WRITE

@@ -6,7 +6,7 @@
 
 #include "volumes/extrusion_dh.h"
 
-/// The record of a volume (render/gpu_frame_dh.h GpuStsvRecord): flat varyings of the geometry
+/// The record of a volume (render/vulkan/gpu_frame_dh.h GpuStsvRecord): flat varyings of the geometry
 /// and mesh shaders (72 components; Vulkan guarantees 64 per geometry-shader vertex, lavapipe
 /// and NVIDIA allow 128), or a record of the hull pass.
 GpuStsvRecord stsvPackRecord(StsvTriangle t, StsvVolume v, StsvLightPlanes lp, uint side) {

@@ -1,5 +1,6 @@
 #include "wedges/adjacency.h"
 
+#include "volumes/extrusion_dh.h"
 #include "wedges/dcs_dh.h"
 
 #include <algorithm>
@@ -111,6 +112,21 @@ std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adj, ve
             out.push_back(e);
     }
     return out;
+}
+
+std::vector<std::uint32_t> edgeCarriers(const EdgeAdjacency& adj, const Scene& scene) {
+    std::vector<std::uint32_t> carriers(adj.edges.size(), NO_CARRIER);
+    for (std::size_t e = 0; e < adj.edges.size(); ++e) {
+        const MeshEdge& edge = adj.edges[e];
+        for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
+            const uvec3 i = scene.triangles[adj.faces[f].triangle];
+            if (stsvTriangleIsDegenerate(scene.positions[i.x], scene.positions[i.y], scene.positions[i.z]))
+                continue;
+            carriers[e] = adj.faces[f].triangle;
+            break;
+        }
+    }
+    return carriers;
 }
 
 } // namespace stsv

@@ -54,4 +54,14 @@ EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(st
 /// (dcsPotentialSilhouette of wedges/dcs_dh.h, the test shaders/wedge.geom runs).
 std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adjacency, vec4 lightSphere);
 
+/// EdgeCarriers' value for an edge without a carrier.
+inline constexpr std::uint32_t NO_CARRIER = 0xffffffffu;
+
+/// The carrier of every edge: the scene triangle of its first face that is not degenerate for
+/// the volumes (stsvTriangleIsDegenerate), whose STSV volumes and light planes bound the edge's
+/// wedge in the DCS and PW passes of both backends; NO_CARRIER for an edge whose faces are all
+/// degenerate (their third vertices lie on the edge's line, so k_e = 0 for every p: no wedge).
+/// `scene` is the one the adjacency was built from.
+std::vector<std::uint32_t> edgeCarriers(const EdgeAdjacency& adjacency, const Scene& scene);
+
 } // namespace stsv

@@ -3,7 +3,7 @@
 #include "cli/converged_reference.h"
 #include "core/error.h"
 #include "core/image.h"
-#include "render/frame.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 #include "tests/cli/cli_test_util.h"
 

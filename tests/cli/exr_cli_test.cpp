@@ -4,7 +4,7 @@
 #include "cli_test_util.h"
 
 #include "core/image.h"
-#include "render/frame.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 
 #include <gtest/gtest.h>

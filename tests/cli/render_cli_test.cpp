@@ -1,7 +1,7 @@
 // `stsv render` driven in-process on tiny frames with the cpu backend: images, the --dump-ls
 // layout of --dump-ls, --stats keys, and one-line errors.
 #include "core/image.h"
-#include "render/frame.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 #include "tests/cli/cli_test_util.h"
 

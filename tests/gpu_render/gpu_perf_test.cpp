@@ -2,7 +2,8 @@
 // disabled by default, run with
 //   test_gpu_render --gtest_also_run_disabled_tests --gtest_filter='GpuPerf.*'
 // No validation (it would dominate the timings); warm-up frame, then the median of 3 frames.
-#include "render/gpu_renderer.h"
+#include "render/renderer.h"
+#include "render/vulkan/gpu_renderer.h"
 #include "scene/load.h"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // (dcs+stsv, pw+stsv), closed meshes, open and non-manifold soups, every light shape.
 // Validation on (GpuRenderTest fails on any message).
 #include "gpu_render_helpers.h"
-#include "render/cpu_wedges.h"
+#include "render/cpu/cpu_wedges.h"
 #include "scene/geometry.h"
 #include "scene/load.h"
 #include "scene/mesh_fence.h"

@@ -4,8 +4,8 @@
 #include "gpu_render_helpers.h"
 
 #include "core/error.h"
-#include "render/frame.h"
 #include "render/methods.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 
 #include <gtest/gtest.h>

@@ -3,7 +3,7 @@
 // map (perspective, cube, orthographic); and PCF/PCSS visibility.
 #include "gpu_render_helpers.h"
 
-#include "render/frame.h"
+#include "render/renderer.h"
 #include "scene/load.h"
 
 #include <cstdio>

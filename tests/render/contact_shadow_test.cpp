@@ -4,7 +4,7 @@
 // (volumes/stsv_dh.h) keeps the start within SHADOW_T_MIN·D of p in every method.
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu_stsv.h"
+#include "render/cpu/cpu_stsv.h"
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/geometry.h"

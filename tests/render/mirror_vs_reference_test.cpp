@@ -3,7 +3,7 @@
 // alpha-texel boundary, or the pixel sits on a G-buffer silhouette.
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu_stsv.h"
+#include "render/cpu/cpu_stsv.h"
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/load.h"

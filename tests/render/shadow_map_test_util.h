@@ -4,7 +4,7 @@
 #pragma once
 
 #include "core/image.h"
-#include "render/frame.h"
+#include "render/cpu/cpu_renderer.h"
 #include "render/options.h"
 #include "tests/failure_images.h"
 
@@ -32,7 +32,7 @@ inline Frame renderCpu(const Scene& scene, Method method, int w, int h, const Me
     o.samples = samples;
     o.seed = seed;
     o.params = params;
-    return renderFrame(scene, o);
+    return makeCpuRenderer(scene, o)->render();
 }
 
 /// The reference's visibility averaged over `seeds` frames of `samples` samples each (DESIGN §4.6:

@@ -4,8 +4,8 @@
 #include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu_wedges.h"
-#include "render/frame.h"
+#include "render/cpu/cpu_renderer.h"
+#include "render/cpu/cpu_wedges.h"
 #include "render/methods.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
@@ -144,7 +144,7 @@ TEST(Combined, CpuFrameStatsCountEachPass) {
             o.samples = 32;
             o.buffer = methodInfo(method).output == MethodOutput::Visibility ? BufferKind::Bitmask
                                                                              : BufferKind::Counters;
-            const Frame frame = makeRenderer(*scene, o)->render();
+            const Frame frame = makeCpuRenderer(*scene, o)->render();
             const std::string what = toString(method) + " on " + scene->source;
             ASSERT_TRUE(frame.stats.contains("wedges")) << what;
             const nlohmann::json& w = frame.stats["wedges"][0];

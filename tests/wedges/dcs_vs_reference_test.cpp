@@ -7,7 +7,7 @@
 #include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu_wedges.h"
+#include "render/cpu/cpu_wedges.h"
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/geometry.h"

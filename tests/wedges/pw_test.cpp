@@ -4,7 +4,7 @@
 #include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu_wedges.h"
+#include "render/cpu/cpu_wedges.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "wedge_test_util.h"

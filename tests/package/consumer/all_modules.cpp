@@ -6,7 +6,7 @@
 #include "core/memory_budget.h"
 #include "gpu/device.h"
 #include "reference/embree_scene.h"
-#include "render/frame.h"
+#include "render/renderer.h"
 #include "sampling/pattern.h"
 #include "scene/load.h"
 #include "shadowmaps/shadow_map.h"

@@ -1,0 +1,47 @@
+// The image-based baselines on the CPU (DESIGN §4.6): the light-space map traced with Embree
+// rays through the texel centres (the same alpha test as every method), then PCF or PCSS per
+// pixel with the functions of shadowmaps/shadow_filter_dh.h that shaders/shadow_filter.comp runs.
+#pragma once
+
+#include "core/gbuffer.h"
+#include "core/image.h"
+#include "render/options.h"
+#include "shadowmaps/shadow_map.h"
+
+#include <nlohmann/json.hpp>
+
+#include <vector>
+
+namespace stsv {
+
+class EmbreeScene;
+
+/// The map of `view`, one Embree ray per texel centre (shadowMapTexelRay), hits between near and
+/// far, holes of perforated triangles let through.
+ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);
+
+struct ShadowMapCpuStats {
+    std::size_t texels = 0; ///< faces × size²
+    std::size_t faces = 0;
+    double map_ms = 0.0;             ///< tracing the map
+    double blocker_ms = 0.0;         ///< PCSS blocker search (0 for PCF)
+    double filter_ms = 0.0;          ///< PCF, or PCSS's filter
+    std::uint64_t kernelClamped = 0; ///< PCSS: pixels whose filter radius pcss_max_kernel clamped
+};
+
+nlohmann::json toJson(const ShadowMapCpuStats& stats);
+
+/// PCF or PCSS visibility of every covered pixel into `coverage` (v_coef; uncovered pixels
+/// untouched), with the per-pixel tap rotation of `seed` when `decorrelate` (the sub-pixels of a
+/// supersampled G-buffer take their pixel's rotation).
+ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
+                                         const Light& light, const ShadowMapSettings& settings,
+                                         std::uint32_t seed, bool decorrelate, ImageF& coverage,
+                                         ShadowMap* keep = nullptr, int supersample = 1);
+
+/// The filter step alone, for a given map (tests feed both backends the same map).
+void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
+                           const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
+                           ImageF& coverage, ShadowMapCpuStats* stats = nullptr, int supersample = 1);
+
+} // namespace stsv

@@ -1,0 +1,247 @@
+#include "render/cpu/cpu_stsv.h"
+
+#include "core/parallel.h"
+#include "core/progress.h"
+#include "core/timer.h"
+#include "sampling/light_bounds.h"
+#include "sampling/light_sampling.h"
+#include "scene/camera.h"
+#include "volumes/extrusion_dh.h"
+#include "volumes/stsv.h"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <bit>
+#include <cmath>
+
+namespace stsv {
+
+/// The data access of volumes/stsv_fragment_dh.h on the CPU: the pixel's sample points,
+/// computed once per pixel (pixelSamplePoint), the texels from the triangle's Texture (null for
+/// an opaque triangle).
+struct StsvSampleSource {
+    const vec2* points; ///< the pixel's samples in frame coordinates, plan.count of them
+    const Texture* texture;
+};
+inline vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
+    return s.points[k];
+}
+inline bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
+    return alphaBlocks(s.texture->alpha(texel.x, texel.y));
+}
+
+} // namespace stsv
+
+#define STSV_SAMPLE_SOURCE
+#include "volumes/stsv_fragment_dh.h"
+
+namespace stsv {
+
+namespace {
+
+constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
+
+struct VolumeRecord {
+    StsvVolume volume;
+    std::uint32_t triangle; ///< index into the StsvTriangle table
+    std::uint32_t side;     ///< 0: shadows cast towards the far side of the light centre; 1: flipped
+};
+
+} // namespace
+
+nlohmann::json toJson(const StsvCpuStats& s) {
+    return {{"volumes", s.volumes},
+            {"degenerate_skipped", s.degenerateSkipped},
+            {"tile_entries", s.tileEntries},
+            {"tile_entries_culled", s.tileEntriesCulled},
+            {"fragments", s.pixelVolumeTests},
+            {"inside_fragments", s.pixelVolumeHits},
+            {"samples_tested", s.samplesTested},
+            {"bin_ms", s.bin_ms},
+            {"shade_ms", s.shade_ms}};
+}
+
+StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out,
+                            const TriangleFilter& include) {
+    StsvCpuStats stats;
+    Timer timer;
+    const Bounds bounds = scene.bounds();
+    const float sceneDiameter = bounds.diameter();
+    const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
+    const vec3 lightCenter = vec3(sphere);
+
+    // Per-triangle constants, light planes and volumes (the geometry shader's work).
+    std::vector<StsvTriangle> triangles(scene.triangleCount());
+    std::vector<StsvLightPlanes> lightPlanes(scene.triangleCount(), stsvNoLightPlanes());
+    LightFrame square;
+    const bool hasSquare = lightSampleSquare(light, farDistance, square);
+    std::vector<VolumeRecord> volumes;
+    volumes.reserve(scene.triangleCount());
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        if (include && !include(t)) continue;
+        triangles[t] = stsvTriangleFor(scene, t, lightCenter);
+        if (triangles[t].flags & STSV_FLAG_DEGENERATE) {
+            ++stats.degenerateSkipped;
+            continue;
+        }
+        const uvec3 idx = scene.triangles[t];
+        const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
+        if (hasSquare)
+            lightPlanes[t] =
+                stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, bounds.lo, bounds.hi);
+        const uint sides = stsvSideCount(v0, v1, v2, sphere);
+        for (uint side = 0; side < sides; ++side)
+            volumes.push_back({stsvBuildVolume(v0, v1, v2, sphere, bounds.lo, bounds.hi, side),
+                               static_cast<std::uint32_t>(t), side});
+    }
+    stats.volumes = volumes.size();
+
+    // Bin volumes to screen tiles (the rasteriser's coverage, conservatively).
+    const mat4 clipFromWorld =
+        binningClipFromView(scene.camera, gbuffer.width, gbuffer.height) * viewFromWorld(scene.camera);
+    const int tilesX = tilesAcross(gbuffer.width), tilesY = tilesAcross(gbuffer.height);
+    std::vector<std::vector<std::uint32_t>> tiles(std::size_t(tilesX) * tilesY);
+    for (std::size_t v = 0; v < volumes.size(); ++v) {
+        ivec4 rect;
+        if (!volumeScreenRect(volumes[v].volume, clipFromWorld, gbuffer.width, gbuffer.height, rect))
+            continue;
+        for (int ty = rect.y / TILE; ty <= rect.w / TILE; ++ty)
+            for (int tx = rect.x / TILE; tx <= rect.z / TILE; ++tx) {
+                tiles[std::size_t(ty) * tilesX + tx].push_back(static_cast<std::uint32_t>(v));
+                ++stats.tileEntries;
+            }
+    }
+    stats.bin_ms = timer.milliseconds();
+    timer.reset();
+
+    // The volume's planes and its triangle's light planes: a box outside either holds no point
+    // that the fragment's test accepts.
+    const auto volumeMissesBox = [&](const VolumeRecord& record, const Bounds& box) {
+        return stsvVolumeMissesBox(record.volume, box.lo, box.hi) ||
+               stsvLightPlanesMissBox(lightPlanes[record.triangle], box.lo, box.hi);
+    };
+
+    // The fragment shader's work, per tile and pixel.
+    std::atomic<std::size_t> tests{0}, hits{0}, culled{0}, samples{0};
+    const bool counters = out.kind() == BufferKind::Counters;
+    const uint wordCount = lsMaskWordCount(uint(plan.count));
+    // The sample bits of mask word w.
+    const auto wordBits = [&](uint w) {
+        const uint n = std::min(32u, uint(plan.count) - 32u * w);
+        return n == 32u ? ~0u : (1u << n) - 1u;
+    };
+    Progress progress("stsv (cpu)", tiles.size());
+    parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
+        std::size_t localTests = 0, localHits = 0, localCulled = 0, localSamples = 0;
+        // The volumes of the tile's bin that may hold one of its visible points, then the same
+        // per CPU_BLOCK × CPU_BLOCK block of pixels (a smaller box culls more).
+        const Bounds box = tileReceiverBounds(gbuffer, tile);
+        std::vector<std::uint32_t> candidates;
+        if (!box.empty()) {
+            const std::vector<std::uint32_t>& binned = tiles[std::size_t(tile.ty) * tilesX + tile.tx];
+            candidates.reserve(binned.size());
+            for (std::uint32_t v : binned) {
+                if (volumeMissesBox(volumes[v], box))
+                    ++localCulled;
+                else
+                    candidates.push_back(v);
+            }
+        }
+        std::array<std::vector<std::uint32_t>, CPU_BLOCKS * CPU_BLOCKS> blockCandidates;
+        for (int by = 0; by < CPU_BLOCKS && !candidates.empty(); ++by)
+            for (int bx = 0; bx < CPU_BLOCKS; ++bx) {
+                const PixelTile block = tileBlock(tile, bx, by);
+                if (block.x0 >= block.x1 || block.y0 >= block.y1) continue;
+                const Bounds blockBox = tileReceiverBounds(gbuffer, block);
+                if (blockBox.empty()) continue;
+                std::vector<std::uint32_t>& list = blockCandidates[std::size_t(by * CPU_BLOCKS + bx)];
+                for (std::uint32_t v : candidates)
+                    if (!volumeMissesBox(volumes[v], blockBox)) list.push_back(v);
+            }
+        std::array<vec2, 256> points;
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const std::size_t i = gbuffer.index(x, y);
+                const std::vector<std::uint32_t>& pixelCandidates = blockCandidates[std::size_t(
+                    ((y - tile.y0) / CPU_BLOCK) * CPU_BLOCKS + (x - tile.x0) / CPU_BLOCK)];
+                if (!gbuffer.covered(i) || pixelCandidates.empty()) continue;
+                const vec3 p = gbuffer.position[i];
+                const LightFrame frame = lightFrame(light, p, farDistance);
+                const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+                // The samples in an 8 × 8 grid over the frame's [−1, 1]²: a triangle tests only the
+                // samples of the cells its projection (stsvSampleRegion) touches. Placed when the
+                // first volume holds p (most pixels with candidates are in none).
+                SampleCells cells;
+                bool placed = false;
+                // A bitmask keeps the union of the triangles' bits: samples already occluded are
+                // not tested again, and a pixel whose samples are all occluded is done. Counters
+                // need every layer.
+                std::array<uint, 8> mask{};
+                uint open = wordCount;
+                for (std::uint32_t v : pixelCandidates) {
+                    if (open == 0) break;
+                    const VolumeRecord& record = volumes[v];
+                    if (record.triangle == gbuffer.triangle[i]) continue; // self-shadowing rule
+                    ++localTests;
+                    if (!stsvPointInVolume(record.volume, p) ||
+                        !stsvPointInLightPlanes(lightPlanes[record.triangle], p))
+                        continue;
+                    ++localHits;
+                    const StsvTriangle& tri = triangles[record.triangle];
+                    StsvPixel px;
+                    if (!stsvFragmentPixel(tri, record.side, p, frame, tMin, px)) continue;
+                    const Texture* texture =
+                        (tri.flags & STSV_FLAG_OPAQUE) ? nullptr : &scene.textures[tri.texture];
+                    const ivec2 size = texture ? ivec2(texture->width, texture->height) : ivec2(1);
+                    vec2 regionLo, regionHi;
+                    if (!stsvSampleRegion(px, vec2(-1.0f), vec2(1.0f), regionLo, regionHi)) continue;
+                    if (!placed) {
+                        for (int k = 0; k < plan.count; ++k) {
+                            const vec2 ab = pixelSamplePoint(plan, x, y, k, frame.domain);
+                            points[std::size_t(k)] = ab;
+                            cells.add(ab, uint(k));
+                        }
+                        placed = true;
+                    }
+                    const std::array<uint, 8> inRegion = cells.within(regionLo, regionHi, wordCount);
+                    const StsvSampleSource src{points.data(), texture};
+                    for (uint w = 0; w < wordCount; ++w) {
+                        const uint untested = counters ? inRegion[w] : inRegion[w] & ~mask[w];
+                        if (untested == 0u) continue;
+                        localSamples += std::size_t(std::popcount(untested));
+                        const uint bits = stsvOcclusionWordOf(tri, px, src, size, w, untested);
+                        if (counters) {
+                            if (bits != 0u) out.addOccludingWord(x, y, int(w), bits);
+                            continue;
+                        }
+                        mask[w] |= bits;
+                        if (mask[w] == wordBits(w)) --open;
+                    }
+                }
+                if (!counters)
+                    for (uint w = 0; w < wordCount; ++w)
+                        if (mask[w] != 0u) out.addOccludingWord(x, y, int(w), mask[w]);
+            }
+        tests += localTests;
+        hits += localHits;
+        culled += localCulled;
+        samples += localSamples;
+        progress.advance();
+    });
+    stats.pixelVolumeTests = tests;
+    stats.pixelVolumeHits = hits;
+    stats.tileEntriesCulled = culled;
+    stats.samplesTested = samples;
+    stats.shade_ms = timer.milliseconds();
+    return stats;
+}
+
+TriangleFilter stsvFilter(const Scene& scene, StsvTriangles which) {
+    if (which == StsvTriangles::Perforated) return [&scene](std::size_t t) { return scene.perforated(t); };
+    if (which == StsvTriangles::None) return [](std::size_t) { return false; };
+    return {};
+}
+
+} // namespace stsv

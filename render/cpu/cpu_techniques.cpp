@@ -1,0 +1,135 @@
+#include "render/cpu/cpu_techniques.h"
+
+#include "core/timer.h"
+#include "reference/embree_scene.h"
+#include "reference/reference_visibility.h"
+#include "render/cpu/cpu_shadowmaps.h"
+#include "render/cpu/cpu_stsv.h"
+#include "render/cpu/cpu_wedges.h"
+
+#include <algorithm>
+
+namespace stsv {
+
+namespace {
+
+/// The ground truth: Embree shadow rays to every sample.
+class TracedTechnique final : public CpuTechnique {
+  public:
+    explicit TracedTechnique(const CpuTechniqueContext& c) : m_c(c) {}
+    void run(CpuLightWork& work) override {
+        Timer timer;
+        traceReferenceSamples(m_c.embree, work.gbuffer, work.light, m_c.plan, m_c.farDistance, work.samples);
+        work.passes[work.pass("reference")] = timer.milliseconds();
+    }
+    void takeStats(nlohmann::json&) override {}
+
+  private:
+    const CpuTechniqueContext& m_c;
+};
+
+/// STSV over the row's triangles (all, or the perforated ones), into the light's bits or counters.
+class StsvTechnique final : public CpuTechnique {
+  public:
+    explicit StsvTechnique(const CpuTechniqueContext& c)
+        : m_c(c), m_include(stsvFilter(c.scene, c.method.stsv)) {}
+    void run(CpuLightWork& work) override {
+        const StsvCpuStats s = stsvCpuSamples(m_c.scene, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
+                                              work.samples, m_include);
+        work.passes[work.pass("stsv_bin")] = s.bin_ms;
+        work.passes[work.pass("stsv_shade")] = s.shade_ms;
+        m_stats.push_back(toJson(s));
+    }
+    void takeStats(nlohmann::json& stats) override {
+        stats["stsv"] = std::exchange(m_stats, nlohmann::json::array());
+    }
+
+  private:
+    const CpuTechniqueContext& m_c;
+    TriangleFilter m_include;
+    nlohmann::json m_stats = nlohmann::json::array();
+};
+
+/// The opaque triangles through DCS (signed counters added to the light's) or PW (v_coef), and
+/// for pw+stsv the fold with the STSV bits of the perforated triangles (STSV paper §3.1).
+class WedgeTechnique final : public CpuTechnique {
+  public:
+    explicit WedgeTechnique(const CpuTechniqueContext& c) : m_c(c), m_occluders(c.scene) {}
+    void run(CpuLightWork& work) override {
+        Timer timer;
+        const bool pw = m_c.method.opaque == OpaqueTechnique::Pw;
+        const WedgeCpuStats s =
+            pw ? pwCpuVisibility(m_occluders, work.gbuffer, work.light, m_c.farDistance, work.vcoef)
+               : dcsCpuSamples(m_occluders, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
+                               work.samples);
+        work.passes[work.pass(pw ? "pw" : "dcs")] = timer.milliseconds();
+        m_stats.push_back(toJson(s));
+    }
+    void combine(CpuLightWork& work) override {
+        // DCS and STSV add to the same counters; PW's v_coef loses the fraction STSV occludes.
+        if (m_c.method.opaque != OpaqueTechnique::Pw || m_c.method.stsv == StsvTriangles::None) return;
+        Timer timer;
+        pwFoldStsv(work.gbuffer, work.samples, work.vcoef);
+        work.passes[work.pass("fold")] = timer.milliseconds();
+    }
+    void takeStats(nlohmann::json& stats) override {
+        stats["wedges"] = std::exchange(m_stats, nlohmann::json::array());
+    }
+
+  private:
+    const CpuTechniqueContext& m_c;
+    OpaqueOccluders m_occluders;
+    nlohmann::json m_stats = nlohmann::json::array();
+};
+
+/// The light-centre map and its PCF or PCSS filter: v_coef per pixel.
+class ShadowMapTechnique final : public CpuTechnique {
+  public:
+    explicit ShadowMapTechnique(const CpuTechniqueContext& c)
+        : m_c(c), m_settings(shadowMapSettings(c.options)) {}
+    void run(CpuLightWork& work) override {
+        ShadowMap* keep = m_c.options.keepShadowMaps ? &work.frame.shadowMaps.emplace_back() : nullptr;
+        const ShadowMapCpuStats s =
+            shadowMapCpuVisibility(m_c.embree, work.gbuffer, work.light, m_settings, m_c.options.seed,
+                                   m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);
+        work.passes[work.pass("shadow_map")] = s.map_ms;
+        if (m_settings.filter == ShadowFilter::Pcss) work.passes[work.pass("pcss_blocker")] = s.blocker_ms;
+        work.passes[work.pass("shadow_filter")] = s.filter_ms;
+        nlohmann::json map = toJson(s);
+        map.update(kernelClampStats(s.kernelClamped, work.gbuffer));
+        m_stats.push_back(map);
+    }
+    void takeStats(nlohmann::json& stats) override {
+        stats["shadow_maps"] = std::exchange(m_stats, nlohmann::json::array());
+    }
+
+  private:
+    const CpuTechniqueContext& m_c;
+    ShadowMapSettings m_settings;
+    nlohmann::json m_stats = nlohmann::json::array();
+};
+
+} // namespace
+
+std::vector<std::unique_ptr<CpuTechnique>> makeCpuTechniques(const CpuTechniqueContext& context) {
+    std::vector<std::unique_ptr<CpuTechnique>> techniques;
+    for (const TechniqueFamily family : context.method.techniques()) {
+        switch (family) {
+        case TechniqueFamily::Traced:
+            techniques.push_back(std::make_unique<TracedTechnique>(context));
+            break;
+        case TechniqueFamily::OpaqueWedges:
+            techniques.push_back(std::make_unique<WedgeTechnique>(context));
+            break;
+        case TechniqueFamily::StsvVolumes:
+            techniques.push_back(std::make_unique<StsvTechnique>(context));
+            break;
+        case TechniqueFamily::ShadowMap:
+            techniques.push_back(std::make_unique<ShadowMapTechnique>(context));
+            break;
+        }
+    }
+    return techniques;
+}
+
+} // namespace stsv

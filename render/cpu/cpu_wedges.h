@@ -1,0 +1,103 @@
+// CPU mirror of the opaque-occluder passes (DESIGN §4.5, STSV paper Algorithm 2):
+// depth complexity sampling (DCS) and penumbra wedges (PW) over the welded edge adjacency of the
+// opaque triangles, and their combinations with STSV for the perforated ones. The per-pixel,
+// per-edge math is the device/host code of wedges/dcs_dh.h and wedges/pw_dh.h; candidate edges
+// are binned to screen tiles through the STSV volume of one of their faces (a conservative
+// bound of the region whose light segments can touch the edge).
+#pragma once
+
+#include "core/gbuffer.h"
+#include "core/image.h"
+#include "reference/embree_scene.h"
+#include "render/cpu/cpu_stsv.h"
+#include "sampling/ls_buffer.h"
+#include "sampling/pattern.h"
+#include "scene/scene.h"
+#include "wedges/adjacency.h"
+
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <vector>
+
+namespace stsv {
+
+struct WedgeCpuStats {
+    std::size_t edges = 0;                ///< welded edges of the opaque triangles
+    std::size_t potentialSilhouettes = 0; ///< of those, potential silhouettes for this light
+    std::size_t volumes = 0;              ///< face volumes built for binning
+    std::size_t tileEntries = 0;          ///< (tile, face record) pairs
+    /// Point-in-volume tests of a face record's bound ("fragments"; one record holds the
+    /// face's potential silhouette edges, a GPU fragment one edge).
+    std::size_t pixelVolumeTests = 0;
+    /// (pixel, edge) pairs with the edge a silhouette from p, clipped non-empty
+    /// ("silhouette_fragments", as the GPU counts them; DCS tests every sample of each).
+    std::size_t pixelEdgeVisits = 0;
+    std::size_t negativeCounts = 0; ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
+    /// DCS: samples whose crossing with a silhouette edge was tested ("samples_tested"; only
+    /// those in the cells of the edge's dcsSampleRegion). Empty for PW, which tests no samples.
+    std::optional<std::size_t> samplesTested;
+    double setup_ms = 0.0; ///< silhouettes, volumes, binning
+    double shade_ms = 0.0; ///< per-pixel centre count and edge loop
+};
+
+nlohmann::json toJson(const WedgeCpuStats& stats);
+
+/// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
+/// an Embree scene of them alone, which gives the layer count D(r) at the light centre (the CPU
+/// stand-in of the z-fail counting shadow volume). `scene` must outlive it.
+class OpaqueOccluders {
+  public:
+    explicit OpaqueOccluders(const Scene& scene);
+
+    const Scene& scene() const { return m_scene; }
+    const EdgeAdjacency& adjacency() const { return m_adjacency; }
+    /// Each edge's carrier face (edgeCarriers), whose volumes bound its wedge.
+    const std::vector<std::uint32_t>& carriers() const { return m_carriers; }
+    std::size_t opaqueTriangles() const { return m_opaqueToScene.size(); }
+
+    /// Opaque triangles crossed by p → r (t ∈ (tMin, 1)), scene triangle `ignore` excluded.
+    std::uint32_t centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
+                              std::vector<std::uint32_t>& scratch) const;
+
+  private:
+    const Scene& m_scene;
+    Scene m_opaque; ///< the opaque triangles only (Embree holds a reference)
+    std::vector<std::uint32_t> m_opaqueToScene;
+    std::vector<std::uint32_t> m_sceneToOpaque;
+    std::unique_ptr<EmbreeScene> m_embree;
+    EdgeAdjacency m_adjacency;
+    std::vector<std::uint32_t> m_carriers;
+};
+
+/// DCS: adds to `counters` (BufferKind::Counters) the exact per-sample depth complexity of the opaque
+/// triangles, D(x) = D(r) + Σ_e k_e·[r → x crosses e] (wedges/dcs_dh.h). Self-shadowing rule as
+/// STSV: the visible triangle never counts.
+WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& counters);
+
+/// DCS+STSV (Algorithm 2, lines 8–9): DCS for the opaque triangles, then the STSV increments of
+/// the perforated ones added to the same counters.
+WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+                                const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
+                                StsvCpuStats* stsvStats = nullptr);
+
+/// PW: per-pixel visibility v_coef of the opaque triangles (one channel, 1 on background):
+/// 1 − clamp([D(r) > 0] + Σ_e sign(k_e)·coverage_e, 0, 1), coverage analytic over the light
+/// frame's square or disk (wedges/pw_dh.h).
+WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+                              float farDistance, ImageF& visibility);
+
+/// PW+STSV (Algorithm 2, lines 12–14): v = clamp(v_pw − occluded fraction of the STSV bitmask of
+/// the perforated triangles, 0, 1). `stsvBits` (BufferKind::Bitmask, cleared by the caller) receives
+/// the STSV bits.
+WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer,
+                                  const Light& light, const SamplePlan& plan, float farDistance,
+                                  ImageF& visibility, LightSampleBuffer& stsvBits,
+                                  StsvCpuStats* stsvStats = nullptr);
+
+/// The fold of pw+stsv (Algorithm 2, line 14) alone: v = clamp(v − occluded fraction of
+/// `stsvBits`, 0, 1) at every covered pixel of `visibility` (PW's v_coef).
+void pwFoldStsv(const GBuffer& gbuffer, const LightSampleBuffer& stsvBits, ImageF& visibility);
+
+} // namespace stsv

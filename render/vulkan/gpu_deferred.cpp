@@ -1,0 +1,66 @@
+#include "render/vulkan/gpu_deferred.h"
+
+#include "core/error.h"
+#include "gpu/device.h"
+#include "render/vulkan/gpu_frame_dh.h"
+
+#include <algorithm>
+#include <string>
+
+namespace stsv {
+
+namespace {
+constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+}
+
+DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& options,
+                                     std::uint64_t initialCapacity)
+    : m_device(&device), m_options(options), m_initialCapacity(initialCapacity) {
+    count = Buffer(device, 16, STORAGE, MemoryUsage::DeviceLocal);
+    resize(0);
+    maskWords = Buffer(device, 4, STORAGE, MemoryUsage::DeviceLocal);
+}
+
+void DeferredFragments::use(bool withMaskWords) {
+    if (m_capacity == 0) resize(m_initialCapacity);
+    if (withMaskWords && !m_maskWords) {
+        m_maskWords = true;
+        const std::uint64_t words = std::uint64_t(m_options.width) * std::uint64_t(m_options.height) *
+                                    lsMaskWordCount(uint(m_options.samples));
+        maskWords = Buffer(*m_device, words * 4, STORAGE, MemoryUsage::DeviceLocal);
+    }
+}
+
+bool DeferredFragments::growFor(std::uint64_t listed) {
+    if (listed <= m_capacity) return false;
+    if (listed > kMaxDeferredFragments)
+        throw Error("a volume pass lists " + std::to_string(listed) +
+                    " fragments for one light, more than the " + std::to_string(kMaxDeferredFragments) +
+                    " its list may hold; render a smaller --size");
+    resize(std::min(listed + listed / 4, kMaxDeferredFragments));
+    return true;
+}
+
+std::uint32_t deferredSampleGroups(const Device& device) {
+    return device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 256 : 8192;
+}
+
+void DeferredFragments::resize(std::uint64_t capacity) {
+    m_capacity = capacity;
+    fragments =
+        Buffer(*m_device, std::max<std::uint64_t>(capacity, 1) * 8, STORAGE, MemoryUsage::DeviceLocal);
+}
+
+std::vector<DescriptorBinding> DeferredFragments::bindings() {
+    return {{GPU_BINDING_DEFERRED_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_DEFERRED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_STSV_MASK_WORDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+}
+
+void DeferredFragments::writeDescriptors(DescriptorSet& set) const {
+    set.writeBuffer(GPU_BINDING_DEFERRED_COUNT, count);
+    set.writeBuffer(GPU_BINDING_DEFERRED, fragments);
+    set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, maskWords);
+}
+
+} // namespace stsv

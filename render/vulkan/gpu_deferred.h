@@ -1,0 +1,60 @@
+// The list of deferred fragments (shaders/deferred_list.glsl): a volume draw lists the
+// fragments whose per-pixel set-up and sample loop a compute pass then runs, one thread a
+// fragment — the STSV draw of the hulls (stsv_samples.comp) and the DCS wedge draw
+// (wedge_samples.comp), one after the other for each light.
+#pragma once
+
+#include "gpu/buffer.h"
+#include "gpu/descriptors.h"
+#include "render/options.h"
+
+#include <cstdint>
+#include <vector>
+
+namespace stsv {
+
+class Device;
+
+/// The most fragments a list may hold (512 MiB of list).
+inline constexpr std::uint64_t kMaxDeferredFragments = std::uint64_t(1) << 26;
+
+/// The list's count and (pixel index, item) pairs, and in a bitmask frame with STSV the mask
+/// words stsv_samples.comp sets and stsv_merge.comp ORs into the images. Until a technique
+/// uses it, one-element stand-ins for the descriptors.
+class DeferredFragments {
+  public:
+    /// `initialCapacity`: the fragments the list holds once a technique uses it.
+    DeferredFragments(const Device& device, const RenderOptions& options, std::uint64_t initialCapacity);
+    /// The bindings these resources add to the frame's descriptor set layout.
+    static std::vector<DescriptorBinding> bindings();
+    void writeDescriptors(DescriptorSet& set) const;
+    /// A technique lists fragments: the list gets its initial capacity, and with `maskWords`
+    /// the STSV samples' mask words of a bitmask frame. The descriptors must be written after.
+    void use(bool maskWords);
+    std::uint64_t capacity() const { return m_capacity; }
+    /// After a frame whose draws listed `listed` fragments (for one light, at most): when that
+    /// is more than the list held, some were lost, so the list grows to what the frame needed
+    /// (a quarter more) and the caller renders the frame again (true; the descriptors must be
+    /// written again). An Error past kMaxDeferredFragments.
+    bool growFor(std::uint64_t listed);
+    Buffer count;     ///< uvec4, x: fragments appended (past the end too)
+    Buffer fragments; ///< uvec2 per fragment: pixel index, item (record or edge)
+    Buffer maskWords; ///< lsMaskWordCount(N) words per pixel; else a stand-in
+
+  private:
+    /// Room for `capacity` fragments, the old entries dropped.
+    void resize(std::uint64_t capacity);
+    const Device* m_device;
+    RenderOptions m_options;
+    std::uint64_t m_initialCapacity;
+    std::uint64_t m_capacity = 0;
+    bool m_maskWords = false;
+};
+
+/// Workgroups of the compute passes over a list (64 threads; thread i takes the fragments i,
+/// i + groups · 64, ...): on a CPU device every group is a task with its own start-up, and a few
+/// hundred keep its cores busy (foliage 1000 plants at 512² on lavapipe: 4096 groups took
+/// 200-240 ms where 256 took 130-180); a GPU needs some 10⁵ threads in flight.
+std::uint32_t deferredSampleGroups(const Device& device);
+
+} // namespace stsv

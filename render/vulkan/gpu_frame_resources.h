@@ -1,0 +1,124 @@
+// The resources the passes of the Vulkan frame share (DESIGN §5): the scene as the shaders read
+// it, the G-buffer, the output images, the per-light sample buffers, and the one descriptor set
+// layout (render/vulkan/gpu_frame_dh.h bindings) with a set per light. The passes own only their
+// pipelines and the resources no other pass touches.
+#pragma once
+
+#include "gpu/buffer.h"
+#include "gpu/descriptors.h"
+#include "gpu/image.h"
+#include "gpu/pipeline.h"
+#include "render/options.h"
+#include "render/vulkan/gpu_frame_dh.h"
+#include "render/vulkan/gpu_shader_defines.h"
+#include "scene/scene.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace stsv {
+
+class Device;
+
+constexpr VkFormat POSITION_FORMAT = VK_FORMAT_R32G32B32A32_SFLOAT; ///< world units, w = 1
+constexpr VkFormat TRIANGLE_FORMAT = VK_FORMAT_R32_UINT;
+constexpr VkFormat DEPTH_FORMAT = VK_FORMAT_D32_SFLOAT;
+
+/// The G-buffer's depth where no surface is seen: reversed depth (gpuClipFromWorld) puts infinity at 0.
+constexpr float GPU_DEPTH_CLEAR = 0.0f;
+
+/// Depth state of the shadow-volume passes (STSV, wedges, counting volume): a face's fragment
+/// runs only where the face lies behind the G-buffer's visible point p (LESS under reversed
+/// depth, early tests, no writes, depth clamp for faces in front of the near plane). Every volume
+/// pass decides in world space whether p is inside (a point-in-volume or plane test on p), so the
+/// depth test only prunes; its bias, toward the eye, lets through every face the depth buffer
+/// cannot place on either side of p. Reversed float depth resolves about 2^-23 of the distance
+/// at any distance (1.2e-7·z), while a volume face can lie 1e-4 m from p (the near cap of a thin
+/// box's near side, seen from its far side). 256 units of the format's resolution cover the
+/// G-buffer's rounding and the snapping of both triangles to the sub-pixel grid; one pixel of the
+/// face's depth slope covers faces seen edge-on. Faces let through in front of p fail the world
+/// test.
+void setBehindVisiblePointDepth(GraphicsPipelineDesc& desc);
+constexpr VkFormat MASK_FORMAT = VK_FORMAT_R32G32_UINT;          ///< 64 sample bits
+constexpr VkFormat COLOR_FORMAT = VK_FORMAT_R32G32B32A32_SFLOAT; ///< linear RGB
+constexpr VkFormat VISIBILITY_FORMAT = VK_FORMAT_R32_SFLOAT;     ///< v_coef
+constexpr VkFormat COVERAGE_FORMAT = VK_FORMAT_R32_SFLOAT;       ///< PW occlusion sum, then v_coef
+
+/// RG32UI attachments of a bitmask of N samples: 64 samples each.
+int maskAttachmentCount(int samples);
+
+/// The scene tables of render/vulkan/gpu_frame_dh.h, uploaded once and constant afterwards (no pass
+/// declares them: nothing on the GPU writes them).
+struct GpuSceneTables {
+    Buffer triangles; ///< GpuTriangle[]
+    Buffer alpha;     ///< alpha bits (uniform) or bytes (storage) of every texture
+    Buffer textures;  ///< GpuTexture[]
+    Buffer pattern;   ///< SamplePlan::points, whole vec4s
+    Buffer frame;     ///< GpuFrame then GpuLight[]
+    FrameTableLayout layout;
+
+    GpuSceneTables(const Device& device, const Scene& scene, const RenderOptions& options,
+                   const SamplePlan& plan);
+};
+
+/// G-buffer images (pass 0).
+struct GBufferImages {
+    Image position;   ///< POSITION_FORMAT
+    Image triangleId; ///< GPU_NO_TRIANGLE on the background
+    Image depth;
+};
+
+/// What the method writes per light (MethodInfo::output): bitmask attachments or counters, and
+/// the v_coef image of visibility methods. Buffers of kinds the frame does not write are small
+/// stand-ins the descriptor sets bind.
+struct LightSampleBuffers {
+    std::vector<std::vector<Image>> masks; ///< [light][attachment], bitmask frames
+    std::vector<Buffer> counters;          ///< [light], counters frames; else one stand-in
+    Image unusedMask;                      ///< 1×1: the mask array elements no light fills
+    Image coverage;                        ///< v_coef (MethodOutput::Visibility); else 1×1
+
+    /// Element `i` of light `light`'s GPU_BINDING_MASKS array.
+    Image& mask(std::size_t light, std::size_t i);
+};
+
+class FrameResources {
+  public:
+    /// `options.buffer` is the kind the frame writes (MethodInfo::bufferKind).
+    FrameResources(const Device& device, const Scene& scene, const RenderOptions& options,
+                   const SamplePlan& plan);
+
+    /// The bindings of these resources in the frame's descriptor set layout.
+    std::vector<DescriptorBinding> bindings() const;
+    /// Light `light`'s resources into its descriptor set.
+    void writeDescriptors(DescriptorSet& set, std::size_t light);
+
+    GpuSceneTables tables;
+    Buffer stats; ///< GpuStats per light
+    GBufferImages gbuffer;
+    Image color;      ///< linear RGB, ambient + Σ lights
+    Image visibility; ///< v_coef averaged over the lights
+    LightSampleBuffers samples;
+};
+
+/// The frame's descriptor set layout (every pass contributes its bindings), the pipeline layout
+/// with the GpuPush constants, and one set per light (at least one).
+class FrameDescriptors {
+  public:
+    FrameDescriptors(const Device& device, std::vector<DescriptorBinding> bindings, std::size_t setCount);
+
+    const PipelineLayout& pipelineLayout() const { return m_pipelineLayout; }
+    DescriptorSet& set(std::size_t light) { return m_sets.at(light); }
+    std::size_t setCount() const { return m_sets.size(); }
+
+    void bind(VkCommandBuffer cmd, VkPipelineBindPoint point, std::size_t light) const;
+    void push(VkCommandBuffer cmd, const GpuPush& constants) const;
+
+  private:
+    DescriptorSetLayout m_setLayout;
+    PipelineLayout m_pipelineLayout;
+    std::vector<DescriptorSet> m_sets;
+};
+
+} // namespace stsv

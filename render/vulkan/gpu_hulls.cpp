@@ -1,0 +1,160 @@
+#include "render/vulkan/gpu_hulls.h"
+
+#include "core/error.h"
+#include "gpu/commands.h"
+#include "gpu/device.h"
+#include "gpu/shader_compiler.h"
+
+#include <algorithm>
+
+namespace stsv {
+
+namespace {
+
+constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+constexpr VkPipelineStageFlags2 VERTEX = VK_PIPELINE_STAGE_2_VERTEX_SHADER_BIT;
+constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+constexpr VkDeviceSize TEXEL_BYTES = 16; ///< rgba32ui
+
+/// Threads of the hull shaders' workgroups (CLIP_SHARED_INVOCATIONS): 8, a SIMD batch of
+/// lavapipe, or fewer where the device's shared memory cannot hold 8 polyhedra being clipped
+/// (their corners, one face and a cut's entry and exit points, counted at 16 bytes a vec3, and
+/// the queue of their items).
+std::uint32_t hullThreadsPerGroup(const Device& device) {
+    constexpr std::uint32_t bytesPerThread =
+        ((CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES + 2 * CLIP_MAX_FACES) * 16 +
+        GPU_HULL_MAX_ITEMS_PER_THREAD * 4;
+    std::uint32_t threads = 8;
+    while (threads > 1 && threads * bytesPerThread > device.limits().maxComputeSharedMemorySize) threads /= 2;
+    return threads;
+}
+
+/// Items per thread of the hull passes (HULL_ITEMS_PER_THREAD): on a CPU device 16, so that a
+/// workgroup of the wedge pass, where most carriers have no potential silhouette, queues two or
+/// three full batches (knot: wedge hulls 68-71 ms with 8, 50-66 with 16, alternated runs); on a
+/// GPU 4, for more workgroups in flight.
+std::uint32_t hullItemsPerThread(const Device& device) {
+    return device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? GPU_HULL_MAX_ITEMS_PER_THREAD : 4u;
+}
+
+} // namespace
+
+HullResources::HullResources(const Device& device) : m_device(&device) {
+    draw = Buffer(device, sizeof(GpuHullDraw), STORAGE | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                  MemoryUsage::DeviceLocal);
+    resize(1, 1);
+}
+
+std::vector<DescriptorBinding> HullResources::bindings() {
+    return {
+        {GPU_BINDING_HULL_DRAW, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_RECORDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_VERTICES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_RECORD_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_HULL_VERTEX_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+}
+
+void HullResources::writeDescriptors(DescriptorSet& set) const {
+    set.writeBuffer(GPU_BINDING_HULL_DRAW, draw);
+    set.writeBuffer(GPU_BINDING_HULL_RECORDS, records);
+    set.writeBuffer(GPU_BINDING_HULL_VERTICES, vertices);
+    set.writeTexelBuffer(GPU_BINDING_HULL_RECORD_TEXELS, recordTexels.handle());
+    set.writeTexelBuffer(GPU_BINDING_HULL_VERTEX_TEXELS, vertexTexels.handle());
+}
+
+void HullResources::resize(std::uint64_t recordCount, std::uint64_t triangles) {
+    m_recordCapacity = std::max<std::uint64_t>(recordCount, 1);
+    m_triangleCapacity = std::max<std::uint64_t>(triangles, 1);
+    // Lengths in the shaders are 32-bit.
+    if (3 * m_triangleCapacity > 0xffffffffull || m_recordCapacity * GPU_HULL_RECORD_TEXELS > 0xffffffffull)
+        throw UsageError("the volumes' hulls need " + std::to_string(m_triangleCapacity) + " triangles of " +
+                         std::to_string(m_recordCapacity) +
+                         " volumes, more than one buffer holds; use --extrusion geometry");
+    constexpr VkBufferUsageFlags TEXELS = STORAGE | VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    records = Buffer(*m_device, m_recordCapacity * GPU_HULL_RECORD_TEXELS * TEXEL_BYTES, TEXELS,
+                     MemoryUsage::DeviceLocal);
+    vertices = Buffer(*m_device, 3 * m_triangleCapacity * TEXEL_BYTES, TEXELS, MemoryUsage::DeviceLocal);
+    recordTexels = BufferView(*m_device, records, VK_FORMAT_R32G32B32A32_UINT, TEXEL_BYTES);
+    vertexTexels = BufferView(*m_device, vertices, VK_FORMAT_R32G32B32A32_UINT, TEXEL_BYTES);
+}
+
+void HullResources::size(PassRecorder& recorder, CommandBuffer& commands, const GpuPass& clearCounts,
+                         const Buffer& stats, std::size_t lights,
+                         const std::vector<const HullPass*>& passes) {
+    const ClearPass clearDraw({}, {&draw});
+    VkCommandBuffer cmd = commands.begin();
+    runPass(recorder, cmd, "", clearCounts);
+    for (std::size_t l = 0; l < lights; ++l)
+        for (const HullPass* pass : passes) {
+            runPass(recorder, cmd, "", clearDraw, l);
+            runPass(recorder, cmd, "", *pass, l);
+        }
+    PassAccesses host;
+    host.use(stats, ResourceUse::hostRead());
+    recorder.addPass(cmd, "", host, [](VkCommandBuffer) {});
+    commands.submitAndWait();
+    std::uint64_t volumes = 0, triangles = 0;
+    for (const GpuStats& s : stats.download<GpuStats>(lights))
+        for (const HullPass* pass : passes) {
+            volumes = std::max<std::uint64_t>(volumes, s.*pass->counts().volumes);
+            triangles = std::max<std::uint64_t>(triangles, s.*pass->counts().triangles);
+        }
+    resize(volumes, triangles);
+}
+
+void HullResources::checkCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
+                                  std::uint64_t triangles) const {
+    if (volumes > m_recordCapacity || triangles > m_triangleCapacity)
+        throw Error("internal error: light " + std::to_string(light) + "'s " + pass + " hulls (" +
+                    std::to_string(volumes) + " volumes, " + std::to_string(triangles) +
+                    " triangles) outgrew the buffers sized at start-up");
+}
+
+void HullResources::declareDrawReads(PassAccesses& accesses) const {
+    accesses.use(draw, ResourceUse::indirectRead())
+        .use(vertices, ResourceUse::sampledRead(VERTEX))
+        .use(records, ResourceUse::sampledRead(FRAGMENT));
+}
+
+void HullResources::recordDraw(VkCommandBuffer cmd) const {
+    vkCmdDrawIndirect(cmd, draw.handle(), 0, 1, sizeof(VkDrawIndirectCommand));
+}
+
+HullPass::HullPass(const Device& device, const std::string& shader, const std::vector<ShaderDefine>& defines,
+                   std::uint32_t items, std::uint32_t pushFlags, HullCounts counts, FrameResources& resources,
+                   HullResources& hulls, const FrameDescriptors& descriptors)
+    : m_resources(&resources), m_hulls(&hulls), m_descriptors(&descriptors), m_items(items),
+      m_pushFlags(pushFlags), m_counts(counts), m_threadsPerGroup(hullThreadsPerGroup(device)),
+      m_itemsPerThread(hullItemsPerThread(device)) {
+    std::vector<ShaderDefine> withThreads = defines;
+    withThreads.push_back({"CLIP_SHARED_INVOCATIONS", std::to_string(m_threadsPerGroup)});
+    withThreads.push_back({"HULL_ITEMS_PER_THREAD", std::to_string(m_itemsPerThread)});
+    const ShaderCompiler compiler;
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       compiler.compileFile(shader, withThreads));
+}
+
+PassAccesses HullPass::accesses(std::size_t) const {
+    PassAccesses accesses;
+    accesses.use(m_hulls->draw, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_hulls->records, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_hulls->vertices, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_resources->stats, ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void HullPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, m_pushFlags, 0u});
+    // m_itemsPerThread sides of items per thread, in rows of at most 65535 workgroups (the
+    // minimum maxComputeWorkGroupCount[0]); the shaders number the workgroups row by row.
+    const std::uint64_t perGroup = std::uint64_t(m_threadsPerGroup) * m_itemsPerThread;
+    const std::uint64_t groups = (2ull * m_items + perGroup - 1) / perGroup;
+    const auto rowLength = static_cast<std::uint32_t>(std::min<std::uint64_t>(groups, 65535));
+    if (groups > 0)
+        vkCmdDispatch(cmd, rowLength, static_cast<std::uint32_t>((groups + rowLength - 1) / rowLength), 1);
+}
+
+} // namespace stsv

@@ -1,0 +1,98 @@
+// Volumes drawn as their hulls (DESIGN §4.2, §5): a compute pass builds each volume, clips the
+// scene box by its planes and its light's (volumes/clip_box_dh.h) and appends the polyhedron's
+// triangles and the volume's record; the volume pass then draws them with one indirect draw of
+// hull.vert, its fragment reading the record by index. The STSV pass (stsv_hull.comp) and the
+// wedge pass (wedge_hull.comp) use the same buffers one after the other.
+#pragma once
+
+#include "gpu/buffer.h"
+#include "gpu/pipeline.h"
+#include "render/vulkan/gpu_frame_resources.h"
+#include "render/vulkan/gpu_pass.h"
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace stsv {
+
+class CommandBuffer;
+class HullPass;
+
+/// The GpuStats counters a hull pass adds its volumes and hull triangles to.
+struct HullCounts {
+    uint GpuStats::*volumes;
+    uint GpuStats::*triangles;
+};
+
+/// What the hull passes append and the draws read: the indirect arguments and counts, the
+/// records and the vertices. Sized at start-up by a run of the hull passes (resize), so a
+/// frame's exact needs; 1-element stand-ins before that.
+class HullResources {
+  public:
+    explicit HullResources(const Device& device);
+
+    /// The bindings these resources add to the frame's descriptor set layout.
+    static std::vector<DescriptorBinding> bindings();
+    void writeDescriptors(DescriptorSet& set) const;
+    /// Room for `records` records and `triangles` hull triangles (at least one of each).
+    void resize(std::uint64_t records, std::uint64_t triangles);
+    /// Runs `passes` once per light into the 1-element stand-ins: they count every volume and
+    /// triangle while writing none (`clearCounts` zeroes the counters in `stats` first), and
+    /// the buffers get exactly the largest pass's needs (the passes are deterministic: every
+    /// frame appends the same counts). The descriptors must be written again.
+    void size(PassRecorder& recorder, CommandBuffer& commands, const GpuPass& clearCounts,
+              const Buffer& stats, std::size_t lights, const std::vector<const HullPass*>& passes);
+    /// A hull pass writes nothing past the buffers sized at start-up; a frame that needed more
+    /// is wrong, so it is an error, not a picture.
+    void checkCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
+                       std::uint64_t triangles) const;
+
+    std::uint64_t recordCapacity() const { return m_recordCapacity; }
+    std::uint64_t triangleCapacity() const { return m_triangleCapacity; }
+
+    Buffer draw;     ///< GpuHullDraw
+    Buffer records;  ///< GPU_HULL_RECORD_TEXELS uvec4 per record, written as storage, read as texels
+    Buffer vertices; ///< uvec4 per hull vertex, written as storage, read as texels
+    BufferView recordTexels;
+    BufferView vertexTexels;
+
+    /// The draw's accesses, for a volume pass that draws the hulls.
+    void declareDrawReads(PassAccesses& accesses) const;
+    /// The indirect draw of the hulls (inside the pass's rendering).
+    void recordDraw(VkCommandBuffer cmd) const;
+
+  private:
+    const Device* m_device;
+    std::uint64_t m_recordCapacity = 0;
+    std::uint64_t m_triangleCapacity = 0;
+};
+
+/// One hull compute pass for one light: `shader` (stsv_hull.comp, wedge_hull.comp) over the
+/// sides of `items` (triangles, carrier faces), side 0 of every item first, HULL_ITEMS_PER_THREAD
+/// sides a thread (a workgroup queues those with a volume, then clips them). The
+/// HullResources' draw arguments must be zeroed before (HullResources::draw).
+class HullPass final : public GpuPass {
+  public:
+    HullPass(const Device& device, const std::string& shader, const std::vector<ShaderDefine>& defines,
+             std::uint32_t items, std::uint32_t pushFlags, HullCounts counts, FrameResources& resources,
+             HullResources& hulls, const FrameDescriptors& descriptors);
+    /// Where the pass counts its volumes and triangles.
+    HullCounts counts() const { return m_counts; }
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    FrameResources* m_resources;
+    HullResources* m_hulls;
+    const FrameDescriptors* m_descriptors;
+    std::uint32_t m_items;
+    std::uint32_t m_pushFlags;
+    HullCounts m_counts;
+    std::uint32_t m_threadsPerGroup;
+    std::uint32_t m_itemsPerThread;
+    Pipeline m_pipeline;
+};
+
+} // namespace stsv

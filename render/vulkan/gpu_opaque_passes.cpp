@@ -1,0 +1,279 @@
+#include "render/vulkan/gpu_opaque_passes.h"
+
+#include "core/error.h"
+#include "gpu/device.h"
+#include "gpu/rendering.h"
+#include "gpu/shader_compiler.h"
+#include "volumes/extrusion_dh.h"
+#include "wedges/adjacency.h"
+
+#include <algorithm>
+#include <unordered_map>
+
+namespace stsv {
+
+namespace {
+
+constexpr VkFormat CENTER_FORMAT = VK_FORMAT_R32_SINT;
+constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
+constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+
+/// `defines` plus the technique (WEDGE_PW) and whether pw folds in the STSV part (WEDGE_STSV).
+std::vector<ShaderDefine> wedgeDefines(const RenderOptions& options, std::vector<ShaderDefine> defines) {
+    const MethodInfo& method = methodInfo(options.method);
+    const bool pw = method.opaque == OpaqueTechnique::Pw;
+    defines.push_back({"WEDGE_PW", pw ? "1" : "0"});
+    defines.push_back({"WEDGE_STSV", pw && method.stsv != StsvTriangles::None ? "1" : "0"});
+    return defines;
+}
+
+/// The volume passes' common state: the depth test "behind the visible point"
+/// (setBehindVisiblePointDepth), one point per primitive expanded by the geometry shader.
+GraphicsPipelineDesc volumePipelineDesc(std::vector<ShaderStage> stages) {
+    GraphicsPipelineDesc desc;
+    desc.stages = std::move(stages);
+    desc.topology = VK_PRIMITIVE_TOPOLOGY_POINT_LIST;
+    setBehindVisiblePointDepth(desc);
+    desc.frontFace = VK_FRONT_FACE_COUNTER_CLOCKWISE; // outward faces are CCW
+    return desc;
+}
+
+} // namespace
+
+GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
+    const EdgeAdjacency adj = buildEdgeAdjacency(scene, [&](std::size_t t) { return !scene.perforated(t); });
+    const std::vector<std::uint32_t> carriers = edgeCarriers(adj, scene);
+    GpuEdgeTables tables;
+    std::unordered_map<std::uint32_t, std::uint32_t> carrierOf; // triangle → its index in tables.carriers
+    tables.faces.reserve(adj.faces.size());
+    for (const EdgeFace& f : adj.faces)
+        tables.faces.push_back({adj.positions[f.opposite], f.triangle, f.forward ? 1u : 0u, 0u, 0u, 0u});
+    tables.edges.reserve(adj.edges.size());
+    for (const MeshEdge& e : adj.edges) {
+        GpuEdge g{};
+        g.v0 = adj.positions[e.v0];
+        g.v1 = adj.positions[e.v1];
+        g.firstFace = e.firstFace;
+        g.faceCount = e.faceCount;
+        // One bound per carrier face, for the up to three edges it carries (wedges/adjacency.h).
+        const std::uint32_t t = carriers[tables.edges.size()];
+        if (t != NO_CARRIER) {
+            const auto [slot, added] = carrierOf.try_emplace(t, std::uint32_t(tables.carriers.size()));
+            if (added) tables.carriers.push_back({t, GPU_NO_EDGE, GPU_NO_EDGE, GPU_NO_EDGE});
+            uvec4& carrier = tables.carriers[slot->second];
+            const std::uint32_t edge = std::uint32_t(tables.edges.size());
+            if (carrier.y == GPU_NO_EDGE)
+                carrier.y = edge;
+            else if (carrier.z == GPU_NO_EDGE)
+                carrier.z = edge;
+            else
+                carrier.w = edge;
+        }
+        tables.edges.push_back(g);
+    }
+    return tables;
+}
+
+std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
+    return {{GPU_BINDING_EDGES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_EDGE_FACES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CARRIER_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_EDGE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1}};
+}
+
+OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Scene& scene,
+                                                 const RenderOptions& options) {
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
+    GpuEdgeTables tables = buildGpuEdgeTables(scene);
+    m_edgeCount = tables.edges.size();
+    m_carrierCount = tables.carriers.size();
+    if (tables.edges.empty()) tables.edges.push_back({});
+    if (tables.faces.empty()) tables.faces.push_back({});
+    if (tables.carriers.empty()) tables.carriers.push_back(uvec4(GPU_NO_EDGE));
+    // The fragments of the wedge pass read edges, faces and carriers at a per-lane index: as
+    // texels, a vector gather on lavapipe, where a storage-buffer load is a loop over the lanes.
+    const VkBufferUsageFlags texels = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    edges = createBuffer(device, std::span<const GpuEdge>(tables.edges), storage | texels);
+    faces = createBuffer(device, std::span<const GpuEdgeFace>(tables.faces), storage | texels);
+    carriers = createBuffer(device, std::span<const uvec4>(tables.carriers), texels);
+    edgeTexels = BufferView(device, edges, VK_FORMAT_R32G32B32A32_UINT, 16);
+    faceTexels = BufferView(device, faces, VK_FORMAT_R32G32B32A32_UINT, 16);
+    carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
+    center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
+                            CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
+}
+
+void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set) const {
+    set.writeBuffer(GPU_BINDING_EDGES, edges);
+    set.writeBuffer(GPU_BINDING_EDGE_FACES, faces);
+    set.writeTexelBuffer(GPU_BINDING_CARRIER_TEXELS, carrierTexels.handle());
+    set.writeTexelBuffer(GPU_BINDING_EDGE_TEXELS, edgeTexels.handle());
+    set.writeTexelBuffer(GPU_BINDING_EDGE_FACE_TEXELS, faceTexels.handle());
+    set.writeStorageImage(GPU_BINDING_CENTER, center);
+}
+
+CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,
+                                 FrameResources& frame, const FrameDescriptors& descriptors,
+                                 const std::vector<ShaderDefine>& defines)
+    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
+      m_pointCount(static_cast<uint32_t>(scene.triangleCount() + opaque.edgeCount())) {
+    const ShaderCompiler compiler;
+    // Both facings, no writes but the atomics.
+    GraphicsPipelineDesc desc = volumePipelineDesc(
+        {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", defines)},
+         {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("dcs_center.geom", defines)},
+         {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("dcs_center.frag", defines)}});
+    desc.cullMode = VK_CULL_MODE_NONE;
+    m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+}
+
+PassAccesses CenterCountPass::accesses(std::size_t) const {
+    PassAccesses accesses;
+    accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
+        .use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
+        .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
+        .use(m_opaque->center, ResourceUse::storageReadWrite(FRAGMENT))
+        .use(m_frame->stats, ResourceUse::storageReadWrite(FRAGMENT));
+    return accesses;
+}
+
+void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    beginRendering(cmd, {}, DepthTarget{&m_frame->gbuffer.depth, false, GPU_DEPTH_CLEAR, true});
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    vkCmdDraw(cmd, m_pointCount, 1, 0, 0);
+    endRendering(cmd);
+}
+
+WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+                     FrameResources& frame, const FrameDescriptors& descriptors,
+                     const std::vector<ShaderDefine>& defines, const HullResources* hulls,
+                     DeferredFragments& deferred)
+    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_hulls(hulls), m_deferred(&deferred),
+      m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw) {
+    VkFormatProperties coverageFormat{};
+    vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), COVERAGE_FORMAT, &coverageFormat);
+    if (m_pw && !(coverageFormat.optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
+        throw UsageError("Vulkan device " + device.info().name +
+                         " cannot blend into R32_SFLOAT attachments (penumbra-wedge coverage)");
+    const ShaderCompiler compiler;
+    // The back faces of the bound behind the visible point, as the STSV pass.
+    std::vector<ShaderDefine> fragmentDefines = wedgeDefines(options, defines);
+    GraphicsPipelineDesc desc;
+    if (m_hulls) {
+        fragmentDefines.push_back({"WEDGE_HULL_PATH", "1"});
+        desc = volumePipelineDesc(
+            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("hull.vert", defines)},
+             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", fragmentDefines)}});
+        desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+    } else {
+        desc = volumePipelineDesc(
+            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", defines)},
+             {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedge.geom", defines)},
+             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", fragmentDefines)}});
+    }
+    if (m_pw) {
+        desc.colorFormats = {COVERAGE_FORMAT};
+        desc.blend = {additiveBlend()};
+    }
+    desc.cullMode = VK_CULL_MODE_FRONT_BIT;
+    m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+}
+
+PassAccesses WedgePass::accesses(std::size_t) const {
+    PassAccesses accesses;
+    accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
+        .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
+        .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
+        .use(m_frame->stats, ResourceUse::storageReadWrite(FRAGMENT));
+    if (m_hulls) m_hulls->declareDrawReads(accesses);
+    if (m_pw)
+        accesses.use(m_frame->samples.coverage, ResourceUse::colorAttachment());
+    else
+        accesses.use(m_deferred->count, ResourceUse::storageReadWrite(FRAGMENT))
+            .use(m_deferred->fragments, ResourceUse::storageReadWrite(FRAGMENT));
+    return accesses;
+}
+
+void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
+    std::vector<ColorTarget> targets;
+    if (m_pw) targets.push_back({&m_frame->samples.coverage, true, {}});
+    beginRendering(cmd, targets, DepthTarget{&m_frame->gbuffer.depth, false, GPU_DEPTH_CLEAR, true});
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    if (m_hulls)
+        m_hulls->recordDraw(cmd);
+    else if (m_opaque->carrierCount() > 0)
+        vkCmdDraw(cmd, static_cast<uint32_t>(m_opaque->carrierCount()), 1, 0, 0);
+    endRendering(cmd);
+}
+
+WedgeSamplesPass::WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
+                                   const FrameDescriptors& descriptors,
+                                   const std::vector<ShaderDefine>& defines)
+    : m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
+      m_groups(deferredSampleGroups(device)) {
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       ShaderCompiler().compileFile("wedge_samples.comp", defines));
+}
+
+PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_deferred->count, ResourceUse::storageRead(COMPUTE))
+        .use(m_deferred->fragments, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->stats, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void WedgeSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    vkCmdDispatch(cmd, m_groups, 1, 1);
+}
+
+FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+                   FrameResources& frame, const FrameDescriptors& descriptors,
+                   const std::vector<ShaderDefine>& defines)
+    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
+      m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw),
+      m_counters(options.buffer == BufferKind::Counters), m_width(static_cast<uint32_t>(options.width)),
+      m_height(static_cast<uint32_t>(options.height)) {
+    const ShaderCompiler compiler;
+    m_pipeline =
+        createComputePipeline(device, descriptors.pipelineLayout(),
+                              compiler.compileFile("wedge_fold.comp", wedgeDefines(options, defines)));
+}
+
+PassAccesses FoldPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
+        .use(m_opaque->center, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->samples.coverage,
+             m_pw ? ResourceUse::storageReadWrite(COMPUTE) : ResourceUse::storageRead(COMPUTE));
+    // DCS folds into the counters; pw+stsv reads the STSV part from the light's sample buffer.
+    // wedge_fold.comp declares the mask array in every variant.
+    if (m_counters)
+        accesses.use(m_frame->samples.counters[light],
+                     m_pw ? ResourceUse::storageRead(COMPUTE) : ResourceUse::storageReadWrite(COMPUTE));
+    for (std::size_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
+        accesses.use(m_frame->samples.mask(light, i), ResourceUse::storageRead(COMPUTE));
+    return accesses;
+}
+
+void FoldPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    // wedge_fold.comp works on 16 × 16 tiles.
+    dispatchPerPixel(cmd, m_width, m_height);
+}
+
+} // namespace stsv

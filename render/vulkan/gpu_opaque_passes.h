@@ -1,0 +1,153 @@
+// The Vulkan passes of the opaque occluders (DESIGN §4.5, STSV paper Algorithm 2 lines 4–7 and
+// 11), per light: the z-fail counting shadow volume at the light centre (dcs_center.*), the wedge
+// pass over the potential silhouette edges (wedge.*; DCS counters or PW coverage) and, after the
+// STSV pass of the perforated triangles, the fold that combines them (wedge_fold.comp).
+#pragma once
+
+#include "gpu/buffer.h"
+#include "gpu/descriptors.h"
+#include "gpu/image.h"
+#include "gpu/pipeline.h"
+#include "render/options.h"
+#include "render/vulkan/gpu_deferred.h"
+#include "render/vulkan/gpu_frame_dh.h"
+#include "render/vulkan/gpu_frame_resources.h"
+#include "render/vulkan/gpu_hulls.h"
+#include "render/vulkan/gpu_pass.h"
+#include "scene/scene.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace stsv {
+
+class Device;
+
+/// The welded edges of the opaque triangles (wedges/adjacency.h) as the GPU reads them: edge
+/// endpoints, incident faces with their third vertices, and the carrier face whose STSV volume
+/// bounds the edge's wedge (the first non-degenerate face, as render/cpu_wedges.cpp). The
+/// carriers, each with the edges it carries (at most its three, GPU_NO_EDGE in the free slots),
+/// are what the wedge passes draw: one bound for all of a face's edges.
+struct GpuEdgeTables {
+    std::vector<GpuEdge> edges;
+    std::vector<GpuEdgeFace> faces;
+    std::vector<uvec4> carriers; ///< triangle, edges
+};
+
+GpuEdgeTables buildGpuEdgeTables(const Scene& scene);
+
+/// What the opaque passes share: the edge tables (uploaded once; 1-element stand-ins for a scene
+/// without opaque edges) and the centre-count image. Only a frame with the wedge technique has them.
+class OpaqueOccluderResources {
+  public:
+    OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options);
+
+    /// The bindings these resources add to the frame's descriptor set layout.
+    static std::vector<DescriptorBinding> bindings();
+    void writeDescriptors(DescriptorSet& set) const;
+
+    std::size_t edgeCount() const { return m_edgeCount; }
+    std::size_t carrierCount() const { return m_carrierCount; }
+
+    Buffer edges;    ///< GpuEdge[], read as storage and as texels
+    Buffer faces;    ///< GpuEdgeFace[], read as storage and as texels
+    Buffer carriers; ///< uvec4[]: triangle, carried edges, read as texels
+    BufferView edgeTexels;
+    BufferView faceTexels;
+    BufferView carrierTexels;
+    Image center; ///< r32i z-fail layer count D(r) at the light centre
+
+  private:
+    std::size_t m_edgeCount = 0;
+    std::size_t m_carrierCount = 0;
+};
+
+/// D(r): every face of the counting volumes (the opaque triangles' caps and edge quads seen from
+/// the light centre) behind the visible point adds ±1 at the pixel. `center` must be cleared.
+class CenterCountPass final : public GpuPass {
+  public:
+    CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,
+                    FrameResources& frame, const FrameDescriptors& descriptors,
+                    const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    OpaqueOccluderResources* m_opaque;
+    FrameResources* m_frame;
+    const FrameDescriptors* m_descriptors;
+    std::uint32_t
+        m_pointCount; ///< primitives of dcs_center.geom: the triangles (caps), then the edges (quads)
+    Pipeline m_pipeline;
+};
+
+/// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume and light
+/// planes: DCS lists the fragments with the edge a silhouette seen from p in `deferred` (for
+/// WedgeSamplesPass), PW adds the analytic wedge coverage to the coverage attachment. The
+/// bounds are drawn as the carrier's prism (wedge.geom) or, with `hulls`, as the hulls of
+/// wedge_hull.comp (render/vulkan/gpu_hulls.h).
+class WedgePass final : public GpuPass {
+  public:
+    WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+              FrameResources& frame, const FrameDescriptors& descriptors,
+              const std::vector<ShaderDefine>& defines, const HullResources* hulls,
+              DeferredFragments& deferred);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    OpaqueOccluderResources* m_opaque;
+    FrameResources* m_frame;
+    const FrameDescriptors* m_descriptors;
+    const HullResources* m_hulls; ///< null: the prisms of wedge.geom
+    DeferredFragments* m_deferred;
+    bool m_pw;
+    Pipeline m_pipeline;
+};
+
+/// DCS after WedgePass: wedge_samples.comp runs the edge term and the sample loop of every listed
+/// fragment, adding the crossings to the light's counters; it also stores how many fragments the
+/// draw tried to list (GpuStats::wedgeListed), so that the host can grow a list that was short.
+class WedgeSamplesPass final : public GpuPass {
+  public:
+    WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
+                     const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    FrameResources* m_frame;
+    DeferredFragments* m_deferred;
+    const FrameDescriptors* m_descriptors;
+    std::uint32_t m_groups;
+    Pipeline m_pipeline;
+};
+
+/// D(r) plus the wedge terms: DCS counters D(x) = D(r) + Σ crossings (+ STSV increments), or
+/// the PW v_coef in the coverage image (minus the STSV occluded fraction for pw+stsv).
+class FoldPass final : public GpuPass {
+  public:
+    FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+             FrameResources& frame, const FrameDescriptors& descriptors,
+             const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    OpaqueOccluderResources* m_opaque;
+    FrameResources* m_frame;
+    const FrameDescriptors* m_descriptors;
+    bool m_pw;
+    bool m_counters;
+    uint32_t m_width, m_height;
+    Pipeline m_pipeline;
+};
+
+} // namespace stsv

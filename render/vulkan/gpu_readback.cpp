@@ -1,0 +1,144 @@
+#include "render/vulkan/gpu_readback.h"
+
+#include "sampling/ls_buffer_dh.h"
+
+#include "core/parallel.h"
+#include "reference/embree_scene.h"
+
+#include <algorithm>
+#include <cstring>
+#include <functional>
+#include <iterator>
+
+namespace stsv {
+
+FrameReadback::FrameReadback(const Device& device, const Scene& scene, const RenderOptions& options,
+                             FrameResources& resources)
+    : m_scene(&scene), m_options(options), m_resources(&resources) {
+    VkDeviceSize size = 0;
+    auto place = [&size](VkDeviceSize bytes) { // 16-byte aligned: a multiple of every texel size
+        const VkDeviceSize offset = size;
+        size += (bytes + 15) / 16 * 16;
+        return offset;
+    };
+    m_layout.position = place(resources.gbuffer.position.byteSize());
+    m_layout.color = place(resources.color.byteSize());
+    m_layout.triangle = place(resources.gbuffer.triangleId.byteSize());
+    m_layout.visibility = place(resources.visibility.byteSize());
+    const auto& masks = resources.samples.masks;
+    m_layout.masks.resize(masks.size());
+    for (std::size_t l = 0; l < masks.size(); ++l)
+        for (const Image& image : masks[l]) m_layout.masks[l].push_back(place(image.byteSize()));
+    if (options.buffer == BufferKind::Counters)
+        for (std::size_t l = 0; l < scene.lights.size(); ++l)
+            m_layout.counters.push_back(place(resources.samples.counters[l].size()));
+    m_layout.stats = place(resources.stats.size());
+    m_staging = Buffer(device, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceToHost);
+}
+
+PassAccesses FrameReadback::accesses(std::size_t) const {
+    FrameResources& r = *m_resources;
+    PassAccesses accesses;
+    accesses.use(r.gbuffer.position, ResourceUse::transferRead())
+        .use(r.color, ResourceUse::transferRead())
+        .use(r.gbuffer.triangleId, ResourceUse::transferRead())
+        .use(r.visibility, ResourceUse::transferRead());
+    for (auto& images : r.samples.masks)
+        for (Image& image : images) accesses.use(image, ResourceUse::transferRead());
+    for (std::size_t l = 0; l < m_layout.counters.size(); ++l)
+        accesses.use(r.samples.counters[l], ResourceUse::transferRead());
+    accesses.use(r.stats, ResourceUse::transferRead()).use(m_staging, ResourceUse::transferWrite());
+    return accesses;
+}
+
+void FrameReadback::record(VkCommandBuffer cmd, std::size_t) const {
+    FrameResources& r = *m_resources;
+    const VkBuffer staging = m_staging.handle();
+    r.gbuffer.position.recordCopyToBuffer(cmd, staging, m_layout.position);
+    r.color.recordCopyToBuffer(cmd, staging, m_layout.color);
+    r.gbuffer.triangleId.recordCopyToBuffer(cmd, staging, m_layout.triangle);
+    r.visibility.recordCopyToBuffer(cmd, staging, m_layout.visibility);
+    for (std::size_t l = 0; l < r.samples.masks.size(); ++l)
+        for (std::size_t i = 0; i < r.samples.masks[l].size(); ++i)
+            r.samples.masks[l][i].recordCopyToBuffer(cmd, staging, m_layout.masks[l][i]);
+    auto copyBuffer = [&](const Buffer& from, VkDeviceSize offset) {
+        const VkBufferCopy region{0, offset, from.size()};
+        vkCmdCopyBuffer(cmd, from.handle(), staging, 1, &region);
+    };
+    for (std::size_t l = 0; l < m_layout.counters.size(); ++l)
+        copyBuffer(r.samples.counters[l], m_layout.counters[l]);
+    copyBuffer(r.stats, m_layout.stats);
+}
+
+PassAccesses FrameReadback::hostAccesses() const {
+    PassAccesses accesses;
+    accesses.use(m_staging, ResourceUse::hostRead());
+    return accesses;
+}
+
+std::vector<GpuStats> FrameReadback::unpack(Frame& frame) const {
+    const int w = m_options.width, h = m_options.height;
+    const std::size_t pixels = std::size_t(w) * h;
+    const std::size_t lightCount = m_scene->lights.size();
+    const auto* positions = staged<vec4>(m_layout.position);
+    const auto* rgba = staged<vec4>(m_layout.color);
+    const auto* tris = staged<std::uint32_t>(m_layout.triangle);
+    // The outputs are fresh allocations whose first touch (page faults) costs more than the
+    // copying: build them on all cores, one output per task, then the normals per pixel.
+    const std::function<void()> jobs[] = {
+        [&] {
+            frame.gbuffer = GBuffer(w, h);
+            std::memcpy(frame.gbuffer.triangle.data(), tris, pixels * sizeof(std::uint32_t));
+        },
+        [&] {
+            frame.color = ImageF(w, h, 3);
+            for (std::size_t i = 0; i < pixels; ++i)
+                for (int c = 0; c < 3; ++c) frame.color.pixels[3 * i + std::size_t(c)] = rgba[i][c];
+        },
+        [&] {
+            frame.visibility = ImageF(w, h, 1);
+            std::memcpy(frame.visibility.pixels.data(), staged<float>(m_layout.visibility),
+                        pixels * sizeof(float));
+        },
+        [&] {
+            for (std::size_t l = 0; l < lightCount; ++l)
+                unpackLightSamples(frame.lightSamples.emplace_back(w, h, m_options.samples, m_options.buffer),
+                                   l);
+        }};
+    parallelFor(std::size(jobs), [&](std::size_t j) { jobs[j](); });
+    parallelForChunks(pixels, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t i = begin; i < end; ++i) {
+            if (!frame.gbuffer.covered(i)) continue;
+            frame.gbuffer.position[i] = vec3(positions[i]);
+            frame.gbuffer.normal[i] =
+                shadingNormal(*m_scene, tris[i], m_scene->camera.eye, frame.gbuffer.position[i]);
+        }
+    });
+    const auto* statsBegin = staged<GpuStats>(m_layout.stats);
+    return {statsBegin, statsBegin + std::max<std::size_t>(lightCount, 1)};
+}
+
+void FrameReadback::unpackLightSamples(LightSampleBuffer& buffer, std::size_t l) const {
+    const std::size_t pixels = std::size_t(m_options.width) * std::size_t(m_options.height);
+    if (buffer.kind() == BufferKind::Counters) {
+        std::vector<std::uint16_t>& out = buffer.counters();
+        std::memcpy(out.data(), staged<std::uint16_t>(m_layout.counters[l]),
+                    out.size() * sizeof(std::uint16_t));
+        return;
+    }
+    // Attachment lsMaskAttachment(w) holds word w of each pixel in channel lsMaskComponent(w).
+    const auto wordsPerPixel = std::size_t(buffer.wordsPerPixel());
+    std::vector<std::uint32_t>& out = buffer.words();
+    const std::vector<VkDeviceSize>& masks = m_layout.masks[l];
+    if (masks.size() == 1 && wordsPerPixel == 2) {
+        std::memcpy(out.data(), staged<std::uint32_t>(masks[0]), pixels * 2 * sizeof(std::uint32_t));
+        return;
+    }
+    for (std::size_t word = 0; word < wordsPerPixel; ++word) {
+        const auto* pairs = staged<std::uint32_t>(masks[lsMaskAttachment(uint(word))]);
+        for (std::size_t p = 0; p < pixels; ++p)
+            out[p * wordsPerPixel + word] = pairs[p * 2 + lsMaskComponent(uint(word))];
+    }
+}
+
+} // namespace stsv

@@ -1,0 +1,296 @@
+#include "render/vulkan/gpu_renderer.h"
+
+#include "core/error.h"
+#include "core/timer.h"
+#include "gpu/commands.h"
+#include "gpu/device.h"
+#include "gpu/pass_recorder.h"
+#include "gpu/timer.h"
+#include "render/vulkan/gpu_frame_resources.h"
+#include "render/vulkan/gpu_gbuffer_pass.h"
+#include "render/vulkan/gpu_hulls.h"
+#include "render/vulkan/gpu_opaque_passes.h"
+#include "render/vulkan/gpu_readback.h"
+#include "render/vulkan/gpu_resolve_pass.h"
+#include "render/vulkan/gpu_shadowmap_passes.h"
+#include "render/vulkan/gpu_stsv_pass.h"
+#include "render/vulkan/vulkan_techniques.h"
+#include "scene/camera.h"
+
+#include <algorithm>
+#include <memory>
+#include <string>
+
+namespace stsv {
+
+namespace {
+
+std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
+    std::vector<DescriptorBinding> bindings = resources.bindings();
+    for (const DescriptorBinding& b : OpaqueOccluderResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : ShadowMapResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : HullResources::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : DeferredFragments::bindings()) bindings.push_back(b);
+    return bindings;
+}
+
+/// The clear at the start of a frame: the fragment statistics, and the sample counters the
+/// passes of a counters frame add to.
+ClearPass countClearPass(const FrameResources& resources, const RenderOptions& options,
+                         std::size_t lightCount) {
+    std::vector<const Buffer*> buffers{&resources.stats};
+    if (options.buffer == BufferKind::Counters)
+        for (std::size_t l = 0; l < lightCount; ++l) buffers.push_back(&resources.samples.counters[l]);
+    return ClearPass({}, buffers);
+}
+
+/// Timed passes of a frame besides the lights': the G-buffer, the ambient of a frame without
+/// lights, the copy into the staging buffer.
+constexpr std::uint32_t FRAME_TIMED_PASSES = 3;
+
+/// One frame of one method on the GPU: allocates the resources every family shares, builds the
+/// row's techniques, orders them per light (STSV paper Algorithm 2), reads back and writes the
+/// stats. Barriers come from the passes' declared accesses (gpu/pass_recorder.h).
+class VulkanFrame {
+  public:
+    /// `deferredCapacity`: the fragments the STSV hull draw and the DCS wedge draw may list for
+    /// their sample passes at first (the list grows when a frame needs more).
+    VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options, StsvGeometry geometry,
+                std::uint64_t deferredCapacity);
+    Frame render(double startupMs);
+
+  private:
+    const Device& m_device;
+    const Scene& m_scene;
+    RenderOptions m_options;
+    const MethodInfo& m_method;
+    StsvGeometry m_geometry;
+    SamplePlan m_plan;
+    FrameResources m_resources;
+    HullResources m_hulls;
+    DeferredFragments m_deferred;
+    FrameDescriptors m_descriptors;
+    VulkanTechniqueContext m_context;
+    std::vector<std::unique_ptr<VulkanTechnique>> m_techniques;
+    bool m_techniquesWriteMasks;
+    ClearPass m_clearCounts;
+    GBufferPass m_gbuffer;
+    ResolvePass m_resolve;
+    FrameReadback m_readback;
+    GpuTimer m_timer;
+    PassRecorder m_recorder;
+    CommandBuffer m_commands;
+
+    void writeDescriptors();
+    void record(VkCommandBuffer cmd);
+    void recordLight(VkCommandBuffer cmd, std::size_t light);
+    std::uint32_t timedPasses() const;
+};
+
+VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
+                         StsvGeometry geometry, std::uint64_t deferredCapacity)
+    : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
+      m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
+      m_hulls(device), m_deferred(device, options, deferredCapacity),
+      m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
+      m_context{device,        scene,
+                m_options,     m_method,
+                geometry,      m_resources,
+                m_descriptors, m_hulls,
+                m_deferred,    sampleDefines(options, m_resources.tables.layout)},
+      m_techniques(makeVulkanTechniques(m_context)),
+      m_techniquesWriteMasks(std::any_of(m_techniques.begin(), m_techniques.end(),
+                                         [](const auto& t) { return t->writesSampleMasks(); })),
+      m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
+      m_gbuffer(device, m_resources, m_descriptors, layoutDefines(m_resources.tables.layout),
+                static_cast<std::uint32_t>(scene.triangleCount())),
+      m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
+      m_readback(device, scene, options, m_resources), m_timer(device, timedPasses()), m_recorder(m_timer),
+      m_commands(device) {
+    writeDescriptors();
+    std::vector<const HullPass*> hullPasses;
+    for (const auto& technique : m_techniques)
+        for (const HullPass* pass : technique->hullPasses()) hullPasses.push_back(pass);
+    if (!hullPasses.empty()) {
+        m_hulls.size(m_recorder, m_commands, m_clearCounts, m_resources.stats, scene.lights.size(),
+                     hullPasses);
+        writeDescriptors();
+    }
+}
+
+std::uint32_t VulkanFrame::timedPasses() const {
+    std::uint32_t perLight = 1; // the resolve
+    for (const auto& technique : m_techniques) perLight += technique->timedPassesPerLight();
+    return FRAME_TIMED_PASSES + perLight * static_cast<std::uint32_t>(m_scene.lights.size());
+}
+
+/// Every light's set: the shared resources, then what each technique owns.
+void VulkanFrame::writeDescriptors() {
+    for (std::size_t l = 0; l < m_descriptors.setCount(); ++l) {
+        m_resources.writeDescriptors(m_descriptors.set(l), l);
+        m_hulls.writeDescriptors(m_descriptors.set(l));
+        m_deferred.writeDescriptors(m_descriptors.set(l));
+        for (const auto& technique : m_techniques) technique->writeDescriptors(m_descriptors.set(l), l);
+    }
+}
+
+void VulkanFrame::record(VkCommandBuffer cmd) {
+    m_timer.reset(cmd);
+    runPass(m_recorder, cmd, "", m_clearCounts);
+    // Pass 0: G-buffer (ambient is written by the first resolve).
+    runPass(m_recorder, cmd, "gbuffer", m_gbuffer);
+    for (std::size_t l = 0; l < m_scene.lights.size(); ++l) recordLight(cmd, l);
+    if (m_scene.lights.empty()) runPass(m_recorder, cmd, "ambient", m_resolve, ResolvePass::AMBIENT_ONLY);
+    runPass(m_recorder, cmd, "copy", m_readback);
+    m_recorder.addPass(cmd, "", m_readback.hostAccesses(), [](VkCommandBuffer) {});
+}
+
+/// Algorithm 2 for one light: the row's techniques in its order, then what combines them (the
+/// fold), then the resolve. Masks no technique writes are cleared: every sample lit.
+void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
+    if (!m_techniquesWriteMasks) {
+        std::vector<Image*> masks;
+        for (Image& image : m_resources.samples.masks[light]) masks.push_back(&image);
+        if (!masks.empty()) runPass(m_recorder, cmd, "", ClearPass(masks, {}), light);
+    }
+    for (const auto& technique : m_techniques) technique->record(m_recorder, cmd, light);
+    for (const auto& technique : m_techniques) technique->recordCombine(m_recorder, cmd, light);
+    runPass(m_recorder, cmd, "light" + std::to_string(light) + "/resolve", m_resolve, light);
+}
+
+Frame VulkanFrame::render(double startupMs) {
+    Timer total;
+    Frame frame;
+    std::vector<GpuStats> counts;
+    double gpuMs = 0.0;
+    nlohmann::json passes = nlohmann::json::object();
+    Timer readback;
+    for (;;) {
+        frame = Frame{};
+        record(m_commands.begin());
+        Timer gpu;
+        m_commands.submitAndWait();
+        gpuMs = gpu.milliseconds();
+        passes = nlohmann::json::object();
+        for (const GpuTiming& t : m_timer.results()) passes[t.name] = t.milliseconds;
+        readback = Timer();
+        counts = m_readback.unpack(frame);
+        // A fragment the list had no room for is lost: the list grows and the frame runs again.
+        std::uint64_t listed = 0;
+        for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
+            for (const auto& technique : m_techniques)
+                listed = std::max(listed, technique->listedFragments(counts[l]));
+        if (!m_deferred.growFor(listed)) break;
+        writeDescriptors();
+    }
+    for (const auto& technique : m_techniques) technique->readBack(frame);
+    passes["readback"] = readback.milliseconds();
+
+    frame.stats = nlohmann::json::object();
+    if (!m_scene.lights.empty())
+        for (const auto& technique : m_techniques) technique->writeStats(counts, frame.gbuffer, frame.stats);
+    frame.stats["options"] = toJson(m_options);
+    frame.stats["scene"] = sceneStats(m_scene);
+    frame.stats.update(methodSceneNotes(m_scene, m_method));
+    frame.stats["startup_ms"] = startupMs;
+    frame.stats["frame_ms"] = total.milliseconds();
+    frame.stats["gpu_ms"] = gpuMs;
+    frame.stats["passes"] = passes;
+    frame.stats["light_sample_buffer_bytes"] = lightSampleBufferBytes(m_options);
+    frame.stats["gpu"] = {{"device", m_device.info().name},
+                          {"extrusion", toString(m_geometry)},
+                          {"fragment_counts", "atomic counters in the volume passes' shaders"}};
+    return frame;
+}
+
+} // namespace
+
+std::size_t lightSampleBufferBytes(const RenderOptions& options) {
+    return LightSampleBuffer::payloadBytes(options.width, options.height, options.samples, options.buffer);
+}
+
+float gpuNearPlane(const Scene& scene) {
+    const Bounds box = scene.bounds();
+    const float reach = length(box.center() - scene.camera.eye) + 0.5f * length(box.extent());
+    return std::max(GPU_NEAR_FRACTION * reach, 1e-30f);
+}
+
+mat4 gpuClipFromWorld(const Scene& scene, int width, int height) {
+    return clipFromViewReversedInfinite(scene.camera, float(width) / float(height), gpuNearPlane(scene)) *
+           viewFromWorld(scene.camera);
+}
+
+struct VulkanRenderer::Impl {
+    std::unique_ptr<Device> ownDevice;
+    Device* device = nullptr;
+    StsvGeometry geometry = StsvGeometry::Hull;
+    std::unique_ptr<VulkanFrame> frame;
+    RenderOptions requestedOptions; ///< as asked: the frame renders the sub-pixel grid
+    double startupMs = 0.0;
+
+    Impl(const Scene& scene, const RenderOptions& requested, const VulkanRendererConfig& config) {
+        Timer startup;
+        validate(requested);
+        requestedOptions = requested;
+        const RenderOptions options = frameOptions(requested);
+        if (config.device) {
+            device = config.device;
+        } else {
+            DeviceOptions deviceOptions;
+            deviceOptions.select = options.device;
+            deviceOptions.validation = options.validation;
+            deviceOptions.printValidation = options.validation;
+            ownDevice = std::make_unique<Device>(deviceOptions);
+            device = ownDevice.get();
+        }
+        const DeviceInfo& info = device->info();
+        if (!info.depthClamp || !info.logicOp || !info.fragmentStoresAndAtomics)
+            throw UsageError(
+                "Vulkan device " + info.name +
+                " lacks depth clamp, logic op or fragment stores/atomics needed by the STSV pass");
+        const ExtrusionStage stage =
+            config.extrusion != ExtrusionStage::Auto ? config.extrusion : options.extrusion;
+        if (stage == ExtrusionStage::Mesh && !info.meshShader)
+            throw UsageError("Vulkan device " + info.name +
+                             " lacks VK_EXT_mesh_shader (mesh-shader STSV extrusion)");
+        if (stage == ExtrusionStage::Geometry && !info.geometryShader)
+            throw UsageError("Vulkan device " + info.name + " lacks geometry shaders (--extrusion geometry)");
+        geometry = stage == ExtrusionStage::Mesh       ? StsvGeometry::MeshShaderPrism
+                   : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
+                                                       : StsvGeometry::Hull;
+        // Room for two listed fragments a pixel (foliage with 16 k S-triangles lists 1.5 a
+        // pixel), at most kMaxDeferredFragments; a frame that lists more grows the list and runs
+        // again.
+        const std::uint64_t deferred =
+            config.deferredCapacity > 0
+                ? config.deferredCapacity
+                : std::min<std::uint64_t>(2ull * std::uint64_t(options.width) * std::uint64_t(options.height),
+                                          kMaxDeferredFragments);
+        frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred);
+        startupMs = startup.milliseconds();
+    }
+};
+
+VulkanRenderer::VulkanRenderer(const Scene& scene, const RenderOptions& options,
+                               const VulkanRendererConfig& config)
+    : m_impl(std::make_unique<Impl>(scene, options, config)) {}
+
+VulkanRenderer::~VulkanRenderer() {
+    if (m_impl && m_impl->device) m_impl->device->waitIdle();
+}
+
+Frame VulkanRenderer::render() {
+    Frame frame = m_impl->frame->render(m_impl->startupMs);
+    resolveSupersampling(frame, m_impl->requestedOptions);
+    return frame;
+}
+
+const Device& VulkanRenderer::device() const {
+    return *m_impl->device;
+}
+
+bool VulkanRenderer::usesMeshShader() const {
+    return m_impl->geometry == StsvGeometry::MeshShaderPrism;
+}
+
+} // namespace stsv

@@ -1,0 +1,54 @@
+#include "render/vulkan/gpu_resolve_pass.h"
+
+#include "gpu/shader_compiler.h"
+
+namespace stsv {
+
+ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderOptions& options,
+                         const SamplePlan& plan, FrameResources& resources,
+                         const FrameDescriptors& descriptors)
+    : m_scene(&scene), m_resources(&resources), m_descriptors(&descriptors),
+      m_counters(options.buffer == BufferKind::Counters),
+      m_coverage(methodInfo(options.method).output == MethodOutput::Visibility),
+      m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
+    const ShaderCompiler compiler;
+    std::vector<ShaderDefine> defines =
+        withPatternDefine(sampleDefines(options, resources.tables.layout), plan);
+    defines.push_back({"RESOLVE_COVERAGE", m_coverage ? "1" : "0"});
+    std::array<bool, 4> used = lightTypesIn(scene);
+    if (scene.lights.empty()) used[0] = true;
+    for (uint type = 0; type < used.size(); ++type)
+        if (used[type])
+            m_pipelines[type] =
+                createComputePipeline(device, descriptors.pipelineLayout(),
+                                      compiler.compileFile("resolve.comp", lightTypeDefines(defines, type)));
+}
+
+PassAccesses ResolvePass::accesses(std::size_t light) const {
+    constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+    const std::size_t set = light == AMBIENT_ONLY ? 0 : light;
+    PassAccesses accesses;
+    accesses.use(m_resources->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+        .use(m_resources->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
+        .use(m_resources->color, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_resources->visibility, ResourceUse::storageReadWrite(COMPUTE));
+    if (m_counters)
+        accesses.use(m_resources->samples.counters[set], ResourceUse::storageRead(COMPUTE));
+    else
+        for (std::size_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
+            accesses.use(m_resources->samples.mask(set, i), ResourceUse::storageRead(COMPUTE));
+    if (m_coverage) accesses.use(m_resources->samples.coverage, ResourceUse::storageRead(COMPUTE));
+    return accesses;
+}
+
+void ResolvePass::record(VkCommandBuffer cmd, std::size_t light) const {
+    const bool ambientOnly = light == AMBIENT_ONLY;
+    const std::size_t set = ambientOnly ? 0 : light;
+    m_pipelines.at(ambientOnly ? 0u : m_scene->lights[light].type).bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set);
+    m_descriptors->push(cmd, GpuPush{ambientOnly ? 0xffffffffu : uint(light), set == 0 ? 1u : 0u, 0u, 0u});
+    // resolve.comp works on 16 × 16 tiles (fewer, larger workgroups: lavapipe pays per workgroup).
+    dispatchPerPixel(cmd, m_width, m_height);
+}
+
+} // namespace stsv

@@ -1,0 +1,87 @@
+// The Vulkan passes of the image-based methods (DESIGN §4.6), per light: the light-space map
+// rasterised into a buffer (shadowmap.vert/frag, one instance per face), then PCF or PCSS's
+// blocker search and filter into the coverage image (shadow_filter.comp), which the resolve
+// reads as v_coef.
+#pragma once
+
+#include "gpu/buffer.h"
+#include "gpu/descriptors.h"
+#include "gpu/pipeline.h"
+#include "render/options.h"
+#include "render/vulkan/gpu_frame_resources.h"
+#include "render/vulkan/gpu_pass.h"
+#include "scene/scene.h"
+#include "shadowmaps/shadow_map.h"
+
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <vector>
+
+namespace stsv {
+
+class Device;
+
+/// Each light's map buffer, the views and filter knobs, the taps (a scene with lights; only a
+/// frame with the shadow-map technique has them).
+class ShadowMapResources {
+  public:
+    ShadowMapResources(const Device& device, const Scene& scene, const RenderOptions& options);
+
+    static std::vector<DescriptorBinding> bindings();
+    void writeDescriptors(DescriptorSet& set, std::size_t light) const;
+
+    /// Light `light`'s map as the last frame left it (call after the frame's submit has finished).
+    ShadowMap download(std::size_t light) const;
+    const ShadowMapSettings& settings() const { return m_settings; }
+    const ShadowMapView& view(std::size_t light) const { return m_views.at(light); }
+
+    std::vector<Buffer> depth; ///< [light]: gpuShadowDepthWord per texel, faces × size²
+    Buffer views;              ///< ShadowFilterParams, then ShadowMapView per light
+    Buffer taps;               ///< vec2: blocker taps, then filter taps
+
+  private:
+    ShadowMapSettings m_settings;
+    std::vector<ShadowMapView> m_views;
+};
+
+/// The map of one light: every triangle drawn once per face, alpha-tested, nearest depth per
+/// texel centre by atomicMax into the light's (cleared) map buffer.
+class ShadowMapPass final : public GpuPass {
+  public:
+    ShadowMapPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
+                  const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    ShadowMapResources* m_maps;
+    const FrameDescriptors* m_descriptors;
+    std::uint32_t m_triangleCount;
+    Pipeline m_pipeline;
+};
+
+/// One filter step per pixel into the coverage image: PCF, PCSS's blocker search (the kernel
+/// radius) or PCSS's filter (v_coef).
+class ShadowFilterPass final : public GpuPass {
+  public:
+    enum Step { Pcf = 0, PcssBlocker = 1, PcssFilter = 2 };
+
+    ShadowFilterPass(const Device& device, const RenderOptions& options, Step step, ShadowMapResources& maps,
+                     FrameResources& frame, const FrameDescriptors& descriptors,
+                     const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    ShadowMapResources* m_maps;
+    FrameResources* m_frame;
+    const FrameDescriptors* m_descriptors;
+    Step m_step;
+    uint32_t m_width, m_height;
+    Pipeline m_pipeline;
+};
+
+} // namespace stsv

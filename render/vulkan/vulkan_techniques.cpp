@@ -1,0 +1,285 @@
+#include "render/vulkan/vulkan_techniques.h"
+
+#include "render/vulkan/gpu_opaque_passes.h"
+#include "render/vulkan/gpu_shadowmap_passes.h"
+
+#include <optional>
+#include <string>
+
+namespace stsv {
+
+namespace {
+
+std::string passName(std::size_t light, const std::string& name) {
+    return "light" + std::to_string(light) + "/" + name;
+}
+
+/// Whether the frame draws STSV volumes: the row sends triangles through STSV and the scene has
+/// some of them (Algorithm 2).
+bool drawsStsv(StsvTriangles which, const Scene& scene) {
+    if (which == StsvTriangles::All) return true;
+    if (which == StsvTriangles::None) return false;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t)
+        if (scene.perforated(t)) return true;
+    return false;
+}
+
+/// STSV over the row's triangles (Algorithm 2 lines 8–10): the volumes' hulls built by a compute
+/// pass and drawn, their listed fragments' samples and, for bits, the merge into the masks; or
+/// the prisms of the geometry or mesh shader. Without S-triangles in the scene, it clears the
+/// masks (every sample lit).
+class StsvTechnique final : public VulkanTechnique {
+  public:
+    explicit StsvTechnique(const VulkanTechniqueContext& c)
+        : m_c(c), m_draws(!c.scene.lights.empty() && drawsStsv(c.method.stsv, c.scene)),
+          m_clearHullDraw({}, {&c.hulls.draw}),
+          m_clearDeferred({}, {&c.deferred.count, &c.deferred.maskWords}) {
+        if (!m_draws) return;
+        const bool bitmask = c.options.buffer == BufferKind::Bitmask;
+        if (c.geometry == StsvGeometry::Hull) c.deferred.use(bitmask);
+        m_stsv.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, c.descriptors,
+                       c.geometry);
+        if (c.geometry != StsvGeometry::Hull) return;
+        m_samples.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, c.descriptors);
+        if (bitmask) m_merge.emplace(c.device, c.options, c.resources, c.deferred, c.descriptors);
+        m_hullPass.emplace(c.device, "stsv_hull.comp", layoutDefines(c.resources.tables.layout),
+                           static_cast<std::uint32_t>(c.scene.triangleCount()),
+                           c.method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u,
+                           HullCounts{&GpuStats::hullVolumes, &GpuStats::hullTriangles}, c.resources, c.hulls,
+                           c.descriptors);
+    }
+
+    bool writesSampleMasks() const override { return true; }
+    std::uint32_t timedPassesPerLight() const override { return 4; }
+    std::vector<const HullPass*> hullPasses() const override {
+        if (!m_hullPass) return {};
+        return {&*m_hullPass};
+    }
+
+    void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
+        if (!m_stsv) {
+            std::vector<Image*> masks;
+            for (Image& image : m_c.resources.samples.masks[light]) masks.push_back(&image);
+            if (!masks.empty()) runPass(recorder, cmd, "", ClearPass(masks, {}), light);
+            return;
+        }
+        if (m_hullPass) {
+            runPass(recorder, cmd, "", m_clearHullDraw, light);
+            runPass(recorder, cmd, passName(light, "stsv_hulls"), *m_hullPass, light);
+        }
+        if (m_samples) runPass(recorder, cmd, "", m_clearDeferred, light);
+        runPass(recorder, cmd, passName(light, "stsv"), *m_stsv, light);
+        if (m_samples) runPass(recorder, cmd, passName(light, "stsv_samples"), *m_samples, light);
+        if (m_merge) runPass(recorder, cmd, passName(light, "stsv_merge"), *m_merge, light);
+    }
+
+    std::uint64_t listedFragments(const GpuStats& counts) const override {
+        return m_samples ? counts.listed : 0;
+    }
+
+    void writeStats(const std::vector<GpuStats>& counts, const GBuffer&,
+                    nlohmann::json& stats) const override {
+        // stsv.frag and stsv_samples.comp test every sample of a fragment inside its volume.
+        const std::uint64_t n = std::uint64_t(m_c.options.samples);
+        nlohmann::json lights = nlohmann::json::array();
+        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
+            const GpuStats& s = counts[l];
+            nlohmann::json light = {
+                {"fragments", s.fragments}, {"inside_fragments", s.inside}, {"samples_tested", n * s.inside}};
+            if (m_hullPass) {
+                m_c.hulls.checkCapacity(l, "STSV", s.hullVolumes, s.hullTriangles);
+                light["hull_volumes"] = s.hullVolumes;
+                light["hull_triangles"] = s.hullTriangles;
+                light["listed_fragments"] = s.listed;
+                light["deferred_fragments"] = s.deferred;
+            }
+            lights.push_back(light);
+        }
+        stats["stsv"] = lights;
+    }
+
+  private:
+    const VulkanTechniqueContext& m_c;
+    bool m_draws;
+    ClearPass m_clearHullDraw;
+    ClearPass m_clearDeferred;
+    std::optional<HullPass> m_hullPass;       ///< with hulls
+    std::optional<StsvPass> m_stsv;           ///< when the scene has S-triangles
+    std::optional<StsvSamplesPass> m_samples; ///< with hulls: the listed fragments
+    std::optional<StsvMergePass> m_merge;     ///< with m_samples in a bitmask frame
+};
+
+/// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the counting volume at the
+/// light centre, the wedge bounds (hulls or wedge.geom prisms), for DCS the listed silhouette
+/// fragments' samples; then the fold (line 11) after the other techniques of the row.
+class WedgeTechnique final : public VulkanTechnique {
+  public:
+    explicit WedgeTechnique(const VulkanTechniqueContext& c)
+        : m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
+          m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls.draw}),
+          m_clearDeferredCount({}, {&c.deferred.count}),
+          m_center(c.device, c.scene, m_opaque, c.resources, c.descriptors, c.defines),
+          m_wedges(c.device, c.options, m_opaque, c.resources, c.descriptors, c.defines,
+                   c.geometry == StsvGeometry::Hull ? &c.hulls : nullptr, c.deferred),
+          m_fold(c.device, c.options, m_opaque, c.resources, c.descriptors, c.defines) {
+        if (!m_pw) {
+            c.deferred.use(false);
+            m_samples.emplace(c.device, c.resources, c.deferred, c.descriptors, c.defines);
+        }
+        if (c.geometry == StsvGeometry::Hull && m_opaque.carrierCount() > 0)
+            m_hullPass.emplace(c.device, "wedge_hull.comp", layoutDefines(c.resources.tables.layout),
+                               static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u,
+                               HullCounts{&GpuStats::wedgeHulls, &GpuStats::wedgeHullTriangles}, c.resources,
+                               c.hulls, c.descriptors);
+    }
+
+    void writeDescriptors(DescriptorSet& set, std::size_t) const override { m_opaque.writeDescriptors(set); }
+    std::uint32_t timedPassesPerLight() const override { return 5; }
+    std::vector<const HullPass*> hullPasses() const override {
+        if (!m_hullPass) return {};
+        return {&*m_hullPass};
+    }
+
+    void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
+        const std::string technique = passName(light, m_pw ? "pw_" : "dcs_");
+        runPass(recorder, cmd, "", m_clearCenter, light);
+        runPass(recorder, cmd, technique + "center", m_center, light);
+        if (m_hullPass) {
+            runPass(recorder, cmd, "", m_clearHullDraw, light);
+            runPass(recorder, cmd, technique + "wedge_hulls", *m_hullPass, light);
+        }
+        if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
+        runPass(recorder, cmd, technique + "wedges", m_wedges, light);
+        if (m_samples) runPass(recorder, cmd, technique + "wedge_samples", *m_samples, light);
+    }
+
+    void recordCombine(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
+        runPass(recorder, cmd, passName(light, "fold"), m_fold, light);
+    }
+
+    std::uint64_t listedFragments(const GpuStats& counts) const override {
+        return m_samples ? counts.wedgeListed : 0;
+    }
+
+    void writeStats(const std::vector<GpuStats>& counts, const GBuffer&,
+                    nlohmann::json& stats) const override {
+        // wedge_samples.comp (DCS) tests every sample of a silhouette fragment.
+        const std::uint64_t n = std::uint64_t(m_c.options.samples);
+        nlohmann::json wedges = nlohmann::json::array();
+        nlohmann::json center = nlohmann::json::array();
+        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
+            const GpuStats& s = counts[l];
+            nlohmann::json wedge = {{"edges", m_opaque.edgeCount()},
+                                    {"fragments", s.wedgeFragments},
+                                    {"silhouette_fragments", s.wedgeInside}};
+            if (!m_pw) {
+                wedge["listed_fragments"] = s.wedgeListed;
+                wedge["samples_tested"] = n * s.wedgeInside;
+            }
+            if (m_hullPass) {
+                m_c.hulls.checkCapacity(l, "wedge", s.wedgeHulls, s.wedgeHullTriangles);
+                wedge["hull_volumes"] = s.wedgeHulls;
+                wedge["hull_triangles"] = s.wedgeHullTriangles;
+            }
+            wedges.push_back(wedge);
+            center.push_back({{"fragments", s.centerFragments}, {"counted_fragments", s.centerCounted}});
+        }
+        stats["wedges"] = wedges;
+        stats["center"] = center;
+    }
+
+  private:
+    const VulkanTechniqueContext& m_c;
+    bool m_pw;
+    OpaqueOccluderResources m_opaque;
+    ClearPass m_clearCenter;
+    ClearPass m_clearHullDraw;
+    ClearPass m_clearDeferredCount;
+    CenterCountPass m_center;
+    WedgePass m_wedges;
+    FoldPass m_fold;
+    std::optional<WedgeSamplesPass> m_samples; ///< DCS: the listed silhouette fragments
+    std::optional<HullPass> m_hullPass;        ///< with hulls, when the scene has carriers
+};
+
+/// The image-based baselines: per light the cleared map, its raster, and PCF or PCSS's two steps
+/// into the v_coef image.
+class ShadowMapTechnique final : public VulkanTechnique {
+  public:
+    explicit ShadowMapTechnique(const VulkanTechniqueContext& c)
+        : m_c(c), m_maps(c.device, c.scene, c.options),
+          m_map(c.device, c.scene, m_maps, c.descriptors, c.defines),
+          m_filter(c.device, c.options,
+                   c.method.shadowMap == ShadowFilter::Pcss ? ShadowFilterPass::PcssFilter
+                                                            : ShadowFilterPass::Pcf,
+                   m_maps, c.resources, c.descriptors, c.defines) {
+        for (const Buffer& depth : m_maps.depth) m_clear.push_back(ClearPass({}, {&depth}));
+        if (c.method.shadowMap == ShadowFilter::Pcss)
+            m_blocker.emplace(c.device, c.options, ShadowFilterPass::PcssBlocker, m_maps, c.resources,
+                              c.descriptors, c.defines);
+    }
+
+    void writeDescriptors(DescriptorSet& set, std::size_t light) const override {
+        m_maps.writeDescriptors(set, light);
+    }
+    std::uint32_t timedPassesPerLight() const override { return 3; }
+
+    void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
+        runPass(recorder, cmd, "", m_clear[light], light);
+        runPass(recorder, cmd, passName(light, "shadow_map"), m_map, light);
+        if (m_blocker) runPass(recorder, cmd, passName(light, "pcss_blocker"), *m_blocker, light);
+        runPass(recorder, cmd, passName(light, "shadow_filter"), m_filter, light);
+    }
+
+    void readBack(Frame& frame) const override {
+        if (!m_c.options.keepShadowMaps) return;
+        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l)
+            frame.shadowMaps.push_back(m_maps.download(l));
+    }
+
+    void writeStats(const std::vector<GpuStats>& counts, const GBuffer& gbuffer,
+                    nlohmann::json& stats) const override {
+        nlohmann::json maps = nlohmann::json::array();
+        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
+            const ShadowMapView& view = m_maps.view(l);
+            nlohmann::json map = {{"faces", view.faces},
+                                  {"texels", std::size_t(view.faces) * view.size * view.size}};
+            map.update(kernelClampStats(counts[l].kernelClamped, gbuffer));
+            maps.push_back(map);
+        }
+        stats["shadow_maps"] = maps;
+    }
+
+  private:
+    const VulkanTechniqueContext& m_c;
+    ShadowMapResources m_maps;
+    std::vector<ClearPass> m_clear; ///< [light]
+    ShadowMapPass m_map;
+    std::optional<ShadowFilterPass> m_blocker; ///< PCSS
+    ShadowFilterPass m_filter;
+};
+
+} // namespace
+
+std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanTechniqueContext& context) {
+    std::vector<std::unique_ptr<VulkanTechnique>> techniques;
+    for (const TechniqueFamily family : context.method.techniques()) {
+        switch (family) {
+        case TechniqueFamily::Traced:
+            throw UsageError(context.method.name + " has no Vulkan technique (its rays run on the CPU)");
+        case TechniqueFamily::OpaqueWedges:
+            techniques.push_back(std::make_unique<WedgeTechnique>(context));
+            break;
+        case TechniqueFamily::StsvVolumes:
+            techniques.push_back(std::make_unique<StsvTechnique>(context));
+            break;
+        case TechniqueFamily::ShadowMap:
+            if (!context.scene.lights.empty())
+                techniques.push_back(std::make_unique<ShadowMapTechnique>(context));
+            break;
+        }
+    }
+    return techniques;
+}
+
+} // namespace stsv

@@ -1,0 +1,69 @@
+// The Vulkan side of each family's technique (DESIGN §2): the passes of one family for one light,
+// with the resources only they use, behind one small interface. A method's row lists the families
+// it composes (MethodInfo::techniques); VulkanFrame records them in that order for every light,
+// then lets each combine what the others wrote (the fold), then resolves. The resources the
+// families share (G-buffer, light-sample buffers, the hull buffers, the deferred-fragment list)
+// belong to the frame.
+#pragma once
+
+#include "gpu/pass_recorder.h"
+#include "render/frame.h"
+#include "render/methods.h"
+#include "render/vulkan/gpu_deferred.h"
+#include "render/vulkan/gpu_frame_resources.h"
+#include "render/vulkan/gpu_hulls.h"
+#include "render/vulkan/gpu_stsv_pass.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+namespace stsv {
+
+class Device;
+
+/// What the techniques of a frame share, constant over the frame's life.
+struct VulkanTechniqueContext {
+    const Device& device;
+    const Scene& scene;
+    const RenderOptions& options; ///< the frame's (the sub-pixel grid with --supersample)
+    const MethodInfo& method;
+    StsvGeometry geometry;
+    FrameResources& resources;
+    const FrameDescriptors& descriptors;
+    HullResources& hulls;
+    DeferredFragments& deferred;
+    std::vector<ShaderDefine> defines; ///< sampleDefines of the frame
+};
+
+class VulkanTechnique {
+  public:
+    virtual ~VulkanTechnique() = default;
+    /// The resources only this technique uses, into light `light`'s descriptor set.
+    virtual void writeDescriptors(DescriptorSet&, std::size_t /*light*/) const {}
+    /// Whether its passes write the light's sample masks (else the frame clears them: all lit).
+    virtual bool writesSampleMasks() const { return false; }
+    /// The timed passes it records per light, at most (the frame sizes its timestamp pool).
+    virtual std::uint32_t timedPassesPerLight() const = 0;
+    /// Its hull passes, which HullResources::size runs once at start-up.
+    virtual std::vector<const HullPass*> hullPasses() const { return {}; }
+    /// The family's passes for one light.
+    virtual void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) = 0;
+    /// After every technique of the row has recorded the light: the passes that combine them.
+    virtual void recordCombine(PassRecorder&, VkCommandBuffer, std::size_t /*light*/) {}
+    /// The fragments its draws listed for their sample passes (DeferredFragments), past the end too.
+    virtual std::uint64_t listedFragments(const GpuStats&) const { return 0; }
+    /// After the frame's fence: what it reads back itself (the kept shadow maps).
+    virtual void readBack(Frame&) const {}
+    /// Its stats over the frame's lights under its family's keys (render/cpu writes the same).
+    virtual void writeStats(const std::vector<GpuStats>& counts, const GBuffer& gbuffer,
+                            nlohmann::json& stats) const = 0;
+};
+
+/// The row's techniques, in its order. `context` must outlive them.
+std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanTechniqueContext& context);
+
+} // namespace stsv
