@@ -3,7 +3,7 @@
 
 #include "gpu/memory.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <span>

@@ -4,7 +4,7 @@
 
 #include "core/error.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <string>
 

@@ -1,7 +1,7 @@
 // Command recording and submission, and the barriers passes need (synchronization2).
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <functional>
 

@@ -1,7 +1,7 @@
 // Descriptor set layouts and sets. Binding indices come from the *_dh.h headers (DESIGN §3).
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstdint>
 #include <vector>

@@ -70,6 +70,7 @@ constexpr const char* kNoDriver =
     "the CPU driver; or your GPU vendor's driver), or render without Vulkan with --backend cpu";
 
 VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
+    loadVulkan();
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;
     app.pApplicationName = "stsv";

@@ -3,7 +3,7 @@
 // tests can assert there were none.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <cstdint>

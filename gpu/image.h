@@ -1,7 +1,7 @@
 // 2D images: attachments (color, depth), storage images, readback and upload.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <cstdint>

@@ -1,7 +1,7 @@
 // Device memory: one plain allocation per resource (no sub-allocator; fine at this scale).
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 namespace stsv {
 

@@ -5,7 +5,7 @@
 // no pass places a barrier by hand. One queue, passes recorded in submission order.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <functional>
 #include <span>

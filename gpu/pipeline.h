@@ -1,7 +1,7 @@
 // Pipeline layouts, compute and graphics pipelines (dynamic rendering: no render passes).
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstdint>
 #include <span>

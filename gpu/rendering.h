@@ -1,7 +1,7 @@
 // Dynamic rendering (Vulkan 1.3): begin/end a pass on Image attachments.
 #pragma once
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <optional>
 #include <span>

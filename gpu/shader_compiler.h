@@ -5,7 +5,7 @@
 
 #include "core/error.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstdint>
 #include <filesystem>
@@ -36,7 +36,8 @@ struct ShaderDefine {
 };
 
 /// One file of the shader set: its name in the set and its text. The GLSL of the repository's
-/// shaders/ folder sits at the top ("stsv.frag"); the headers it includes keep their folder
+/// shaders/ folder sits at the top in its family folder ("stsv/stsv.frag"); the headers it includes keep
+/// their folder
 /// ("volumes/stsv_dh.h"), which is also the layout installed to share/stsv/shaders.
 struct ShaderFile {
     std::string_view name;
@@ -74,7 +75,7 @@ class ShaderCompiler {
     /// "embedded (N files)", or the folder.
     std::string describeSource() const;
 
-    /// Compiles `name`, a file of the set (or relative to the folder), e.g. "stsv.geom".
+    /// Compiles `name`, a file of the set (or relative to the folder), e.g. "stsv/stsv.geom".
     std::vector<uint32_t> compileFile(const std::filesystem::path& name,
                                       const std::vector<ShaderDefine>& defines = {}) const;
     /// Compiles in-memory source; `virtualPath` names it in error messages and is the base for

@@ -3,7 +3,7 @@
 
 #include "gpu/buffer.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstdint>
 #include <string>

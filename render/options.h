@@ -15,10 +15,11 @@ namespace stsv {
 /// Which stage builds the STSV volumes on Vulkan, and what it draws.
 enum class ExtrusionStage {
     Auto,     ///< Hull
-    Geometry, ///< shaders/stsv.geom: the paper's ten-vertex prism
-    Mesh, ///< shaders/stsv.mesh: the same prism; UsageError naming VK_EXT_mesh_shader when the device lacks
-          ///< it
-    Hull, ///< shaders/stsv_hull.comp: the box clipped by the volume's and the light's planes, drawn indirect
+    Geometry, ///< shaders/stsv/stsv.geom: the paper's ten-vertex prism
+    Mesh, ///< shaders/stsv/stsv.mesh: the same prism; UsageError naming VK_EXT_mesh_shader when the device
+          ///< lacks it
+    Hull, ///< shaders/stsv/stsv_hull.comp: the box clipped by the volume's and the light's planes, drawn
+          ///< indirect
 };
 
 ExtrusionStage parseExtrusionStage(const std::string& name); ///< auto | hull | geometry | mesh

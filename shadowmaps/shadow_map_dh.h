@@ -146,7 +146,7 @@ DH_FUNC ShadowMapCoord shadowMapProject(ShadowMapView v, vec3 p) {
     return c;
 }
 
-/// Vulkan clip coordinates of a world point in face `face` (shaders/shadowmap.vert): x, y span
+/// Vulkan clip coordinates of a world point in face `face` (shaders/shadowmaps/shadowmap.vert): x, y span
 /// the window, z runs from near (0) to far (w); with perspective division the NDC point of a
 /// texel centre is 2·uv − 1, so the rasteriser samples the texel-centre rays.
 DH_FUNC vec4 shadowMapClip(ShadowMapView v, uint face, vec3 p) {

@@ -22,7 +22,7 @@ std::vector<StsvVolume> buildTriangleVolumes(vec3 v0, vec3 v1, vec3 v2, vec4 lig
 bool pointInAnyVolume(const std::vector<StsvVolume>& volumes, vec3 p);
 
 /// The hull of a volume (stsvVolumeHullSetup clipped by clipBox) in world space: what
-/// shaders/stsv_hull.comp draws.
+/// shaders/stsv/stsv_hull.comp draws.
 ClippedBox volumeHull(const StsvVolume& volume, const StsvLightPlanes& lightPlanes, vec3 v0, vec3 v1, vec3 v2,
                       const Bounds& bounds);
 

@@ -117,6 +117,29 @@ DH_FUNC float pwEdgeCoverage(vec3 l, vec3 a, vec3 b, uint domain) {
     return -sideR * fraction;
 }
 
+/// PW's occlusion at a pixel starts from the hard shadow at the light centre: 1 when the
+/// counting volume found D(r) > 0 layers (Algorithm 2, line 5).
+DH_FUNC float pwCenterOcclusion(int centerLayers) {
+    return centerLayers > 0 ? 1.0f : 0.0f;
+}
+
+/// One silhouette edge's term of PW's occlusion: its wedge coverage (pwEdgeCoverage) with the
+/// sign of the edge's weight k_e.
+DH_FUNC float pwWedgeTerm(int k, float coverage) {
+    return float(k > 0 ? 1 : -1) * coverage;
+}
+
+/// v_coef from PW's summed occlusion (the centre's, then every wedge term), clamped to [0, 1].
+DH_FUNC float pwVisibility(float occlusion) {
+    return 1.0f - clamp(occlusion, 0.0f, 1.0f);
+}
+
+/// pw+stsv (STSV paper §3.1): the fraction of the light samples the perforated triangles occlude
+/// (their STSV bits) is added to PW's occlusion.
+DH_FUNC float pwVisibilityWithStsv(float pwV, float stsvOccluded) {
+    return clamp(pwV - stsvOccluded, 0.0f, 1.0f);
+}
+
 DH_END
 
 #endif // STSV_WEDGES_PW_DH_H

@@ -1,4 +1,4 @@
-// The wedge fragment's edge term (DESIGN §4.5): what shaders/wedge.frag's main() runs for a
+// The wedge fragment's edge term (DESIGN §4.5): what shaders/wedges/wedge.frag's main() runs for a
 // visible point p inside the bound of a potential silhouette edge, and what the CPU mirror
 // (render/cpu_wedges.cpp) runs for each (pixel, edge) pair. Compiles as C++ and GLSL (core/dh.h).
 //

@@ -37,7 +37,7 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
 
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
                            const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
-                           ImageF& coverage, ShadowMapCpuStats* stats, int supersample) {
+                           ImageF& vcoef, ShadowMapCpuStats* stats, int supersample) {
     const ShadowMapView& view = map.view;
     const ShadowMapSource src{&map, taps.data()};
     auto receiver = [&](int x, int y, std::size_t i) {
@@ -51,13 +51,13 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
         parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
             const std::size_t i = gbuffer.index(x, y);
             if (!gbuffer.covered(i)) return;
-            coverage.at(x, y, 0) = pcfVisibility(view, src, receiver(x, y, i), settings.pcfRadius);
+            vcoef.at(x, y, 0) = pcfVisibility(view, src, receiver(x, y, i), settings.pcfRadius);
         });
         if (stats) stats->filter_ms = timer.milliseconds();
         return;
     }
     // PCSS in two passes, as on the GPU: the blocker search leaves the kernel radius (or −1:
-    // no blocker, lit) in `coverage`, the filter replaces it with the visibility.
+    // no blocker, lit) in `vcoef`, the filter replaces it with the visibility.
     const uint blockerTaps = uint(settings.blockerTaps), filterTaps = uint(settings.filterTaps);
     std::atomic<std::uint64_t> clamped{0};
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
@@ -65,8 +65,7 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
         if (!gbuffer.covered(i)) return;
         const ShadowReceiver r = receiver(x, y, i);
         const float blocker = pcssAverageBlocker(view, src, r, blockerTaps, settings.maxSearch);
-        coverage.at(x, y, 0) =
-            blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
+        vcoef.at(x, y, 0) = blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
         if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
             clamped.fetch_add(1, std::memory_order_relaxed);
     });
@@ -76,8 +75,8 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
         const std::size_t i = gbuffer.index(x, y);
         if (!gbuffer.covered(i)) return;
-        const float radius = coverage.at(x, y, 0);
-        coverage.at(x, y, 0) =
+        const float radius = vcoef.at(x, y, 0);
+        vcoef.at(x, y, 0) =
             radius < 0.0f ? 1.0f : pcssFilter(view, src, receiver(x, y, i), radius, blockerTaps, filterTaps);
     });
     if (stats) stats->filter_ms = timer.milliseconds();
@@ -85,15 +84,15 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
 
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const Light& light, const ShadowMapSettings& settings,
-                                         std::uint32_t seed, bool decorrelate, ImageF& coverage,
-                                         ShadowMap* keep, int supersample) {
+                                         std::uint32_t seed, bool decorrelate, ImageF& vcoef, ShadowMap* keep,
+                                         int supersample) {
     ShadowMapCpuStats stats;
     Timer timer;
     ShadowMap map = traceShadowMap(embree, fitShadowMap(light, embree.scene().bounds(), settings.size));
     stats.map_ms = timer.milliseconds();
     stats.faces = map.view.faces;
     stats.texels = map.depth.size();
-    shadowMapFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, coverage,
+    shadowMapFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, vcoef,
                           &stats, supersample);
     if (keep) *keep = std::move(map);
     return stats;

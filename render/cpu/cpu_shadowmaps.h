@@ -1,6 +1,6 @@
 // The image-based baselines on the CPU (DESIGN §4.6): the light-space map traced with Embree
 // rays through the texel centres (the same alpha test as every method), then PCF or PCSS per
-// pixel with the functions of shadowmaps/shadow_filter_dh.h that shaders/shadow_filter.comp runs.
+// pixel with the functions of shadowmaps/shadow_filter_dh.h that shaders/shadowmaps/shadow_filter.comp runs.
 #pragma once
 
 #include "core/gbuffer.h"
@@ -31,17 +31,17 @@ struct ShadowMapCpuStats {
 
 nlohmann::json toJson(const ShadowMapCpuStats& stats);
 
-/// PCF or PCSS visibility of every covered pixel into `coverage` (v_coef; uncovered pixels
+/// PCF or PCSS visibility of every covered pixel into `vcoef` (v_coef; uncovered pixels
 /// untouched), with the per-pixel tap rotation of `seed` when `decorrelate` (the sub-pixels of a
 /// supersampled G-buffer take their pixel's rotation).
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const Light& light, const ShadowMapSettings& settings,
-                                         std::uint32_t seed, bool decorrelate, ImageF& coverage,
+                                         std::uint32_t seed, bool decorrelate, ImageF& vcoef,
                                          ShadowMap* keep = nullptr, int supersample = 1);
 
 /// The filter step alone, for a given map (tests feed both backends the same map).
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
                            const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
-                           ImageF& coverage, ShadowMapCpuStats* stats = nullptr, int supersample = 1);
+                           ImageF& vcoef, ShadowMapCpuStats* stats = nullptr, int supersample = 1);
 
 } // namespace stsv

@@ -408,14 +408,14 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
         const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
         // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
         float occlusion =
-            occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch) > 0 ? 1.0f : 0.0f;
+            pwCenterOcclusion(int(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch)));
         std::size_t localTests = 0, localVisits = 0;
         if (px.valid != 0.0f)
             forEachSilhouette(occ, bins, list, px, gbuffer.triangle[i], localTests, localVisits,
                               [&](vec3 l, vec3 a, vec3 b, int k) {
-                                  occlusion += float(k > 0 ? 1 : -1) * pwEdgeCoverage(l, a, b, frame.domain);
+                                  occlusion += pwWedgeTerm(k, pwEdgeCoverage(l, a, b, frame.domain));
                               });
-        visibility.at(x, y, 0) = 1.0f - std::clamp(occlusion, 0.0f, 1.0f);
+        visibility.at(x, y, 0) = pwVisibility(occlusion);
         tests += localTests;
         visits += localVisits;
     });
@@ -436,12 +436,11 @@ WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbu
 }
 
 void pwFoldStsv(const GBuffer& gbuffer, const LightSampleBuffer& stsvBits, ImageF& visibility) {
-    // STSV paper §3.1: the STSV occlusion is added to the wedge occlusion.
     for (int y = 0; y < gbuffer.height; ++y)
         for (int x = 0; x < gbuffer.width; ++x) {
             if (!gbuffer.covered(gbuffer.index(x, y))) continue;
-            const float occluded = 1.0f - stsvBits.visibleFraction(x, y);
-            visibility.at(x, y, 0) = std::clamp(visibility.at(x, y, 0) - occluded, 0.0f, 1.0f);
+            visibility.at(x, y, 0) =
+                pwVisibilityWithStsv(visibility.at(x, y, 0), 1.0f - stsvBits.visibleFraction(x, y));
         }
 }
 

@@ -1,4 +1,4 @@
-// The list of deferred fragments (shaders/deferred_list.glsl): a volume draw lists the
+// The list of deferred fragments (shaders/common/deferred_list.glsl): a volume draw lists the
 // fragments whose per-pixel set-up and sample loop a compute pass then runs, one thread a
 // fragment — the STSV draw of the hulls (stsv_samples.comp) and the DCS wedge draw
 // (wedge_samples.comp), one after the other for each light.

@@ -172,8 +172,8 @@ FrameResources::FrameResources(const Device& device, const Scene& scene, const R
     for (std::size_t l = 0; l < setCount; ++l)
         samples.counters.emplace_back(device, counterBytes, STORAGE, MemoryUsage::DeviceLocal);
     samples.unusedMask = Image(device, {1, 1, MASK_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
-    const bool coverage = methodInfo(options.method).output == MethodOutput::Visibility;
-    samples.coverage = Image(device, {coverage ? w : 1u, coverage ? h : 1u, COVERAGE_FORMAT, attachment});
+    const bool vcoef = methodInfo(options.method).output == MethodOutput::Visibility;
+    samples.vcoef = Image(device, {vcoef ? w : 1u, vcoef ? h : 1u, VCOEF_FORMAT, attachment});
 }
 
 std::vector<DescriptorBinding> FrameResources::bindings() const {
@@ -187,7 +187,7 @@ std::vector<DescriptorBinding> FrameResources::bindings() const {
     bindings.push_back({GPU_BINDING_ALPHA, tableType(tables.layout.alphaBitVec4s), VK_SHADER_STAGE_ALL, 1});
     bindings.push_back({GPU_BINDING_PATTERN, tableType(tables.layout.patternVec4s), VK_SHADER_STAGE_ALL, 1});
     for (uint32_t b : {GPU_BINDING_POSITION, GPU_BINDING_TRIANGLE_ID, GPU_BINDING_COLOR,
-                       GPU_BINDING_VISIBILITY, GPU_BINDING_COVERAGE})
+                       GPU_BINDING_VISIBILITY, GPU_BINDING_VCOEF})
         bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1});
     bindings.push_back(
         {GPU_BINDING_MASKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, GPU_MAX_MASK_IMAGES});
@@ -206,7 +206,7 @@ void FrameResources::writeDescriptors(DescriptorSet& set, std::size_t light) {
     set.writeStorageImage(GPU_BINDING_TRIANGLE_ID, gbuffer.triangleId);
     set.writeStorageImage(GPU_BINDING_COLOR, color);
     set.writeStorageImage(GPU_BINDING_VISIBILITY, visibility);
-    set.writeStorageImage(GPU_BINDING_COVERAGE, samples.coverage);
+    set.writeStorageImage(GPU_BINDING_VCOEF, samples.vcoef);
     for (uint32_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
         set.writeStorageImage(GPU_BINDING_MASKS, samples.mask(light, i), VK_IMAGE_LAYOUT_GENERAL, i);
 }

@@ -13,7 +13,7 @@
 #include "render/vulkan/gpu_shader_defines.h"
 #include "scene/scene.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <vector>
@@ -44,7 +44,7 @@ void setBehindVisiblePointDepth(GraphicsPipelineDesc& desc);
 constexpr VkFormat MASK_FORMAT = VK_FORMAT_R32G32_UINT;          ///< 64 sample bits
 constexpr VkFormat COLOR_FORMAT = VK_FORMAT_R32G32B32A32_SFLOAT; ///< linear RGB
 constexpr VkFormat VISIBILITY_FORMAT = VK_FORMAT_R32_SFLOAT;     ///< v_coef
-constexpr VkFormat COVERAGE_FORMAT = VK_FORMAT_R32_SFLOAT;       ///< PW occlusion sum, then v_coef
+constexpr VkFormat VCOEF_FORMAT = VK_FORMAT_R32_SFLOAT;          ///< PW occlusion sum, then v_coef
 
 /// RG32UI attachments of a bitmask of N samples: 64 samples each.
 int maskAttachmentCount(int samples);
@@ -77,7 +77,7 @@ struct LightSampleBuffers {
     std::vector<std::vector<Image>> masks; ///< [light][attachment], bitmask frames
     std::vector<Buffer> counters;          ///< [light], counters frames; else one stand-in
     Image unusedMask;                      ///< 1×1: the mask array elements no light fills
-    Image coverage;                        ///< v_coef (MethodOutput::Visibility); else 1×1
+    Image vcoef;                           ///< v_coef (MethodOutput::Visibility); else 1×1
 
     /// Element `i` of light `light`'s GPU_BINDING_MASKS array.
     Image& mask(std::size_t light, std::size_t i);

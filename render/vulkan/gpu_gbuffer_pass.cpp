@@ -10,8 +10,9 @@ GBufferPass::GBufferPass(const Device& device, FrameResources& resources, const 
     : m_gbuffer(&resources.gbuffer), m_descriptors(&descriptors), m_triangleCount(triangleCount) {
     const ShaderCompiler compiler;
     GraphicsPipelineDesc desc;
-    desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("gbuffer.vert", layoutDefines)},
-                   {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("gbuffer.frag", layoutDefines)}};
+    desc.stages = {
+        {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("common/gbuffer.vert", layoutDefines)},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("common/gbuffer.frag", layoutDefines)}};
     desc.colorFormats = {POSITION_FORMAT, TRIANGLE_FORMAT};
     desc.depthFormat = DEPTH_FORMAT;
     desc.depthTest = true;

@@ -122,9 +122,9 @@ CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, Opaqu
     const ShaderCompiler compiler;
     // Both facings, no writes but the atomics.
     GraphicsPipelineDesc desc = volumePipelineDesc(
-        {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", defines)},
-         {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("dcs_center.geom", defines)},
-         {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("dcs_center.frag", defines)}});
+        {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv/stsv.vert", defines)},
+         {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedges/dcs_center.geom", defines)},
+         {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/dcs_center.frag", defines)}});
     desc.cullMode = VK_CULL_MODE_NONE;
     m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
 }
@@ -155,7 +155,7 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
     : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_hulls(hulls), m_deferred(&deferred),
       m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw) {
     VkFormatProperties coverageFormat{};
-    vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), COVERAGE_FORMAT, &coverageFormat);
+    vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), VCOEF_FORMAT, &coverageFormat);
     if (m_pw && !(coverageFormat.optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
         throw UsageError("Vulkan device " + device.info().name +
                          " cannot blend into R32_SFLOAT attachments (penumbra-wedge coverage)");
@@ -166,17 +166,17 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
     if (m_hulls) {
         fragmentDefines.push_back({"WEDGE_HULL_PATH", "1"});
         desc = volumePipelineDesc(
-            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("hull.vert", defines)},
-             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", fragmentDefines)}});
+            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("common/hull.vert", defines)},
+             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/wedge.frag", fragmentDefines)}});
         desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
     } else {
         desc = volumePipelineDesc(
-            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", defines)},
-             {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedge.geom", defines)},
-             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedge.frag", fragmentDefines)}});
+            {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv/stsv.vert", defines)},
+             {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedges/wedge.geom", defines)},
+             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/wedge.frag", fragmentDefines)}});
     }
     if (m_pw) {
-        desc.colorFormats = {COVERAGE_FORMAT};
+        desc.colorFormats = {VCOEF_FORMAT};
         desc.blend = {additiveBlend()};
     }
     desc.cullMode = VK_CULL_MODE_FRONT_BIT;
@@ -191,7 +191,7 @@ PassAccesses WedgePass::accesses(std::size_t) const {
         .use(m_frame->stats, ResourceUse::storageReadWrite(FRAGMENT));
     if (m_hulls) m_hulls->declareDrawReads(accesses);
     if (m_pw)
-        accesses.use(m_frame->samples.coverage, ResourceUse::colorAttachment());
+        accesses.use(m_frame->samples.vcoef, ResourceUse::colorAttachment());
     else
         accesses.use(m_deferred->count, ResourceUse::storageReadWrite(FRAGMENT))
             .use(m_deferred->fragments, ResourceUse::storageReadWrite(FRAGMENT));
@@ -200,7 +200,7 @@ PassAccesses WedgePass::accesses(std::size_t) const {
 
 void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     std::vector<ColorTarget> targets;
-    if (m_pw) targets.push_back({&m_frame->samples.coverage, true, {}});
+    if (m_pw) targets.push_back({&m_frame->samples.vcoef, true, {}});
     beginRendering(cmd, targets, DepthTarget{&m_frame->gbuffer.depth, false, GPU_DEPTH_CLEAR, true});
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
@@ -218,7 +218,7 @@ WedgeSamplesPass::WedgeSamplesPass(const Device& device, FrameResources& frame, 
     : m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
       m_groups(deferredSampleGroups(device)) {
     m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
-                                       ShaderCompiler().compileFile("wedge_samples.comp", defines));
+                                       ShaderCompiler().compileFile("wedges/wedge_samples.comp", defines));
 }
 
 PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
@@ -249,14 +249,14 @@ FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOcc
     const ShaderCompiler compiler;
     m_pipeline =
         createComputePipeline(device, descriptors.pipelineLayout(),
-                              compiler.compileFile("wedge_fold.comp", wedgeDefines(options, defines)));
+                              compiler.compileFile("wedges/wedge_fold.comp", wedgeDefines(options, defines)));
 }
 
 PassAccesses FoldPass::accesses(std::size_t light) const {
     PassAccesses accesses;
     accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_opaque->center, ResourceUse::storageRead(COMPUTE))
-        .use(m_frame->samples.coverage,
+        .use(m_frame->samples.vcoef,
              m_pw ? ResourceUse::storageReadWrite(COMPUTE) : ResourceUse::storageRead(COMPUTE));
     // DCS folds into the counters; pw+stsv reads the STSV part from the light's sample buffer.
     // wedge_fold.comp declares the mask array in every variant.

@@ -16,7 +16,7 @@
 #include "render/vulkan/gpu_pass.h"
 #include "scene/scene.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <cstdint>
@@ -87,8 +87,8 @@ class CenterCountPass final : public GpuPass {
 
 /// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume and light
 /// planes: DCS lists the fragments with the edge a silhouette seen from p in `deferred` (for
-/// WedgeSamplesPass), PW adds the analytic wedge coverage to the coverage attachment. The
-/// bounds are drawn as the carrier's prism (wedge.geom) or, with `hulls`, as the hulls of
+/// WedgeSamplesPass), PW adds the analytic wedge coverage to the v_coef image (an attachment here, summing
+/// the terms). The bounds are drawn as the carrier's prism (wedge.geom) or, with `hulls`, as the hulls of
 /// wedge_hull.comp (render/vulkan/gpu_hulls.h).
 class WedgePass final : public GpuPass {
   public:
@@ -130,7 +130,7 @@ class WedgeSamplesPass final : public GpuPass {
 };
 
 /// D(r) plus the wedge terms: DCS counters D(x) = D(r) + Σ crossings (+ STSV increments), or
-/// the PW v_coef in the coverage image (minus the STSV occluded fraction for pw+stsv).
+/// the PW v_coef in the v_coef image (minus the STSV occluded fraction for pw+stsv).
 class FoldPass final : public GpuPass {
   public:
     FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,

@@ -5,7 +5,7 @@
 
 #include "gpu/pass_recorder.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <cstdint>

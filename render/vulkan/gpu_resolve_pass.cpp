@@ -9,19 +9,19 @@ ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderO
                          const FrameDescriptors& descriptors)
     : m_scene(&scene), m_resources(&resources), m_descriptors(&descriptors),
       m_counters(options.buffer == BufferKind::Counters),
-      m_coverage(methodInfo(options.method).output == MethodOutput::Visibility),
+      m_vcoef(methodInfo(options.method).output == MethodOutput::Visibility),
       m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
     const ShaderCompiler compiler;
     std::vector<ShaderDefine> defines =
         withPatternDefine(sampleDefines(options, resources.tables.layout), plan);
-    defines.push_back({"RESOLVE_COVERAGE", m_coverage ? "1" : "0"});
+    defines.push_back({"RESOLVE_VCOEF", m_vcoef ? "1" : "0"});
     std::array<bool, 4> used = lightTypesIn(scene);
     if (scene.lights.empty()) used[0] = true;
     for (uint type = 0; type < used.size(); ++type)
         if (used[type])
-            m_pipelines[type] =
-                createComputePipeline(device, descriptors.pipelineLayout(),
-                                      compiler.compileFile("resolve.comp", lightTypeDefines(defines, type)));
+            m_pipelines[type] = createComputePipeline(
+                device, descriptors.pipelineLayout(),
+                compiler.compileFile("common/resolve.comp", lightTypeDefines(defines, type)));
 }
 
 PassAccesses ResolvePass::accesses(std::size_t light) const {
@@ -37,7 +37,7 @@ PassAccesses ResolvePass::accesses(std::size_t light) const {
     else
         for (std::size_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
             accesses.use(m_resources->samples.mask(set, i), ResourceUse::storageRead(COMPUTE));
-    if (m_coverage) accesses.use(m_resources->samples.coverage, ResourceUse::storageRead(COMPUTE));
+    if (m_vcoef) accesses.use(m_resources->samples.vcoef, ResourceUse::storageRead(COMPUTE));
     return accesses;
 }
 

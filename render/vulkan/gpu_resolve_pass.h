@@ -1,7 +1,7 @@
 // The resolve of one light (STSV paper Algorithm 2 line 14; DESIGN §4.4): v_coef = visible
-// samples / N (or the PW coverage) and Monte-Carlo direct lighting, accumulated into the colour
-// and visibility images (shaders/resolve.comp). The first light's dispatch writes the ambient
-// term (or the background) first; a scene without lights gets that dispatch alone.
+// samples / N (or the v_coef image of a visibility-only method) and Monte-Carlo direct lighting, accumulated
+// into the colour and visibility images (shaders/common/resolve.comp). The first light's dispatch writes the
+// ambient term (or the background) first; a scene without lights gets that dispatch alone.
 #pragma once
 
 #include "gpu/pipeline.h"
@@ -31,7 +31,7 @@ class ResolvePass final : public GpuPass {
     FrameResources* m_resources;
     const FrameDescriptors* m_descriptors;
     bool m_counters; ///< counters buffer, else bitmask images
-    bool m_coverage; ///< MethodOutput::Visibility: v_coef from the coverage image
+    bool m_vcoef;    ///< MethodOutput::Visibility: v_coef from the v_coef image
     uint32_t m_width, m_height;
     /// Per light type (LIGHT_*) the scene has; [0] also for the ambient-only dispatch.
     std::array<Pipeline, 4> m_pipelines;

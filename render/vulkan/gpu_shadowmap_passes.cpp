@@ -62,8 +62,9 @@ ShadowMapPass::ShadowMapPass(const Device& device, const Scene& scene, ShadowMap
       m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
     const ShaderCompiler compiler;
     GraphicsPipelineDesc desc;
-    desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmap.vert", defines)},
-                   {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("shadowmap.frag", defines)}};
+    desc.stages = {
+        {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmaps/shadowmap.vert", defines)},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("shadowmaps/shadowmap.frag", defines)}};
     // A triangle blocks light whichever face the light sees: no culling.
     desc.cullMode = VK_CULL_MODE_NONE;
     m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
@@ -95,7 +96,7 @@ ShadowFilterPass::ShadowFilterPass(const Device& device, const RenderOptions& op
     std::vector<ShaderDefine> withStep = defines;
     withStep.push_back({"SHADOW_FILTER_STEP", std::to_string(int(step))});
     m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
-                                       compiler.compileFile("shadow_filter.comp", withStep));
+                                       compiler.compileFile("shadowmaps/shadow_filter.comp", withStep));
 }
 
 PassAccesses ShadowFilterPass::accesses(std::size_t light) const {
@@ -103,7 +104,7 @@ PassAccesses ShadowFilterPass::accesses(std::size_t light) const {
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_maps->depth[light], ResourceUse::storageRead(COMPUTE))
-        .use(m_frame->samples.coverage, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_frame->samples.vcoef, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_frame->stats, ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }

@@ -1,6 +1,6 @@
 // The Vulkan passes of the image-based methods (DESIGN §4.6), per light: the light-space map
 // rasterised into a buffer (shadowmap.vert/frag, one instance per face), then PCF or PCSS's
-// blocker search and filter into the coverage image (shadow_filter.comp), which the resolve
+// blocker search and filter into the v_coef image (shadow_filter.comp), which the resolve
 // reads as v_coef.
 #pragma once
 
@@ -13,7 +13,7 @@
 #include "scene/scene.h"
 #include "shadowmaps/shadow_map.h"
 
-#include <vulkan/vulkan.h>
+#include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <vector>
@@ -62,7 +62,7 @@ class ShadowMapPass final : public GpuPass {
     Pipeline m_pipeline;
 };
 
-/// One filter step per pixel into the coverage image: PCF, PCSS's blocker search (the kernel
+/// One filter step per pixel into the v_coef image: PCF, PCSS's blocker search (the kernel
 /// radius) or PCSS's filter (v_coef).
 class ShadowFilterPass final : public GpuPass {
   public:

@@ -42,7 +42,7 @@ StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const
         if (used[type])
             m_pipelines[type] = createComputePipeline(
                 device, descriptors.pipelineLayout(),
-                compiler.compileFile("stsv_samples.comp", lightTypeDefines(defines, type)));
+                compiler.compileFile("stsv/stsv_samples.comp", lightTypeDefines(defines, type)));
 }
 
 PassAccesses StsvSamplesPass::accesses(std::size_t light) const {
@@ -74,7 +74,7 @@ StsvMergePass::StsvMergePass(const Device& device, const RenderOptions& options,
     const ShaderCompiler compiler;
     m_pipeline = createComputePipeline(
         device, descriptors.pipelineLayout(),
-        compiler.compileFile("stsv_merge.comp", sampleDefines(options, resources.tables.layout)));
+        compiler.compileFile("stsv/stsv_merge.comp", sampleDefines(options, resources.tables.layout)));
 }
 
 PassAccesses StsvMergePass::accesses(std::size_t light) const {
@@ -110,15 +110,15 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
     switch (m_geometry) {
     case StsvGeometry::MeshShaderPrism:
         fragmentDefines.push_back({"STSV_MESH_PATH", "1"});
-        desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv.mesh", common)}};
+        desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv/stsv.mesh", common)}};
         break;
     case StsvGeometry::GeometryShaderPrism:
-        desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv.vert", common)},
-                       {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv.geom", common)}};
+        desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv/stsv.vert", common)},
+                       {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv/stsv.geom", common)}};
         break;
     case StsvGeometry::Hull:
         fragmentDefines.push_back({"STSV_HULL_PATH", "1"});
-        desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("hull.vert", common)}};
+        desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("common/hull.vert", common)}};
         break;
     }
     desc.stages.push_back({VK_SHADER_STAGE_FRAGMENT_BIT, {}});
@@ -136,7 +136,8 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
     const std::array<bool, 4> used = lightTypesIn(scene);
     for (uint type = 0; type < used.size(); ++type) {
         if (!used[type]) continue;
-        desc.stages.back().spirv = compiler.compileFile("stsv.frag", lightTypeDefines(fragmentDefines, type));
+        desc.stages.back().spirv =
+            compiler.compileFile("stsv/stsv.frag", lightTypeDefines(fragmentDefines, type));
         m_pipelines[type] = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
     }
 }

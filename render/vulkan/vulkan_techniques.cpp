@@ -42,7 +42,7 @@ class StsvTechnique final : public VulkanTechnique {
         if (c.geometry != StsvGeometry::Hull) return;
         m_samples.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, c.descriptors);
         if (bitmask) m_merge.emplace(c.device, c.options, c.resources, c.deferred, c.descriptors);
-        m_hullPass.emplace(c.device, "stsv_hull.comp", layoutDefines(c.resources.tables.layout),
+        m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", layoutDefines(c.resources.tables.layout),
                            static_cast<std::uint32_t>(c.scene.triangleCount()),
                            c.method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u,
                            HullCounts{&GpuStats::hullVolumes, &GpuStats::hullTriangles}, c.resources, c.hulls,
@@ -127,7 +127,7 @@ class WedgeTechnique final : public VulkanTechnique {
             m_samples.emplace(c.device, c.resources, c.deferred, c.descriptors, c.defines);
         }
         if (c.geometry == StsvGeometry::Hull && m_opaque.carrierCount() > 0)
-            m_hullPass.emplace(c.device, "wedge_hull.comp", layoutDefines(c.resources.tables.layout),
+            m_hullPass.emplace(c.device, "wedges/wedge_hull.comp", layoutDefines(c.resources.tables.layout),
                                static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u,
                                HullCounts{&GpuStats::wedgeHulls, &GpuStats::wedgeHullTriangles}, c.resources,
                                c.hulls, c.descriptors);

@@ -142,21 +142,26 @@ TEST(ShaderCompiler, MissingFileIsAnInputError) {
                  InputError);
 }
 
-/// The files the build embeds: shaders/ at the top, core/dh.h and every module's *_dh.h.
+/// The files the build embeds: shaders/ at the top (its family folders kept), core/dh.h and every
+/// module's *_dh.h (render's backends' too: render/vulkan/gpu_frame_dh.h).
 std::map<std::string, fs::path> repositoryShaderSet() {
     const fs::path root = STSV_SOURCE_DIR;
     std::map<std::string, fs::path> files;
-    for (const fs::directory_entry& entry : fs::directory_iterator(root / "shaders"))
-        if (entry.is_regular_file()) files[entry.path().filename().string()] = entry.path();
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root / "shaders"))
+        if (entry.is_regular_file())
+            files[fs::relative(entry.path(), root / "shaders").generic_string()] = entry.path();
     files["core/dh.h"] = root / "core" / "dh.h";
-    for (const fs::directory_entry& folder : fs::directory_iterator(root)) {
-        if (!folder.is_directory()) continue;
-        for (const fs::directory_entry& entry : fs::directory_iterator(folder.path())) {
+    auto addHeaders = [&](const fs::path& folder) {
+        for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
             const std::string name = entry.path().filename().string();
-            if (entry.is_regular_file() && name.ends_with("_dh.h") && folder.path().filename() != "shaders")
-                files[(folder.path().filename() / name).generic_string()] = entry.path();
+            if (entry.is_regular_file() && name.ends_with("_dh.h"))
+                files[fs::relative(entry.path(), root).generic_string()] = entry.path();
         }
-    }
+    };
+    for (const fs::directory_entry& folder : fs::directory_iterator(root))
+        if (folder.is_directory() && folder.path().filename() != "shaders") addHeaders(folder.path());
+    for (const fs::directory_entry& folder : fs::directory_iterator(root / "render"))
+        if (folder.is_directory()) addHeaders(folder.path());
     return files;
 }
 
@@ -200,8 +205,9 @@ TEST(EmbeddedShaders, CompileAsTheCheckoutFolderDoes) {
     // STSV_SHADER_DIR pointed at the checkout's shaders/ gives the same SPIR-V as the embedded set.
     const ShaderCompiler folder(fs::path(STSV_SOURCE_DIR) / "shaders");
     const std::vector<ShaderDefine> defines = {{"SAMPLE_COUNT", "64"}, {"FIXED_LIGHT_TYPE", "1u"}};
-    EXPECT_EQ(folder.compileFile("stsv.frag", defines), sharedCompiler().compileFile("stsv.frag", defines));
-    EXPECT_EQ(folder.compileFile("wedge.geom"), sharedCompiler().compileFile("wedge.geom"));
+    EXPECT_EQ(folder.compileFile("stsv/stsv.frag", defines),
+              sharedCompiler().compileFile("stsv/stsv.frag", defines));
+    EXPECT_EQ(folder.compileFile("wedges/wedge.geom"), sharedCompiler().compileFile("wedges/wedge.geom"));
 }
 
 TEST(ShaderCompiler, ShaderDirectoryFromEnvironment) {

@@ -6,7 +6,7 @@
 #ifndef STSV_SHADERS_DEFERRED_LIST_GLSL
 #define STSV_SHADERS_DEFERRED_LIST_GLSL
 
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 
 layout(std430, set = 0, binding = GPU_BINDING_DEFERRED_COUNT) buffer DeferredCount { uvec4 deferredCount; };
 layout(std430, set = 0, binding = GPU_BINDING_DEFERRED) buffer Deferred { uvec2 deferred[]; };

@@ -1,21 +1,21 @@
 #version 450
 // Image-based visibility per pixel (DESIGN §4.6): PCF, or one of PCSS's two steps, with the
 // functions of shadowmaps/shadow_filter_dh.h that the CPU backend runs (render/cpu_shadowmaps.cpp).
-//   SHADOW_FILTER_STEP 0: PCF → v_coef in the coverage image
+//   SHADOW_FILTER_STEP 0: PCF → v_coef in the v_coef image
 //                      1: PCSS blocker search → the filter radius (uv), −1 when no blocker
 //                      2: PCSS filter of that radius → v_coef
 #extension GL_GOOGLE_include_directive : require
 #ifndef SHADOW_FILTER_STEP
 #define SHADOW_FILTER_STEP 0
 #endif
-#include "frame_bindings.glsl"
-#include "shadow_bindings.glsl"
+#include "common/frame_bindings.glsl"
+#include "shadowmaps/shadow_bindings.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) uniform image2D coverage;
+layout(set = 0, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
 #if SHADOW_FILTER_STEP == 1
 layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
 #endif
@@ -53,9 +53,9 @@ void main() {
     if (blocker >= 0.0 && pcssKernelClamped(v, r, blocker, shadowParams.maxKernel))
         atomicAdd(stats[pc.light].kernelClamped, 1u);
 #else
-    float radius = imageLoad(coverage, pixel).x;
+    float radius = imageLoad(vcoefImage, pixel).x;
     float result = radius < 0.0 ? 1.0
                                 : pcssFilter(v, src, r, radius, shadowParams.blockerTaps, shadowParams.filterTaps);
 #endif
-    imageStore(coverage, pixel, vec4(result));
+    imageStore(vcoefImage, pixel, vec4(result));
 }

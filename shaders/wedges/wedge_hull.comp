@@ -10,8 +10,8 @@
 #ifndef CLIP_SHARED_INVOCATIONS
 #define CLIP_SHARED_INVOCATIONS 8
 #endif
-#include "wedge_bindings.glsl"
-#include "hull_append.glsl"
+#include "wedges/wedge_bindings.glsl"
+#include "common/hull_append.glsl"
 
 layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
@@ -48,4 +48,4 @@ void buildHull(uint c, uint side) {
         hullRecords[base + GPU_WEDGE_RECORD_LIGHT_PLANES + i] = floatBitsToUint(b.record.lightPlanes[i]);
 }
 
-#include "hull_queue.glsl"
+#include "common/hull_queue.glsl"

@@ -8,8 +8,8 @@
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
-#include "wedge_term.glsl"
-#include "deferred_list.glsl"
+#include "wedges/wedge_term.glsl"
+#include "common/deferred_list.glsl"
 
 layout(local_size_x = 64) in;
 

@@ -1,5 +1,5 @@
 #version 450
-// Per-pixel edge terms of the opaque occluders (DESIGN §4.5; shaders/wedge_term.glsl): the
+// Per-pixel edge terms of the opaque occluders (DESIGN §4.5; shaders/wedges/wedge_term.glsl): the
 // bound is a carrier face's, shared by the potential silhouette edges the face carries. A
 // visible point p inside it gets, for each of those edges that is a silhouette seen from p (its
 // weight k_e over its faces except the visible triangle, in world space, is not zero),
@@ -22,11 +22,11 @@
 #endif
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "wedge_term.glsl"
+#include "wedges/wedge_term.glsl"
 #include "volumes/extrusion_dh.h"
 #include "wedges/pw_dh.h"
 #if !WEDGE_PW
-#include "deferred_list.glsl"
+#include "common/deferred_list.glsl"
 #endif
 
 layout(early_fragment_tests) in;
@@ -116,7 +116,7 @@ void main() {
         LightFrame lf;
         if (!wedgePixelTerm(p, edge, receiver, l, h0, h1, kE, lf)) continue;
         inside += 1u;
-        occlusion += float(kE > 0 ? 1 : -1) * pwEdgeCoverage(l, h0, h1, lf.domain);
+        occlusion += pwWedgeTerm(kE, pwEdgeCoverage(l, h0, h1, lf.domain));
 #else
         // Past the list's end the entry is dropped; the host sees the count and renders again.
         deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), e);

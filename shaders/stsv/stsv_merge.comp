@@ -6,7 +6,7 @@
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 

@@ -15,7 +15,7 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 
 layout(early_fragment_tests) in;
 

@@ -2,7 +2,7 @@
 // G-buffer pass: world position and triangle id of the visible surface. Perforated triangles
 // are alpha-tested with the shared texel rule, so the visible point is the surface behind a hole.
 #extension GL_GOOGLE_include_directive : require
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 
 layout(location = 0) in vec2 inBary;
 layout(location = 0) out vec4 outPosition; ///< world units, w = 1

@@ -6,7 +6,7 @@
 #ifndef STSV_SHADERS_HULL_APPEND_GLSL
 #define STSV_SHADERS_HULL_APPEND_GLSL
 
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 #include "volumes/extrusion_dh.h"
 
 layout(std430, set = 0, binding = GPU_BINDING_HULL_DRAW) buffer HullDraw { GpuHullDraw draw; };

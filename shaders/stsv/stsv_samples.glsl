@@ -4,9 +4,9 @@
 #ifndef STSV_SHADERS_STSV_SAMPLES_GLSL
 #define STSV_SHADERS_STSV_SAMPLES_GLSL
 
-#include "frame_bindings.glsl"
-#include "stsv_volume.glsl"
-#include "deferred_list.glsl"
+#include "common/frame_bindings.glsl"
+#include "stsv/stsv_volume.glsl"
+#include "common/deferred_list.glsl"
 #include "sampling/light_sampling_dh.h"
 
 #ifndef SAMPLE_COUNT

@@ -4,7 +4,7 @@
 // vertices are read as texels: a texel fetch at a per-lane index is a vector gather on
 // lavapipe, a storage-buffer load a loop over the lanes.
 #extension GL_GOOGLE_include_directive : require
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 
 layout(set = 0, binding = GPU_BINDING_HULL_VERTEX_TEXELS) uniform usamplerBuffer hullTexels;
 

@@ -10,7 +10,7 @@
 #ifndef STSV_SHADERS_HULL_QUEUE_GLSL
 #define STSV_SHADERS_HULL_QUEUE_GLSL
 
-#include "hull_append.glsl"
+#include "common/hull_append.glsl"
 
 #ifndef HULL_ITEMS_PER_THREAD
 #define HULL_ITEMS_PER_THREAD 8

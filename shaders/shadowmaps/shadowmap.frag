@@ -5,8 +5,8 @@
 // the filters read texel by texel, as the CPU reads its traced map.
 #extension GL_GOOGLE_include_directive : require
 #define SHADOW_MAP_WRITE
-#include "frame_bindings.glsl"
-#include "shadow_bindings.glsl"
+#include "common/frame_bindings.glsl"
+#include "shadowmaps/shadow_bindings.glsl"
 
 layout(location = 0) in vec2 inBary;
 layout(location = 1) flat in uint inFace;

@@ -10,7 +10,7 @@
 // Primitive ids (a point list, no vertex inputs): [0, T) scene triangles (caps; non-opaque ones
 // emit nothing), [T, T + E) welded edges (quads).
 #extension GL_GOOGLE_include_directive : require
-#include "wedge_bindings.glsl"
+#include "wedges/wedge_bindings.glsl"
 
 layout(points) in;
 layout(triangle_strip, max_vertices = 6) out;

@@ -27,9 +27,9 @@
 #endif
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
-#include "frame_bindings.glsl"
-#include "stsv_volume.glsl"
-#include "stsv_samples.glsl"
+#include "common/frame_bindings.glsl"
+#include "stsv/stsv_volume.glsl"
+#include "stsv/stsv_samples.glsl"
 
 
 // Counters: the G-buffer depth test must run before the atomics (DESIGN §4.4).

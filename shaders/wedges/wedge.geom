@@ -6,7 +6,7 @@
 // be a silhouette for any point of the light emits nothing. The fragment (wedge.frag) gets the
 // planes as flat varyings and reads the carrier's edges by index.
 #extension GL_GOOGLE_include_directive : require
-#include "wedge_bindings.glsl"
+#include "wedges/wedge_bindings.glsl"
 #include "volumes/extrusion_dh.h"
 #include "wedges/dcs_dh.h"
 

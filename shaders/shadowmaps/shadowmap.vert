@@ -2,8 +2,8 @@
 // Light-space map (DESIGN §4.6): every triangle, unindexed (so gl_PrimitiveID is the scene
 // triangle), one instance per face of the light's map (shadowmaps/shadow_map_dh.h).
 #extension GL_GOOGLE_include_directive : require
-#include "frame_bindings.glsl"
-#include "shadow_bindings.glsl"
+#include "common/frame_bindings.glsl"
+#include "shadowmaps/shadow_bindings.glsl"
 
 layout(location = 0) out vec2 outBary; ///< (b1, b2) of the triangle
 layout(location = 1) flat out uint outFace;

@@ -11,10 +11,10 @@
 #ifndef LS_COUNTERS
 #define LS_COUNTERS 0
 #endif
-#ifndef RESOLVE_COVERAGE
-#define RESOLVE_COVERAGE 0
+#ifndef RESOLVE_VCOEF
+#define RESOLVE_VCOEF 0
 #endif
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 #include "sampling/light_sampling_dh.h"
 #ifdef STSV_PATTERN_Q
 #define STSV_UNROLL [[unroll]]
@@ -36,9 +36,9 @@ layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) readonly buffer Counters
 #else
 layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
 #endif
-#if RESOLVE_COVERAGE
+#if RESOLVE_VCOEF
 // Penumbra wedges: v_coef per pixel (wedge_fold.comp), which scales the unshadowed lighting.
-layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) readonly uniform image2D coverage;
+layout(set = 0, binding = GPU_BINDING_VCOEF, r32f) readonly uniform image2D vcoefImage;
 #endif
 
 // The data access of sampling/resolve_dh.h: sample points through pixelSamplePoint
@@ -64,7 +64,7 @@ uint resolveSourceWord(ResolveSource s, uint w) {
            w == 4u ? s.m2.x : w == 5u ? s.m2.y : w == 6u ? s.m3.x : s.m3.y;
 }
 bool resolveSourceOccluded(ResolveSource s, uint word, uint k) {
-#if RESOLVE_COVERAGE
+#if RESOLVE_VCOEF
     return false; // PW: every sample lit, scaled by v_coef
 #elif LS_COUNTERS
     return ((counters[s.counterWord + lsCounterWord(k)] >> lsCounterShift(k)) & 65535u) != 0u;
@@ -106,7 +106,7 @@ void main() {
             src.domain = lf.domain;
             src.counterWord =
                 lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
-#if LS_COUNTERS || RESOLVE_COVERAGE
+#if LS_COUNTERS || RESOLVE_VCOEF
             src.m0 = uvec2(0u);
             src.m1 = uvec2(0u);
             src.m2 = uvec2(0u);
@@ -119,12 +119,12 @@ void main() {
 #endif
             ResolveSums sums = resolveSamples(light, lf, p, n, src, uint(WORD_COUNT), uint(WORD_BITS));
             vec3 sum = resolveContributionSum(light, lf, sums);
-#if RESOLVE_COVERAGE
-            float v = imageLoad(coverage, pixel).x;
+#if RESOLVE_VCOEF
+            float v = imageLoad(vcoefImage, pixel).x;
 #else
             float v = float(sums.visible) / float(SAMPLE_COUNT);
 #endif
-            color += resolveDirectLighting(albedo, sum, RESOLVE_COVERAGE != 0 ? v : 1.0, uint(SAMPLE_COUNT));
+            color += resolveDirectLighting(albedo, sum, RESOLVE_VCOEF != 0 ? v : 1.0, uint(SAMPLE_COUNT));
             visibility += frame.lightWeight * v;
         }
     }

@@ -2,7 +2,7 @@
 // G-buffer pass (DESIGN §5, pass 0): every triangle, unindexed (3 vertices per triangle), so
 // gl_PrimitiveID in the fragment shader is the scene triangle index.
 #extension GL_GOOGLE_include_directive : require
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 
 layout(location = 0) out vec2 outBary; ///< (b1, b2) of the triangle
 

@@ -5,7 +5,7 @@
 #ifndef STSV_SHADERS_WEDGE_TERM_GLSL
 #define STSV_SHADERS_WEDGE_TERM_GLSL
 
-#include "wedge_bindings.glsl"
+#include "wedges/wedge_bindings.glsl"
 
 /// The data access of wedges/wedge_fragment_dh.h: the edge's faces, GpuEdgeFace texel 0
 /// (opposite, triangle).

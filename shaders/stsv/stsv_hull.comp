@@ -12,9 +12,9 @@
 #ifndef CLIP_SHARED_INVOCATIONS
 #define CLIP_SHARED_INVOCATIONS 8
 #endif
-#include "frame_bindings.glsl"
-#include "stsv_volume.glsl"
-#include "hull_append.glsl"
+#include "common/frame_bindings.glsl"
+#include "stsv/stsv_volume.glsl"
+#include "common/hull_append.glsl"
 
 layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
@@ -61,4 +61,4 @@ void buildHull(uint tri, uint side) {
         hullRecords[base + GPU_STSV_RECORD_LIGHT_PLANES + i] = floatBitsToUint(r.lightPlanes[i]);
 }
 
-#include "hull_queue.glsl"
+#include "common/hull_queue.glsl"

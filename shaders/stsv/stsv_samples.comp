@@ -7,8 +7,8 @@
 // slowest lane. Bits go to the mask words that stsv_merge.comp ORs into the light's bitmask,
 // counters straight to the counters.
 #extension GL_GOOGLE_include_directive : require
-#include "frame_bindings.glsl"
-#include "stsv_samples.glsl"
+#include "common/frame_bindings.glsl"
+#include "stsv/stsv_samples.glsl"
 
 layout(local_size_x = 64) in;
 

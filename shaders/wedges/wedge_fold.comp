@@ -5,7 +5,7 @@
 //          view ray entering that volume at p counted +1: the self-shadowing rule removes it);
 //   DCS (WEDGE_PW 0): every sample counter becomes D(r) + its signed edge crossings (+ STSV
 //          increments), read as two signed 16-bit halves and clamped at 0 like the CPU mirror;
-//   PW (WEDGE_PW 1): the coverage image becomes v_coef = 1 − clamp([D(r) > 0] + Σ wedge terms,
+//   PW (WEDGE_PW 1): the v_coef image becomes v_coef = 1 − clamp([D(r) > 0] + Σ wedge terms,
 //          0, 1), minus the occluded fraction of the STSV samples for pw+stsv (WEDGE_STSV 1).
 #extension GL_GOOGLE_include_directive : require
 #ifndef SAMPLE_COUNT
@@ -20,13 +20,14 @@
 #ifndef WEDGE_STSV
 #define WEDGE_STSV 0
 #endif
-#include "wedge_bindings.glsl"
+#include "wedges/wedge_bindings.glsl"
+#include "wedges/pw_dh.h"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = 0, binding = GPU_BINDING_CENTER, r32i) readonly uniform iimage2D centerCount;
-layout(set = 0, binding = GPU_BINDING_COVERAGE, r32f) uniform image2D coverage;
+layout(set = 0, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
 layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
 
@@ -69,12 +70,11 @@ void main() {
     if (tri == GPU_NO_TRIANGLE) return;
     int d = centerLayers(pixel, tri);
 #if WEDGE_PW
-    float occlusion = (d > 0 ? 1.0 : 0.0) + imageLoad(coverage, pixel).x;
-    float v = 1.0 - clamp(occlusion, 0.0, 1.0);
+    float v = pwVisibility(pwCenterOcclusion(d) + imageLoad(vcoefImage, pixel).x);
 #if WEDGE_STSV
-    v = clamp(v - stsvOccludedFraction(pixel), 0.0, 1.0);
+    v = pwVisibilityWithStsv(v, stsvOccludedFraction(pixel));
 #endif
-    imageStore(coverage, pixel, vec4(v));
+    imageStore(vcoefImage, pixel, vec4(v));
 #else
     // Each word holds L + 65536·H modulo 2^32 with L, H the signed sums of its two samples;
     // adding D(r) to both halves and sign-extending recovers them exactly while |L|, |H| < 2^15.

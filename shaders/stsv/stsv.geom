@@ -5,8 +5,8 @@
 // the light planes as flat
 // varyings (the paper's approach): no setup pass, no SSBO written and read in one draw.
 #extension GL_GOOGLE_include_directive : require
-#include "frame_bindings.glsl"
-#include "stsv_volume.glsl"
+#include "common/frame_bindings.glsl"
+#include "stsv/stsv_volume.glsl"
 
 layout(triangles, invocations = 2) in; // gl_InvocationID = side (paper §6 double-sided fix)
 layout(triangle_strip, max_vertices = 10) out;

@@ -3,7 +3,7 @@
 #ifndef STSV_SHADERS_WEDGE_BINDINGS_GLSL
 #define STSV_SHADERS_WEDGE_BINDINGS_GLSL
 
-#include "frame_bindings.glsl"
+#include "common/frame_bindings.glsl"
 #include "volumes/extrusion_dh.h"
 #include "wedges/dcs_dh.h"
 
