@@ -190,7 +190,7 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
         perLight += 6.0 * edge * edge * sizeof(float);
     }
     // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests
-    // (two a pixel at first, 8 bytes each; render/gpu_renderer.cpp) and, for STSV bitmasks,
+    // (two a pixel at first, 8 bytes each; render/vulkan/gpu_renderer.cpp) and, for STSV bitmasks,
     // their word buffer.
     double shared = 0.0;
     const MethodInfo& method = methodInfo(o.method);

@@ -76,7 +76,7 @@ foreach(source ${STSV_SHADER_SOURCES})
   stsv_check_shader(${source} "")
 endforeach()
 
-# A baked pattern of n points (render/gpu_renderer.cpp withPatternDefine: uvec2[n](uvec2(qx, qy), …),
+# A baked pattern of n points (render/vulkan/gpu_renderer.cpp withPatternDefine: uvec2[n](uvec2(qx, qy), …),
 # 24-bit fixed point) for the STSV_PATTERN_Q variants.
 function(stsv_pattern_q n out)
   set(points)
@@ -93,13 +93,13 @@ stsv_pattern_q(16 STSV_Q16)
 stsv_pattern_q(64 STSV_Q64)
 stsv_pattern_q(128 STSV_Q128)
 
-# The combinations render/gpu_renderer.cpp and render/gpu_wedges.cpp build: SAMPLE_COUNT and
+# The combinations render/vulkan/gpu_renderer.cpp and render/vulkan/gpu_opaque_passes.cpp build: SAMPLE_COUNT and
 # LS_COUNTERS (--samples, --buffer) on the sample passes; the uniform-buffer layouts
 # (STSV_PATTERN_VEC4S, STSV_ALPHA_BIT_VEC4S) on every pass; FIXED_LIGHT_TYPE per light type on
 # stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and
 # RESOLVE_VCOEF (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
 # STSV_HULL_PATH and WEDGE_HULL_PATH on the fragments behind hull.vert, CLIP_SHARED_INVOCATIONS
-# and HULL_ITEMS_PER_THREAD (render/gpu_hulls.cpp) on the hull passes; the sample defines and FIXED_LIGHT_TYPE on
+# and HULL_ITEMS_PER_THREAD (render/vulkan/gpu_hulls.cpp) on the hull passes; the sample defines and FIXED_LIGHT_TYPE on
 # stsv_samples.comp, the sample defines on stsv_merge.comp and wedge_samples.comp; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
 # and each sample count with each buffer kind, without the full product (two cores).
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)

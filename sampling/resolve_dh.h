@@ -2,7 +2,7 @@
 // visible samples and the Monte-Carlo direct lighting
 //   Lo(p) = albedo/π · (1/N) Σ_k sampleContribution_k · V_k             ("Direct MC" of the paper)
 // as shaders/common/resolve.comp's main() and the CPU resolve (sampling/light_sampling.cpp resolveDirect,
-// render/frame.cpp resolveLight) both run it. Compiles as C++ and GLSL (core/dh.h).
+// render/cpu/cpu_renderer.cpp resolveLight) both run it. Compiles as C++ and GLSL (core/dh.h).
 //
 // Data access. The pixel's occlusion bits come from mask images or counters on the GPU and from a
 // LightSampleBuffer on the CPU, its sample points from baked constants, uniform or storage

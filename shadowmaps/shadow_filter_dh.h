@@ -1,5 +1,5 @@
 // Percentage-closer filters of a light-space map (DESIGN §4.6), as shaders/shadowmaps/shadow_filter.comp
-// and the CPU backend (render/cpu_shadowmaps.cpp) both run them per pixel:
+// and the CPU backend (render/cpu/cpu_shadowmaps.cpp) both run them per pixel:
 //  * PCF (Reeves, Salesin & Cook 1987): the fraction of map taps over a fixed (2r+1)² texel
 //    kernel around the receiver's texel that do not block it.
 //  * PCSS (Fernando 2005), three steps: (1) blocker search over the region the light subtends

@@ -1,7 +1,7 @@
 // Light-space shadow maps (DESIGN §4.6): the projection of one light's map, the texel grid, the
 // ray through a texel centre (the CPU traces the map along it, the rasteriser samples it at the
 // same points), and the receiver-plane depth a texel is compared with. Compiles as C++ and
-// GLSL (core/dh.h); shaders/shadowmap.* and the CPU backend (render/cpu_shadowmaps.cpp) both
+// GLSL (core/dh.h); shaders/shadowmap.* and the CPU backend (render/cpu/cpu_shadowmaps.cpp) both
 // use it.
 //
 // A map holds, per texel, the linear depth of the nearest opaque surface along the texel-centre

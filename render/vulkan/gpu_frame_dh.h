@@ -1,5 +1,5 @@
 // Device/host layout of the Vulkan frame (DESIGN §3, §5): the scene tables, frame constants and
-// binding indices shared by the Vulkan passes (render/gpu_*_pass.cpp, gpu_frame_resources.cpp)
+// binding indices shared by the Vulkan passes (render/vulkan/gpu_*_pass*.cpp, gpu_frame_resources.cpp)
 // and the shaders, plus the small per-pixel helpers every pass uses (G-buffer point, shading
 // normal, alpha texel).
 #ifndef STSV_RENDER_GPU_FRAME_DH_H
@@ -128,7 +128,7 @@ DH_CONST uint GPU_HULL_RECORD_TEXELS = 18u;
 /// Items (sides of a triangle or a carrier face) per thread of a hull pass, at most: a workgroup
 /// first finds which of its threads × HULL_ITEMS_PER_THREAD items have a volume (a cheap test),
 /// then its threads build and clip those, so that a SIMD batch clips as many volumes as it has
-/// lanes (render/gpu_hulls.cpp chooses HULL_ITEMS_PER_THREAD per device).
+/// lanes (render/vulkan/gpu_hulls.cpp chooses HULL_ITEMS_PER_THREAD per device).
 DH_CONST uint GPU_HULL_MAX_ITEMS_PER_THREAD = 16u;
 
 /// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of

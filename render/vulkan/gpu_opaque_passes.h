@@ -28,7 +28,7 @@ class Device;
 
 /// The welded edges of the opaque triangles (wedges/adjacency.h) as the GPU reads them: edge
 /// endpoints, incident faces with their third vertices, and the carrier face whose STSV volume
-/// bounds the edge's wedge (the first non-degenerate face, as render/cpu_wedges.cpp). The
+/// bounds the edge's wedge (the first non-degenerate face, as render/cpu/cpu_wedges.cpp). The
 /// carriers, each with the edges it carries (at most its three, GPU_NO_EDGE in the free slots),
 /// are what the wedge passes draw: one bound for all of a face's edges.
 struct GpuEdgeTables {

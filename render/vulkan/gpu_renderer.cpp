@@ -248,8 +248,7 @@ struct VulkanRenderer::Impl {
             throw UsageError(
                 "Vulkan device " + info.name +
                 " lacks depth clamp, logic op or fragment stores/atomics needed by the STSV pass");
-        const ExtrusionStage stage =
-            config.extrusion != ExtrusionStage::Auto ? config.extrusion : options.extrusion;
+        const ExtrusionStage stage = options.extrusion; // the one source: --extrusion
         if (stage == ExtrusionStage::Mesh && !info.meshShader)
             throw UsageError("Vulkan device " + info.name +
                              " lacks VK_EXT_mesh_shader (mesh-shader STSV extrusion)");

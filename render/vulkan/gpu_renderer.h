@@ -17,8 +17,6 @@ struct VulkanRendererConfig {
     /// Render on this device (it must outlive the renderer) instead of creating one from
     /// RenderOptions::device / RenderOptions::validation. Tests share one validated device.
     Device* device = nullptr;
-    /// Auto: RenderOptions::extrusion decides; Geometry or Mesh overrides it.
-    ExtrusionStage extrusion = ExtrusionStage::Auto;
     /// The fragments the STSV hull draw and the DCS wedge draw may list for their sample passes
     /// at first (0: two a pixel); a frame that needs more grows the list and renders again.
     /// Tests make it small.

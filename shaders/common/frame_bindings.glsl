@@ -11,7 +11,7 @@ layout(std430, set = 0, binding = GPU_BINDING_TEXTURES) readonly buffer Textures
 #ifdef STSV_PATTERN_VEC4S
 // The pattern as a uniform buffer of STSV_PATTERN_VEC4S vec4 (two points each; std140 pads a
 // vec2 array to 16 bytes): a dynamically indexed uniform load is a vector gather on lavapipe,
-// a storage-buffer load a loop over the lanes. render/gpu_frame_resources.cpp picks it when it fits.
+// a storage-buffer load a loop over the lanes. render/vulkan/gpu_frame_resources.cpp picks it when it fits.
 layout(std140, set = 0, binding = GPU_BINDING_PATTERN) uniform Pattern { vec4 patternPairs[STSV_PATTERN_VEC4S]; };
 vec2 patternPointAt(uint i) {
     vec4 pair = patternPairs[i >> 1u];
@@ -28,7 +28,7 @@ layout(std430, set = 0, binding = GPU_BINDING_FRAME) readonly buffer FrameData {
 layout(push_constant) uniform Push { GpuPush pc; };
 
 #ifdef STSV_ALPHA_BIT_VEC4S
-// Binary alpha, alphaBlocks of each texel as one bit, in a uniform buffer (render/gpu_frame_resources.cpp
+// Binary alpha, alphaBlocks of each texel as one bit, in a uniform buffer (render/vulkan/gpu_frame_resources.cpp
 // picks it when it fits): a dynamically indexed uniform load is a vector gather on lavapipe, a
 // storage-buffer load a loop over the lanes. GpuTexture::offset counts bits then.
 layout(std140, set = 0, binding = GPU_BINDING_ALPHA) uniform AlphaBits { uvec4 alphaBitWords[STSV_ALPHA_BIT_VEC4S]; };
@@ -70,7 +70,7 @@ vec2 samplePointWithOffset(vec2 patternPoint, uvec2 offset, bool decorrelated, u
 
 #ifdef STSV_PATTERN_Q
 /// The frame's single sample set (no interleaving) in 24-bit fixed point, q = u·2^24 exactly,
-/// baked into the shader by render/gpu_shader_defines.cpp: with the sample loops unrolled, sample k's
+/// baked into the shader by render/vulkan/gpu_shader_defines.cpp: with the sample loops unrolled, sample k's
 /// point is a constant instead of a storage-buffer load per sample and pixel (on lavapipe those
 /// loads cost more than the rest of the resolve).
 const uvec2 patternQ[SAMPLE_COUNT] = STSV_PATTERN_Q;

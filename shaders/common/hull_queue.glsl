@@ -3,7 +3,7 @@
 // `item` (a side of a triangle or a carrier face: every side 0, then every side 1) may have a
 // volume, and `void buildHull(uint index, uint side)`, which builds, clips and appends it.
 //
-// A workgroup's items are HULL_ITEMS_PER_THREAD per thread (render/gpu_hulls.cpp). It queues
+// A workgroup's items are HULL_ITEMS_PER_THREAD per thread (render/vulkan/gpu_hulls.cpp). It queues
 // those that pass the cheap test in shared memory, then its threads build and clip the queued
 // ones: a SIMD batch then clips as many volumes as it has lanes, where most carrier faces have no
 // potential silhouette and a batch of them would clip one or two.

@@ -2,7 +2,7 @@
 // Resolve of one light (STSV paper Algorithm 2; DESIGN §4.4): v_coef = visible samples / N and
 // Monte-Carlo direct lighting albedo/π · (1/N) Σ_k sampleContribution_k · V_k
 // (sampling/resolve_dh.h, which the CPU resolve calls too), accumulated into the colour and
-// visibility images. The first light's dispatch writes ambient (or background) first, as render/frame.cpp.
+// visibility images. The first light's dispatch writes ambient (or background) first, as render/cpu/cpu_renderer.cpp.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #ifndef SAMPLE_COUNT

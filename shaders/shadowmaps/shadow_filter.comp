@@ -1,6 +1,6 @@
 #version 450
 // Image-based visibility per pixel (DESIGN §4.6): PCF, or one of PCSS's two steps, with the
-// functions of shadowmaps/shadow_filter_dh.h that the CPU backend runs (render/cpu_shadowmaps.cpp).
+// functions of shadowmaps/shadow_filter_dh.h that the CPU backend runs (render/cpu/cpu_shadowmaps.cpp).
 //   SHADOW_FILTER_STEP 0: PCF → v_coef in the v_coef image
 //                      1: PCSS blocker search → the filter radius (uv), −1 when no blocker
 //                      2: PCSS filter of that radius → v_coef

@@ -3,7 +3,7 @@
 // whose visible point p lies in front of the volume's back faces. Rejects p outside the volume,
 // applies the self-shadowing rule, then volumes/stsv_fragment_dh.h — the side-ownership rule and
 // per light sample the projective test (Eq. 1–3) and the texel rule (Eq. 4–5) — which the CPU
-// mirror (render/cpu_stsv.cpp) calls in its loop. Output: occlusion bits through logic-op OR
+// mirror (render/cpu/cpu_stsv.cpp) calls in its loop. Output: occlusion bits through logic-op OR
 // attachments, or packed 16-bit counters (sampling/ls_buffer_dh.h).
 #extension GL_GOOGLE_include_directive : require
 #ifndef STSV_MESH_PATH
@@ -101,7 +101,7 @@ void main() {
     // in full batches: a fragment batch on lavapipe runs every instruction for all its lanes and
     // its sample loop as long as its slowest lane, and small hull triangles leave its lanes
     // mostly idle. A frame whose list was too short grows it and runs again
-    // (render/gpu_renderer.cpp).
+    // (render/vulkan/gpu_renderer.cpp).
     if (accepted) deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), inRecord);
 #else
     if (accepted) {

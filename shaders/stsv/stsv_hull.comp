@@ -7,7 +7,7 @@
 // stsv.frag. Where the ten-vertex prism of stsv.geom reaches far beyond the accepted region (a
 // large light, a leaf edge-on), the hull costs no fragment that only rejects.
 #extension GL_GOOGLE_include_directive : require
-// Threads per workgroup, set by render/gpu_hulls.cpp to what shared memory holds: the clipping
+// Threads per workgroup, set by render/vulkan/gpu_hulls.cpp to what shared memory holds: the clipping
 // keeps its polyhedron there (clip_box_dh.h).
 #ifndef CLIP_SHARED_INVOCATIONS
 #define CLIP_SHARED_INVOCATIONS 8

@@ -5,6 +5,7 @@
 #define STSV_SHADERS_STSV_VOLUME_GLSL
 
 #include "volumes/extrusion_dh.h"
+#include "volumes/stsv_cull_dh.h"
 
 /// The record of a volume (render/vulkan/gpu_frame_dh.h GpuStsvRecord): flat varyings of the geometry
 /// and mesh shaders (72 components; Vulkan guarantees 64 per geometry-shader vertex, lavapipe
@@ -39,47 +40,8 @@ StsvTriangle stsvUnpackTriangle(vec4 m0, vec4 m1, vec4 m2, vec4 uv0E1, vec4 uvE2
     return t;
 }
 
-/// Lower bound of shadowTMin (volumes/stsv_dh.h) over the receivers p in the scene box: the
-/// light frame's centre is the light's position (rectangle, disk, sphere), whose distance to p
-/// is at most its largest distance to a box corner, or p + normal·farDistance (directional),
-/// at distance farDistance. 1 % added for the rounding of the per-pixel distance.
-float stsvShadowTMinLowerBound(Light light) {
-    vec3 lo = vec3(frame.boxLo);
-    vec3 hi = vec3(frame.boxHi);
-    float farthest = 0.0;
-    if (light.type == LIGHT_DIRECTIONAL) {
-        farthest = frame.farDistance * length(light.normal);
-    } else {
-        for (uint k = 0u; k < 8u; ++k) farthest = max(farthest, length(light.position - stsvBoxCorner(lo, hi, k)));
-    }
-    float sceneDiameter = length(hi - lo);
-    farthest *= 1.01;
-    return farthest <= sceneDiameter ? SHADOW_T_MIN : SHADOW_T_MIN * (sceneDiameter / farthest);
-}
-
-/// Culling of volumes that cannot shadow any visible point (the ground's own-plane volumes):
-/// true when the light (its bounding sphere) lies wholly on the lit side, at distance L > 0
-/// from the plane, and no corner of the scene box lies behind the plane by more than the shadow
-/// segments' minimum start tMin·L, with tMin the lower bound of shadowTMin over the box. Every
-/// visible point p is in the box, so its e is at most that maximum (the plane distance is
-/// linear); every light sample s has h.z = e + dist(s) ≥ e + L, so a crossing would need
-/// e > tMin·h.z: impossible. The CPU mirror builds these volumes; it gets no bits from them, so
-/// results are identical.
-bool stsvVolumeCannotShadowBox(StsvTriangle t, vec4 sphere, Light light) {
-    vec3 n = vec3(t.m2);
-    float lightDistance = dot(n, vec3(sphere)) + t.m2.w - sphere.w;
-    vec3 lo = vec3(frame.boxLo);
-    vec3 hi = vec3(frame.boxHi);
-    float behind = -1e30;
-    for (uint k = 0u; k < 8u; ++k) behind = max(behind, -(dot(n, stsvBoxCorner(lo, hi, k)) + t.m2.w));
-    vec3 far = max(abs(lo), abs(hi));
-    // Round-off of e in the fragment shader (a few ulp of the coordinates), generously.
-    float rounding = 4e-6 * (length(hi - lo) + max(max(far.x, far.y), far.z));
-    return lightDistance > 0.0 && behind + rounding <= 0.99 * stsvShadowTMinLowerBound(light) * lightDistance;
-}
-
 /// The triangle constants, volume and light planes of (triangle, side) for light `lightIndex`:
-/// the same dh calls as render/cpu_stsv.cpp (stsvTriangleFor, stsvSideCount, stsvBuildVolume,
+/// the same dh calls as render/cpu/cpu_stsv.cpp (stsvTriangleFor, stsvSideCount, stsvBuildVolume,
 /// stsvLightPlanes). False when this side has no volume (degenerate triangle, unlit side, empty
 /// volume).
 bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, out StsvVolume vol,
@@ -100,7 +62,9 @@ bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, o
     if ((t.flags & STSV_FLAG_DEGENERATE) != 0u) return false;
     uint sides = stsvSideCount(v0, v1, v2, sphere);
     if (side >= sides) return false;
-    if (sides == 1u && stsvVolumeCannotShadowBox(t, sphere, lights[lightIndex].light)) return false;
+    if (sides == 1u && stsvVolumeCannotShadowBox(t, sphere, lights[lightIndex].light, vec3(frame.boxLo),
+                                                  vec3(frame.boxHi), frame.farDistance))
+        return false;
     vol = stsvBuildVolume(v0, v1, v2, sphere, vec3(frame.boxLo), vec3(frame.boxHi), side);
     LightFrame square;
     if (lightSampleSquare(lights[lightIndex].light, frame.farDistance, square))

@@ -6,7 +6,7 @@
 //   DCS (WEDGE_PW 0): listed for wedge_samples.comp, which projects the edge onto the pixel's
 //     light frame and adds k_e·[r → x crosses the edge]·sign(ℓ·X) to each light sample x's 16-bit
 //     counter (Forest, Barthe & Paulin 2008). The list grows and the frame is rendered again when
-//     it was too short (render/gpu_renderer.cpp).
+//     it was too short (render/vulkan/gpu_renderer.cpp).
 //   PW (WEDGE_PW 1): sign(k_e)·(signed fraction of the light beyond the edge), summed by
 //     additive blending (Assarsson & Akenine-Möller 2003).
 #extension GL_GOOGLE_include_directive : require

@@ -1,6 +1,6 @@
 #version 450
 // Wedge bound of one carrier face, for the edges it carries (DESIGN §4.5; as
-// render/cpu_wedges.cpp): the STSV volume of the face (a segment towards the light that touches
+// render/cpu/cpu_wedges.cpp): the STSV volume of the face (a segment towards the light that touches
 // an edge touches the closed face, which its STSV volume bounds conservatively), both sides when
 // the light straddles the face's plane (one invocation per side). A face none of whose edges can
 // be a silhouette for any point of the light emits nothing. The fragment (wedge.frag) gets the

@@ -1,5 +1,5 @@
 // Descriptor declarations of the opaque-occluder passes (dcs_center.*, wedge.*, wedge_fold.comp):
-// the welded edges of the opaque triangles and their faces (render/gpu_opaque_passes.cpp uploads them).
+// the welded edges of the opaque triangles and their faces (render/vulkan/gpu_opaque_passes.cpp uploads them).
 #ifndef STSV_SHADERS_WEDGE_BINDINGS_GLSL
 #define STSV_SHADERS_WEDGE_BINDINGS_GLSL
 
@@ -49,7 +49,7 @@ bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
 }
 
 /// The bound of the wedges of a carrier face's potential silhouette edges (DESIGN §4.5; as
-/// render/cpu_wedges.cpp): the STSV volume of the face (a segment towards the light that touches
+/// render/cpu/cpu_wedges.cpp): the STSV volume of the face (a segment towards the light that touches
 /// an edge touches the closed face, which its STSV volume bounds conservatively), both sides when
 /// the light straddles the face's plane, and the face's light planes. One bound serves all the
 /// edges the face carries. `record` is what the wedge fragment reads (GpuWedgeRecord).

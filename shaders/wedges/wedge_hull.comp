@@ -5,7 +5,7 @@
 // planes inside the scene box (extrusion_dh.h stsvVolumeHullSetup), and appends its triangles
 // and the carrier's record (GpuWedgeRecord) for the indirect draw of hull.vert + wedge.frag.
 #extension GL_GOOGLE_include_directive : require
-// Threads per workgroup, set by render/gpu_hulls.cpp to what shared memory holds: the clipping
+// Threads per workgroup, set by render/vulkan/gpu_hulls.cpp to what shared memory holds: the clipping
 // keeps its polyhedron there (clip_box_dh.h).
 #ifndef CLIP_SHARED_INVOCATIONS
 #define CLIP_SHARED_INVOCATIONS 8

@@ -1,5 +1,5 @@
 // The per-pixel edge term of a potential silhouette edge (DESIGN §4.5; wedges/
-// wedge_fragment_dh.h, which render/cpu_wedges.cpp forEachSilhouette calls too), for wedge.frag
+// wedge_fragment_dh.h, which render/cpu/cpu_wedges.cpp forEachSilhouette calls too), for wedge.frag
 // (PW) and wedge_samples.comp (DCS): the edge's faces from edgeFaces[], the pixel's light frame,
 // the edge projected onto it, and DCS's signed crossings per light sample.
 #ifndef STSV_SHADERS_WEDGE_TERM_GLSL

@@ -53,7 +53,9 @@ class GpuRenderTest : public ::testing::Test {
     }
     Frame renderGpu(const Scene& scene, const RenderOptions& options,
                     ExtrusionStage extrusion = ExtrusionStage::Auto) {
-        VulkanRenderer renderer(scene, options, {&device(), extrusion});
+        RenderOptions o = options;
+        if (extrusion != ExtrusionStage::Auto) o.extrusion = extrusion;
+        VulkanRenderer renderer(scene, o, {&device()});
         return renderer.render();
     }
 };

@@ -162,7 +162,7 @@ TEST_P(GpuVsMirror, CountersMatchMirrorOnGpuGBuffer) {
                           std::string(GetParam().scene) + " counters N=" + std::to_string(o.samples));
 }
 
-// The renderer's fallbacks for large data (render/gpu_frame_resources.cpp): alpha bytes in a storage
+// The renderer's fallbacks for large data (render/vulkan/gpu_frame_resources.cpp): alpha bytes in a storage
 // buffer when the texture bits exceed 16 KiB (512² chain-link texels = 32 KiB of bits), and the
 // pattern read from a buffer instead of baked into the resolve when the sets are interleaved.
 TEST_F(GpuRenderTest, LargeTextureAndInterleavedPatternMatchMirror) {
@@ -215,7 +215,7 @@ TEST_F(GpuRenderer, EveryLightShapeInOneFrameMatchesMirrorEmbreeAndCpuResolve) {
         expectMirrorExact(scene, frame, o, l, what);
         expectMatchesEmbree(scene, frame, o, l, 0.999, what);
     }
-    // Resolve: the CPU resolve of the GPU's own buffers (render/frame.cpp's conventions).
+    // Resolve: the CPU resolve of the GPU's own buffers (render/cpu/cpu_renderer.cpp's conventions).
     Frame cpu;
     initFrameImages(scene, frame.gbuffer, o.ambient, cpu);
     const SamplePlan plan = planOf(o);
@@ -322,7 +322,7 @@ TEST_F(GpuRenderer, LightSampleBufferMemoryIsNWHBits) {
 TEST_F(GpuRenderer, RepeatedFramesAreIdentical) {
     const Scene scene = loadScene("foliage");
     const RenderOptions o = gpuOptions(64, 48, 64);
-    VulkanRenderer renderer(scene, o, {&device(), ExtrusionStage::Auto});
+    VulkanRenderer renderer(scene, o, {&device()});
     const Frame a = renderer.render();
     const Frame b = renderer.render();
     EXPECT_EQ(a.lightSamples[0].words(), b.lightSamples[0].words());
@@ -370,7 +370,7 @@ TEST_F(GpuRenderer, HullsAndPrismsGiveTheSameBitsCountersAndInsideFragments) {
             const RenderOptions o = gpuOptions(96, 72, 64, kind);
             // Room for 16 deferred fragments a pixel: more than any case defers (the foliage at
             // 96 × 72 defers 2.0 a pixel, past the default of 2).
-            VulkanRenderer hullRenderer(c.scene, o, {&device(), ExtrusionStage::Hull, 16 * 96 * 72});
+            VulkanRenderer hullRenderer(c.scene, o, {&device(), 16 * 96 * 72});
             const Frame hull = hullRenderer.render();
             const Frame prism = renderGpu(c.scene, o, ExtrusionStage::Geometry);
             const std::string what = std::string(c.name) + " " + toString(kind);
@@ -401,7 +401,7 @@ TEST_F(GpuRenderer, AShortFragmentListGrowsAndTheFrameIsRenderedAgain) {
     const Scene scene = loadScene("foliage");
     for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
         const RenderOptions o = gpuOptions(96, 72, 64, kind);
-        VulkanRenderer small(scene, o, {&device(), ExtrusionStage::Hull, CAPACITY});
+        VulkanRenderer small(scene, o, {&device(), CAPACITY});
         const Frame first = small.render();
         const Frame second = small.render();
         const Frame prism = renderGpu(scene, o, ExtrusionStage::Geometry);
@@ -429,7 +429,6 @@ TEST_F(GpuRenderer, MeshShaderExtrusionMatchesMirrorOrSkips) {
     RenderOptions viaOptions = o; // --extrusion mesh
     viaOptions.extrusion = ExtrusionStage::Mesh;
     if (!device().info().meshShader) {
-        EXPECT_THROW(VulkanRenderer(scene, o, {&device(), ExtrusionStage::Mesh}), UsageError);
         EXPECT_THROW(VulkanRenderer(scene, viaOptions, {&device()}), UsageError);
         GTEST_SKIP() << device().info().name
                      << " lacks VK_EXT_mesh_shader: stsv.mesh compiled and validated at build time, not run";

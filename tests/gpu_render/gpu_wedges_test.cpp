@@ -1,4 +1,4 @@
-// The Vulkan DCS and PW passes against the CPU mirror (render/cpu_wedges.cpp) fed the
+// The Vulkan DCS and PW passes against the CPU mirror (render/cpu/cpu_wedges.cpp) fed the
 // GPU's own G-buffer, and DCS against Embree: fence and foliage with their perforated triangles
 // (dcs+stsv, pw+stsv), closed meshes, open and non-manifold soups, every light shape.
 // Validation on (GpuRenderTest fails on any message).
@@ -324,7 +324,7 @@ TEST_F(GpuWedges, AShortSilhouetteListGrowsAndTheFrameIsRenderedAgain) {
     constexpr std::uint64_t CAPACITY = 50;
     const Scene scene = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
     const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
-    VulkanRenderer small(scene, o, {&device(), ExtrusionStage::Auto, CAPACITY});
+    VulkanRenderer small(scene, o, {&device(), CAPACITY});
     const Frame first = small.render();
     const Frame second = small.render();
     const Frame roomy = renderGpu(scene, o);
@@ -372,7 +372,7 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
             RenderOptions o = wedgeOptions(method.id, 40, 30, 64);
             o.buffer = kind;
             const std::string what = method.name + " " + toString(kind);
-            VulkanRenderer renderer(scene, o, {&device(), ExtrusionStage::Auto});
+            VulkanRenderer renderer(scene, o, {&device()});
             const Frame frame0 = renderer.render();
             for (int repeat = 1; repeat < 3; ++repeat) {
                 const Frame frame = renderer.render();

@@ -1,4 +1,4 @@
-// The CPU DCS pass's conservative culling (render/cpu_wedges.cpp): dcsBoxSide, which drops an
+// The CPU DCS pass's conservative culling (render/cpu/cpu_wedges.cpp): dcsBoxSide, which drops an
 // edge for a box of visible points when it can be a silhouette from none of them, and
 // dcsSampleRegion, which bounds the samples an edge's crossing can count. Each must keep
 // everything the per-point or per-sample test would accept, at the rounding limit too: points
