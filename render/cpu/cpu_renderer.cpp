@@ -50,7 +50,7 @@ class CpuRenderer final : public FrameRenderer {
         initFrameImages(m_scene, frame.gbuffer, m_options.ambient, frame);
 
         const bool visibilityOnly = m_method.output == MethodOutput::Visibility;
-        const BufferKind kind = m_method.bufferKind(m_options.buffer);
+        const BufferKind kind = m_options.buffer; // the method's kind (frameOptions)
         std::size_t bufferBytes = 0;
         for (std::size_t l = 0; l < m_scene.lights.size(); ++l) {
             const Light& light = m_scene.lights[l];

@@ -7,7 +7,7 @@
 #include "render/cpu/cpu_stsv.h"
 #include "render/cpu/cpu_wedges.h"
 
-#include <algorithm>
+#include <utility>
 
 namespace stsv {
 

@@ -15,7 +15,9 @@ constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& options,
                                      std::uint64_t initialCapacity)
-    : m_device(&device), m_options(options), m_initialCapacity(initialCapacity) {
+    : m_device(&device), m_initialCapacity(initialCapacity),
+      m_maskWordCount(std::uint64_t(options.width) * std::uint64_t(options.height) *
+                      lsMaskWordCount(uint(options.samples))) {
     count = Buffer(device, 16, STORAGE, MemoryUsage::DeviceLocal);
     resize(0);
     maskWords = Buffer(device, 4, STORAGE, MemoryUsage::DeviceLocal);
@@ -25,9 +27,7 @@ void DeferredFragments::use(bool withMaskWords) {
     if (m_capacity == 0) resize(m_initialCapacity);
     if (withMaskWords && !m_maskWords) {
         m_maskWords = true;
-        const std::uint64_t words = std::uint64_t(m_options.width) * std::uint64_t(m_options.height) *
-                                    lsMaskWordCount(uint(m_options.samples));
-        maskWords = Buffer(*m_device, words * 4, STORAGE, MemoryUsage::DeviceLocal);
+        maskWords = Buffer(*m_device, m_maskWordCount * 4, STORAGE, MemoryUsage::DeviceLocal);
     }
 }
 

@@ -45,8 +45,8 @@ class DeferredFragments {
     /// Room for `capacity` fragments, the old entries dropped.
     void resize(std::uint64_t capacity);
     const Device* m_device;
-    RenderOptions m_options;
     std::uint64_t m_initialCapacity;
+    std::uint64_t m_maskWordCount; ///< lsMaskWordCount(N) words per pixel of the frame
     std::uint64_t m_capacity = 0;
     bool m_maskWords = false;
 };

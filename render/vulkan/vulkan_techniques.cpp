@@ -26,15 +26,14 @@ bool drawsStsv(StsvTriangles which, const Scene& scene) {
 
 /// STSV over the row's triangles (Algorithm 2 lines 8–10): the volumes' hulls built by a compute
 /// pass and drawn, their listed fragments' samples and, for bits, the merge into the masks; or
-/// the prisms of the geometry or mesh shader. Without S-triangles in the scene, it clears the
-/// masks (every sample lit).
+/// the prisms of the geometry or mesh shader. Without S-triangles in the scene it records
+/// nothing, and the frame clears the masks (every sample lit).
 class StsvTechnique final : public VulkanTechnique {
   public:
     explicit StsvTechnique(const VulkanTechniqueContext& c)
-        : m_c(c), m_draws(!c.scene.lights.empty() && drawsStsv(c.method.stsv, c.scene)),
-          m_clearHullDraw({}, {&c.hulls.draw}),
+        : m_c(c), m_clearHullDraw({}, {&c.hulls.draw}),
           m_clearDeferred({}, {&c.deferred.count, &c.deferred.maskWords}) {
-        if (!m_draws) return;
+        if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
         const bool bitmask = c.options.buffer == BufferKind::Bitmask;
         if (c.geometry == StsvGeometry::Hull) c.deferred.use(bitmask);
         m_stsv.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, c.descriptors,
@@ -49,7 +48,7 @@ class StsvTechnique final : public VulkanTechnique {
                            c.descriptors);
     }
 
-    bool writesSampleMasks() const override { return true; }
+    bool writesSampleMasks() const override { return m_stsv.has_value(); }
     std::uint32_t timedPassesPerLight() const override { return 4; }
     std::vector<const HullPass*> hullPasses() const override {
         if (!m_hullPass) return {};
@@ -57,12 +56,7 @@ class StsvTechnique final : public VulkanTechnique {
     }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
-        if (!m_stsv) {
-            std::vector<Image*> masks;
-            for (Image& image : m_c.resources.samples.masks[light]) masks.push_back(&image);
-            if (!masks.empty()) runPass(recorder, cmd, "", ClearPass(masks, {}), light);
-            return;
-        }
+        if (!m_stsv) return;
         if (m_hullPass) {
             runPass(recorder, cmd, "", m_clearHullDraw, light);
             runPass(recorder, cmd, passName(light, "stsv_hulls"), *m_hullPass, light);
@@ -100,7 +94,6 @@ class StsvTechnique final : public VulkanTechnique {
 
   private:
     const VulkanTechniqueContext& m_c;
-    bool m_draws;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferred;
     std::optional<HullPass> m_hullPass;       ///< with hulls
