@@ -139,9 +139,10 @@ def work_text(c):
     """The frame's work from its --stats, the same on every machine: fragments (point-in-volume and
     wedge tests) and light samples tested, summed over the passes and lights."""
     fragments = samples = 0
+    # "center" stands beside "wedges" in results written before it moved into them.
     for key in ("stsv", "wedges", "center"):
         for light in c.get(key, []):
-            fragments += light.get("fragments", 0)
+            fragments += light.get("fragments", 0) + light.get("center", {}).get("fragments", 0)
             samples += light.get("samples_tested", 0)
     if not fragments and not samples:
         return "–"

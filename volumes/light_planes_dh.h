@@ -23,6 +23,7 @@
 #define STSV_VOLUMES_LIGHT_PLANES_DH_H
 
 #include "core/dh.h"
+#include "sampling/light_sampling_dh.h"
 #include "volumes/volume_dh.h"
 
 DH_BEGIN
@@ -122,6 +123,16 @@ DH_FUNC bool stsvPointInLightPlanes(StsvLightPlanes lp, vec3 p) {
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i)
         inside = inside && (i >= lp.count || !(dot(vec3(lp.planes[i]), p) + lp.planes[i].w < 0.0f));
     return inside;
+}
+
+/// The light planes of triangle (v0, v1, v2) for `light`: those of its sample square
+/// (lightSampleSquare, sampling/light_sampling_dh.h), or none for a light without one. The one
+/// set-up of both backends' STSV volumes and wedge bounds.
+DH_FUNC StsvLightPlanes stsvTriangleLightPlanes(vec3 v0, vec3 v1, vec3 v2, Light light, float farDistance,
+                                                vec3 boundsLo, vec3 boundsHi) {
+    LightFrame square;
+    if (!lightSampleSquare(light, farDistance, square)) return stsvNoLightPlanes();
+    return stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, boundsLo, boundsHi);
 }
 
 /// True when no point of the box passes stsvPointInLightPlanes (stsvPlaneMissesBox).

@@ -352,29 +352,39 @@ DH_FUNC uint stsvSideCount(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere) {
     return d < lightSphere.w + slack ? 2u : 1u;
 }
 
-/// Builds the volume of one side of triangle (v0, v1, v2): side 0 faces the light centre, side 1
-/// is the opposite face (only meaningful when stsvSideCount is 2; otherwise it is empty). The box
-/// [boundsLo, boundsHi] (the scene's bounds; grown to hold the triangle) limits the extrusion.
-DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, vec3 boundsLo, vec3 boundsHi,
-                                   uint side) {
+/// Steps 1–3 of stsvBuildVolume: the volume's planes in its frame (StsvVolumeFrame), and what
+/// the strip is built from.
+struct StsvVolumeCore {
+    StsvVolume vol;        ///< planes in the frame, planeCount, flags; world space and final when done
+    StsvVolumeFrame frame; ///< of the triangle and the box
+    vec3 n;                ///< the side's normal
+    vec3 p1;               ///< v1 − v0 in the frame (v0 is its origin)
+    vec3 p2;               ///< v2 − v0 in the frame
+    vec3 q[3];             ///< the front cap t' (or the triangle)
+    vec4 outer[3];         ///< outer planes of t''s edges, where hasOuter
+    bool hasOuter[3];
+    vec4 front; ///< the front cap's plane
+    uint done;  ///< 1: vol is an empty volume, in world space, and nothing follows
+};
+
+DH_FUNC StsvVolumeCore stsvVolumeCore(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, vec3 boundsLo,
+                                      vec3 boundsHi, uint side) {
+    StsvVolumeCore core;
+    core.done = 1u;
     vec3 e1 = v1 - v0;
     vec3 e2 = v2 - v0;
     bool finiteInput = stsvFiniteVec(v0) && stsvFiniteVec(v1) && stsvFiniteVec(v2) &&
                        stsvFiniteVec(vec3(lightSphere)) && !isnan(lightSphere.w) && !isinf(lightSphere.w) &&
                        stsvFiniteVec(boundsLo) && stsvFiniteVec(boundsHi);
-    if (!finiteInput || stsvTriangleIsDegenerate(v0, v1, v2))
-        return stsvEmptyVolume(finiteInput ? v0 : vec3(0.0f), STSV_VOLUME_DEGENERATE);
+    if (!finiteInput || stsvTriangleIsDegenerate(v0, v1, v2)) {
+        core.vol = stsvEmptyVolume(finiteInput ? v0 : vec3(0.0f), STSV_VOLUME_DEGENERATE);
+        return core;
+    }
 
     // Work relative to v0 in units of the box diagonal (StsvVolumeFrame).
     StsvVolumeFrame frame = stsvVolumeFrame(v0, v1, v2, boundsLo, boundsHi);
     float invScale = frame.invScale;
     float slack = frame.slack;
-    float margin = STSV_STRIP_MARGIN;
-    // The strip's planes lie this much (box diagonals) outside the stored ones: more than the
-    // rounding stsvClosePrism tolerates in its corners (≤ 2e-4), so the strip encloses the volume.
-    float stripExpansion = slack + STSV_STRIP_EXPANSION;
-    vec3 boxLo = frame.boxLo;
-    vec3 boxHi = frame.boxHi;
     vec3 p0 = vec3(0.0f);
     vec3 p1 = e1 * invScale;
     vec3 p2 = e2 * invScale;
@@ -391,7 +401,10 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     if (side == 1u) {
         n = -n;
         dc = -dc;
-        if (!(dc > -rr)) return stsvEmptyVolume(v0, 0u);
+        if (!(dc > -rr)) {
+            core.vol = stsvEmptyVolume(v0, 0u);
+            return core;
+        }
     }
     vec3 ch = cc;
     float rh = rr;
@@ -468,6 +481,64 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     }
     vol.planeCount = count;
     for (uint i = count; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = vec4(0.0f);
+
+    core.vol = vol;
+    core.frame = frame;
+    core.n = n;
+    core.p1 = p1;
+    core.p2 = p2;
+    for (uint i = 0u; i < 3u; ++i) {
+        core.q[i] = q[i];
+        core.outer[i] = outer[i];
+        core.hasOuter[i] = hasOuter[i];
+    }
+    core.front = front;
+    core.done = 0u;
+    return core;
+}
+
+/// The planes of one side's volume without its strip (stsvBuildVolume's planes, planeCount and
+/// flags but STSV_VOLUME_CONE_STRIP and STSV_VOLUME_BOX, which describe the strip; the vertices
+/// all v0): what the hull passes clip the box by.
+DH_FUNC StsvVolume stsvBuildVolumePlanes(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, vec3 boundsLo,
+                                         vec3 boundsHi, uint side) {
+    StsvVolumeCore core = stsvVolumeCore(v0, v1, v2, lightSphere, boundsLo, boundsHi, side);
+    if (core.done != 0u) return core.vol;
+    StsvVolume vol = core.vol;
+    for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i)
+        vol.planes[i] = stsvPlaneToWorld(core.frame, vol.planes[i]);
+    for (uint i = 0u; i < 10u; ++i) vol.vertices[i] = vec4(v0, 1.0f);
+    return vol;
+}
+
+/// Builds the volume of one side of triangle (v0, v1, v2): side 0 faces the light centre, side 1
+/// is the opposite face (only meaningful when stsvSideCount is 2; otherwise it is empty). The box
+/// [boundsLo, boundsHi] (the scene's bounds; grown to hold the triangle) limits the extrusion.
+DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, vec3 boundsLo, vec3 boundsHi,
+                                   uint side) {
+    StsvVolumeCore core = stsvVolumeCore(v0, v1, v2, lightSphere, boundsLo, boundsHi, side);
+    if (core.done != 0u) return core.vol;
+    StsvVolume vol = core.vol;
+    StsvVolumeFrame frame = core.frame;
+    vec3 n = core.n;
+    vec3 p1 = core.p1;
+    vec3 p2 = core.p2;
+    vec3 q[3];
+    vec4 outer[3];
+    bool hasOuter[3];
+    for (uint i = 0u; i < 3u; ++i) {
+        q[i] = core.q[i];
+        outer[i] = core.outer[i];
+        hasOuter[i] = core.hasOuter[i];
+    }
+    vec4 front = core.front;
+    float slack = frame.slack;
+    float margin = STSV_STRIP_MARGIN;
+    // The strip's planes lie this much (box diagonals) outside the stored ones: more than the
+    // rounding stsvClosePrism tolerates in its corners (≤ 2e-4), so the strip encloses the volume.
+    float stripExpansion = slack + STSV_STRIP_EXPANSION;
+    vec3 boxLo = frame.boxLo;
+    vec3 boxHi = frame.boxHi;
 
     // 4. The strip's prism: front cap, three side planes, back cap, each one more slack outwards
     // so that it strictly encloses the stored planes' region inside the box.
@@ -598,6 +669,21 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
     for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i) vol.planes[i] = stsvPlaneToWorld(frame, vol.planes[i]);
     for (uint i = 0u; i < 10u; ++i) vol.vertices[i] = vec4(v0 + frame.scale * vec3(vol.vertices[i]), 1.0f);
     return vol;
+}
+
+/// Side `side`'s volume of triangle (v0, v1, v2) (stsvBuildVolume, or without `strip` only its
+/// planes, stsvBuildVolumePlanes): false past the sides the light sees (stsvSideCount) or when the
+/// volume is empty. The one rule of both backends' STSV volumes and wedge bounds for which sides
+/// have a volume.
+DH_FUNC bool stsvSideVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, vec3 boundsLo, vec3 boundsHi,
+                            uint side, bool strip, DH_OUT(StsvVolume) vol) {
+    if (side >= stsvSideCount(v0, v1, v2, lightSphere)) {
+        vol = stsvEmptyVolume(v0, 0u);
+        return false;
+    }
+    vol = strip ? stsvBuildVolume(v0, v1, v2, lightSphere, boundsLo, boundsHi, side)
+                : stsvBuildVolumePlanes(v0, v1, v2, lightSphere, boundsLo, boundsHi, side);
+    return (vol.flags & STSV_VOLUME_EMPTY) == 0u;
 }
 
 /// STSV §2.3: p is inside iff it is on the inner side of every plane of the volume. The plane

@@ -75,8 +75,6 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     // Per-triangle constants, light planes and volumes (the geometry shader's work).
     std::vector<StsvTriangle> triangles(scene.triangleCount());
     std::vector<StsvLightPlanes> lightPlanes(scene.triangleCount(), stsvNoLightPlanes());
-    LightFrame square;
-    const bool hasSquare = lightSampleSquare(light, farDistance, square);
     std::vector<VolumeRecord> volumes;
     volumes.reserve(scene.triangleCount());
     for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
@@ -88,13 +86,12 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
         }
         const uvec3 idx = scene.triangles[t];
         const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
-        if (hasSquare)
-            lightPlanes[t] =
-                stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, bounds.lo, bounds.hi);
-        const uint sides = stsvSideCount(v0, v1, v2, sphere);
-        for (uint side = 0; side < sides; ++side)
-            volumes.push_back({stsvBuildVolume(v0, v1, v2, sphere, bounds.lo, bounds.hi, side),
-                               static_cast<std::uint32_t>(t), side});
+        lightPlanes[t] = stsvTriangleLightPlanes(v0, v1, v2, light, farDistance, bounds.lo, bounds.hi);
+        for (uint side = 0; side < 2; ++side) {
+            StsvVolume volume;
+            if (stsvSideVolume(v0, v1, v2, sphere, bounds.lo, bounds.hi, side, true, volume))
+                volumes.push_back({volume, static_cast<std::uint32_t>(t), side});
+        }
     }
     stats.volumes = volumes.size();
 

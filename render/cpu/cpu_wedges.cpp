@@ -112,8 +112,6 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
     const EdgeAdjacency& adj = occ.adjacency();
     const Bounds bounds = scene.bounds();
     const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
-    LightFrame square;
-    const bool hasSquare = lightSampleSquare(light, farDistance, square);
     const std::vector<std::uint32_t> candidates = potentialSilhouetteEdges(adj, sphere);
     stats.edges = adj.edges.size();
     stats.potentialSilhouettes = candidates.size();
@@ -139,11 +137,14 @@ EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Ligh
         for (; i < byFace.size() && byFace[i].first == tri; ++i) bins.edges.push_back(byFace[i].second);
         record.edgeCount = static_cast<std::uint32_t>(bins.edges.size()) - record.firstEdge;
         const auto c = corners(tri);
-        record.lightPlanes = hasSquare ? stsvLightPlanes(c[0], c[1], c[2], square.center, square.T, square.B,
-                                                         bounds.lo, bounds.hi)
-                                       : stsvNoLightPlanes();
-        for (const StsvVolume& v : buildTriangleVolumes(c[0], c[1], c[2], sphere, bounds))
-            if (!(v.flags & STSV_VOLUME_EMPTY)) record.volumes[record.volumeCount++] = v;
+        // The bound's rule, as wedge_bindings.glsl wedgeSetupBound: the face's volume of each
+        // side the light sees, and its light planes.
+        record.lightPlanes =
+            stsvTriangleLightPlanes(c[0], c[1], c[2], light, farDistance, bounds.lo, bounds.hi);
+        for (uint side = 0; side < 2; ++side)
+            if (stsvSideVolume(c[0], c[1], c[2], sphere, bounds.lo, bounds.hi, side, true,
+                               record.volumes[record.volumeCount]))
+                ++record.volumeCount;
         if (record.volumeCount == 0) {
             bins.edges.resize(record.firstEdge);
             continue;

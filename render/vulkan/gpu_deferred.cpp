@@ -2,7 +2,7 @@
 
 #include "core/error.h"
 #include "gpu/device.h"
-#include "render/vulkan/gpu_frame_dh.h"
+#include "render/vulkan/gpu_volumes_dh.h"
 
 #include <algorithm>
 #include <string>
@@ -53,14 +53,12 @@ void DeferredFragments::resize(std::uint64_t capacity) {
 
 std::vector<DescriptorBinding> DeferredFragments::bindings() {
     return {{GPU_BINDING_DEFERRED_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_DEFERRED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_STSV_MASK_WORDS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+            {GPU_BINDING_DEFERRED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
 }
 
 void DeferredFragments::writeDescriptors(DescriptorSet& set) const {
     set.writeBuffer(GPU_BINDING_DEFERRED_COUNT, count);
     set.writeBuffer(GPU_BINDING_DEFERRED, fragments);
-    set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, maskWords);
 }
 
 } // namespace stsv

@@ -25,7 +25,8 @@ class DeferredFragments {
   public:
     /// `initialCapacity`: the fragments the list holds once a technique uses it.
     DeferredFragments(const Device& device, const RenderOptions& options, std::uint64_t initialCapacity);
-    /// The bindings these resources add to the frame's descriptor set layout.
+    /// The bindings of the list in a volume family's set (gpu_volumes_dh.h); the mask words are
+    /// the STSV family's (gpu_stsv_dh.h).
     static std::vector<DescriptorBinding> bindings();
     void writeDescriptors(DescriptorSet& set) const;
     /// A technique lists fragments: the list gets its initial capacity, and with `maskWords`

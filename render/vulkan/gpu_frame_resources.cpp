@@ -152,7 +152,6 @@ FrameResources::FrameResources(const Device& device, const Scene& scene, const R
     : tables(device, scene, options, plan) {
     const std::size_t lightCount = scene.lights.size();
     const std::size_t setCount = std::max<std::size_t>(lightCount, 1);
-    stats = Buffer(device, sizeof(GpuStats) * setCount, STORAGE, MemoryUsage::DeviceLocal);
 
     const auto w = static_cast<uint32_t>(options.width), h = static_cast<uint32_t>(options.height);
     const VkImageUsageFlags attachment = VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT | VK_IMAGE_USAGE_STORAGE_BIT;
@@ -178,8 +177,7 @@ FrameResources::FrameResources(const Device& device, const Scene& scene, const R
 
 std::vector<DescriptorBinding> FrameResources::bindings() const {
     std::vector<DescriptorBinding> bindings;
-    for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME, GPU_BINDING_COUNTERS,
-                       GPU_BINDING_STATS})
+    for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME, GPU_BINDING_COUNTERS})
         bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
     auto tableType = [](std::size_t uniformVec4s) {
         return uniformVec4s > 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -201,7 +199,6 @@ void FrameResources::writeDescriptors(DescriptorSet& set, std::size_t light) {
     set.writeBuffer(GPU_BINDING_PATTERN, tables.pattern);
     set.writeBuffer(GPU_BINDING_FRAME, tables.frame);
     set.writeBuffer(GPU_BINDING_COUNTERS, samples.counters[light]);
-    set.writeBuffer(GPU_BINDING_STATS, stats);
     set.writeStorageImage(GPU_BINDING_POSITION, gbuffer.position);
     set.writeStorageImage(GPU_BINDING_TRIANGLE_ID, gbuffer.triangleId);
     set.writeStorageImage(GPU_BINDING_COLOR, color);
@@ -220,10 +217,41 @@ FrameDescriptors::FrameDescriptors(const Device& device, std::vector<DescriptorB
 
 void FrameDescriptors::bind(VkCommandBuffer cmd, VkPipelineBindPoint point, std::size_t light) const {
     VkDescriptorSet handle = m_sets.at(light).handle();
-    vkCmdBindDescriptorSets(cmd, point, m_pipelineLayout.handle(), 0, 1, &handle, 0, nullptr);
+    vkCmdBindDescriptorSets(cmd, point, m_pipelineLayout.handle(), GPU_SET_FRAME, 1, &handle, 0, nullptr);
 }
 
 void FrameDescriptors::push(VkCommandBuffer cmd, const GpuPush& constants) const {
+    m_pipelineLayout.push(cmd, &constants, sizeof(constants));
+}
+
+namespace {
+
+std::vector<DescriptorBinding> withStats(std::vector<DescriptorBinding> bindings) {
+    bindings.push_back({GPU_BINDING_FAMILY_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+    return bindings;
+}
+
+} // namespace
+
+FamilyDescriptors::FamilyDescriptors(const Device& device, const FrameDescriptors& frame,
+                                     std::vector<DescriptorBinding> bindings, std::size_t statsBytes)
+    : m_frame(&frame), m_setLayout(device, withStats(std::move(bindings))),
+      m_pipelineLayout(device, {frame.setLayout().handle(), m_setLayout.handle()}, sizeof(GpuPush)),
+      m_statsStride(statsBytes),
+      m_stats(device, statsBytes * frame.setCount(), STORAGE, MemoryUsage::DeviceLocal) {
+    static_assert(GPU_SET_FRAME == 0 && GPU_SET_FAMILY == 1, "the pipeline layout lists the sets in order");
+    for (std::size_t l = 0; l < frame.setCount(); ++l) {
+        m_sets.emplace_back(device, m_setLayout);
+        m_sets.back().writeBuffer(GPU_BINDING_FAMILY_STATS, m_stats);
+    }
+}
+
+void FamilyDescriptors::bind(VkCommandBuffer cmd, VkPipelineBindPoint point, std::size_t light) const {
+    const VkDescriptorSet handles[] = {m_frame->set(light).handle(), m_sets.at(light).handle()};
+    vkCmdBindDescriptorSets(cmd, point, m_pipelineLayout.handle(), GPU_SET_FRAME, 2, handles, 0, nullptr);
+}
+
+void FamilyDescriptors::push(VkCommandBuffer cmd, const GpuPush& constants) const {
     m_pipelineLayout.push(cmd, &constants, sizeof(constants));
 }
 

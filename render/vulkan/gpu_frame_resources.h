@@ -1,7 +1,8 @@
 // The resources the passes of the Vulkan frame share (DESIGN §5): the scene as the shaders read
-// it, the G-buffer, the output images, the per-light sample buffers, and the one descriptor set
-// layout (render/vulkan/gpu_frame_dh.h bindings) with a set per light. The passes own only their
-// pipelines and the resources no other pass touches.
+// it, the G-buffer, the output images, the per-light sample buffers, bound in set GPU_SET_FRAME
+// (render/vulkan/gpu_frame_dh.h) with a set per light; and each family's own set GPU_SET_FAMILY
+// with its stats (FamilyDescriptors). The passes own only their pipelines and the resources no
+// other pass touches.
 #pragma once
 
 #include "gpu/buffer.h"
@@ -89,27 +90,28 @@ class FrameResources {
     FrameResources(const Device& device, const Scene& scene, const RenderOptions& options,
                    const SamplePlan& plan);
 
-    /// The bindings of these resources in the frame's descriptor set layout.
+    /// The bindings of these resources in set GPU_SET_FRAME.
     std::vector<DescriptorBinding> bindings() const;
     /// Light `light`'s resources into its descriptor set.
     void writeDescriptors(DescriptorSet& set, std::size_t light);
 
     GpuSceneTables tables;
-    Buffer stats; ///< GpuStats per light
     GBufferImages gbuffer;
     Image color;      ///< linear RGB, ambient + Σ lights
     Image visibility; ///< v_coef averaged over the lights
     LightSampleBuffers samples;
 };
 
-/// The frame's descriptor set layout (every pass contributes its bindings), the pipeline layout
-/// with the GpuPush constants, and one set per light (at least one).
+/// Set GPU_SET_FRAME: its layout, one set per light (at least one), and the pipeline layout of the
+/// passes that bind nothing else (G-buffer, resolve) with the GpuPush constants.
 class FrameDescriptors {
   public:
     FrameDescriptors(const Device& device, std::vector<DescriptorBinding> bindings, std::size_t setCount);
 
+    const DescriptorSetLayout& setLayout() const { return m_setLayout; }
     const PipelineLayout& pipelineLayout() const { return m_pipelineLayout; }
     DescriptorSet& set(std::size_t light) { return m_sets.at(light); }
+    const DescriptorSet& set(std::size_t light) const { return m_sets.at(light); }
     std::size_t setCount() const { return m_sets.size(); }
 
     void bind(VkCommandBuffer cmd, VkPipelineBindPoint point, std::size_t light) const;
@@ -119,6 +121,36 @@ class FrameDescriptors {
     DescriptorSetLayout m_setLayout;
     PipelineLayout m_pipelineLayout;
     std::vector<DescriptorSet> m_sets;
+};
+
+/// One family's GPU interface: set GPU_SET_FAMILY with the bindings only its passes declare, one
+/// per light; the pipeline layout of its passes (the frame's set, then this one, and the GpuPush
+/// constants); and its stats buffer, `statsBytes` per light at GPU_BINDING_FAMILY_STATS, which the
+/// frame clears before each frame and reads back after it.
+class FamilyDescriptors {
+  public:
+    /// `bindings`: the family's, without its stats (this adds them).
+    FamilyDescriptors(const Device& device, const FrameDescriptors& frame,
+                      std::vector<DescriptorBinding> bindings, std::size_t statsBytes);
+
+    const PipelineLayout& pipelineLayout() const { return m_pipelineLayout; }
+    DescriptorSet& set(std::size_t light) { return m_sets.at(light); }
+    std::size_t setCount() const { return m_sets.size(); }
+    /// The family's stats, `statsStride()` bytes per light.
+    const Buffer& stats() const { return m_stats; }
+    std::size_t statsStride() const { return m_statsStride; }
+
+    /// Binds light `light`'s frame set and family set.
+    void bind(VkCommandBuffer cmd, VkPipelineBindPoint point, std::size_t light) const;
+    void push(VkCommandBuffer cmd, const GpuPush& constants) const;
+
+  private:
+    const FrameDescriptors* m_frame;
+    DescriptorSetLayout m_setLayout;
+    PipelineLayout m_pipelineLayout;
+    std::vector<DescriptorSet> m_sets;
+    std::size_t m_statsStride;
+    Buffer m_stats;
 };
 
 } // namespace stsv

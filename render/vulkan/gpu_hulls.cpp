@@ -6,6 +6,7 @@
 #include "gpu/shader_compiler.h"
 
 #include <algorithm>
+#include <cstring>
 
 namespace stsv {
 
@@ -79,27 +80,34 @@ void HullResources::resize(std::uint64_t recordCount, std::uint64_t triangles) {
     vertexTexels = BufferView(*m_device, vertices, VK_FORMAT_R32G32B32A32_UINT, TEXEL_BYTES);
 }
 
-void HullResources::size(PassRecorder& recorder, CommandBuffer& commands, const GpuPass& clearCounts,
-                         const Buffer& stats, std::size_t lights,
+void HullResources::size(PassRecorder& recorder, CommandBuffer& commands, std::size_t lights,
                          const std::vector<const HullPass*>& passes) {
+    std::vector<const Buffer*> stats;
+    for (const HullPass* pass : passes) stats.push_back(&pass->family().stats());
+    const ClearPass clearStats({}, stats);
     const ClearPass clearDraw({}, {&draw});
     VkCommandBuffer cmd = commands.begin();
-    runPass(recorder, cmd, "", clearCounts);
+    runPass(recorder, cmd, "", clearStats);
     for (std::size_t l = 0; l < lights; ++l)
         for (const HullPass* pass : passes) {
             runPass(recorder, cmd, "", clearDraw, l);
             runPass(recorder, cmd, "", *pass, l);
         }
     PassAccesses host;
-    host.use(stats, ResourceUse::hostRead());
+    for (const Buffer* buffer : stats) host.use(*buffer, ResourceUse::hostRead());
     recorder.addPass(cmd, "", host, [](VkCommandBuffer) {});
     commands.submitAndWait();
     std::uint64_t volumes = 0, triangles = 0;
-    for (const GpuStats& s : stats.download<GpuStats>(lights))
-        for (const HullPass* pass : passes) {
-            volumes = std::max<std::uint64_t>(volumes, s.*pass->counts().volumes);
-            triangles = std::max<std::uint64_t>(triangles, s.*pass->counts().triangles);
+    for (const HullPass* pass : passes) {
+        const FamilyDescriptors& family = pass->family();
+        const std::vector<std::byte> bytes = family.stats().download<std::byte>();
+        for (std::size_t l = 0; l < lights; ++l) {
+            GpuHullCounts counts;
+            std::memcpy(&counts, bytes.data() + l * family.statsStride(), sizeof counts);
+            volumes = std::max<std::uint64_t>(volumes, counts.volumes);
+            triangles = std::max<std::uint64_t>(triangles, counts.triangles);
         }
+    }
     resize(volumes, triangles);
 }
 
@@ -122,11 +130,10 @@ void HullResources::recordDraw(VkCommandBuffer cmd) const {
 }
 
 HullPass::HullPass(const Device& device, const std::string& shader, const std::vector<ShaderDefine>& defines,
-                   std::uint32_t items, std::uint32_t pushFlags, HullCounts counts, FrameResources& resources,
-                   HullResources& hulls, const FrameDescriptors& descriptors)
-    : m_resources(&resources), m_hulls(&hulls), m_descriptors(&descriptors), m_items(items),
-      m_pushFlags(pushFlags), m_counts(counts), m_threadsPerGroup(hullThreadsPerGroup(device)),
-      m_itemsPerThread(hullItemsPerThread(device)) {
+                   std::uint32_t items, std::uint32_t pushFlags, HullResources& hulls,
+                   const FamilyDescriptors& descriptors)
+    : m_hulls(&hulls), m_descriptors(&descriptors), m_items(items), m_pushFlags(pushFlags),
+      m_threadsPerGroup(hullThreadsPerGroup(device)), m_itemsPerThread(hullItemsPerThread(device)) {
     std::vector<ShaderDefine> withThreads = defines;
     withThreads.push_back({"CLIP_SHARED_INVOCATIONS", std::to_string(m_threadsPerGroup)});
     withThreads.push_back({"HULL_ITEMS_PER_THREAD", std::to_string(m_itemsPerThread)});
@@ -140,7 +147,7 @@ PassAccesses HullPass::accesses(std::size_t) const {
     accesses.use(m_hulls->draw, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_hulls->records, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_hulls->vertices, ResourceUse::storageReadWrite(COMPUTE))
-        .use(m_resources->stats, ResourceUse::storageReadWrite(COMPUTE));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 

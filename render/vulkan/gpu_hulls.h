@@ -9,6 +9,8 @@
 #include "gpu/pipeline.h"
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_pass.h"
+#include "render/vulkan/gpu_volumes_dh.h"
+#include "volumes/clip_box_dh.h"
 
 #include <cstdint>
 #include <string>
@@ -19,12 +21,6 @@ namespace stsv {
 class CommandBuffer;
 class HullPass;
 
-/// The GpuStats counters a hull pass adds its volumes and hull triangles to.
-struct HullCounts {
-    uint GpuStats::*volumes;
-    uint GpuStats::*triangles;
-};
-
 /// What the hull passes append and the draws read: the indirect arguments and counts, the
 /// records and the vertices. Sized at start-up by a run of the hull passes (resize), so a
 /// frame's exact needs; 1-element stand-ins before that.
@@ -32,17 +28,18 @@ class HullResources {
   public:
     explicit HullResources(const Device& device);
 
-    /// The bindings these resources add to the frame's descriptor set layout.
+    /// The bindings these resources add to a volume family's set (gpu_volumes_dh.h).
     static std::vector<DescriptorBinding> bindings();
     void writeDescriptors(DescriptorSet& set) const;
     /// Room for `records` records and `triangles` hull triangles (at least one of each).
     void resize(std::uint64_t records, std::uint64_t triangles);
     /// Runs `passes` once per light into the 1-element stand-ins: they count every volume and
-    /// triangle while writing none (`clearCounts` zeroes the counters in `stats` first), and
+    /// triangle in their family's stats (GpuHullCounts, zeroed first) while writing none, and
     /// the buffers get exactly the largest pass's needs (the passes are deterministic: every
-    /// frame appends the same counts). The descriptors must be written again.
-    void size(PassRecorder& recorder, CommandBuffer& commands, const GpuPass& clearCounts,
-              const Buffer& stats, std::size_t lights, const std::vector<const HullPass*>& passes);
+    /// frame appends the same counts). The family stats are left dirty (the frame clears them)
+    /// and the descriptors must be written again.
+    void size(PassRecorder& recorder, CommandBuffer& commands, std::size_t lights,
+              const std::vector<const HullPass*>& passes);
     /// A hull pass writes nothing past the buffers sized at start-up; a frame that needed more
     /// is wrong, so it is an error, not a picture.
     void checkCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
@@ -70,26 +67,25 @@ class HullResources {
 
 /// One hull compute pass for one light: `shader` (stsv_hull.comp, wedge_hull.comp) over the
 /// sides of `items` (triangles, carrier faces), side 0 of every item first, HULL_ITEMS_PER_THREAD
-/// sides a thread (a workgroup queues those with a volume, then clips them). The
-/// HullResources' draw arguments must be zeroed before (HullResources::draw).
+/// sides a thread (a workgroup queues those with a volume, then clips them), counting them in the
+/// GpuHullCounts that begin its family's stats. The HullResources' draw arguments must be zeroed
+/// before (HullResources::draw).
 class HullPass final : public GpuPass {
   public:
     HullPass(const Device& device, const std::string& shader, const std::vector<ShaderDefine>& defines,
-             std::uint32_t items, std::uint32_t pushFlags, HullCounts counts, FrameResources& resources,
-             HullResources& hulls, const FrameDescriptors& descriptors);
-    /// Where the pass counts its volumes and triangles.
-    HullCounts counts() const { return m_counts; }
+             std::uint32_t items, std::uint32_t pushFlags, HullResources& hulls,
+             const FamilyDescriptors& descriptors);
+    /// The family whose stats the pass counts in.
+    const FamilyDescriptors& family() const { return *m_descriptors; }
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
-    FrameResources* m_resources;
     HullResources* m_hulls;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     std::uint32_t m_items;
     std::uint32_t m_pushFlags;
-    HullCounts m_counts;
     std::uint32_t m_threadsPerGroup;
     std::uint32_t m_itemsPerThread;
     Pipeline m_pipeline;

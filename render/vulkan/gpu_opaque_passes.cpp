@@ -115,7 +115,7 @@ void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set) const {
 }
 
 CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,
-                                 FrameResources& frame, const FrameDescriptors& descriptors,
+                                 FrameResources& frame, const FamilyDescriptors& descriptors,
                                  const std::vector<ShaderDefine>& defines)
     : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
       m_pointCount(static_cast<uint32_t>(scene.triangleCount() + opaque.edgeCount())) {
@@ -135,7 +135,7 @@ PassAccesses CenterCountPass::accesses(std::size_t) const {
         .use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
         .use(m_opaque->center, ResourceUse::storageReadWrite(FRAGMENT))
-        .use(m_frame->stats, ResourceUse::storageReadWrite(FRAGMENT));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(FRAGMENT));
     return accesses;
 }
 
@@ -149,7 +149,7 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
 }
 
 WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
-                     FrameResources& frame, const FrameDescriptors& descriptors,
+                     FrameResources& frame, const FamilyDescriptors& descriptors,
                      const std::vector<ShaderDefine>& defines, const HullResources* hulls,
                      DeferredFragments& deferred)
     : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_hulls(hulls), m_deferred(&deferred),
@@ -188,7 +188,7 @@ PassAccesses WedgePass::accesses(std::size_t) const {
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_frame->stats, ResourceUse::storageReadWrite(FRAGMENT));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(FRAGMENT));
     if (m_hulls) m_hulls->declareDrawReads(accesses);
     if (m_pw)
         accesses.use(m_frame->samples.vcoef, ResourceUse::colorAttachment());
@@ -213,7 +213,7 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
 }
 
 WedgeSamplesPass::WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
-                                   const FrameDescriptors& descriptors,
+                                   const FamilyDescriptors& descriptors,
                                    const std::vector<ShaderDefine>& defines)
     : m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
       m_groups(deferredSampleGroups(device)) {
@@ -227,7 +227,7 @@ PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
         .use(m_deferred->fragments, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
-        .use(m_frame->stats, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE))
         .use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
@@ -240,7 +240,7 @@ void WedgeSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
 }
 
 FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
-                   FrameResources& frame, const FrameDescriptors& descriptors,
+                   FrameResources& frame, const FamilyDescriptors& descriptors,
                    const std::vector<ShaderDefine>& defines)
     : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
       m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw),

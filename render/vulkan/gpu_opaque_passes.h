@@ -10,10 +10,10 @@
 #include "gpu/pipeline.h"
 #include "render/options.h"
 #include "render/vulkan/gpu_deferred.h"
-#include "render/vulkan/gpu_frame_dh.h"
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_hulls.h"
 #include "render/vulkan/gpu_pass.h"
+#include "render/vulkan/gpu_wedges_dh.h"
 #include "scene/scene.h"
 
 #include "gpu/vulkan.h"
@@ -45,7 +45,7 @@ class OpaqueOccluderResources {
   public:
     OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options);
 
-    /// The bindings these resources add to the frame's descriptor set layout.
+    /// The bindings these resources add to the wedge family's set (gpu_wedges_dh.h).
     static std::vector<DescriptorBinding> bindings();
     void writeDescriptors(DescriptorSet& set) const;
 
@@ -70,7 +70,7 @@ class OpaqueOccluderResources {
 class CenterCountPass final : public GpuPass {
   public:
     CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,
-                    FrameResources& frame, const FrameDescriptors& descriptors,
+                    FrameResources& frame, const FamilyDescriptors& descriptors,
                     const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
@@ -79,7 +79,7 @@ class CenterCountPass final : public GpuPass {
   private:
     OpaqueOccluderResources* m_opaque;
     FrameResources* m_frame;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     std::uint32_t
         m_pointCount; ///< primitives of dcs_center.geom: the triangles (caps), then the edges (quads)
     Pipeline m_pipeline;
@@ -93,7 +93,7 @@ class CenterCountPass final : public GpuPass {
 class WedgePass final : public GpuPass {
   public:
     WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
-              FrameResources& frame, const FrameDescriptors& descriptors,
+              FrameResources& frame, const FamilyDescriptors& descriptors,
               const std::vector<ShaderDefine>& defines, const HullResources* hulls,
               DeferredFragments& deferred);
 
@@ -103,7 +103,7 @@ class WedgePass final : public GpuPass {
   private:
     OpaqueOccluderResources* m_opaque;
     FrameResources* m_frame;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     const HullResources* m_hulls; ///< null: the prisms of wedge.geom
     DeferredFragments* m_deferred;
     bool m_pw;
@@ -112,11 +112,11 @@ class WedgePass final : public GpuPass {
 
 /// DCS after WedgePass: wedge_samples.comp runs the edge term and the sample loop of every listed
 /// fragment, adding the crossings to the light's counters; it also stores how many fragments the
-/// draw tried to list (GpuStats::wedgeListed), so that the host can grow a list that was short.
+/// draw tried to list (GpuWedgeStats::listed), so that the host can grow a list that was short.
 class WedgeSamplesPass final : public GpuPass {
   public:
     WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
-                     const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+                     const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -124,7 +124,7 @@ class WedgeSamplesPass final : public GpuPass {
   private:
     FrameResources* m_frame;
     DeferredFragments* m_deferred;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     std::uint32_t m_groups;
     Pipeline m_pipeline;
 };
@@ -134,7 +134,7 @@ class WedgeSamplesPass final : public GpuPass {
 class FoldPass final : public GpuPass {
   public:
     FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
-             FrameResources& frame, const FrameDescriptors& descriptors,
+             FrameResources& frame, const FamilyDescriptors& descriptors,
              const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
@@ -143,7 +143,7 @@ class FoldPass final : public GpuPass {
   private:
     OpaqueOccluderResources* m_opaque;
     FrameResources* m_frame;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     bool m_pw;
     bool m_counters;
     uint32_t m_width, m_height;

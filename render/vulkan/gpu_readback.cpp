@@ -9,12 +9,13 @@
 #include <cstring>
 #include <functional>
 #include <iterator>
+#include <utility>
 
 namespace stsv {
 
 FrameReadback::FrameReadback(const Device& device, const Scene& scene, const RenderOptions& options,
-                             FrameResources& resources)
-    : m_scene(&scene), m_options(options), m_resources(&resources) {
+                             FrameResources& resources, std::vector<const Buffer*> stats)
+    : m_scene(&scene), m_options(options), m_resources(&resources), m_stats(std::move(stats)) {
     VkDeviceSize size = 0;
     auto place = [&size](VkDeviceSize bytes) { // 16-byte aligned: a multiple of every texel size
         const VkDeviceSize offset = size;
@@ -32,7 +33,7 @@ FrameReadback::FrameReadback(const Device& device, const Scene& scene, const Ren
     if (options.buffer == BufferKind::Counters)
         for (std::size_t l = 0; l < scene.lights.size(); ++l)
             m_layout.counters.push_back(place(resources.samples.counters[l].size()));
-    m_layout.stats = place(resources.stats.size());
+    for (const Buffer* buffer : m_stats) m_layout.stats.push_back(place(buffer->size()));
     m_staging = Buffer(device, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceToHost);
 }
 
@@ -47,7 +48,8 @@ PassAccesses FrameReadback::accesses(std::size_t) const {
         for (Image& image : images) accesses.use(image, ResourceUse::transferRead());
     for (std::size_t l = 0; l < m_layout.counters.size(); ++l)
         accesses.use(r.samples.counters[l], ResourceUse::transferRead());
-    accesses.use(r.stats, ResourceUse::transferRead()).use(m_staging, ResourceUse::transferWrite());
+    for (const Buffer* buffer : m_stats) accesses.use(*buffer, ResourceUse::transferRead());
+    accesses.use(m_staging, ResourceUse::transferWrite());
     return accesses;
 }
 
@@ -67,7 +69,7 @@ void FrameReadback::record(VkCommandBuffer cmd, std::size_t) const {
     };
     for (std::size_t l = 0; l < m_layout.counters.size(); ++l)
         copyBuffer(r.samples.counters[l], m_layout.counters[l]);
-    copyBuffer(r.stats, m_layout.stats);
+    for (std::size_t i = 0; i < m_stats.size(); ++i) copyBuffer(*m_stats[i], m_layout.stats[i]);
 }
 
 PassAccesses FrameReadback::hostAccesses() const {
@@ -76,7 +78,7 @@ PassAccesses FrameReadback::hostAccesses() const {
     return accesses;
 }
 
-std::vector<GpuStats> FrameReadback::unpack(Frame& frame) const {
+void FrameReadback::unpack(Frame& frame) const {
     const int w = m_options.width, h = m_options.height;
     const std::size_t pixels = std::size_t(w) * h;
     const std::size_t lightCount = m_scene->lights.size();
@@ -114,8 +116,6 @@ std::vector<GpuStats> FrameReadback::unpack(Frame& frame) const {
                 shadingNormal(*m_scene, tris[i], m_scene->camera.eye, frame.gbuffer.position[i]);
         }
     });
-    const auto* statsBegin = staged<GpuStats>(m_layout.stats);
-    return {statsBegin, statsBegin + std::max<std::size_t>(lightCount, 1)};
 }
 
 void FrameReadback::unpackLightSamples(LightSampleBuffer& buffer, std::size_t l) const {

@@ -14,8 +14,9 @@ namespace stsv {
 
 class FrameReadback final : public GpuPass {
   public:
+    /// `stats`: the families' stats buffers, copied whole (stagedStats).
     FrameReadback(const Device& device, const Scene& scene, const RenderOptions& options,
-                  FrameResources& resources);
+                  FrameResources& resources, std::vector<const Buffer*> stats);
 
     /// The copies into the staging buffer.
     PassAccesses accesses(std::size_t light) const override;
@@ -24,17 +25,21 @@ class FrameReadback final : public GpuPass {
     PassAccesses hostAccesses() const;
 
     /// G-buffer (with shading normals), colour, visibility and every light's samples from the
-    /// staging buffer; the GpuStats of each light (at least one).
-    std::vector<GpuStats> unpack(Frame& frame) const;
+    /// staging buffer.
+    void unpack(Frame& frame) const;
+    /// After the fence: the bytes of stats buffer `i` as the frame left them.
+    const std::byte* stagedStats(std::size_t i) const { return staged<std::byte>(m_layout.stats.at(i)); }
 
   private:
     const Scene* m_scene;
     RenderOptions m_options;
     FrameResources* m_resources;
+    std::vector<const Buffer*> m_stats;
     Buffer m_staging;
     /// Byte offsets of each part in the staging buffer.
     struct StagingLayout {
-        VkDeviceSize position = 0, color = 0, triangle = 0, visibility = 0, stats = 0;
+        VkDeviceSize position = 0, color = 0, triangle = 0, visibility = 0;
+        std::vector<VkDeviceSize> stats;              ///< [stats buffer]
         std::vector<std::vector<VkDeviceSize>> masks; ///< [light][attachment]
         std::vector<VkDeviceSize> counters;           ///< [light], counters frames
     } m_layout;

@@ -25,20 +25,19 @@ namespace stsv {
 
 namespace {
 
-std::vector<DescriptorBinding> frameBindings(const FrameResources& resources) {
-    std::vector<DescriptorBinding> bindings = resources.bindings();
-    for (const DescriptorBinding& b : OpaqueOccluderResources::bindings()) bindings.push_back(b);
-    for (const DescriptorBinding& b : ShadowMapResources::bindings()) bindings.push_back(b);
-    for (const DescriptorBinding& b : HullResources::bindings()) bindings.push_back(b);
-    for (const DescriptorBinding& b : DeferredFragments::bindings()) bindings.push_back(b);
-    return bindings;
+/// The families' stats buffers, in the row's order.
+std::vector<const Buffer*> statsBuffers(const std::vector<std::unique_ptr<VulkanTechnique>>& techniques) {
+    std::vector<const Buffer*> buffers;
+    for (const auto& technique : techniques) buffers.push_back(&technique->family().stats());
+    return buffers;
 }
 
-/// The clear at the start of a frame: the fragment statistics, and the sample counters the
-/// passes of a counters frame add to.
+/// The clear at the start of a frame: the families' stats, and the sample counters the passes
+/// of a counters frame add to.
 ClearPass countClearPass(const FrameResources& resources, const RenderOptions& options,
-                         std::size_t lightCount) {
-    std::vector<const Buffer*> buffers{&resources.stats};
+                         std::size_t lightCount,
+                         const std::vector<std::unique_ptr<VulkanTechnique>>& techniques) {
+    std::vector<const Buffer*> buffers = statsBuffers(techniques);
     if (options.buffer == BufferKind::Counters)
         for (std::size_t l = 0; l < lightCount; ++l) buffers.push_back(&resources.samples.counters[l]);
     return ClearPass({}, buffers);
@@ -92,7 +91,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
       m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
       m_hulls(device), m_deferred(device, options, deferredCapacity),
-      m_descriptors(device, frameBindings(m_resources), std::max<std::size_t>(scene.lights.size(), 1)),
+      m_descriptors(device, m_resources.bindings(), std::max<std::size_t>(scene.lights.size(), 1)),
       m_context{device,        scene,
                 m_options,     m_method,
                 geometry,      m_resources,
@@ -101,19 +100,18 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
       m_techniques(makeVulkanTechniques(m_context)),
       m_techniquesWriteMasks(std::any_of(m_techniques.begin(), m_techniques.end(),
                                          [](const auto& t) { return t->writesSampleMasks(); })),
-      m_clearCounts(countClearPass(m_resources, options, scene.lights.size())),
+      m_clearCounts(countClearPass(m_resources, options, scene.lights.size(), m_techniques)),
       m_gbuffer(device, m_resources, m_descriptors, layoutDefines(m_resources.tables.layout),
                 static_cast<std::uint32_t>(scene.triangleCount())),
       m_resolve(device, scene, options, m_plan, m_resources, m_descriptors),
-      m_readback(device, scene, options, m_resources), m_timer(device, timedPasses()), m_recorder(m_timer),
-      m_commands(device) {
+      m_readback(device, scene, options, m_resources, statsBuffers(m_techniques)),
+      m_timer(device, timedPasses()), m_recorder(m_timer), m_commands(device) {
     writeDescriptors();
     std::vector<const HullPass*> hullPasses;
     for (const auto& technique : m_techniques)
         for (const HullPass* pass : technique->hullPasses()) hullPasses.push_back(pass);
     if (!hullPasses.empty()) {
-        m_hulls.size(m_recorder, m_commands, m_clearCounts, m_resources.stats, scene.lights.size(),
-                     hullPasses);
+        m_hulls.size(m_recorder, m_commands, scene.lights.size(), hullPasses);
         writeDescriptors();
     }
 }
@@ -124,14 +122,11 @@ std::uint32_t VulkanFrame::timedPasses() const {
     return FRAME_TIMED_PASSES + perLight * static_cast<std::uint32_t>(m_scene.lights.size());
 }
 
-/// Every light's set: the shared resources, then what each technique owns.
+/// Every light's frame set, then each technique's family sets.
 void VulkanFrame::writeDescriptors() {
-    for (std::size_t l = 0; l < m_descriptors.setCount(); ++l) {
+    for (std::size_t l = 0; l < m_descriptors.setCount(); ++l)
         m_resources.writeDescriptors(m_descriptors.set(l), l);
-        m_hulls.writeDescriptors(m_descriptors.set(l));
-        m_deferred.writeDescriptors(m_descriptors.set(l));
-        for (const auto& technique : m_techniques) technique->writeDescriptors(m_descriptors.set(l), l);
-    }
+    for (const auto& technique : m_techniques) technique->writeDescriptors();
 }
 
 void VulkanFrame::record(VkCommandBuffer cmd) {
@@ -161,7 +156,6 @@ void VulkanFrame::recordLight(VkCommandBuffer cmd, std::size_t light) {
 Frame VulkanFrame::render(double startupMs) {
     Timer total;
     Frame frame;
-    std::vector<GpuStats> counts;
     double gpuMs = 0.0;
     nlohmann::json passes = nlohmann::json::object();
     Timer readback;
@@ -174,12 +168,12 @@ Frame VulkanFrame::render(double startupMs) {
         passes = nlohmann::json::object();
         for (const GpuTiming& t : m_timer.results()) passes[t.name] = t.milliseconds;
         readback = Timer();
-        counts = m_readback.unpack(frame);
+        m_readback.unpack(frame);
+        for (std::size_t i = 0; i < m_techniques.size(); ++i)
+            m_techniques[i]->takeStats(m_readback.stagedStats(i));
         // A fragment the list had no room for is lost: the list grows and the frame runs again.
         std::uint64_t listed = 0;
-        for (std::size_t l = 0; l < m_scene.lights.size(); ++l)
-            for (const auto& technique : m_techniques)
-                listed = std::max(listed, technique->listedFragments(counts[l]));
+        for (const auto& technique : m_techniques) listed = std::max(listed, technique->listedFragments());
         if (!m_deferred.growFor(listed)) break;
         writeDescriptors();
     }
@@ -188,7 +182,7 @@ Frame VulkanFrame::render(double startupMs) {
 
     frame.stats = nlohmann::json::object();
     if (!m_scene.lights.empty())
-        for (const auto& technique : m_techniques) technique->writeStats(counts, frame.gbuffer, frame.stats);
+        for (const auto& technique : m_techniques) technique->writeStats(frame.gbuffer, frame.stats);
     frame.stats["options"] = toJson(m_options);
     frame.stats["scene"] = sceneStats(m_scene);
     frame.stats.update(methodSceneNotes(m_scene, m_method));

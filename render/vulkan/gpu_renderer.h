@@ -51,8 +51,8 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 /// stsv.frag (with hulls also "listed_fragments", those it listed for stsv_samples.comp, and
 /// "deferred_fragments", those of them inside); for methods with an opaque technique "wedges"[i] {"edges",
 /// "fragments", "silhouette_fragments", DCS: "listed_fragments" (those wedge.frag listed for
-/// wedge_samples.comp), "samples_tested"} and "center"[i] {"fragments",
-/// "counted_fragments"} (dcs_center.frag);
+/// wedge_samples.comp), "samples_tested", "center" {"fragments", "counted_fragments"}
+/// (dcs_center.frag)};
 /// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion}.
 class VulkanRenderer final : public FrameRenderer {
   public:

@@ -57,7 +57,7 @@ void ShadowMapResources::writeDescriptors(DescriptorSet& set, std::size_t light)
 }
 
 ShadowMapPass::ShadowMapPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
-                             const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
+                             const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_descriptors(&descriptors),
       m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
     const ShaderCompiler compiler;
@@ -88,7 +88,7 @@ void ShadowMapPass::record(VkCommandBuffer cmd, std::size_t light) const {
 
 ShadowFilterPass::ShadowFilterPass(const Device& device, const RenderOptions& options, Step step,
                                    ShadowMapResources& maps, FrameResources& frame,
-                                   const FrameDescriptors& descriptors,
+                                   const FamilyDescriptors& descriptors,
                                    const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_frame(&frame), m_descriptors(&descriptors), m_step(step),
       m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
@@ -105,7 +105,7 @@ PassAccesses ShadowFilterPass::accesses(std::size_t light) const {
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_maps->depth[light], ResourceUse::storageRead(COMPUTE))
         .use(m_frame->samples.vcoef, ResourceUse::storageReadWrite(COMPUTE))
-        .use(m_frame->stats, ResourceUse::storageReadWrite(COMPUTE));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 

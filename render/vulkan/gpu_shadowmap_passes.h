@@ -10,6 +10,7 @@
 #include "render/options.h"
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_pass.h"
+#include "render/vulkan/gpu_shadowmaps_dh.h"
 #include "scene/scene.h"
 #include "shadowmaps/shadow_map.h"
 
@@ -28,7 +29,9 @@ class ShadowMapResources {
   public:
     ShadowMapResources(const Device& device, const Scene& scene, const RenderOptions& options);
 
+    /// The bindings of the shadow-map family's set (gpu_shadowmaps_dh.h).
     static std::vector<DescriptorBinding> bindings();
+    /// Light `light`'s map, the views and the taps into its family set.
     void writeDescriptors(DescriptorSet& set, std::size_t light) const;
 
     /// Light `light`'s map as the last frame left it (call after the frame's submit has finished).
@@ -50,14 +53,14 @@ class ShadowMapResources {
 class ShadowMapPass final : public GpuPass {
   public:
     ShadowMapPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
-                  const FrameDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+                  const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
     ShadowMapResources* m_maps;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     std::uint32_t m_triangleCount;
     Pipeline m_pipeline;
 };
@@ -69,7 +72,7 @@ class ShadowFilterPass final : public GpuPass {
     enum Step { Pcf = 0, PcssBlocker = 1, PcssFilter = 2 };
 
     ShadowFilterPass(const Device& device, const RenderOptions& options, Step step, ShadowMapResources& maps,
-                     FrameResources& frame, const FrameDescriptors& descriptors,
+                     FrameResources& frame, const FamilyDescriptors& descriptors,
                      const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
@@ -78,7 +81,7 @@ class ShadowFilterPass final : public GpuPass {
   private:
     ShadowMapResources* m_maps;
     FrameResources* m_frame;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     Step m_step;
     uint32_t m_width, m_height;
     Pipeline m_pipeline;

@@ -31,7 +31,7 @@ const char* toString(StsvGeometry geometry) {
 
 StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
                                  FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
-                                 const FrameDescriptors& descriptors)
+                                 const FamilyDescriptors& descriptors)
     : m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_counters(options.buffer == BufferKind::Counters),
       m_groups(deferredSampleGroups(device)) {
@@ -51,7 +51,7 @@ PassAccesses StsvSamplesPass::accesses(std::size_t light) const {
         .use(m_deferred->fragments, ResourceUse::storageRead(COMPUTE))
         .use(m_hulls->records, ResourceUse::sampledRead(COMPUTE))
         .use(m_resources->gbuffer.position, ResourceUse::storageRead(COMPUTE))
-        .use(m_resources->stats, ResourceUse::storageReadWrite(COMPUTE));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     if (m_counters)
         accesses.use(m_resources->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
     else
@@ -67,7 +67,7 @@ void StsvSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
 }
 
 StsvMergePass::StsvMergePass(const Device& device, const RenderOptions& options, FrameResources& resources,
-                             DeferredFragments& deferred, const FrameDescriptors& descriptors)
+                             DeferredFragments& deferred, const FamilyDescriptors& descriptors)
     : m_resources(&resources), m_deferred(&deferred), m_descriptors(&descriptors),
       m_width(static_cast<std::uint32_t>(options.width)),
       m_height(static_cast<std::uint32_t>(options.height)) {
@@ -96,7 +96,7 @@ void StsvMergePass::record(VkCommandBuffer cmd, std::size_t light) const {
 
 StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
                    FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
-                   const FrameDescriptors& descriptors, StsvGeometry geometry)
+                   const FamilyDescriptors& descriptors, StsvGeometry geometry)
     : m_device(&device), m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_geometry(geometry), m_counters(options.buffer == BufferKind::Counters),
       m_perforatedOnly(methodInfo(options.method).stsv == StsvTriangles::Perforated),
@@ -147,7 +147,7 @@ PassAccesses StsvPass::accesses(std::size_t light) const {
     accesses.use(m_resources->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_resources->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_resources->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_resources->stats, ResourceUse::storageReadWrite(FRAGMENT));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(FRAGMENT));
     if (m_geometry == StsvGeometry::Hull) {
         m_hulls->declareDrawReads(accesses);
         accesses.use(m_deferred->count, ResourceUse::storageReadWrite(FRAGMENT))

@@ -10,6 +10,7 @@
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_hulls.h"
 #include "render/vulkan/gpu_pass.h"
+#include "render/vulkan/gpu_stsv_dh.h"
 
 #include <array>
 #include <cstdint>
@@ -32,7 +33,7 @@ class StsvSamplesPass final : public GpuPass {
   public:
     StsvSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
                     FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
-                    const FrameDescriptors& descriptors);
+                    const FamilyDescriptors& descriptors);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -42,7 +43,7 @@ class StsvSamplesPass final : public GpuPass {
     FrameResources* m_resources;
     HullResources* m_hulls;
     DeferredFragments* m_deferred;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     bool m_counters;
     std::uint32_t m_groups;              ///< workgroups dispatched
     std::array<Pipeline, 4> m_pipelines; ///< per light type (LIGHT_*) the scene has
@@ -52,7 +53,7 @@ class StsvSamplesPass final : public GpuPass {
 class StsvMergePass final : public GpuPass {
   public:
     StsvMergePass(const Device& device, const RenderOptions& options, FrameResources& resources,
-                  DeferredFragments& deferred, const FrameDescriptors& descriptors);
+                  DeferredFragments& deferred, const FamilyDescriptors& descriptors);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -60,7 +61,7 @@ class StsvMergePass final : public GpuPass {
   private:
     FrameResources* m_resources;
     DeferredFragments* m_deferred;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     std::uint32_t m_width;
     std::uint32_t m_height;
     Pipeline m_pipeline;
@@ -71,7 +72,7 @@ class StsvPass final : public GpuPass {
     /// With hulls, `deferred` receives the fragments whose samples StsvSamplesPass tests.
     StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
              FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
-             const FrameDescriptors& descriptors, StsvGeometry geometry);
+             const FamilyDescriptors& descriptors, StsvGeometry geometry);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -82,7 +83,7 @@ class StsvPass final : public GpuPass {
     FrameResources* m_resources;
     HullResources* m_hulls;
     DeferredFragments* m_deferred;
-    const FrameDescriptors* m_descriptors;
+    const FamilyDescriptors* m_descriptors;
     StsvGeometry m_geometry;
     bool m_counters;       ///< counters buffer, else bitmask attachments
     bool m_perforatedOnly; ///< StsvTriangles::Perforated

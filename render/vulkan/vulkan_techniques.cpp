@@ -3,6 +3,8 @@
 #include "render/vulkan/gpu_opaque_passes.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
 
+#include <algorithm>
+#include <cstring>
 #include <optional>
 #include <string>
 
@@ -12,6 +14,29 @@ namespace {
 
 std::string passName(std::size_t light, const std::string& name) {
     return "light" + std::to_string(light) + "/" + name;
+}
+
+/// The bindings a volume family's set shares with the other volume family (gpu_volumes_dh.h),
+/// then `own`.
+std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBinding> own) {
+    std::vector<DescriptorBinding> bindings = HullResources::bindings();
+    for (const DescriptorBinding& b : DeferredFragments::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : own) bindings.push_back(b);
+    return bindings;
+}
+
+/// The most fragments one light's draws listed for their sample pass (a volume family's stats).
+template <class Stats> std::uint64_t mostListed(const std::vector<Stats>& counts) {
+    std::uint64_t listed = 0;
+    for (const Stats& s : counts) listed = std::max<std::uint64_t>(listed, s.listed);
+    return listed;
+}
+
+/// A family's stats per light, from the bytes of its stats buffer.
+template <class Stats> std::vector<Stats> stagedStats(const std::byte* staged, std::size_t lights) {
+    std::vector<Stats> stats(lights);
+    std::memcpy(stats.data(), staged, lights * sizeof(Stats));
+    return stats;
 }
 
 /// Whether the frame draws STSV volumes: the row sends triangles through STSV and the scene has
@@ -31,21 +56,32 @@ bool drawsStsv(StsvTriangles which, const Scene& scene) {
 class StsvTechnique final : public VulkanTechnique {
   public:
     explicit StsvTechnique(const VulkanTechniqueContext& c)
-        : m_c(c), m_clearHullDraw({}, {&c.hulls.draw}),
+        : VulkanTechnique(c,
+                          volumeFamilyBindings({{GPU_BINDING_STSV_MASK_WORDS,
+                                                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}}),
+                          sizeof(GpuStsvStats)),
+          m_c(c), m_clearHullDraw({}, {&c.hulls.draw}),
           m_clearDeferred({}, {&c.deferred.count, &c.deferred.maskWords}) {
         if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
         const bool bitmask = c.options.buffer == BufferKind::Bitmask;
         if (c.geometry == StsvGeometry::Hull) c.deferred.use(bitmask);
-        m_stsv.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, c.descriptors,
-                       c.geometry);
+        m_stsv.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, m_family, c.geometry);
         if (c.geometry != StsvGeometry::Hull) return;
-        m_samples.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, c.descriptors);
-        if (bitmask) m_merge.emplace(c.device, c.options, c.resources, c.deferred, c.descriptors);
+        m_samples.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, m_family);
+        if (bitmask) m_merge.emplace(c.device, c.options, c.resources, c.deferred, m_family);
         m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", layoutDefines(c.resources.tables.layout),
                            static_cast<std::uint32_t>(c.scene.triangleCount()),
                            c.method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u,
-                           HullCounts{&GpuStats::hullVolumes, &GpuStats::hullTriangles}, c.resources, c.hulls,
-                           c.descriptors);
+                           c.hulls, m_family);
+    }
+
+    void writeDescriptors() override {
+        for (std::size_t l = 0; l < m_family.setCount(); ++l) {
+            DescriptorSet& set = m_family.set(l);
+            m_c.hulls.writeDescriptors(set);
+            m_c.deferred.writeDescriptors(set);
+            set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, m_c.deferred.maskWords);
+        }
     }
 
     bool writesSampleMasks() const override { return m_stsv.has_value(); }
@@ -67,23 +103,24 @@ class StsvTechnique final : public VulkanTechnique {
         if (m_merge) runPass(recorder, cmd, passName(light, "stsv_merge"), *m_merge, light);
     }
 
-    std::uint64_t listedFragments(const GpuStats& counts) const override {
-        return m_samples ? counts.listed : 0;
+    void takeStats(const std::byte* staged) override {
+        m_counts = stagedStats<GpuStsvStats>(staged, m_c.scene.lights.size());
     }
 
-    void writeStats(const std::vector<GpuStats>& counts, const GBuffer&,
-                    nlohmann::json& stats) const override {
+    std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
+
+    void writeStats(const GBuffer&, nlohmann::json& stats) const override {
         // stsv.frag and stsv_samples.comp test every sample of a fragment inside its volume.
         const std::uint64_t n = std::uint64_t(m_c.options.samples);
         nlohmann::json lights = nlohmann::json::array();
-        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
-            const GpuStats& s = counts[l];
+        for (std::size_t l = 0; l < m_counts.size(); ++l) {
+            const GpuStsvStats& s = m_counts[l];
             nlohmann::json light = {
                 {"fragments", s.fragments}, {"inside_fragments", s.inside}, {"samples_tested", n * s.inside}};
             if (m_hullPass) {
-                m_c.hulls.checkCapacity(l, "STSV", s.hullVolumes, s.hullTriangles);
-                light["hull_volumes"] = s.hullVolumes;
-                light["hull_triangles"] = s.hullTriangles;
+                m_c.hulls.checkCapacity(l, "STSV", s.hull.volumes, s.hull.triangles);
+                light["hull_volumes"] = s.hull.volumes;
+                light["hull_triangles"] = s.hull.triangles;
                 light["listed_fragments"] = s.listed;
                 light["deferred_fragments"] = s.deferred;
             }
@@ -100,33 +137,42 @@ class StsvTechnique final : public VulkanTechnique {
     std::optional<StsvPass> m_stsv;           ///< when the scene has S-triangles
     std::optional<StsvSamplesPass> m_samples; ///< with hulls: the listed fragments
     std::optional<StsvMergePass> m_merge;     ///< with m_samples in a bitmask frame
+    std::vector<GpuStsvStats> m_counts;       ///< per light, after the frame
 };
 
 /// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the counting volume at the
 /// light centre, the wedge bounds (hulls or wedge.geom prisms), for DCS the listed silhouette
-/// fragments' samples; then the fold (line 11) after the other techniques of the row.
+/// fragments' samples and the fold of D(r) into them; for PW the fold (line 11) after the other
+/// techniques of the row.
 class WedgeTechnique final : public VulkanTechnique {
   public:
     explicit WedgeTechnique(const VulkanTechniqueContext& c)
-        : m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
+        : VulkanTechnique(c, volumeFamilyBindings(OpaqueOccluderResources::bindings()),
+                          sizeof(GpuWedgeStats)),
+          m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
           m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls.draw}),
           m_clearDeferredCount({}, {&c.deferred.count}),
-          m_center(c.device, c.scene, m_opaque, c.resources, c.descriptors, c.defines),
-          m_wedges(c.device, c.options, m_opaque, c.resources, c.descriptors, c.defines,
+          m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
+          m_wedges(c.device, c.options, m_opaque, c.resources, m_family, c.defines,
                    c.geometry == StsvGeometry::Hull ? &c.hulls : nullptr, c.deferred),
-          m_fold(c.device, c.options, m_opaque, c.resources, c.descriptors, c.defines) {
+          m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
             c.deferred.use(false);
-            m_samples.emplace(c.device, c.resources, c.deferred, c.descriptors, c.defines);
+            m_samples.emplace(c.device, c.resources, c.deferred, m_family, c.defines);
         }
         if (c.geometry == StsvGeometry::Hull && m_opaque.carrierCount() > 0)
             m_hullPass.emplace(c.device, "wedges/wedge_hull.comp", layoutDefines(c.resources.tables.layout),
-                               static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u,
-                               HullCounts{&GpuStats::wedgeHulls, &GpuStats::wedgeHullTriangles}, c.resources,
-                               c.hulls, c.descriptors);
+                               static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u, c.hulls, m_family);
     }
 
-    void writeDescriptors(DescriptorSet& set, std::size_t) const override { m_opaque.writeDescriptors(set); }
+    void writeDescriptors() override {
+        for (std::size_t l = 0; l < m_family.setCount(); ++l) {
+            DescriptorSet& set = m_family.set(l);
+            m_c.hulls.writeDescriptors(set);
+            m_c.deferred.writeDescriptors(set);
+            m_opaque.writeDescriptors(set);
+        }
+    }
     std::uint32_t timedPassesPerLight() const override { return 5; }
     std::vector<const HullPass*> hullPasses() const override {
         if (!m_hullPass) return {};
@@ -144,41 +190,46 @@ class WedgeTechnique final : public VulkanTechnique {
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
         runPass(recorder, cmd, technique + "wedges", m_wedges, light);
         if (m_samples) runPass(recorder, cmd, technique + "wedge_samples", *m_samples, light);
+        // DCS's count is clamped at 0 before another technique adds its layers (dcs+stsv), as
+        // on the CPU (render/cpu/cpu_wedges.cpp dcsCpuSamples).
+        if (!m_pw) runPass(recorder, cmd, passName(light, "fold"), m_fold, light);
     }
 
     void recordCombine(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
-        runPass(recorder, cmd, passName(light, "fold"), m_fold, light);
+        // PW's v_coef loses the fraction of the samples the other techniques occlude (pw+stsv).
+        if (m_pw) runPass(recorder, cmd, passName(light, "fold"), m_fold, light);
     }
 
-    std::uint64_t listedFragments(const GpuStats& counts) const override {
-        return m_samples ? counts.wedgeListed : 0;
+    void takeStats(const std::byte* staged) override {
+        m_counts = stagedStats<GpuWedgeStats>(staged, m_c.scene.lights.size());
     }
 
-    void writeStats(const std::vector<GpuStats>& counts, const GBuffer&,
-                    nlohmann::json& stats) const override {
+    std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
+
+    void writeStats(const GBuffer&, nlohmann::json& stats) const override {
         // wedge_samples.comp (DCS) tests every sample of a silhouette fragment.
         const std::uint64_t n = std::uint64_t(m_c.options.samples);
         nlohmann::json wedges = nlohmann::json::array();
-        nlohmann::json center = nlohmann::json::array();
-        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
-            const GpuStats& s = counts[l];
+        for (std::size_t l = 0; l < m_counts.size(); ++l) {
+            const GpuWedgeStats& s = m_counts[l];
             nlohmann::json wedge = {{"edges", m_opaque.edgeCount()},
-                                    {"fragments", s.wedgeFragments},
-                                    {"silhouette_fragments", s.wedgeInside}};
+                                    {"fragments", s.fragments},
+                                    {"silhouette_fragments", s.inside}};
             if (!m_pw) {
-                wedge["listed_fragments"] = s.wedgeListed;
-                wedge["samples_tested"] = n * s.wedgeInside;
+                wedge["listed_fragments"] = s.listed;
+                wedge["samples_tested"] = n * s.inside;
             }
             if (m_hullPass) {
-                m_c.hulls.checkCapacity(l, "wedge", s.wedgeHulls, s.wedgeHullTriangles);
-                wedge["hull_volumes"] = s.wedgeHulls;
-                wedge["hull_triangles"] = s.wedgeHullTriangles;
+                m_c.hulls.checkCapacity(l, "wedge", s.hull.volumes, s.hull.triangles);
+                wedge["hull_volumes"] = s.hull.volumes;
+                wedge["hull_triangles"] = s.hull.triangles;
             }
+            // The counting volume at the light centre (dcs_center.frag): its fragments and the faces
+            // behind p that added to D(r). The CPU casts rays for D(r): it has no fragments.
+            wedge["center"] = {{"fragments", s.centerFragments}, {"counted_fragments", s.centerCounted}};
             wedges.push_back(wedge);
-            center.push_back({{"fragments", s.centerFragments}, {"counted_fragments", s.centerCounted}});
         }
         stats["wedges"] = wedges;
-        stats["center"] = center;
     }
 
   private:
@@ -193,6 +244,7 @@ class WedgeTechnique final : public VulkanTechnique {
     FoldPass m_fold;
     std::optional<WedgeSamplesPass> m_samples; ///< DCS: the listed silhouette fragments
     std::optional<HullPass> m_hullPass;        ///< with hulls, when the scene has carriers
+    std::vector<GpuWedgeStats> m_counts;       ///< per light, after the frame
 };
 
 /// The image-based baselines: per light the cleared map, its raster, and PCF or PCSS's two steps
@@ -200,20 +252,20 @@ class WedgeTechnique final : public VulkanTechnique {
 class ShadowMapTechnique final : public VulkanTechnique {
   public:
     explicit ShadowMapTechnique(const VulkanTechniqueContext& c)
-        : m_c(c), m_maps(c.device, c.scene, c.options),
-          m_map(c.device, c.scene, m_maps, c.descriptors, c.defines),
+        : VulkanTechnique(c, ShadowMapResources::bindings(), sizeof(GpuShadowMapStats)), m_c(c),
+          m_maps(c.device, c.scene, c.options), m_map(c.device, c.scene, m_maps, m_family, c.defines),
           m_filter(c.device, c.options,
                    c.method.shadowMap == ShadowFilter::Pcss ? ShadowFilterPass::PcssFilter
                                                             : ShadowFilterPass::Pcf,
-                   m_maps, c.resources, c.descriptors, c.defines) {
+                   m_maps, c.resources, m_family, c.defines) {
         for (const Buffer& depth : m_maps.depth) m_clear.push_back(ClearPass({}, {&depth}));
         if (c.method.shadowMap == ShadowFilter::Pcss)
             m_blocker.emplace(c.device, c.options, ShadowFilterPass::PcssBlocker, m_maps, c.resources,
-                              c.descriptors, c.defines);
+                              m_family, c.defines);
     }
 
-    void writeDescriptors(DescriptorSet& set, std::size_t light) const override {
-        m_maps.writeDescriptors(set, light);
+    void writeDescriptors() override {
+        for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
     }
     std::uint32_t timedPassesPerLight() const override { return 3; }
 
@@ -230,14 +282,17 @@ class ShadowMapTechnique final : public VulkanTechnique {
             frame.shadowMaps.push_back(m_maps.download(l));
     }
 
-    void writeStats(const std::vector<GpuStats>& counts, const GBuffer& gbuffer,
-                    nlohmann::json& stats) const override {
+    void takeStats(const std::byte* staged) override {
+        m_counts = stagedStats<GpuShadowMapStats>(staged, m_c.scene.lights.size());
+    }
+
+    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
         nlohmann::json maps = nlohmann::json::array();
-        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
+        for (std::size_t l = 0; l < m_counts.size(); ++l) {
             const ShadowMapView& view = m_maps.view(l);
             nlohmann::json map = {{"faces", view.faces},
                                   {"texels", std::size_t(view.faces) * view.size * view.size}};
-            map.update(kernelClampStats(counts[l].kernelClamped, gbuffer));
+            map.update(kernelClampStats(m_counts[l].kernelClamped, gbuffer));
             maps.push_back(map);
         }
         stats["shadow_maps"] = maps;
@@ -250,6 +305,7 @@ class ShadowMapTechnique final : public VulkanTechnique {
     ShadowMapPass m_map;
     std::optional<ShadowFilterPass> m_blocker; ///< PCSS
     ShadowFilterPass m_filter;
+    std::vector<GpuShadowMapStats> m_counts; ///< per light, after the frame
 };
 
 } // namespace

@@ -19,6 +19,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 namespace stsv {
@@ -42,8 +43,11 @@ struct VulkanTechniqueContext {
 class VulkanTechnique {
   public:
     virtual ~VulkanTechnique() = default;
-    /// The resources only this technique uses, into light `light`'s descriptor set.
-    virtual void writeDescriptors(DescriptorSet&, std::size_t /*light*/) const {}
+    /// Its set GPU_SET_FAMILY (one per light), pipeline layout and stats buffer.
+    const FamilyDescriptors& family() const { return m_family; }
+    /// Its family sets written for every light: what it owns and the shared buffers it binds
+    /// (written again whenever the frame replaces those).
+    virtual void writeDescriptors() = 0;
     /// Whether its passes write the light's sample masks (else the frame clears them: all lit).
     virtual bool writesSampleMasks() const { return false; }
     /// The timed passes it records per light, at most (the frame sizes its timestamp pool).
@@ -54,13 +58,23 @@ class VulkanTechnique {
     virtual void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) = 0;
     /// After every technique of the row has recorded the light: the passes that combine them.
     virtual void recordCombine(PassRecorder&, VkCommandBuffer, std::size_t /*light*/) {}
-    /// The fragments its draws listed for their sample passes (DeferredFragments), past the end too.
-    virtual std::uint64_t listedFragments(const GpuStats&) const { return 0; }
+    /// After the frame's fence: its stats buffer as the frame left it (family().stats()'s bytes).
+    virtual void takeStats(const std::byte* staged) = 0;
+    /// The most fragments its draws listed for their sample passes (DeferredFragments) for one
+    /// light, past the end too, as the last takeStats says.
+    virtual std::uint64_t listedFragments() const { return 0; }
     /// After the frame's fence: what it reads back itself (the kept shadow maps).
     virtual void readBack(Frame&) const {}
     /// Its stats over the frame's lights under its family's keys (render/cpu writes the same).
-    virtual void writeStats(const std::vector<GpuStats>& counts, const GBuffer& gbuffer,
-                            nlohmann::json& stats) const = 0;
+    virtual void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const = 0;
+
+  protected:
+    /// `bindings`: its set's (FamilyDescriptors adds the stats); `statsBytes`: its stats struct.
+    VulkanTechnique(const VulkanTechniqueContext& context, std::vector<DescriptorBinding> bindings,
+                    std::size_t statsBytes)
+        : m_family(context.device, context.descriptors, std::move(bindings), statsBytes) {}
+
+    FamilyDescriptors m_family;
 };
 
 /// The row's techniques, in its order. `context` must outlive them.

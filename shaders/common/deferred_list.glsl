@@ -7,9 +7,10 @@
 #define STSV_SHADERS_DEFERRED_LIST_GLSL
 
 #include "common/frame_bindings.glsl"
+#include "render/vulkan/gpu_volumes_dh.h"
 
-layout(std430, set = 0, binding = GPU_BINDING_DEFERRED_COUNT) buffer DeferredCount { uvec4 deferredCount; };
-layout(std430, set = 0, binding = GPU_BINDING_DEFERRED) buffer Deferred { uvec2 deferred[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DEFERRED_COUNT) buffer DeferredCount { uvec4 deferredCount; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DEFERRED) buffer Deferred { uvec2 deferred[]; };
 
 /// Appends (pixelIndex, item); false when the list is full (the count still grows past its end,
 /// so the host knows how much room the frame needed).

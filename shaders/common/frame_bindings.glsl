@@ -1,4 +1,4 @@
-// Descriptor declarations shared by the frame's passes (bindings from render/vulkan/gpu_frame_dh.h).
+// Descriptor declarations of set 0, which every pass of the frame shares (render/vulkan/gpu_frame_dh.h).
 #ifndef STSV_SHADERS_FRAME_BINDINGS_GLSL
 #define STSV_SHADERS_FRAME_BINDINGS_GLSL
 
@@ -6,22 +6,22 @@
 #include "sampling/light_sampling_dh.h"
 #include "sampling/ls_buffer_dh.h"
 
-layout(std430, set = 0, binding = GPU_BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
-layout(std430, set = 0, binding = GPU_BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLES) readonly buffer Triangles { GpuTriangle triangles[]; };
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_TEXTURES) readonly buffer Textures { GpuTexture textures[]; };
 #ifdef STSV_PATTERN_VEC4S
 // The pattern as a uniform buffer of STSV_PATTERN_VEC4S vec4 (two points each; std140 pads a
 // vec2 array to 16 bytes): a dynamically indexed uniform load is a vector gather on lavapipe,
 // a storage-buffer load a loop over the lanes. render/vulkan/gpu_frame_resources.cpp picks it when it fits.
-layout(std140, set = 0, binding = GPU_BINDING_PATTERN) uniform Pattern { vec4 patternPairs[STSV_PATTERN_VEC4S]; };
+layout(std140, set = GPU_SET_FRAME, binding = GPU_BINDING_PATTERN) uniform Pattern { vec4 patternPairs[STSV_PATTERN_VEC4S]; };
 vec2 patternPointAt(uint i) {
     vec4 pair = patternPairs[i >> 1u];
     return (i & 1u) == 0u ? pair.xy : pair.zw;
 }
 #else
-layout(std430, set = 0, binding = GPU_BINDING_PATTERN) readonly buffer Pattern { vec2 patternPoints[]; };
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_PATTERN) readonly buffer Pattern { vec2 patternPoints[]; };
 vec2 patternPointAt(uint i) { return patternPoints[i]; }
 #endif
-layout(std430, set = 0, binding = GPU_BINDING_FRAME) readonly buffer FrameData {
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_FRAME) readonly buffer FrameData {
     GpuFrame frame;
     GpuLight lights[];
 };
@@ -31,7 +31,7 @@ layout(push_constant) uniform Push { GpuPush pc; };
 // Binary alpha, alphaBlocks of each texel as one bit, in a uniform buffer (render/vulkan/gpu_frame_resources.cpp
 // picks it when it fits): a dynamically indexed uniform load is a vector gather on lavapipe, a
 // storage-buffer load a loop over the lanes. GpuTexture::offset counts bits then.
-layout(std140, set = 0, binding = GPU_BINDING_ALPHA) uniform AlphaBits { uvec4 alphaBitWords[STSV_ALPHA_BIT_VEC4S]; };
+layout(std140, set = GPU_SET_FRAME, binding = GPU_BINDING_ALPHA) uniform AlphaBits { uvec4 alphaBitWords[STSV_ALPHA_BIT_VEC4S]; };
 
 /// An alpha byte with the texel's alphaBlocks decision (255 blocks, 0 is a hole) of texture
 /// record `t` (loaded once by callers that fetch many texels of one texture).
@@ -41,7 +41,7 @@ uint alphaAtTexture(GpuTexture t, ivec2 texel) {
     return ((word >> (bit & 31u)) & 1u) != 0u ? 255u : 0u;
 }
 #else
-layout(std430, set = 0, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_ALPHA) readonly buffer Alpha { uint alphaWords[]; };
 
 /// The shared texel rule's alpha byte (scene/occlusion_rules_dh.h texelAt + alphaBlocks decide) of
 /// texture record `t` (loaded once by callers that fetch many texels of one texture).

@@ -5,8 +5,9 @@
 // lavapipe, a storage-buffer load a loop over the lanes.
 #extension GL_GOOGLE_include_directive : require
 #include "common/frame_bindings.glsl"
+#include "render/vulkan/gpu_volumes_dh.h"
 
-layout(set = 0, binding = GPU_BINDING_HULL_VERTEX_TEXELS) uniform usamplerBuffer hullTexels;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_VERTEX_TEXELS) uniform usamplerBuffer hullTexels;
 
 layout(location = 0) flat out uint outRecord;
 

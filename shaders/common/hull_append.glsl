@@ -7,11 +7,12 @@
 #define STSV_SHADERS_HULL_APPEND_GLSL
 
 #include "common/frame_bindings.glsl"
+#include "render/vulkan/gpu_volumes_dh.h"
 #include "volumes/extrusion_dh.h"
 
-layout(std430, set = 0, binding = GPU_BINDING_HULL_DRAW) buffer HullDraw { GpuHullDraw draw; };
-layout(std430, set = 0, binding = GPU_BINDING_HULL_RECORDS) writeonly buffer HullRecords { uvec4 hullRecords[]; };
-layout(std430, set = 0, binding = GPU_BINDING_HULL_VERTICES) writeonly buffer HullVertices { uvec4 hullVertices[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_DRAW) buffer HullDraw { GpuHullDraw draw; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_RECORDS) writeonly buffer HullRecords { uvec4 hullRecords[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_VERTICES) writeonly buffer HullVertices { uvec4 hullVertices[]; };
 
 const uint HULL_NO_RECORD = 0xffffffffu;
 

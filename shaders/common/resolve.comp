@@ -27,18 +27,18 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
-layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(set = 0, binding = GPU_BINDING_COLOR, rgba32f) uniform image2D colorImage;
-layout(set = 0, binding = GPU_BINDING_VISIBILITY, r32f) uniform image2D visibilityImage;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_COLOR, rgba32f) uniform image2D colorImage;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VISIBILITY, r32f) uniform image2D visibilityImage;
 #if LS_COUNTERS
-layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) readonly buffer Counters { uint counters[]; };
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) readonly buffer Counters { uint counters[]; };
 #else
-layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
 #endif
 #if RESOLVE_VCOEF
 // Penumbra wedges: v_coef per pixel (wedge_fold.comp), which scales the unshadowed lighting.
-layout(set = 0, binding = GPU_BINDING_VCOEF, r32f) readonly uniform image2D vcoefImage;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) readonly uniform image2D vcoefImage;
 #endif
 
 // The data access of sampling/resolve_dh.h: sample points through pixelSamplePoint

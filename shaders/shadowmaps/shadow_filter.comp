@@ -13,11 +13,11 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
-layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(set = 0, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
 #if SHADOW_FILTER_STEP == 1
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuShadowMapStats stats[]; };
 #endif
 
 // The data access of shadowmaps/shadow_filter_dh.h: the rasterised map, the uploaded taps.

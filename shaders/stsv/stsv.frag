@@ -57,9 +57,9 @@ vec4 volumeLightPlane(uint i) { return inLightPlanes[i]; }
 StsvTriangle volumeTriangle(uvec4 ids) { return stsvUnpackTriangle(inM0, inM1, inM2, inUv0E1, inUvE2, ids); }
 #endif
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
-layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuStsvStats stats[]; };
 
 // Attachment i holds mask words 2i and 2i + 1 (lsMaskAttachment).
 #define MASK_ATTACHMENTS ((WORD_COUNT + 1) / 2)

@@ -25,7 +25,7 @@ void main() {
     StsvVolume vol;
     StsvLightPlanes lp;
     uint side = uint(gl_InvocationID);
-    if (!stsvSetupVolume(uint(gl_PrimitiveIDIn), side, pc.light, t, vol, lp)) return;
+    if (!stsvSetupVolume(uint(gl_PrimitiveIDIn), side, pc.light, true, t, vol, lp)) return;
     GpuStsvRecord v = stsvPackRecord(t, vol, lp, side);
     for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
         gl_Position = frame.clipFromWorld * vol.vertices[i];

@@ -18,7 +18,7 @@
 
 layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuStsvStats stats[]; };
 
 /// Item `item` (a side of a triangle: every side 0, then every side 1, for most triangles
 /// have one) and whether it may have a volume: the tests of stsvSetupVolume that build nothing.
@@ -37,15 +37,15 @@ void buildHull(uint tri, uint side) {
     StsvTriangle t;
     StsvVolume vol;
     StsvLightPlanes lp;
-    if (!stsvSetupVolume(tri, side, pc.light, t, vol, lp)) return;
+    if (!stsvSetupVolume(tri, side, pc.light, false, t, vol, lp)) return;
     GpuTriangle g = triangles[tri];
     uint drawn;
     uint record = appendHull(stsvVolumeHullSetup(vol, lp, vec3(g.v0), vec3(g.v1), vec3(g.v2), vec3(frame.boxLo),
                                                  vec3(frame.boxHi)),
                              drawn);
     if (drawn == 0u) return;
-    atomicAdd(stats[pc.light].hullVolumes, 1u);
-    atomicAdd(stats[pc.light].hullTriangles, drawn);
+    atomicAdd(stats[pc.light].hull.volumes, 1u);
+    atomicAdd(stats[pc.light].hull.triangles, drawn);
     if (record == HULL_NO_RECORD) return;
     GpuStsvRecord r = stsvPackRecord(t, vol, lp, side);
     uint base = record * GPU_HULL_RECORD_TEXELS;

@@ -7,11 +7,12 @@
 #define SAMPLE_COUNT 64
 #endif
 #include "common/frame_bindings.glsl"
+#include "render/vulkan/gpu_stsv_dh.h"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
-layout(std430, set = 0, binding = GPU_BINDING_STSV_MASK_WORDS) readonly buffer MaskWords { uint maskWords[]; };
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_STSV_MASK_WORDS) readonly buffer MaskWords { uint maskWords[]; };
 
 #define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
 

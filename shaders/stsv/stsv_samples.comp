@@ -12,10 +12,10 @@
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuStsvStats stats[]; };
 #if !LS_COUNTERS
-layout(std430, set = 0, binding = GPU_BINDING_STSV_MASK_WORDS) buffer MaskWords { uint maskWords[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_STSV_MASK_WORDS) buffer MaskWords { uint maskWords[]; };
 #endif
 
 void main() {

@@ -56,7 +56,7 @@ bool stsvPixelSetup(uvec2 pixel, vec3 p, StsvTriangle t, uint side, out StsvPixe
 #define LS_COUNTERS 0
 #endif
 #if LS_COUNTERS
-layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 
 /// One more layer on the 16-bit counter of each sample whose bit is set in `bits`, word w of the
 /// pixel whose counters start at `counterWord` (lsPixelCounterWord).
@@ -71,7 +71,7 @@ void stsvAddOccludedLayers(uint counterWord, uint w, uint bits) {
 
 // The hull pass's records (GpuStsvRecord at GPU_STSV_RECORD_* texels): a texel fetch at a
 // per-lane index is a vector gather on lavapipe, a storage-buffer load a loop over the lanes.
-layout(set = 0, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
 uvec4 stsvRecordTexel(uint record, uint i) {
     return texelFetch(recordTexels, int(record * GPU_HULL_RECORD_TEXELS + i));
 }

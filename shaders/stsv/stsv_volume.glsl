@@ -5,9 +5,10 @@
 #define STSV_SHADERS_STSV_VOLUME_GLSL
 
 #include "volumes/extrusion_dh.h"
+#include "render/vulkan/gpu_stsv_dh.h"
 #include "volumes/stsv_cull_dh.h"
 
-/// The record of a volume (render/vulkan/gpu_frame_dh.h GpuStsvRecord): flat varyings of the geometry
+/// The record of a volume (render/vulkan/gpu_stsv_dh.h GpuStsvRecord): flat varyings of the geometry
 /// and mesh shaders (72 components; Vulkan guarantees 64 per geometry-shader vertex, lavapipe
 /// and NVIDIA allow 128), or a record of the hull pass.
 GpuStsvRecord stsvPackRecord(StsvTriangle t, StsvVolume v, StsvLightPlanes lp, uint side) {
@@ -41,10 +42,11 @@ StsvTriangle stsvUnpackTriangle(vec4 m0, vec4 m1, vec4 m2, vec4 uv0E1, vec4 uvE2
 }
 
 /// The triangle constants, volume and light planes of (triangle, side) for light `lightIndex`:
-/// the same dh calls as render/cpu/cpu_stsv.cpp (stsvTriangleFor, stsvSideCount, stsvBuildVolume,
-/// stsvLightPlanes). False when this side has no volume (degenerate triangle, unlit side, empty
-/// volume).
-bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, out StsvVolume vol,
+/// the same dh calls as render/cpu/cpu_stsv.cpp (stsvSetupTriangle, stsvSideVolume,
+/// stsvTriangleLightPlanes), after the culling only the GPU does (stsv_cull_dh.h); with `strip`
+/// the volume's ten vertices too (the prisms), else only its planes (the hulls). False when this
+/// side has no volume (degenerate triangle, unlit side, empty or culled volume).
+bool stsvSetupVolume(uint tri, uint side, uint lightIndex, bool strip, out StsvTriangle t, out StsvVolume vol,
                      out StsvLightPlanes lp) {
     GpuTriangle g = triangles[tri];
     vol.planeCount = 0u;
@@ -56,20 +58,16 @@ bool stsvSetupVolume(uint tri, uint side, uint lightIndex, out StsvTriangle t, o
     vec3 v0 = vec3(g.v0);
     vec3 v1 = vec3(g.v1);
     vec3 v2 = vec3(g.v2);
+    vec3 lo = vec3(frame.boxLo);
+    vec3 hi = vec3(frame.boxHi);
     t = stsvSetupTriangle(v0, v1, v2, g.t0, g.t1, g.t2, vec3(sphere), g.texture, g.flags & GPU_STSV_FLAG_MASK, tri);
-    vol.planeCount = 0u;
-    vol.flags = STSV_VOLUME_EMPTY;
     if ((t.flags & STSV_FLAG_DEGENERATE) != 0u) return false;
-    uint sides = stsvSideCount(v0, v1, v2, sphere);
-    if (side >= sides) return false;
-    if (sides == 1u && stsvVolumeCannotShadowBox(t, sphere, lights[lightIndex].light, vec3(frame.boxLo),
-                                                  vec3(frame.boxHi), frame.farDistance))
+    if (side == 0u && stsvSideCount(v0, v1, v2, sphere) == 1u &&
+        stsvVolumeCannotShadowBox(t, sphere, lights[lightIndex].light, lo, hi, frame.farDistance))
         return false;
-    vol = stsvBuildVolume(v0, v1, v2, sphere, vec3(frame.boxLo), vec3(frame.boxHi), side);
-    LightFrame square;
-    if (lightSampleSquare(lights[lightIndex].light, frame.farDistance, square))
-        lp = stsvLightPlanes(v0, v1, v2, square.center, square.T, square.B, vec3(frame.boxLo), vec3(frame.boxHi));
-    return (vol.flags & STSV_VOLUME_EMPTY) == 0u;
+    if (!stsvSideVolume(v0, v1, v2, sphere, lo, hi, side, strip, vol)) return false;
+    lp = stsvTriangleLightPlanes(v0, v1, v2, lights[lightIndex].light, frame.farDistance, lo, hi);
+    return true;
 }
 
 #endif

@@ -16,6 +16,7 @@
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "common/frame_bindings.glsl"
+#include "render/vulkan/gpu_wedges_dh.h"
 
 layout(early_fragment_tests) in;
 
@@ -23,10 +24,10 @@ layout(location = 0) flat in int inWeight;
 layout(location = 1) flat in uint inSkipTriangle;
 layout(location = 2) flat in vec4 inPlane;
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
-layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(set = 0, binding = GPU_BINDING_CENTER, r32i) uniform iimage2D centerCount;
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CENTER, r32i) uniform iimage2D centerCount;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
 
 void main() {
     ivec2 pixel = ivec2(gl_FragCoord.xy);

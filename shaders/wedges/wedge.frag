@@ -36,7 +36,7 @@ layout(early_fragment_tests) in;
 // Read as texels (GPU_WEDGE_RECORD_* offsets): a texel fetch at a per-lane index is a vector
 // gather on lavapipe, a storage-buffer load a loop over the lanes.
 layout(location = 0) flat in uint inRecord;
-layout(set = 0, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_RECORD_TEXELS) uniform usamplerBuffer recordTexels;
 uvec4 recordTexel(uint i) { return texelFetch(recordTexels, int(inRecord * GPU_HULL_RECORD_TEXELS + i)); }
 uvec4 boundIds() { return recordTexel(0u); }
 vec4 boundPlane(uint i) { return uintBitsToFloat(recordTexel(GPU_WEDGE_RECORD_PLANES + i)); }
@@ -53,9 +53,9 @@ vec4 boundPlaneSide0(uint i) { return inPlanesSide0[i]; }
 vec4 boundLightPlane(uint i) { return inLightPlanes[i]; }
 #endif
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
-layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
 #if WEDGE_PW
 layout(location = 0) out float outOcclusion;
 #endif
@@ -96,7 +96,7 @@ void main() {
     // where a loop over the three slots would run all three, masked.
     uint silhouettes = inBound ? (ids.y >> 16u) & 7u : 0u;
     uint fragments = subgroupAdd(1u);
-    if (subgroupElect()) atomicAdd(stats[pc.light].wedgeFragments, fragments);
+    if (subgroupElect()) atomicAdd(stats[pc.light].fragments, fragments);
 #if WEDGE_PW
     float occlusion = 0.0;
     uint inside = 0u;
@@ -124,7 +124,7 @@ void main() {
     }
 #if WEDGE_PW
     uint insideCount = subgroupAdd(inside);
-    if (subgroupElect()) atomicAdd(stats[pc.light].wedgeInside, insideCount);
+    if (subgroupElect()) atomicAdd(stats[pc.light].inside, insideCount);
     // On lavapipe every wedge fragment pays for the analytic coverage (polygon clipping in
     // local arrays, about 0.5 µs), silhouette or not: PW runs about 10x slower than DCS there.
     if (inside == 0u) discard;

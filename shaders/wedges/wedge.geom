@@ -25,7 +25,7 @@ void main() {
     uint c = uint(gl_PrimitiveIDIn);
     uint side = uint(gl_InvocationID);
     WedgeBound b;
-    if (!wedgeSetupBound(c, side, pc.light, b)) return;
+    if (!wedgeSetupBound(c, side, pc.light, true, b)) return;
     for (uint i = 0u; i < STSV_STRIP_VERTEX_COUNT; ++i) {
         gl_Position = frame.clipFromWorld * b.vol.vertices[i];
         outIds = b.record.ids;

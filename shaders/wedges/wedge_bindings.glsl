@@ -1,20 +1,22 @@
-// Descriptor declarations of the opaque-occluder passes (dcs_center.*, wedge.*, wedge_fold.comp):
-// the welded edges of the opaque triangles and their faces (render/vulkan/gpu_opaque_passes.cpp uploads them).
+// Descriptor declarations of the opaque-occluder passes (dcs_center.*, wedge.*, wedge_fold.comp) in
+// set GPU_SET_FAMILY (render/vulkan/gpu_wedges_dh.h): the welded edges of the opaque triangles and
+// their faces (render/vulkan/gpu_opaque_passes.cpp uploads them).
 #ifndef STSV_SHADERS_WEDGE_BINDINGS_GLSL
 #define STSV_SHADERS_WEDGE_BINDINGS_GLSL
 
 #include "common/frame_bindings.glsl"
+#include "render/vulkan/gpu_wedges_dh.h"
 #include "volumes/extrusion_dh.h"
 #include "wedges/dcs_dh.h"
 
-layout(std430, set = 0, binding = GPU_BINDING_EDGES) readonly buffer Edges { GpuEdge edges[]; };
-layout(std430, set = 0, binding = GPU_BINDING_EDGE_FACES) readonly buffer EdgeFaces { GpuEdgeFace edgeFaces[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_EDGES) readonly buffer Edges { GpuEdge edges[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_EDGE_FACES) readonly buffer EdgeFaces { GpuEdgeFace edgeFaces[]; };
 // The same tables as texels, for reads at a per-lane index (a vector gather on lavapipe, where a
 // storage-buffer load is a loop over the lanes); per carrier face its triangle, then the edges it
 // carries (GPU_NO_EDGE in free slots).
-layout(set = 0, binding = GPU_BINDING_CARRIER_TEXELS) uniform usamplerBuffer carrierTexels;
-layout(set = 0, binding = GPU_BINDING_EDGE_TEXELS) uniform usamplerBuffer edgeTexels;
-layout(set = 0, binding = GPU_BINDING_EDGE_FACE_TEXELS) uniform usamplerBuffer edgeFaceTexels;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CARRIER_TEXELS) uniform usamplerBuffer carrierTexels;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_EDGE_TEXELS) uniform usamplerBuffer edgeTexels;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_EDGE_FACE_TEXELS) uniform usamplerBuffer edgeFaceTexels;
 
 uvec4 carrierAt(uint c) { return texelFetch(carrierTexels, int(c)); }
 uint carrierCount() { return uint(textureSize(carrierTexels)); }
@@ -48,8 +50,8 @@ bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
                                   edgeFaces[edge.firstFace + 1u].opposite, sphere);
 }
 
-/// The bound of the wedges of a carrier face's potential silhouette edges (DESIGN §4.5; as
-/// render/cpu/cpu_wedges.cpp): the STSV volume of the face (a segment towards the light that touches
+/// The bound of the wedges of a carrier face's potential silhouette edges (DESIGN §4.5; the same
+/// dh calls as render/cpu/cpu_wedges.cpp, stsvSideVolume and stsvTriangleLightPlanes): the STSV volume of the face (a segment towards the light that touches
 /// an edge touches the closed face, which its STSV volume bounds conservatively), both sides when
 /// the light straddles the face's plane, and the face's light planes. One bound serves all the
 /// edges the face carries. `record` is what the wedge fragment reads (GpuWedgeRecord).
@@ -85,9 +87,10 @@ bool wedgeMayHaveBound(uint c, uint side, uint lightIndex, out uint silhouettes)
     return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), lights[lightIndex].sphere);
 }
 
-/// The bound of carrier c's side `side` for light `lightIndex`; false when it has none (no
+/// The bound of carrier c's side `side` for light `lightIndex`, with `strip` its volume's ten
+/// vertices (the prisms of wedge.geom), else only its planes (the hulls); false when it has none (no
 /// potential silhouette of the light among its edges, an empty or unlit side).
-bool wedgeSetupBound(uint c, uint side, uint lightIndex, out WedgeBound b) {
+bool wedgeSetupBound(uint c, uint side, uint lightIndex, bool strip, out WedgeBound b) {
     b.vol.flags = STSV_VOLUME_EMPTY;
     uint silhouettes;
     if (!wedgeMayHaveBound(c, side, lightIndex, silhouettes)) return false;
@@ -98,20 +101,16 @@ bool wedgeSetupBound(uint c, uint side, uint lightIndex, out WedgeBound b) {
     b.v2 = vec3(g.v2);
     vec3 lo = vec3(frame.boxLo);
     vec3 hi = vec3(frame.boxHi);
-    b.vol = stsvBuildVolume(b.v0, b.v1, b.v2, sphere, lo, hi, side);
-    if ((b.vol.flags & STSV_VOLUME_EMPTY) != 0u) return false;
+    if (!stsvSideVolume(b.v0, b.v1, b.v2, sphere, lo, hi, side, strip, b.vol)) return false;
     // Side 1 hands the points of the side-0 volume to side 0, so that every point is visited
     // once (the CPU mirror tests "inside any of the face's volumes").
     StsvVolume vol0;
     vol0.planeCount = 0u;
     vol0.flags = STSV_VOLUME_EMPTY;
     for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) vol0.planes[k] = vec4(0.0);
-    if (side == 1u) vol0 = stsvBuildVolume(b.v0, b.v1, b.v2, sphere, lo, hi, 0u);
+    if (side == 1u) vol0 = stsvBuildVolumePlanes(b.v0, b.v1, b.v2, sphere, lo, hi, 0u);
     uint side0 = (vol0.flags & STSV_VOLUME_EMPTY) == 0u ? WEDGE_SIDE0_PRESENT | vol0.planeCount : 0u;
-    b.lp = stsvNoLightPlanes();
-    LightFrame square;
-    if (lightSampleSquare(lights[lightIndex].light, frame.farDistance, square))
-        b.lp = stsvLightPlanes(b.v0, b.v1, b.v2, square.center, square.T, square.B, lo, hi);
+    b.lp = stsvTriangleLightPlanes(b.v0, b.v1, b.v2, lights[lightIndex].light, frame.farDistance, lo, hi);
     b.record.ids = uvec4(c, side | (b.lp.count << 8u) | (silhouettes << 16u), b.vol.planeCount, side0);
     for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) {
         b.record.planes[k] = b.vol.planes[k];

@@ -3,8 +3,9 @@
 //   D(r) = the z-fail count of dcs_center.frag, minus the visible triangle's own volume when the
 //          eye and the light centre lie on the same side of it (its near cap was skipped, so the
 //          view ray entering that volume at p counted +1: the self-shadowing rule removes it);
-//   DCS (WEDGE_PW 0): every sample counter becomes D(r) + its signed edge crossings (+ STSV
-//          increments), read as two signed 16-bit halves and clamped at 0 like the CPU mirror;
+//   DCS (WEDGE_PW 0): every sample counter becomes D(r) + its signed edge crossings, read as two
+//          signed 16-bit halves and clamped at 0 like the CPU mirror; it runs right after the
+//          wedge passes, so that STSV's layers (dcs+stsv) add to the clamped count, as on the CPU;
 //   PW (WEDGE_PW 1): the v_coef image becomes v_coef = 1 − clamp([D(r) > 0] + Σ wedge terms,
 //          0, 1), minus the occluded fraction of the STSV samples for pw+stsv (WEDGE_STSV 1).
 #extension GL_GOOGLE_include_directive : require
@@ -25,11 +26,11 @@
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
-layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(set = 0, binding = GPU_BINDING_CENTER, r32i) readonly uniform iimage2D centerCount;
-layout(set = 0, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
-layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
-layout(set = 0, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CENTER, r32i) readonly uniform iimage2D centerCount;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
 
 /// D(r) at the pixel's visible point, on opaque or perforated triangle `tri`.
 int centerLayers(ivec2 pixel, uint tri) {

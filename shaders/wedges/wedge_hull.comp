@@ -15,7 +15,7 @@
 
 layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
 
 /// Item `item` (a side of a carrier: every side 0, then every side 1) and whether it may have a
 /// bound (wedgeMayHaveBound).
@@ -30,13 +30,13 @@ bool hullItem(uint item, out uint c, out uint side) {
 /// The bound of side `side` of carrier `c`: its hull appended, its record written.
 void buildHull(uint c, uint side) {
     WedgeBound b;
-    if (!wedgeSetupBound(c, side, pc.light, b)) return;
+    if (!wedgeSetupBound(c, side, pc.light, false, b)) return;
     uint drawn;
     uint record = appendHull(
         stsvVolumeHullSetup(b.vol, b.lp, b.v0, b.v1, b.v2, vec3(frame.boxLo), vec3(frame.boxHi)), drawn);
     if (drawn == 0u) return;
-    atomicAdd(stats[pc.light].wedgeHulls, 1u);
-    atomicAdd(stats[pc.light].wedgeHullTriangles, drawn);
+    atomicAdd(stats[pc.light].hull.volumes, 1u);
+    atomicAdd(stats[pc.light].hull.triangles, drawn);
     if (record == HULL_NO_RECORD) return;
     uint base = record * GPU_HULL_RECORD_TEXELS;
     hullRecords[base] = b.record.ids;

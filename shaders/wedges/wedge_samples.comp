@@ -13,14 +13,14 @@
 
 layout(local_size_x = 64) in;
 
-layout(set = 0, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
-layout(set = 0, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(std430, set = 0, binding = GPU_BINDING_STATS) buffer Stats { GpuStats stats[]; };
-layout(std430, set = 0, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 
 void main() {
     // Everything the draw tried to list, past the end too: the host grows a short list.
-    if (gl_GlobalInvocationID.x == 0u) stats[pc.light].wedgeListed = deferredCount.x;
+    if (gl_GlobalInvocationID.x == 0u) stats[pc.light].listed = deferredCount.x;
     uint count = deferredEntries();
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     bool decorrelate = frame.decorrelate != 0u;
@@ -35,7 +35,7 @@ void main() {
         int k;
         LightFrame lf;
         if (!wedgePixelTerm(p, wedgeEdgeAt(entry.y), receiver, l, h0, h1, k, lf)) continue;
-        atomicAdd(stats[pc.light].wedgeInside, 1u);
+        atomicAdd(stats[pc.light].inside, 1u);
         uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
         uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));

@@ -2,6 +2,7 @@
 // the edge cases, and the ten-vertex strip as a closed, outward-oriented convex surface.
 #include "core/error.h"
 #include "sampling/light_sampling_dh.h"
+#include "scene/surface_dh.h"
 #include "volume_test_util.h"
 #include "volumes/extrusion.h"
 #include "volumes/stsv_dh.h"
@@ -11,6 +12,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <map>
 #include <string>
@@ -983,6 +985,135 @@ TEST(ExtrusionHost, SecondVolumeExactlyWhenTheLightStraddlesThePlane) {
         buildTriangleVolumes(vec3(0), vec3(0), vec3(1), vec4(2.3f, 1.0f, 0.5f, 0.5f), bounds);
     ASSERT_EQ(degenerate.size(), 1u);
     EXPECT_NE(degenerate[0].flags & STSV_VOLUME_DEGENERATE, 0u);
+}
+
+// The set-up both backends' STSV volumes and wedge bounds share (stsvSideVolume,
+// stsvTriangleLightPlanes), against the geometry of the light: which sides it sees, and the
+// segments from its samples.
+
+/// A point behind q as seen from light point l: q + t·(q − l), t from 2 % to 100 % of |q − l|
+/// (away from the triangle's start gap), or nothing when it leaves the box.
+bool behind(Rng& rng, vec3 l, vec3 q, const Bounds& box, vec3& p) {
+    p = q + rng.uniformf(0.02f, 1.0f) * (q - l);
+    return p.x > box.lo.x && p.y > box.lo.y && p.z > box.lo.z && p.x < box.hi.x && p.y < box.hi.y &&
+           p.z < box.hi.z;
+}
+
+TEST(ExtrusionSides, ASideHasAVolumeExactlyWhenTheLightSeesIt) {
+    Rng rng(4711);
+    Bounds box;
+    box.extend(vec3(-8.0f));
+    box.extend(vec3(8.0f));
+    int straddling = 0, oneSided = 0, shadowPoints = 0;
+    for (int trial = 0; trial < 4000; ++trial) {
+        const vec3 v0 = rng.inCube(2.0f), v1 = rng.inCube(2.0f), v2 = rng.inCube(2.0f);
+        const vec3 n = cross(v1 - v0, v2 - v0);
+        if (length(n) < 0.1f) continue; // well away from degenerate
+        const vec4 sphere(rng.inCube(4.0f), rng.logUniform(0.01f, 1.5f));
+        const vec3 c(sphere);
+        // The sphere must not touch the triangle itself (a light inside the occluder).
+        if (length(c - v0) < 2.0f * sphere.w || length(c - v1) < 2.0f * sphere.w ||
+            length(c - v2) < 2.0f * sphere.w)
+            continue;
+        // The plane's distance from the centre, against the radius, away from the 1e-6 slack.
+        const double d = std::abs(dot(dvec3(normalize(n)), dvec3(c) - dvec3(v0)));
+        const bool straddles = d < 0.999 * sphere.w;
+        if (!straddles && d < 1.001 * sphere.w) continue;
+        (straddles ? straddling : oneSided)++;
+        StsvVolume vol[2];
+        const bool has0 = stsvSideVolume(v0, v1, v2, sphere, box.lo, box.hi, 0u, true, vol[0]);
+        const bool has1 = stsvSideVolume(v0, v1, v2, sphere, box.lo, box.hi, 1u, true, vol[1]);
+        StsvVolume none;
+        EXPECT_FALSE(stsvSideVolume(v0, v1, v2, sphere, box.lo, box.hi, 2u, true, none));
+        ASSERT_TRUE(has0) << "trial " << trial;
+        ASSERT_EQ(has1, straddles) << "trial " << trial << " d/r=" << d / sphere.w;
+        // The hull passes take the planes alone: the same sides, the same planes bit for bit.
+        for (uint side = 0; side < 2; ++side) {
+            StsvVolume planes;
+            ASSERT_EQ(stsvSideVolume(v0, v1, v2, sphere, box.lo, box.hi, side, false, planes),
+                      side == 0 || has1);
+            if (side == 1 && !has1) continue;
+            ASSERT_EQ(planes.planeCount, vol[side].planeCount);
+            EXPECT_EQ(std::memcmp(planes.planes, vol[side].planes, sizeof planes.planes), 0)
+                << "trial " << trial << " side " << side;
+        }
+        // A point a segment from the centre crosses the triangle to is in side 0's volume; from a
+        // point of the sphere beyond the plane (there is one when it straddles), in side 1's.
+        for (int k = 0; k < 4; ++k) {
+            const vec3 q = stsv::trianglePoint(v0, v1, v2, rng.barycentric());
+            vec3 p;
+            if (behind(rng, c, q, box, p)) {
+                ++shadowPoints;
+                EXPECT_TRUE(stsvPointInVolume(vol[0], p)) << "trial " << trial << " p=" << str(p);
+            }
+            if (!straddles) continue;
+            const vec3 toPlane = normalize(n) * float(dot(dvec3(normalize(n)), dvec3(v0) - dvec3(c)));
+            const vec3 beyond = c + toPlane + normalize(toPlane) * 0.5f * float(sphere.w - d);
+            if (behind(rng, beyond, q, box, p)) {
+                EXPECT_TRUE(stsvPointInVolume(vol[1], p)) << "trial " << trial << " p=" << str(p);
+            }
+        }
+        if (!has1) {
+            for (int k = 0; k < 20; ++k) EXPECT_FALSE(stsvPointInVolume(vol[1], rng.inBox(box.lo, box.hi)));
+        }
+    }
+    EXPECT_GT(straddling, 150);
+    EXPECT_GT(oneSided, 1000);
+    EXPECT_GT(shadowPoints, 4000);
+}
+
+TEST(ExtrusionSides, TheLightPlanesOfALightHoldEveryShadowSegmentOfItsSamples) {
+    Rng rng(99);
+    Bounds box;
+    box.extend(vec3(-8.0f));
+    box.extend(vec3(8.0f));
+    int checked = 0;
+    for (int trial = 0; trial < 600; ++trial) {
+        Light light{};
+        light.type = trial % 2 == 0 ? LIGHT_RECTANGLE : LIGHT_DISK;
+        light.position = vec3(rng.uniformf(-2.0f, 2.0f), rng.uniformf(3.0f, 6.0f), rng.uniformf(-2.0f, 2.0f));
+        light.normal = vec3(0.0f, -1.0f, 0.0f);
+        light.axisU = vec3(rng.uniformf(0.05f, 1.0f), 0.0f, 0.0f);
+        light.axisV = vec3(0.0f, 0.0f, rng.uniformf(0.05f, 1.0f));
+        light.radius =
+            light.type == LIGHT_DISK ? rng.uniformf(0.05f, 1.0f) : length(light.axisU + light.axisV);
+        const vec3 v0 = rng.inCube(2.0f) * vec3(1.0f, 0.3f, 1.0f),
+                   v1 = rng.inCube(2.0f) * vec3(1.0f, 0.3f, 1.0f),
+                   v2 = rng.inCube(2.0f) * vec3(1.0f, 0.3f, 1.0f);
+        if (length(cross(v1 - v0, v2 - v0)) < 0.1f) continue;
+        const StsvLightPlanes lp = stsvTriangleLightPlanes(v0, v1, v2, light, 100.0f, box.lo, box.hi);
+        ASSERT_GT(lp.count, 0u) << "trial " << trial;
+        for (int k = 0; k < 20; ++k) {
+            vec3 sample;
+            if (light.type == LIGHT_RECTANGLE) {
+                sample = light.position + rng.uniformf(-1.0f, 1.0f) * light.axisU +
+                         rng.uniformf(-1.0f, 1.0f) * light.axisV;
+            } else {
+                const vec3 d = rng.inBall() * light.radius;
+                sample = light.position + vec3(d.x, 0.0f, d.z);
+            }
+            vec3 p;
+            if (!behind(rng, sample, stsv::trianglePoint(v0, v1, v2, rng.barycentric()), box, p)) continue;
+            ++checked;
+            EXPECT_TRUE(stsvPointInLightPlanes(lp, p)) << "trial " << trial << " p=" << str(p);
+        }
+    }
+    EXPECT_GT(checked, 5000);
+    // A sphere or a directional light turns its frame towards each receiver: no planes hold for
+    // every receiver, so there are none.
+    for (uint type : {LIGHT_SPHERE, LIGHT_DIRECTIONAL}) {
+        Light light{};
+        light.type = type;
+        light.position = vec3(0.0f, 4.0f, 0.0f);
+        light.normal = vec3(0.0f, 1.0f, 0.0f);
+        light.radius = 0.5f;
+        light.angularRadius = 0.01f;
+        EXPECT_EQ(stsvTriangleLightPlanes(vec3(0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 0.0f, 1.0f), light,
+                                          100.0f, box.lo, box.hi)
+                      .count,
+                  0u)
+            << "light type " << type;
+    }
 }
 
 } // namespace

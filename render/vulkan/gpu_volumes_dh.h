@@ -1,0 +1,62 @@
+// The GPU interface the volume families share (DESIGN §4.2, §5): the hull buffers and the list of
+// deferred fragments, which the STSV technique (gpu_stsv_dh.h) and the wedge technique
+// (gpu_wedges_dh.h) both bind in their set GPU_SET_FAMILY (render/vulkan/gpu_hulls.h,
+// gpu_deferred.h), one pass after the other; the counts every volume family keeps first in its
+// stats.
+#ifndef STSV_RENDER_GPU_VOLUMES_DH_H
+#define STSV_RENDER_GPU_VOLUMES_DH_H
+
+#include "core/dh.h"
+#include "render/vulkan/gpu_frame_dh.h"
+
+DH_BEGIN
+
+// Set GPU_SET_FAMILY of a volume family, after GPU_BINDING_FAMILY_STATS.
+DH_CONST uint GPU_BINDING_HULL_DRAW = 1u;          ///< GpuHullDraw: draw arguments and counts (SSBO)
+DH_CONST uint GPU_BINDING_HULL_RECORDS = 2u;       ///< the hulls' records, 18 uvec4 each (SSBO)
+DH_CONST uint GPU_BINDING_HULL_VERTICES = 3u;      ///< uvec4 per hull vertex: xyz bits, record (SSBO)
+DH_CONST uint GPU_BINDING_HULL_RECORD_TEXELS = 4u; ///< the records as rgba32ui texels
+DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 5u; ///< the hull vertices as rgba32ui texels
+DH_CONST uint GPU_BINDING_DEFERRED_COUNT = 6u;     ///< uvec4, x: fragments deferred (SSBO)
+DH_CONST uint GPU_BINDING_DEFERRED = 7u;           ///< uvec2 per deferred fragment: pixel, item (SSBO)
+/// The first binding a volume family declares for itself.
+DH_CONST uint GPU_BINDING_VOLUME_FAMILY_FIRST = 8u;
+
+/// What a hull pass counts per light: the first member of its family's stats (GpuStsvStats,
+/// GpuWedgeStats), where render/vulkan/gpu_hulls.cpp reads it to size the hull buffers.
+struct GpuHullCounts {
+    uint volumes;   ///< volumes the hull pass built (stsv_hull.comp, wedge_hull.comp)
+    uint triangles; ///< triangles of their hulls drawn (those facing away from the eye)
+};
+
+/// A hull pass's record of one volume: GPU_HULL_RECORD_TEXELS 16-byte texels (GpuStsvRecord,
+/// GpuWedgeRecord), read by the fragments of hull.vert through their flat record index.
+DH_CONST uint GPU_HULL_RECORD_TEXELS = 18u;
+
+/// Items (sides of a triangle or a carrier face) per thread of a hull pass, at most: a workgroup
+/// first finds which of its threads × HULL_ITEMS_PER_THREAD items have a volume (a cheap test),
+/// then its threads build and clip those, so that a SIMD batch clips as many volumes as it has
+/// lanes (render/vulkan/gpu_hulls.cpp chooses HULL_ITEMS_PER_THREAD per device).
+DH_CONST uint GPU_HULL_MAX_ITEMS_PER_THREAD = 16u;
+
+/// A hull pass's counts and the arguments of the indirect draw of its triangles (the first
+/// four words are a VkDrawIndirectCommand). Zeroed before each hull pass.
+struct GpuHullDraw {
+    uint vertexCount;   ///< 3 × the triangles appended
+    uint instanceCount; ///< 1, written by the hull pass
+    uint firstVertex;
+    uint firstInstance;
+    uint records; ///< records appended
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+#ifdef __cplusplus
+DH_STATIC_ASSERT(sizeof(GpuHullCounts) == 8);
+DH_STATIC_ASSERT(sizeof(GpuHullDraw) == 32);
+#endif
+
+DH_END
+
+#endif // STSV_RENDER_GPU_VOLUMES_DH_H

@@ -1,0 +1,91 @@
+// The wedge technique's GPU interface (DESIGN §4.5, §5): its bindings in set GPU_SET_FAMILY after
+// the volume families' shared ones (gpu_volumes_dh.h), its stats, the welded-edge tables and the
+// record a fragment reads about its carrier's bound.
+#ifndef STSV_RENDER_GPU_WEDGES_DH_H
+#define STSV_RENDER_GPU_WEDGES_DH_H
+
+#include "core/dh.h"
+#include "render/vulkan/gpu_volumes_dh.h"
+#include "volumes/extrusion_dh.h"
+
+DH_BEGIN
+
+DH_CONST uint GPU_BINDING_EDGES =
+    GPU_BINDING_VOLUME_FAMILY_FIRST; ///< GpuEdge[]: welded edges of the opaque triangles (SSBO)
+DH_CONST uint GPU_BINDING_EDGE_FACES = GPU_BINDING_EDGES + 1u; ///< GpuEdgeFace[], grouped per edge (SSBO)
+DH_CONST uint GPU_BINDING_CARRIER_TEXELS =
+    GPU_BINDING_EDGES + 2u; ///< rgba32ui per carrier face: triangle, its carried edges
+DH_CONST uint GPU_BINDING_EDGE_TEXELS =
+    GPU_BINDING_EDGES + 3u; ///< GpuEdge[] as rgba32ui texels, GPU_EDGE_TEXELS each
+DH_CONST uint GPU_BINDING_EDGE_FACE_TEXELS = GPU_BINDING_EDGES + 4u; ///< GpuEdgeFace[] as rgba32ui texels
+DH_CONST uint GPU_BINDING_CENTER =
+    GPU_BINDING_EDGES + 5u; ///< r32i storage image: z-fail layer count at the light centre
+
+DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
+
+/// What the wedge passes count per light (atomic counters in the shaders).
+struct GpuWedgeStats {
+    GpuHullCounts hull;   ///< wedge_hull.comp
+    uint fragments;       ///< wedge-pass fragments that passed the depth test
+    uint inside;          ///< of those, p inside the bound with the edge a silhouette seen from p
+    uint listed;          ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
+    uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
+    uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
+    uint pad0;
+};
+
+/// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a
+/// record of the wedge hull pass): ids = (carrier, side | light planes' count << 8 | the
+/// carried edges that are potential silhouettes << 16 (bit k: slot k), planeCount,
+/// WEDGE_SIDE0_PRESENT | side 0's planeCount), the volume's planes, side 0's planes (side 1
+/// leaves their points to side 0), the carrier's light planes. std430: 18 × 16 bytes.
+struct GpuWedgeRecord {
+    uvec4 ids;
+    vec4 planes[STSV_VOLUME_MAX_PLANES];
+    vec4 planesSide0[STSV_VOLUME_MAX_PLANES];
+    vec4 lightPlanes[STSV_LIGHT_PLANES_MAX];
+};
+
+/// GpuWedgeRecord as 16-byte texels.
+DH_CONST uint GPU_WEDGE_RECORD_PLANES = 1u;
+DH_CONST uint GPU_WEDGE_RECORD_PLANES_SIDE0 = 6u;
+DH_CONST uint GPU_WEDGE_RECORD_LIGHT_PLANES = 11u;
+
+/// One welded edge of the opaque triangles (wedges/adjacency.h). std430: 2 × 16 bytes.
+struct GpuEdge {
+    vec3 v0;        ///< world units
+    uint firstFace; ///< into GpuEdgeFace[]
+    vec3 v1;        ///< world units
+    uint faceCount; ///< 1 open, 2 manifold, > 2 non-manifold
+};
+
+/// GpuEdge as 16-byte texels: (v0, firstFace), (v1, faceCount).
+DH_CONST uint GPU_EDGE_TEXELS = 2u;
+
+/// One triangle incident to an edge. std430: 2 × 16 bytes.
+struct GpuEdgeFace {
+    vec3 opposite; ///< world units; the triangle's third vertex
+    uint triangle; ///< scene triangle index
+    uint forward;  ///< 1: the triangle's winding runs the edge v0 → v1, 0: v1 → v0
+    uint pad0;
+    uint pad1;
+    uint pad2;
+};
+
+/// GpuEdgeFace as 16-byte texels: (opposite, triangle), (forward, pads).
+DH_CONST uint GPU_EDGE_FACE_TEXELS = 2u;
+
+#ifdef __cplusplus
+DH_STATIC_ASSERT(sizeof(GpuWedgeStats) == 32);
+DH_STATIC_ASSERT(offsetof(GpuWedgeStats, hull) == 0);
+DH_STATIC_ASSERT(sizeof(GpuWedgeRecord) == 16 * GPU_HULL_RECORD_TEXELS);
+DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planes) == 16 * GPU_WEDGE_RECORD_PLANES);
+DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planesSide0) == 16 * GPU_WEDGE_RECORD_PLANES_SIDE0);
+DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, lightPlanes) == 16 * GPU_WEDGE_RECORD_LIGHT_PLANES);
+DH_STATIC_ASSERT(sizeof(GpuEdge) == 32);
+DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);
+#endif
+
+DH_END
+
+#endif // STSV_RENDER_GPU_WEDGES_DH_H
