@@ -19,7 +19,9 @@
 
 #include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
+#include <utility>
 
 namespace stsv {
 
@@ -41,6 +43,25 @@ ClearPass countClearPass(const FrameResources& resources, const RenderOptions& o
     if (options.buffer == BufferKind::Counters)
         for (std::size_t l = 0; l < lightCount; ++l) buffers.push_back(&resources.samples.counters[l]);
     return ClearPass({}, buffers);
+}
+
+/// Whether the row composes a volume family (STSV, wedges): those share the hull buffers and the
+/// deferred-fragment list, which a frame without them does not allocate.
+bool drawsVolumes(const MethodInfo& method) {
+    for (const TechniqueFamily family : method.techniques())
+        if (family == TechniqueFamily::StsvVolumes || family == TechniqueFamily::OpaqueWedges) return true;
+    return false;
+}
+
+std::optional<HullResources> hullResourcesFor(const Device& device, const MethodInfo& method) {
+    if (!drawsVolumes(method)) return std::nullopt;
+    return std::optional<HullResources>(std::in_place, device);
+}
+
+std::optional<DeferredFragments> deferredFragmentsFor(const Device& device, const RenderOptions& options,
+                                                      std::uint64_t capacity) {
+    if (!drawsVolumes(methodInfo(options.method))) return std::nullopt;
+    return std::optional<DeferredFragments>(std::in_place, device, options, capacity);
 }
 
 /// Timed passes of a frame besides the lights': the G-buffer, the ambient of a frame without
@@ -66,8 +87,8 @@ class VulkanFrame {
     StsvGeometry m_geometry;
     SamplePlan m_plan;
     FrameResources m_resources;
-    HullResources m_hulls;
-    DeferredFragments m_deferred;
+    std::optional<HullResources> m_hulls;        ///< with a volume family
+    std::optional<DeferredFragments> m_deferred; ///< with a volume family
     FrameDescriptors m_descriptors;
     VulkanTechniqueContext m_context;
     std::vector<std::unique_ptr<VulkanTechnique>> m_techniques;
@@ -90,13 +111,19 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                          StsvGeometry geometry, std::uint64_t deferredCapacity)
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
       m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
-      m_hulls(device), m_deferred(device, options, deferredCapacity),
+      m_hulls(hullResourcesFor(device, m_method)),
+      m_deferred(deferredFragmentsFor(device, options, deferredCapacity)),
       m_descriptors(device, m_resources.bindings(), std::max<std::size_t>(scene.lights.size(), 1)),
-      m_context{device,        scene,
-                m_options,     m_method,
-                geometry,      m_resources,
-                m_descriptors, m_hulls,
-                m_deferred,    sampleDefines(options, m_resources.tables.layout)},
+      m_context{device,
+                scene,
+                m_options,
+                m_method,
+                geometry,
+                m_resources,
+                m_descriptors,
+                m_hulls ? &*m_hulls : nullptr,
+                m_deferred ? &*m_deferred : nullptr,
+                sampleDefines(options, m_resources.tables.layout)},
       m_techniques(makeVulkanTechniques(m_context)),
       m_techniquesWriteMasks(std::any_of(m_techniques.begin(), m_techniques.end(),
                                          [](const auto& t) { return t->writesSampleMasks(); })),
@@ -111,7 +138,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
     for (const auto& technique : m_techniques)
         for (const HullPass* pass : technique->hullPasses()) hullPasses.push_back(pass);
     if (!hullPasses.empty()) {
-        m_hulls.size(m_recorder, m_commands, scene.lights.size(), hullPasses);
+        m_hulls->size(m_recorder, m_commands, scene.lights.size(), hullPasses);
         writeDescriptors();
     }
 }
@@ -174,7 +201,7 @@ Frame VulkanFrame::render(double startupMs) {
         // A fragment the list had no room for is lost: the list grows and the frame runs again.
         std::uint64_t listed = 0;
         for (const auto& technique : m_techniques) listed = std::max(listed, technique->listedFragments());
-        if (!m_deferred.growFor(listed)) break;
+        if (!m_deferred || !m_deferred->growFor(listed)) break;
         writeDescriptors();
     }
     for (const auto& technique : m_techniques) technique->readBack(frame);

@@ -60,27 +60,28 @@ class StsvTechnique final : public VulkanTechnique {
                           volumeFamilyBindings({{GPU_BINDING_STSV_MASK_WORDS,
                                                  VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}}),
                           sizeof(GpuStsvStats)),
-          m_c(c), m_clearHullDraw({}, {&c.hulls.draw}),
-          m_clearDeferred({}, {&c.deferred.count, &c.deferred.maskWords}) {
+          m_c(c), m_clearHullDraw({}, {&c.hulls->draw}),
+          m_clearDeferred({}, {&c.deferred->count, &c.deferred->maskWords}) {
         if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
         const bool bitmask = c.options.buffer == BufferKind::Bitmask;
-        if (c.geometry == StsvGeometry::Hull) c.deferred.use(bitmask);
-        m_stsv.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, m_family, c.geometry);
+        if (c.geometry == StsvGeometry::Hull) c.deferred->use(bitmask);
+        m_stsv.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family,
+                       c.geometry);
         if (c.geometry != StsvGeometry::Hull) return;
-        m_samples.emplace(c.device, c.scene, c.options, c.resources, c.hulls, c.deferred, m_family);
-        if (bitmask) m_merge.emplace(c.device, c.options, c.resources, c.deferred, m_family);
+        m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family);
+        if (bitmask) m_merge.emplace(c.device, c.options, c.resources, *c.deferred, m_family);
         m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", layoutDefines(c.resources.tables.layout),
                            static_cast<std::uint32_t>(c.scene.triangleCount()),
                            c.method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u,
-                           c.hulls, m_family);
+                           *c.hulls, m_family);
     }
 
     void writeDescriptors() override {
         for (std::size_t l = 0; l < m_family.setCount(); ++l) {
             DescriptorSet& set = m_family.set(l);
-            m_c.hulls.writeDescriptors(set);
-            m_c.deferred.writeDescriptors(set);
-            set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, m_c.deferred.maskWords);
+            m_c.hulls->writeDescriptors(set);
+            m_c.deferred->writeDescriptors(set);
+            set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, m_c.deferred->maskWords);
         }
     }
 
@@ -118,7 +119,7 @@ class StsvTechnique final : public VulkanTechnique {
             nlohmann::json light = {
                 {"fragments", s.fragments}, {"inside_fragments", s.inside}, {"samples_tested", n * s.inside}};
             if (m_hullPass) {
-                m_c.hulls.checkCapacity(l, "STSV", s.hull.volumes, s.hull.triangles);
+                m_c.hulls->checkCapacity(l, "STSV", s.hull.volumes, s.hull.triangles);
                 light["hull_volumes"] = s.hull.volumes;
                 light["hull_triangles"] = s.hull.triangles;
                 light["listed_fragments"] = s.listed;
@@ -150,26 +151,26 @@ class WedgeTechnique final : public VulkanTechnique {
         : VulkanTechnique(c, volumeFamilyBindings(OpaqueOccluderResources::bindings()),
                           sizeof(GpuWedgeStats)),
           m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
-          m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls.draw}),
-          m_clearDeferredCount({}, {&c.deferred.count}),
+          m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls->draw}),
+          m_clearDeferredCount({}, {&c.deferred->count}),
           m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
           m_wedges(c.device, c.options, m_opaque, c.resources, m_family, c.defines,
-                   c.geometry == StsvGeometry::Hull ? &c.hulls : nullptr, c.deferred),
+                   c.geometry == StsvGeometry::Hull ? c.hulls : nullptr, *c.deferred),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
-            c.deferred.use(false);
-            m_samples.emplace(c.device, c.resources, c.deferred, m_family, c.defines);
+            c.deferred->use(false);
+            m_samples.emplace(c.device, c.resources, *c.deferred, m_family, c.defines);
         }
         if (c.geometry == StsvGeometry::Hull && m_opaque.carrierCount() > 0)
             m_hullPass.emplace(c.device, "wedges/wedge_hull.comp", layoutDefines(c.resources.tables.layout),
-                               static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u, c.hulls, m_family);
+                               static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u, *c.hulls, m_family);
     }
 
     void writeDescriptors() override {
         for (std::size_t l = 0; l < m_family.setCount(); ++l) {
             DescriptorSet& set = m_family.set(l);
-            m_c.hulls.writeDescriptors(set);
-            m_c.deferred.writeDescriptors(set);
+            m_c.hulls->writeDescriptors(set);
+            m_c.deferred->writeDescriptors(set);
             m_opaque.writeDescriptors(set);
         }
     }
@@ -220,7 +221,7 @@ class WedgeTechnique final : public VulkanTechnique {
                 wedge["samples_tested"] = n * s.inside;
             }
             if (m_hullPass) {
-                m_c.hulls.checkCapacity(l, "wedge", s.hull.volumes, s.hull.triangles);
+                m_c.hulls->checkCapacity(l, "wedge", s.hull.volumes, s.hull.triangles);
                 wedge["hull_volumes"] = s.hull.volumes;
                 wedge["hull_triangles"] = s.hull.triangles;
             }

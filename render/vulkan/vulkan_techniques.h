@@ -35,8 +35,8 @@ struct VulkanTechniqueContext {
     StsvGeometry geometry;
     FrameResources& resources;
     const FrameDescriptors& descriptors;
-    HullResources& hulls;
-    DeferredFragments& deferred;
+    HullResources* hulls;              ///< the volume families' (STSV, wedges); null in a frame without them
+    DeferredFragments* deferred;       ///< the volume families'; null in a frame without them
     std::vector<ShaderDefine> defines; ///< sampleDefines of the frame
 };
 
