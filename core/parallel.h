@@ -8,6 +8,7 @@
 #include <tbb/blocked_range2d.h>
 #include <tbb/info.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
 
 #include <algorithm>
 #include <cstddef>
@@ -68,6 +69,16 @@ template <class Body> void parallelFor(std::size_t count, const Body& body) {
 template <class Body> void parallelForChunks(std::size_t count, const Body& body) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, count, CPU_ITEM_GRAIN),
                       [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+}
+
+/// join over body(begin, end) of chunks of [0, count) of up to CPU_ITEM_GRAIN items, starting
+/// from `identity`; `join` must be associative (the chunks meet in no fixed order).
+template <class T, class Body, class Join>
+T parallelReduce(std::size_t count, const T& identity, const Body& body, const Join& join) {
+    return tbb::parallel_reduce(
+        tbb::blocked_range<std::size_t>(0, count, CPU_ITEM_GRAIN), identity,
+        [&](const tbb::blocked_range<std::size_t>& r, T acc) { return join(acc, body(r.begin(), r.end())); },
+        join);
 }
 
 } // namespace stsv

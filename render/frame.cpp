@@ -1,5 +1,7 @@
 #include "render/frame.h"
 
+#include "shadowmaps/shadow_fit.h"
+
 #include <algorithm>
 #include <cstdio>
 
@@ -32,6 +34,21 @@ nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuf
     for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;
     return {{"kernel_clamped_pixels", clampedPixels},
             {"kernel_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
+}
+
+nlohmann::json shadowMapViewStats(const ShadowMapView& view, const ShadowMapSettings& settings,
+                                  const Camera& camera, const GBuffer& gbuffer) {
+    const char* projection = view.projection == SHADOW_MAP_CUBE           ? "cube"
+                             : view.projection == SHADOW_MAP_ORTHOGRAPHIC ? "orthographic"
+                                                                          : "perspective";
+    nlohmann::json stats = {{"projection", projection},
+                            {"faces", view.faces},
+                            {"texels", std::size_t(view.faces) * view.size * view.size},
+                            {"fit", settings.fit == 0 ? "scene" : "view"},
+                            {"near", view.near},
+                            {"far", view.far}};
+    stats.update(shadowTexelFootprint(view, camera, gbuffer));
+    return stats;
 }
 
 nlohmann::json methodSceneNotes(const Scene& scene, const MethodInfo& method) {

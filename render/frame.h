@@ -62,4 +62,10 @@ nlohmann::json sceneStats(const Scene& scene);
 /// surface had their PCSS kernel cut to pcss_max_kernel, counted and as a fraction (both backends).
 nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer);
 
+/// What a light's map covers (both backends): its projection, faces, texels, the fit
+/// (`"view"` or `"scene"`), depth range, and the texel footprint at the visible receivers
+/// (shadowTexelFootprint).
+nlohmann::json shadowMapViewStats(const ShadowMapView& view, const ShadowMapSettings& settings,
+                                  const Camera& camera, const GBuffer& gbuffer);
+
 } // namespace stsv

@@ -61,11 +61,86 @@ float shadowLightWidth(const Light& light) {
     }
 }
 
+namespace {
+
+/// Where a box's part in front of the light plane (its twelve edges clipped at axial depth eps)
+/// falls on the plane z = 1 of the frame (x, y, z) at `origin`, and its axial depth range.
+struct FaceExtent {
+    vec2 lo{1e30f}, hi{-1e30f};
+    float zlo = 1e30f, zhi = -1e30f;
+    bool any = false;
+};
+
+FaceExtent perspectiveExtent(const Bounds& box, vec3 origin, vec3 x, vec3 y, vec3 z, float eps) {
+    FaceExtent e;
+    if (box.empty()) return e;
+    auto add = [&](vec3 l) {
+        const vec2 s = vec2(l.x, l.y) / l.z;
+        e.lo = min(e.lo, s);
+        e.hi = max(e.hi, s);
+        e.zlo = std::min(e.zlo, l.z);
+        e.zhi = std::max(e.zhi, l.z);
+        e.any = true;
+    };
+    vec3 c[8];
+    corners(box, c);
+    for (int a = 0; a < 8; ++a)
+        for (int bit = 1; bit < 8; bit <<= 1) {
+            if (a & bit) continue;
+            const vec3 pa = c[a] - origin, pb = c[a | bit] - origin;
+            vec3 la(dot(pa, x), dot(pa, y), dot(pa, z)), lb(dot(pb, x), dot(pb, y), dot(pb, z));
+            if (la.z < eps && lb.z < eps) continue;
+            if (la.z < eps) la = la + (lb - la) * ((eps - la.z) / (lb.z - la.z));
+            if (lb.z < eps) lb = lb + (la - lb) * ((eps - lb.z) / (la.z - lb.z));
+            add(la);
+            add(lb);
+        }
+    return e;
+}
+
+/// A box's extent across and along an orthographic view (ox, oy across, view along).
+FaceExtent orthographicExtent(const Bounds& box, vec3 ox, vec3 oy, vec3 view) {
+    FaceExtent e;
+    if (box.empty()) return e;
+    vec3 c[8];
+    corners(box, c);
+    for (const vec3& p : c) {
+        const vec2 s(dot(p, ox), dot(p, oy));
+        e.lo = min(e.lo, s);
+        e.hi = max(e.hi, s);
+        e.zlo = std::min(e.zlo, dot(p, view));
+        e.zhi = std::max(e.zhi, dot(p, view));
+        e.any = true;
+    }
+    return e;
+}
+
+Bounds unite(const Bounds& a, const Bounds& b) {
+    Bounds u = a;
+    if (!b.empty()) {
+        u.extend(b.lo);
+        u.extend(b.hi);
+    }
+    return u;
+}
+
+} // namespace
+
 ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
-    if (box.empty()) throw UsageError("shadow map: the scene has no triangles");
+    return fitShadowMapToRegion(light, box, box, size);
+}
+
+ShadowMapView fitShadowMapToRegion(const Light& light, const Bounds& receivers, const Bounds& casters,
+                                   int size) {
+    const Bounds all = unite(receivers, casters);
+    if (all.empty()) throw UsageError("shadow map: the scene has no triangles");
     if (size < 1 || size > 16384)
         throw UsageError("shadow map: size must be in 1 … 16384 texels, got " + std::to_string(size));
-    const float diameter = std::max(box.diameter(), 1e-6f);
+    // The window holds the casters (every texel outside it would see no blocker); with none, the
+    // receivers (the map then blocks nothing). The depth range runs from the nearest caster to the
+    // farthest receiver.
+    const Bounds& across = casters.empty() ? receivers : casters;
+    const float diameter = std::max(all.diameter(), 1e-6f);
     vec3 z = normalize(light.normal);
     vec3 x, y;
     orthonormalBasis(z, x, y);
@@ -77,67 +152,41 @@ ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
     v.size = unsigned(size);
     v.faces = 1u;
     if (light.type == LIGHT_SPHERE) {
-        v = cubeMap(light, box, vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), size);
+        v = cubeMap(light, all, vec3(1, 0, 0), vec3(0, 1, 0), vec3(0, 0, 1), size);
         v.lightWidth = shadowLightWidth(light);
         return v;
     }
-    vec3 c[8];
-    corners(box, c);
     if (light.type == LIGHT_DIRECTIONAL) {
         // light.normal points towards the light: the map looks the other way.
         const vec3 view = -z;
         vec3 ox, oy;
         orthonormalBasis(view, ox, oy);
-        vec2 lo(1e30f), hi(-1e30f);
-        float zlo = 1e30f, zhi = -1e30f;
-        for (const vec3& p : c) {
-            const vec2 s(dot(p, ox), dot(p, oy));
-            lo = min(lo, s);
-            hi = max(hi, s);
-            zlo = std::min(zlo, dot(p, view));
-            zhi = std::max(zhi, dot(p, view));
-        }
+        const FaceExtent window = orthographicExtent(across, ox, oy, view);
+        const FaceExtent range = orthographicExtent(all, ox, oy, view);
+        const float zlo = casters.empty() ? range.zlo : orthographicExtent(casters, ox, oy, view).zlo;
         const float margin = 0.01f * diameter;
         v.projection = SHADOW_MAP_ORTHOGRAPHIC;
         v.axisX = ox;
         v.axisY = oy;
         v.axisZ = view;
-        v.origin = (zlo - margin) * view; // depth 0 just before the box
-        v.window = squareWindow(lo, hi);
+        v.origin = (zlo - margin) * view; // depth 0 just before the nearest caster
+        v.window = squareWindow(window.lo, window.hi);
         v.near = 0.99f * margin;
-        v.far = 1.01f * (zhi - zlo + margin);
+        v.far = 1.01f * (range.zhi - zlo + margin);
         v.lightWidth = shadowLightWidth(light);
         return v;
     }
-    // Rectangle and disk: the box's part in front of the light plane (its twelve edges clipped at
-    // depth eps), projected onto the plane z = 1.
+    // Rectangle and disk: a perspective face when the window fits in the angle limit.
     const float eps = 1e-3f * diameter;
     const float limit = std::tan(glm::radians(SHADOW_MAP_MAX_HALF_ANGLE_DEGREES));
-    vec2 lo(1e30f), hi(-1e30f);
-    float zlo = 1e30f, zhi = -1e30f;
-    bool any = false;
-    auto add = [&](vec3 l) {
-        const vec2 s = vec2(l.x, l.y) / l.z;
-        lo = min(lo, s);
-        hi = max(hi, s);
-        zlo = std::min(zlo, l.z);
-        zhi = std::max(zhi, l.z);
-        any = true;
-    };
-    for (int a = 0; a < 8; ++a)
-        for (int bit = 1; bit < 8; bit <<= 1) {
-            if (a & bit) continue;
-            const vec3 pa = c[a] - light.position, pb = c[a | bit] - light.position;
-            vec3 la(dot(pa, x), dot(pa, y), dot(pa, z)), lb(dot(pb, x), dot(pb, y), dot(pb, z));
-            if (la.z < eps && lb.z < eps) continue;
-            if (la.z < eps) la = la + (lb - la) * ((eps - la.z) / (lb.z - la.z));
-            if (lb.z < eps) lb = lb + (la - lb) * ((eps - lb.z) / (la.z - lb.z));
-            add(la);
-            add(lb);
-        }
-    const bool narrow = any && std::max({-lo.x, -lo.y, hi.x, hi.y}) <= limit;
-    if (!narrow) {
-        v = cubeMap(light, box, x, y, z, size);
+    const FaceExtent window = perspectiveExtent(across, light.position, x, y, z, eps);
+    const FaceExtent range = perspectiveExtent(all, light.position, x, y, z, eps);
+    const FaceExtent nearest =
+        casters.empty() ? range : perspectiveExtent(casters, light.position, x, y, z, eps);
+    const bool narrow =
+        window.any && std::max({-window.lo.x, -window.lo.y, window.hi.x, window.hi.y}) <= limit;
+    if (!narrow || !nearest.any) {
+        v = cubeMap(light, all, x, y, z, size);
         v.lightWidth = shadowLightWidth(light);
         return v;
     }
@@ -146,9 +195,9 @@ ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
     v.axisX = x;
     v.axisY = y;
     v.axisZ = z;
-    v.window = squareWindow(lo, hi);
-    v.near = 0.99f * zlo;
-    v.far = 1.01f * zhi;
+    v.window = squareWindow(window.lo, window.hi);
+    v.near = 0.99f * nearest.zlo;
+    v.far = 1.01f * range.zhi;
     v.lightWidth = shadowLightWidth(light);
     return v;
 }
@@ -218,6 +267,10 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     static const std::vector<ShadowMapKnob> knobs = {
         {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", F::None,
          nullptr, &S::size},
+        {"sm_fit", 0, 1, true,
+         "what the map is fitted to: 0 the scene box, 1 the receivers in view and the casters between "
+         "them and the light",
+         F::None, nullptr, &S::fit},
         {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", F::None, &S::bias},
         {"sm_normal_offset", 0, 64, false, "receiver moved along its normal before the lookup, in texels",
          F::None, &S::normalOffset},

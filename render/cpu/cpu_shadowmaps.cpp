@@ -11,11 +11,6 @@
 
 namespace stsv {
 
-nlohmann::json toJson(const ShadowMapCpuStats& s) {
-    // The times are the frame's passes (shadow_map, pcss_blocker, shadow_filter), not repeated here.
-    return {{"texels", s.texels}, {"faces", s.faces}};
-}
-
 ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
     ShadowMap map;
     map.view = view;
@@ -83,12 +78,12 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
 }
 
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
-                                         const Light& light, const ShadowMapSettings& settings,
+                                         const ShadowMapView& view, const ShadowMapSettings& settings,
                                          std::uint32_t seed, bool decorrelate, ImageF& vcoef, ShadowMap* keep,
                                          int supersample) {
     ShadowMapCpuStats stats;
     Timer timer;
-    ShadowMap map = traceShadowMap(embree, fitShadowMap(light, embree.scene().bounds(), settings.size));
+    ShadowMap map = traceShadowMap(embree, view);
     stats.map_ms = timer.milliseconds();
     stats.faces = map.view.faces;
     stats.texels = map.depth.size();

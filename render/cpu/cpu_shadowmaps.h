@@ -29,13 +29,11 @@ struct ShadowMapCpuStats {
     std::uint64_t kernelClamped = 0; ///< PCSS: pixels whose filter radius pcss_max_kernel clamped
 };
 
-nlohmann::json toJson(const ShadowMapCpuStats& stats);
-
-/// PCF or PCSS visibility of every covered pixel into `vcoef` (v_coef; uncovered pixels
-/// untouched), with the per-pixel tap rotation of `seed` when `decorrelate` (the sub-pixels of a
-/// supersampled G-buffer take their pixel's rotation).
+/// PCF or PCSS visibility, through the map of `view` (fitFrameShadowMap), of every covered pixel
+/// into `vcoef` (v_coef; uncovered pixels untouched), with the per-pixel tap rotation of `seed` when
+/// `decorrelate` (the sub-pixels of a supersampled G-buffer take their pixel's rotation).
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
-                                         const Light& light, const ShadowMapSettings& settings,
+                                         const ShadowMapView& view, const ShadowMapSettings& settings,
                                          std::uint32_t seed, bool decorrelate, ImageF& vcoef,
                                          ShadowMap* keep = nullptr, int supersample = 1);
 

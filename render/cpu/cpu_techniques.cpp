@@ -6,6 +6,8 @@
 #include "render/cpu/cpu_shadowmaps.h"
 #include "render/cpu/cpu_stsv.h"
 #include "render/cpu/cpu_wedges.h"
+#include "render/frame.h"
+#include "shadowmaps/shadow_fit.h"
 
 #include <utility>
 
@@ -86,16 +88,20 @@ class WedgeTechnique final : public CpuTechnique {
 class ShadowMapTechnique final : public CpuTechnique {
   public:
     explicit ShadowMapTechnique(const CpuTechniqueContext& c)
-        : m_c(c), m_settings(shadowMapSettings(c.options)) {}
+        : m_c(c), m_settings(shadowMapSettings(c.options)),
+          m_receivers(
+              shadowReceiverBounds(c.embree.scene(), float(c.options.width) / float(c.options.height))) {}
     void run(CpuLightWork& work) override {
         ShadowMap* keep = m_c.options.keepShadowMaps ? &work.frame.shadowMaps.emplace_back() : nullptr;
+        const Scene& scene = m_c.embree.scene();
+        const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
         const ShadowMapCpuStats s =
-            shadowMapCpuVisibility(m_c.embree, work.gbuffer, work.light, m_settings, m_c.options.seed,
+            shadowMapCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
                                    m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);
         work.passes[work.pass("shadow_map")] = s.map_ms;
         if (m_settings.filter == ShadowFilter::Pcss) work.passes[work.pass("pcss_blocker")] = s.blocker_ms;
         work.passes[work.pass("shadow_filter")] = s.filter_ms;
-        nlohmann::json map = toJson(s);
+        nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         map.update(kernelClampStats(s.kernelClamped, work.gbuffer));
         m_stats.push_back(map);
     }
@@ -106,6 +112,7 @@ class ShadowMapTechnique final : public CpuTechnique {
   private:
     const CpuTechniqueContext& m_c;
     ShadowMapSettings m_settings;
+    Bounds m_receivers; ///< what the camera sees (the view fit's receivers)
     nlohmann::json m_stats = nlohmann::json::array();
 };
 

@@ -5,6 +5,7 @@
 #include "gpu/rendering.h"
 #include "gpu/shader_compiler.h"
 #include "render/options.h"
+#include "shadowmaps/shadow_fit.h"
 
 #include <cstring>
 #include <string>
@@ -29,8 +30,11 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     : m_settings(shadowMapSettings(options)) {
     if (scene.lights.empty()) throw Error("internal error: shadow maps of a scene without lights");
     const ShadowFilterParams params = shadowFilterParams(m_settings);
+    const Bounds receivers = m_settings.fit == 0
+                                 ? Bounds{}
+                                 : shadowReceiverBounds(scene, float(options.width) / float(options.height));
     for (const Light& light : scene.lights) {
-        m_views.push_back(fitShadowMap(light, scene.bounds(), m_settings.size));
+        m_views.push_back(fitFrameShadowMap(scene, light, receivers, m_settings));
         depth.emplace_back(device, shadowMapBytes(m_views.back()), STORAGE, MemoryUsage::DeviceLocal);
     }
     const std::vector<vec2> tapPoints = shadowFilterTaps(m_settings);

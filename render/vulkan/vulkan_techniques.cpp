@@ -291,8 +291,7 @@ class ShadowMapTechnique final : public VulkanTechnique {
         nlohmann::json maps = nlohmann::json::array();
         for (std::size_t l = 0; l < m_counts.size(); ++l) {
             const ShadowMapView& view = m_maps.view(l);
-            nlohmann::json map = {{"faces", view.faces},
-                                  {"texels", std::size_t(view.faces) * view.size * view.size}};
+            nlohmann::json map = shadowMapViewStats(view, m_maps.settings(), m_c.scene.camera, gbuffer);
             map.update(kernelClampStats(m_counts[l].kernelClamped, gbuffer));
             maps.push_back(map);
         }

@@ -66,6 +66,8 @@ void checkMap(const std::string& backend) {
                                            "16",
                                            "--param",
                                            "sm_size=256",
+                                           "--param",
+                                           "sm_fit=0", // the scene box: ground and empty texels too
                                            "--shadow-map",
                                            dir.file("map.npy"),
                                            "--stats",

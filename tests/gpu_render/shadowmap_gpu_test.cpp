@@ -110,21 +110,32 @@ void expectMapsAgree(const Scene& scene, const RenderOptions& gpuOptions, const 
     EXPECT_LE(off, covered / 200) << label;
 }
 
-RenderOptions mapOptions(Method method, int size, int mapSize) {
+RenderOptions mapOptions(Method method, int size, int mapSize, int fit = 1) {
     RenderOptions o = gpuOptions(size, size, 16);
     o.method = method;
-    o.params = parseMethodParams(methodInfo(method), {"sm_size=" + std::to_string(mapSize)});
+    o.params = parseMethodParams(methodInfo(method),
+                                 {"sm_size=" + std::to_string(mapSize), "sm_fit=" + std::to_string(fit)});
     o.keepShadowMaps = true;
     return o;
 }
 
 TEST_F(ShadowMapGpu, FenceCubeMapMatchesTracedMap) {
     const Scene scene = loadScene("fence");
-    const RenderOptions o = mapOptions(Method::Pcss, 64, 512);
+    const RenderOptions o = mapOptions(Method::Pcss, 64, 512, 0);
     const Frame frame = renderGpu(scene, o);
     ASSERT_EQ(frame.shadowMaps.size(), 1u);
     EXPECT_EQ(frame.shadowMaps[0].view.projection, SHADOW_MAP_CUBE); // the ground needs more than 120°
     expectMapsAgree(scene, o, "fence pcss", frame);
+}
+
+TEST_F(ShadowMapGpu, FenceViewFitMapMatchesTracedMap) {
+    // Fitted to the fence, the casters of what the camera sees: one perspective face.
+    const Scene scene = loadScene("fence");
+    const RenderOptions o = mapOptions(Method::Pcss, 64, 512);
+    const Frame frame = renderGpu(scene, o);
+    ASSERT_EQ(frame.shadowMaps.size(), 1u);
+    EXPECT_EQ(frame.shadowMaps[0].view.projection, SHADOW_MAP_PERSPECTIVE);
+    expectMapsAgree(scene, o, "fence pcss, view fit", frame);
 }
 
 TEST_F(ShadowMapGpu, EveryLightShapeMapMatchesTracedMap) {

@@ -29,10 +29,11 @@ float groundTexel(const Scene& scene) {
 }
 
 /// PCSS at 1024 texels; pcss_max_kernel and pcss_max_search 128 so that the widest penumbra here (0.6 m = 154
-/// texels on the ground, a 79-texel search radius) is not clipped by the kernel limit.
+/// texels on the ground, a 79-texel search radius) is not clipped by the kernel limit. The map fitted to
+/// the scene box (sm_fit=0): the texel sizes and limits here are worked out for that map (groundTexel).
 const MethodParams kPcssParams = {
-    {"sm_size", double(kMapSize)}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
-const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}};
+    {"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
+const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcf_radius", 2.0}};
 
 struct Measured {
     double width = 0.0;
@@ -55,7 +56,8 @@ TEST(PcssParallelPlanes, TheDefaultKernelLimitKeepsAWidePenumbraAndTheStatsCount
     const Scene scene = parallelPlanes(1.5f);
     const double W = penumbraWidth(1.5f);
     const double texel = groundTexel(scene);
-    const MethodParams defaults = {{"sm_size", double(kMapSize)}, {"pcss_max_search", 128.0}};
+    const MethodParams defaults = {
+        {"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcss_max_search", 128.0}};
     MethodParams clamped = defaults;
     clamped["pcss_max_kernel"] = 32.0;
     const Frame fDefault = renderCpu(scene, Method::Pcss, kW, kH, defaults, 64, 3u);
@@ -218,7 +220,7 @@ TEST(PcssOverlappingOccluders, AveragedBlockerDepthWidensTheLowPenumbraWhereDcsS
     const Scene without = parallelPlanes(0.5f, 1.2f);
     Scene with = without;
     addHorizontalQuad(with, 3.0f, -0.15f, -0.05f, -0.1f, 0.1f, 1);
-    const MethodParams params = {{"sm_size", double(kMapSize)}};
+    const MethodParams params = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}}; // the texels above
     // Reference and dcs+stsv at equal samples and seed: per-sample bits comparable one for one.
     const Frame refWith = renderCpu(with, Method::Reference, kW, kH, {}, 256, 101u);
     const Frame refWithout = renderCpu(without, Method::Reference, kW, kH, {}, 256, 101u);

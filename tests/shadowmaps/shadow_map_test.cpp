@@ -404,7 +404,7 @@ TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
     // A misspelt name, and a PCSS knob given to PCF, are errors rather than silent defaults.
     EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcss, {{"pcss_filter_tap", 8}}), UsageError);
     EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcss_filter_taps", 8}}), UsageError);
-    EXPECT_EQ(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcf_radius", 5}}).pcfRadius, 5);
+    EXPECT_EQ(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcf_radius", 3}}).pcfRadius, 3);
 }
 
 } // namespace

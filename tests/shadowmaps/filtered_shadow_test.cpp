@@ -1,0 +1,315 @@
+// The filtered shadow maps' math (shadowmaps/filtered_shadow_dh.h) and box filters
+// (shadowmaps/summed_area.h) against what can be worked out by hand or by brute force: the
+// Chebyshev bounds of VSM and EVSM never fall below the exact lit fraction of a depth set, MSM
+// stays within its bias of it, every method is exactly lit where the receiver is nearer than all
+// depths, extreme depths and exponents give no inf or NaN, a cleared map filters to lit, VSM
+// equals PCF for one occluder plane over one receiver plane, light bleeding goes the way the
+// lecture says, and the summed-area table and the mip pyramid equal a double-precision box
+// filter within the precision their formats give.
+#include "shadowmaps/filtered_shadow_dh.h"
+#include "shadowmaps/summed_area.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <vector>
+
+namespace stsv {
+namespace {
+
+struct Averages {
+    vec2 vsm{0.0f};
+    vec4 evsm{0.0f};
+    vec4 msm{0.0f};
+    float esmLog = 0.0f; ///< log E[exp(c z)]
+    std::vector<float> csmCos, csmSin;
+};
+
+constexpr float kEsmC = 80.0f, kPos = 40.0f, kNeg = 5.0f;
+constexpr int kTerms = 16;
+
+/// The methods' filtered values of a depth set, averaged in double precision.
+Averages average(const std::vector<float>& z) {
+    Averages a;
+    const double n = double(z.size());
+    double top = -1e300;
+    for (float d : z) top = std::max(top, double(kEsmC) * d);
+    double esm = 0.0;
+    std::vector<double> c(kTerms, 0.0), s(kTerms, 0.0);
+    dvec2 vsm(0.0);
+    dvec4 evsm(0.0), msm(0.0);
+    for (float d : z) {
+        vsm += dvec2(vsmMoments(d)) / n;
+        evsm += dvec4(evsmMoments(d, kPos, kNeg)) / n;
+        msm += dvec4(msmMoments(d)) / n;
+        esm += std::exp(double(kEsmC) * d - top) / n;
+        for (int k = 1; k <= kTerms; ++k) {
+            c[std::size_t(k - 1)] += std::cos(double(csmFrequency(k)) * d) / n;
+            s[std::size_t(k - 1)] += std::sin(double(csmFrequency(k)) * d) / n;
+        }
+    }
+    a.vsm = vec2(vsm);
+    a.evsm = vec4(evsm);
+    a.msm = vec4(msm);
+    a.esmLog = float(top + std::log(esm));
+    for (int k = 0; k < kTerms; ++k) {
+        a.csmCos.push_back(float(c[std::size_t(k)]));
+        a.csmSin.push_back(float(s[std::size_t(k)]));
+    }
+    return a;
+}
+
+float csm(const Averages& a, float t, bool damp = true) {
+    float series = 0.5f;
+    for (int k = 1; k <= kTerms; ++k)
+        series += csmTerm(a.csmCos[std::size_t(k - 1)], a.csmSin[std::size_t(k - 1)], t, k, kTerms, damp);
+    return csmVisibility(series);
+}
+
+/// The exact lit fraction: depths at or behind the receiver.
+float litFraction(const std::vector<float>& z, float t) {
+    int lit = 0;
+    for (float d : z) lit += d >= t ? 1 : 0;
+    return float(lit) / float(z.size());
+}
+
+TEST(FilteredShadows, ChebyshevBoundsNeverFallBelowTheExactLitFraction) {
+    // Random kernels of 9 to 49 depths: uniform, two clusters (an occluder edge), one cluster.
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    float worstMsm = 0.0f;
+    const float msmBias = 3e-5f;
+    for (int trial = 0; trial < 4000; ++trial) {
+        const int n = 9 + int(u(rng) * 40.0f);
+        const int kind = trial % 3;
+        const float a = u(rng), b = u(rng);
+        std::vector<float> z;
+        for (int i = 0; i < n; ++i) {
+            const float spread = 0.02f * u(rng);
+            z.push_back(kind == 0 ? u(rng) : kind == 1 ? (u(rng) < 0.4f ? a : b) + spread : a + spread);
+        }
+        const Averages avg = average(z);
+        const float t = u(rng);
+        const float exact = litFraction(z, t);
+        // Float evaluation of a bound of a double average: a few ulps of the values.
+        EXPECT_GE(vsmVisibility(avg.vsm, t, 0.0f, 0.0f), exact - 1e-5f) << "trial " << trial;
+        EXPECT_GE(evsmVisibility(avg.evsm, t, kPos, kNeg, 0.0f, 0.0f), exact - 1e-5f) << "trial " << trial;
+        worstMsm = std::max(worstMsm, exact - msmVisibility(avg.msm, t, msmBias));
+    }
+    // MSM's bound is sharp (it is met by some distribution with these moments), so float
+    // round-off and the bias decide how far below the exact fraction it may dip.
+    std::printf("MSM (bias %g): lit fraction at most %.5f below the exact one\n", double(msmBias),
+                double(worstMsm));
+    EXPECT_LT(worstMsm, 0.02f);
+}
+
+TEST(FilteredShadows, EveryMethodIsLitWhereTheReceiverIsNearerThanEveryDepth) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    for (int trial = 0; trial < 2000; ++trial) {
+        std::vector<float> z;
+        const float lo = 0.1f + 0.85f * u(rng);
+        for (int i = 0; i < 25; ++i) z.push_back(lo + (1.0f - lo) * u(rng));
+        float nearest = 1.0f;
+        for (float d : z) nearest = std::min(nearest, d);
+        const Averages avg = average(z);
+        const float t = nearest * u(rng);
+        EXPECT_EQ(vsmVisibility(avg.vsm, t, 1e-6f, 0.3f), 1.0f);
+        EXPECT_EQ(evsmVisibility(avg.evsm, t, kPos, kNeg, 1e-6f, 0.3f), 1.0f);
+        EXPECT_EQ(esmVisibility(avg.esmLog, kEsmC, t), 1.0f);
+        // MSM's bias moves α of the mass to depths 0 and 1: a lower bound on the shadow of α/2.
+        EXPECT_GE(msmVisibility(avg.msm, t, 3e-5f), 1.0f - 3e-5f);
+        // CSM: the truncated square wave is above ½ on (0, 1), so 2·rec ≥ 1, but round-off near
+        // x = 0: receivers at least 1/(2M) in front.
+        if (nearest - t > 0.5f / float(kTerms)) {
+            EXPECT_EQ(csm(avg, t), 1.0f) << nearest << " " << t;
+        }
+    }
+}
+
+TEST(FilteredShadows, ExtremeDepthsAndExponentsGiveNoInfOrNan) {
+    for (const float z : {0.0f, 1.0f})
+        for (const float t : {0.0f, 0.5f, 1.0f, 1.5f}) {
+            const std::vector<float> one(9, z);
+            const Averages avg = average(one);
+            for (const float bias : {0.0f, 6e-7f, 3e-5f}) {
+                const float m = msmVisibility(avg.msm, t, bias);
+                EXPECT_TRUE(std::isfinite(m) && m >= 0.0f && m <= 1.0f) << z << " " << t << " " << bias;
+            }
+            // The largest exponents: ESM c = 88 (ln FLT_MAX ≈ 88.7), EVSM warps of 42.
+            const float esmLog = 88.0f * z;
+            EXPECT_TRUE(std::isfinite(esmVisibility(esmLog, 88.0f, t)));
+            const vec4 e = evsmMoments(z, 42.0f, 42.0f);
+            EXPECT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.z) && std::isfinite(e.w));
+            const float ev = evsmVisibility(e, t, 42.0f, 42.0f, 1e-4f, 0.0f);
+            EXPECT_TRUE(std::isfinite(ev) && ev >= 0.0f && ev <= 1.0f) << z << " " << t;
+            const float c = csm(avg, t);
+            EXPECT_TRUE(std::isfinite(c) && c >= 0.0f && c <= 1.0f);
+        }
+    // The log-space sum of exponents far apart: no overflow, the largest dominates.
+    EXPECT_NEAR(esmLogSum4(vec4(88.0f, 0.0f, 1.0f, 2.0f), vec4(0.25f)), 88.0f + std::log(0.25f), 1e-4f);
+}
+
+TEST(FilteredShadows, AClearedMapFiltersToLit) {
+    // Nothing seen: every texel at the far value 1; every receiver in range is lit.
+    const Averages avg = average(std::vector<float>(16, 1.0f));
+    for (float t = 0.0f; t <= 1.0f; t += 0.0625f) {
+        EXPECT_EQ(vsmVisibility(avg.vsm, t, 1e-6f, 0.0f), 1.0f) << t;
+        EXPECT_EQ(evsmVisibility(avg.evsm, t, kPos, kNeg, 1e-6f, 0.0f), 1.0f) << t;
+        EXPECT_EQ(esmVisibility(avg.esmLog, kEsmC, t), 1.0f) << t;
+        // CSM's square wave has period 2: at z − t = 1 (a receiver on the near plane) it jumps,
+        // and the series gives ½ there; from 1/(2M) on it is above ½.
+        if (t >= 0.5f / float(kTerms)) {
+            EXPECT_EQ(csm(avg, t), 1.0f) << t;
+        }
+        EXPECT_GE(msmVisibility(avg.msm, t, 3e-5f), 1.0f - 3e-5f) << t;
+    }
+}
+
+TEST(FilteredShadows, VsmEqualsPcfForOneOccluderPlaneOverOneReceiverPlane) {
+    // A kernel with a fraction f of texels on an occluder at z_o and the rest on the receiver
+    // at z_r, the receiver at t = z_r: μ = f·z_o + (1 − f)·z_r, σ² = f(1 − f)(z_r − z_o)²,
+    // t − μ = f(z_r − z_o), so Chebyshev's bound is σ²/(σ² + (t − μ)²) = 1 − f, PCF's fraction.
+    for (int k = 0; k <= 49; ++k) {
+        std::vector<float> z(49, 0.7f);
+        for (int i = 0; i < k; ++i) z[std::size_t(i)] = 0.3f;
+        const Averages avg = average(z);
+        // Float moments of values in [0, 1]: the variance's cancellation leaves about 1e-6.
+        EXPECT_NEAR(vsmVisibility(avg.vsm, 0.7f, 0.0f, 0.0f), litFraction(z, 0.7f), 2e-5f) << k << " of 49";
+    }
+}
+
+TEST(FilteredShadows, LightBleedingOfTwoOccludersGoesTheWayTheLectureSays) {
+    // Two occluders over a receiver: half the kernel sees the upper one (z = 0.2), half the lower
+    // (z = 0.7); the receiver at 0.8 is in full shadow. VSM's variance spans both occluders and
+    // lets light through; its bleeding reduction cuts that, MSM's four moments much more. ESM:
+    // exact far behind a single occluder, over-bright in contact with it.
+    std::vector<float> z(50, 0.2f);
+    for (std::size_t i = 25; i < z.size(); ++i) z[i] = 0.7f;
+    const Averages avg = average(z);
+    const float t = 0.8f;
+    const float vsm = vsmVisibility(avg.vsm, t, 1e-6f, 0.0f);
+    const float reduced = vsmVisibility(avg.vsm, t, 1e-6f, 0.4f);
+    const float msm = msmVisibility(avg.msm, t, 3e-5f);
+    const float evsm = evsmVisibility(avg.evsm, t, kPos, kNeg, 1e-6f, 0.0f);
+    const Averages single = average(std::vector<float>(25, 0.5f));
+    const float esmContact = esmVisibility(single.esmLog, kEsmC, 0.51f);
+    const float esmFar = esmVisibility(single.esmLog, kEsmC, 0.8f);
+    std::printf("light bleeding (truth 0): vsm %.4f, vsm with reduction 0.4 %.4f, evsm %.4f, msm %.4f; "
+                "esm 0.01 behind an occluder %.4f, 0.3 behind %.6f\n",
+                double(vsm), double(reduced), double(evsm), double(msm), double(esmContact), double(esmFar));
+    EXPECT_GT(vsm, 0.2f);     // (0.0625)/(0.0625 + 0.35²) = 0.34
+    EXPECT_EQ(reduced, 0.0f); // 0.34 is below the reduction's 0.4
+    EXPECT_LT(msm, 0.5f * vsm);
+    EXPECT_LT(evsm, vsm);
+    EXPECT_GT(esmContact, 0.4f); // exp(−80·0.01) = 0.45
+    EXPECT_LT(esmFar, 1e-6f);    // exp(−80·0.3)
+}
+
+TEST(FilteredShadows, CsmDampingReducesTheRingingOfTheTruncatedSeries) {
+    // One depth, receivers swept behind it from 0.05 on: the undamped series ripples around 0
+    // (its Gibbs overshoot of 9 % of the jump sits closer to the jump); Lanczos' σ factors
+    // bring the ripple down.
+    const Averages avg = average({0.5f});
+    float rawRipple = 0.0f, dampedRipple = 0.0f;
+    for (float t = 0.55f; t <= 1.0f; t += 0.001f) {
+        // Receivers behind the occluder by more than 1/(2M): the truth is 0 (shadow) there; before
+        // the offset clamp, the series should be 0.
+        float raw = 0.5f, damped = 0.5f;
+        for (int k = 1; k <= kTerms; ++k) {
+            raw +=
+                csmTerm(avg.csmCos[std::size_t(k - 1)], avg.csmSin[std::size_t(k - 1)], t, k, kTerms, false);
+            damped +=
+                csmTerm(avg.csmCos[std::size_t(k - 1)], avg.csmSin[std::size_t(k - 1)], t, k, kTerms, true);
+        }
+        rawRipple = std::max(rawRipple, std::abs(raw));
+        dampedRipple = std::max(dampedRipple, std::abs(damped));
+    }
+    std::printf("CSM, M = %d: largest |series| in the shadow: %.4f undamped, %.4f damped\n", kTerms,
+                double(rawRipple), double(dampedRipple));
+    EXPECT_GT(rawRipple, 0.03f); // measured 0.049
+    EXPECT_LT(dampedRipple, 0.5f * rawRipple);
+}
+
+/// Box mean in double precision, the oracle.
+double boxMean(const std::vector<float>& v, int w, int x0, int y0, int x1, int y1) {
+    double sum = 0.0;
+    for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) sum += double(v[std::size_t(y) * std::size_t(w) + std::size_t(x)]);
+    return sum / (double(x1 - x0) * double(y1 - y0));
+}
+
+TEST(SummedArea, RectangleMeansMatchADoublePrecisionBoxFilterWithinTheFixedPointStep) {
+    // A 1024 × 768 channel of moments near 1 with small variations (the hard case for float
+    // sums: a far plane with a few blockers), and random rectangles from 1 × 1 to the whole.
+    const int w = 1024, h = 768;
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<float> values(std::size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            values[std::size_t(y) * w + std::size_t(x)] =
+                (x / 64 + y / 64) % 5 == 0 ? 0.3f + 0.01f * u(rng) : 0.999f + 0.001f * u(rng);
+    const SummedAreaTable sat = buildSummedAreaTable(values.data(), w, h);
+    // The same table in plain float sums, for comparison.
+    std::vector<float> naive(std::size_t(w + 1) * std::size_t(h + 1), 0.0f);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x)
+            naive[std::size_t(y + 1) * (w + 1) + std::size_t(x + 1)] =
+                values[std::size_t(y) * w + std::size_t(x)] +
+                naive[std::size_t(y) * (w + 1) + std::size_t(x + 1)] +
+                naive[std::size_t(y + 1) * (w + 1) + std::size_t(x)] -
+                naive[std::size_t(y) * (w + 1) + std::size_t(x)];
+    double worst = 0.0, worstNaive = 0.0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const int side = trial % 4 == 0 ? 1 + int(u(rng) * 4.0f) : 1 + int(u(rng) * 200.0f);
+        const int x0 = int(u(rng) * float(w - side)), y0 = int(u(rng) * float(h - side));
+        const int x1 = x0 + side, y1 = y0 + side;
+        const double truth = boxMean(values, w, x0, y0, x1, y1);
+        const double got = sat.mean(x0, y0, x1, y1);
+        // Each value rounded to 2⁻³² (mean off by at most 2⁻³³), the result converted to float.
+        const double bound = std::ldexp(1.0, -33) + std::ldexp(std::abs(truth), -24);
+        ASSERT_LE(std::abs(got - truth), bound) << side << "² at " << x0 << ", " << y0;
+        worst = std::max(worst, std::abs(got - truth));
+        const auto at = [&](int x, int y) { return naive[std::size_t(y) * (w + 1) + std::size_t(x)]; };
+        const double naiveMean =
+            double(at(x1, y1) - at(x0, y1) - at(x1, y0) + at(x0, y0)) / (double(side) * double(side));
+        worstNaive = std::max(worstNaive, std::abs(naiveMean - truth));
+    }
+    std::printf("summed-area means against double box filters: fixed point off by at most %.3g, "
+                "plain float sums by %.3g\n",
+                worst, worstNaive);
+    // Clipping at the edges: the rectangle's part inside.
+    EXPECT_NEAR(sat.mean(-5, -5, 3, 2), boxMean(values, w, 0, 0, 3, 2), 1e-6);
+    EXPECT_EQ(sat.mean(10, 10, 10, 20), 0.0f);
+}
+
+TEST(MipPyramid, LevelsAreBlockMeansAndTrilinearMatchesTheBoxAtAlignedFootprints) {
+    const int n = 256;
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u(0.0f, 1.0f);
+    std::vector<float> values(std::size_t(n) * n);
+    for (float& v : values) v = u(rng);
+    const MipPyramid mip = buildMipPyramid(values.data(), n);
+    ASSERT_EQ(mip.levels.size(), 9u);
+    for (int level = 1; level < 9; ++level) {
+        const int block = 1 << level, size = n >> level;
+        for (int j = 0; j < size; j += 7)
+            for (int i = 0; i < size; i += 5) {
+                const double truth =
+                    boxMean(values, n, i * block, j * block, (i + 1) * block, (j + 1) * block);
+                // Float means of 4 values per level, each exact to half an ulp of 1: level·2⁻²⁴.
+                const float tol = float(level) * std::ldexp(1.0f, -23);
+                EXPECT_NEAR(mip.levels[std::size_t(level)][std::size_t(j) * size + std::size_t(i)], truth,
+                            tol);
+                // At the block's centre, a footprint of exactly the block reads that texel.
+                const float uc = (float(i) + 0.5f) / float(size), vc = (float(j) + 0.5f) / float(size);
+                EXPECT_NEAR(mip.trilinear(uc, vc, float(block)), truth, tol + 1e-6f);
+            }
+    }
+}
+
+} // namespace
+} // namespace stsv
