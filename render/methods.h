@@ -25,6 +25,11 @@ enum class Method {
     DcsStsv,   ///< dcs for opaque, STSV for perforated triangles
     Pcf,       ///< percentage-closer filtering of a light-centre shadow map
     Pcss,      ///< percentage-closer soft shadows
+    Vsm,       ///< variance shadow maps
+    Esm,       ///< exponential shadow maps
+    Evsm,      ///< exponential variance shadow maps
+    Msm,       ///< moment shadow maps
+    Csm,       ///< convolution shadow maps
 };
 
 enum class Backend { Cpu, Vulkan };

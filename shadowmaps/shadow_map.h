@@ -6,6 +6,7 @@
 #include "scene/scene.h"
 #include "shadowmaps/shadow_map_dh.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <map>
@@ -59,10 +60,17 @@ struct ShadowMap {
     }
 };
 
-/// How a frame filters its maps.
-enum class ShadowFilter { None, Pcf, Pcss };
+/// How a frame filters its maps: percentage-closer filters of the depths, or a filtered
+/// representation (shadowmaps/filtered_shadow_dh.h) averaged over a kernel and compared once.
+enum class ShadowFilter { None, Pcf, Pcss, Vsm, Esm, Evsm, Msm, Csm };
 
-/// The knobs PCF and PCSS read (method knobs of render/methods.cpp).
+/// Whether a filter averages a representation of the depths (VSM, ESM, EVSM, MSM, CSM).
+inline bool isFilteredRepresentation(ShadowFilter f) {
+    return f == ShadowFilter::Vsm || f == ShadowFilter::Esm || f == ShadowFilter::Evsm ||
+           f == ShadowFilter::Msm || f == ShadowFilter::Csm;
+}
+
+/// The knobs the shadow-map methods read (method knobs of render/methods.cpp).
 struct ShadowMapSettings {
     int size = 2048;           ///< sm_size: texels per face edge
     int fit = 1;               ///< sm_fit: 0 the scene box, 1 the receivers in view and their casters
@@ -84,6 +92,18 @@ struct ShadowMapSettings {
     /// light is most of the map: a few dozen taps spread that wide miss thin blockers (a fence's
     /// wires), so the search is bounded apart from the filter.
     float maxSearch = 64.0f;
+    // The filtered representations (VSM, ESM, EVSM, MSM, CSM).
+    int kernel = 1;             ///< fm_kernel: 0 a fixed radius, 1 sized per pixel by PCSS's blocker search
+    float radius = 2.0f;        ///< fm_radius: the fixed kernel's radius, texels ((2r+1)² texels)
+    int mip = 0;                ///< fm_mip: 0 summed-area table, 1 trilinear mip lookup
+    float minVariance = 1e-5f;  ///< vsm_min_variance: of the normalised depth (VSM, EVSM)
+    float bleed = 0.0f;         ///< vsm_bleed: light-bleeding reduction, 0 off (VSM, EVSM)
+    float esmC = 80.0f;         ///< esm_c: the exponent
+    float evsmPositive = 40.0f; ///< evsm_positive: c⁺
+    float evsmNegative = 5.0f;  ///< evsm_negative: c⁻
+    float msmBias = 3e-5f;      ///< msm_bias: α of the moment bias
+    int csmTerms = 16;          ///< csm_terms: M
+    int csmDamp = 1;            ///< csm_damp: Lanczos σ factors on the terms
 };
 
 /// One knob of ShadowMapSettings as a method's `--param`: its name, range and help, which filters
@@ -96,7 +116,7 @@ struct ShadowMapKnob {
     double max;
     bool integer;
     const char* help;                         ///< one line, with the unit
-    ShadowFilter only;                        ///< the one filter that reads it; None: every filter
+    std::vector<ShadowFilter> only;           ///< the filters that read it; empty: every filter
     float ShadowMapSettings::*real = nullptr; ///< the member, for a float knob
     int ShadowMapSettings::*whole = nullptr;  ///< the member, for an integer knob
 
@@ -107,7 +127,9 @@ struct ShadowMapKnob {
         else
             s.*real = float(value);
     }
-    bool readBy(ShadowFilter filter) const { return only == ShadowFilter::None || only == filter; }
+    bool readBy(ShadowFilter filter) const {
+        return only.empty() || std::find(only.begin(), only.end(), filter) != only.end();
+    }
 };
 
 /// Every knob, the ones all filters share first.

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "shadowmaps/filtered_shadow_dh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -52,9 +53,19 @@ float SummedAreaTable::mean(int x0, int y0, int x1, int y1) const {
     return float(double(sum) / (SUMMED_AREA_ONE * area));
 }
 
-MipPyramid buildMipPyramid(const float* values, int size) {
+namespace {
+
+/// The weighted mean of four values, or of their exponentials in log space.
+float blend4(bool logSpace, vec4 values, vec4 weights) {
+    return logSpace ? esmLogSum4(values, weights) : dot(values, weights);
+}
+
+} // namespace
+
+MipPyramid buildMipPyramid(const float* values, int size, bool logSpace) {
     if (size < 1 || size > 16384) throw UsageError("mip pyramid: size must be 1 … 16384 texels");
     MipPyramid m;
+    m.logSpace = logSpace;
     m.sizes.push_back(size);
     m.levels.emplace_back(values, values + std::size_t(size) * std::size_t(size));
     while (m.sizes.back() > 1) {
@@ -63,16 +74,15 @@ MipPyramid buildMipPyramid(const float* values, int size) {
         std::vector<float> dst(std::size_t(to) * std::size_t(to));
         parallelFor(std::size_t(to), [&](std::size_t y) {
             for (int x = 0; x < to; ++x) {
-                float sum = 0.0f;
-                int n = 0;
-                for (int dy = 0; dy < 2; ++dy)
-                    for (int dx = 0; dx < 2; ++dx) {
-                        const int sx = 2 * x + dx, sy = 2 * int(y) + dy;
-                        if (sx >= from || sy >= from) continue;
-                        sum += src[std::size_t(sy) * std::size_t(from) + std::size_t(sx)];
-                        ++n;
-                    }
-                dst[y * std::size_t(to) + std::size_t(x)] = sum / float(n);
+                vec4 block(0.0f), inside(0.0f);
+                for (int k = 0; k < 4; ++k) {
+                    const int sx = 2 * x + (k & 1), sy = 2 * int(y) + (k >> 1);
+                    if (sx >= from || sy >= from) continue;
+                    block[k] = src[std::size_t(sy) * std::size_t(from) + std::size_t(sx)];
+                    inside[k] = 1.0f;
+                }
+                const float n = inside.x + inside.y + inside.z + inside.w;
+                dst[y * std::size_t(to) + std::size_t(x)] = blend4(logSpace, block, inside / n);
             }
         });
         m.sizes.push_back(to);
@@ -94,8 +104,8 @@ float MipPyramid::bilinear(int level, float u, float v) const {
         return l[std::size_t(j) * std::size_t(n) + std::size_t(i)];
     };
     const int ix = int(fx), iy = int(fy);
-    return (1.0f - ay) * ((1.0f - ax) * at(ix, iy) + ax * at(ix + 1, iy)) +
-           ay * ((1.0f - ax) * at(ix, iy + 1) + ax * at(ix + 1, iy + 1));
+    return blend4(logSpace, vec4(at(ix, iy), at(ix + 1, iy), at(ix, iy + 1), at(ix + 1, iy + 1)),
+                  vec4((1.0f - ax) * (1.0f - ay), ax * (1.0f - ay), (1.0f - ax) * ay, ax * ay));
 }
 
 float MipPyramid::trilinear(float u, float v, float width) const {
@@ -103,7 +113,8 @@ float MipPyramid::trilinear(float u, float v, float width) const {
     const int lo = int(std::floor(lod));
     const float f = lod - float(lo);
     const float a = bilinear(lo, u, v);
-    return f > 0.0f ? (1.0f - f) * a + f * bilinear(lo + 1, u, v) : a;
+    if (!(f > 0.0f)) return a;
+    return blend4(logSpace, vec4(a, bilinear(lo + 1, u, v), 0.0f, 0.0f), vec4(1.0f - f, f, 0.0f, 0.0f));
 }
 
 } // namespace stsv

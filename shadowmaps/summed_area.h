@@ -44,6 +44,9 @@ SummedAreaTable buildSummedAreaTable(const float* values, int width, int height)
 struct MipPyramid {
     std::vector<int> sizes;                 ///< per level
     std::vector<std::vector<float>> levels; ///< per level, size² values
+    /// The values are logarithms (ESM's c·z) and every mean is taken of their exponentials,
+    /// log Σ wᵢ·exp(lᵢ) (esmLogSum4), so no exponential is ever formed.
+    bool logSpace = false;
 
     /// Trilinear average over a square footprint `width` texels (level-0 units) wide centred at
     /// (u, v) ∈ [0, 1]²: bilinear in the two levels whose texels bracket the width, blended by
@@ -53,6 +56,6 @@ struct MipPyramid {
     float bilinear(int level, float u, float v) const;
 };
 
-MipPyramid buildMipPyramid(const float* values, int size);
+MipPyramid buildMipPyramid(const float* values, int size, bool logSpace = false);
 
 } // namespace stsv

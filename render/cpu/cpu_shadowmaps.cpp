@@ -4,6 +4,7 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "reference/embree_scene.h"
+#include "shadowmaps/filtered_map.h"
 #include "shadowmaps/shadow_filter.h"
 
 #include <atomic>
@@ -30,6 +31,56 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
     return map;
 }
 
+namespace {
+
+/// A filtered representation's visibility per covered pixel: the representation built, the
+/// kernel radius from fm_radius or the blocker search, one lookup.
+template <class Receiver>
+void filteredMapPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
+                       const ShadowMapSettings& settings, const Receiver& receiver, ImageF& vcoef,
+                       ShadowMapCpuStats* stats) {
+    const ShadowMapView& view = map.view;
+    const ShadowMapSource src{&map, taps.data()};
+    Timer timer;
+    const FilteredShadowMap filtered(map, settings);
+    if (stats) {
+        stats->build_ms = timer.milliseconds();
+        stats->representationBytes = filteredMapBytes(view, settings);
+    }
+    timer.reset();
+    const bool search = settings.kernel != 0;
+    // The blocker search leaves the kernel radius (texels) or −1 (no blocker: lit) in vcoef.
+    std::atomic<std::uint64_t> clamped{0};
+    if (search) {
+        parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
+            const std::size_t i = gbuffer.index(x, y);
+            if (!gbuffer.covered(i)) return;
+            const ShadowReceiver r = receiver(x, y, i);
+            const float blocker =
+                pcssAverageBlocker(view, src, r, uint(settings.blockerTaps), settings.maxSearch);
+            vcoef.at(x, y, 0) =
+                blocker < 0.0f ? -1.0f
+                               : pcssFilterRadius(view, r, blocker, settings.maxKernel) * float(view.size);
+            if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
+                clamped.fetch_add(1, std::memory_order_relaxed);
+        });
+        if (stats) {
+            stats->blocker_ms = timer.milliseconds();
+            stats->kernelClamped = clamped.load();
+        }
+        timer.reset();
+    }
+    parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
+        const std::size_t i = gbuffer.index(x, y);
+        if (!gbuffer.covered(i)) return;
+        const float radius = search ? vcoef.at(x, y, 0) : settings.radius;
+        vcoef.at(x, y, 0) = radius < 0.0f ? 1.0f : filtered.visibility(receiver(x, y, i), radius);
+    });
+    if (stats) stats->filter_ms = timer.milliseconds();
+}
+
+} // namespace
+
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
                            const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
                            ImageF& vcoef, ShadowMapCpuStats* stats, int supersample) {
@@ -42,6 +93,10 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
                                                 seed, decorrelate));
     };
     Timer timer;
+    if (isFilteredRepresentation(settings.filter)) {
+        filteredMapPixels(map, taps, gbuffer, settings, receiver, vcoef, stats);
+        return;
+    }
     if (settings.filter == ShadowFilter::Pcf) {
         parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
             const std::size_t i = gbuffer.index(x, y);

@@ -24,14 +24,16 @@ struct ShadowMapCpuStats {
     std::size_t texels = 0; ///< faces × size²
     std::size_t faces = 0;
     double map_ms = 0.0;             ///< tracing the map
-    double blocker_ms = 0.0;         ///< PCSS blocker search (0 for PCF)
+    double build_ms = 0.0;           ///< filtered representations: channels and summed-area tables or mips
+    double blocker_ms = 0.0;         ///< the blocker search (PCSS; filtered maps with fm_kernel=1)
     double filter_ms = 0.0;          ///< PCF, or PCSS's filter
-    std::uint64_t kernelClamped = 0; ///< PCSS: pixels whose filter radius pcss_max_kernel clamped
+    std::uint64_t kernelClamped = 0; ///< pixels whose filter radius pcss_max_kernel clamped
+    std::size_t representationBytes = 0; ///< filtered representations: filteredMapBytes
 };
 
-/// PCF or PCSS visibility, through the map of `view` (fitFrameShadowMap), of every covered pixel
-/// into `vcoef` (v_coef; uncovered pixels untouched), with the per-pixel tap rotation of `seed` when
-/// `decorrelate` (the sub-pixels of a supersampled G-buffer take their pixel's rotation).
+/// PCF, PCSS or a filtered representation's visibility, through the map of `view` (fitFrameShadowMap), of
+/// every covered pixel into `vcoef` (v_coef; uncovered pixels untouched), with the per-pixel tap rotation of
+/// `seed` when `decorrelate` (the sub-pixels of a supersampled G-buffer take their pixel's rotation).
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const ShadowMapView& view, const ShadowMapSettings& settings,
                                          std::uint32_t seed, bool decorrelate, ImageF& vcoef,

@@ -99,9 +99,13 @@ class ShadowMapTechnique final : public CpuTechnique {
             shadowMapCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
                                    m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);
         work.passes[work.pass("shadow_map")] = s.map_ms;
-        if (m_settings.filter == ShadowFilter::Pcss) work.passes[work.pass("pcss_blocker")] = s.blocker_ms;
+        const bool filtered = isFilteredRepresentation(m_settings.filter);
+        if (filtered) work.passes[work.pass("filtered_map")] = s.build_ms;
+        if (m_settings.filter == ShadowFilter::Pcss || (filtered && m_settings.kernel != 0))
+            work.passes[work.pass("pcss_blocker")] = s.blocker_ms;
         work.passes[work.pass("shadow_filter")] = s.filter_ms;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
+        if (filtered) map["representation_bytes"] = s.representationBytes;
         map.update(kernelClampStats(s.kernelClamped, work.gbuffer));
         m_stats.push_back(map);
     }
