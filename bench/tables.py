@@ -149,6 +149,16 @@ def work_text(c):
     return "%.2f M / %.2f M" % (fragments / 1e6, samples / 1e6)
 
 
+def map_memory_text(c):
+    """The image-based methods' memory per frame from its --stats: every light's depth map (4-byte
+    texels) and filtered representation (summed-area tables or mips), in MB."""
+    maps = c.get("shadow_maps", [])
+    if not maps:
+        return "–"
+    total = sum(m.get("texels", 0) * 4 + m.get("representation_bytes", 0) for m in maps)
+    return "%.0f MB" % (total / 1e6)
+
+
 def bench_table(files):
     out = []
     for _, data in files:
@@ -165,6 +175,7 @@ def bench_table(files):
                 percent(c.get("identical_bits_percent")) if "identical_bits_percent" in c else "–",
                 fixed(err["rmse"], 5) if err else "–",
                 work_text(c),
+                map_memory_text(c),
                 passes_text(c.get("passes", {})),
             ])
         first = data["configurations"][0] if data["configurations"] else {}
@@ -172,7 +183,8 @@ def bench_table(files):
                    "CPU timers on cpu)" % (first.get("size", "?"), first.get("repeat", "?"),
                                            first.get("warmup", "?")))
         out.append(table(["scene", "method", "samples", "median frame ms", "speed-up vs reference",
-                          "identical bits", "vis RMSE", "fragments / samples tested", "passes (median ms)"],
+                          "identical bits", "vis RMSE", "fragments / samples tested", "map memory",
+                          "passes (median ms)"],
                          rows))
     return "\n\n".join(out)
 

@@ -339,6 +339,15 @@ Report describeReport(const CompareArgs& args, const Scene& scene, const SceneOp
     report.settings.push_back({"heat scale", formatFixed(args.heatScale, 3) + " (yellow)"});
     report.tables = std::move(tables);
     const bool converged = args.converged.has_value();
+    report.chart.yLabel = converged ? "visibility RMSE vs converged" : "visibility RMSE vs reference";
+    report.chart.caption =
+        std::string("each method's frame time and visibility RMSE against the ") +
+        (converged ? "converged reference (the equal-sample reference's point is the noise floor)"
+                   : "equal-sample reference") +
+        "; lower left is better";
+    for (const Row& r : rows)
+        report.chart.points.push_back({toString(r.mb), toString(methodInfo(r.mb.method).family), r.frameMs,
+                                       converged ? r.convergedVisibility.rmse : r.visibility.rmse});
     report.imagesNote = "heat maps: |visibility - " +
                         std::string(converged ? "converged reference" : "equal-sample reference") +
                         "|, black 0, red " + formatFixed(args.heatScale / 2, 3) + ", yellow " +

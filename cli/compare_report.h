@@ -34,11 +34,31 @@ struct ReportImageRow {
     std::vector<ReportImage> images;
 };
 
+/// One method's point of the error-versus-time chart.
+struct ReportPoint {
+    std::string name;   ///< e.g. "stsv/vulkan"
+    std::string family; ///< "object-based", "image-based" or "ground truth": the marker
+    double ms = 0.0;    ///< frame time
+    double error = 0.0; ///< visibility RMSE
+};
+
+struct ReportChart {
+    std::string caption;
+    std::string yLabel;
+    std::vector<ReportPoint> points;
+};
+
+/// The chart as an inline SVG element (no scripts): frame time on a logarithmic x axis, error on
+/// a linear y axis from 0, a marker per family (circle object-based, square image-based, diamond
+/// ground truth) and each point labelled with its name. Empty for a chart without points.
+std::string chartSvg(const ReportChart& chart);
+
 struct Report {
     std::string title;
     std::string commandLine;
     std::vector<std::pair<std::string, std::string>> settings; ///< name, value
     std::vector<ReportTable> tables;
+    ReportChart chart;      ///< error against time, after the tables (none without points)
     std::string imagesNote; ///< what the heat maps show
     ReportImage heatScale;  ///< the heat maps' colour scale with its numbers (no file: none)
     std::vector<ReportImageRow> imageRows;
