@@ -139,6 +139,13 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs();
 /// of `params` set on its knob. UsageError for a name that is no knob of `filter`.
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params);
 
+/// Values per texel of a filtered representation: VSM 2, ESM 1, EVSM 4, MSM 4, CSM 2·csm_terms;
+/// 0 for PCF and PCSS.
+int filteredChannelCount(const ShadowMapSettings& settings);
+/// Whether a filtered representation averages through mips (fm_mip, and always for ESM and EVSM)
+/// rather than summed-area tables.
+bool filteredUsesMip(const ShadowMapSettings& settings);
+
 /// The settings the filter shaders read, in their buffer layout.
 ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings);
 

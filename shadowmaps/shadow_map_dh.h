@@ -48,8 +48,17 @@ struct ShadowMapView {
 DH_STATIC_ASSERT(sizeof(ShadowMapView) == 96);
 #endif
 
+/// Filters of ShadowMapSettings::filter (shadow_map.h's ShadowFilter, same values).
+DH_CONST uint SHADOW_FILTER_PCF = 1u;
+DH_CONST uint SHADOW_FILTER_PCSS = 2u;
+DH_CONST uint SHADOW_FILTER_VSM = 3u;
+DH_CONST uint SHADOW_FILTER_ESM = 4u;
+DH_CONST uint SHADOW_FILTER_EVSM = 5u;
+DH_CONST uint SHADOW_FILTER_MSM = 6u;
+DH_CONST uint SHADOW_FILTER_CSM = 7u;
+
 /// The filter knobs of a frame as the shaders read them, ahead of the views in one buffer
-/// (ShadowMapSettings on the host, shadowFilterParams). std430: 2 × 16 bytes.
+/// (ShadowMapSettings on the host, shadowFilterParams). std430: 6 × 16 bytes.
 struct ShadowFilterParams {
     float bias;         ///< texels
     float normalOffset; ///< texels
@@ -58,11 +67,28 @@ struct ShadowFilterParams {
     uint blockerTaps;
     uint filterTaps;
     float maxSearch; ///< texels: the blocker search's radius
+    uint method;     ///< SHADOW_FILTER_*
+    // The filtered representations (filtered_shadow_dh.h).
+    uint channels;     ///< values per texel
+    uint mip;          ///< 1: mip pyramids, 0: summed-area tables
+    uint kernel;       ///< 1: radius from the blocker search, 0: `radius`
+    float radius;      ///< texels
+    float minVariance; ///< VSM, EVSM
+    float bleed;       ///< VSM, EVSM
+    float esmC;
+    float evsmPositive;
+    float evsmNegative;
+    float msmBias;
+    uint csmTerms;
+    uint csmDamp;
+    uint pad0;
     uint pad1;
+    uint pad2;
+    uint pad3;
 };
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(ShadowFilterParams) == 32);
+DH_STATIC_ASSERT(sizeof(ShadowFilterParams) == 96);
 #endif
 
 /// The orthonormal frame of face `face` (X, Y across, Z along the view). A cube map's faces

@@ -269,8 +269,10 @@ TEST(SummedArea, RectangleMeansMatchADoublePrecisionBoxFilterWithinTheFixedPoint
         const int x1 = x0 + side, y1 = y0 + side;
         const double truth = boxMean(values, w, x0, y0, x1, y1);
         const double got = sat.mean(x0, y0, x1, y1);
-        // Each value rounded to 2⁻³² (mean off by at most 2⁻³³), the result converted to float.
-        const double bound = std::ldexp(1.0, -33) + std::ldexp(std::abs(truth), -24);
+        // Each value rounded to 2⁻³² (mean off by at most 2⁻³³); the exact integer sum converted
+        // to float, scaled by 2⁻³² (exact) and divided by the area in float, as a shader does it:
+        // two roundings of 2⁻²⁴ of the mean.
+        const double bound = std::ldexp(1.0, -33) + std::ldexp(std::abs(truth), -23);
         ASSERT_LE(std::abs(got - truth), bound) << side << "² at " << x0 << ", " << y0;
         worst = std::max(worst, std::abs(got - truth));
         const auto at = [&](int x, int y) { return naive[std::size_t(y) * (w + 1) + std::size_t(x)]; };
@@ -293,7 +295,7 @@ TEST(MipPyramid, LevelsAreBlockMeansAndTrilinearMatchesTheBoxAtAlignedFootprints
     std::vector<float> values(std::size_t(n) * n);
     for (float& v : values) v = u(rng);
     const MipPyramid mip = buildMipPyramid(values.data(), n);
-    ASSERT_EQ(mip.levels.size(), 9u);
+    ASSERT_EQ(mip.levels(), 9);
     for (int level = 1; level < 9; ++level) {
         const int block = 1 << level, size = n >> level;
         for (int j = 0; j < size; j += 7)
@@ -302,8 +304,7 @@ TEST(MipPyramid, LevelsAreBlockMeansAndTrilinearMatchesTheBoxAtAlignedFootprints
                     boxMean(values, n, i * block, j * block, (i + 1) * block, (j + 1) * block);
                 // Float means of 4 values per level, each exact to half an ulp of 1: level·2⁻²⁴.
                 const float tol = float(level) * std::ldexp(1.0f, -23);
-                EXPECT_NEAR(mip.levels[std::size_t(level)][std::size_t(j) * size + std::size_t(i)], truth,
-                            tol);
+                EXPECT_NEAR(mip.at(level, i, j), truth, tol);
                 // At the block's centre, a footprint of exactly the block reads that texel.
                 const float uc = (float(i) + 0.5f) / float(size), vc = (float(j) + 0.5f) / float(size);
                 EXPECT_NEAR(mip.trilinear(uc, vc, float(block)), truth, tol + 1e-6f);

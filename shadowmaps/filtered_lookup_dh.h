@@ -1,0 +1,219 @@
+// The filtered representations' storage and lookup (DESIGN §4.6), as the CPU backend
+// (shadowmaps/filtered_map.cpp) and the Vulkan shaders (shaders/shadowmaps/filtered_map.comp,
+// shadow_filter.comp) both run them: per light, one plane per face and channel, each either a
+// summed-area table of 64-bit fixed-point values ((size + 1)² sums, row 0 and column 0 zero) or a
+// mip pyramid of floats (the levels one after another, ESM's in log space).
+//
+// Data access differs (storage buffers on the GPU, vectors on the CPU), so the includer defines,
+// before including this header,
+//   struct FilteredSource                                            what the planes are read from
+//   FILTERED_SUM filteredSourceSum(FilteredSource s, uint plane, uint index)   a summed-area entry
+//   float filteredSourceMip(FilteredSource s, uint plane, uint index)          a mip texel
+// with FILTERED_SUM the 64-bit integer type (int64_t; in GLSL with
+// GL_EXT_shader_explicit_arithmetic_types_int64), and the macro FILTERED_SOURCE; and includes
+// shadowmaps/shadow_filter_dh.h (ShadowReceiver) first.
+#ifndef STSV_SHADOWMAPS_FILTERED_LOOKUP_DH_H
+#define STSV_SHADOWMAPS_FILTERED_LOOKUP_DH_H
+
+#ifndef FILTERED_SOURCE
+#error "define FilteredSource, filteredSourceSum and filteredSourceMip, then FILTERED_SOURCE"
+#endif
+
+#include "core/dh.h"
+#include "shadowmaps/filtered_shadow_dh.h"
+#include "shadowmaps/shadow_map_dh.h"
+
+DH_BEGIN
+
+/// The most values a texel's representation has (CSM at CSM_MAX_TERMS).
+DH_CONST uint FILTERED_MAX_CHANNELS = 32u;
+
+struct FilteredChannels {
+    float v[32];
+};
+
+/// The channels of one normalised depth z (ESM: c·z, the log of exp(c·z)).
+DH_FUNC FilteredChannels filteredChannelValues(ShadowFilterParams p, float z) {
+    FilteredChannels c;
+    for (uint i = 0u; i < FILTERED_MAX_CHANNELS; ++i) c.v[i] = 0.0f;
+    if (p.method == SHADOW_FILTER_VSM) {
+        vec2 m = vsmMoments(z);
+        c.v[0] = m.x;
+        c.v[1] = m.y;
+    } else if (p.method == SHADOW_FILTER_ESM) {
+        c.v[0] = p.esmC * z;
+    } else if (p.method == SHADOW_FILTER_EVSM || p.method == SHADOW_FILTER_MSM) {
+        vec4 m =
+            p.method == SHADOW_FILTER_EVSM ? evsmMoments(z, p.evsmPositive, p.evsmNegative) : msmMoments(z);
+        c.v[0] = m.x;
+        c.v[1] = m.y;
+        c.v[2] = m.z;
+        c.v[3] = m.w;
+    } else if (p.method == SHADOW_FILTER_CSM) {
+        for (int k = 1; k <= int(p.csmTerms); ++k) {
+            c.v[2 * (k - 1)] = cos(csmFrequency(k) * z);
+            c.v[2 * (k - 1) + 1] = sin(csmFrequency(k) * z);
+        }
+    }
+    return c;
+}
+
+/// A value in [−1, 1] as the nearest multiple of 2⁻³², exactly, in 32-bit float arithmetic
+/// (v·2¹⁶ is exact, so are its floor and the remainder's scaling by 2¹⁶; the remainder is then
+/// rounded half to even): the same integer on every backend.
+DH_FUNC FILTERED_SUM filteredFixed(float value) {
+    float v = clamp(value, -1.0f, 1.0f) * 65536.0f;
+    float high = floor(v);
+    float low = (v - high) * 65536.0f;
+    return FILTERED_SUM(high) * FILTERED_SUM(65536) + FILTERED_SUM(roundEven(low));
+}
+
+/// Texels per side of mip level `level` of a size² plane: ⌈size / 2^level⌉.
+DH_FUNC uint filteredMipSize(uint size, uint level) {
+    return ((size - 1u) >> level) + 1u;
+}
+DH_FUNC uint filteredMipLevels(uint size) {
+    uint levels = 1u;
+    while (filteredMipSize(size, levels - 1u) > 1u) levels += 1u;
+    return levels;
+}
+/// Index of level `level`'s first texel within its plane.
+DH_FUNC uint filteredMipOffset(uint size, uint level) {
+    uint offset = 0u;
+    for (uint l = 0u; l < level; ++l) {
+        uint n = filteredMipSize(size, l);
+        offset += n * n;
+    }
+    return offset;
+}
+/// Texels of one plane's pyramid, all levels.
+DH_FUNC uint filteredMipPlaneTexels(uint size) {
+    return filteredMipOffset(size, filteredMipLevels(size));
+}
+
+/// The weighted mean of four values, or of their exponentials in log space (esmLogSum4).
+DH_FUNC float filteredBlend4(bool logSpace, vec4 values, vec4 weights) {
+    return logSpace ? esmLogSum4(values, weights) : dot(values, weights);
+}
+
+/// Texel `texel` of level `level` (> 0): the mean of the 2 × 2 block of level − 1 under it (the
+/// texels of the block that exist, at an odd size's last row and column).
+DH_FUNC float filteredMipDownsample(FilteredSource s, uint plane, uint size, uint level, uvec2 texel,
+                                    bool logSpace) {
+    uint from = filteredMipSize(size, level - 1u);
+    uint base = filteredMipOffset(size, level - 1u);
+    vec4 block = vec4(0.0f);
+    vec4 inside = vec4(0.0f);
+    for (uint k = 0u; k < 4u; ++k) {
+        uint x = 2u * texel.x + (k & 1u), y = 2u * texel.y + (k >> 1u);
+        if (x >= from || y >= from) continue;
+        block[int(k)] = filteredSourceMip(s, plane, base + y * from + x);
+        inside[int(k)] = 1.0f;
+    }
+    return filteredBlend4(logSpace, block, inside / (inside.x + inside.y + inside.z + inside.w));
+}
+
+/// Bilinear lookup of level `level` at uv ∈ [0, 1]², edge clamped.
+DH_FUNC float filteredMipBilinear(FilteredSource s, uint plane, uint size, uint level, vec2 uv,
+                                  bool logSpace) {
+    int n = int(filteredMipSize(size, level));
+    uint base = filteredMipOffset(size, level);
+    vec2 q = uv * float(n) - vec2(0.5f);
+    vec2 f = floor(q);
+    vec2 a = q - f;
+    int x0 = clamp(int(f.x), 0, n - 1), x1 = clamp(int(f.x) + 1, 0, n - 1);
+    int y0 = clamp(int(f.y), 0, n - 1), y1 = clamp(int(f.y) + 1, 0, n - 1);
+    vec4 texels = vec4(filteredSourceMip(s, plane, base + uint(y0 * n + x0)),
+                       filteredSourceMip(s, plane, base + uint(y0 * n + x1)),
+                       filteredSourceMip(s, plane, base + uint(y1 * n + x0)),
+                       filteredSourceMip(s, plane, base + uint(y1 * n + x1)));
+    vec4 w = vec4((1.0f - a.x) * (1.0f - a.y), a.x * (1.0f - a.y), (1.0f - a.x) * a.y, a.x * a.y);
+    return filteredBlend4(logSpace, texels, w);
+}
+
+/// Trilinear average over a square footprint `width` level-0 texels wide at uv: the two levels
+/// whose texels bracket the width, blended by log₂ of the width.
+DH_FUNC float filteredMipTrilinear(FilteredSource s, uint plane, uint size, vec2 uv, float width,
+                                   bool logSpace) {
+    float top = float(filteredMipLevels(size) - 1u);
+    float lod = clamp(log2(max(width, 1.0f)), 0.0f, top);
+    uint lo = uint(floor(lod));
+    float f = lod - float(lo);
+    float a = filteredMipBilinear(s, plane, size, lo, uv, logSpace);
+    if (!(f > 0.0f)) return a;
+    float b = filteredMipBilinear(s, plane, size, lo + 1u, uv, logSpace);
+    return filteredBlend4(logSpace, vec4(a, b, 0.0f, 0.0f), vec4(1.0f - f, f, 0.0f, 0.0f));
+}
+
+/// The sum over texels [lo, hi) (within the plane) of a summed-area plane whose rows hold
+/// `stride` = width + 1 sums.
+DH_FUNC FILTERED_SUM filteredSatSum(FilteredSource s, uint plane, uint stride, ivec2 lo, ivec2 hi) {
+    return filteredSourceSum(s, plane, uint(hi.y) * stride + uint(hi.x)) -
+           filteredSourceSum(s, plane, uint(lo.y) * stride + uint(hi.x)) -
+           filteredSourceSum(s, plane, uint(hi.y) * stride + uint(lo.x)) +
+           filteredSourceSum(s, plane, uint(lo.y) * stride + uint(lo.x));
+}
+
+/// The channels' means over a square of 2·radius + 1 texels around the receiver's texel (a
+/// summed-area table rounds the radius to whole texels; texels outside a single-face map count
+/// as the far value, a cube map's kernel is cut at its face's edge), or the trilinear average
+/// over that width.
+DH_FUNC FilteredChannels filteredAverages(ShadowMapView v, ShadowFilterParams p, FilteredSource s,
+                                          ShadowReceiver r, float radius) {
+    FilteredChannels out;
+    for (uint i = 0u; i < FILTERED_MAX_CHANNELS; ++i) out.v[i] = 0.0f;
+    uint first = r.face * p.channels;
+    int size = int(v.size);
+    if (p.mip != 0u) {
+        bool logSpace = p.method == SHADOW_FILTER_ESM;
+        for (uint c = 0u; c < p.channels; ++c)
+            out.v[c] = filteredMipTrilinear(s, first + c, v.size, r.uv, 2.0f * radius + 1.0f, logSpace);
+        return out;
+    }
+    ivec2 texel = ivec2(floor(r.uv * float(size)));
+    int k = int(floor(radius + 0.5f));
+    ivec2 lo = texel - ivec2(k), hi = texel + ivec2(k + 1);
+    ivec2 clo = clamp(lo, ivec2(0), ivec2(size)), chi = clamp(hi, ivec2(0), ivec2(size));
+    float area = float(hi.x - lo.x) * float(hi.y - lo.y);
+    float inside = float(max(chi.x - clo.x, 0)) * float(max(chi.y - clo.y, 0));
+    bool pad = v.projection != SHADOW_MAP_CUBE;
+    float weight = pad ? area : inside;
+    FilteredChannels far = filteredChannelValues(p, 1.0f);
+    for (uint c = 0u; c < p.channels; ++c) {
+        float sum = inside > 0.0f
+                        ? float(filteredSatSum(s, first + c, v.size + 1u, clo, chi)) * (1.0f / 4294967296.0f)
+                        : 0.0f;
+        if (pad) sum += far.v[c] * (area - inside);
+        out.v[c] = weight > 0.0f ? sum / weight : far.v[c];
+    }
+    return out;
+}
+
+/// Lit fraction of a receiver through a filtered representation, over a kernel of `radius`
+/// texels either side.
+DH_FUNC float filteredVisibility(ShadowMapView v, ShadowFilterParams p, FilteredSource s, ShadowReceiver r,
+                                 float radius) {
+    if (r.valid == 0.0f) return 1.0f;
+    // A kernel wholly outside a single-face map: nothing there blocks.
+    float reach = (radius + 1.0f) / float(v.size);
+    if (v.projection != SHADOW_MAP_CUBE &&
+        (r.uv.x < -reach || r.uv.y < -reach || r.uv.x > 1.0f + reach || r.uv.y > 1.0f + reach))
+        return 1.0f;
+    FilteredChannels a = filteredAverages(v, p, s, r, radius);
+    float t = filteredDepth(v, r.depth - r.bias);
+    if (p.method == SHADOW_FILTER_VSM) return vsmVisibility(vec2(a.v[0], a.v[1]), t, p.minVariance, p.bleed);
+    if (p.method == SHADOW_FILTER_ESM) return esmVisibility(a.v[0], p.esmC, t);
+    if (p.method == SHADOW_FILTER_EVSM)
+        return evsmVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.evsmPositive, p.evsmNegative,
+                              p.minVariance, p.bleed);
+    if (p.method == SHADOW_FILTER_MSM)
+        return msmVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.msmBias);
+    float series = 0.5f;
+    for (int k = 1; k <= int(p.csmTerms); ++k)
+        series += csmTerm(a.v[2 * (k - 1)], a.v[2 * (k - 1) + 1], t, k, int(p.csmTerms), p.csmDamp != 0u);
+    return csmVisibility(series);
+}
+
+DH_END
+
+#endif // STSV_SHADOWMAPS_FILTERED_LOOKUP_DH_H
