@@ -25,7 +25,8 @@ Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage
         STSV_VK_CHECK(vkCreateBuffer(device.handle(), &info, nullptr, &m_buffer));
         VkMemoryRequirements requirements;
         vkGetBufferMemoryRequirements(device.handle(), m_buffer, &requirements);
-        m_memory = allocateMemory(device, requirements, memory);
+        m_memory = allocateMemory(device, requirements, memory,
+                                  (m_usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) != 0);
         STSV_VK_CHECK(vkBindBufferMemory(device.handle(), m_buffer, m_memory, 0));
         if (isHostVisible(memory))
             STSV_VK_CHECK(vkMapMemory(device.handle(), m_memory, 0, VK_WHOLE_SIZE, 0, &m_mapped));
@@ -33,6 +34,15 @@ Buffer::Buffer(const Device& device, VkDeviceSize size, VkBufferUsageFlags usage
         destroy();
         throw;
     }
+}
+
+VkDeviceAddress Buffer::deviceAddress() const {
+    if ((m_usage & VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT) == 0)
+        throw Error("internal error: the device address of a buffer created without one");
+    VkBufferDeviceAddressInfo info{};
+    info.sType = VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO;
+    info.buffer = m_buffer;
+    return vkGetBufferDeviceAddress(m_device->handle(), &info);
 }
 
 Buffer::~Buffer() {

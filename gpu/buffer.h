@@ -28,6 +28,8 @@ class Buffer {
     VkBuffer handle() const { return m_buffer; }
     VkDeviceSize size() const { return m_size; } ///< bytes
     VkBufferUsageFlags usage() const { return m_usage; }
+    /// Its address for shaders (a buffer created with VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT).
+    VkDeviceAddress deviceAddress() const;
     bool hostVisible() const { return m_mapped != nullptr; }
     void* mapped() const { return m_mapped; } ///< nullptr for device-local buffers
 

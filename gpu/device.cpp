@@ -159,8 +159,11 @@ struct FeatureChain {
 };
 
 DeviceInfo queryDeviceInfo(VkPhysicalDevice physicalDevice, uint32_t index) {
+    VkPhysicalDeviceMaintenance3Properties maintenance3{};
+    maintenance3.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES;
     VkPhysicalDeviceDriverProperties driver{};
     driver.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES;
+    driver.pNext = &maintenance3;
     VkPhysicalDeviceProperties2 props{};
     props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
     props.pNext = &driver;
@@ -192,6 +195,8 @@ DeviceInfo queryDeviceInfo(VkPhysicalDevice physicalDevice, uint32_t index) {
     info.vertexPipelineStoresAndAtomics = features.core.features.vertexPipelineStoresAndAtomics;
     info.depthClamp = features.core.features.depthClamp;
     info.shaderInt64 = features.core.features.shaderInt64;
+    info.bufferDeviceAddress = features.v12.bufferDeviceAddress;
+    info.maxMemoryAllocationSize = maintenance3.maxMemoryAllocationSize;
     info.timestamps = props.properties.limits.timestampComputeAndGraphics && validBits > 0;
     info.timestampPeriod = props.properties.limits.timestampPeriod;
     info.maxImageDimension2D = props.properties.limits.maxImageDimension2D;
@@ -377,6 +382,7 @@ Device::Device(const DeviceOptions& options) {
         core.shaderInt64 = has.shaderInt64;
         core.samplerAnisotropy = VK_FALSE;
         enabled.v12.hostQueryReset = supported.v12.hostQueryReset;
+        enabled.v12.bufferDeviceAddress = supported.v12.bufferDeviceAddress;
         enabled.v12.scalarBlockLayout = supported.v12.scalarBlockLayout;
         enabled.v12.storageBuffer8BitAccess = supported.v12.storageBuffer8BitAccess;
         enabled.v12.shaderInt8 = supported.v12.shaderInt8;

@@ -32,9 +32,11 @@ struct DeviceInfo {
     bool vertexPipelineStoresAndAtomics = false;
     bool depthClamp = false;
     bool shaderInt64 = false;
-    bool timestamps = false;       ///< timestampComputeAndGraphics and the queue has valid bits
-    float timestampPeriod = 0.f;   ///< nanoseconds per timestamp tick
-    uint64_t deviceLocalBytes = 0; ///< largest device-local heap, bytes
+    bool bufferDeviceAddress = false;     ///< Vulkan 1.2's bufferDeviceAddress feature
+    uint64_t maxMemoryAllocationSize = 0; ///< bytes one allocation may hold (Vulkan 1.1)
+    bool timestamps = false;              ///< timestampComputeAndGraphics and the queue has valid bits
+    float timestampPeriod = 0.f;          ///< nanoseconds per timestamp tick
+    uint64_t deviceLocalBytes = 0;        ///< largest device-local heap, bytes
     uint32_t maxImageDimension2D = 0;
     uint32_t maxColorAttachments = 0;
     uint32_t maxGeometryOutputVertices = 0;

@@ -6,7 +6,7 @@
 namespace stsv {
 
 VkDeviceMemory allocateMemory(const Device& device, const VkMemoryRequirements& requirements,
-                              MemoryUsage usage) {
+                              MemoryUsage usage, bool deviceAddress) {
     VkMemoryPropertyFlags required = 0;
     VkMemoryPropertyFlags preferred = 0;
     switch (usage) {
@@ -26,6 +26,10 @@ VkDeviceMemory allocateMemory(const Device& device, const VkMemoryRequirements& 
     info.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
     info.allocationSize = requirements.size;
     info.memoryTypeIndex = device.findMemoryType(requirements.memoryTypeBits, required, preferred);
+    VkMemoryAllocateFlagsInfo flags{};
+    flags.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO;
+    flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+    if (deviceAddress) info.pNext = &flags;
     VkDeviceMemory memory = VK_NULL_HANDLE;
     STSV_VK_CHECK(vkAllocateMemory(device.handle(), &info, nullptr, &memory));
     return memory;

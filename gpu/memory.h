@@ -17,8 +17,9 @@ inline bool isHostVisible(MemoryUsage usage) {
     return usage != MemoryUsage::DeviceLocal;
 }
 
-/// Allocates memory for `requirements` with the property flags `usage` asks for.
+/// Allocates memory for `requirements` with the property flags `usage` asks for; with
+/// `deviceAddress`, memory a buffer's device address can point into (bufferDeviceAddress).
 VkDeviceMemory allocateMemory(const Device& device, const VkMemoryRequirements& requirements,
-                              MemoryUsage usage);
+                              MemoryUsage usage, bool deviceAddress = false);
 
 } // namespace stsv

@@ -78,6 +78,7 @@
     X(vkEnumerateInstanceLayerProperties)                                                                    \
     X(vkEnumeratePhysicalDevices)                                                                            \
     X(vkFreeMemory)                                                                                          \
+    X(vkGetBufferDeviceAddress)                                                                              \
     X(vkGetBufferMemoryRequirements)                                                                         \
     X(vkGetDeviceProcAddr)                                                                                   \
     X(vkGetDeviceQueue)                                                                                      \

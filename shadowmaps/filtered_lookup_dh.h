@@ -51,11 +51,21 @@ DH_FUNC FilteredChannels filteredChannelValues(ShadowFilterParams p, float z) {
         c.v[3] = m.w;
     } else if (p.method == SHADOW_FILTER_CSM) {
         for (int k = 1; k <= int(p.csmTerms); ++k) {
-            c.v[2 * (k - 1)] = cos(csmFrequency(k) * z);
-            c.v[2 * (k - 1) + 1] = sin(csmFrequency(k) * z);
+            c.v[2 * (k - 1)] = cos(csmPhase(k, z));
+            c.v[2 * (k - 1) + 1] = sin(csmPhase(k, z));
         }
     }
     return c;
+}
+
+/// Channel c alone of filteredChannelValues(p, z).
+DH_FUNC float filteredChannelValue(ShadowFilterParams p, float z, uint c) {
+    if (p.method == SHADOW_FILTER_CSM) {
+        float phase = csmPhase(int(c / 2u) + 1, z);
+        return (c & 1u) == 0u ? cos(phase) : sin(phase);
+    }
+    FilteredChannels all = filteredChannelValues(p, z);
+    return all.v[c];
 }
 
 /// A value in [−1, 1] as the nearest multiple of 2⁻³², exactly, in 32-bit float arithmetic
@@ -160,15 +170,15 @@ DH_FUNC FILTERED_SUM filteredSatSum(FilteredSource s, uint plane, uint stride, i
 /// over that width.
 DH_FUNC FilteredChannels filteredAverages(ShadowMapView v, ShadowFilterParams p, FilteredSource s,
                                           ShadowReceiver r, float radius) {
-    FilteredChannels out;
-    for (uint i = 0u; i < FILTERED_MAX_CHANNELS; ++i) out.v[i] = 0.0f;
+    FilteredChannels result;
+    for (uint i = 0u; i < FILTERED_MAX_CHANNELS; ++i) result.v[i] = 0.0f;
     uint first = r.face * p.channels;
     int size = int(v.size);
     if (p.mip != 0u) {
         bool logSpace = p.method == SHADOW_FILTER_ESM;
         for (uint c = 0u; c < p.channels; ++c)
-            out.v[c] = filteredMipTrilinear(s, first + c, v.size, r.uv, 2.0f * radius + 1.0f, logSpace);
-        return out;
+            result.v[c] = filteredMipTrilinear(s, first + c, v.size, r.uv, 2.0f * radius + 1.0f, logSpace);
+        return result;
     }
     ivec2 texel = ivec2(floor(r.uv * float(size)));
     int k = int(floor(radius + 0.5f));
@@ -184,9 +194,9 @@ DH_FUNC FilteredChannels filteredAverages(ShadowMapView v, ShadowFilterParams p,
                         ? float(filteredSatSum(s, first + c, v.size + 1u, clo, chi)) * (1.0f / 4294967296.0f)
                         : 0.0f;
         if (pad) sum += far.v[c] * (area - inside);
-        out.v[c] = weight > 0.0f ? sum / weight : far.v[c];
+        result.v[c] = weight > 0.0f ? sum / weight : far.v[c];
     }
-    return out;
+    return result;
 }
 
 /// Lit fraction of a receiver through a filtered representation, over a kernel of `radius`

@@ -158,6 +158,12 @@ DH_CONST int CSM_MAX_TERMS = 16;
 DH_FUNC float csmFrequency(int k) {
     return 3.14159265358979f * float(2 * k - 1);
 }
+/// c_k·x reduced to [−π, π) (c_k·x = 2π·(2k − 1)·x/2): sin and cos of up to 31π lose accuracy on
+/// some GPUs' approximations, and the two backends then disagree.
+DH_FUNC float csmPhase(int k, float x) {
+    float turns = 0.5f * float(2 * k - 1) * x;
+    return 6.28318530718f * (fract(turns + 0.5f) - 0.5f);
+}
 /// Lanczos' σ factor of term k (1-based) of M.
 DH_FUNC float csmDamping(int k, int terms) {
     float x = 3.14159265358979f * float(k) / float(terms + 1);
@@ -168,7 +174,8 @@ DH_FUNC float csmDamping(int k, int terms) {
 DH_FUNC float csmTerm(float cosAverage, float sinAverage, float t, int k, int terms, bool damp) {
     float c = csmFrequency(k);
     float sigma = damp ? csmDamping(k, terms) : 1.0f;
-    return 2.0f * sigma * (sinAverage * cos(c * t) - cosAverage * sin(c * t)) / c;
+    float phase = csmPhase(k, t);
+    return 2.0f * sigma * (sinAverage * cos(phase) - cosAverage * sin(phase)) / c;
 }
 /// The lit fraction from the series' sum ½ + Σ terms, offset as published.
 DH_FUNC float csmVisibility(float series) {

@@ -1,10 +1,13 @@
 #include "render/vulkan/gpu_shadowmap_passes.h"
 
 #include "core/error.h"
+#include "gpu/commands.h"
 #include "gpu/device.h"
 #include "gpu/rendering.h"
 #include "gpu/shader_compiler.h"
 #include "render/options.h"
+#include "shadowmaps/filtered_lookup.h"
+#include "shadowmaps/filtered_map.h"
 #include "shadowmaps/shadow_fit.h"
 
 #include <cstring>
@@ -36,6 +39,29 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     for (const Light& light : scene.lights) {
         m_views.push_back(fitFrameShadowMap(scene, light, receivers, m_settings));
         depth.emplace_back(device, shadowMapBytes(m_views.back()), STORAGE, MemoryUsage::DeviceLocal);
+        if (isFilteredRepresentation(m_settings.filter)) {
+            // The planes outgrow a storage buffer's range (MSM's at 2048²: 134 MB, lavapipe's range
+            // 128 MiB): the shaders reach them by device address.
+            if (!device.info().shaderInt64 || !device.info().bufferDeviceAddress)
+                throw UsageError(
+                    "the filtered shadow maps on Vulkan need 64-bit integers in shaders and buffer "
+                    "device addresses, which " +
+                    device.info().name + " lacks: use --backend cpu");
+            const std::size_t bytes = filteredMapBytes(m_views.back(), m_settings);
+            if (bytes > device.info().maxMemoryAllocationSize)
+                throw UsageError(
+                    "the " + std::string(methodInfo(options.method).name) + " representation of light " +
+                    std::to_string(m_views.size() - 1) + " needs " + std::to_string(bytes >> 20) +
+                    " MiB, more than one allocation of " + device.info().name + " may hold (" +
+                    std::to_string(device.info().maxMemoryAllocationSize >> 20) + " MiB): lower sm_size" +
+                    (m_settings.filter == ShadowFilter::Csm ? " or csm_terms" : "") +
+                    (filteredUsesMip(m_settings) ? "" : ", or use fm_mip=1 (4-byte mips)"));
+            filtered.emplace_back(device, bytes, STORAGE | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                                  MemoryUsage::DeviceLocal);
+            const VkDeviceAddress address = filtered.back().deviceAddress();
+            m_views.back().filteredLow = uint(address & 0xffffffffu);
+            m_views.back().filteredHigh = uint(address >> 32);
+        }
     }
     const std::vector<vec2> tapPoints = shadowFilterTaps(m_settings);
     std::vector<std::byte> table(sizeof(ShadowFilterParams) + sizeof(ShadowMapView) * m_views.size());
@@ -88,6 +114,58 @@ void ShadowMapPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
     if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, view.faces, 0, 0);
     endRendering(cmd);
+}
+
+FilteredMapPass::FilteredMapPass(const Device& device, ShadowMapResources& maps,
+                                 const FamilyDescriptors& descriptors,
+                                 const std::vector<ShaderDefine>& defines)
+    : m_maps(&maps), m_descriptors(&descriptors), m_mip(filteredUsesMip(maps.settings())),
+      m_channels(std::uint32_t(filteredChannelCount(maps.settings()))) {
+    const ShaderCompiler compiler;
+    for (const int step : m_mip ? std::vector<int>{2, 3} : std::vector<int>{0, 1}) {
+        std::vector<ShaderDefine> withStep = defines;
+        withStep.push_back({"FILTERED_STEP", std::to_string(step)});
+        m_steps.push_back(
+            createComputePipeline(device, descriptors.pipelineLayout(),
+                                  compiler.compileFile("shadowmaps/filtered_map.comp", withStep)));
+    }
+}
+
+PassAccesses FilteredMapPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_maps->depth[light], ResourceUse::storageRead(COMPUTE))
+        .use(m_maps->filtered[light], ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void FilteredMapPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    const ShadowMapView& view = m_maps->view(light);
+    const std::uint32_t size = view.size, planes = view.faces * m_channels;
+    // Each step reads what the one before wrote in the same buffer.
+    const auto barrier = [&] {
+        memoryBarrier(cmd, COMPUTE, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, COMPUTE,
+                      VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+    };
+    m_steps[0].bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    if (!m_mip) {
+        // filtered_map.comp's summed-area steps: 64 rows, then 64 columns, per workgroup.
+        vkCmdDispatch(cmd, (size * planes + 63) / 64, 1, 1);
+        barrier();
+        m_steps[1].bind(cmd);
+        vkCmdDispatch(cmd, (size * planes + 63) / 64, 1, 1);
+        return;
+    }
+    // Its mip steps: 16 × 16 texels per workgroup, one face (level 0) or plane per z.
+    vkCmdDispatch(cmd, (size + 15) / 16, (size + 15) / 16, view.faces);
+    m_steps[1].bind(cmd);
+    for (std::uint32_t level = 1; level < filteredMipLevels(size); ++level) {
+        barrier();
+        m_descriptors->push(cmd, GpuPush{uint(light), level, 0u, 0u});
+        const std::uint32_t n = filteredMipSize(size, level);
+        vkCmdDispatch(cmd, (n + 15) / 16, (n + 15) / 16, planes);
+    }
 }
 
 ShadowFilterPass::ShadowFilterPass(const Device& device, const RenderOptions& options, Step step,

@@ -40,8 +40,11 @@ class ShadowMapResources {
     const ShadowMapView& view(std::size_t light) const { return m_views.at(light); }
 
     std::vector<Buffer> depth; ///< [light]: gpuShadowDepthWord per texel, faces × size²
-    Buffer views;              ///< ShadowFilterParams, then ShadowMapView per light
-    Buffer taps;               ///< vec2: blocker taps, then filter taps
+    /// [light], filtered rows only: filteredMapBytes of planes, read and written by device
+    /// address (ShadowMapView::filteredLow/High)
+    std::vector<Buffer> filtered;
+    Buffer views; ///< ShadowFilterParams, then ShadowMapView per light
+    Buffer taps;  ///< vec2: blocker taps, then filter taps
 
   private:
     ShadowMapSettings m_settings;
@@ -65,11 +68,29 @@ class ShadowMapPass final : public GpuPass {
     Pipeline m_pipeline;
 };
 
+/// A light's filtered representation from its map (filtered_map.comp): summed-area rows then
+/// columns, or mip level 0 then each level from the one below, with the barriers between them.
+class FilteredMapPass final : public GpuPass {
+  public:
+    FilteredMapPass(const Device& device, ShadowMapResources& maps, const FamilyDescriptors& descriptors,
+                    const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    ShadowMapResources* m_maps;
+    const FamilyDescriptors* m_descriptors;
+    bool m_mip;
+    std::uint32_t m_channels;
+    std::vector<Pipeline> m_steps; ///< rows, columns; or level 0, the levels above
+};
+
 /// One filter step per pixel into the v_coef image: PCF, PCSS's blocker search (the kernel
-/// radius) or PCSS's filter (v_coef).
+/// radius), PCSS's filter (v_coef), or a filtered representation's lookup (v_coef).
 class ShadowFilterPass final : public GpuPass {
   public:
-    enum Step { Pcf = 0, PcssBlocker = 1, PcssFilter = 2 };
+    enum Step { Pcf = 0, PcssBlocker = 1, PcssFilter = 2, FilteredLookup = 3 };
 
     ShadowFilterPass(const Device& device, const RenderOptions& options, Step step, ShadowMapResources& maps,
                      FrameResources& frame, const FamilyDescriptors& descriptors,

@@ -1,7 +1,10 @@
 #include "render/vulkan/vulkan_techniques.h"
 
+#include "shadowmaps/filtered_map.h"
+
 #include "render/vulkan/gpu_opaque_passes.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
+#include "shadowmaps/filtered_map.h"
 
 #include <algorithm>
 #include <cstring>
@@ -248,19 +251,26 @@ class WedgeTechnique final : public VulkanTechnique {
     std::vector<GpuWedgeStats> m_counts;       ///< per light, after the frame
 };
 
-/// The image-based baselines: per light the cleared map, its raster, and PCF or PCSS's two steps
-/// into the v_coef image.
+/// The filter pass's step for a row's filter.
+ShadowFilterPass::Step filterStep(ShadowFilter f) {
+    if (f == ShadowFilter::Pcss) return ShadowFilterPass::PcssFilter;
+    return isFilteredRepresentation(f) ? ShadowFilterPass::FilteredLookup : ShadowFilterPass::Pcf;
+}
+
+/// The image-based baselines: per light the cleared map, its raster, then PCF, PCSS's two steps,
+/// or a filtered representation (built, then looked up over a fixed kernel or one sized by PCSS's
+/// blocker search) into the v_coef image.
 class ShadowMapTechnique final : public VulkanTechnique {
   public:
     explicit ShadowMapTechnique(const VulkanTechniqueContext& c)
         : VulkanTechnique(c, ShadowMapResources::bindings(), sizeof(GpuShadowMapStats)), m_c(c),
           m_maps(c.device, c.scene, c.options), m_map(c.device, c.scene, m_maps, m_family, c.defines),
-          m_filter(c.device, c.options,
-                   c.method.shadowMap == ShadowFilter::Pcss ? ShadowFilterPass::PcssFilter
-                                                            : ShadowFilterPass::Pcf,
-                   m_maps, c.resources, m_family, c.defines) {
+          m_filter(c.device, c.options, filterStep(c.method.shadowMap), m_maps, c.resources, m_family,
+                   c.defines) {
         for (const Buffer& depth : m_maps.depth) m_clear.push_back(ClearPass({}, {&depth}));
-        if (c.method.shadowMap == ShadowFilter::Pcss)
+        const bool filtered = isFilteredRepresentation(c.method.shadowMap);
+        if (filtered) m_filtered.emplace(c.device, m_maps, m_family, c.defines);
+        if (c.method.shadowMap == ShadowFilter::Pcss || (filtered && m_maps.settings().kernel != 0))
             m_blocker.emplace(c.device, c.options, ShadowFilterPass::PcssBlocker, m_maps, c.resources,
                               m_family, c.defines);
     }
@@ -268,11 +278,12 @@ class ShadowMapTechnique final : public VulkanTechnique {
     void writeDescriptors() override {
         for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
     }
-    std::uint32_t timedPassesPerLight() const override { return 3; }
+    std::uint32_t timedPassesPerLight() const override { return 4; }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
         runPass(recorder, cmd, "", m_clear[light], light);
         runPass(recorder, cmd, passName(light, "shadow_map"), m_map, light);
+        if (m_filtered) runPass(recorder, cmd, passName(light, "filtered_map"), *m_filtered, light);
         if (m_blocker) runPass(recorder, cmd, passName(light, "pcss_blocker"), *m_blocker, light);
         runPass(recorder, cmd, passName(light, "shadow_filter"), m_filter, light);
     }
@@ -293,6 +304,7 @@ class ShadowMapTechnique final : public VulkanTechnique {
             const ShadowMapView& view = m_maps.view(l);
             nlohmann::json map = shadowMapViewStats(view, m_maps.settings(), m_c.scene.camera, gbuffer);
             map.update(kernelClampStats(m_counts[l].kernelClamped, gbuffer));
+            if (m_filtered) map["representation_bytes"] = filteredMapBytes(view, m_maps.settings());
             maps.push_back(map);
         }
         stats["shadow_maps"] = maps;
@@ -303,7 +315,8 @@ class ShadowMapTechnique final : public VulkanTechnique {
     ShadowMapResources m_maps;
     std::vector<ClearPass> m_clear; ///< [light]
     ShadowMapPass m_map;
-    std::optional<ShadowFilterPass> m_blocker; ///< PCSS
+    std::optional<FilteredMapPass> m_filtered; ///< the filtered representations
+    std::optional<ShadowFilterPass> m_blocker; ///< PCSS, and filtered maps with fm_kernel=1
     ShadowFilterPass m_filter;
     std::vector<GpuShadowMapStats> m_counts; ///< per light, after the frame
 };

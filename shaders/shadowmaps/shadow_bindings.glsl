@@ -17,4 +17,57 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_SHADOW_VIEWS) readonl
 };
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_SHADOW_TAPS) readonly buffer ShadowTaps { vec2 shadowTaps[]; };
 
+#ifndef SHADOW_MAP_WRITE
+// The data access of shadowmaps/shadow_filter_dh.h: the rasterised map, the uploaded taps.
+struct ShadowMapSource {
+    uint size;
+};
+float shadowMapSourceDepth(ShadowMapSource s, uint face, ivec2 texel) {
+    return gpuShadowDepthOf(shadowDepth[(face * s.size + uint(texel.y)) * s.size + uint(texel.x)]);
+}
+vec2 shadowMapSourceTap(ShadowMapSource s, uint i) {
+    return shadowTaps[i];
+}
+#define SHADOW_MAP_SOURCE
+#include "shadowmaps/shadow_filter_dh.h"
+#endif
+
+#ifdef FILTERED_MAP_BINDINGS
+// The light's planes, summed-area sums or mip texels (the row's filter decides which), reached by
+// device address (ShadowMapView::filteredLow/High): they outgrow a storage buffer's range. Needs
+// GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_buffer_reference.
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer FilteredSumRef { int64_t value; };
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer FilteredMipRef { float value; };
+
+// The data access of shadowmaps/filtered_lookup_dh.h over the light's planes.
+struct FilteredSource {
+    uint64_t address;
+    uint satPlane; ///< entries per summed-area plane: (size + 1)²
+    uint mipPlane; ///< texels per mip plane: filteredMipPlaneTexels(size)
+};
+FilteredSumRef filteredSumAt(FilteredSource s, uint plane, uint index) {
+    return FilteredSumRef(s.address + 8ul * (uint64_t(plane) * uint64_t(s.satPlane) + uint64_t(index)));
+}
+FilteredMipRef filteredMipAt(FilteredSource s, uint plane, uint index) {
+    return FilteredMipRef(s.address + 4ul * (uint64_t(plane) * uint64_t(s.mipPlane) + uint64_t(index)));
+}
+int64_t filteredSourceSum(FilteredSource s, uint plane, uint index) {
+    return filteredSumAt(s, plane, index).value;
+}
+float filteredSourceMip(FilteredSource s, uint plane, uint index) {
+    return filteredMipAt(s, plane, index).value;
+}
+#define FILTERED_SUM int64_t
+#define FILTERED_SOURCE
+#include "shadowmaps/filtered_lookup_dh.h"
+
+FilteredSource filteredSourceOf(ShadowMapView v) {
+    FilteredSource s;
+    s.address = packUint2x32(uvec2(v.filteredLow, v.filteredHigh));
+    s.satPlane = (v.size + 1u) * (v.size + 1u);
+    s.mipPlane = filteredMipPlaneTexels(v.size);
+    return s;
+}
+#endif
+
 #endif // STSV_SHADERS_SHADOW_BINDINGS_GLSL

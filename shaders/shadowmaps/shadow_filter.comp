@@ -4,9 +4,16 @@
 //   SHADOW_FILTER_STEP 0: PCF → v_coef in the v_coef image
 //                      1: PCSS blocker search → the filter radius (uv), −1 when no blocker
 //                      2: PCSS filter of that radius → v_coef
+//                      3: a filtered representation (shadowmaps/filtered_lookup_dh.h) over a kernel
+//                         of fm_radius texels, or of the radius step 1 left (fm_kernel=1) → v_coef
 #extension GL_GOOGLE_include_directive : require
 #ifndef SHADOW_FILTER_STEP
 #define SHADOW_FILTER_STEP 0
+#endif
+#if SHADOW_FILTER_STEP == 3
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_buffer_reference : require
+#define FILTERED_MAP_BINDINGS
 #endif
 #include "common/frame_bindings.glsl"
 #include "shadowmaps/shadow_bindings.glsl"
@@ -20,18 +27,6 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) uniform image2D v
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuShadowMapStats stats[]; };
 #endif
 
-// The data access of shadowmaps/shadow_filter_dh.h: the rasterised map, the uploaded taps.
-struct ShadowMapSource {
-    uint size;
-};
-float shadowMapSourceDepth(ShadowMapSource s, uint face, ivec2 texel) {
-    return gpuShadowDepthOf(shadowDepth[(face * s.size + uint(texel.y)) * s.size + uint(texel.x)]);
-}
-vec2 shadowMapSourceTap(ShadowMapSource s, uint i) {
-    return shadowTaps[i];
-}
-#define SHADOW_MAP_SOURCE
-#include "shadowmaps/shadow_filter_dh.h"
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -52,10 +47,15 @@ void main() {
     float result = blocker < 0.0 ? -1.0 : pcssFilterRadius(v, r, blocker, shadowParams.maxKernel);
     if (blocker >= 0.0 && pcssKernelClamped(v, r, blocker, shadowParams.maxKernel))
         atomicAdd(stats[pc.light].kernelClamped, 1u);
-#else
+#elif SHADOW_FILTER_STEP == 2
     float radius = imageLoad(vcoefImage, pixel).x;
     float result = radius < 0.0 ? 1.0
                                 : pcssFilter(v, src, r, radius, shadowParams.blockerTaps, shadowParams.filterTaps);
+#else
+    // Step 1 left the radius in uv (−1: no blocker, lit); the lookup takes texels.
+    float radius = shadowParams.kernel != 0u ? imageLoad(vcoefImage, pixel).x * float(v.size) : shadowParams.radius;
+    FilteredSource filtered = filteredSourceOf(v);
+    float result = radius < 0.0 ? 1.0 : filteredVisibility(v, shadowParams, filtered, r, radius);
 #endif
     imageStore(vcoefImage, pixel, vec4(result));
 }

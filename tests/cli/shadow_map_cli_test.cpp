@@ -151,3 +151,24 @@ TEST(ShadowMapCli, NpyHoldsAxialDepthInfWhereEmptyAndRowsAlongV) {
 
 } // namespace
 } // namespace stsv::test
+
+namespace stsv::test {
+namespace {
+
+TEST(ShadowMapCli, AFilteredMapTooLargeForOneVulkanAllocationIsRefusedWithWhatToChange) {
+    // A sphere light's cube map at 2048²: CSM's 32 summed-area planes per face need 6 GiB, more
+    // than one allocation of lavapipe (2 GiB) may hold.
+    const std::vector<std::string> args = {
+        "render",   "fence",
+        "--method", "csm",
+        "--size",   "16x16",
+        "--light",  R"({"type": "sphere", "position": [0, 4, 0], "radius": 0.3, "radiance": [10, 10, 10]})",
+        "-q"};
+    const CliResult r = runStsv(args);
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find("more than one allocation"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("lower sm_size or csm_terms"), std::string::npos) << r.err;
+}
+
+} // namespace
+} // namespace stsv::test

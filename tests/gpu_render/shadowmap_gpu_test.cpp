@@ -138,6 +138,27 @@ TEST_F(ShadowMapGpu, FenceViewFitMapMatchesTracedMap) {
     expectMapsAgree(scene, o, "fence pcss, view fit", frame);
 }
 
+TEST_F(ShadowMapGpu, FilteredMapsMatchTheCpuMirror) {
+    // Each filtered representation built and looked up on the GPU (filtered_map.comp,
+    // shadow_filter.comp) against the CPU's (shadowmaps/filtered_map.cpp), the same functions of
+    // filtered_lookup_dh.h: with summed-area tables (exact integers), mips, both kernels.
+    const Scene scene = loadScene("fence");
+    for (const Method m : {Method::Vsm, Method::Esm, Method::Evsm, Method::Msm, Method::Csm})
+        for (const char* extra : {"fm_kernel=1", "fm_kernel=0"}) {
+            RenderOptions o = gpuOptions(64, 64, 16);
+            o.method = m;
+            o.params = parseMethodParams(methodInfo(m), {"sm_size=512", extra});
+            o.keepShadowMaps = true;
+            const Frame frame = renderGpu(scene, o);
+            expectMapsAgree(scene, o, methodInfo(m).name + " " + extra, frame);
+        }
+    RenderOptions o = gpuOptions(64, 64, 16);
+    o.method = Method::Vsm;
+    o.params = parseMethodParams(methodInfo(Method::Vsm), {"sm_size=512", "fm_mip=1"});
+    o.keepShadowMaps = true;
+    expectMapsAgree(scene, o, "vsm fm_mip=1", renderGpu(scene, o));
+}
+
 TEST_F(ShadowMapGpu, EveryLightShapeMapMatchesTracedMap) {
     Scene scene = testScene();
     scene.lights = {makeRectangleLight({0.0f, 3.0f, 0.0f}, {0, -1, 0}, {1.2f, 0.8f}, vec3(4.0f)),
