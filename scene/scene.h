@@ -54,6 +54,14 @@ struct Bounds {
         lo = min(lo, p);
         hi = max(hi, p);
     }
+    /// Grows to hold `other` too (nothing for an empty one).
+    void extend(const Bounds& other) {
+        if (other.empty()) return;
+        extend(other.lo);
+        extend(other.hi);
+    }
+    /// Corner i of 8: bit 0 picks hi.x, bit 1 hi.y, bit 2 hi.z.
+    vec3 corner(int i) const { return vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z); }
     vec3 center() const { return 0.5f * (lo + hi); }
     vec3 extent() const { return hi - lo; }
     float diameter() const { return empty() ? 0.0f : length(hi - lo); } ///< world units

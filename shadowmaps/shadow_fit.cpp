@@ -30,22 +30,14 @@ Polygon clipPolygon(const Polygon& poly, vec3 eye, vec4 plane) {
     return out;
 }
 
-/// Bounds of several boxes; merged per thread chunk by the caller.
+/// The union of two boxes (the join of the parallel reductions).
 Bounds unite(Bounds a, const Bounds& b) {
-    if (!b.empty()) {
-        a.extend(b.lo);
-        a.extend(b.hi);
-    }
+    a.extend(b);
     return a;
 }
 
 bool overlaps(const Bounds& a, const Bounds& b) {
     return all(lessThanEqual(a.lo, b.hi)) && all(lessThanEqual(b.lo, a.hi));
-}
-
-void cornersOf(const Bounds& box, vec3 out[8]) {
-    for (int i = 0; i < 8; ++i)
-        out[i] = vec3(i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z);
 }
 
 /// Points whose convex hull holds a finite light: a rectangle's corners, the square around a
@@ -125,18 +117,17 @@ Bounds shadowCasterBounds(const Scene& scene, const Light& light, const Bounds& 
     if (directional) {
         const float across = scene.bounds().diameter() + receivers.diameter();
         const float spread = across * std::tan(std::min(light.angularRadius, 1.5f));
-        vec3 c[8];
-        cornersOf(receivers, c);
-        for (const vec3& p : c) {
-            reach.extend(p + across * towardLight + vec3(spread));
-            reach.extend(p + across * towardLight - vec3(spread));
+        for (int i = 0; i < 8; ++i) {
+            const vec3 p = receivers.corner(i) + across * towardLight;
+            reach.extend(p + vec3(spread));
+            reach.extend(p - vec3(spread));
         }
     } else {
         points = lightPoints(light);
         for (const vec3& p : points) reach.extend(p);
     }
     vec3 receiverCorners[8];
-    cornersOf(receivers, receiverCorners);
+    for (int i = 0; i < 8; ++i) receiverCorners[i] = receivers.corner(i);
     const float eps = 1e-6f * std::max(reach.diameter(), 1e-30f);
     const std::size_t count = scene.triangleCount();
     return parallelReduce(

@@ -20,11 +20,6 @@ vec4 squareWindow(vec2 lo, vec2 hi) {
     return vec4(centre.x - half, centre.y - half, centre.x + half, centre.y + half);
 }
 
-void corners(const Bounds& box, vec3 out[8]) {
-    for (int i = 0; i < 8; ++i)
-        out[i] = vec3(i & 1 ? box.hi.x : box.lo.x, i & 2 ? box.hi.y : box.lo.y, i & 4 ? box.hi.z : box.lo.z);
-}
-
 ShadowMapView cubeMap(const Light& light, const Bounds& box, vec3 x, vec3 y, vec3 z, int size) {
     ShadowMapView v{};
     v.projection = SHADOW_MAP_CUBE;
@@ -38,10 +33,8 @@ ShadowMapView cubeMap(const Light& light, const Bounds& box, vec3 x, vec3 y, vec
     // A point of the box is at least `distance` from the centre, so at least distance/√3 along
     // the axis of the face that holds it; no point is farther than the farthest corner.
     const float distance = length(clamp(light.position, box.lo, box.hi) - light.position);
-    vec3 c[8];
-    corners(box, c);
     float farthest = 0.0f;
-    for (const vec3& p : c) farthest = std::max(farthest, length(p - light.position));
+    for (int i = 0; i < 8; ++i) farthest = std::max(farthest, length(box.corner(i) - light.position));
     v.near = std::max(0.99f * distance / std::sqrt(3.0f), 1e-5f * box.diameter());
     v.far = std::max(1.01f * farthest, 2.0f * v.near);
     return v;
@@ -82,12 +75,10 @@ FaceExtent perspectiveExtent(const Bounds& box, vec3 origin, vec3 x, vec3 y, vec
         e.zhi = std::max(e.zhi, l.z);
         e.any = true;
     };
-    vec3 c[8];
-    corners(box, c);
     for (int a = 0; a < 8; ++a)
         for (int bit = 1; bit < 8; bit <<= 1) {
             if (a & bit) continue;
-            const vec3 pa = c[a] - origin, pb = c[a | bit] - origin;
+            const vec3 pa = box.corner(a) - origin, pb = box.corner(a | bit) - origin;
             vec3 la(dot(pa, x), dot(pa, y), dot(pa, z)), lb(dot(pb, x), dot(pb, y), dot(pb, z));
             if (la.z < eps && lb.z < eps) continue;
             if (la.z < eps) la = la + (lb - la) * ((eps - la.z) / (lb.z - la.z));
@@ -102,9 +93,8 @@ FaceExtent perspectiveExtent(const Bounds& box, vec3 origin, vec3 x, vec3 y, vec
 FaceExtent orthographicExtent(const Bounds& box, vec3 ox, vec3 oy, vec3 view) {
     FaceExtent e;
     if (box.empty()) return e;
-    vec3 c[8];
-    corners(box, c);
-    for (const vec3& p : c) {
+    for (int i = 0; i < 8; ++i) {
+        const vec3 p = box.corner(i);
         const vec2 s(dot(p, ox), dot(p, oy));
         e.lo = min(e.lo, s);
         e.hi = max(e.hi, s);
@@ -115,15 +105,6 @@ FaceExtent orthographicExtent(const Bounds& box, vec3 ox, vec3 oy, vec3 view) {
     return e;
 }
 
-Bounds unite(const Bounds& a, const Bounds& b) {
-    Bounds u = a;
-    if (!b.empty()) {
-        u.extend(b.lo);
-        u.extend(b.hi);
-    }
-    return u;
-}
-
 } // namespace
 
 ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
@@ -132,7 +113,8 @@ ShadowMapView fitShadowMap(const Light& light, const Bounds& box, int size) {
 
 ShadowMapView fitShadowMapToRegion(const Light& light, const Bounds& receivers, const Bounds& casters,
                                    int size) {
-    const Bounds all = unite(receivers, casters);
+    Bounds all = receivers;
+    all.extend(casters);
     if (all.empty()) throw UsageError("shadow map: the scene has no triangles");
     if (size < 1 || size > 16384)
         throw UsageError("shadow map: size must be in 1 … 16384 texels, got " + std::to_string(size));

@@ -9,6 +9,7 @@
 
 #include <atomic>
 #include <cmath>
+#include <optional>
 
 namespace stsv {
 
@@ -31,56 +32,6 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
     return map;
 }
 
-namespace {
-
-/// A filtered representation's visibility per covered pixel: the representation built, the
-/// kernel radius from fm_radius or the blocker search, one lookup.
-template <class Receiver>
-void filteredMapPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
-                       const ShadowMapSettings& settings, const Receiver& receiver, ImageF& vcoef,
-                       ShadowMapCpuStats* stats) {
-    const ShadowMapView& view = map.view;
-    const ShadowMapSource src{&map, taps.data()};
-    Timer timer;
-    const FilteredShadowMap filtered(map, settings);
-    if (stats) {
-        stats->build_ms = timer.milliseconds();
-        stats->representationBytes = filteredMapBytes(view, settings);
-    }
-    timer.reset();
-    const bool search = settings.kernel != 0;
-    // The blocker search leaves the kernel radius (texels) or −1 (no blocker: lit) in vcoef.
-    std::atomic<std::uint64_t> clamped{0};
-    if (search) {
-        parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
-            const std::size_t i = gbuffer.index(x, y);
-            if (!gbuffer.covered(i)) return;
-            const ShadowReceiver r = receiver(x, y, i);
-            const float blocker =
-                pcssAverageBlocker(view, src, r, uint(settings.blockerTaps), settings.maxSearch);
-            vcoef.at(x, y, 0) =
-                blocker < 0.0f ? -1.0f
-                               : pcssFilterRadius(view, r, blocker, settings.maxKernel) * float(view.size);
-            if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
-                clamped.fetch_add(1, std::memory_order_relaxed);
-        });
-        if (stats) {
-            stats->blocker_ms = timer.milliseconds();
-            stats->kernelClamped = clamped.load();
-        }
-        timer.reset();
-    }
-    parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
-        const std::size_t i = gbuffer.index(x, y);
-        if (!gbuffer.covered(i)) return;
-        const float radius = search ? vcoef.at(x, y, 0) : settings.radius;
-        vcoef.at(x, y, 0) = radius < 0.0f ? 1.0f : filtered.visibility(receiver(x, y, i), radius);
-    });
-    if (stats) stats->filter_ms = timer.milliseconds();
-}
-
-} // namespace
-
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
                            const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
                            ImageF& vcoef, ShadowMapCpuStats* stats, int supersample) {
@@ -93,41 +44,52 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
                                                 seed, decorrelate));
     };
     Timer timer;
+    // A filtered representation is built first (channels and their tables or mips).
+    std::optional<FilteredShadowMap> filtered;
     if (isFilteredRepresentation(settings.filter)) {
-        filteredMapPixels(map, taps, gbuffer, settings, receiver, vcoef, stats);
-        return;
+        filtered.emplace(map, settings);
+        if (stats) {
+            stats->build_ms = timer.milliseconds();
+            stats->representationBytes = filteredMapBytes(view, settings);
+        }
+        timer.reset();
     }
-    if (settings.filter == ShadowFilter::Pcf) {
+    // The blocker search, as on the GPU: PCSS, and the filtered maps with fm_kernel=1. It leaves
+    // the kernel radius (uv) or −1 (no blocker: lit) in `vcoef`; the filter replaces it with the
+    // visibility.
+    const bool search = settings.filter == ShadowFilter::Pcss || (filtered && settings.kernel != 0);
+    const uint blockerTaps = uint(settings.blockerTaps), filterTaps = uint(settings.filterTaps);
+    if (search) {
+        std::atomic<std::uint64_t> clamped{0};
         parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
             const std::size_t i = gbuffer.index(x, y);
             if (!gbuffer.covered(i)) return;
-            vcoef.at(x, y, 0) = pcfVisibility(view, src, receiver(x, y, i), settings.pcfRadius);
+            const ShadowReceiver r = receiver(x, y, i);
+            const float blocker = pcssAverageBlocker(view, src, r, blockerTaps, settings.maxSearch);
+            vcoef.at(x, y, 0) =
+                blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
+            if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
+                clamped.fetch_add(1, std::memory_order_relaxed);
         });
-        if (stats) stats->filter_ms = timer.milliseconds();
-        return;
+        if (stats) {
+            stats->kernelClamped = clamped.load();
+            stats->blocker_ms = timer.milliseconds();
+        }
+        timer.reset();
     }
-    // PCSS in two passes, as on the GPU: the blocker search leaves the kernel radius (or −1:
-    // no blocker, lit) in `vcoef`, the filter replaces it with the visibility.
-    const uint blockerTaps = uint(settings.blockerTaps), filterTaps = uint(settings.filterTaps);
-    std::atomic<std::uint64_t> clamped{0};
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
         const std::size_t i = gbuffer.index(x, y);
         if (!gbuffer.covered(i)) return;
-        const ShadowReceiver r = receiver(x, y, i);
-        const float blocker = pcssAverageBlocker(view, src, r, blockerTaps, settings.maxSearch);
-        vcoef.at(x, y, 0) = blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
-        if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
-            clamped.fetch_add(1, std::memory_order_relaxed);
-    });
-    if (stats) stats->kernelClamped = clamped.load();
-    if (stats) stats->blocker_ms = timer.milliseconds();
-    timer.reset();
-    parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
-        const std::size_t i = gbuffer.index(x, y);
-        if (!gbuffer.covered(i)) return;
-        const float radius = vcoef.at(x, y, 0);
-        vcoef.at(x, y, 0) =
-            radius < 0.0f ? 1.0f : pcssFilter(view, src, receiver(x, y, i), radius, blockerTaps, filterTaps);
+        float& v = vcoef.at(x, y, 0);
+        if (settings.filter == ShadowFilter::Pcf) {
+            v = pcfVisibility(view, src, receiver(x, y, i), settings.pcfRadius);
+        } else if (!filtered) {
+            v = v < 0.0f ? 1.0f : pcssFilter(view, src, receiver(x, y, i), v, blockerTaps, filterTaps);
+        } else {
+            // The lookup takes texels.
+            const float radius = search ? v * float(view.size) : settings.radius;
+            v = radius < 0.0f ? 1.0f : filtered->visibility(receiver(x, y, i), radius);
+        }
     });
     if (stats) stats->filter_ms = timer.milliseconds();
 }
@@ -140,8 +102,6 @@ ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffe
     Timer timer;
     ShadowMap map = traceShadowMap(embree, view);
     stats.map_ms = timer.milliseconds();
-    stats.faces = map.view.faces;
-    stats.texels = map.depth.size();
     shadowMapFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, vcoef,
                           &stats, supersample);
     if (keep) *keep = std::move(map);

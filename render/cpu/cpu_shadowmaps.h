@@ -21,8 +21,6 @@ class EmbreeScene;
 ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);
 
 struct ShadowMapCpuStats {
-    std::size_t texels = 0; ///< faces × size²
-    std::size_t faces = 0;
     double map_ms = 0.0;             ///< tracing the map
     double build_ms = 0.0;           ///< filtered representations: channels and summed-area tables or mips
     double blocker_ms = 0.0;         ///< the blocker search (PCSS; filtered maps with fm_kernel=1)
