@@ -6,6 +6,7 @@
 #include "gpu/device.h"
 #include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_renderer.h"
+#include "shadowmaps/depth_grid_dh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -184,10 +185,13 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
     const double images = pixels * (12.0 + 4.0);
     double perLight = double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples,
                                                              methodInfo(o.method).bufferKind(o.buffer)));
-    // Image-based methods: a map per light, six faces at most.
+    // Image-based methods: a map per light, six faces at most (the depth grid: its words a texel).
     if (methodInfo(o.method).shadowMap != ShadowFilter::None) {
-        const double edge = shadowMapSettingsFrom(methodInfo(o.method).shadowMap, o.params).size;
-        perLight += 6.0 * edge * edge * sizeof(float);
+        const ShadowMapSettings s = shadowMapSettingsFrom(methodInfo(o.method).shadowMap, o.params);
+        const double edge = shadowMapSize(s);
+        const double bytes =
+            s.filter == ShadowFilter::Peel ? 4.0 * peelTexelWords(uint(s.peelBins)) : sizeof(float);
+        perLight += 6.0 * edge * edge * bytes;
     }
     // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests
     // (two a pixel at first, 8 bytes each; render/vulkan/gpu_renderer.cpp) and, for STSV bitmasks,
@@ -208,7 +212,7 @@ void checkFrameMemory(const RenderOptions& o, std::size_t lights) {
     std::snprintf(what, sizeof what, "a %dx%d frame with %d samples and %zu light(s)", o.width, o.height,
                   o.samples, lights);
     checkMemory(what, estimateFrameBytes(o, lights),
-                "use a smaller --size, fewer --samples or a smaller sm_size");
+                "use a smaller --size, fewer --samples or a smaller sm_size (peel_size)");
 }
 
 void writeJson(const std::string& path, const nlohmann::json& json) {

@@ -98,6 +98,10 @@ int runRender(RenderArgs& args) {
     if (!args.shadowMap.empty() && method.shadowMap == ShadowFilter::None)
         throw UsageError("--shadow-map: method " + method.name +
                          " renders no shadow map (image-based methods do)");
+    if (!args.shadowMap.empty() && method.shadowMap == ShadowFilter::Peel)
+        throw UsageError("--shadow-map: method " + method.name +
+                         " keeps a depth grid of front and back faces, not a depth map (its size and "
+                         "memory are in --stats)");
     const std::vector<OutputFile> outputs = {{"-o", args.output, {".png", ".exr"}},
                                              {"--visibility", args.visibility, {".png", ".npy", ".exr"}},
                                              {"--dump-ls", args.dumpLs, {".npy"}},

@@ -19,6 +19,7 @@ struct FilterContext {
     const Scene* scene;
     std::uint32_t ignoreTriangle;
     std::vector<std::uint32_t>* collect; ///< when set: record every blocking triangle and go on
+    std::vector<Hit>* hits;              ///< when set: record every hit (t, triangle, bary) and go on
 };
 
 /// The texel rule at the hit: transparent texels and the ignored triangle reject the hit.
@@ -42,6 +43,14 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
         const ivec2 texel = texelAt(uv, ivec2(texture.width, texture.height),
                                     material.wrap == WrapMode::Clamp ? WRAP_CLAMP : WRAP_REPEAT);
         if (!alphaBlocks(texture.alpha(texel.x, texel.y))) args->valid[i] = 0;
+    }
+    if (ctx->hits) {
+        for (unsigned i = 0; i < args->N; ++i) {
+            if (args->valid[i] != -1) continue;
+            ctx->hits->push_back({RTCRayN_tfar(args->ray, args->N, i), RTCHitN_primID(args->hit, args->N, i),
+                                  vec2(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i))});
+            args->valid[i] = 0;
+        }
     }
     if (ctx->collect) {
         for (unsigned i = 0; i < args->N; ++i) {
@@ -159,6 +168,33 @@ std::uint32_t EmbreeScene::countLayers(vec3 p, vec3 s, float tMin, std::uint32_t
     // A primitive referenced by several BVH leaves (spatial splits) may be reported twice.
     std::sort(scratch.begin(), scratch.end());
     return static_cast<std::uint32_t>(std::unique(scratch.begin(), scratch.end()) - scratch.begin());
+}
+
+void EmbreeScene::allHits(vec3 o, vec3 d, float tNear, float tFar, std::vector<Hit>& hits) const {
+    hits.clear();
+    FilterContext ctx{};
+    rtcInitIntersectContext(&ctx.rtc);
+    ctx.scene = &m_scene;
+    ctx.ignoreTriangle = NO_TRIANGLE;
+    ctx.hits = &hits;
+    RTCRayHit rh{};
+    rh.ray.org_x = o.x;
+    rh.ray.org_y = o.y;
+    rh.ray.org_z = o.z;
+    rh.ray.dir_x = d.x;
+    rh.ray.dir_y = d.y;
+    rh.ray.dir_z = d.z;
+    rh.ray.tnear = tNear;
+    rh.ray.tfar = tFar;
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    // The filter records each candidate and rejects it, so traversal visits them all.
+    rtcIntersect1(m_rtcScene, &ctx.rtc, &rh);
+    // A primitive referenced by several BVH leaves (spatial splits) may be reported twice.
+    std::sort(hits.begin(), hits.end(), [](const Hit& a, const Hit& b) { return a.triangle < b.triangle; });
+    hits.erase(std::unique(hits.begin(), hits.end(),
+                           [](const Hit& a, const Hit& b) { return a.triangle == b.triangle; }),
+               hits.end());
 }
 
 vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary) {

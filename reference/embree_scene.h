@@ -41,6 +41,11 @@ class EmbreeScene {
     std::uint32_t countLayers(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle,
                               std::vector<std::uint32_t>& scratch) const;
 
+    /// Every non-transparent hit of o + t·d with t in [tNear, tFar] into `hits` (cleared), in
+    /// no particular order, each triangle once (t in units of d). The depth grid of `peel` is
+    /// made of them.
+    void allHits(vec3 o, vec3 d, float tNear, float tFar, std::vector<Hit>& hits) const;
+
     /// Visible point per pixel centre through the scene camera (row 0 at the top).
     GBuffer traceGBuffer(int width, int height) const;
 

@@ -76,6 +76,15 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
         double worst = 0.0;
         for (const nlohmann::json& map : stats["shadow_maps"])
             worst = std::max(worst, map.value("kernel_clamped_fraction", 0.0));
+        std::size_t openEdges = 0;
+        for (const nlohmann::json& map : stats["shadow_maps"])
+            openEdges = std::max(openEdges, map.value("open_edges", std::size_t(0)));
+        if (openEdges > 0)
+            warnings.push_back(
+                method + " assumes closed objects, and the scene has " + std::to_string(openEdges) +
+                " open edges (single quads, open meshes): behind a surface facing the light with "
+                "no back face after it everything counts as shadowed, behind a lone back face "
+                "nothing");
         if (worst > KERNEL_CLAMP_WARNING) {
             char text[200];
             std::snprintf(

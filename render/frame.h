@@ -8,6 +8,7 @@
 #include "render/options.h"
 #include "sampling/ls_buffer.h"
 #include "scene/scene.h"
+#include "shadowmaps/depth_grid.h"
 #include "shadowmaps/shadow_map.h"
 
 #include <nlohmann/json.hpp>
@@ -28,6 +29,8 @@ struct Frame {
     ImageF visibility; ///< one channel: v_coef averaged over the lights (1 on background)
     /// One per light for image-based methods rendered with RenderOptions::keepShadowMaps.
     std::vector<ShadowMap> shadowMaps;
+    /// `peel`: one depth grid per light instead, with RenderOptions::keepShadowMaps.
+    std::vector<DepthGrid> depthGrids;
     /// options, scene counts, "startup_ms" (acceleration structures, devices, shader
     /// compilation), "frame_ms" (one frame without start-up) and "passes" (name → ms).
     nlohmann::json stats;

@@ -149,6 +149,16 @@ std::vector<MethodInfo> buildTable() {
          .backends = {B::Vulkan, B::Cpu},
          .knobs = mapKnobs(ShadowFilter::Csm),
          .shadowMap = ShadowFilter::Csm},
+        {.id = Method::Peel,
+         .name = "peel",
+         .description = "Depth-peeling soft shadows (Liu et al. 2009): a depth grid of front and back faces "
+                        "from the light centre, every sample's ray marched through it (Table 1); assumes "
+                        "closed objects",
+         .family = MethodFamily::ImageBased,
+         .output = MethodOutput::SampleOcclusion,
+         .backends = {B::Vulkan, B::Cpu},
+         .knobs = mapKnobs(ShadowFilter::Peel),
+         .shadowMap = ShadowFilter::Peel},
     };
     for (std::size_t i = 0; i < table.size(); ++i)
         if (static_cast<std::size_t>(table[i].id) != i) throw Error("method table out of enum order");

@@ -30,6 +30,7 @@ enum class Method {
     Evsm,      ///< exponential variance shadow maps
     Msm,       ///< moment shadow maps
     Csm,       ///< convolution shadow maps
+    Peel,      ///< depth-peeling soft shadows: a depth grid marched per light sample
 };
 
 enum class Backend { Cpu, Vulkan };

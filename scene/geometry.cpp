@@ -83,8 +83,10 @@ MeshData makeTubeMesh(int segments, int sides, float radius, const std::function
     auto index = [&](int i, int j) { return std::uint32_t((i % segments) * sides + (j % sides)); };
     for (int i = 0; i < segments; ++i)
         for (int j = 0; j < sides; ++j) {
-            m.triangles.push_back(uvec3(index(i, j), index(i + 1, j), index(i + 1, j + 1)));
-            m.triangles.push_back(uvec3(index(i, j), index(i + 1, j + 1), index(i, j + 1)));
+            // Counter-clockwise seen from outside: (i, j) → (i, j + 1) runs around the tube (b
+            // after n, b = t × n), (i, j) → (i + 1, j) along it, and (around) × (along) points out.
+            m.triangles.push_back(uvec3(index(i, j), index(i + 1, j + 1), index(i + 1, j)));
+            m.triangles.push_back(uvec3(index(i, j), index(i, j + 1), index(i + 1, j + 1)));
             m.triangleMaterial.insert(m.triangleMaterial.end(), 2, 0);
         }
     Material material;

@@ -183,8 +183,9 @@ Bounds shadowCasterBounds(const Scene& scene, const Light& light, const Bounds& 
 
 ShadowMapView fitFrameShadowMap(const Scene& scene, const Light& light, const Bounds& receivers,
                                 const ShadowMapSettings& settings) {
-    if (settings.fit == 0 || receivers.empty()) return fitShadowMap(light, scene.bounds(), settings.size);
-    return fitShadowMapToRegion(light, receivers, shadowCasterBounds(scene, light, receivers), settings.size);
+    const int size = shadowMapSize(settings);
+    if (settings.fit == 0 || receivers.empty()) return fitShadowMap(light, scene.bounds(), size);
+    return fitShadowMapToRegion(light, receivers, shadowCasterBounds(scene, light, receivers), size);
 }
 
 nlohmann::json shadowTexelFootprint(const ShadowMapView& view, const Camera& camera, const GBuffer& gbuffer) {

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "sampling/light_sampling_dh.h"
+#include "shadowmaps/depth_grid_dh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -188,6 +189,11 @@ std::size_t shadowMapBytes(const ShadowMapView& view) {
     return std::size_t(view.faces) * std::size_t(view.size) * std::size_t(view.size) * sizeof(float);
 }
 
+std::size_t depthGridBytes(const ShadowMapView& view, const ShadowMapSettings& settings) {
+    return std::size_t(view.faces) * std::size_t(view.size) * std::size_t(view.size) *
+           peelTexelWords(uint(settings.peelBins)) * sizeof(std::uint32_t);
+}
+
 std::vector<vec2> poissonDiskTaps(int count, std::uint32_t seed, float* minDistance) {
     if (count < 1) throw UsageError("Poisson-disk taps: count must be at least 1");
     std::mt19937 rng(seed);
@@ -283,6 +289,8 @@ ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
     params.msmBias = settings.msmBias;
     params.csmTerms = uint(settings.csmTerms);
     params.csmDamp = uint(settings.csmDamp);
+    params.peelBins = uint(settings.peelBins);
+    params.peelSteps = uint(settings.peelSteps);
     return params;
 }
 
@@ -291,15 +299,11 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     using S = ShadowMapSettings;
     const std::vector<F> searched = {F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
     const std::vector<F> filtered = {F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
+    // The maps that compare depths at the receiver (the depth grid marches rays instead).
+    const std::vector<F> compared = {F::Pcf, F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
     static const std::vector<ShadowMapKnob> knobs = {
-        {"sm_size",
-         256,
-         8192,
-         true,
-         "shadow map texels per face edge (32-bit linear depth)",
-         {},
-         nullptr,
-         &S::size},
+        {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", compared,
+         nullptr, &S::size},
         {"sm_fit",
          0,
          1,
@@ -309,14 +313,9 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
          {},
          nullptr,
          &S::fit},
-        {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", {}, &S::bias},
-        {"sm_normal_offset",
-         0,
-         64,
-         false,
-         "receiver moved along its normal before the lookup, in texels",
-         {},
-         &S::normalOffset},
+        {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", compared, &S::bias},
+        {"sm_normal_offset", 0, 64, false, "receiver moved along its normal before the lookup, in texels",
+         compared, &S::normalOffset},
         {"pcf_radius",
          0,
          32,
@@ -379,6 +378,30 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
          {F::Csm},
          nullptr,
          &S::csmDamp},
+        {"peel_size",
+         16,
+         4096,
+         true,
+         "depth grid texels per face edge (4 (2 + 2 peel_bins) bytes a texel)",
+         {F::Peel},
+         nullptr,
+         &S::peelSize},
+        {"peel_bins",
+         1,
+         32,
+         true,
+         "subintervals of each grid texel's depth range",
+         {F::Peel},
+         nullptr,
+         &S::peelBins},
+        {"peel_steps",
+         1,
+         1024,
+         true,
+         "march steps from the visible point to each light sample",
+         {F::Peel},
+         nullptr,
+         &S::peelSteps},
     };
     return knobs;
 }

@@ -60,9 +60,10 @@ struct ShadowMap {
     }
 };
 
-/// How a frame filters its maps: percentage-closer filters of the depths, or a filtered
-/// representation (shadowmaps/filtered_shadow_dh.h) averaged over a kernel and compared once.
-enum class ShadowFilter { None, Pcf, Pcss, Vsm, Esm, Evsm, Msm, Csm };
+/// How a frame filters its maps: percentage-closer filters of the depths, a filtered
+/// representation (shadowmaps/filtered_shadow_dh.h) averaged over a kernel and compared once, or
+/// (Peel) a depth grid marched per light sample (shadowmaps/depth_grid_dh.h).
+enum class ShadowFilter { None, Pcf, Pcss, Vsm, Esm, Evsm, Msm, Csm, Peel };
 
 /// Whether a filter averages a representation of the depths (VSM, ESM, EVSM, MSM, CSM).
 inline bool isFilteredRepresentation(ShadowFilter f) {
@@ -101,9 +102,14 @@ struct ShadowMapSettings {
     float esmC = 80.0f;         ///< esm_c: the exponent
     float evsmPositive = 40.0f; ///< evsm_positive: c⁺
     float evsmNegative = 5.0f;  ///< evsm_negative: c⁻
-    float msmBias = 3e-5f;      ///< msm_bias: α of the moment bias
+    float msmBias = 6e-7f;      ///< msm_bias: α of the moment bias (the trade-off: docs/methods.md)
     int csmTerms = 16;          ///< csm_terms: M
     int csmDamp = 1;            ///< csm_damp: Lanczos σ factors on the terms
+    // Depth-peeling soft shadows (the depth grid). The grid's texels per face edge replace
+    // sm_size: at 512² and 16 subintervals a face holds 36 MB (the paper's grid is coarse).
+    int peelSize = 512; ///< peel_size: grid texels per face edge
+    int peelBins = 16;  ///< peel_bins: subintervals of each texel's depth range
+    int peelSteps = 20; ///< peel_steps: march steps per light-sample ray
 };
 
 /// One knob of ShadowMapSettings as a method's `--param`: its name, range and help, which filters
@@ -138,6 +144,14 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs();
 /// The settings of a `filter` frame: the defaults of ShadowMapSettings, with each (name, value)
 /// of `params` set on its knob. UsageError for a name that is no knob of `filter`.
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params);
+
+/// Texels per face edge of the frame's map: sm_size, or peel_size for the depth grid (`peel`).
+inline int shadowMapSize(const ShadowMapSettings& s) {
+    return s.filter == ShadowFilter::Peel ? s.peelSize : s.size;
+}
+
+/// Bytes of one light's depth grid (`peel`): faces × size² texels of peelTexelWords(peel_bins) words.
+std::size_t depthGridBytes(const ShadowMapView& view, const ShadowMapSettings& settings);
 
 /// Values per texel of a filtered representation: VSM 2, ESM 1, EVSM 4, MSM 4, CSM 2·csm_terms;
 /// 0 for PCF and PCSS.

@@ -56,6 +56,7 @@ DH_CONST uint SHADOW_FILTER_ESM = 4u;
 DH_CONST uint SHADOW_FILTER_EVSM = 5u;
 DH_CONST uint SHADOW_FILTER_MSM = 6u;
 DH_CONST uint SHADOW_FILTER_CSM = 7u;
+DH_CONST uint SHADOW_FILTER_PEEL = 8u;
 
 /// The filter knobs of a frame as the shaders read them, ahead of the views in one buffer
 /// (ShadowMapSettings on the host, shadowFilterParams). std430: 6 × 16 bytes.
@@ -81,8 +82,8 @@ struct ShadowFilterParams {
     float msmBias;
     uint csmTerms;
     uint csmDamp;
-    uint pad0;
-    uint pad1;
+    uint peelBins;  ///< depth grid: subintervals per texel
+    uint peelSteps; ///< depth grid: march steps per ray
     uint pad2;
     uint pad3;
 };

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/progress.h"
 #include "core/timer.h"
 #include "reference/embree_scene.h"
 #include "shadowmaps/filtered_map.h"
@@ -30,6 +31,75 @@ ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view) {
         });
     }
     return map;
+}
+
+DepthGrid traceDepthGrid(const EmbreeScene& embree, const ShadowMapView& view, uint bins) {
+    DepthGrid grid(view, bins);
+    const Scene& scene = embree.scene();
+    const int size = int(view.size);
+    for (uint face = 0; face < view.faces; ++face) {
+        parallelForTiles(size, size, [&](const PixelTile& tile) {
+            std::vector<Hit> hits;
+            std::vector<GridSurface> surfaces;
+            for (int y = tile.y0; y < tile.y1; ++y)
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    vec3 o, d;
+                    shadowMapTexelRay(view, face, ivec2(x, y), o, d);
+                    // d·Z = 1: the ray parameter is the axial depth, clipped to [near, far] as the
+                    // rasteriser clips.
+                    embree.allHits(o, d, view.near, view.far, hits);
+                    surfaces.clear();
+                    for (const Hit& h : hits) {
+                        const uvec3 idx = scene.triangles[h.triangle];
+                        const vec3 n = cross(scene.positions[idx.y] - scene.positions[idx.x],
+                                             scene.positions[idx.z] - scene.positions[idx.x]);
+                        surfaces.push_back({shadowMapDepthAlong(view, d, h.t), dot(n, d) < 0.0f});
+                    }
+                    fillDepthGridTexel(grid.texel(face, ivec2(x, y)), bins, surfaces);
+                }
+        });
+    }
+    return grid;
+}
+
+void peelMarchSamples(const DepthGrid& grid, const GBuffer& gbuffer, const Light& light,
+                      const SamplePlan& plan, float farDistance, uint steps, LightSampleBuffer& out) {
+    const bool counting = out.kind() == BufferKind::Counters;
+    const PeelGridSource src{&grid};
+    Progress progress("peel march", std::size_t(tilesAcross(gbuffer.width)) * tilesAcross(gbuffer.height));
+    parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
+        for (int y = tile.y0; y < tile.y1; ++y)
+            for (int x = tile.x0; x < tile.x1; ++x) {
+                const std::size_t i = gbuffer.index(x, y);
+                if (!gbuffer.covered(i)) continue;
+                const vec3 p = gbuffer.position[i];
+                const LightFrame frame = lightFrame(light, p, farDistance);
+                for (int k = 0; k < plan.count; ++k) {
+                    const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
+                    if (!peelRayOccluded(src, grid.view, grid.bins, steps, p, s)) continue;
+                    if (counting)
+                        out.addCount(x, y, k, 1);
+                    else
+                        out.setOccluded(x, y, k);
+                }
+            }
+        progress.advance();
+    });
+}
+
+PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, const ShadowMapView& view,
+                            const ShadowMapSettings& settings, LightSampleBuffer& out, DepthGrid* keep) {
+    PeelCpuStats stats;
+    Timer timer;
+    DepthGrid grid = traceDepthGrid(embree, view, uint(settings.peelBins));
+    stats.grid_ms = timer.milliseconds();
+    stats.gridBytes = depthGridBytes(view, settings);
+    timer.reset();
+    peelMarchSamples(grid, gbuffer, light, plan, farDistance, uint(settings.peelSteps), out);
+    stats.march_ms = timer.milliseconds();
+    if (keep) *keep = std::move(grid);
+    return stats;
 }
 
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,

@@ -6,6 +6,9 @@
 #include "core/gbuffer.h"
 #include "core/image.h"
 #include "render/options.h"
+#include "sampling/light_sampling.h"
+#include "sampling/ls_buffer.h"
+#include "shadowmaps/depth_grid.h"
 #include "shadowmaps/shadow_map.h"
 
 #include <nlohmann/json.hpp>
@@ -41,5 +44,27 @@ ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffe
 void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
                            const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
                            ImageF& vcoef, ShadowMapCpuStats* stats = nullptr, int supersample = 1);
+
+/// The depth grid of `view` (`peel`, shadowmaps/depth_grid_dh.h): every surface each texel-centre
+/// ray meets between near and far, holes of perforated triangles let through, front or back by
+/// the triangle's winding against the ray.
+DepthGrid traceDepthGrid(const EmbreeScene& embree, const ShadowMapView& view, uint bins);
+
+struct PeelCpuStats {
+    double grid_ms = 0.0;  ///< tracing the grid
+    double march_ms = 0.0; ///< marching every sample's ray
+    std::size_t gridBytes = 0;
+};
+
+/// `peel`: each covered pixel's light-sample rays marched through the grid into `out` (bits, or
+/// one layer per occluded sample in a counters buffer).
+void peelMarchSamples(const DepthGrid& grid, const GBuffer& gbuffer, const Light& light,
+                      const SamplePlan& plan, float farDistance, uint steps, LightSampleBuffer& out);
+
+/// The grid of `view` and the march, timed.
+PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, const Light& light,
+                            const SamplePlan& plan, float farDistance, const ShadowMapView& view,
+                            const ShadowMapSettings& settings, LightSampleBuffer& out,
+                            DepthGrid* keep = nullptr);
 
 } // namespace stsv

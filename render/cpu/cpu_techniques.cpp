@@ -8,6 +8,7 @@
 #include "render/cpu/cpu_wedges.h"
 #include "render/frame.h"
 #include "shadowmaps/shadow_fit.h"
+#include "wedges/adjacency.h"
 
 #include <utility>
 
@@ -84,14 +85,19 @@ class WedgeTechnique final : public CpuTechnique {
     nlohmann::json m_stats = nlohmann::json::array();
 };
 
-/// The light-centre map and its PCF or PCSS filter: v_coef per pixel.
+/// The light-centre map and its filter (v_coef per pixel), or the depth grid marched per light
+/// sample (`peel`: the light's bits).
 class ShadowMapTechnique final : public CpuTechnique {
   public:
     explicit ShadowMapTechnique(const CpuTechniqueContext& c)
         : m_c(c), m_settings(shadowMapSettings(c.options)),
           m_receivers(
-              shadowReceiverBounds(c.embree.scene(), float(c.options.width) / float(c.options.height))) {}
+              shadowReceiverBounds(c.embree.scene(), float(c.options.width) / float(c.options.height))) {
+        if (m_settings.filter == ShadowFilter::Peel)
+            m_openEdges = buildEdgeAdjacency(c.embree.scene()).openEdges;
+    }
     void run(CpuLightWork& work) override {
+        if (m_settings.filter == ShadowFilter::Peel) return runPeel(work);
         ShadowMap* keep = m_c.options.keepShadowMaps ? &work.frame.shadowMaps.emplace_back() : nullptr;
         const Scene& scene = m_c.embree.scene();
         const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
@@ -114,8 +120,24 @@ class ShadowMapTechnique final : public CpuTechnique {
     }
 
   private:
+    void runPeel(CpuLightWork& work) {
+        const Scene& scene = m_c.embree.scene();
+        const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
+        DepthGrid* keep = m_c.options.keepShadowMaps ? &work.frame.depthGrids.emplace_back() : nullptr;
+        const PeelCpuStats s = peelCpuSamples(m_c.embree, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
+                                              view, m_settings, work.samples, keep);
+        work.passes[work.pass("depth_grid")] = s.grid_ms;
+        work.passes[work.pass("peel_march")] = s.march_ms;
+        nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
+        map["grid_bytes"] = s.gridBytes;
+        map["open_edges"] = m_openEdges;
+        m_stats.push_back(map);
+    }
+
     const CpuTechniqueContext& m_c;
     ShadowMapSettings m_settings;
+    /// peel: the scene's edges with one triangle (the grid's closed-object assumption fails there)
+    std::size_t m_openEdges = 0;
     Bounds m_receivers; ///< what the camera sees (the view fit's receivers)
     nlohmann::json m_stats = nlohmann::json::array();
 };

@@ -39,6 +39,26 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     for (const Light& light : scene.lights) {
         m_views.push_back(fitFrameShadowMap(scene, light, receivers, m_settings));
         depth.emplace_back(device, shadowMapBytes(m_views.back()), STORAGE, MemoryUsage::DeviceLocal);
+        if (m_settings.filter == ShadowFilter::Peel) {
+            // A cube map's grid outgrows a storage buffer's range (512², 16 subintervals: 214 MB).
+            if (!device.info().shaderInt64 || !device.info().bufferDeviceAddress)
+                throw UsageError(
+                    "peel on Vulkan needs 64-bit integers in shaders and buffer device addresses, "
+                    "which " +
+                    device.info().name + " lacks: use --backend cpu");
+            const std::size_t bytes = depthGridBytes(m_views.back(), m_settings);
+            if (bytes > device.info().maxMemoryAllocationSize)
+                throw UsageError("the depth grid of light " + std::to_string(m_views.size() - 1) + " needs " +
+                                 std::to_string(bytes >> 20) + " MiB, more than one allocation of " +
+                                 device.info().name + " may hold (" +
+                                 std::to_string(device.info().maxMemoryAllocationSize >> 20) +
+                                 " MiB): lower peel_size or peel_bins");
+            grid.emplace_back(device, bytes, STORAGE | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                              MemoryUsage::DeviceLocal);
+            const VkDeviceAddress address = grid.back().deviceAddress();
+            m_views.back().filteredLow = uint(address & 0xffffffffu);
+            m_views.back().filteredHigh = uint(address >> 32);
+        }
         if (isFilteredRepresentation(m_settings.filter)) {
             // The planes outgrow a storage buffer's range (MSM's at 2048²: 134 MB, lavapipe's range
             // 128 MiB): the shaders reach them by device address.
@@ -78,6 +98,14 @@ ShadowMap ShadowMapResources::download(std::size_t light) const {
     map.depth.resize(words.size());
     for (std::size_t i = 0; i < words.size(); ++i) map.depth[i] = gpuShadowDepthOf(words[i]);
     return map;
+}
+
+DepthGrid ShadowMapResources::downloadGrid(std::size_t light) const {
+    DepthGrid out;
+    out.view = m_views.at(light);
+    out.bins = uint(m_settings.peelBins);
+    out.words = grid.at(light).download<std::uint32_t>();
+    return out;
 }
 
 void ShadowMapResources::writeDescriptors(DescriptorSet& set, std::size_t light) const {
@@ -166,6 +194,80 @@ void FilteredMapPass::record(VkCommandBuffer cmd, std::size_t light) const {
         const std::uint32_t n = filteredMipSize(size, level);
         vkCmdDispatch(cmd, (n + 15) / 16, (n + 15) / 16, planes);
     }
+}
+
+DepthGridPass::DepthGridPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
+                             const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
+    : m_maps(&maps), m_descriptors(&descriptors),
+      m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
+    const ShaderCompiler compiler;
+    Pipeline* pipelines[] = {&m_range, &m_bins};
+    for (int step = 0; step < 2; ++step) {
+        std::vector<ShaderDefine> withStep = defines;
+        withStep.push_back({"DEPTH_GRID_STEP", std::to_string(step)});
+        GraphicsPipelineDesc desc;
+        desc.stages = {
+            {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmaps/shadowmap.vert", withStep)},
+            {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("shadowmaps/depth_grid.frag", withStep)}};
+        // Every surface counts, front and back: no culling.
+        desc.cullMode = VK_CULL_MODE_NONE;
+        *pipelines[step] = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+    }
+}
+
+PassAccesses DepthGridPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_maps->grid[light], ResourceUse::storageReadWrite(FRAGMENT));
+    return accesses;
+}
+
+void DepthGridPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    const ShadowMapView& view = m_maps->view(light);
+    for (const Pipeline* pipeline : {&m_range, &m_bins}) {
+        // The subinterval draw reads the ranges the first one wrote.
+        if (pipeline == &m_bins)
+            memoryBarrier(cmd, FRAGMENT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, FRAGMENT,
+                          VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
+        beginRendering(cmd, VkExtent2D{view.size, view.size});
+        pipeline->bind(cmd);
+        m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
+        m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+        if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, view.faces, 0, 0);
+        endRendering(cmd);
+    }
+}
+
+PeelMarchPass::PeelMarchPass(const Device& device, const RenderOptions& options, ShadowMapResources& maps,
+                             FrameResources& frame, const FamilyDescriptors& descriptors,
+                             const std::vector<ShaderDefine>& defines)
+    : m_maps(&maps), m_frame(&frame), m_descriptors(&descriptors),
+      m_counters(options.buffer == BufferKind::Counters), m_width(static_cast<uint32_t>(options.width)),
+      m_height(static_cast<uint32_t>(options.height)) {
+    const ShaderCompiler compiler;
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       compiler.compileFile("shadowmaps/peel_march.comp", defines));
+}
+
+PassAccesses PeelMarchPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
+        .use(m_maps->grid[light], ResourceUse::storageRead(COMPUTE));
+    if (m_counters) {
+        accesses.use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
+    } else {
+        // The whole image array is bound and indexed by a loop counter: every element counts as written.
+        for (std::size_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
+            accesses.use(m_frame->samples.mask(light, i), ResourceUse::storageReadWrite(COMPUTE));
+    }
+    return accesses;
+}
+
+void PeelMarchPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    dispatchPerPixel(cmd, m_width, m_height);
 }
 
 ShadowFilterPass::ShadowFilterPass(const Device& device, const RenderOptions& options, Step step,

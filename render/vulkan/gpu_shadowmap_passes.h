@@ -12,6 +12,7 @@
 #include "render/vulkan/gpu_pass.h"
 #include "render/vulkan/gpu_shadowmaps_dh.h"
 #include "scene/scene.h"
+#include "shadowmaps/depth_grid.h"
 #include "shadowmaps/shadow_map.h"
 
 #include "gpu/vulkan.h"
@@ -36,6 +37,8 @@ class ShadowMapResources {
 
     /// Light `light`'s map as the last frame left it (call after the frame's submit has finished).
     ShadowMap download(std::size_t light) const;
+    /// Light `light`'s depth grid (`peel`) as the last frame left it.
+    DepthGrid downloadGrid(std::size_t light) const;
     const ShadowMapSettings& settings() const { return m_settings; }
     const ShadowMapView& view(std::size_t light) const { return m_views.at(light); }
 
@@ -43,6 +46,9 @@ class ShadowMapResources {
     /// [light], filtered rows only: filteredMapBytes of planes, read and written by device
     /// address (ShadowMapView::filteredLow/High)
     std::vector<Buffer> filtered;
+    /// [light], `peel` only: depthGridBytes of grid words, read and written by device address
+    /// (ShadowMapView::filteredLow/High)
+    std::vector<Buffer> grid;
     Buffer views; ///< ShadowFilterParams, then ShadowMapView per light
     Buffer taps;  ///< vec2: blocker taps, then filter taps
 
@@ -84,6 +90,44 @@ class FilteredMapPass final : public GpuPass {
     bool m_mip;
     std::uint32_t m_channels;
     std::vector<Pipeline> m_steps; ///< rows, columns; or level 0, the levels above
+};
+
+/// `peel`'s depth grid of one light (depth_grid.frag, drawn as the map is): the depth range of
+/// each texel, then the subintervals' farthest front and back faces, into the light's cleared grid.
+class DepthGridPass final : public GpuPass {
+  public:
+    DepthGridPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
+                  const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    ShadowMapResources* m_maps;
+    const FamilyDescriptors* m_descriptors;
+    std::uint32_t m_triangleCount;
+    Pipeline m_range;
+    Pipeline m_bins;
+};
+
+/// `peel`'s march (peel_march.comp): every covered pixel's light-sample rays through the light's
+/// grid into its bitmask images (or counters).
+class PeelMarchPass final : public GpuPass {
+  public:
+    PeelMarchPass(const Device& device, const RenderOptions& options, ShadowMapResources& maps,
+                  FrameResources& frame, const FamilyDescriptors& descriptors,
+                  const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    ShadowMapResources* m_maps;
+    FrameResources* m_frame;
+    const FamilyDescriptors* m_descriptors;
+    bool m_counters;
+    uint32_t m_width, m_height;
+    Pipeline m_pipeline;
 };
 
 /// One filter step per pixel into the v_coef image: PCF, PCSS's blocker search (the kernel

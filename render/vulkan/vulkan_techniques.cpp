@@ -1,6 +1,7 @@
 #include "render/vulkan/vulkan_techniques.h"
 
 #include "shadowmaps/filtered_map.h"
+#include "wedges/adjacency.h"
 
 #include "render/vulkan/gpu_opaque_passes.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
@@ -321,6 +322,58 @@ class ShadowMapTechnique final : public VulkanTechnique {
     std::vector<GpuShadowMapStats> m_counts; ///< per light, after the frame
 };
 
+/// `peel`: per light the cleared depth grid, its two draws, and the march of every sample's ray
+/// into the light's bits (or counters).
+class DepthGridTechnique final : public VulkanTechnique {
+  public:
+    explicit DepthGridTechnique(const VulkanTechniqueContext& c)
+        : VulkanTechnique(c, ShadowMapResources::bindings(), sizeof(GpuShadowMapStats)), m_c(c),
+          m_maps(c.device, c.scene, c.options), m_grid(c.device, c.scene, m_maps, m_family, c.defines),
+          m_march(c.device, c.options, m_maps, c.resources, m_family, c.defines),
+          m_openEdges(buildEdgeAdjacency(c.scene).openEdges) {
+        for (const Buffer& grid : m_maps.grid) m_clear.push_back(ClearPass({}, {&grid}));
+    }
+
+    void writeDescriptors() override {
+        for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
+    }
+    std::uint32_t timedPassesPerLight() const override { return 2; }
+
+    void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
+        runPass(recorder, cmd, "", m_clear[light], light);
+        runPass(recorder, cmd, passName(light, "depth_grid"), m_grid, light);
+        runPass(recorder, cmd, passName(light, "peel_march"), m_march, light);
+    }
+
+    void readBack(Frame& frame) const override {
+        if (!m_c.options.keepShadowMaps) return;
+        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l)
+            frame.depthGrids.push_back(m_maps.downloadGrid(l));
+    }
+
+    void takeStats(const std::byte*) override {}
+
+    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
+        nlohmann::json maps = nlohmann::json::array();
+        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
+            const ShadowMapView& view = m_maps.view(l);
+            nlohmann::json map = shadowMapViewStats(view, m_maps.settings(), m_c.scene.camera, gbuffer);
+            map["grid_bytes"] = depthGridBytes(view, m_maps.settings());
+            map["open_edges"] = m_openEdges;
+            maps.push_back(map);
+        }
+        stats["shadow_maps"] = maps;
+    }
+
+  private:
+    const VulkanTechniqueContext& m_c;
+    ShadowMapResources m_maps;
+    std::vector<ClearPass> m_clear; ///< [light]
+    DepthGridPass m_grid;
+    PeelMarchPass m_march;
+    std::size_t m_openEdges; ///< the scene's edges with one triangle (not closed there)
+};
+
 } // namespace
 
 std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanTechniqueContext& context) {
@@ -336,7 +389,10 @@ std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanT
             techniques.push_back(std::make_unique<StsvTechnique>(context));
             break;
         case TechniqueFamily::ShadowMap:
-            if (!context.scene.lights.empty())
+            if (context.scene.lights.empty()) break;
+            if (context.method.shadowMap == ShadowFilter::Peel)
+                techniques.push_back(std::make_unique<DepthGridTechnique>(context));
+            else
                 techniques.push_back(std::make_unique<ShadowMapTechnique>(context));
             break;
         }

@@ -253,5 +253,28 @@ TEST(Lights, RectangleTangentIsHonoured) {
     EXPECT_NEAR(length(rect.axisV), 0.5f, 1e-6f);
 }
 
+TEST(Tube, IsWoundOutwards) {
+    // Counter-clockwise seen from outside: the signed volume Σ v0·(v1 × v2)/6 of the closed tube is
+    // positive, the area of its 12-sided cross-section, (12/2)·sin(2π/12)·r², times the length of
+    // the polyline through the rings' centres (within 3 %: the rings tilt along the curve).
+    const int segments = 480, sides = 12;
+    const float r = 0.12f;
+    const MeshData knot = makeTorusKnotMesh(segments, sides, r);
+    double volume = 0.0;
+    for (const uvec3& t : knot.triangles)
+        volume += double(dot(knot.positions[t.x], cross(knot.positions[t.y], knot.positions[t.z]))) / 6.0;
+    auto centre = [&](int i) {
+        dvec3 c(0.0);
+        for (int j = 0; j < sides; ++j) c += dvec3(knot.positions[std::size_t((i % segments) * sides + j)]);
+        return c / double(sides);
+    };
+    double length = 0.0;
+    for (int i = 0; i < segments; ++i) length += glm::distance(centre(i), centre(i + 1));
+    const double expected =
+        0.5 * sides * std::sin(6.283185307179586 / sides) * double(r) * double(r) * length;
+    EXPECT_GT(volume, 0.97 * expected);
+    EXPECT_LT(volume, 1.03 * expected);
+}
+
 } // namespace
 } // namespace stsv
