@@ -447,7 +447,11 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                     if (method.bufferKind(kind) == BufferKind::Bitmask)
                         expected.push_back(light + "stsv_merge");
                 }
-                if (method.shadowMap != ShadowFilter::None) {
+                if (method.shadowMap == ShadowFilter::Peel) {
+                    // The depth grid's two draws, then the march.
+                    expected.push_back(light + "depth_grid");
+                    expected.push_back(light + "peel_march");
+                } else if (method.shadowMap != ShadowFilter::None) {
                     expected.push_back(light + "shadow_map");
                     expected.push_back(light + "shadow_filter");
                     // PCSS, and the filtered maps with their default kernel from the blocker search.
