@@ -18,7 +18,7 @@ mkdir -p "$results"
 
 every_method="stsv/vulkan,stsv/cpu,dcs+stsv/vulkan,dcs+stsv/cpu,pw+stsv/vulkan,pw+stsv/cpu"
 opaque_methods="stsv/vulkan,stsv/cpu,dcs/vulkan,dcs/cpu,pw/vulkan,pw/cpu"
-all_methods="stsv,pw,dcs,pw+stsv,dcs+stsv,pcf,pcss,vsm,esm,evsm,msm,csm"
+all_methods="stsv,pw,dcs,pw+stsv,dcs+stsv,pcf,pcss,vsm,esm,evsm,msm,csm,peel"
 example=tests/data/scene/example.json
 
 # name, then the stsv arguments (the --json file is added).

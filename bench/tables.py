@@ -155,7 +155,9 @@ def map_memory_text(c):
     maps = c.get("shadow_maps", [])
     if not maps:
         return "–"
-    total = sum(m.get("texels", 0) * 4 + m.get("representation_bytes", 0) for m in maps)
+    # peel keeps a depth grid instead of the map (grid_bytes; no depth map).
+    total = sum(m["grid_bytes"] if "grid_bytes" in m else m.get("texels", 0) * 4 + m.get("representation_bytes", 0)
+                for m in maps)
     return "%.0f MB" % (total / 1e6)
 
 

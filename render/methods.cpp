@@ -151,9 +151,10 @@ std::vector<MethodInfo> buildTable() {
          .shadowMap = ShadowFilter::Csm},
         {.id = Method::Peel,
          .name = "peel",
-         .description = "Depth-peeling soft shadows (Liu et al. 2009): a depth grid of front and back faces "
-                        "from the light centre, every sample's ray marched through it (Table 1); assumes "
-                        "closed objects",
+         .description =
+             "Depth-peeling soft shadows (Liu et al. 2009): a depth grid of front and back faces "
+             "from the light centre, every sample's ray marched through it (Table 1); assumes "
+             "closed objects (behind an open surface facing the light: shadowed; facing away: lit)",
          .family = MethodFamily::ImageBased,
          .output = MethodOutput::SampleOcclusion,
          .backends = {B::Vulkan, B::Cpu},

@@ -110,17 +110,18 @@ DH_BEGIN
 /// Whether the point x lies inside an object according to the grid (Table 1 at its texel).
 DH_FUNC bool peelPointOccluded(PeelGridSource src, ShadowMapView v, uint bins, vec3 x) {
     ShadowMapCoord c = shadowMapProject(v, x);
-    if (c.valid == 0.0f) return false;
+    // Nearer the light than every caster the map holds, or behind the light: nothing in front.
+    if (c.valid == 0.0f || c.depth < v.near) return false;
     uint face;
     ivec2 texel;
     if (!shadowMapTexelOf(v, c.face, c.uv, face, texel)) return false;
     uint base = peelTexelBase(v, face, texel, bins);
-    uint farWord = peelGridWord(src, base + 1u);
-    if (farWord == 0u) return false; // no surface on this texel
-    float lo = peelWordDepth(~peelGridWord(src, base));
-    float hi = peelWordDepth(farWord);
+    uint nearWord = peelGridWord(src, base);
+    if (nearWord == 0u) return false; // no surface on this texel
+    float lo = peelWordDepth(~nearWord);
+    if (c.depth < lo) return false; // in front of the texel's nearest surface
+    float hi = peelWordDepth(peelGridWord(src, base + 1u));
     int i = peelBin(c.depth, lo, hi, bins);
-    if (i < 0) return false;
     float zi = 0.0f;
     if (i < int(bins))
         zi = peelBinValue(peelGridWord(src, base + 2u + 2u * uint(i)),

@@ -30,13 +30,16 @@ TEST(MethodTable, RowsAreInEnumOrderWithUniqueNamesAndBackends) {
         EXPECT_EQ(&findMethod(m.name), &m);
         EXPECT_TRUE(m.implementedOn(m.backends.front())) << m.name;
         // A ground-truth method traces; an object-based one composes an STSV or an opaque pass; an
-        // image-based one filters a shadow map into a visibility image, and nothing else.
+        // image-based one filters a shadow map into a visibility image, and nothing else — but
+        // peel, which marches every light sample's ray through its depth grid into bits.
         EXPECT_EQ(m.traced, m.family == MethodFamily::GroundTruth) << m.name;
         const bool volumes = m.stsv != StsvTriangles::None || m.opaque != OpaqueTechnique::None;
         EXPECT_EQ(volumes, m.family == MethodFamily::ObjectBased) << m.name;
         EXPECT_EQ(m.shadowMap != ShadowFilter::None, m.family == MethodFamily::ImageBased) << m.name;
         if (m.family == MethodFamily::ImageBased) {
-            EXPECT_EQ(m.output, MethodOutput::Visibility) << m.name;
+            EXPECT_EQ(m.output, m.shadowMap == ShadowFilter::Peel ? MethodOutput::SampleOcclusion
+                                                                  : MethodOutput::Visibility)
+                << m.name;
         }
     }
     try {
