@@ -61,6 +61,22 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
+/// The ray o + t·d, t in [tNear, tFar], with no hit yet.
+RTCRayHit rayHit(vec3 o, vec3 d, float tNear, float tFar) {
+    RTCRayHit rh{};
+    rh.ray.org_x = o.x;
+    rh.ray.org_y = o.y;
+    rh.ray.org_z = o.z;
+    rh.ray.dir_x = d.x;
+    rh.ray.dir_y = d.y;
+    rh.ray.dir_z = d.z;
+    rh.ray.tnear = tNear;
+    rh.ray.tfar = tFar;
+    rh.ray.mask = 0xffffffffu;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    return rh;
+}
+
 void checkDevice(RTCDevice device, const char* what) {
     const RTCError code = rtcGetDeviceError(device);
     if (code != RTC_ERROR_NONE)
@@ -111,17 +127,7 @@ bool EmbreeScene::intersect(vec3 o, vec3 d, float tNear, float tFar, Hit& hit) c
     rtcInitIntersectContext(&ctx.rtc);
     ctx.scene = &m_scene;
     ctx.ignoreTriangle = NO_TRIANGLE;
-    RTCRayHit rh{};
-    rh.ray.org_x = o.x;
-    rh.ray.org_y = o.y;
-    rh.ray.org_z = o.z;
-    rh.ray.dir_x = d.x;
-    rh.ray.dir_y = d.y;
-    rh.ray.dir_z = d.z;
-    rh.ray.tnear = tNear;
-    rh.ray.tfar = tFar;
-    rh.ray.mask = 0xffffffffu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = rayHit(o, d, tNear, tFar);
     rtcIntersect1(m_rtcScene, &ctx.rtc, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
     hit.t = rh.ray.tfar;
@@ -131,18 +137,7 @@ bool EmbreeScene::intersect(vec3 o, vec3 d, float tNear, float tFar, Hit& hit) c
 }
 
 static RTCRay shadowRay(vec3 p, vec3 s, float tMin) {
-    const vec3 d = s - p;
-    RTCRay ray{};
-    ray.org_x = p.x;
-    ray.org_y = p.y;
-    ray.org_z = p.z;
-    ray.dir_x = d.x;
-    ray.dir_y = d.y;
-    ray.dir_z = d.z;
-    ray.tnear = tMin;
-    ray.tfar = 1.0f;
-    ray.mask = 0xffffffffu;
-    return ray;
+    return rayHit(p, s - p, tMin, 1.0f).ray;
 }
 
 bool EmbreeScene::occluded(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle) const {
@@ -177,17 +172,7 @@ void EmbreeScene::allHits(vec3 o, vec3 d, float tNear, float tFar, std::vector<H
     ctx.scene = &m_scene;
     ctx.ignoreTriangle = NO_TRIANGLE;
     ctx.hits = &hits;
-    RTCRayHit rh{};
-    rh.ray.org_x = o.x;
-    rh.ray.org_y = o.y;
-    rh.ray.org_z = o.z;
-    rh.ray.dir_x = d.x;
-    rh.ray.dir_y = d.y;
-    rh.ray.dir_z = d.z;
-    rh.ray.tnear = tNear;
-    rh.ray.tfar = tFar;
-    rh.ray.mask = 0xffffffffu;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    RTCRayHit rh = rayHit(o, d, tNear, tFar);
     // The filter records each candidate and rejects it, so traversal visits them all.
     rtcIntersect1(m_rtcScene, &ctx.rtc, &rh);
     // A primitive referenced by several BVH leaves (spatial splits) may be reported twice.
