@@ -2,7 +2,7 @@
 BUILD    ?= build
 JOBS     ?= $(shell nproc)
 PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev libtbb-dev libopenexr-dev \
-            nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libgmock-dev \
+            nlohmann-json3-dev libcli11-dev libstb-dev libgtest-dev libgmock-dev libtinygltf-dev \
             glslang-dev glslang-tools spirv-tools libvulkan-dev mesa-vulkan-drivers \
             vulkan-validationlayers vulkan-tools clang-format
 # Only the tests need these: the --report test renders the page in a headless browser,

@@ -93,7 +93,7 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
     command->add_option("--interleave", a.options.interleave, "K for K×K interleaved sample sets (1 to 8)")
         ->capture_default_str();
     command->add_flag("!--no-decorrelate", a.options.decorrelate, "same sample set for every pixel");
-    command->add_option("--buffer", a.buffer, "light-sample buffer: bitmask | counters")
+    command->add_option("--buffer", a.buffer, "light-sample buffer: bitmask | counters | transmittance")
         ->capture_default_str();
     command->add_option("--ambient", a.options.ambient, "ambient light, fraction of albedo")
         ->capture_default_str();

@@ -19,6 +19,16 @@
 
 namespace stsv {
 
+std::uint16_t halfBits(float v) {
+    return half(v).bits();
+}
+
+float halfValue(std::uint16_t bits) {
+    half h;
+    h.setBits(bits);
+    return float(h);
+}
+
 namespace {
 
 /// The file in memory, written out by writeFileBytes so that the write is checked to the end.

@@ -173,8 +173,8 @@ NpyArray parseNpy(const std::string& path, const std::string& file) {
     NpyArray array;
     array.dtype = npyHeaderValue(path, header, "descr");
     static const std::pair<const char*, std::size_t> known[] = {
-        {"|u1", 1}, {"<u1", 1}, {"|i1", 1}, {"<u2", 2}, {"<i2", 2},
-        {"<u4", 4}, {"<i4", 4}, {"<f4", 4}, {"<f8", 8}, {"|b1", 1}};
+        {"|u1", 1}, {"<u1", 1}, {"|i1", 1}, {"<u2", 2}, {"<i2", 2}, {"<u4", 4},
+        {"<i4", 4}, {"<f2", 2}, {"<f4", 4}, {"<f8", 8}, {"|b1", 1}};
     std::size_t itemBytes = 0;
     for (const auto& [name, bytes] : known)
         if (array.dtype == name) itemBytes = bytes;

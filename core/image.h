@@ -58,6 +58,9 @@ void writeNpy(const std::string& path, const ImageF& image);
 /// Writes an OpenEXR file of linear values: 3 channels as R, G, B, 1 as Y; half floats when
 /// `halfFloat`, else 32-bit floats. Error naming the file when encoding or the write fails.
 void writeExr(const std::string& path, const ImageF& image, bool halfFloat);
+/// IEEE 754 binary16 bits of v, rounded to nearest even (OpenEXR's half), and back.
+std::uint16_t halfBits(float v);
+float halfValue(std::uint16_t bits);
 /// Reads an OpenEXR file's Y channel, or its R, G and B, as 32-bit floats; InputError naming the
 /// file when it is not a readable EXR or has neither.
 ImageF readExr(const std::string& path);

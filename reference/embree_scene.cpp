@@ -20,7 +20,25 @@ struct FilterContext {
     std::uint32_t ignoreTriangle;
     std::vector<std::uint32_t>* collect; ///< when set: record every blocking triangle and go on
     std::vector<Hit>* hits;              ///< when set: record every hit (t, triangle, bary) and go on
+    bool skipTranslucent;                ///< primary rays: Blend triangles are not receivers
+    /// When set: a translucent triangle's crossing records (triangle, optical-depth units) and
+    /// goes on, or blocks where its texel has α = 1; depthTables holds each material's table.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>>* crossings;
+    const std::vector<OpticalDepthTable>* depthTables;
 };
+
+vec2 hitTexcoord(const Scene& scene, std::uint32_t tri, vec2 bary) {
+    const uvec3 idx = scene.triangles[tri];
+    return scene.texcoords[idx.x] + bary.x * (scene.texcoords[idx.y] - scene.texcoords[idx.x]) +
+           bary.y * (scene.texcoords[idx.z] - scene.texcoords[idx.x]);
+}
+
+/// The alpha byte of `texture` at uv under the shared texel rule.
+std::uint8_t texelAlpha(const Texture& texture, const Material& material, vec2 uv) {
+    const ivec2 texel = texelAt(uv, ivec2(texture.width, texture.height),
+                                material.wrap == WrapMode::Clamp ? WRAP_CLAMP : WRAP_REPEAT);
+    return texture.alpha(texel.x, texel.y);
+}
 
 /// The texel rule at the hit: transparent texels and the ignored triangle reject the hit.
 void alphaFilter(const RTCFilterFunctionNArguments* args) {
@@ -34,15 +52,25 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
             continue;
         }
         const Material& material = scene.materialOf(tri);
-        if (!material.perforated()) continue;
-        const uvec3 idx = scene.triangles[tri];
+        if (material.translucent() && ctx->skipTranslucent) {
+            args->valid[i] = 0;
+            continue;
+        }
         const vec2 bary(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
-        const vec2 uv = scene.texcoords[idx.x] + bary.x * (scene.texcoords[idx.y] - scene.texcoords[idx.x]) +
-                        bary.y * (scene.texcoords[idx.z] - scene.texcoords[idx.x]);
+        if (material.translucent() && ctx->crossings) {
+            const std::uint8_t alpha = material.blendTexture < 0
+                                           ? 255
+                                           : texelAlpha(scene.textures[std::size_t(material.blendTexture)],
+                                                        material, hitTexcoord(scene, tri, bary));
+            const std::uint32_t units = (*ctx->depthTables)[scene.triangleMaterial[tri]][alpha];
+            if (units == OPTICAL_DEPTH_OPAQUE) continue; // blocks: the query stops here
+            if (units != 0u) ctx->crossings->push_back({tri, units});
+            args->valid[i] = 0;
+            continue;
+        }
+        if (!material.perforated()) continue;
         const Texture& texture = scene.textures[static_cast<std::size_t>(material.alphaTexture)];
-        const ivec2 texel = texelAt(uv, ivec2(texture.width, texture.height),
-                                    material.wrap == WrapMode::Clamp ? WRAP_CLAMP : WRAP_REPEAT);
-        if (!alphaBlocks(texture.alpha(texel.x, texel.y))) args->valid[i] = 0;
+        if (!alphaBlocks(texelAlpha(texture, material, hitTexcoord(scene, tri, bary)))) args->valid[i] = 0;
     }
     if (ctx->hits) {
         for (unsigned i = 0; i < args->N; ++i) {
@@ -86,6 +114,7 @@ void checkDevice(RTCDevice device, const char* what) {
 } // namespace
 
 EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
+    for (const Material& m : scene.materials) m_depthTables.push_back(opticalDepthTable(m));
     m_device = rtcNewDevice(nullptr);
     if (!m_device)
         throw Error("Embree: cannot create a device (error " +
@@ -119,14 +148,19 @@ EmbreeScene::~EmbreeScene() {
 }
 
 bool EmbreeScene::intersect(const Ray& ray, Hit& hit) const {
-    return intersect(ray.origin, ray.direction, 0.0f, 1e30f, hit);
+    return closestHit(ray.origin, ray.direction, 0.0f, 1e30f, hit, true);
 }
 
 bool EmbreeScene::intersect(vec3 o, vec3 d, float tNear, float tFar, Hit& hit) const {
+    return closestHit(o, d, tNear, tFar, hit, false);
+}
+
+bool EmbreeScene::closestHit(vec3 o, vec3 d, float tNear, float tFar, Hit& hit, bool skipTranslucent) const {
     FilterContext ctx{};
     rtcInitIntersectContext(&ctx.rtc);
     ctx.scene = &m_scene;
     ctx.ignoreTriangle = NO_TRIANGLE;
+    ctx.skipTranslucent = skipTranslucent;
     RTCRayHit rh = rayHit(o, d, tNear, tFar);
     rtcIntersect1(m_rtcScene, &ctx.rtc, &rh);
     if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return false;
@@ -163,6 +197,27 @@ std::uint32_t EmbreeScene::countLayers(vec3 p, vec3 s, float tMin, std::uint32_t
     // A primitive referenced by several BVH leaves (spatial splits) may be reported twice.
     std::sort(scratch.begin(), scratch.end());
     return static_cast<std::uint32_t>(std::unique(scratch.begin(), scratch.end()) - scratch.begin());
+}
+
+std::uint32_t EmbreeScene::opticalDepth(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle,
+                                        std::vector<std::pair<std::uint32_t, std::uint32_t>>& scratch) const {
+    scratch.clear();
+    FilterContext ctx{};
+    rtcInitIntersectContext(&ctx.rtc);
+    ctx.scene = &m_scene;
+    ctx.ignoreTriangle = ignoreTriangle;
+    ctx.crossings = &scratch;
+    ctx.depthTables = &m_depthTables;
+    RTCRay ray = shadowRay(p, s, tMin);
+    rtcOccluded1(m_rtcScene, &ctx.rtc, &ray);
+    if (ray.tfar < 0.0f) return OPTICAL_DEPTH_OPAQUE;
+    // Each triangle once: a primitive referenced by several BVH leaves (spatial splits) may be
+    // reported twice. The sum is modulo 2^32 with a wrap meaning opaque, as the buffers add.
+    std::sort(scratch.begin(), scratch.end());
+    scratch.erase(std::unique(scratch.begin(), scratch.end()), scratch.end());
+    std::uint64_t sum = 0;
+    for (const auto& crossing : scratch) sum += crossing.second;
+    return sum >= OPTICAL_DEPTH_OPAQUE ? OPTICAL_DEPTH_OPAQUE : std::uint32_t(sum);
 }
 
 void EmbreeScene::allHits(vec3 o, vec3 d, float tNear, float tFar, std::vector<Hit>& hits) const {

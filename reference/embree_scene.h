@@ -8,6 +8,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <utility>
 #include <vector>
 
 namespace stsv {
@@ -25,10 +26,11 @@ class EmbreeScene {
     EmbreeScene(const EmbreeScene&) = delete;
     EmbreeScene& operator=(const EmbreeScene&) = delete;
 
-    /// Closest non-transparent hit along the ray; false on a miss.
+    /// Closest non-transparent hit along a primary ray, false on a miss: translucent (Blend)
+    /// triangles are not receivers, the ray passes through them.
     bool intersect(const Ray& ray, Hit& hit) const;
     /// Closest non-transparent hit of o + t·d with t in [tNear, tFar] (d need not be unit: t is
-    /// in units of d).
+    /// in units of d); a translucent triangle counts by its binary stand-in (α ≥ 0.5).
     bool intersect(vec3 o, vec3 d, float tNear, float tFar, Hit& hit) const;
 
     /// True iff the segment p → s, from t = tMin to 1 of (s − p), meets a triangle whose texel
@@ -41,6 +43,14 @@ class EmbreeScene {
     std::uint32_t countLayers(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle,
                               std::vector<std::uint32_t>& scratch) const;
 
+    /// The optical depth of the segment p → s (occlusion_rules_dh.h units), with the rules of
+    /// occluded(): the sum over the distinct translucent triangles it crosses of their texel's
+    /// units, OPTICAL_DEPTH_OPAQUE when anything blocks it fully (an opaque or perforated
+    /// triangle's blocking texel, a translucent texel with α = 1, or a sum of 2^32 units or more).
+    /// `scratch` is reused storage.
+    std::uint32_t opticalDepth(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle,
+                               std::vector<std::pair<std::uint32_t, std::uint32_t>>& scratch) const;
+
     /// Every non-transparent hit of o + t·d with t in [tNear, tFar] into `hits` (cleared), in
     /// no particular order, each triangle once (t in units of d). The depth grid of `peel` is
     /// made of them.
@@ -52,9 +62,12 @@ class EmbreeScene {
     const Scene& scene() const { return m_scene; }
 
   private:
+    bool closestHit(vec3 o, vec3 d, float tNear, float tFar, Hit& hit, bool skipTranslucent) const;
+
     const Scene& m_scene;
     RTCDevice m_device = nullptr;
     RTCScene m_rtcScene = nullptr;
+    std::vector<OpticalDepthTable> m_depthTables; ///< per material
 };
 
 /// The point on triangle `tri` at barycentrics (b1, b2), and the shading normal a viewer at

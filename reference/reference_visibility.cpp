@@ -10,12 +10,14 @@ namespace stsv {
 void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, const Light& light,
                            const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
     const bool counting = out.kind() == BufferKind::Counters;
+    const bool transmittance = out.kind() == BufferKind::Transmittance;
     const Bounds bounds = scene.scene().bounds();
     const float sceneDiameter = bounds.diameter();
     Progress progress("reference rays",
                       std::size_t(tilesAcross(gbuffer.width)) * tilesAcross(gbuffer.height));
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         std::vector<std::uint32_t> scratch;
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> crossings;
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
@@ -25,7 +27,10 @@ void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, con
                 const float tMin = shadowTMin(p, frame.center, sceneDiameter);
                 for (int k = 0; k < plan.count; ++k) {
                     const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
-                    if (counting) {
+                    if (transmittance) {
+                        out.addOpticalDepth(x, y, k,
+                                            scene.opticalDepth(p, s, tMin, gbuffer.triangle[i], crossings));
+                    } else if (counting) {
                         const std::uint32_t layers =
                             scene.countLayers(p, s, tMin, gbuffer.triangle[i], scratch);
                         if (layers) out.addCount(x, y, k, static_cast<int>(layers));

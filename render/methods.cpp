@@ -211,7 +211,12 @@ bool MethodInfo::implementedOn(Backend backend) const {
     return std::find(backends.begin(), backends.end(), backend) != backends.end();
 }
 
+bool MethodInfo::writesTransmittance() const {
+    return traced || (stsv == StsvTriangles::All && opaque == OpaqueTechnique::None);
+}
+
 BufferKind MethodInfo::bufferKind(BufferKind requested) const {
+    if (requested == BufferKind::Transmittance && writesTransmittance()) return requested;
     return output == MethodOutput::SampleCounters ? BufferKind::Counters : requested;
 }
 
@@ -254,7 +259,9 @@ Backend parseBackend(const std::string& name) {
 BufferKind parseBufferKind(const std::string& name) {
     if (name == "bitmask") return BufferKind::Bitmask;
     if (name == "counters") return BufferKind::Counters;
-    throw UsageError("unknown light-sample buffer '" + name + "' (expected bitmask or counters)");
+    if (name == "transmittance") return BufferKind::Transmittance;
+    throw UsageError("unknown light-sample buffer '" + name +
+                     "' (expected bitmask, counters or transmittance)");
 }
 
 std::string toString(Backend backend) {
@@ -262,7 +269,9 @@ std::string toString(Backend backend) {
 }
 
 std::string toString(BufferKind kind) {
-    return kind == BufferKind::Bitmask ? "bitmask" : "counters";
+    return kind == BufferKind::Bitmask    ? "bitmask"
+           : kind == BufferKind::Counters ? "counters"
+                                          : "transmittance";
 }
 
 std::string toString(MethodFamily family) {

@@ -97,6 +97,9 @@ struct MethodInfo {
     /// SampleCounters (signed sums), else the requested kind (for Visibility methods it holds
     /// the STSV part of the perforated triangles, or every sample lit).
     BufferKind bufferKind(BufferKind requested) const;
+    /// Whether the method writes a transmittance buffer (--buffer transmittance): the fraction of
+    /// light through translucent triangles per sample.
+    bool writesTransmittance() const;
     const MethodKnob* knob(std::string_view knobName) const;
 };
 

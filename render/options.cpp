@@ -20,6 +20,13 @@ void validate(const RenderOptions& o) {
         throw UsageError("--supersample " + std::to_string(o.supersample) + " of " + std::to_string(o.width) +
                          "x" + std::to_string(o.height) + " needs a sub-pixel grid above 16384 per side");
     validateMethodParams(methodInfo(o.method), o.params);
+    if (o.buffer == BufferKind::Transmittance && !methodInfo(o.method).writesTransmittance()) {
+        std::string writers;
+        for (const MethodInfo& m : methodTable())
+            if (m.writesTransmittance()) writers += (writers.empty() ? "" : ", ") + m.name;
+        throw UsageError("--buffer transmittance: " + methodInfo(o.method).name +
+                         " does not write fractional transmittance (" + writers + " do)");
+    }
 }
 
 RenderOptions frameOptions(RenderOptions options) {

@@ -22,10 +22,14 @@ inline uint resolveSourceWord(ResolveSource s, uint w) {
 inline bool resolveSourceOccluded(ResolveSource, uint word, uint k) {
     return (word & lsMaskBit(k)) != 0u;
 }
+inline float resolveSourceTransmittance(ResolveSource s, uint k) {
+    return s.buffer->kind() == BufferKind::Transmittance ? s.buffer->transmittance(s.x, s.y, int(k)) : 1.0f;
+}
 
 } // namespace stsv
 
 #define RESOLVE_SOURCE
+#define RESOLVE_TRANSMITTANCE
 #include "sampling/resolve_dh.h"
 
 namespace stsv {

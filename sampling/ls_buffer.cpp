@@ -1,9 +1,11 @@
 #include "sampling/ls_buffer.h"
 
 #include "core/error.h"
+#include "scene/occlusion_rules_dh.h"
 
 #include <algorithm>
 #include <bit>
+#include <cmath>
 
 namespace stsv {
 
@@ -11,19 +13,48 @@ LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, BufferK
     : m_width(width), m_height(height), m_samples(samples), m_kind(kind) {
     if (width < 1 || height < 1 || samples < 1 || samples > 4096 ||
         std::size_t(width) * std::size_t(height) > (1u << 28) ||
-        (kind == BufferKind::Counters &&
+        (kind != BufferKind::Bitmask &&
          std::size_t(width) * std::size_t(height) * std::size_t(samples) > 0xFFFFFFFFu))
         throw UsageError("light-sample buffer of " + std::to_string(width) + "x" + std::to_string(height) +
                          " pixels × " + std::to_string(samples) + " samples is out of range");
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    if (kind == BufferKind::Bitmask)
-        m_words.assign(pixels * std::size_t(wordsPerPixel()), 0u);
-    else
-        m_counters.assign(pixels * std::size_t(samples), 0u);
+    if (kind != BufferKind::Counters) m_words.assign(pixels * std::size_t(wordsPerPixel()), 0u);
+    if (kind == BufferKind::Counters) m_counters.assign(pixels * std::size_t(samples), 0u);
+    if (kind == BufferKind::Transmittance) m_depths.assign(pixels * std::size_t(samples), 0u);
+}
+
+void LightSampleBuffer::checkSlots(int width, int height, int samples) {
+    if (std::size_t(std::max(width, 0)) * std::size_t(std::max(height, 0)) *
+            std::size_t(std::max(samples, 0)) >
+        0xFFFFFFFFu)
+        throw UsageError("light-sample buffer of " + std::to_string(width) + "x" + std::to_string(height) +
+                         " pixels × " + std::to_string(samples) + " samples has more than 2^32 slots");
+}
+
+void LightSampleBuffer::addOpticalDepth(int x, int y, int k, std::uint32_t units) {
+    if (m_kind != BufferKind::Transmittance)
+        throw UsageError("addOpticalDepth on a " +
+                         std::string(m_kind == BufferKind::Bitmask ? "bitmask" : "counter") +
+                         " light-sample buffer");
+    if (units == 0u) return;
+    std::uint32_t& depth = m_depths[counterSlot(x, y, k)];
+    const std::uint32_t sum = depth + units; // modulo 2^32, as the GPU's atomicAdd
+    if (units == OPTICAL_DEPTH_OPAQUE || sum < depth) setOccluded(x, y, k);
+    depth = sum;
+}
+
+std::uint32_t LightSampleBuffer::opticalDepth(int x, int y, int k) const {
+    if (occluded(x, y, k)) return OPTICAL_DEPTH_OPAQUE;
+    return m_kind == BufferKind::Transmittance ? m_depths[counterSlot(x, y, k)] : 0u;
+}
+
+float LightSampleBuffer::transmittance(int x, int y, int k) const {
+    const std::uint32_t depth = opticalDepth(x, y, k);
+    return depth == OPTICAL_DEPTH_OPAQUE ? 0.0f : transmittanceOfDepth(depth);
 }
 
 void LightSampleBuffer::setOccluded(int x, int y, int k) {
-    if (m_kind == BufferKind::Bitmask) {
+    if (m_kind != BufferKind::Counters) {
         m_words[maskWordIndex(x, y, k)] |= lsMaskBit(uint(k));
     } else {
         std::uint16_t& c = m_counters[counterSlot(x, y, k)];
@@ -32,7 +63,7 @@ void LightSampleBuffer::setOccluded(int x, int y, int k) {
 }
 
 void LightSampleBuffer::addOccludingWord(int x, int y, int word, std::uint32_t bits) {
-    if (m_kind == BufferKind::Bitmask) {
+    if (m_kind != BufferKind::Counters) {
         m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(word)] |= bits;
         return;
     }
@@ -40,7 +71,7 @@ void LightSampleBuffer::addOccludingWord(int x, int y, int word, std::uint32_t b
 }
 
 std::uint32_t LightSampleBuffer::occludedWord(int x, int y, int word) const {
-    if (m_kind == BufferKind::Bitmask)
+    if (m_kind != BufferKind::Counters)
         return m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel()) + std::size_t(word)];
     std::uint32_t bits = 0u;
     for (int b = 0; b < 32 && 32 * word + b < m_samples; ++b)
@@ -53,18 +84,24 @@ bool LightSampleBuffer::occluded(int x, int y, int k) const {
 }
 
 void LightSampleBuffer::addCount(int x, int y, int k, int delta) {
-    if (m_kind != BufferKind::Counters) throw UsageError("addCount on a bitmask light-sample buffer");
+    if (m_kind != BufferKind::Counters)
+        throw UsageError("addCount on a light-sample buffer without counters");
     std::uint16_t& c = m_counters[counterSlot(x, y, k)];
     c = std::uint16_t(unsigned(c) + unsigned(delta)); // modulo 2^16 (see the header)
 }
 
 int LightSampleBuffer::count(int x, int y, int k) const {
-    if (m_kind == BufferKind::Bitmask)
+    if (m_kind != BufferKind::Counters)
         return (m_words[maskWordIndex(x, y, k)] & lsMaskBit(uint(k))) != 0u ? 1 : 0;
     return m_counters[counterSlot(x, y, k)];
 }
 
 float LightSampleBuffer::visibleFraction(int x, int y) const {
+    if (m_kind == BufferKind::Transmittance) {
+        float sum = 0.0f;
+        for (int k = 0; k < m_samples; ++k) sum += transmittance(x, y, k);
+        return sum / float(m_samples);
+    }
     int occludedCount = 0;
     if (m_kind == BufferKind::Bitmask) {
         const std::uint32_t* w = &m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel())];
@@ -87,14 +124,29 @@ std::size_t LightSampleBuffer::payloadBytes(int width, int height, int samples, 
 
 std::size_t LightSampleBuffer::storageBytes(int width, int height, int samples, BufferKind kind) {
     const std::size_t pixels = std::size_t(width) * std::size_t(height);
-    return kind == BufferKind::Bitmask ? pixels * 4 * std::size_t((samples + 31) / 32)
-                                       : payloadBytes(width, height, samples, kind);
+    const std::size_t bits = pixels * 4 * std::size_t((samples + 31) / 32);
+    if (kind == BufferKind::Bitmask) return bits;
+    if (kind == BufferKind::Counters) return payloadBytes(width, height, samples, kind);
+    return bits + pixels * std::size_t(samples) * 4;
 }
 
 void LightSampleBuffer::writeNpy(const std::string& path) const {
     const auto h = std::size_t(m_height);
     const auto w = std::size_t(m_width);
     const auto n = std::size_t(m_samples);
+    if (m_kind == BufferKind::Transmittance) {
+        std::vector<std::uint8_t> bytes(h * w * n * 2);
+        std::size_t i = 0;
+        for (int y = 0; y < m_height; ++y)
+            for (int x = 0; x < m_width; ++x)
+                for (int k = 0; k < m_samples; ++k, i += 2) {
+                    const std::uint16_t bits = halfBits(transmittance(x, y, k));
+                    bytes[i] = std::uint8_t(bits & 0xFFu);
+                    bytes[i + 1] = std::uint8_t(bits >> 8u);
+                }
+        stsv::writeNpy(path, "<f2", {h, w, n}, bytes.data(), bytes.size());
+        return;
+    }
     if (m_kind == BufferKind::Bitmask) {
         if (m_samples % 8 != 0)
             throw UsageError("--dump-ls needs a sample count that is a multiple of 8, not " +
@@ -125,8 +177,40 @@ void LightSampleBuffer::writeNpy(const std::string& path) const {
     }
 }
 
+namespace {
+
+LightSampleBuffer readTransmittance(const std::string& path, const NpyArray& array) {
+    if (array.shape.size() != 3 || array.shape[0] == 0 || array.shape[1] == 0 || array.shape[2] == 0)
+        throw InputError(path, "transmittance buffer must have shape [H, W, N]");
+    const std::size_t h = array.shape[0], w = array.shape[1], n = array.shape[2];
+    if (h > (1u << 16) || w > (1u << 16) || n > 4096)
+        throw InputError(path, "light-sample buffer shape is out of range");
+    if (array.bytes.size() != h * w * n * 2) throw InputError(path, "light-sample buffer is truncated");
+    LightSampleBuffer buffer(int(w), int(h), int(n), BufferKind::Transmittance);
+    std::size_t i = 0;
+    for (int y = 0; y < int(h); ++y)
+        for (int x = 0; x < int(w); ++x)
+            for (int k = 0; k < int(n); ++k, i += 2) {
+                const float t = halfValue(std::uint16_t(array.bytes[i] | (array.bytes[i + 1] << 8u)));
+                if (!(t >= 0.0f && t <= 1.0f))
+                    throw InputError(path, "transmittance " + std::to_string(t) +
+                                               " outside [0, 1] at pixel (" + std::to_string(x) + ", " +
+                                               std::to_string(y) + ") sample " + std::to_string(k));
+                if (t == 0.0f)
+                    buffer.setOccluded(x, y, k);
+                else
+                    buffer.addOpticalDepth(
+                        x, y, k,
+                        std::uint32_t(std::llround(-std::log(double(t)) * double(OPTICAL_DEPTH_SCALE))));
+            }
+    return buffer;
+}
+
+} // namespace
+
 LightSampleBuffer LightSampleBuffer::readNpy(const std::string& path, std::optional<BufferKind> kind) {
     const NpyArray array = stsv::readNpy(path);
+    if (array.dtype == "<f2") return readTransmittance(path, array);
     const bool u8 = array.dtype == "|u1" || array.dtype == "<u1";
     const bool u16 = array.dtype == "<u2";
     if (!u8 && !u16)
@@ -166,14 +250,17 @@ LightSampleDiff compareLightSamples(const LightSampleBuffer& a, const LightSampl
                          std::to_string(b.width()) + "x" + std::to_string(b.height()) + "x" +
                          std::to_string(b.samples()));
     const bool counts = compareCounts && a.kind() == BufferKind::Counters && b.kind() == BufferKind::Counters;
+    const bool depths =
+        compareCounts && a.kind() == BufferKind::Transmittance && b.kind() == BufferKind::Transmittance;
     LightSampleDiff diff;
     diff.comparedSamples = std::size_t(a.width()) * std::size_t(a.height()) * std::size_t(a.samples());
     for (int y = 0; y < a.height(); ++y)
         for (int x = 0; x < a.width(); ++x) {
             std::size_t here = 0;
             for (int k = 0; k < a.samples(); ++k) {
-                const bool differ = counts ? a.count(x, y, k) != b.count(x, y, k)
-                                           : a.occluded(x, y, k) != b.occluded(x, y, k);
+                const bool differ = counts   ? a.count(x, y, k) != b.count(x, y, k)
+                                    : depths ? a.opticalDepth(x, y, k) != b.opticalDepth(x, y, k)
+                                             : a.occluded(x, y, k) != b.occluded(x, y, k);
                 here += differ ? 1 : 0;
             }
             if (here == 0) continue;

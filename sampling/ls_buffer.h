@@ -14,8 +14,10 @@
 
 namespace stsv {
 
-/// What a light-sample buffer stores per (pixel, sample): an occlusion bit or a depth-complexity counter.
-enum class BufferKind { Bitmask, Counters };
+/// What a light-sample buffer stores per (pixel, sample): an occlusion bit, a depth-complexity
+/// counter, or the fraction of light that gets through (an occlusion bit for what blocks fully and
+/// the optical depth of the translucent triangles crossed, scene/occlusion_rules_dh.h).
+enum class BufferKind { Bitmask, Counters, Transmittance };
 
 class LightSampleBuffer {
   public:
@@ -31,7 +33,17 @@ class LightSampleBuffer {
     /// Bitmask: 32-bit words per pixel, ceil(N/32), in the layout of ls_buffer_dh.h (the GPU's).
     int wordsPerPixel() const { return int(lsMaskWordCount(uint(m_samples))); }
 
-    /// Bitmask: sets the bit. Counters: raises a zero count to 1.
+    /// Transmittance: adds `units` of optical depth (scene/occlusion_rules_dh.h) to sample k;
+    /// OPTICAL_DEPTH_OPAQUE, or a sum that reaches 2^32 units, sets its occlusion bit.
+    void addOpticalDepth(int x, int y, int k, std::uint32_t units);
+    /// Transmittance: the optical depth of sample k (OPTICAL_DEPTH_OPAQUE when occluded);
+    /// bitmask and counters: 0 or OPTICAL_DEPTH_OPAQUE.
+    std::uint32_t opticalDepth(int x, int y, int k) const;
+    /// The fraction of sample k's light that gets through: 0 or 1 for bits and counters,
+    /// exp(−depth) (transmittanceOfDepth) for a transmittance buffer.
+    float transmittance(int x, int y, int k) const;
+
+    /// Bitmask and transmittance: sets the bit. Counters: raises a zero count to 1.
     void setOccluded(int x, int y, int k);
     /// The occluding samples 32·word + b of the set bits b of `bits` (mask word `word`,
     /// ls_buffer_dh.h). Bitmask: ORed in; counters: one more layer on each of those samples.
@@ -48,7 +60,7 @@ class LightSampleBuffer {
     void addCount(int x, int y, int k, int delta);
     /// Counters: the count; bitmask: 0 or 1.
     int count(int x, int y, int k) const;
-    /// Visible samples / N: the paper's v_coef.
+    /// Visible samples / N (the paper's v_coef); with transmittance, the mean transmittance.
     float visibleFraction(int x, int y) const;
 
     /// Raw storage for GPU readback, addressed as ls_buffer_dh.h: pixel (x, y) starts at
@@ -58,21 +70,29 @@ class LightSampleBuffer {
     const std::vector<std::uint32_t>& words() const { return m_words; }
     std::vector<std::uint16_t>& counters() { return m_counters; }
     const std::vector<std::uint16_t>& counters() const { return m_counters; }
+    /// Transmittance: the optical depth per sample, slot (y·width + x)·samples + k.
+    std::vector<std::uint32_t>& depths() { return m_depths; }
+    const std::vector<std::uint32_t>& depths() const { return m_depths; }
 
     /// Payload size: N·W·H/8 bytes for a bitmask (the paper's §5.1 figure: 8 MiB at 1024² × 64),
-    /// 2·N·W·H for 16-bit counters.
+    /// 2·N·W·H for 16-bit counters and for float16 transmittance (the --dump-ls array).
     static std::size_t payloadBytes(int width, int height, int samples, BufferKind kind);
-    /// Storage size: the bitmask rounds N up to 32-bit words; counters as the payload.
+    /// Storage size: the bitmask rounds N up to 32-bit words; counters as the payload;
+    /// transmittance holds the bitmask and a 32-bit optical depth per sample (4.125·N·W·H).
     static std::size_t storageBytes(int width, int height, int samples, BufferKind kind);
     std::size_t memoryBytes() const { return payloadBytes(m_width, m_height, m_samples, m_kind); }
+    /// UsageError unless width·height·samples fits the 32-bit slots of counters and depths.
+    static void checkSlots(int width, int height, int samples);
     std::size_t storageBytes() const { return storageBytes(m_width, m_height, m_samples, m_kind); }
 
     /// The `--dump-ls` format. Bitmask: uint8 [H, W, N/8], sample k in bit k%8 of
     /// byte k/8, 1 = occluded (UsageError if N is not a multiple of 8). Counters: uint8 if every
-    /// count < 256, else uint16 (little endian), shape [H, W, N]. Row 0 = top image row.
+    /// count < 256, else uint16 (little endian), shape [H, W, N]. Transmittance: float16
+    /// [H, W, N], the transmittance of each sample. Row 0 = top image row.
     void writeNpy(const std::string& path) const;
     /// Inverse of writeNpy. The file does not say whether a uint8 array is a bitmask or
-    /// counters: `kind` decides; without it, uint8 means bitmask and uint16 means counters.
+    /// counters: `kind` decides; without it, uint8 means bitmask and uint16 means counters. A
+    /// float16 array is transmittance (its optical depth back from −ln T, to 2^−16 units).
     /// InputError naming the file on any other dtype or shape.
     static LightSampleBuffer readNpy(const std::string& path, std::optional<BufferKind> kind = std::nullopt);
 
@@ -93,10 +113,12 @@ class LightSampleBuffer {
     BufferKind m_kind = BufferKind::Bitmask;
     std::vector<std::uint32_t> m_words;
     std::vector<std::uint16_t> m_counters;
+    std::vector<std::uint32_t> m_depths;
 };
 
 /// Sample-by-sample comparison of the occlusion state (occluded vs visible) of two buffers of
-/// the same size and N; with `compareCounts` and two counter buffers, of the exact counts.
+/// the same size and N; with `compareCounts` and two counter buffers, of the exact counts; with
+/// `compareCounts` and two transmittance buffers, of the exact optical depths.
 struct LightSampleDiff {
     std::size_t differingSamples = 0; ///< (pixel, sample) pairs that differ
     std::size_t differingPixels = 0;

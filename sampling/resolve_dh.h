@@ -13,7 +13,12 @@
 //                                                      (its occlusion bits, sampling/ls_buffer_dh.h)
 //   bool resolveSourceOccluded(ResolveSource s, uint word, uint k)
 //                                                      sample k occluded, given the word of k / 32
-// and the macro RESOLVE_SOURCE (a value passed in, as volumes/stsv_fragment_dh.h explains). The
+// and the macro RESOLVE_SOURCE (a value passed in, as volumes/stsv_fragment_dh.h explains). A
+// source of fractional transmittance defines RESOLVE_TRANSMITTANCE too, and
+//   float resolveSourceTransmittance(ResolveSource s, uint k)
+//                                                      the fraction of sample k's light that gets
+//                                                      through where it is not occluded
+// so that V_k is 0 for an occluded sample and that fraction otherwise. The
 // per-sample test is the source's so that counters are read once per sample at a constant offset
 // from the pixel's first word (with the loops unrolled), as cheap on lavapipe as a mask bit.
 // RESOLVE_UNROLL, empty by default, is the sample loops' attribute: resolve.comp sets [[unroll]]
@@ -36,10 +41,10 @@ DH_BEGIN
 
 /// Running sums of one pixel's resolve.
 struct ResolveSums {
-    vec3 sum;         ///< Σ sampleContribution over visible samples (lights without a normal)
-    float emitterSum; ///< Σ resolveEmitterWeight over visible samples (rectangles, disks)
-    uint visible;     ///< visible samples
-    uint pad0;
+    vec3 sum;          ///< Σ sampleContribution over visible samples (lights without a normal)
+    float emitterSum;  ///< Σ resolveEmitterWeight over visible samples (rectangles, disks)
+    uint visible;      ///< visible samples
+    float transmitted; ///< Σ V_k (with RESOLVE_TRANSMITTANCE; else unused)
     uint pad1;
     uint pad2;
 };
@@ -70,7 +75,7 @@ DH_FUNC ResolveSums resolveSamples(Light light, LightFrame lf, vec3 p, vec3 n, R
     sums.sum = vec3(0.0f);
     sums.emitterSum = 0.0f;
     sums.visible = 0u;
-    sums.pad0 = 0u;
+    sums.transmitted = 0.0f;
     sums.pad1 = 0u;
     sums.pad2 = 0u;
     bool emitter = resolveLightIsEmitter(light);
@@ -81,6 +86,16 @@ DH_FUNC ResolveSums resolveSamples(Light light, LightFrame lf, vec3 p, vec3 n, R
             bool occluded = resolveSourceOccluded(src, word, k);
             vec3 s = lightSamplePosition(lf, resolveSourcePoint(src, k));
             sums.visible += occluded ? 0u : 1u;
+#ifdef RESOLVE_TRANSMITTANCE
+            // V_k · x equals the select below where V_k is 0 or 1.
+            float v = occluded ? 0.0f : resolveSourceTransmittance(src, k);
+            sums.transmitted += v;
+            if (emitter) {
+                sums.emitterSum += v * resolveEmitterWeight(n, light.normal, s - p);
+            } else {
+                sums.sum += v * sampleContribution(light, lf, p, n, s);
+            }
+#else
             if (emitter) {
                 float weight = resolveEmitterWeight(n, light.normal, s - p);
                 sums.emitterSum += occluded ? 0.0f : weight;
@@ -88,6 +103,7 @@ DH_FUNC ResolveSums resolveSamples(Light light, LightFrame lf, vec3 p, vec3 n, R
                 vec3 c = sampleContribution(light, lf, p, n, s);
                 sums.sum += occluded ? vec3(0.0f) : c;
             }
+#endif
         }
     }
     return sums;

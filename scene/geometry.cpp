@@ -19,6 +19,60 @@ std::uint32_t addMaterial(Scene& scene, Material material) {
     return static_cast<std::uint32_t>(scene.materials.size() - 1);
 }
 
+namespace {
+
+/// The binary mask of "a/255 · factor ≥ cutoff" over `texture` (−1: α = factor everywhere):
+/// −1 when every texel blocks (opaque), the texture itself when the rule is a ≥ 128, else a
+/// baked texture of alpha 255 (blocks) or 0 appended to `textures`.
+int binaryMask(std::vector<Texture>& textures, int texture, float factor, float cutoff) {
+    // The smallest alpha byte that blocks, 256 when none does.
+    int threshold = 256;
+    for (int a = 255; a >= 0; --a)
+        if (double(a) / 255.0 * double(factor) >= double(cutoff)) threshold = a;
+    if (texture < 0) {
+        if (threshold <= 255) return -1;
+        threshold = 256;
+    } else {
+        if (threshold == 0) return -1;
+        if (threshold == 128) return texture;
+    }
+    Texture mask;
+    if (texture < 0) {
+        mask.name = "constant alpha " + std::to_string(factor) + " below cutoff " + std::to_string(cutoff);
+        mask.width = mask.height = 1;
+        mask.rgba = {255, 255, 255, 0};
+    } else {
+        mask = textures[std::size_t(texture)];
+        mask.name += " (alpha byte ≥ " + std::to_string(threshold) + ")";
+        for (std::size_t i = 3; i < mask.rgba.size(); i += 4)
+            mask.rgba[i] = mask.rgba[i] >= threshold ? 255 : 0;
+    }
+    textures.push_back(std::move(mask));
+    return static_cast<int>(textures.size() - 1);
+}
+
+} // namespace
+
+void setMaterialAlpha(Material& material, std::vector<Texture>& textures, AlphaMode mode, int texture,
+                      float factor, float cutoff) {
+    material.alphaMode = mode;
+    material.blendTexture = -1;
+    material.alphaFactor = 1.0f;
+    if (mode == AlphaMode::Opaque) {
+        material.alphaTexture = -1;
+        return;
+    }
+    if (mode == AlphaMode::Mask) {
+        material.alphaTexture = binaryMask(textures, texture, factor, cutoff);
+        // A mask that blocks everywhere is an opaque material.
+        if (material.alphaTexture < 0) material.alphaMode = AlphaMode::Opaque;
+        return;
+    }
+    material.blendTexture = texture;
+    material.alphaFactor = factor;
+    material.alphaTexture = binaryMask(textures, texture, factor, 0.5f);
+}
+
 std::size_t appendMesh(Scene& scene, const MeshData& mesh, const mat4& worldFromObject,
                        const std::string& name, int materialOverride) {
     const auto textureBase = static_cast<int>(scene.textures.size());
@@ -30,6 +84,7 @@ std::size_t appendMesh(Scene& scene, const MeshData& mesh, const mat4& worldFrom
         scene.textures.insert(scene.textures.end(), mesh.textures.begin(), mesh.textures.end());
         for (Material m : mesh.materials) {
             if (m.alphaTexture >= 0) m.alphaTexture += textureBase;
+            if (m.blendTexture >= 0) m.blendTexture += textureBase;
             scene.materials.push_back(std::move(m));
         }
     }

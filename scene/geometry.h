@@ -31,6 +31,13 @@ std::size_t appendMesh(Scene& scene, const MeshData& mesh, const mat4& worldFrom
 /// Adds a texture / material to the scene and returns its index.
 int addTexture(Scene& scene, Texture texture);
 std::uint32_t addMaterial(Scene& scene, Material material);
+/// Sets the alpha of `material` from glTF's terms: `mode`, the texture (index into `textures`, −1
+/// none) whose alpha byte a gives α = a/255 · factor, and Mask's `cutoff` (α ≥ cutoff blocks).
+/// Fills alphaTexture with the binary mask (Mask's rule; a Blend material's stand-in α ≥ 0.5),
+/// baking a new texture into `textures` unless the rule is the texture's own alpha byte ≥ 128
+/// (factor 1, cutoff 0.5: every scene without these fields keeps its textures as they are).
+void setMaterialAlpha(Material& material, std::vector<Texture>& textures, AlphaMode mode, int texture,
+                      float factor, float cutoff);
 
 /// A quad in the object's xy plane, centred at the origin, facing +z (counter-clockwise seen from +z):
 /// x ∈ [−w/2, w/2], y ∈ [−h/2, h/2]. u runs 0 → uvRepeat.x along +x, v runs 0 → uvRepeat.y from the

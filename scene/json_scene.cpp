@@ -217,7 +217,9 @@ class SceneBuilder {
         for (std::size_t i = 0; i < list.size(); ++i) {
             const std::string w = Reader::index("materials", i);
             const Json& j = list[i];
-            m_r.expectObject(j, w, {"name", "albedo", "alphaTexture", "alphaChannel", "wrap", "doubleSided"});
+            m_r.expectObject(j, w,
+                             {"name", "albedo", "alphaTexture", "alphaChannel", "alphaMode", "alphaFactor",
+                              "alphaCutoff", "wrap", "doubleSided"});
             Material m;
             m.name = m_r.string(m_r.require(j, "name", w), Reader::join(w, "name"));
             if (m_materialByName.count(m.name))
@@ -242,8 +244,30 @@ class SceneBuilder {
                     m_r.fail(Reader::join(w, "alphaChannel"),
                              "expected \"auto\", \"alpha\", \"red\" or \"luminance\", got \"" + c + "\"");
             }
+            int texture = -1;
             if (j.contains("alphaTexture"))
-                m.alphaTexture = readTexture(j["alphaTexture"], Reader::join(w, "alphaTexture"), channel);
+                texture = readTexture(j["alphaTexture"], Reader::join(w, "alphaTexture"), channel);
+            AlphaMode mode = AlphaMode::Mask;
+            if (j.contains("alphaMode")) {
+                const std::string text = m_r.string(j["alphaMode"], Reader::join(w, "alphaMode"));
+                if (text == "opaque")
+                    mode = AlphaMode::Opaque;
+                else if (text == "mask")
+                    mode = AlphaMode::Mask;
+                else if (text == "blend")
+                    mode = AlphaMode::Blend;
+                else
+                    m_r.fail(Reader::join(w, "alphaMode"),
+                             "expected \"opaque\", \"mask\" or \"blend\", got \"" + text + "\"");
+            }
+            const auto unit = [&](const char* key, float fallback) {
+                if (!j.contains(key)) return fallback;
+                const double value = m_r.number(j[key], Reader::join(w, key));
+                if (!(value >= 0.0 && value <= 1.0)) m_r.fail(Reader::join(w, key), "must be in [0, 1]");
+                return float(value);
+            };
+            setMaterialAlpha(m, m_scene.textures, mode, texture, unit("alphaFactor", 1.0f),
+                             unit("alphaCutoff", 0.5f));
             if (j.contains("wrap")) {
                 const std::string wrap = m_r.string(j["wrap"], Reader::join(w, "wrap"));
                 if (wrap == "repeat")

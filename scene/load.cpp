@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/files.h"
 #include "scene/geometry.h"
+#include "scene/gltf_scene.h"
 #include "scene/json_scene.h"
 #include "scene/mesh_fence.h"
 #include "scene/mesh_io.h"
@@ -30,7 +31,8 @@ const std::vector<Builtin>& builtins() {
          "a 4 m x 2 m chain-link fence (2 perforated triangles) on a ground plane under a square light",
          {{"light_size", "1", "edge of the square light, metres, (0, 100]"},
           {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
-          {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"}}},
+          {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"},
+          {"fabric", "0", "opacity of a translucent fabric hung 0.3 m behind the fence; 0 = none, [0, 1]"}}},
         {"foliage",
          "a square patch of plants (2 crossed leaf quads = 4 perforated triangles each) on a ground plane",
          {{"count", "64", "number of plants (S-triangles = 4 x count), [1, 1000000]"},
@@ -45,6 +47,13 @@ const std::vector<Builtin>& builtins() {
           {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
           {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"},
           {"thickness", "0.0005", "depth of the wire boxes, metres, (0, 0.1]"}}},
+        {"particles",
+         "light-facing translucent billboards of Gaussian alpha in a ball beside an opaque cube (Klein et "
+         "al.'s "
+         "particle scene; --buffer transmittance)",
+         {{"count", "1000", "billboards (2 translucent triangles each), [1, 1000000]"},
+          {"opacity", "0.5", "peak alpha at a particle's centre, (0, 1]"},
+          {"seed", "1", "seed of placement, unsigned 64-bit integer"}}},
         {"knot",
          "a closed (2, 3) torus-knot mesh on a ground plane under a square light (opaque occluders: dcs, "
          "pw)",
@@ -184,6 +193,7 @@ Scene loadWithoutOverrides(const std::string& spec, const SceneOptions& options)
             p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 100.0f, true);
             p.repeat = int(knobs.integer("repeat", p.repeat, 1, 4096));
             p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
+            p.fabric = knobs.real("fabric", p.fabric, 0.0f, 1.0f, false);
             return makeFenceScene(p);
         }
         if (spec == "fence-mesh") {
@@ -194,6 +204,15 @@ Scene loadWithoutOverrides(const std::string& spec, const SceneOptions& options)
             TexelBoxOptions boxes;
             boxes.thickness = knobs.real("thickness", boxes.thickness, 0.0f, 0.1f, true);
             return makeFenceMeshScene(p, boxes);
+        }
+        if (spec == "particles") {
+            ParticlesParams p;
+            p.count = int(knobs.integer("count", p.count, 1, 1000000));
+            p.opacity = knobs.real("opacity", p.opacity, 0.0f, 1.0f, true);
+            p.seed = knobs.unsigned64("seed", p.seed);
+            checkSceneMemory("scene 'particles' (count=" + std::to_string(p.count) + ")",
+                             2.0 * p.count + 14.0);
+            return makeParticlesScene(p);
         }
         if (spec == "knot") {
             const int segments = int(knobs.integer("segments", 480, 3, 20000));
@@ -215,12 +234,23 @@ Scene loadWithoutOverrides(const std::string& spec, const SceneOptions& options)
     const std::string ext = lowerExtension(spec);
     if (ext.empty())
         throw UsageError("unknown scene '" + spec + "': expected a built-in name (" +
-                         joinNames(builtinSceneNames()) + ") or a .json, .obj or .off file");
-    if (ext != ".json" && ext != ".obj" && ext != ".off")
+                         joinNames(builtinSceneNames()) + ") or a .json, .obj, .off, .gltf or .glb file");
+    if (ext != ".json" && ext != ".obj" && ext != ".off" && ext != ".gltf" && ext != ".glb")
         throw UsageError("scene file '" + spec + "' has an unsupported extension '" + ext +
-                         "' (expected .json, .obj or .off)");
+                         "' (expected .json, .obj, .off, .gltf or .glb)");
     const Knobs knobs(spec, options, {}); // files take no knobs
-    Scene scene = ext == ".json" ? loadJsonScene(spec) : makeMeshScene(loadMeshFile(spec), spec);
+    Scene scene;
+    if (ext == ".json") {
+        scene = loadJsonScene(spec);
+    } else if (ext == ".gltf" || ext == ".glb") {
+        // On the ground under the default light, as a bare mesh; the file's camera if it has one.
+        std::optional<Camera> camera;
+        scene = makeMeshScene(loadGltf(spec, &camera), spec);
+        if (camera) scene.camera = *camera;
+        scene.validate();
+    } else {
+        scene = makeMeshScene(loadMeshFile(spec), spec);
+    }
     checkSceneMemory(spec, double(scene.triangles.size()));
     return scene;
 }

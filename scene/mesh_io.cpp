@@ -4,6 +4,7 @@
 #include "core/files.h"
 #include "core/memory_budget.h"
 #include "core/progress.h"
+#include "scene/gltf_scene.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/Mesh/PolyMesh_ArrayKernelT.hh>
@@ -829,7 +830,9 @@ MeshData loadMeshFile(const std::string& path) {
     const std::string ext = lowerExtension(path);
     if (ext == ".obj") return loadObj(path);
     if (ext == ".off") return loadOff(path);
-    throw UsageError("'" + path + "': unsupported mesh format '" + ext + "' (expected .obj or .off)");
+    if (ext == ".gltf" || ext == ".glb") return loadGltf(path);
+    throw UsageError("'" + path + "': unsupported mesh format '" + ext +
+                     "' (expected .obj, .off, .gltf or .glb)");
 }
 
 } // namespace stsv

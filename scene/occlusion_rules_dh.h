@@ -46,6 +46,20 @@ DH_FUNC bool alphaBlocks(uint alpha8) {
     return alpha8 >= 128u;
 }
 
+/// Fractional transmittance is accumulated as optical depth, −ln(1 − α) summed over the triangles
+/// a segment crosses, so that the product Π(1 − α) does not depend on their order: each crossing
+/// adds an unsigned fixed-point count of 1/OPTICAL_DEPTH_SCALE units (integer sums are
+/// associative, so every order and every backend gives the same bits). A texel with α = 1 is an
+/// occlusion (OPTICAL_DEPTH_OPAQUE), kept apart in the occlusion bits; a sum that reaches 2^32
+/// units (optical depth 65536) is one too.
+DH_CONST float OPTICAL_DEPTH_SCALE = 65536.0f;
+DH_CONST uint OPTICAL_DEPTH_OPAQUE = 0xffffffffu;
+
+/// The transmittance exp(−units / OPTICAL_DEPTH_SCALE) of a sum of optical-depth units.
+DH_FUNC float transmittanceOfDepth(uint units) {
+    return exp(-float(units) * (1.0f / OPTICAL_DEPTH_SCALE));
+}
+
 DH_END
 
 #endif

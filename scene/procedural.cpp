@@ -146,6 +146,8 @@ Scene makeFenceScene(const FenceParams& params) {
         throw UsageError("fence: light_size must be in (0, 100] m, got " + std::to_string(params.lightSize));
     if (params.repeat < 1 || params.repeat > 4096)
         throw UsageError("fence: repeat must be in [1, 4096], got " + std::to_string(params.repeat));
+    if (!(params.fabric >= 0.0f && params.fabric <= 1.0f))
+        throw UsageError("fence: fabric must be in [0, 1], got " + std::to_string(params.fabric));
     Scene scene;
     scene.source = "fence";
     addGround(scene, vec3(0.0f), 15.0f, vec3(0.7f));
@@ -161,6 +163,17 @@ Scene makeFenceScene(const FenceParams& params) {
     const float repeatU = float(params.repeat), repeatV = std::max(1.0f, float(params.repeat) / 2.0f);
     MeshData quad = makeQuad(vec2(4.0f, 2.0f), vec2(repeatU, repeatV));
     appendMesh(scene, quad, glm::translate(mat4(1.0f), vec3(0.0f, 1.0f, 0.0f)), "fence", int(m));
+    if (params.fabric > 0.0f) {
+        // A translucent fabric of constant α on the light's side of the fence.
+        Material fabric;
+        fabric.name = "fabric";
+        fabric.albedo = vec3(0.6f, 0.2f, 0.2f);
+        fabric.doubleSided = true;
+        setMaterialAlpha(fabric, scene.textures, AlphaMode::Blend, -1, params.fabric, 0.5f);
+        const std::uint32_t f = addMaterial(scene, fabric);
+        appendMesh(scene, makeQuad(vec2(4.0f, 1.6f), vec2(1.0f)),
+                   glm::translate(mat4(1.0f), vec3(0.0f, 1.1f, -0.3f)), "fabric", int(f));
+    }
 
     // Light behind (−z), above and a little to the left: seen from its centre the fence's top edge
     // falls on the ground at z ≈ 1.7, x ∈ [−3, 3.3] (in front of the fence, camera side).
@@ -253,6 +266,94 @@ Scene makeFoliageScene(const FoliageParams& params) {
     Bounds framedBox;
     for (const vec3& p : framed) framedBox.extend(p);
     scene.camera = framePoints(framed, framedBox.center(), vec3(0.35f, 0.62f, 1.0f), 45.0f, 0.95f);
+    scene.validate();
+    return scene;
+}
+
+Texture makeGaussianTexture(int size) {
+    checkTextureSize(size, "gaussian");
+    Texture t;
+    t.name = "gaussian " + std::to_string(size);
+    t.width = t.height = size;
+    t.rgba.assign(std::size_t(size) * size * 4, 255);
+    for (int y = 0; y < size; ++y)
+        for (int x = 0; x < size; ++x) {
+            const double u = (x + 0.5) / size * 2.0 - 1.0, v = (y + 0.5) / size * 2.0 - 1.0;
+            const double r2 = u * u + v * v;
+            const double a = r2 >= 1.0 ? 0.0 : 255.0 * std::exp(-r2 / (2.0 * 0.4 * 0.4));
+            t.rgba[(std::size_t(y) * size + x) * 4 + 3] = std::uint8_t(std::lround(a));
+        }
+    return t;
+}
+
+Scene makeParticlesScene(const ParticlesParams& params) {
+    if (params.count < 1 || params.count > 1000000)
+        throw UsageError("particles: count must be in [1, 1000000], got " + std::to_string(params.count));
+    if (!(params.opacity > 0.0f && params.opacity <= 1.0f))
+        throw UsageError("particles: opacity must be in (0, 1], got " + std::to_string(params.opacity));
+    Scene scene;
+    scene.source = "particles";
+    addGround(scene, vec3(0.0f), 8.0f, vec3(0.7f));
+
+    // The opaque cube, 1 m, right of the cloud.
+    Material box;
+    box.name = "cube";
+    box.albedo = vec3(0.3f, 0.4f, 0.6f);
+    const std::uint32_t boxMaterial = addMaterial(scene, box);
+    const vec3 lo(0.9f, 0.0f, -0.5f), hi(1.9f, 1.0f, 0.5f);
+    const auto corner = [&](int i) {
+        return vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
+    };
+    // Faces as corner quadruples, counter-clockwise seen from outside.
+    const int faces[6][4] = {{0, 4, 6, 2}, {1, 3, 7, 5}, {0, 1, 5, 4},
+                             {2, 6, 7, 3}, {0, 2, 3, 1}, {4, 5, 7, 6}};
+    const auto boxFirst = static_cast<std::uint32_t>(scene.triangles.size());
+    for (const auto& f : faces) {
+        scene.addTriangle(corner(f[0]), corner(f[1]), corner(f[2]), {0, 0}, {1, 0}, {1, 1}, boxMaterial);
+        scene.addTriangle(corner(f[0]), corner(f[2]), corner(f[3]), {0, 0}, {1, 1}, {0, 1}, boxMaterial);
+    }
+    scene.meshes.push_back({"cube", boxFirst, 12});
+
+    const vec3 lightCenter(-1.0f, 6.0f, -2.5f);
+    Material particle;
+    particle.name = "particle";
+    particle.albedo = vec3(0.85f);
+    particle.wrap = WrapMode::Clamp;
+    particle.doubleSided = true;
+    setMaterialAlpha(particle, scene.textures, AlphaMode::Blend, addTexture(scene, makeGaussianTexture(64)),
+                     params.opacity, 0.5f);
+    const std::uint32_t m = addMaterial(scene, particle);
+    Rng rng(params.seed);
+    const vec3 cloud(-0.6f, 2.0f, 0.0f);
+    const float radius = 1.2f, half = 0.25f;
+    const auto first = static_cast<std::uint32_t>(scene.triangles.size());
+    for (int i = 0; i < params.count; ++i) {
+        vec3 offset;
+        do {
+            offset = vec3(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
+        } while (dot(offset, offset) > 1.0f);
+        const vec3 c = cloud + radius * offset;
+        // Facing the light centre: the billboard's axes span the plane normal to c → light.
+        const vec3 n = normalize(lightCenter - c);
+        const vec3 u = normalize(cross(vec3(0.0f, 0.0f, 1.0f), n));
+        const vec3 v = cross(n, u);
+        const vec3 a = c - half * u - half * v, b = c + half * u - half * v, d = c + half * u + half * v,
+                   e = c - half * u + half * v;
+        scene.addTriangle(a, b, d, {0, 0}, {1, 0}, {1, 1}, m);
+        scene.addTriangle(a, d, e, {0, 0}, {1, 1}, {0, 1}, m);
+    }
+    scene.meshes.push_back({"particles", first, static_cast<std::uint32_t>(scene.triangles.size()) - first});
+
+    const float lightSize = 1.0f;
+    const vec3 lightNormal = normalize(vec3(0.0f, 0.0f, 1.0f) - lightCenter);
+    const float radiance = radianceForOutgoing(lightCenter, lightNormal, lightSize * lightSize,
+                                               vec3(2.5f, 0.0f, 2.5f), vec3(0.0f, 1.0f, 0.0f), 0.7f, 0.6f);
+    scene.lights.push_back(makeRectangleLight(lightCenter, lightNormal, vec2(lightSize), vec3(radiance),
+                                              vec3(1.0f, 0.0f, 0.0f)));
+    scene.camera.eye = vec3(2.5f, 4.5f, 7.5f);
+    scene.camera.target = vec3(0.0f, 0.6f, 1.3f);
+    scene.camera.up = vec3(0.0f, 1.0f, 0.0f);
+    scene.camera.fovY = 50.0f;
     scene.validate();
     return scene;
 }

@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/memory_budget.h"
+#include "scene/occlusion_rules_dh.h"
 
 #include <cmath>
 
@@ -50,6 +51,26 @@ void checkSceneMemory(const std::string& what, double triangles) {
                 triangles * SCENE_BYTES_PER_TRIANGLE, "use a coarser mesh");
 }
 
+std::uint32_t opticalDepthUnits(double alpha) {
+    if (!(alpha > 0.0)) return 0u;
+    if (alpha >= 1.0) return OPTICAL_DEPTH_OPAQUE;
+    // α < 1 in double: the largest finite depth, α = 1 − 2^−53, is 36.7 · 65536 units.
+    return static_cast<std::uint32_t>(std::llround(-std::log1p(-alpha) * double(OPTICAL_DEPTH_SCALE)));
+}
+
+OpticalDepthTable opticalDepthTable(const Material& material) {
+    OpticalDepthTable table{};
+    for (int a = 0; a < 256; ++a)
+        table[std::size_t(a)] = opticalDepthUnits(double(a) / 255.0 * double(material.alphaFactor));
+    return table;
+}
+
+bool Scene::hasTranslucent() const {
+    for (const Material& m : materials)
+        if (m.translucent()) return true;
+    return false;
+}
+
 Bounds Scene::bounds() const {
     Bounds b;
     for (const vec3& p : positions) b.extend(p);
@@ -89,8 +110,14 @@ void Scene::validate() const {
             throw InputError(source, "triangle " + std::to_string(t) + " has an unknown material");
     }
     for (const Material& m : materials) {
-        if (m.alphaTexture >= static_cast<int>(textures.size()))
+        if (m.alphaTexture >= static_cast<int>(textures.size()) ||
+            m.blendTexture >= static_cast<int>(textures.size()))
             throw InputError(source, "material '" + m.name + "' refers to a missing texture");
+        if (!(m.alphaFactor >= 0.0f && m.alphaFactor <= 1.0f))
+            throw InputError(source, "material '" + m.name + "' alpha factor must be in [0, 1]");
+        if (m.blendTexture >= 0 && !m.translucent())
+            throw InputError(source,
+                             "internal: material '" + m.name + "' has a blend texture but is not Blend");
         if (const std::string problem = albedoProblem(m.albedo); !problem.empty())
             throw InputError(source, "material '" + m.name + "' albedo: " + problem);
     }

@@ -4,6 +4,7 @@
 #include "core/dh.h"
 #include "scene/light_dh.h"
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -11,6 +12,11 @@
 namespace stsv {
 
 enum class WrapMode : std::uint32_t { Repeat = 0, Clamp = 1 };
+
+/// How a material's alpha α (its texture's alpha byte / 255 times alphaFactor) occludes, in
+/// glTF 2.0's vocabulary: Opaque blocks everywhere, Mask blocks where α ≥ alphaCutoff (a
+/// perforated triangle), Blend transmits 1 − α (a translucent triangle).
+enum class AlphaMode : std::uint32_t { Opaque = 0, Mask = 1, Blend = 2 };
 
 /// RGBA8 texture; the alpha channel is the transmittance mask of perforated materials.
 struct Texture {
@@ -24,14 +30,34 @@ struct Texture {
 
 struct Material {
     std::string name;
-    vec3 albedo{0.8f};     ///< linear RGB diffuse reflectance
-    int alphaTexture = -1; ///< index into Scene::textures; -1 = opaque (not an S-triangle)
+    vec3 albedo{0.8f}; ///< linear RGB diffuse reflectance
+    /// The binary mask every binary test reads (occlusion_rules_dh.h alphaBlocks: alpha byte ≥
+    /// 128 blocks), index into Scene::textures; -1 = opaque. A Mask material's cutoff and factor
+    /// are baked into it (setMaterialAlpha); a Blend material's is its stand-in α ≥ 0.5.
+    int alphaTexture = -1;
     WrapMode wrap = WrapMode::Repeat;
     bool doubleSided =
         false; ///< lit from both sides (the shading normal faces the viewer); shadows are two-sided always
+    AlphaMode alphaMode = AlphaMode::Mask; ///< Mask without alphaTexture is opaque
+    /// Blend only: the texture whose alpha byte a, times alphaFactor, is α = a/255·alphaFactor;
+    /// -1 = α is alphaFactor everywhere.
+    int blendTexture = -1;
+    float alphaFactor = 1.0f; ///< Blend only, in [0, 1]
 
+    /// An S-triangle with a binary mask (Mask with a texture, or a Blend material's stand-in).
     bool perforated() const { return alphaTexture >= 0; }
+    /// Transmits 1 − α: through STSV and the reference with the transmittance buffer.
+    bool translucent() const { return alphaMode == AlphaMode::Blend; }
 };
+
+/// The optical depth a Blend material's alpha byte a adds to a segment that crosses it, in the
+/// fixed-point units of occlusion_rules_dh.h: −ln(1 − a/255·alphaFactor) · OPTICAL_DEPTH_SCALE
+/// rounded, OPTICAL_DEPTH_OPAQUE where α = 1; 256 entries, one per alpha byte (a material without
+/// a blend texture reads entry 255: α = alphaFactor).
+using OpticalDepthTable = std::array<std::uint32_t, 256>;
+OpticalDepthTable opticalDepthTable(const Material& material);
+/// The same for one α in [0, 1] (opticalDepthTable's entries).
+std::uint32_t opticalDepthUnits(double alpha);
 
 struct Camera {
     vec3 eye{0.0f, 1.0f, 5.0f}; ///< world units
@@ -112,6 +138,9 @@ struct Scene {
     std::size_t triangleCount() const { return triangles.size(); }
     const Material& materialOf(std::size_t tri) const { return materials[triangleMaterial[tri]]; }
     bool perforated(std::size_t tri) const { return materialOf(tri).perforated(); }
+    bool translucent(std::size_t tri) const { return materialOf(tri).translucent(); }
+    /// Whether any triangle has a Blend material.
+    bool hasTranslucent() const;
     Bounds bounds() const;
 
     /// Appends a triangle (positions and texcoords copied, unindexed) with a material index.

@@ -28,6 +28,10 @@ DH_BEGIN
 DH_CONST uint STSV_FLAG_CLAMP = 1u;      ///< texture wrap mode is clamp (else repeat)
 DH_CONST uint STSV_FLAG_OPAQUE = 2u;     ///< no texture: every covered sample is blocked
 DH_CONST uint STSV_FLAG_DEGENERATE = 4u; ///< zero-area triangle: blocks nothing
+/// Translucent (a Blend material, with a transmittance buffer): a crossing adds the optical depth
+/// of its texel's alpha (scene/occlusion_rules_dh.h) from the material's table; with
+/// STSV_FLAG_OPAQUE as well, the constant α of a material without a texture (table entry 255).
+DH_CONST uint STSV_FLAG_TRANSLUCENT = 8u;
 
 /// Per-triangle constants (computed once per triangle and light). std430: 7 × 16 bytes.
 struct StsvTriangle {
@@ -40,7 +44,7 @@ struct StsvTriangle {
     uint texture;  ///< texture index (meaningless with STSV_FLAG_OPAQUE)
     uint flags;    ///< STSV_FLAG_*
     uint triangle; ///< index of the triangle in the scene (self-shadowing rule)
-    uint pad0;
+    uint material; ///< the triangle's material (its optical-depth table, STSV_FLAG_TRANSLUCENT)
     uint pad1;
     uint pad2;
 };
@@ -74,7 +78,7 @@ DH_FUNC StsvTriangle stsvSetupTriangle(vec3 v0, vec3 v1, vec3 v2, vec2 t0, vec2 
     t.uvE2 = t2 - t0;
     t.texture = textureIndex;
     t.triangle = triangleIndex;
-    t.pad0 = 0u;
+    t.material = 0u;
     t.pad1 = 0u;
     t.pad2 = 0u;
     if (!(area2 > 1e-7f * scale * scale)) {

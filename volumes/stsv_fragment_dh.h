@@ -13,7 +13,17 @@
 //                                                         (samplePoint of light_sampling_dh.h)
 //   bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) alphaBlocks of the texel of the
 //                                                         triangle's texture
-// and the macro STSV_SAMPLE_SOURCE. Declared functions would do for GLSL, but C++ would then
+// and the macro STSV_SAMPLE_SOURCE. A pass that writes transmittance defines STSV_SAMPLE_DEPTH too,
+// and a third function:
+//   uint stsvSourceDepth(StsvSampleSource s, StsvTriangle t, ivec2 texel)
+//                                                         the optical-depth units (scene/
+//                                                         occlusion_rules_dh.h) a crossing at the
+//                                                         texel adds: for STSV_FLAG_TRANSLUCENT
+//                                                         the material's table at the texel's
+//                                                         alpha (entry 255 with STSV_FLAG_OPAQUE),
+//                                                         else OPTICAL_DEPTH_OPAQUE where it
+//                                                         blocks and 0 where it does not Declared functions
+//                                                         would do for GLSL, but C++ would then
 // need globals; a source value passed in keeps the C++ side reentrant and the GLSL side free of
 // cost (every call is inlined, the struct scalarised).
 #ifndef STSV_VOLUMES_STSV_FRAGMENT_DH_H
@@ -76,6 +86,16 @@ DH_FUNC uint stsvOcclusionWordOf(StsvTriangle t, StsvPixel px, StsvSampleSource 
     }
     return bits;
 }
+
+#ifdef STSV_SAMPLE_DEPTH
+/// The optical-depth units triangle t adds to light sample k: 0 when the segment misses it, else
+/// stsvSourceDepth at the crossing's texel (OPTICAL_DEPTH_OPAQUE for a blocking one).
+DH_FUNC uint stsvSampleDepth(StsvTriangle t, StsvPixel px, StsvSampleSource src, ivec2 textureSize, uint k) {
+    ivec2 texel;
+    if (!stsvSampleCrosses(t, px, stsvSourcePoint(src, k), textureSize, texel)) return 0u;
+    return stsvSourceDepth(src, t, texel);
+}
+#endif
 
 DH_END
 

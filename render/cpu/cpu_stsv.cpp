@@ -19,10 +19,11 @@ namespace stsv {
 
 /// The data access of volumes/stsv_fragment_dh.h on the CPU: the pixel's sample points,
 /// computed once per pixel (pixelSamplePoint), the texels from the triangle's Texture (null for
-/// an opaque triangle).
+/// an opaque triangle), a translucent triangle's optical-depth table.
 struct StsvSampleSource {
     const vec2* points; ///< the pixel's samples in frame coordinates, plan.count of them
     const Texture* texture;
+    const std::uint32_t* depthTable; ///< 256 entries with STSV_FLAG_TRANSLUCENT, else null
 };
 inline vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
     return s.points[k];
@@ -30,10 +31,16 @@ inline vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
 inline bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
     return alphaBlocks(s.texture->alpha(texel.x, texel.y));
 }
+inline uint stsvSourceDepth(StsvSampleSource s, const StsvTriangle& t, ivec2 texel) {
+    if (t.flags & STSV_FLAG_TRANSLUCENT)
+        return s.depthTable[(t.flags & STSV_FLAG_OPAQUE) ? 255u : s.texture->alpha(texel.x, texel.y)];
+    return (t.flags & STSV_FLAG_OPAQUE) || stsvSourceBlocks(s, texel) ? OPTICAL_DEPTH_OPAQUE : 0u;
+}
 
 } // namespace stsv
 
 #define STSV_SAMPLE_SOURCE
+#define STSV_SAMPLE_DEPTH
 #include "volumes/stsv_fragment_dh.h"
 
 namespace stsv {
@@ -71,6 +78,10 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     const float sceneDiameter = bounds.diameter();
     const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
     const vec3 lightCenter = vec3(sphere);
+    const bool transmittance = out.kind() == BufferKind::Transmittance;
+    std::vector<OpticalDepthTable> depthTables;
+    if (transmittance)
+        for (const Material& m : scene.materials) depthTables.push_back(opticalDepthTable(m));
 
     // Per-triangle constants, light planes and volumes (the geometry shader's work).
     std::vector<StsvTriangle> triangles(scene.triangleCount());
@@ -79,7 +90,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     volumes.reserve(scene.triangleCount());
     for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
         if (include && !include(t)) continue;
-        triangles[t] = stsvTriangleFor(scene, t, lightCenter);
+        triangles[t] = stsvTriangleFor(scene, t, lightCenter, transmittance);
         if (triangles[t].flags & STSV_FLAG_DEGENERATE) {
             ++stats.degenerateSkipped;
             continue;
@@ -177,6 +188,9 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 // need every layer.
                 std::array<uint, 8> mask{};
                 uint open = wordCount;
+                // Transmittance: the optical depth of the translucent triangles per sample.
+                std::array<std::uint32_t, 256> depth;
+                bool anyDepth = false;
                 for (std::uint32_t v : pixelCandidates) {
                     if (open == 0) break;
                     const VolumeRecord& record = volumes[v];
@@ -203,7 +217,30 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                         placed = true;
                     }
                     const std::array<uint, 8> inRegion = cells.within(regionLo, regionHi, wordCount);
-                    const StsvSampleSource src{points.data(), texture};
+                    const bool translucent = (tri.flags & STSV_FLAG_TRANSLUCENT) != 0u;
+                    const StsvSampleSource src{points.data(), texture,
+                                               translucent ? depthTables[tri.material].data() : nullptr};
+                    if (translucent) {
+                        if (!anyDepth) depth.fill(0u);
+                        anyDepth = true;
+                        for (uint w = 0; w < wordCount; ++w) {
+                            const uint before = mask[w];
+                            for (uint untested = inRegion[w] & ~mask[w]; untested != 0u;
+                                 untested &= untested - 1u) {
+                                const uint k = 32u * w + uint(std::countr_zero(untested));
+                                ++localSamples;
+                                const uint units = stsvSampleDepth(tri, px, src, size, k);
+                                std::uint32_t& d = depth[k];
+                                // A sum of 2^32 units or more blocks (occlusion_rules_dh.h).
+                                if (units == OPTICAL_DEPTH_OPAQUE || d + units < d)
+                                    mask[w] |= lsMaskBit(k);
+                                else
+                                    d += units;
+                            }
+                            if (mask[w] != before && mask[w] == wordBits(w)) --open;
+                        }
+                        continue;
+                    }
                     for (uint w = 0; w < wordCount; ++w) {
                         const uint untested = counters ? inRegion[w] : inRegion[w] & ~mask[w];
                         if (untested == 0u) continue;
@@ -220,6 +257,11 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 if (!counters)
                     for (uint w = 0; w < wordCount; ++w)
                         if (mask[w] != 0u) out.addOccludingWord(x, y, int(w), mask[w]);
+                if (anyDepth)
+                    for (int k = 0; k < plan.count; ++k)
+                        if (depth[std::size_t(k)] != 0u &&
+                            (mask[lsMaskWord(uint(k))] & lsMaskBit(uint(k))) == 0u)
+                            out.addOpticalDepth(x, y, k, depth[std::size_t(k)]);
             }
         tests += localTests;
         hits += localHits;
@@ -236,7 +278,8 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
 }
 
 TriangleFilter stsvFilter(const Scene& scene, StsvTriangles which) {
-    if (which == StsvTriangles::Perforated) return [&scene](std::size_t t) { return scene.perforated(t); };
+    if (which == StsvTriangles::Perforated)
+        return [&scene](std::size_t t) { return scene.perforated(t) || scene.translucent(t); };
     if (which == StsvTriangles::None) return [](std::size_t) { return false; };
     return {};
 }

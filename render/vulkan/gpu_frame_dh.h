@@ -45,7 +45,9 @@ DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 
 
 /// GpuTriangle::flags: STSV_FLAG_CLAMP and STSV_FLAG_OPAQUE as in stsv_dh.h, plus:
 DH_CONST uint GPU_TRIANGLE_DOUBLE_SIDED = 256u; ///< shading normal faces the viewer
-DH_CONST uint GPU_STSV_FLAG_MASK = 3u;          ///< the bits stsvSetupTriangle takes
+DH_CONST uint GPU_TRIANGLE_TRANSLUCENT =
+    512u;                              ///< a Blend material: not a receiver (the G-buffer sees through)
+DH_CONST uint GPU_STSV_FLAG_MASK = 3u; ///< the bits stsvSetupTriangle takes
 
 /// One scene triangle. std430: 6 × 16 bytes.
 struct GpuTriangle {

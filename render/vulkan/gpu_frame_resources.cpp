@@ -34,7 +34,8 @@ std::vector<GpuTriangle> gpuTriangles(const Scene& scene) {
         g.texture = material.perforated() ? static_cast<uint>(material.alphaTexture) : 0u;
         g.flags = (material.wrap == WrapMode::Clamp ? STSV_FLAG_CLAMP : 0u) |
                   (material.perforated() ? 0u : STSV_FLAG_OPAQUE) |
-                  (material.doubleSided ? GPU_TRIANGLE_DOUBLE_SIDED : 0u);
+                  (material.doubleSided ? GPU_TRIANGLE_DOUBLE_SIDED : 0u) |
+                  (material.translucent() ? GPU_TRIANGLE_TRANSLUCENT : 0u);
         g.albedo = vec4(material.albedo, 0.0f);
     }
     return tris;

@@ -1,6 +1,7 @@
 #version 450
 // G-buffer pass: world position and triangle id of the visible surface. Perforated triangles
-// are alpha-tested with the shared texel rule, so the visible point is the surface behind a hole.
+// are alpha-tested with the shared texel rule, so the visible point is the surface behind a hole;
+// translucent ones are not drawn into it (as the Embree G-buffer's primary rays).
 #extension GL_GOOGLE_include_directive : require
 #include "common/frame_bindings.glsl"
 
@@ -11,6 +12,8 @@ layout(location = 1) out uint outTriangle;
 void main() {
     uint tri = uint(gl_PrimitiveID);
     GpuTriangle t = triangles[tri];
+    // Translucent triangles are not receivers: the visible point is what lies behind them.
+    if ((t.flags & GPU_TRIANGLE_TRANSLUCENT) != 0u) discard;
     if ((t.flags & STSV_FLAG_OPAQUE) == 0u) {
         vec2 uv = t.t0 + inBary.x * (t.t1 - t.t0) + inBary.y * (t.t2 - t.t0);
         uint wrap = (t.flags & STSV_FLAG_CLAMP) != 0u ? WRAP_CLAMP : WRAP_REPEAT;

@@ -35,7 +35,7 @@ StsvTriangle stsvUnpackTriangle(vec4 m0, vec4 m1, vec4 m2, vec4 uv0E1, vec4 uvE2
     t.texture = ids.x;
     t.flags = ids.y;
     t.triangle = ids.z;
-    t.pad0 = 0u;
+    t.material = 0u;
     t.pad1 = 0u;
     t.pad2 = 0u;
     return t;

@@ -3,9 +3,11 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "sampling/ls_buffer.h"
+#include "scene/occlusion_rules_dh.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -187,6 +189,50 @@ TEST(LightSampleBuffer, CounterNpyUsesUint8ThenUint16) {
         EXPECT_EQ(compareLightSamples(ls, back, 16, true).differingSamples, 0u);
         EXPECT_THROW(LightSampleBuffer::readNpy(path, Kind::Bitmask), InputError);
     }
+    std::remove(path.c_str());
+}
+
+TEST(LightSampleBuffer, TransmittanceIsAnOpticalDepthSumWrittenAsFloat16) {
+    LightSampleBuffer ls(2, 1, 16, Kind::Transmittance);
+    // α = 0.5 twice: optical depth 2 ln 2 → T = 1/4 (to the fixed point's 2^−16 and float16's step).
+    const std::uint32_t half = std::uint32_t(std::llround(std::log(2.0) * 65536.0));
+    ls.addOpticalDepth(0, 0, 3, half);
+    ls.addOpticalDepth(0, 0, 3, half);
+    ls.addOpticalDepth(1, 0, 5, OPTICAL_DEPTH_OPAQUE);
+    // A sum that wraps 2^32 units is an occlusion, whatever the order of the terms.
+    ls.addOpticalDepth(1, 0, 7, 0xC0000000u);
+    ls.addOpticalDepth(1, 0, 7, 0x40000000u);
+    EXPECT_EQ(ls.opticalDepth(0, 0, 3), 2 * half);
+    EXPECT_TRUE(ls.occluded(1, 0, 5));
+    EXPECT_TRUE(ls.occluded(1, 0, 7));
+    EXPECT_EQ(ls.transmittance(1, 0, 7), 0.0f);
+    EXPECT_EQ(ls.transmittance(0, 0, 0), 1.0f);
+    EXPECT_NEAR(ls.transmittance(0, 0, 3), 0.25f, 1e-6f);
+    // v_coef is the mean transmittance: (15 + 0.25) / 16 and (16 − 2) / 16.
+    EXPECT_NEAR(ls.visibleFraction(0, 0), 15.25f / 16.0f, 1e-6f);
+    EXPECT_EQ(ls.visibleFraction(1, 0), 14.0f / 16.0f);
+    // Bits (for the opaque part) and one 32-bit depth per sample.
+    EXPECT_EQ(LightSampleBuffer::storageBytes(2, 1, 16, Kind::Transmittance), 2u * 4u + 2u * 16u * 4u);
+    EXPECT_EQ(LightSampleBuffer::payloadBytes(2, 1, 16, Kind::Transmittance), 2u * 16u * 2u);
+    const std::string path = tempPath("transmittance.npy");
+    ls.writeNpy(path);
+    const auto [header, data] = splitNpy(fileBytes(path));
+    EXPECT_NE(header.find("'descr': '<f2'"), std::string::npos) << header;
+    EXPECT_NE(header.find("'shape': (1, 2, 16)"), std::string::npos) << header;
+    ASSERT_EQ(data.size(), 64u);
+    EXPECT_EQ(data[0], 0x00); // 1.0 = 0x3C00, little endian
+    EXPECT_EQ(data[1], 0x3C);
+    EXPECT_EQ(data[6], 0x00); // 0.25 = 0x3400
+    EXPECT_EQ(data[7], 0x34);
+    EXPECT_EQ(data[2 * (16 + 5)], 0x00); // 0
+    EXPECT_EQ(data[2 * (16 + 5) + 1], 0x00);
+    const LightSampleBuffer back = LightSampleBuffer::readNpy(path);
+    EXPECT_EQ(back.kind(), Kind::Transmittance);
+    for (int x = 0; x < 2; ++x)
+        for (int k = 0; k < 16; ++k)
+            EXPECT_EQ(halfBits(back.transmittance(x, 0, k)), halfBits(ls.transmittance(x, 0, k)))
+                << x << " " << k;
+    EXPECT_THROW(ls.addCount(0, 0, 0, 1), UsageError);
     std::remove(path.c_str());
 }
 

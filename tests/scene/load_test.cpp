@@ -1,6 +1,7 @@
 #include "core/error.h"
 #include "scene/camera.h"
 #include "scene/load.h"
+#include "scene/procedural.h"
 
 #include "scene_test_util.h"
 
@@ -18,7 +19,8 @@ using test::expectError;
 using test::TempDir;
 
 TEST(Load, BuiltinNamesAndKnobs) {
-    EXPECT_EQ(builtinSceneNames(), (std::vector<std::string>{"fence", "foliage", "fence-mesh", "knot"}));
+    EXPECT_EQ(builtinSceneNames(),
+              (std::vector<std::string>{"fence", "foliage", "fence-mesh", "particles", "knot"}));
     std::vector<std::string> foliage;
     for (const SceneKnob& k : builtinSceneKnobs("foliage")) foliage.push_back(k.name);
     EXPECT_NE(std::find(foliage.begin(), foliage.end(), "count"), foliage.end());
@@ -33,6 +35,49 @@ TEST(Load, BuiltinNamesAndKnobs) {
         }
     }
     expectError<UsageError>([] { builtinSceneKnobs("forest"); }, {"forest", "fence, foliage"});
+}
+
+TEST(Load, ParticlesAreLightFacingTranslucentBillboardsBesideACube) {
+    SceneOptions options;
+    options.set["count"] = "50";
+    options.set["opacity"] = "0.8";
+    const Scene s = loadScene("particles", options);
+    ASSERT_EQ(s.triangleCount(), 2u + 12u + 100u);
+    const vec3 light = s.lights[0].position;
+    std::size_t translucent = 0;
+    for (std::size_t t = 0; t < s.triangleCount(); ++t) {
+        if (!s.translucent(t)) continue;
+        ++translucent;
+        const Material& m = s.materialOf(t);
+        EXPECT_EQ(m.alphaFactor, 0.8f);
+        // The billboard's plane is normal to the direction to the light centre.
+        const vec3 a = s.positions[s.triangles[t].x], b = s.positions[s.triangles[t].y],
+                   c = s.positions[s.triangles[t].z];
+        const vec3 n = normalize(cross(b - a, c - a));
+        const vec3 centre = t % 2 == 0 ? 0.5f * (a + c) : 0.5f * (a + b);
+        EXPECT_GT(std::abs(dot(n, normalize(light - centre))), 0.9999f) << "triangle " << t;
+    }
+    EXPECT_EQ(translucent, 100u);
+    // The Gaussian sprite: peak at the centre, 0 outside the inscribed disc.
+    const Texture g = makeGaussianTexture(64);
+    // Texel (31, 31): r² = 2·(0.5/32)², 255·exp(−r²/0.32) = 254.6; texel (0, 31): r² = 0.9692,
+    // 255·exp(−0.9692/0.32) = 12.3; texel (0, 0) lies outside the disc.
+    EXPECT_EQ(g.alpha(31, 31), 255);
+    EXPECT_EQ(g.alpha(0, 31), 12);
+    EXPECT_EQ(g.alpha(0, 0), 0);
+}
+
+TEST(Load, FenceFabricIsOneTranslucentQuadBehindTheFence) {
+    SceneOptions options;
+    options.set["fabric"] = "0.4";
+    const Scene s = loadScene("fence", options);
+    ASSERT_EQ(s.triangleCount(), loadScene("fence").triangleCount() + 2);
+    for (std::size_t t = s.triangleCount() - 2; t < s.triangleCount(); ++t) {
+        EXPECT_TRUE(s.translucent(t));
+        EXPECT_EQ(s.materialOf(t).alphaFactor, 0.4f);
+        EXPECT_EQ(s.positions[s.triangles[t].x].z, -0.3f);
+    }
+    EXPECT_FALSE(loadScene("fence").hasTranslucent());
 }
 
 TEST(Load, KnotIsAClosedTubeOnTheGround) {
@@ -66,7 +111,8 @@ TEST(Load, UnknownNameListsBuiltins) {
 }
 
 TEST(Load, UnknownExtensionIsAUsageError) {
-    expectError<UsageError>([] { loadScene("model.ply"); }, {"model.ply", "'.ply'", ".json, .obj or .off"});
+    expectError<UsageError>([] { loadScene("model.ply"); },
+                            {"model.ply", "'.ply'", ".json, .obj, .off, .gltf or .glb"});
 }
 
 TEST(Load, UnknownKnobNamesKeyAndAcceptedOnes) {
