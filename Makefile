@@ -13,7 +13,7 @@ TEST_PACKAGES := chromium python3 openexr
 FUZZ_PACKAGES := clang-14 libfuzzer-14-dev
 FUZZ_BUILD    ?= build-fuzz
 FUZZ_SECONDS  ?= 60
-FUZZ_TARGETS  := json obj off png npy exr
+FUZZ_TARGETS  := json obj off png npy exr gltf
 # make sanitize: the library and the CPU test suites under AddressSanitizer and UBSan.
 SANITIZE_BUILD ?= build-asan
 SANITIZE_TESTS := core scene sampling volumes shadowmaps wedges render fuzz

@@ -16,10 +16,12 @@
 #include "scene/load.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 
 namespace stsv {
 
@@ -98,6 +100,9 @@ struct Row {
     ImageF litDisplay;
     double frameMs = 0.0;
     bool perSample = true; ///< false when it or the method compared with has a v_coef per pixel only
+    /// Per-sample RMSE of the transmittance (0 or 1 for bits and counters) against a reference
+    /// that wrote a transmittance buffer; empty otherwise.
+    std::optional<double> transmittanceRmse;
     double identicalPercent() const {
         return comparedSamples ? 100.0 * double(comparedSamples - differingSamples) / double(comparedSamples)
                                : 100.0;
@@ -133,6 +138,23 @@ Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBacke
         row.differingSamples += d.differingSamples;
         row.comparedSamples += d.comparedSamples;
         row.differingPixels += d.differingPixels;
+    }
+    if (row.perSample && !against.lightSamples.empty() &&
+        against.lightSamples[0].kind() == BufferKind::Transmittance) {
+        double sum = 0.0;
+        std::size_t count = 0;
+        for (std::size_t l = 0; l < frame.lightSamples.size(); ++l) {
+            const LightSampleBuffer& a = frame.lightSamples[l];
+            const LightSampleBuffer& b = against.lightSamples[l];
+            for (int y = 0; y < a.height(); ++y)
+                for (int x = 0; x < a.width(); ++x)
+                    for (int k = 0; k < a.samples(); ++k) {
+                        const double d = double(a.transmittance(x, y, k)) - double(b.transmittance(x, y, k));
+                        sum += d * d;
+                        ++count;
+                    }
+        }
+        row.transmittanceRmse = count ? std::sqrt(sum / double(count)) : 0.0;
     }
     row.visibilityDisplay = toDisplay(frame.visibility, false);
     row.litDisplay = toDisplay(frame.color, true);
@@ -259,6 +281,13 @@ ReportTable equalSampleTable(const std::vector<Row>& rows) {
              r.perSample ? std::to_string(r.differingSamples) : "n/a", formatFixed(r.visibility.rmse, 5),
              formatFixed(r.visibility.maxAbs, 5), formatFixed(r.lit.rmse, 5), formatFixed(r.lit.maxAbs, 5),
              formatFixed(r.lit.ssim, 5), formatPercent(r.lit.fractionAbove), formatFixed(r.frameMs, 1)});
+    // With a transmittance reference: each method's per-sample transmittance RMSE.
+    if (!rows.empty() && rows.front().transmittanceRmse) {
+        t.header.push_back("transmittance RMSE");
+        for (std::size_t i = 0; i < rows.size(); ++i)
+            t.rows[i].push_back(rows[i].transmittanceRmse ? formatFixed(*rows[i].transmittanceRmse, 5)
+                                                          : "n/a");
+    }
     return t;
 }
 
@@ -458,6 +487,10 @@ int runCompare(CompareArgs& args) {
         RenderOptions o = base;
         o.method = mb.method;
         o.backend = mb.backend;
+        // A method or backend without fractional transmittance is compared with its bits.
+        if (o.buffer == BufferKind::Transmittance &&
+            (!methodInfo(mb.method).writesTransmittance() || mb.backend != Backend::Cpu))
+            o.buffer = BufferKind::Bitmask;
         o.params = params[std::size_t(std::find(all.begin(), all.end(), mb.method) - all.begin())];
         return o;
     };
@@ -538,6 +571,13 @@ int runCompare(CompareArgs& args) {
                     toString(r.mb).c_str(), identical.c_str(), differing.c_str(), r.visibility.rmse,
                     r.visibility.maxAbs, r.lit.rmse, r.lit.maxAbs, r.lit.ssim, 100.0 * r.lit.fractionAbove,
                     r.frameMs);
+    }
+    if (rows.front().transmittanceRmse) {
+        std::printf("per-sample transmittance RMSE against %s:", toString(against).c_str());
+        for (const Row& r : rows)
+            std::printf(" %s %s", toString(r.mb).c_str(),
+                        r.transmittanceRmse ? formatFixed(*r.transmittanceRmse, 5).c_str() : "n/a");
+        std::printf("\n");
     }
     std::string visibilityOnly;
     for (const MethodBackend& mb : methods)
@@ -637,6 +677,7 @@ int runCompare(CompareArgs& args) {
                   {"fraction_above_1_255", r.lit.fractionAbove}}},
                 {"frame_ms", r.frameMs}};
             if (converged) row["converged"] = errorJson(r.convergedVisibility, r.convergedLit);
+            if (r.transmittanceRmse) row["transmittance_rmse"] = *r.transmittanceRmse;
             list.push_back(row);
         }
         const bool vulkan = std::any_of(rows.begin(), rows.end(),

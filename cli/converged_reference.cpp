@@ -179,6 +179,13 @@ std::uint64_t sceneContentHash(const Scene& scene) {
         h.u64(std::uint64_t(std::int64_t(m.alphaTexture)));
         h.u64(std::uint64_t(m.wrap));
         h.u64(m.doubleSided ? 1 : 0);
+        // A mask or opaque material is all in its binary mask; a translucent one adds its alpha
+        // (hashed only then, so that the keys of scenes without one stay as they were).
+        if (m.translucent()) {
+            h.u64(std::uint64_t(AlphaMode::Blend));
+            h.u64(std::uint64_t(std::int64_t(m.blendTexture)));
+            h.f32(m.alphaFactor);
+        }
     }
     h.u64(scene.textures.size());
     for (const Texture& t : scene.textures) {

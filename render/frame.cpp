@@ -21,7 +21,7 @@ void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, 
 
 nlohmann::json sceneStats(const Scene& scene) {
     std::size_t perforated = 0;
-    for (std::size_t t = 0; t < scene.triangleCount(); ++t) perforated += scene.perforated(t) ? 1 : 0;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) perforated += scene.opaqueOccluder(t) ? 0 : 1;
     return {{"source", scene.source},
             {"triangles", scene.triangleCount()},
             {"perforated_triangles", perforated},
@@ -57,10 +57,13 @@ nlohmann::json methodSceneNotes(const Scene& scene, const MethodInfo& method) {
     // alpha-test perforated ones, and every STSV method draws them.
     if (method.opaque != OpaqueTechnique::None && method.stsv == StsvTriangles::None) {
         std::size_t perforated = 0;
-        for (std::size_t t = 0; t < scene.triangleCount(); ++t) perforated += scene.perforated(t) ? 1 : 0;
+        for (std::size_t t = 0; t < scene.triangleCount(); ++t) perforated += scene.opaqueOccluder(t) ? 0 : 1;
         notes["ignored_perforated_triangles"] = perforated;
         if (perforated > 0) notes["ignored_perforated_triangles_use"] = method.name + "+stsv";
     }
+    std::size_t translucent = 0;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) translucent += scene.translucent(t) ? 1 : 0;
+    if (translucent > 0) notes["translucent_triangles"] = translucent;
     return notes;
 }
 
@@ -72,6 +75,17 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                            std::to_string(stats["ignored_perforated_triangles"].get<std::size_t>()) +
                            " perforated triangles are missing (" +
                            stats.value("ignored_perforated_triangles_use", std::string()) + " draws them)");
+    const std::string buffer = stats.contains("options") ? stats["options"].value("buffer", "") : "";
+    if (stats.value("translucent_triangles", std::size_t(0)) > 0 && buffer != "transmittance") {
+        std::string writers;
+        for (const MethodInfo& m : methodTable())
+            if (m.writesTransmittance()) writers += (writers.empty() ? "" : " or ") + m.name;
+        warnings.push_back(method + " with a " + buffer + " buffer takes the scene's " +
+                           std::to_string(stats["translucent_triangles"].get<std::size_t>()) +
+                           " translucent triangles as blocking where alpha >= 0.5 and open elsewhere "
+                           "(--buffer transmittance with " +
+                           writers + " lets their fraction through)");
+    }
     if (stats.contains("shadow_maps") && stats["shadow_maps"].is_array()) {
         double worst = 0.0;
         for (const nlohmann::json& map : stats["shadow_maps"])

@@ -67,8 +67,9 @@ std::vector<MethodInfo> buildTable() {
          .opaque = OpaqueTechnique::Dcs},
         {.id = Method::PwStsv,
          .name = "pw+stsv",
-         .description = "pw for opaque, STSV for perforated triangles; the STSV occluded fraction "
-                        "subtracted from v_coef",
+         .description =
+             "pw for opaque, STSV for perforated and translucent triangles; the STSV occluded fraction "
+             "subtracted from v_coef",
          .family = MethodFamily::ObjectBased,
          .output = MethodOutput::Visibility,
          .backends = {B::Vulkan, B::Cpu},
@@ -77,8 +78,9 @@ std::vector<MethodInfo> buildTable() {
          .opaque = OpaqueTechnique::Pw},
         {.id = Method::DcsStsv,
          .name = "dcs+stsv",
-         .description = "dcs for opaque, STSV for perforated triangles; STSV increments added to the "
-                        "counters",
+         .description =
+             "dcs for opaque, STSV for perforated and translucent triangles; STSV increments added to the "
+             "counters",
          .family = MethodFamily::ObjectBased,
          .output = MethodOutput::SampleCounters,
          .backends = {B::Vulkan, B::Cpu},
@@ -212,7 +214,7 @@ bool MethodInfo::implementedOn(Backend backend) const {
 }
 
 bool MethodInfo::writesTransmittance() const {
-    return traced || (stsv == StsvTriangles::All && opaque == OpaqueTechnique::None);
+    return traced || stsv != StsvTriangles::None;
 }
 
 BufferKind MethodInfo::bufferKind(BufferKind requested) const {
@@ -329,6 +331,19 @@ MethodParams parseMethodParams(const MethodInfo& method, const std::vector<std::
     return params;
 }
 
+namespace {
+
+/// The table's "writes" column: the output, and the transmittance buffer where the row writes it.
+std::string writesText(const MethodInfo& m) {
+    std::string text = toString(m.output);
+    if (!m.writesTransmittance()) return text;
+    if (text.back() == ')') return text.insert(text.size() - 1, "; transmittance on cpu");
+    return text + " (transmittance on cpu)";
+    return text;
+}
+
+} // namespace
+
 std::string methodTableMarkdown() {
     std::string text = "| method | family | writes | backends | parameters | what it is |\n"
                        "|---|---|---|---|---|---|\n";
@@ -338,7 +353,7 @@ std::string methodTableMarkdown() {
         std::string knobs;
         for (const MethodKnob& k : m.knobs)
             knobs += (knobs.empty() ? "`" : ", `") + k.name + "=" + formatNumber(k.defaultValue) + "`";
-        text += "| `" + m.name + "` | " + toString(m.family) + " | " + toString(m.output) + " | " + backends +
+        text += "| `" + m.name + "` | " + toString(m.family) + " | " + writesText(m) + " | " + backends +
                 " | " + (knobs.empty() ? "none" : knobs) + " | " + m.description + " |\n";
     }
     return text;
@@ -361,6 +376,7 @@ nlohmann::json methodTableJson() {
                         {"description", m.description},
                         {"family", toString(m.family)},
                         {"writes", toString(m.output)},
+                        {"writes_transmittance", m.writesTransmittance()},
                         {"backends", backends},
                         {"parameters", knobs}});
     }

@@ -139,6 +139,9 @@ struct Scene {
     const Material& materialOf(std::size_t tri) const { return materials[triangleMaterial[tri]]; }
     bool perforated(std::size_t tri) const { return materialOf(tri).perforated(); }
     bool translucent(std::size_t tri) const { return materialOf(tri).translucent(); }
+    /// Neither perforated nor translucent: what the wedge families (dcs, pw) take; the rest goes
+    /// through STSV in pw+stsv and dcs+stsv.
+    bool opaqueOccluder(std::size_t tri) const { return !perforated(tri) && !translucent(tri); }
     /// Whether any triangle has a Blend material.
     bool hasTranslucent() const;
     Bounds bounds() const;

@@ -279,7 +279,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
 
 TriangleFilter stsvFilter(const Scene& scene, StsvTriangles which) {
     if (which == StsvTriangles::Perforated)
-        return [&scene](std::size_t t) { return scene.perforated(t) || scene.translucent(t); };
+        return [&scene](std::size_t t) { return !scene.opaqueOccluder(t); };
     if (which == StsvTriangles::None) return [](std::size_t) { return false; };
     return {};
 }

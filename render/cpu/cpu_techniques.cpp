@@ -10,6 +10,7 @@
 #include "shadowmaps/shadow_fit.h"
 #include "wedges/adjacency.h"
 
+#include <optional>
 #include <utility>
 
 namespace stsv {
@@ -61,10 +62,22 @@ class WedgeTechnique final : public CpuTechnique {
     void run(CpuLightWork& work) override {
         Timer timer;
         const bool pw = m_c.method.opaque == OpaqueTechnique::Pw;
+        const bool transmittance = work.samples.kind() == BufferKind::Transmittance;
+        // With transmittance, DCS counts into counters of its own, and a sample it finds behind
+        // at least one opaque layer is occluded (STSV adds the translucent depths after it).
+        std::optional<LightSampleBuffer> counts;
+        if (!pw && transmittance)
+            counts.emplace(work.samples.width(), work.samples.height(), work.samples.samples(),
+                           BufferKind::Counters);
         const WedgeCpuStats s =
             pw ? pwCpuVisibility(m_occluders, work.gbuffer, work.light, m_c.farDistance, work.vcoef)
                : dcsCpuSamples(m_occluders, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
-                               work.samples);
+                               counts ? *counts : work.samples);
+        if (counts)
+            for (int y = 0; y < counts->height(); ++y)
+                for (int x = 0; x < counts->width(); ++x)
+                    for (int k = 0; k < counts->samples(); ++k)
+                        if (counts->count(x, y, k) != 0) work.samples.setOccluded(x, y, k);
         work.passes[work.pass(pw ? "pw" : "dcs")] = timer.milliseconds();
         m_stats.push_back(toJson(s));
     }

@@ -63,14 +63,14 @@ OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
     m_opaque.textures = scene.textures;
     m_sceneToOpaque.assign(scene.triangleCount(), NO_TRIANGLE);
     for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
-        if (scene.perforated(t)) continue;
+        if (!scene.opaqueOccluder(t)) continue;
         m_sceneToOpaque[t] = static_cast<std::uint32_t>(m_opaque.triangles.size());
         m_opaqueToScene.push_back(static_cast<std::uint32_t>(t));
         m_opaque.triangles.push_back(scene.triangles[t]);
         m_opaque.triangleMaterial.push_back(scene.triangleMaterial[t]);
     }
     if (!m_opaqueToScene.empty()) m_embree = std::make_unique<EmbreeScene>(m_opaque);
-    m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return !scene.perforated(t); });
+    m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
     m_carriers = edgeCarriers(m_adjacency, scene);
 }
 

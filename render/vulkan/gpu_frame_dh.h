@@ -108,6 +108,12 @@ struct GpuPush {
 /// GpuPush::flags: the STSV pass takes the perforated triangles only (pw+stsv, dcs+stsv).
 DH_CONST uint GPU_PUSH_PERFORATED_ONLY = 1u;
 
+/// Whether a triangle of these GpuTriangle::flags is an opaque occluder (the wedge families'),
+/// as Scene::opaqueOccluder: no binary mask and not translucent.
+DH_FUNC bool gpuOpaqueOccluder(uint flags) {
+    return (flags & STSV_FLAG_OPAQUE) != 0u && (flags & GPU_TRIANGLE_TRANSLUCENT) == 0u;
+}
+
 #ifdef __cplusplus
 DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
 DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);

@@ -41,7 +41,8 @@ GraphicsPipelineDesc volumePipelineDesc(std::vector<ShaderStage> stages) {
 } // namespace
 
 GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
-    const EdgeAdjacency adj = buildEdgeAdjacency(scene, [&](std::size_t t) { return !scene.perforated(t); });
+    const EdgeAdjacency adj =
+        buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
     const std::vector<std::uint32_t> carriers = edgeCarriers(adj, scene);
     GpuEdgeTables tables;
     std::unordered_map<std::uint32_t, std::uint32_t> carrierOf; // triangle → its index in tables.carriers

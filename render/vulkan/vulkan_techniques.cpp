@@ -49,7 +49,7 @@ bool drawsStsv(StsvTriangles which, const Scene& scene) {
     if (which == StsvTriangles::All) return true;
     if (which == StsvTriangles::None) return false;
     for (std::size_t t = 0; t < scene.triangleCount(); ++t)
-        if (scene.perforated(t)) return true;
+        if (!scene.opaqueOccluder(t)) return true;
     return false;
 }
 

@@ -28,7 +28,7 @@ bool hullItem(uint item, out uint tri, out uint side) {
     tri = item - side * triangleCount;
     if (side > 1u || tri >= triangleCount) return false;
     GpuTriangle g = triangles[tri];
-    if ((pc.flags & GPU_PUSH_PERFORATED_ONLY) != 0u && (g.flags & STSV_FLAG_OPAQUE) != 0u) return false;
+    if ((pc.flags & GPU_PUSH_PERFORATED_ONLY) != 0u && gpuOpaqueOccluder(g.flags)) return false;
     return side < stsvSideCount(vec3(g.v0), vec3(g.v1), vec3(g.v2), lights[pc.light].sphere);
 }
 

@@ -53,7 +53,7 @@ bool stsvSetupVolume(uint tri, uint side, uint lightIndex, bool strip, out StsvT
     vol.flags = STSV_VOLUME_EMPTY;
     lp = stsvNoLightPlanes();
     // Algorithm 2 with wedges: the opaque triangles are not STSV's.
-    if ((pc.flags & GPU_PUSH_PERFORATED_ONLY) != 0u && (g.flags & STSV_FLAG_OPAQUE) != 0u) return false;
+    if ((pc.flags & GPU_PUSH_PERFORATED_ONLY) != 0u && gpuOpaqueOccluder(g.flags)) return false;
     vec4 sphere = lights[lightIndex].sphere;
     vec3 v0 = vec3(g.v0);
     vec3 v1 = vec3(g.v1);

@@ -66,7 +66,7 @@ void main() {
     uint triangleCount = uint(triangles.length());
     if (id < triangleCount) {
         GpuTriangle g = triangles[id];
-        if ((g.flags & STSV_FLAG_OPAQUE) == 0u) return;
+        if (!gpuOpaqueOccluder(g.flags)) return;
         vec3 v0 = nearCorner(light, vec3(g.v0));
         vec3 v1 = nearCorner(light, vec3(g.v1));
         vec3 v2 = nearCorner(light, vec3(g.v2));

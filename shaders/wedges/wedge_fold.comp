@@ -36,7 +36,7 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) readonly unifor
 int centerLayers(ivec2 pixel, uint tri) {
     int count = imageLoad(centerCount, pixel).x;
     GpuTriangle t = triangles[tri];
-    if ((t.flags & STSV_FLAG_OPAQUE) == 0u) return count; // perforated: not among the volumes
+    if (!gpuOpaqueOccluder(t.flags)) return count; // perforated or translucent: not among the volumes
     vec3 v0 = vec3(t.v0);
     vec3 n = cross(vec3(t.v1) - v0, vec3(t.v2) - v0);
     int towardLight = triangleFacingLight(lights[pc.light].light, tri);

@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <utility>
@@ -280,6 +282,35 @@ TEST(CompareCli, ReferenceRowIsIdenticalAndImagesAreWritten) {
     EXPECT_EQ(j["rows"][0]["differing_samples"], 0);
     EXPECT_EQ(j["rows"][0]["visibility"]["max_abs"], 0.0);
     EXPECT_EQ(j["rows"][0]["compared_samples"], 32 * 24 * 16);
+}
+
+TEST(CompareCli, TransmittanceReferenceGivesEachMethodsPerSampleTransmittanceError) {
+    // Translucent particles: stsv and dcs+stsv write transmittance and agree with the reference
+    // but for samples that graze an edge; pcss has no per-sample answer; stsv on the binary
+    // buffer takes the particles by their stand-in mask α ≥ 0.5 (0 or 1 per sample).
+    ScratchDir dir;
+    const std::vector<std::string> args = {
+        "compare",   "particles", "--set",     "count=40",           "--buffer", "transmittance",
+        "--backend", "cpu",       "--methods", "stsv,dcs+stsv,pcss", "--size",   "48x36",
+        "--samples", "16",        "--json",    dir.file("t.json"),   "--report", dir.file("report"),
+        "-q"};
+    const CliResult r = runStsv(args);
+    ASSERT_EQ(r.code, 0) << test::describe(args, r);
+    EXPECT_NE(r.out.find("per-sample transmittance RMSE against reference/cpu: reference/cpu 0.00000"),
+              std::string::npos)
+        << r.out;
+    const nlohmann::json j = readJson(dir.file("t.json"));
+    ASSERT_EQ(j["rows"].size(), 4u);
+    EXPECT_EQ(j["rows"][0]["transmittance_rmse"], 0.0);
+    for (int i : {1, 2}) {
+        SCOPED_TRACE(j["rows"][i]["method"].get<std::string>());
+        ASSERT_TRUE(j["rows"][i].contains("transmittance_rmse"));
+        EXPECT_LT(j["rows"][i]["transmittance_rmse"].get<double>(), 0.02);
+    }
+    EXPECT_FALSE(j["rows"][3].contains("transmittance_rmse")); // pcss: a v_coef per pixel
+    std::ifstream page(dir.file("report/index.html"));
+    const std::string html((std::istreambuf_iterator<char>(page)), std::istreambuf_iterator<char>());
+    EXPECT_NE(html.find("transmittance RMSE"), std::string::npos);
 }
 
 TEST(CompareCli, NpyFiles) {

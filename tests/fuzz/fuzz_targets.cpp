@@ -46,7 +46,7 @@ std::string write(const std::string& name, const char* data, std::size_t size) {
 } // namespace
 
 const std::vector<std::string>& targetNames() {
-    static const std::vector<std::string> names = {"json", "obj", "off", "png", "npy", "exr"};
+    static const std::vector<std::string> names = {"json", "obj", "off", "png", "npy", "exr", "gltf"};
     return names;
 }
 
@@ -62,6 +62,10 @@ void runTarget(const std::string& target, const std::uint8_t* data, std::size_t 
             const std::string mtl = split == std::string::npos ? std::string() : input.substr(split + 6);
             write("m.mtl", mtl.data(), mtl.size());
             (void)loadScene(write("input.obj", obj.data(), obj.size()));
+        } else if (target == "gltf") {
+            // Binary glTF by its magic, else the JSON form; either may name grate.png beside it.
+            const bool binary = size >= 4 && std::string(text, 4) == "glTF";
+            (void)loadScene(write(binary ? "input.glb" : "input.gltf", text, size));
         } else if (target == "off") {
             (void)loadScene(write("input.off", text, size));
         } else if (target == "png") {

@@ -12,7 +12,9 @@ namespace stsv::fuzz {
 
 /// The fuzzed loaders: "json" (a JSON scene, with the test data's textures and meshes beside
 /// it), "obj" (an OBJ; after a line "#MTL" the rest is its material library m.mtl), "off",
-/// "png", "npy" (a light-sample buffer), "exr" (an OpenEXR image, as compare reads visibilities).
+/// "png", "npy" (a light-sample buffer), "exr" (an OpenEXR image, as compare reads visibilities),
+/// "gltf" (a .glb when it starts with the binary magic "glTF", else a .gltf; images beside it as
+/// for "json").
 const std::vector<std::string>& targetNames();
 
 /// Feeds `data` to the loader of `target`. Returns normally when the loader accepted the input
