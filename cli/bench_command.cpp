@@ -453,8 +453,9 @@ int runBench(BenchArgs& args) {
                     std::size_t differing = 0, compared = 0;
                     for (std::size_t l = 0; l < r.lightSamples.size() && l < reference->lightSamples.size();
                          ++l) {
-                        const LightSampleDiff d =
-                            compareLightSamples(r.lightSamples[l], reference->lightSamples[l], 0);
+                        const LightSampleDiff d = compareLightSamples(
+                            r.lightSamples[l], reference->lightSamples[l], 0,
+                            transmittanceBoth(r.lightSamples[l], reference->lightSamples[l]));
                         differing += d.differingSamples;
                         compared += d.comparedSamples;
                     }

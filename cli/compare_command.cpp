@@ -134,7 +134,9 @@ Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBacke
     row.perSample = methodInfo(mb.method).output != MethodOutput::Visibility &&
                     methodInfo(againstMb.method).output != MethodOutput::Visibility;
     for (std::size_t l = 0; row.perSample && l < frame.lightSamples.size(); ++l) {
-        const LightSampleDiff d = compareLightSamples(frame.lightSamples[l], against.lightSamples[l], 0);
+        const LightSampleDiff d =
+            compareLightSamples(frame.lightSamples[l], against.lightSamples[l], 0,
+                                transmittanceBoth(frame.lightSamples[l], against.lightSamples[l]));
         row.differingSamples += d.differingSamples;
         row.comparedSamples += d.comparedSamples;
         row.differingPixels += d.differingPixels;
@@ -196,7 +198,7 @@ int compareNpy(const CompareArgs& args) {
                          " samples, " + args.inputs[1] + " is " + std::to_string(b.width()) + "x" +
                          std::to_string(b.height()) + " with " + std::to_string(b.samples()));
     if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
-    const LightSampleDiff d = compareLightSamples(a, b, 8);
+    const LightSampleDiff d = compareLightSamples(a, b, 8, transmittanceBoth(a, b));
     const double percent =
         d.comparedSamples ? 100.0 * double(d.differingSamples) / double(d.comparedSamples) : 0.0;
     std::printf("%s vs %s: %dx%d pixels, %d samples\n", args.inputs[0].c_str(), args.inputs[1].c_str(),

@@ -57,12 +57,20 @@ nlohmann::json sceneInfo(const InfoArgs& args) {
     const Scene scene = loadScene(args.scene, sceneOptionsOf(args));
 
     nlohmann::json j = sceneStats(scene);
-    j["opaque_triangles"] = scene.triangleCount() - j["perforated_triangles"].get<std::size_t>();
+    j["opaque_triangles"] = scene.triangleCount() - j["perforated_triangles"].get<std::size_t>() -
+                            j["translucent_triangles"].get<std::size_t>();
     nlohmann::json materials = nlohmann::json::array();
     for (const Material& m : scene.materials) {
         nlohmann::json e = {{"name", m.name}, {"albedo", vec(m.albedo)}, {"double_sided", m.doubleSided}};
-        if (m.perforated()) {
-            const Texture& t = scene.textures[std::size_t(m.alphaTexture)];
+        e["alpha_mode"] = m.alphaMode == AlphaMode::Blend  ? "blend"
+                          : m.alphaMode == AlphaMode::Mask ? (m.perforated() ? "mask" : "opaque")
+                                                           : "opaque";
+        if (m.translucent()) e["alpha_factor"] = m.alphaFactor;
+        // The texture whose alpha the material reads: a translucent one's blend texture (its
+        // binary stand-in is derived), else the mask.
+        const int texture = m.translucent() ? m.blendTexture : m.alphaTexture;
+        if (texture >= 0) {
+            const Texture& t = scene.textures[std::size_t(texture)];
             e["alpha_texture"] = {{"name", t.name},
                                   {"width", t.width},
                                   {"height", t.height},
@@ -117,12 +125,14 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
     };
     out << j["source"].get<std::string>() << '\n';
     out << "  triangles: " << j["triangles"] << " (" << j["opaque_triangles"] << " opaque, "
-        << j["perforated_triangles"] << " perforated); faces skipped as degenerate: " << j["skipped_faces"]
-        << '\n';
+        << j["perforated_triangles"] << " perforated, " << j["translucent_triangles"]
+        << " translucent); faces skipped as degenerate: " << j["skipped_faces"] << '\n';
     out << "  materials:\n";
     for (const nlohmann::json& m : j["materials"]) {
         out << "    " << m["name"].get<std::string>() << ": albedo " << v3(m["albedo"])
-            << (m["double_sided"].get<bool>() ? ", double-sided" : "");
+            << (m["double_sided"].get<bool>() ? ", double-sided" : "") << ", "
+            << m["alpha_mode"].get<std::string>();
+        if (m.contains("alpha_factor")) out << " (alpha factor " << m["alpha_factor"].get<double>() << ")";
         if (m.contains("alpha_texture")) {
             const nlohmann::json& t = m["alpha_texture"];
             out << ", alpha texture " << t["name"].get<std::string>() << " (" << t["width"] << "x"

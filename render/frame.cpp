@@ -20,11 +20,15 @@ void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, 
 }
 
 nlohmann::json sceneStats(const Scene& scene) {
-    std::size_t perforated = 0;
-    for (std::size_t t = 0; t < scene.triangleCount(); ++t) perforated += scene.opaqueOccluder(t) ? 0 : 1;
+    std::size_t perforated = 0, translucent = 0;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        translucent += scene.translucent(t) ? 1 : 0;
+        perforated += scene.perforated(t) && !scene.translucent(t) ? 1 : 0;
+    }
     return {{"source", scene.source},
             {"triangles", scene.triangleCount()},
             {"perforated_triangles", perforated},
+            {"translucent_triangles", translucent},
             {"skipped_faces", scene.skippedFaces},
             {"lights", scene.lights.size()}};
 }

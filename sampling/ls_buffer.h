@@ -125,6 +125,10 @@ struct LightSampleDiff {
     std::size_t comparedSamples = 0; ///< W·H·N
     std::vector<ivec2> firstPixels;  ///< up to maxPixels differing pixels, in row order
 };
+/// Both buffers hold transmittance: compareLightSamples then compares their optical depths.
+inline bool transmittanceBoth(const LightSampleBuffer& a, const LightSampleBuffer& b) {
+    return a.kind() == BufferKind::Transmittance && b.kind() == BufferKind::Transmittance;
+}
 LightSampleDiff compareLightSamples(const LightSampleBuffer& a, const LightSampleBuffer& b,
                                     std::size_t maxPixels = 16, bool compareCounts = false);
 
