@@ -7,8 +7,9 @@ PACKAGES := cmake g++ make pkg-config libglm-dev libopenmesh-dev libembree-dev l
             vulkan-validationlayers vulkan-tools clang-format
 # Only the tests need these: the --report test renders the page in a headless browser,
 # bench/tables.py (the measurement tables, checked by the suite) is Python, and the EXR test reads
-# the files back with OpenEXR's own exrheader.
-TEST_PACKAGES := chromium python3 openexr
+# the files back with OpenEXR's own exrheader; the glTF tests read Khronos's sample models from
+# assimp's test data.
+TEST_PACKAGES := chromium python3 openexr assimp-testmodels
 # make fuzz: libFuzzer harnesses of the loaders (tests/fuzz), built with clang.
 FUZZ_PACKAGES := clang-14 libfuzzer-14-dev
 FUZZ_BUILD    ?= build-fuzz
@@ -74,7 +75,7 @@ fuzz: deps fuzz-deps
 # The CPU test suites and the Vulkan layer's under AddressSanitizer and UndefinedBehaviorSanitizer
 # (the suites that render frames on lavapipe stay out: see the README's Tests section). UBSan's vptr check is off: it needs the
 # RTTI of glslang's classes, which Debian builds without.
-sanitize: deps
+sanitize: deps test-deps
 	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=Debug -DSTSV_WERROR=OFF \
 	  -DCMAKE_CXX_FLAGS="-O1 -fsanitize=address,undefined -fno-sanitize=vptr -fno-sanitize-recover=undefined -fno-omit-frame-pointer"
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target $(addprefix test_,$(SANITIZE_TESTS) $(SANITIZE_GPU_TESTS))

@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <cstring>
 
 namespace stsv {
@@ -311,6 +312,62 @@ TEST(Gltf, BadFilesNameTheFileAndTheProblem) {
                             {"garbage.gltf", "glTF"});
     expectError<InputError>([&] { loadGltf(dir.write("garbage.glb", "glTF\x02")); }, {"garbage.glb", "glTF"});
     expectError<InputError>([&] { loadGltf(dir.path("absent.glb")); }, {"absent.glb"});
+}
+
+/// Khronos's glTF sample and generator models as Debian's assimp-testmodels ships them (one of
+/// the test packages `make test` installs).
+std::string khronosModel(const std::string& name) {
+    return "/usr/share/assimp/models/glTF2/" + name;
+}
+
+TEST(Gltf, KhronosModelsFromDebian) {
+    // BoxTextured in its three packings: 36 indices over 24 vertices of a cube with POSITION
+    // min/max ±0.5 (the file's accessor bounds), under a node matrix that turns z-up into y-up, so
+    // the bounds stay ±0.5; the same triangles from each. Its material has the default OPAQUE
+    // mode, so its texture (with a MIRRORED_REPEAT sampler stsv refuses) is never read.
+    std::vector<vec3> first;
+    for (const char* file :
+         {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Embedded/BoxTextured.gltf",
+          "BoxTextured-glTF-Binary/BoxTextured.glb"}) {
+        SCOPED_TRACE(file);
+        const MeshData m = loadGltf(khronosModel(file));
+        ASSERT_EQ(m.triangles.size(), 12u);
+        ASSERT_EQ(m.positions.size(), 24u);
+        Bounds b;
+        for (const vec3& p : m.positions) b.extend(p);
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(b.lo[k], -0.5f, 1e-6f);
+            EXPECT_NEAR(b.hi[k], 0.5f, 1e-6f);
+        }
+        EXPECT_EQ(m.materials[0].alphaMode, AlphaMode::Opaque);
+        EXPECT_EQ(m.materials[0].alphaTexture, -1);
+        if (first.empty()) first = m.positions;
+        EXPECT_EQ(m.positions, first);
+    }
+    // The asset generator's primitive modes: 06 a non-indexed triangle list, 13–15 indexed with
+    // uint32, uint8 and uint16 indices (6 corners, 2 triangles each); the others points, lines,
+    // line loops, strips and fans, refused by name.
+    for (int i : {6, 13, 14, 15}) {
+        char name[96];
+        std::snprintf(name, sizeof name,
+                      "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_%02d.gltf", i);
+        EXPECT_EQ(loadGltf(khronosModel(name)).triangles.size(), 2u) << name;
+    }
+    for (int i : {0, 1, 2, 3, 4, 5, 7, 8, 9, 10, 11, 12}) {
+        char name[96];
+        std::snprintf(name, sizeof name,
+                      "glTF-Asset-Generator/Mesh_PrimitiveMode/Mesh_PrimitiveMode_%02d.gltf", i);
+        expectError<InputError>([&] { loadGltf(khronosModel(name)); }, {name, "only triangle lists"});
+    }
+    // assimp's invalid files: each refused with the file and the problem.
+    expectError<InputError>([] { loadGltf(khronosModel("IndexOutOfRange/IndexOutOfRange.gltf")); },
+                            {"IndexOutOfRange.gltf", "index 255 is beyond its 24 vertices"});
+    expectError<InputError>([] { loadGltf(khronosModel("RecursiveNodes/RecursiveNodes.gltf")); },
+                            {"RecursiveNodes.gltf", "deeper than"});
+    expectError<InputError>([] { loadGltf(khronosModel("TestNoRootNode/NoScene.gltf")); },
+                            {"NoScene.gltf", "has no scene"});
+    expectError<InputError>([] { loadGltf(khronosModel("MissingBin/BoxTextured.gltf")); },
+                            {"MissingBin/BoxTextured.gltf", "BoxTextured0.bin"});
 }
 
 } // namespace
