@@ -23,14 +23,6 @@ LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, BufferK
     if (kind == BufferKind::Transmittance) m_depths.assign(pixels * std::size_t(samples), 0u);
 }
 
-void LightSampleBuffer::checkSlots(int width, int height, int samples) {
-    if (std::size_t(std::max(width, 0)) * std::size_t(std::max(height, 0)) *
-            std::size_t(std::max(samples, 0)) >
-        0xFFFFFFFFu)
-        throw UsageError("light-sample buffer of " + std::to_string(width) + "x" + std::to_string(height) +
-                         " pixels × " + std::to_string(samples) + " samples has more than 2^32 slots");
-}
-
 void LightSampleBuffer::addOpticalDepth(int x, int y, int k, std::uint32_t units) {
     if (m_kind != BufferKind::Transmittance)
         throw UsageError("addOpticalDepth on a " +

@@ -81,8 +81,6 @@ class LightSampleBuffer {
     /// transmittance holds the bitmask and a 32-bit optical depth per sample (4.125·N·W·H).
     static std::size_t storageBytes(int width, int height, int samples, BufferKind kind);
     std::size_t memoryBytes() const { return payloadBytes(m_width, m_height, m_samples, m_kind); }
-    /// UsageError unless width·height·samples fits the 32-bit slots of counters and depths.
-    static void checkSlots(int width, int height, int samples);
     std::size_t storageBytes() const { return storageBytes(m_width, m_height, m_samples, m_kind); }
 
     /// The `--dump-ls` format. Bitmask: uint8 [H, W, N/8], sample k in bit k%8 of

@@ -31,7 +31,6 @@ int binaryMask(std::vector<Texture>& textures, int texture, float factor, float 
         if (double(a) / 255.0 * double(factor) >= double(cutoff)) threshold = a;
     if (texture < 0) {
         if (threshold <= 255) return -1;
-        threshold = 256;
     } else {
         if (threshold == 0) return -1;
         if (threshold == 128) return texture;
