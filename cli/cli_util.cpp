@@ -183,8 +183,12 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
     // light-sample buffer in its storage layout (32-bit words, or 16-bit counters).
     const double gbuffer = pixels * (12.0 + 12.0 + 4.0);
     const double images = pixels * (12.0 + 4.0);
-    double perLight = double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples,
-                                                             methodInfo(o.method).bufferKind(o.buffer)));
+    const BufferKind kind = methodInfo(o.method).bufferKind(o.buffer);
+    double perLight = double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, kind));
+    // Transmittance with DCS: its layer counters beside the bits and depths (on both backends).
+    if (kind == BufferKind::Transmittance && methodInfo(o.method).opaque == OpaqueTechnique::Dcs)
+        perLight +=
+            double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Counters));
     // Image-based methods: a map per light, six faces at most (the depth grid: its words a texel).
     if (methodInfo(o.method).shadowMap != ShadowFilter::None) {
         const ShadowMapSettings s = shadowMapSettingsFrom(methodInfo(o.method).shadowMap, o.params);
@@ -194,15 +198,15 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
         perLight += 6.0 * edge * edge * bytes;
     }
     // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests
-    // (two a pixel at first, 8 bytes each; render/vulkan/gpu_renderer.cpp) and, for STSV bitmasks,
-    // their word buffer.
+    // (two a pixel at first, 8 bytes each; render/vulkan/gpu_renderer.cpp) and, for STSV bits
+    // (bitmask and transmittance frames), their word buffer.
     double shared = 0.0;
     const MethodInfo& method = methodInfo(o.method);
     const bool vulkan = o.backend == Backend::Vulkan;
     const bool stsv = method.stsv != StsvTriangles::None;
     if (vulkan && (stsv || method.opaque == OpaqueTechnique::Dcs))
         shared += std::min(2.0 * pixels, double(kMaxDeferredFragments)) * 8.0;
-    if (vulkan && stsv && method.bufferKind(o.buffer) == BufferKind::Bitmask)
+    if (vulkan && stsv && kind != BufferKind::Counters)
         shared += double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));
     return gbuffer + images + shared + perLight * double(std::max<std::size_t>(lights, 1));
 }

@@ -489,9 +489,8 @@ int runCompare(CompareArgs& args) {
         RenderOptions o = base;
         o.method = mb.method;
         o.backend = mb.backend;
-        // A method or backend without fractional transmittance is compared with its bits.
-        if (o.buffer == BufferKind::Transmittance &&
-            (!methodInfo(mb.method).writesTransmittance() || mb.backend != Backend::Cpu))
+        // A method without fractional transmittance is compared with its bits.
+        if (o.buffer == BufferKind::Transmittance && !methodInfo(mb.method).writesTransmittance())
             o.buffer = BufferKind::Bitmask;
         o.params = params[std::size_t(std::find(all.begin(), all.end(), mb.method) - all.begin())];
         return o;

@@ -337,9 +337,8 @@ namespace {
 std::string writesText(const MethodInfo& m) {
     std::string text = toString(m.output);
     if (!m.writesTransmittance()) return text;
-    if (text.back() == ')') return text.insert(text.size() - 1, "; transmittance on cpu");
-    return text + " (transmittance on cpu)";
-    return text;
+    if (text.back() == ')') return text.insert(text.size() - 1, ", or transmittance");
+    return text + " (or transmittance)";
 }
 
 } // namespace

@@ -12,8 +12,6 @@ std::unique_ptr<FrameRenderer> makeRenderer(const Scene& scene, const RenderOpti
     if (!method.implementedOn(options.backend))
         throw UsageError("method " + method.name + " does not run on " + toString(options.backend) +
                          " (it runs on " + toString(method.backends.front()) + ")");
-    if (options.backend == Backend::Vulkan && options.buffer == BufferKind::Transmittance)
-        throw UsageError("--buffer transmittance runs on --backend cpu only so far");
     if (options.backend == Backend::Vulkan) return std::make_unique<VulkanRenderer>(scene, options);
     return makeCpuRenderer(scene, options);
 }

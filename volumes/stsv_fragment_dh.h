@@ -22,10 +22,9 @@
 //                                                         the material's table at the texel's
 //                                                         alpha (entry 255 with STSV_FLAG_OPAQUE),
 //                                                         else OPTICAL_DEPTH_OPAQUE where it
-//                                                         blocks and 0 where it does not Declared functions
-//                                                         would do for GLSL, but C++ would then
-// need globals; a source value passed in keeps the C++ side reentrant and the GLSL side free of
-// cost (every call is inlined, the struct scalarised).
+//                                                         blocks and 0 where it does not.
+// Declared functions would do for GLSL, but C++ would then need globals; a source value passed in keeps the
+// C++ side reentrant and the GLSL side free of cost (every call is inlined, the struct scalarised).
 #ifndef STSV_VOLUMES_STSV_FRAGMENT_DH_H
 #define STSV_VOLUMES_STSV_FRAGMENT_DH_H
 

@@ -35,6 +35,11 @@ DH_CONST uint GPU_BINDING_MASKS = 8u;       ///< GPU_MAX_MASK_IMAGES rg32ui stor
 DH_CONST uint GPU_BINDING_COLOR = 9u;       ///< rgba32f storage image, linear RGB
 DH_CONST uint GPU_BINDING_VISIBILITY = 10u; ///< r32f storage image, v_coef averaged over lights
 DH_CONST uint GPU_BINDING_VCOEF = 11u;      ///< r32f storage image: PW occlusion sum, then v_coef
+/// Transmittance frames: the optical-depth table of every material, 256 uints each
+/// (opticalDepthTable, scene/geometry.h), and the light's per-sample optical-depth sums, one
+/// uint per (pixel, sample) at lsCounterSlot (SSBOs; scene/occlusion_rules_dh.h).
+DH_CONST uint GPU_BINDING_DEPTH_TABLES = 12u;
+DH_CONST uint GPU_BINDING_DEPTHS = 13u;
 
 // Set GPU_SET_FAMILY: the family's stats, one struct per light (GpuStsvStats, GpuWedgeStats,
 // GpuShadowMapStats), atomic counters of its shaders.
@@ -43,23 +48,26 @@ DH_CONST uint GPU_BINDING_FAMILY_STATS = 0u;
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
 DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 samples each)
 
-/// GpuTriangle::flags: STSV_FLAG_CLAMP and STSV_FLAG_OPAQUE as in stsv_dh.h, plus:
+/// GpuTriangle::flags: STSV_FLAG_CLAMP, STSV_FLAG_OPAQUE and STSV_FLAG_TRANSLUCENT as in
+/// stsv_dh.h (stsvTextureFor, volumes/stsv.h), plus:
 DH_CONST uint GPU_TRIANGLE_DOUBLE_SIDED = 256u; ///< shading normal faces the viewer
-DH_CONST uint GPU_TRIANGLE_TRANSLUCENT =
-    512u;                              ///< a Blend material: not a receiver (the G-buffer sees through)
-DH_CONST uint GPU_STSV_FLAG_MASK = 3u; ///< the bits stsvSetupTriangle takes
+/// A Blend material: not a receiver (the G-buffer sees through) and no opaque occluder.
+DH_CONST uint GPU_TRIANGLE_TRANSLUCENT = 512u;
+/// The bits stsvSetupTriangle takes.
+DH_CONST uint GPU_STSV_FLAG_MASK = STSV_FLAG_CLAMP | STSV_FLAG_OPAQUE | STSV_FLAG_TRANSLUCENT;
 
 /// One scene triangle. std430: 6 × 16 bytes.
 struct GpuTriangle {
-    vec4 v0;      ///< world units, w = 1
-    vec4 v1;      ///< world units, w = 1
-    vec4 v2;      ///< world units, w = 1
-    vec2 t0;      ///< texture coordinates of v0
-    vec2 t1;      ///< of v1
-    vec2 t2;      ///< of v2
-    uint texture; ///< index into GpuTexture[] (0 for opaque triangles, as stsvTriangleFor)
-    uint flags;   ///< STSV_FLAG_CLAMP | STSV_FLAG_OPAQUE | GPU_TRIANGLE_DOUBLE_SIDED
-    vec4 albedo;  ///< linear RGB, w unused
+    vec4 v0;       ///< world units, w = 1
+    vec4 v1;       ///< world units, w = 1
+    vec4 v2;       ///< world units, w = 1
+    vec2 t0;       ///< texture coordinates of v0
+    vec2 t1;       ///< of v1
+    vec2 t2;       ///< of v2
+    uint texture;  ///< index into GpuTexture[] (0 for opaque triangles, as stsvTextureFor)
+    uint flags;    ///< STSV_FLAG_* of stsvTextureFor | GPU_TRIANGLE_*
+    vec3 albedo;   ///< linear RGB
+    uint material; ///< the triangle's material: its optical-depth table (GPU_BINDING_DEPTH_TABLES)
 };
 
 /// One alpha texture: its bytes start at `offset` (bytes) of the alpha buffer, row-major.
@@ -116,6 +124,7 @@ DH_FUNC bool gpuOpaqueOccluder(uint flags) {
 
 #ifdef __cplusplus
 DH_STATIC_ASSERT(sizeof(GpuTriangle) == 96);
+DH_STATIC_ASSERT(offsetof(GpuTriangle, material) == 92); // std430: a vec3 then a uint in its last 4 bytes
 DH_STATIC_ASSERT(sizeof(GpuTexture) == 16);
 DH_STATIC_ASSERT(sizeof(GpuFrame) == 176);
 DH_STATIC_ASSERT(sizeof(GpuLight) == 96);

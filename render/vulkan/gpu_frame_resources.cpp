@@ -4,7 +4,8 @@
 #include "render/vulkan/gpu_renderer.h"
 #include "sampling/light_bounds.h"
 #include "scene/camera.h"
-#include "volumes/stsv_dh.h"
+#include "scene/geometry.h"
+#include "volumes/stsv.h"
 
 #include <algorithm>
 #include <cstring>
@@ -16,12 +17,14 @@ namespace {
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 constexpr VkBufferUsageFlags UNIFORM = VK_BUFFER_USAGE_UNIFORM_BUFFER_BIT;
 
-/// One GpuTriangle per scene triangle (at least one).
-std::vector<GpuTriangle> gpuTriangles(const Scene& scene) {
+/// One GpuTriangle per scene triangle (at least one). A transmittance frame's translucent
+/// triangles read their blend textures (stsvTextureFor).
+std::vector<GpuTriangle> gpuTriangles(const Scene& scene, bool transmittance) {
     std::vector<GpuTriangle> tris(std::max<std::size_t>(scene.triangleCount(), 1));
     for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
         const uvec3 idx = scene.triangles[t];
         const Material& material = scene.materialOf(t);
+        const StsvTexture texture = stsvTextureFor(material, transmittance);
         GpuTriangle& g = tris[t];
         g = {};
         g.v0 = vec4(scene.positions[idx.x], 1.0f);
@@ -30,15 +33,27 @@ std::vector<GpuTriangle> gpuTriangles(const Scene& scene) {
         g.t0 = scene.texcoords[idx.x];
         g.t1 = scene.texcoords[idx.y];
         g.t2 = scene.texcoords[idx.z];
-        // As volumes/stsv.cpp's stsvTriangleFor: texture 0 and STSV_FLAG_OPAQUE when not perforated.
-        g.texture = material.perforated() ? static_cast<uint>(material.alphaTexture) : 0u;
-        g.flags = (material.wrap == WrapMode::Clamp ? STSV_FLAG_CLAMP : 0u) |
-                  (material.perforated() ? 0u : STSV_FLAG_OPAQUE) |
-                  (material.doubleSided ? GPU_TRIANGLE_DOUBLE_SIDED : 0u) |
+        g.texture = texture.texture;
+        g.flags = texture.flags | (material.doubleSided ? GPU_TRIANGLE_DOUBLE_SIDED : 0u) |
                   (material.translucent() ? GPU_TRIANGLE_TRANSLUCENT : 0u);
-        g.albedo = vec4(material.albedo, 0.0f);
+        g.albedo = material.albedo;
+        g.material = scene.triangleMaterial[t];
     }
     return tris;
+}
+
+/// The optical-depth tables of every material (at least one), 256 uints each; a frame without
+/// transmittance binds one empty table.
+std::vector<std::uint32_t> depthTables(const Scene& scene, bool transmittance) {
+    std::vector<std::uint32_t> tables(256, 0u);
+    if (!transmittance) return tables;
+    tables.clear();
+    for (const Material& m : scene.materials) {
+        const OpticalDepthTable table = opticalDepthTable(m);
+        tables.insert(tables.end(), table.begin(), table.end());
+    }
+    tables.resize(std::max<std::size_t>(tables.size(), 256), 0u);
+    return tables;
 }
 
 /// Binary alpha (alphaBlocks per texel, volumes/stsv_dh.h) of every texture as bits in a
@@ -125,10 +140,16 @@ int maskAttachmentCount(int samples) {
 
 GpuSceneTables::GpuSceneTables(const Device& device, const Scene& scene, const RenderOptions& options,
                                const SamplePlan& plan) {
-    triangles = createBuffer(device, std::span<const GpuTriangle>(gpuTriangles(scene)), STORAGE);
+    const bool transmittance = options.buffer == BufferKind::Transmittance;
+    triangles =
+        createBuffer(device, std::span<const GpuTriangle>(gpuTriangles(scene, transmittance)), STORAGE);
+    depthTables = createBuffer(
+        device, std::span<const std::uint32_t>(stsv::depthTables(scene, transmittance)), STORAGE);
 
+    // Translucent triangles read alpha bytes, not bits, in a transmittance frame.
     std::vector<GpuTexture> table(std::max<std::size_t>(scene.textures.size(), 1), GpuTexture{0, 1, 1, 0});
-    const std::vector<std::uint32_t> bitWords = alphaBitWords(scene, table);
+    const std::vector<std::uint32_t> bitWords =
+        transmittance && scene.hasTranslucent() ? std::vector<std::uint32_t>{} : alphaBitWords(scene, table);
     layout.alphaBitVec4s = bitWords.size() / 4;
     alpha = layout.alphaBitVec4s > 0
                 ? createBuffer(device, std::span<const std::uint32_t>(bitWords), UNIFORM)
@@ -162,15 +183,20 @@ FrameResources::FrameResources(const Device& device, const Scene& scene, const R
     color = Image(device, {w, h, COLOR_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
     visibility = Image(device, {w, h, VISIBILITY_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
 
+    // Bits in bitmask and transmittance frames, counters where layers are counted, optical depths
+    // in transmittance frames; a 16-byte stand-in for each buffer the frame does not write.
     samples.masks.resize(setCount);
-    if (options.buffer == BufferKind::Bitmask)
+    if (options.buffer != BufferKind::Counters)
         for (std::size_t l = 0; l < lightCount; ++l)
             for (int i = 0; i < maskAttachmentCount(options.samples); ++i)
                 samples.masks[l].emplace_back(device, ImageDesc{w, h, MASK_FORMAT, attachment});
-    const std::size_t counterBytes =
-        options.buffer == BufferKind::Counters ? lightSampleBufferBytes(options) : 16;
-    for (std::size_t l = 0; l < setCount; ++l)
+    const std::size_t pixelSamples = std::size_t(w) * h * std::size_t(options.samples);
+    const std::size_t counterBytes = frameCountsLayers(options) ? pixelSamples * 2 : 16;
+    const std::size_t depthBytes = options.buffer == BufferKind::Transmittance ? pixelSamples * 4 : 16;
+    for (std::size_t l = 0; l < setCount; ++l) {
         samples.counters.emplace_back(device, counterBytes, STORAGE, MemoryUsage::DeviceLocal);
+        samples.depths.emplace_back(device, depthBytes, STORAGE, MemoryUsage::DeviceLocal);
+    }
     samples.unusedMask = Image(device, {1, 1, MASK_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
     const bool vcoef = methodInfo(options.method).output == MethodOutput::Visibility;
     samples.vcoef = Image(device, {vcoef ? w : 1u, vcoef ? h : 1u, VCOEF_FORMAT, attachment});
@@ -178,7 +204,8 @@ FrameResources::FrameResources(const Device& device, const Scene& scene, const R
 
 std::vector<DescriptorBinding> FrameResources::bindings() const {
     std::vector<DescriptorBinding> bindings;
-    for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME, GPU_BINDING_COUNTERS})
+    for (uint32_t b : {GPU_BINDING_TRIANGLES, GPU_BINDING_TEXTURES, GPU_BINDING_FRAME, GPU_BINDING_COUNTERS,
+                       GPU_BINDING_DEPTH_TABLES, GPU_BINDING_DEPTHS})
         bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
     auto tableType = [](std::size_t uniformVec4s) {
         return uniformVec4s > 0 ? VK_DESCRIPTOR_TYPE_UNIFORM_BUFFER : VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
@@ -200,6 +227,8 @@ void FrameResources::writeDescriptors(DescriptorSet& set, std::size_t light) {
     set.writeBuffer(GPU_BINDING_PATTERN, tables.pattern);
     set.writeBuffer(GPU_BINDING_FRAME, tables.frame);
     set.writeBuffer(GPU_BINDING_COUNTERS, samples.counters[light]);
+    set.writeBuffer(GPU_BINDING_DEPTH_TABLES, tables.depthTables);
+    set.writeBuffer(GPU_BINDING_DEPTHS, samples.depths[light]);
     set.writeStorageImage(GPU_BINDING_POSITION, gbuffer.position);
     set.writeStorageImage(GPU_BINDING_TRIANGLE_ID, gbuffer.triangleId);
     set.writeStorageImage(GPU_BINDING_COLOR, color);

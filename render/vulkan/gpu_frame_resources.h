@@ -53,11 +53,12 @@ int maskAttachmentCount(int samples);
 /// The scene tables of render/vulkan/gpu_frame_dh.h, uploaded once and constant afterwards (no pass
 /// declares them: nothing on the GPU writes them).
 struct GpuSceneTables {
-    Buffer triangles; ///< GpuTriangle[]
-    Buffer alpha;     ///< alpha bits (uniform) or bytes (storage) of every texture
-    Buffer textures;  ///< GpuTexture[]
-    Buffer pattern;   ///< SamplePlan::points, whole vec4s
-    Buffer frame;     ///< GpuFrame then GpuLight[]
+    Buffer triangles;   ///< GpuTriangle[]
+    Buffer alpha;       ///< alpha bits (uniform) or bytes (storage) of every texture
+    Buffer textures;    ///< GpuTexture[]
+    Buffer pattern;     ///< SamplePlan::points, whole vec4s
+    Buffer frame;       ///< GpuFrame then GpuLight[]
+    Buffer depthTables; ///< 256 optical-depth units per material (transmittance frames), else 256 zeros
     FrameTableLayout layout;
 
     GpuSceneTables(const Device& device, const Scene& scene, const RenderOptions& options,
@@ -71,12 +72,14 @@ struct GBufferImages {
     Image depth;
 };
 
-/// What the method writes per light (MethodInfo::output): bitmask attachments or counters, and
+/// What the method writes per light (MethodInfo::output): bitmask attachments, counters, or for
+/// transmittance the bits with per-sample optical depths (and DCS's counters, frameCountsLayers);
 /// the v_coef image of visibility methods. Buffers of kinds the frame does not write are small
 /// stand-ins the descriptor sets bind.
 struct LightSampleBuffers {
-    std::vector<std::vector<Image>> masks; ///< [light][attachment], bitmask frames
-    std::vector<Buffer> counters;          ///< [light], counters frames; else one stand-in
+    std::vector<std::vector<Image>> masks; ///< [light][attachment], bitmask and transmittance frames
+    std::vector<Buffer> counters;          ///< [light] where frameCountsLayers; else stand-ins
+    std::vector<Buffer> depths;            ///< [light] uint per sample, transmittance frames; else stand-ins
     Image unusedMask;                      ///< 1×1: the mask array elements no light fills
     Image vcoef;                           ///< v_coef (MethodOutput::Visibility); else 1×1
 

@@ -244,9 +244,10 @@ FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOcc
                    FrameResources& frame, const FamilyDescriptors& descriptors,
                    const std::vector<ShaderDefine>& defines)
     : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
-      m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw),
-      m_counters(options.buffer == BufferKind::Counters), m_width(static_cast<uint32_t>(options.width)),
-      m_height(static_cast<uint32_t>(options.height)) {
+      m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw), m_counters(frameCountsLayers(options)),
+      m_stsvDepths(m_pw && methodInfo(options.method).stsv != StsvTriangles::None &&
+                   options.buffer == BufferKind::Transmittance),
+      m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
     const ShaderCompiler compiler;
     m_pipeline =
         createComputePipeline(device, descriptors.pipelineLayout(),
@@ -266,6 +267,7 @@ PassAccesses FoldPass::accesses(std::size_t light) const {
                      m_pw ? ResourceUse::storageRead(COMPUTE) : ResourceUse::storageReadWrite(COMPUTE));
     for (std::size_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
         accesses.use(m_frame->samples.mask(light, i), ResourceUse::storageRead(COMPUTE));
+    if (m_stsvDepths) accesses.use(m_frame->samples.depths[light], ResourceUse::storageRead(COMPUTE));
     return accesses;
 }
 

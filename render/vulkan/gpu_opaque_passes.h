@@ -145,7 +145,8 @@ class FoldPass final : public GpuPass {
     FrameResources* m_frame;
     const FamilyDescriptors* m_descriptors;
     bool m_pw;
-    bool m_counters;
+    bool m_counters;   ///< the frame counts layers (frameCountsLayers)
+    bool m_stsvDepths; ///< pw+stsv with transmittance: the STSV samples' optical depths
     uint32_t m_width, m_height;
     Pipeline m_pipeline;
 };

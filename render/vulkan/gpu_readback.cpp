@@ -30,9 +30,12 @@ FrameReadback::FrameReadback(const Device& device, const Scene& scene, const Ren
     m_layout.masks.resize(masks.size());
     for (std::size_t l = 0; l < masks.size(); ++l)
         for (const Image& image : masks[l]) m_layout.masks[l].push_back(place(image.byteSize()));
-    if (options.buffer == BufferKind::Counters)
-        for (std::size_t l = 0; l < scene.lights.size(); ++l)
+    for (std::size_t l = 0; l < scene.lights.size(); ++l) {
+        if (frameCountsLayers(options))
             m_layout.counters.push_back(place(resources.samples.counters[l].size()));
+        if (options.buffer == BufferKind::Transmittance)
+            m_layout.depths.push_back(place(resources.samples.depths[l].size()));
+    }
     for (const Buffer* buffer : m_stats) m_layout.stats.push_back(place(buffer->size()));
     m_staging = Buffer(device, size, VK_BUFFER_USAGE_TRANSFER_DST_BIT, MemoryUsage::DeviceToHost);
 }
@@ -48,6 +51,8 @@ PassAccesses FrameReadback::accesses(std::size_t) const {
         for (Image& image : images) accesses.use(image, ResourceUse::transferRead());
     for (std::size_t l = 0; l < m_layout.counters.size(); ++l)
         accesses.use(r.samples.counters[l], ResourceUse::transferRead());
+    for (std::size_t l = 0; l < m_layout.depths.size(); ++l)
+        accesses.use(r.samples.depths[l], ResourceUse::transferRead());
     for (const Buffer* buffer : m_stats) accesses.use(*buffer, ResourceUse::transferRead());
     accesses.use(m_staging, ResourceUse::transferWrite());
     return accesses;
@@ -69,6 +74,8 @@ void FrameReadback::record(VkCommandBuffer cmd, std::size_t) const {
     };
     for (std::size_t l = 0; l < m_layout.counters.size(); ++l)
         copyBuffer(r.samples.counters[l], m_layout.counters[l]);
+    for (std::size_t l = 0; l < m_layout.depths.size(); ++l)
+        copyBuffer(r.samples.depths[l], m_layout.depths[l]);
     for (std::size_t i = 0; i < m_stats.size(); ++i) copyBuffer(*m_stats[i], m_layout.stats[i]);
 }
 
@@ -132,13 +139,30 @@ void FrameReadback::unpackLightSamples(LightSampleBuffer& buffer, std::size_t l)
     const std::vector<VkDeviceSize>& masks = m_layout.masks[l];
     if (masks.size() == 1 && wordsPerPixel == 2) {
         std::memcpy(out.data(), staged<std::uint32_t>(masks[0]), pixels * 2 * sizeof(std::uint32_t));
-        return;
+    } else {
+        for (std::size_t word = 0; word < wordsPerPixel; ++word) {
+            const auto* pairs = staged<std::uint32_t>(masks[lsMaskAttachment(uint(word))]);
+            for (std::size_t p = 0; p < pixels; ++p)
+                out[p * wordsPerPixel + word] = pairs[p * 2 + lsMaskComponent(uint(word))];
+        }
     }
-    for (std::size_t word = 0; word < wordsPerPixel; ++word) {
-        const auto* pairs = staged<std::uint32_t>(masks[lsMaskAttachment(uint(word))]);
-        for (std::size_t p = 0; p < pixels; ++p)
-            out[p * wordsPerPixel + word] = pairs[p * 2 + lsMaskComponent(uint(word))];
-    }
+    if (buffer.kind() != BufferKind::Transmittance) return;
+    // A sample behind one of DCS's layers is occluded; an occluded sample's sum means nothing
+    // (the shaders stop at its bit, LightSampleBuffer::addOpticalDepth) and reads 0, as the CPU's.
+    const auto samples = std::size_t(m_options.samples);
+    const auto* counters = m_layout.counters.empty() ? nullptr : staged<std::uint16_t>(m_layout.counters[l]);
+    std::vector<std::uint32_t>& depths = buffer.depths();
+    std::memcpy(depths.data(), staged<std::uint32_t>(m_layout.depths[l]),
+                depths.size() * sizeof(std::uint32_t));
+    parallelForChunks(pixels, [&](std::size_t begin, std::size_t end) {
+        for (std::size_t p = begin; p < end; ++p)
+            for (std::size_t k = 0; k < samples; ++k) {
+                const std::size_t slot = lsCounterSlot(uint(p), uint(samples), uint(k));
+                std::uint32_t& word = out[p * wordsPerPixel + lsMaskWord(uint(k))];
+                if (counters && counters[slot] != 0) word |= lsMaskBit(uint(k));
+                if (word & lsMaskBit(uint(k))) depths[slot] = 0;
+            }
+    });
 }
 
 } // namespace stsv

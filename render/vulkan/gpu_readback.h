@@ -41,7 +41,8 @@ class FrameReadback final : public GpuPass {
         VkDeviceSize position = 0, color = 0, triangle = 0, visibility = 0;
         std::vector<VkDeviceSize> stats;              ///< [stats buffer]
         std::vector<std::vector<VkDeviceSize>> masks; ///< [light][attachment]
-        std::vector<VkDeviceSize> counters;           ///< [light], counters frames
+        std::vector<VkDeviceSize> counters;           ///< [light], frames that count layers
+        std::vector<VkDeviceSize> depths;             ///< [light], transmittance frames
     } m_layout;
 
     /// Light `l`'s staged bitmask attachments or counters into `buffer`.

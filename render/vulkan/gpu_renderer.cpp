@@ -34,14 +34,16 @@ std::vector<const Buffer*> statsBuffers(const std::vector<std::unique_ptr<Vulkan
     return buffers;
 }
 
-/// The clear at the start of a frame: the families' stats, and the sample counters the passes
-/// of a counters frame add to.
+/// The clear at the start of a frame: the families' stats, and the sample counters and optical
+/// depths the passes add to.
 ClearPass countClearPass(const FrameResources& resources, const RenderOptions& options,
                          std::size_t lightCount,
                          const std::vector<std::unique_ptr<VulkanTechnique>>& techniques) {
     std::vector<const Buffer*> buffers = statsBuffers(techniques);
-    if (options.buffer == BufferKind::Counters)
-        for (std::size_t l = 0; l < lightCount; ++l) buffers.push_back(&resources.samples.counters[l]);
+    for (std::size_t l = 0; l < lightCount; ++l) {
+        if (frameCountsLayers(options)) buffers.push_back(&resources.samples.counters[l]);
+        if (options.buffer == BufferKind::Transmittance) buffers.push_back(&resources.samples.depths[l]);
+    }
     return ClearPass({}, buffers);
 }
 

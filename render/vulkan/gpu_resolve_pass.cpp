@@ -8,8 +8,9 @@ ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderO
                          const SamplePlan& plan, FrameResources& resources,
                          const FrameDescriptors& descriptors)
     : m_scene(&scene), m_resources(&resources), m_descriptors(&descriptors),
-      m_counters(options.buffer == BufferKind::Counters),
+      m_counters(options.buffer == BufferKind::Counters), m_countsLayers(frameCountsLayers(options)),
       m_vcoef(methodInfo(options.method).output == MethodOutput::Visibility),
+      m_depths(options.buffer == BufferKind::Transmittance && !m_vcoef),
       m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
     const ShaderCompiler compiler;
     std::vector<ShaderDefine> defines =
@@ -32,11 +33,11 @@ PassAccesses ResolvePass::accesses(std::size_t light) const {
         .use(m_resources->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_resources->color, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_resources->visibility, ResourceUse::storageReadWrite(COMPUTE));
-    if (m_counters)
-        accesses.use(m_resources->samples.counters[set], ResourceUse::storageRead(COMPUTE));
-    else
+    if (m_countsLayers) accesses.use(m_resources->samples.counters[set], ResourceUse::storageRead(COMPUTE));
+    if (!m_counters)
         for (std::size_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
             accesses.use(m_resources->samples.mask(set, i), ResourceUse::storageRead(COMPUTE));
+    if (m_depths) accesses.use(m_resources->samples.depths[set], ResourceUse::storageRead(COMPUTE));
     if (m_vcoef) accesses.use(m_resources->samples.vcoef, ResourceUse::storageRead(COMPUTE));
     return accesses;
 }

@@ -30,8 +30,10 @@ class ResolvePass final : public GpuPass {
     const Scene* m_scene;
     FrameResources* m_resources;
     const FrameDescriptors* m_descriptors;
-    bool m_counters; ///< counters buffer, else bitmask images
-    bool m_vcoef;    ///< MethodOutput::Visibility: v_coef from the v_coef image
+    bool m_counters;     ///< counters buffer only, else bitmask images
+    bool m_countsLayers; ///< counters too (frameCountsLayers)
+    bool m_vcoef;        ///< MethodOutput::Visibility: v_coef from the v_coef image
+    bool m_depths;       ///< each sample weighed by its optical depth (transmittance, not v_coef)
     uint32_t m_width, m_height;
     /// Per light type (LIGHT_*) the scene has; [0] also for the ambient-only dispatch.
     std::array<Pipeline, 4> m_pipelines;

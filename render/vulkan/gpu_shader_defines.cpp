@@ -1,5 +1,6 @@
 #include "render/vulkan/gpu_shader_defines.h"
 
+#include "render/methods.h"
 #include "sampling/light_sampling_dh.h"
 
 #include <cmath>
@@ -22,10 +23,19 @@ std::vector<ShaderDefine> layoutDefines(const FrameTableLayout& tables) {
     return defines;
 }
 
+bool frameCountsLayers(const RenderOptions& options) {
+    return options.buffer == BufferKind::Counters ||
+           (options.buffer == BufferKind::Transmittance &&
+            methodInfo(options.method).opaque == OpaqueTechnique::Dcs);
+}
+
 std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const FrameTableLayout& tables) {
     std::vector<ShaderDefine> defines = layoutDefines(tables);
+    const bool transmittance = options.buffer == BufferKind::Transmittance;
     defines.push_back({"SAMPLE_COUNT", std::to_string(options.samples)});
     defines.push_back({"LS_COUNTERS", options.buffer == BufferKind::Counters ? "1" : "0"});
+    defines.push_back({"LS_TRANSMITTANCE", transmittance ? "1" : "0"});
+    defines.push_back({"LS_OPAQUE_COUNTERS", transmittance && frameCountsLayers(options) ? "1" : "0"});
     return defines;
 }
 

@@ -32,8 +32,15 @@ std::size_t patternVec4Count(const SamplePlan& plan);
 /// Defines every shader of the frame needs to match the descriptor set layout.
 std::vector<ShaderDefine> layoutDefines(const FrameTableLayout& tables);
 
-/// layoutDefines plus SAMPLE_COUNT and LS_COUNTERS: 1 when the light-sample buffer holds layer
-/// counters (DCS, and --buffer counters), 0 for occlusion bits; any method's passes read it.
+/// Whether the frame holds 16-bit layer counters per sample: a counters frame (DCS, and --buffer
+/// counters), or a transmittance frame whose opaque meshes go through DCS, which counts their
+/// layers beside the bits and optical depths of STSV (a count above 0 occludes the sample).
+bool frameCountsLayers(const RenderOptions& options);
+
+/// layoutDefines plus SAMPLE_COUNT and the light-sample buffer's kind, which any method's passes
+/// read: LS_COUNTERS 1 when it holds layer counters only, 0 for occlusion bits; LS_TRANSMITTANCE
+/// 1 when per-sample optical depths come with the bits, and LS_OPAQUE_COUNTERS 1 when DCS's
+/// layer counters do too (frameCountsLayers).
 std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const FrameTableLayout& tables);
 
 /// `defines` plus STSV_PATTERN_Q when the plan has one sample set (no interleaving) whose points

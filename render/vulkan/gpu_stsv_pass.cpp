@@ -34,7 +34,7 @@ StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const
                                  const FamilyDescriptors& descriptors)
     : m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_counters(options.buffer == BufferKind::Counters),
-      m_groups(deferredSampleGroups(device)) {
+      m_transmittance(options.buffer == BufferKind::Transmittance), m_groups(deferredSampleGroups(device)) {
     const ShaderCompiler compiler;
     const std::vector<ShaderDefine> defines = sampleDefines(options, resources.tables.layout);
     const std::array<bool, 4> used = lightTypesIn(scene);
@@ -56,6 +56,8 @@ PassAccesses StsvSamplesPass::accesses(std::size_t light) const {
         accesses.use(m_resources->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
     else
         accesses.use(m_deferred->maskWords, ResourceUse::storageReadWrite(COMPUTE));
+    if (m_transmittance)
+        accesses.use(m_resources->samples.depths[light], ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 
@@ -99,6 +101,7 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
                    const FamilyDescriptors& descriptors, StsvGeometry geometry)
     : m_device(&device), m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_geometry(geometry), m_counters(options.buffer == BufferKind::Counters),
+      m_transmittance(options.buffer == BufferKind::Transmittance),
       m_perforatedOnly(methodInfo(options.method).stsv == StsvTriangles::Perforated),
       m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
     const ShaderCompiler compiler;
@@ -155,6 +158,8 @@ PassAccesses StsvPass::accesses(std::size_t light) const {
     }
     if (m_counters)
         accesses.use(m_resources->samples.counters[light], ResourceUse::storageReadWrite(FRAGMENT));
+    if (m_transmittance)
+        accesses.use(m_resources->samples.depths[light], ResourceUse::storageReadWrite(FRAGMENT));
     for (Image& mask : m_resources->samples.masks[light]) accesses.use(mask, ResourceUse::colorAttachment());
     return accesses;
 }

@@ -45,6 +45,7 @@ class StsvSamplesPass final : public GpuPass {
     DeferredFragments* m_deferred;
     const FamilyDescriptors* m_descriptors;
     bool m_counters;
+    bool m_transmittance;                ///< translucent triangles add optical depths
     std::uint32_t m_groups;              ///< workgroups dispatched
     std::array<Pipeline, 4> m_pipelines; ///< per light type (LIGHT_*) the scene has
 };
@@ -86,6 +87,7 @@ class StsvPass final : public GpuPass {
     const FamilyDescriptors* m_descriptors;
     StsvGeometry m_geometry;
     bool m_counters;       ///< counters buffer, else bitmask attachments
+    bool m_transmittance;  ///< translucent triangles add optical depths
     bool m_perforatedOnly; ///< StsvTriangles::Perforated
     std::uint32_t m_triangleCount;
     std::array<Pipeline, 4> m_pipelines; ///< per light type (LIGHT_*) the scene has

@@ -67,7 +67,7 @@ class StsvTechnique final : public VulkanTechnique {
           m_c(c), m_clearHullDraw({}, {&c.hulls->draw}),
           m_clearDeferred({}, {&c.deferred->count, &c.deferred->maskWords}) {
         if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
-        const bool bitmask = c.options.buffer == BufferKind::Bitmask;
+        const bool bitmask = c.options.buffer != BufferKind::Counters; // occlusion bits
         if (c.geometry == StsvGeometry::Hull) c.deferred->use(bitmask);
         m_stsv.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family,
                        c.geometry);

@@ -27,6 +27,17 @@ layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_FRAME) readonly buffer
 };
 layout(push_constant) uniform Push { GpuPush pc; };
 
+#ifndef LS_TRANSMITTANCE
+#define LS_TRANSMITTANCE 0
+#endif
+#ifndef LS_OPAQUE_COUNTERS
+#define LS_OPAQUE_COUNTERS 0
+#endif
+#if LS_TRANSMITTANCE
+/// The materials' optical-depth tables, 256 units each (GpuTriangle::material · 256 + alpha byte).
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_DEPTH_TABLES) readonly buffer DepthTables { uint depthTables[]; };
+#endif
+
 #ifdef STSV_ALPHA_BIT_VEC4S
 // Binary alpha, alphaBlocks of each texel as one bit, in a uniform buffer (render/vulkan/gpu_frame_resources.cpp
 // picks it when it fits): a dynamically indexed uniform load is a vector gather on lavapipe, a

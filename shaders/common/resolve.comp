@@ -31,10 +31,14 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly un
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_COLOR, rgba32f) uniform image2D colorImage;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VISIBILITY, r32f) uniform image2D visibilityImage;
-#if LS_COUNTERS
+#if LS_COUNTERS || LS_OPAQUE_COUNTERS
 layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) readonly buffer Counters { uint counters[]; };
-#else
+#endif
+#if !LS_COUNTERS
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+#endif
+#if LS_TRANSMITTANCE && !RESOLVE_VCOEF
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_DEPTHS) readonly buffer Depths { uint depths[]; };
 #endif
 #if RESOLVE_VCOEF
 // Penumbra wedges: v_coef per pixel (wedge_fold.comp), which scales the unshadowed lighting.
@@ -43,7 +47,8 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) readonly uniform 
 
 // The data access of sampling/resolve_dh.h: sample points through pixelSamplePoint
 // (frame_bindings.glsl), occlusion bits from the mask images (loaded once per pixel) or the
-// counters. With STSV_PATTERN_Q the loops are unrolled, so k, the mask word and bit and the
+// counters, or in a transmittance frame from both (DCS's layers beside STSV's bits) with the
+// samples' optical depths. With STSV_PATTERN_Q the loops are unrolled, so k, the mask word and bit and the
 // pattern point are constants in each copy of the body.
 struct ResolveSource {
     uint base;        ///< interleaveSet · N: the pixel's sample set
@@ -51,6 +56,7 @@ struct ResolveSource {
     bool decorrelate; ///< frame.decorrelate, loaded once (storage-buffer load)
     uint domain;      ///< LightFrame::domain
     uint counterWord; ///< lsPixelCounterWord: the pixel's first counter word
+    uint depthSlot;   ///< lsCounterSlot of the pixel's sample 0: its first optical depth
     uvec2 m0;         ///< mask words 0…7 (attachment i holds words 2i, 2i + 1)
     uvec2 m1;
     uvec2 m2;
@@ -68,10 +74,20 @@ bool resolveSourceOccluded(ResolveSource s, uint word, uint k) {
     return false; // PW: every sample lit, scaled by v_coef
 #elif LS_COUNTERS
     return ((counters[s.counterWord + lsCounterWord(k)] >> lsCounterShift(k)) & 65535u) != 0u;
+#elif LS_OPAQUE_COUNTERS
+    return (word & lsMaskBit(k)) != 0u ||
+           ((counters[s.counterWord + lsCounterWord(k)] >> lsCounterShift(k)) & 65535u) != 0u;
 #else
     return (word & lsMaskBit(k)) != 0u;
 #endif
 }
+#if LS_TRANSMITTANCE && !RESOLVE_VCOEF
+// PW's v_coef holds STSV's mean transmittance already (wedge_fold.comp): every sample lit.
+float resolveSourceTransmittance(ResolveSource s, uint k) {
+    return transmittanceOfDepth(depths[s.depthSlot + k]);
+}
+#define RESOLVE_TRANSMITTANCE
+#endif
 #define RESOLVE_SOURCE
 #define RESOLVE_UNROLL STSV_UNROLL
 #include "sampling/resolve_dh.h"
@@ -106,6 +122,7 @@ void main() {
             src.domain = lf.domain;
             src.counterWord =
                 lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
+            src.depthSlot = lsCounterSlot(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT), 0u);
 #if LS_COUNTERS || RESOLVE_VCOEF
             src.m0 = uvec2(0u);
             src.m1 = uvec2(0u);
@@ -121,6 +138,8 @@ void main() {
             vec3 sum = resolveContributionSum(light, lf, sums);
 #if RESOLVE_VCOEF
             float v = imageLoad(vcoefImage, pixel).x;
+#elif LS_TRANSMITTANCE
+            float v = sums.transmitted / float(SAMPLE_COUNT);
 #else
             float v = float(sums.visible) / float(SAMPLE_COUNT);
 #endif

@@ -4,7 +4,8 @@
 // applies the self-shadowing rule, then volumes/stsv_fragment_dh.h — the side-ownership rule and
 // per light sample the projective test (Eq. 1–3) and the texel rule (Eq. 4–5) — which the CPU
 // mirror (render/cpu/cpu_stsv.cpp) calls in its loop. Output: occlusion bits through logic-op OR
-// attachments, or packed 16-bit counters (sampling/ls_buffer_dh.h).
+// attachments, or packed 16-bit counters (sampling/ls_buffer_dh.h); in a transmittance frame a
+// translucent triangle's optical depths too, atomic sums per sample (stsvSampleWord).
 #extension GL_GOOGLE_include_directive : require
 #ifndef STSV_MESH_PATH
 #define STSV_MESH_PATH 0
@@ -119,7 +120,7 @@ void main() {
             // local arrays doubled the pass). Words outside, bits inside: a per-sample dynamic
             // index into words[] would cost a scatter per lane on SIMD CPUs.
             for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
-                uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
+                uint bits = stsvSampleWord(t, px, src, size, w, lsPixelIndex(uvec2(pixel), frame.width));
 #if LS_COUNTERS
                 stsvAddOccludedLayers(counterWord, w, bits);
 #else

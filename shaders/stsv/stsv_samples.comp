@@ -5,7 +5,8 @@
 // volumes/stsv_fragment_dh.h). Every thread of a batch has a fragment to test, where the hull
 // draw's batches hold the few pixels a small hull triangle covers and run as long as their
 // slowest lane. Bits go to the mask words that stsv_merge.comp ORs into the light's bitmask,
-// counters straight to the counters.
+// counters straight to the counters, a translucent triangle's optical depths straight to the
+// light's depth sums (transmittance frames).
 #extension GL_GOOGLE_include_directive : require
 #include "common/frame_bindings.glsl"
 #include "stsv/stsv_samples.glsl"
@@ -40,7 +41,7 @@ void main() {
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
 #endif
         for (uint w = 0u; w < uint(WORD_COUNT); ++w) {
-            uint bits = stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
+            uint bits = stsvSampleWord(t, px, src, size, w, entry.x);
 #if LS_COUNTERS
             stsvAddOccludedLayers(counterWord, w, bits);
 #else

@@ -24,6 +24,7 @@ struct StsvSampleSource {
     bool decorrelate; ///< frame.decorrelate, loaded once
     uint domain;      ///< LightFrame::domain
     GpuTexture texture;
+    uint depthTable; ///< a translucent triangle's material table: its first entry in depthTables
 };
 vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
     return pixelSamplePoint(s.base, k, s.offset, s.decorrelate, s.domain);
@@ -31,6 +32,14 @@ vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
 bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
     return alphaBlocks(alphaAtTexture(s.texture, texel));
 }
+#if LS_TRANSMITTANCE
+uint stsvSourceDepth(StsvSampleSource s, StsvTriangle t, ivec2 texel) {
+    if ((t.flags & STSV_FLAG_TRANSLUCENT) != 0u)
+        return depthTables[s.depthTable + ((t.flags & STSV_FLAG_OPAQUE) != 0u ? 255u : alphaAtTexture(s.texture, texel))];
+    return (t.flags & STSV_FLAG_OPAQUE) != 0u || stsvSourceBlocks(s, texel) ? OPTICAL_DEPTH_OPAQUE : 0u;
+}
+#define STSV_SAMPLE_DEPTH
+#endif
 #define STSV_SAMPLE_SOURCE
 #include "volumes/stsv_fragment_dh.h"
 
@@ -49,6 +58,10 @@ bool stsvPixelSetup(uvec2 pixel, vec3 p, StsvTriangle t, uint side, out StsvPixe
     src.domain = lf.domain;
     src.texture = textures[opaque ? 0u : t.texture];
     size = opaque ? ivec2(1) : ivec2(src.texture.width, src.texture.height);
+    src.depthTable = 0u;
+#if LS_TRANSMITTANCE
+    if ((t.flags & STSV_FLAG_TRANSLUCENT) != 0u) src.depthTable = triangles[t.triangle].material * 256u;
+#endif
     return stsvFragmentPixel(t, side, p, lf, shadowTMin(p, lf.center, sceneDiameter), px);
 }
 
@@ -68,6 +81,42 @@ void stsvAddOccludedLayers(uint counterWord, uint w, uint bits) {
     }
 }
 #endif
+
+#if LS_TRANSMITTANCE
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_DEPTHS) buffer Depths { uint depths[]; };
+
+/// Translucent triangle t's optical depth added to the samples of mask word w of pixel
+/// `pixelIndex` (lsPixelIndex), as atomic integer sums that no drawing order changes; returns
+/// the bits of the samples it occludes: at an α = 1 texel, or where the sum passes 2^32 units
+/// (scene/occlusion_rules_dh.h), as the CPU mirror's render/cpu/cpu_stsv.cpp. The sums of
+/// occluded samples are meaningless: the readback zeroes them.
+uint stsvAddDepthWord(StsvTriangle t, StsvPixel px, StsvSampleSource src, ivec2 size, uint w, uint bitCount,
+                      uint pixelIndex) {
+    uint bits = 0u;
+    uint slot = lsCounterSlot(pixelIndex, uint(SAMPLE_COUNT), 32u * w);
+    for (uint b = 0u; b < bitCount; ++b) {
+        uint k = 32u * w + b;
+        uint units = stsvSampleDepth(t, px, src, size, k);
+        if (units == 0u) continue;
+        if (units == OPTICAL_DEPTH_OPAQUE) {
+            bits |= lsMaskBit(k);
+            continue;
+        }
+        uint before = atomicAdd(depths[slot + b], units);
+        if (before + units < before) bits |= lsMaskBit(k);
+    }
+    return bits;
+}
+#endif
+
+/// The occlusion bits of mask word w of pixel `pixelIndex` that triangle t sets; a translucent
+/// triangle adds its optical depths too (transmittance frames).
+uint stsvSampleWord(StsvTriangle t, StsvPixel px, StsvSampleSource src, ivec2 size, uint w, uint pixelIndex) {
+#if LS_TRANSMITTANCE
+    if ((t.flags & STSV_FLAG_TRANSLUCENT) != 0u) return stsvAddDepthWord(t, px, src, size, w, uint(WORD_BITS), pixelIndex);
+#endif
+    return stsvOcclusionWord(t, px, src, size, w, uint(WORD_BITS));
+}
 
 // The hull pass's records (GpuStsvRecord at GPU_STSV_RECORD_* texels): a texel fetch at a
 // per-lane index is a vector gather on lavapipe, a storage-buffer load a loop over the lanes.

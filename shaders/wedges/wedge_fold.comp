@@ -31,6 +31,9 @@ layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CENTER, r32i) readonly unifor
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
 layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) readonly uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
+#if WEDGE_STSV && LS_TRANSMITTANCE
+layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_DEPTHS) readonly buffer Depths { uint depths[]; };
+#endif
 
 /// D(r) at the pixel's visible point, on opaque or perforated triangle `tri`.
 int centerLayers(ivec2 pixel, uint tri) {
@@ -46,8 +49,21 @@ int centerLayers(ivec2 pixel, uint tri) {
 }
 
 #if WEDGE_STSV
-/// Occluded fraction of the pixel's STSV samples (the perforated triangles, Algorithm 2 line 13).
+/// Occluded fraction of the pixel's STSV samples (the perforated triangles, Algorithm 2 line 13);
+/// with transmittance one minus their mean transmittance (LightSampleBuffer::visibleFraction).
 float stsvOccludedFraction(ivec2 pixel) {
+#if LS_TRANSMITTANCE
+    uint slot = lsCounterSlot(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT), 0u);
+    float transmitted = 0.0;
+    for (uint i = 0u; i < uint((SAMPLE_COUNT + 63) / 64); ++i) {
+        uvec2 m = imageLoad(masks[i], pixel).xy;
+        for (uint b = 0u; b < 64u && 64u * i + b < uint(SAMPLE_COUNT); ++b) {
+            uint word = b < 32u ? m.x : m.y;
+            if ((word & (1u << (b & 31u))) == 0u) transmitted += transmittanceOfDepth(depths[slot + 64u * i + b]);
+        }
+    }
+    return 1.0 - transmitted / float(SAMPLE_COUNT);
+#else
     uint occluded = 0u;
 #if LS_COUNTERS
     uint pixelBase = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
@@ -61,6 +77,7 @@ float stsvOccludedFraction(ivec2 pixel) {
     }
 #endif
     return float(occluded) / float(SAMPLE_COUNT);
+#endif
 }
 #endif
 

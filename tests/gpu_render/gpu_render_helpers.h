@@ -78,8 +78,7 @@ inline SamplePlan planOf(const RenderOptions& o) {
 /// The CPU mirror's buffer for light l on the GPU's G-buffer.
 inline LightSampleBuffer mirrorSamples(const Scene& scene, const Frame& frame, std::size_t l,
                                        const RenderOptions& o) {
-    LightSampleBuffer out(o.width, o.height, o.samples,
-                          o.buffer == BufferKind::Bitmask ? BufferKind::Bitmask : BufferKind::Counters);
+    LightSampleBuffer out(o.width, o.height, o.samples, o.buffer);
     stsvCpuSamples(scene, frame.gbuffer, scene.lights[l], planOf(o), farDistanceFor(scene.bounds()), out);
     return out;
 }
@@ -93,16 +92,22 @@ inline std::size_t occludedCount(const LightSampleBuffer& b) {
 }
 
 /// The (pixel, sample) pairs where two buffers differ, one line each (up to `maxLines`): the
-/// pixel, the sample, both values, the visible triangle and point of the G-buffer.
+/// pixel, the sample, both values (counts with `counts`: layers, or optical depths of two
+/// transmittance buffers), the visible triangle and point of the G-buffer.
 inline std::string describeDifferences(const LightSampleBuffer& gpu, const LightSampleBuffer& mirror,
                                        const GBuffer& g, bool counts, std::size_t maxLines = 12) {
     std::ostringstream out;
     std::size_t lines = 0;
+    const bool depths = counts && transmittanceBoth(gpu, mirror);
+    auto value = [&](const LightSampleBuffer& b, int x, int y, int k) -> std::int64_t {
+        if (depths) return b.opticalDepth(x, y, k);
+        return counts ? b.count(x, y, k) : int(b.occluded(x, y, k));
+    };
     for (int y = 0; y < gpu.height() && lines < maxLines; ++y)
         for (int x = 0; x < gpu.width() && lines < maxLines; ++x)
             for (int k = 0; k < gpu.samples() && lines < maxLines; ++k) {
-                const int a = counts ? gpu.count(x, y, k) : int(gpu.occluded(x, y, k));
-                const int b = counts ? mirror.count(x, y, k) : int(mirror.occluded(x, y, k));
+                const std::int64_t a = value(gpu, x, y, k);
+                const std::int64_t b = value(mirror, x, y, k);
                 if (a == b) continue;
                 const std::size_t i = g.index(x, y);
                 out << "\n  pixel (" << x << "," << y << ") sample " << k << ": gpu " << a << ", mirror " << b
@@ -114,11 +119,12 @@ inline std::string describeDifferences(const LightSampleBuffer& gpu, const Light
 }
 
 /// GPU vs mirror, both running volumes/stsv_fragment_dh.h on the same G-buffer: every
-/// (pixel, sample) pair with the same occlusion state and (counters) the same count.
+/// (pixel, sample) pair with the same occlusion state and (counters) the same count or
+/// (transmittance) the same optical depth.
 inline void expectMirrorExact(const Scene& scene, const Frame& frame, const RenderOptions& o, std::size_t l,
                               const std::string& what) {
     const LightSampleBuffer mirror = mirrorSamples(scene, frame, l, o);
-    const bool counters = o.buffer == BufferKind::Counters;
+    const bool counters = o.buffer != BufferKind::Bitmask;
     const LightSampleDiff diff = compareLightSamples(frame.lightSamples[l], mirror, 8, counters);
     std::cout << what << " light " << l << ": " << diff.comparedSamples << " pairs, " << occludedCount(mirror)
               << " occluded (mirror), " << diff.differingSamples << " differ\n";

@@ -42,8 +42,10 @@ inline std::vector<Crossing> crossings(const Scene& scene, vec3 pf, vec3 sf, std
 
 /// A difference at (pixel, sample) is explained by a boundary when the G-buffer changes triangle
 /// next to the pixel, or a crossing lies within one texel of a triangle edge or of a texel of
-/// different opacity .
-inline bool atBoundary(const Scene& scene, const GBuffer& g, int x, int y, vec3 s) {
+/// different opacity. With `transmittance`, a translucent triangle's texels are those of its blend
+/// texture, and any other alpha byte is a different opacity.
+inline bool atBoundary(const Scene& scene, const GBuffer& g, int x, int y, vec3 s,
+                       bool transmittance = false) {
     const std::size_t i = g.index(x, y);
     for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
@@ -57,21 +59,24 @@ inline bool atBoundary(const Scene& scene, const GBuffer& g, int x, int y, vec3 
         const dvec2 uv0(scene.texcoords[idx.x]), uv1(scene.texcoords[idx.y]), uv2(scene.texcoords[idx.z]);
         const dvec2 uv = uv0 + c.bary.x * (uv1 - uv0) + c.bary.y * (uv2 - uv0);
         const double edge = std::min({c.bary.x, c.bary.y, 1.0 - c.bary.x - c.bary.y});
-        if (!m.perforated()) {
+        const bool blend = transmittance && m.translucent();
+        const int texture = blend ? m.blendTexture : m.alphaTexture;
+        if (texture < 0) {
             if (std::abs(edge) < 1e-3) return true;
             continue;
         }
-        const Texture& tex = scene.textures[std::size_t(m.alphaTexture)];
+        const Texture& tex = scene.textures[std::size_t(texture)];
         const dvec2 size(tex.width, tex.height);
         const double texPerBary = std::max(length((uv1 - uv0) * size), length((uv2 - uv0) * size));
         if (std::abs(edge) * texPerBary < 1.0) return true;
         const uint wrap = m.wrap == WrapMode::Clamp ? WRAP_CLAMP : WRAP_REPEAT;
         const ivec2 center = texelAt(vec2(uv), ivec2(tex.width, tex.height), wrap);
-        const bool blocks = alphaBlocks(tex.alpha(center.x, center.y));
+        const std::uint8_t a = tex.alpha(center.x, center.y);
         for (int ty = -1; ty <= 1; ++ty)
             for (int tx = -1; tx <= 1; ++tx) {
                 const ivec2 n = texelAt(vec2(uv + dvec2(tx, ty) / size), ivec2(tex.width, tex.height), wrap);
-                if (alphaBlocks(tex.alpha(n.x, n.y)) != blocks) return true;
+                const std::uint8_t b = tex.alpha(n.x, n.y);
+                if (blend ? a != b : alphaBlocks(a) != alphaBlocks(b)) return true;
             }
     }
     return false;
