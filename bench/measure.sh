@@ -41,12 +41,17 @@ measurement() {
     bench-foliage-count) echo bench foliage --methods stsv,reference --backends vulkan,cpu \
       --vary count=250,1000,4000 --size 512x512 --samples 64 --repeat 3 --check ;;
     bench-knot-scale) echo bench --preset knot-scale ;;
+    compare-particles) echo compare particles --buffer transmittance --methods "$every_method" --size 256x192 \
+      --samples 64 ;;
+    sheet-particles) echo compare particles --buffer transmittance --methods "$all_methods" --converged 16 \
+      --size 192x144 --sheet docs/particles-sheet.png ;;
+    bench-particles) echo bench --preset particles --repeat 1 --warmup 0 ;;
     *) return 1 ;;
   esac
 }
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
-     bench-fence-vs-mesh bench-foliage-count bench-knot-scale)
+     bench-fence-vs-mesh bench-foliage-count bench-knot-scale compare-particles sheet-particles bench-particles)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")

@@ -81,26 +81,39 @@ def scene_name(data):
 
 def compare_table(files):
     rows = []
+    # Runs with --buffer transmittance: identical optical depths, and the per-sample RMSE of the
+    # transmittance in a column of its own.
+    transmittance = any("transmittance_rmse" in r for _, data in files for r in data["rows"])
     for _, data in files:
         for i, r in enumerate(data["rows"]):
             per_sample = r["identical_percent"] is not None
-            rows.append([
+            cells = [
                 scene_name(data) if i == 0 else "",
                 r["method"] + "/" + r["backend"],
                 percent(r["identical_percent"]),
                 str(r["differing_samples"]) if per_sample else "n/a",
+            ]
+            if transmittance:
+                cells.append(fixed(r["transmittance_rmse"], 5) if "transmittance_rmse" in r else "n/a")
+            cells += [
                 fixed(r["visibility"]["rmse"], 5),
                 fixed(r["visibility"]["max_abs"], 5),
                 fixed(r["lit"]["rmse"], 5),
                 fixed(r["lit"]["ssim"], 5),
                 "%.0f" % r["frame_ms"],
-            ])
+            ]
+            rows.append(cells)
     o = files[0][1]["options"]
     head = "%dx%d, %d samples, against %s (frame ms: compare's single frame; on vulkan it includes " \
            "the shaders' compilation at first use, which `stsv bench` separates)" % (
                o["width"], o["height"], o["samples"], files[0][1]["against"])
-    return head + "\n\n" + table(["scene", "method", "identical bits", "differing bits", "vis RMSE",
-                                  "vis max", "lit RMSE", "lit SSIM", "frame ms"], rows)
+    header = ["scene", "method", "identical bits", "differing bits"]
+    if transmittance:
+        head += "; with transmittance, identical optical depths and the per-sample transmittance RMSE"
+        header[2:4] = ["identical depths", "differing samples"]
+        header.append("transmittance RMSE")
+    header += ["vis RMSE", "vis max", "lit RMSE", "lit SSIM", "frame ms"]
+    return head + "\n\n" + table(header, rows)
 
 
 def converged_table(files):
