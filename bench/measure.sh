@@ -43,7 +43,7 @@ measurement() {
     bench-knot-scale) echo bench --preset knot-scale ;;
     compare-particles) echo compare particles --buffer transmittance --methods "$every_method" --size 256x192 \
       --samples 64 ;;
-    sheet-particles) echo compare particles --buffer transmittance --methods "$all_methods" --converged 16 \
+    sheet-particles) echo compare particles --buffer transmittance --methods "$all_methods,avsm,vpcss" --converged 16 \
       --size 192x144 --sheet docs/particles-sheet.png ;;
     bench-particles) echo bench --preset particles --repeat 1 --warmup 0 ;;
     *) return 1 ;;

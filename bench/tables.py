@@ -164,13 +164,20 @@ def work_text(c):
 
 def map_memory_text(c):
     """The image-based methods' memory per frame from its --stats: every light's depth map (4-byte
-    texels) and filtered representation (summed-area tables or mips), in MB."""
+    texels) and filtered representation (summed-area tables or mips), depth grid or transmittance
+    functions, in MB."""
     maps = c.get("shadow_maps", [])
     if not maps:
         return "–"
-    # peel keeps a depth grid instead of the map (grid_bytes; no depth map).
-    total = sum(m["grid_bytes"] if "grid_bytes" in m else m.get("texels", 0) * 4 + m.get("representation_bytes", 0)
-                for m in maps)
+    # peel keeps a depth grid instead of the map (grid_bytes; no depth map), avsm and vpcss
+    # transmittance functions (avsm.bytes).
+    def bytes_of(m):
+        if "grid_bytes" in m:
+            return m["grid_bytes"]
+        if "avsm" in m:
+            return m["avsm"]["bytes"]
+        return m.get("texels", 0) * 4 + m.get("representation_bytes", 0)
+    total = sum(bytes_of(m) for m in maps)
     return "%.0f MB" % (total / 1e6)
 
 

@@ -108,6 +108,9 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
     o.params = result.config.params;
     o.backend = result.config.backend;
     o.samples = result.config.samples;
+    // A method without fractional transmittance runs on bits, as in compare.
+    if (o.buffer == BufferKind::Transmittance && !methodInfo(o.method).writesTransmittance())
+        o.buffer = BufferKind::Bitmask;
     const std::string label = result.config.label();
     // The bar of this configuration is decided now; renderers' own bars stay off meanwhile.
     Progress::setEnabled(progressOn);

@@ -193,8 +193,9 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
     if (methodInfo(o.method).shadowMap != ShadowFilter::None) {
         const ShadowMapSettings s = shadowMapSettingsFrom(methodInfo(o.method).shadowMap, o.params);
         const double edge = shadowMapSize(s);
-        const double bytes =
-            s.filter == ShadowFilter::Peel ? 4.0 * peelTexelWords(uint(s.peelBins)) : sizeof(float);
+        const double bytes = s.filter == ShadowFilter::Peel          ? 4.0 * peelTexelWords(uint(s.peelBins))
+                             : readsTransmittanceFunctions(s.filter) ? 4.0 + 8.0 * s.avsmNodes
+                                                                     : sizeof(float);
         perLight += 6.0 * edge * edge * bytes;
     }
     // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests

@@ -102,6 +102,10 @@ int runRender(RenderArgs& args) {
         throw UsageError("--shadow-map: method " + method.name +
                          " keeps a depth grid of front and back faces, not a depth map (its size and "
                          "memory are in --stats)");
+    if (!args.shadowMap.empty() && readsTransmittanceFunctions(method.shadowMap))
+        throw UsageError("--shadow-map: method " + method.name +
+                         " keeps transmittance functions, not a depth map (their nodes and memory are in "
+                         "--stats)");
     const std::vector<OutputFile> outputs = {{"-o", args.output, {".png", ".exr"}},
                                              {"--visibility", args.visibility, {".png", ".npy", ".exr"}},
                                              {"--dump-ls", args.dumpLs, {".npy"}},

@@ -25,6 +25,8 @@ struct FilterContext {
     /// goes on, or blocks where its texel has α = 1; depthTables holds each material's table.
     std::vector<std::pair<std::uint32_t, std::uint32_t>>* crossings;
     const std::vector<OpticalDepthTable>* depthTables;
+    /// When set: every hit records (t, triangle, units) of its texel and goes on.
+    std::vector<SurfaceCrossing>* surfaces;
 };
 
 vec2 hitTexcoord(const Scene& scene, std::uint32_t tri, vec2 bary) {
@@ -38,6 +40,30 @@ std::uint8_t texelAlpha(const Texture& texture, const Material& material, vec2 u
     const ivec2 texel = texelAt(uv, ivec2(texture.width, texture.height),
                                 material.wrap == WrapMode::Clamp ? WRAP_CLAMP : WRAP_REPEAT);
     return texture.alpha(texel.x, texel.y);
+}
+
+/// The optical-depth units a translucent triangle's texel at the hit adds (its material's table at
+/// the blend texture's alpha byte, or at 255 without one).
+std::uint32_t translucentUnits(const FilterContext& ctx, std::uint32_t tri, vec2 bary) {
+    const Scene& scene = *ctx.scene;
+    const Material& material = scene.materialOf(tri);
+    const std::uint8_t alpha = material.blendTexture < 0
+                                   ? 255
+                                   : texelAlpha(scene.textures[std::size_t(material.blendTexture)], material,
+                                                hitTexcoord(scene, tri, bary));
+    return (*ctx.depthTables)[scene.triangleMaterial[tri]][alpha];
+}
+
+/// The units any triangle's texel at the hit takes: a translucent one's (translucentUnits),
+/// OPTICAL_DEPTH_OPAQUE where an opaque or perforated one blocks, else 0.
+std::uint32_t hitUnits(const FilterContext& ctx, std::uint32_t tri, vec2 bary) {
+    const Scene& scene = *ctx.scene;
+    const Material& material = scene.materialOf(tri);
+    if (material.translucent()) return translucentUnits(ctx, tri, bary);
+    if (!material.perforated()) return OPTICAL_DEPTH_OPAQUE;
+    const Texture& texture = scene.textures[static_cast<std::size_t>(material.alphaTexture)];
+    return alphaBlocks(texelAlpha(texture, material, hitTexcoord(scene, tri, bary))) ? OPTICAL_DEPTH_OPAQUE
+                                                                                     : 0u;
 }
 
 /// The texel rule at the hit: transparent texels and the ignored triangle reject the hit.
@@ -57,12 +83,14 @@ void alphaFilter(const RTCFilterFunctionNArguments* args) {
             continue;
         }
         const vec2 bary(RTCHitN_u(args->hit, args->N, i), RTCHitN_v(args->hit, args->N, i));
+        if (ctx->surfaces) {
+            const std::uint32_t units = hitUnits(*ctx, tri, bary);
+            if (units != 0u) ctx->surfaces->push_back({RTCRayN_tfar(args->ray, args->N, i), tri, units});
+            args->valid[i] = 0;
+            continue;
+        }
         if (material.translucent() && ctx->crossings) {
-            const std::uint8_t alpha = material.blendTexture < 0
-                                           ? 255
-                                           : texelAlpha(scene.textures[std::size_t(material.blendTexture)],
-                                                        material, hitTexcoord(scene, tri, bary));
-            const std::uint32_t units = (*ctx->depthTables)[scene.triangleMaterial[tri]][alpha];
+            const std::uint32_t units = translucentUnits(*ctx, tri, bary);
             if (units == OPTICAL_DEPTH_OPAQUE) continue; // blocks: the query stops here
             if (units != 0u) ctx->crossings->push_back({tri, units});
             args->valid[i] = 0;
@@ -235,6 +263,32 @@ void EmbreeScene::allHits(vec3 o, vec3 d, float tNear, float tFar, std::vector<H
     hits.erase(std::unique(hits.begin(), hits.end(),
                            [](const Hit& a, const Hit& b) { return a.triangle == b.triangle; }),
                hits.end());
+}
+
+void EmbreeScene::surfaceCrossings(vec3 o, vec3 d, float tNear, float tFar,
+                                   std::vector<SurfaceCrossing>& out) const {
+    out.clear();
+    FilterContext ctx{};
+    rtcInitIntersectContext(&ctx.rtc);
+    ctx.scene = &m_scene;
+    ctx.ignoreTriangle = NO_TRIANGLE;
+    ctx.depthTables = &m_depthTables;
+    ctx.surfaces = &out;
+    RTCRayHit rh = rayHit(o, d, tNear, tFar);
+    // The filter records each candidate and rejects it, so traversal visits them all.
+    rtcIntersect1(m_rtcScene, &ctx.rtc, &rh);
+    // A primitive referenced by several BVH leaves (spatial splits) may be reported twice; then
+    // nearest first, ties by triangle (the order does not depend on the traversal).
+    std::sort(out.begin(), out.end(),
+              [](const SurfaceCrossing& a, const SurfaceCrossing& b) { return a.triangle < b.triangle; });
+    out.erase(std::unique(out.begin(), out.end(),
+                          [](const SurfaceCrossing& a, const SurfaceCrossing& b) {
+                              return a.triangle == b.triangle;
+                          }),
+              out.end());
+    std::sort(out.begin(), out.end(), [](const SurfaceCrossing& a, const SurfaceCrossing& b) {
+        return a.t != b.t ? a.t < b.t : a.triangle < b.triangle;
+    });
 }
 
 vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary) {

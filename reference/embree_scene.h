@@ -19,6 +19,13 @@ struct Hit {
     vec2 bary{0.0f}; ///< (b1, b2): weights of the triangle's second and third vertex
 };
 
+/// A surface a ray crosses and the light it takes there.
+struct SurfaceCrossing {
+    float t = 0.0f; ///< ray parameter
+    std::uint32_t triangle = NO_TRIANGLE;
+    std::uint32_t units = 0; ///< optical-depth units (occlusion_rules_dh.h), OPTICAL_DEPTH_OPAQUE: blocks
+};
+
 class EmbreeScene {
   public:
     explicit EmbreeScene(const Scene& scene);
@@ -55,6 +62,12 @@ class EmbreeScene {
     /// no particular order, each triangle once (t in units of d). The depth grid of `peel` is
     /// made of them.
     void allHits(vec3 o, vec3 d, float tNear, float tFar, std::vector<Hit>& hits) const;
+
+    /// Every surface of o + t·d with t in [tNear, tFar] that takes light, into `out` (cleared),
+    /// nearest first, each triangle once: opaque triangles and a perforated triangle's blocking
+    /// texels with OPTICAL_DEPTH_OPAQUE, translucent triangles with their texel's units (those
+    /// of 0 units left out). The transmittance functions of `avsm` are made of them.
+    void surfaceCrossings(vec3 o, vec3 d, float tNear, float tFar, std::vector<SurfaceCrossing>& out) const;
 
     /// Visible point per pixel centre through the scene camera (row 0 at the top).
     GBuffer traceGBuffer(int width, int height) const;

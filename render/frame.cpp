@@ -40,6 +40,15 @@ nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuf
             {"kernel_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
 }
 
+nlohmann::json avsmStatsJson(const AvsmStats& s, std::size_t bytes) {
+    return {{"nodes_mean", s.meanNodes},
+            {"nodes_max", s.maxNodes},
+            {"texels", s.texels},
+            {"texels_with_nodes", s.texelsWithNodes},
+            {"overflowed_texels", s.overflowedTexels},
+            {"bytes", bytes}};
+}
+
 nlohmann::json shadowMapViewStats(const ShadowMapView& view, const ShadowMapSettings& settings,
                                   const Camera& camera, const GBuffer& gbuffer) {
     const char* projection = view.projection == SHADOW_MAP_CUBE           ? "cube"
@@ -77,18 +86,28 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
     if (stats.value("ignored_perforated_triangles", std::size_t(0)) > 0)
         warnings.push_back(method + " shades opaque triangles only: the shadows of the scene's " +
                            std::to_string(stats["ignored_perforated_triangles"].get<std::size_t>()) +
-                           " perforated triangles are missing (" +
+                           " perforated and translucent triangles are missing (" +
                            stats.value("ignored_perforated_triangles_use", std::string()) + " draws them)");
+    // Translucent triangles by their binary stand-in: every method but those that ignore them
+    // (ignored_perforated_triangles), read transmittance functions, or write a transmittance buffer.
     const std::string buffer = stats.contains("options") ? stats["options"].value("buffer", "") : "";
-    if (stats.value("translucent_triangles", std::size_t(0)) > 0 && buffer != "transmittance") {
-        std::string writers;
-        for (const MethodInfo& m : methodTable())
-            if (m.writesTransmittance()) writers += (writers.empty() ? "" : " or ") + m.name;
-        warnings.push_back(method + " with a " + buffer + " buffer takes the scene's " +
+    const MethodInfo* row = nullptr;
+    for (const MethodInfo& m : methodTable())
+        if (m.name == method) row = &m;
+    const bool fractional = row && (readsTransmittanceFunctions(row->shadowMap) ||
+                                    (row->writesTransmittance() && buffer == "transmittance"));
+    if (stats.value("translucent_triangles", std::size_t(0)) > 0 && !fractional &&
+        !stats.contains("ignored_perforated_triangles")) {
+        std::string writers, readers;
+        for (const MethodInfo& m : methodTable()) {
+            if (m.writesTransmittance()) writers += (writers.empty() ? "" : ", ") + m.name;
+            if (readsTransmittanceFunctions(m.shadowMap)) readers += (readers.empty() ? "" : ", ") + m.name;
+        }
+        warnings.push_back(method + " takes the scene's " +
                            std::to_string(stats["translucent_triangles"].get<std::size_t>()) +
-                           " translucent triangles as blocking where alpha >= 0.5 and open elsewhere "
-                           "(--buffer transmittance with " +
-                           writers + " lets their fraction through)");
+                           " translucent triangles as blocking where alpha >= 0.5 and open elsewhere (" +
+                           readers + ", and " + writers +
+                           " with --buffer transmittance, let their fraction through)");
     }
     if (stats.contains("shadow_maps") && stats["shadow_maps"].is_array()) {
         double worst = 0.0;

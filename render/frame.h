@@ -8,6 +8,7 @@
 #include "render/options.h"
 #include "sampling/ls_buffer.h"
 #include "scene/scene.h"
+#include "shadowmaps/avsm.h"
 #include "shadowmaps/depth_grid.h"
 #include "shadowmaps/shadow_map.h"
 
@@ -64,6 +65,11 @@ nlohmann::json sceneStats(const Scene& scene);
 /// {"kernel_clamped_pixels", "kernel_clamped_fraction"}: how many of the pixels with a visible
 /// surface had their PCSS kernel cut to pcss_max_kernel, counted and as a fraction (both backends).
 nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer);
+
+/// A light's transmittance functions (`avsm`, `vpcss`; both backends): the nodes per texel that
+/// holds any (mean, max), the texels with nodes, those that had more surfaces than nodes, and the
+/// map's bytes (avsmBytes).
+nlohmann::json avsmStatsJson(const AvsmStats& stats, std::size_t bytes);
 
 /// What a light's map covers (both backends): its projection, faces, texels, the fit
 /// (`"view"` or `"scene"`), depth range, and the texel footprint at the visible receivers

@@ -162,6 +162,26 @@ std::vector<MethodInfo> buildTable() {
          .backends = {B::Vulkan, B::Cpu},
          .knobs = mapKnobs(ShadowFilter::Peel),
          .shadowMap = ShadowFilter::Peel},
+        {.id = Method::Avsm,
+         .name = "avsm",
+         .description = "Adaptive volumetric shadow maps (Salvi et al. 2010): per texel a transmittance "
+                        "function of avsm_nodes nodes from the light centre, built in depth order with "
+                        "the least area lost on overflow; hard translucent shadows by lookup",
+         .family = MethodFamily::ImageBased,
+         .output = MethodOutput::Visibility,
+         .backends = {B::Cpu},
+         .knobs = mapKnobs(ShadowFilter::Avsm),
+         .shadowMap = ShadowFilter::Avsm},
+        {.id = Method::Vpcss,
+         .name = "vpcss",
+         .description = "Volumetric PCSS (Klein et al.): PCSS on the AVSM, the blocker depth a "
+                        "transmittance-weighted average of the translucent and opaque blockers (Eq. 6-8, "
+                        "13), filtered transmittance lookups over the penumbra (Eq. 12, 14)",
+         .family = MethodFamily::ImageBased,
+         .output = MethodOutput::Visibility,
+         .backends = {B::Cpu},
+         .knobs = mapKnobs(ShadowFilter::Vpcss),
+         .shadowMap = ShadowFilter::Vpcss},
     };
     for (std::size_t i = 0; i < table.size(); ++i)
         if (static_cast<std::size_t>(table[i].id) != i) throw Error("method table out of enum order");

@@ -31,6 +31,8 @@ enum class Method {
     Msm,       ///< moment shadow maps
     Csm,       ///< convolution shadow maps
     Peel,      ///< depth-peeling soft shadows: a depth grid marched per light sample
+    Avsm,      ///< adaptive volumetric shadow maps: hard translucent shadows
+    Vpcss,     ///< volumetric PCSS on the AVSM's transmittance functions
 };
 
 enum class Backend { Cpu, Vulkan };

@@ -1,5 +1,7 @@
 #include "shadowmaps/shadow_map.h"
 
+#include "shadowmaps/avsm_dh.h"
+
 #include "core/error.h"
 #include "sampling/light_sampling_dh.h"
 #include "shadowmaps/depth_grid_dh.h"
@@ -231,8 +233,10 @@ std::vector<vec2> poissonDiskTaps(int count, std::uint32_t seed, float* minDista
 }
 
 std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings) {
-    std::vector<vec2> taps = poissonDiskTaps(settings.blockerTaps, 0x5eed0001u);
-    const std::vector<vec2> filter = poissonDiskTaps(settings.filterTaps, 0x5eed0002u);
+    const bool vpcss = settings.filter == ShadowFilter::Vpcss;
+    std::vector<vec2> taps = poissonDiskTaps(vpcss ? settings.vpcssTaps : settings.blockerTaps, 0x5eed0001u);
+    const std::vector<vec2> filter =
+        poissonDiskTaps(vpcss ? settings.vpcssTaps : settings.filterTaps, 0x5eed0002u);
     taps.insert(taps.end(), filter.begin(), filter.end());
     return taps;
 }
@@ -241,7 +245,15 @@ static_assert(uint(ShadowFilter::Pcf) == SHADOW_FILTER_PCF &&
               uint(ShadowFilter::Pcss) == SHADOW_FILTER_PCSS &&
               uint(ShadowFilter::Vsm) == SHADOW_FILTER_VSM && uint(ShadowFilter::Esm) == SHADOW_FILTER_ESM &&
               uint(ShadowFilter::Evsm) == SHADOW_FILTER_EVSM &&
-              uint(ShadowFilter::Msm) == SHADOW_FILTER_MSM && uint(ShadowFilter::Csm) == SHADOW_FILTER_CSM);
+              uint(ShadowFilter::Msm) == SHADOW_FILTER_MSM && uint(ShadowFilter::Csm) == SHADOW_FILTER_CSM &&
+              uint(ShadowFilter::Peel) == SHADOW_FILTER_PEEL &&
+              uint(ShadowFilter::Avsm) == SHADOW_FILTER_AVSM &&
+              uint(ShadowFilter::Vpcss) == SHADOW_FILTER_VPCSS);
+
+std::size_t avsmBytes(const ShadowMapView& view, const ShadowMapSettings& settings) {
+    const std::size_t texels = std::size_t(view.faces) * view.size * view.size;
+    return texels * (4 + 8 * std::size_t(settings.avsmNodes));
+}
 
 int filteredChannelCount(const ShadowMapSettings& s) {
     switch (s.filter) {
@@ -297,12 +309,17 @@ ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
 const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     using F = ShadowFilter;
     using S = ShadowMapSettings;
-    const std::vector<F> searched = {F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
+    const std::vector<F> searchedDepths = {F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
+    std::vector<F> searched = searchedDepths;
+    searched.push_back(F::Vpcss);
     const std::vector<F> filtered = {F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
+    const std::vector<F> depthMaps = {F::Pcf, F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
+    const std::vector<F> functions = {F::Avsm, F::Vpcss};
     // The maps that compare depths at the receiver (the depth grid marches rays instead).
-    const std::vector<F> compared = {F::Pcf, F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
+    const std::vector<F> compared = {F::Pcf, F::Pcss, F::Vsm,  F::Esm,  F::Evsm,
+                                     F::Msm, F::Csm,  F::Avsm, F::Vpcss};
     static const std::vector<ShadowMapKnob> knobs = {
-        {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", compared,
+        {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", depthMaps,
          nullptr, &S::size},
         {"sm_fit",
          0,
@@ -332,8 +349,8 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
         {"fm_mip", 0, 1, true,
          "the average: 0 a summed-area table, 1 trilinear mip lookup (ESM, EVSM: always mip)", filtered,
          nullptr, &S::mip},
-        {"pcss_blocker_taps", 1, 256, true, "Poisson-disk taps of the blocker search", searched, nullptr,
-         &S::blockerTaps},
+        {"pcss_blocker_taps", 1, 256, true, "Poisson-disk taps of the blocker search", searchedDepths,
+         nullptr, &S::blockerTaps},
         {"pcss_filter_taps",
          1,
          256,
@@ -402,6 +419,20 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
          {F::Peel},
          nullptr,
          &S::peelSteps},
+        {"avsm_size", 16, 8192, true,
+         "transmittance-function texels per face edge (4 + 8 avsm_nodes bytes a texel)", functions, nullptr,
+         &S::avsmSize},
+        {"avsm_nodes", 1, double(AVSM_MAX_NODES), true,
+         "nodes of each texel's transmittance function (the least important is dropped beyond)", functions,
+         nullptr, &S::avsmNodes},
+        {"vpcss_taps",
+         1,
+         256,
+         true,
+         "Poisson-disk taps of the blocker search and of the filter",
+         {F::Vpcss},
+         nullptr,
+         &S::vpcssTaps},
     };
     return knobs;
 }

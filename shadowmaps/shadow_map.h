@@ -61,9 +61,16 @@ struct ShadowMap {
 };
 
 /// How a frame filters its maps: percentage-closer filters of the depths, a filtered
-/// representation (shadowmaps/filtered_shadow_dh.h) averaged over a kernel and compared once, or
-/// (Peel) a depth grid marched per light sample (shadowmaps/depth_grid_dh.h).
-enum class ShadowFilter { None, Pcf, Pcss, Vsm, Esm, Evsm, Msm, Csm, Peel };
+/// representation (shadowmaps/filtered_shadow_dh.h) averaged over a kernel and compared once,
+/// (Peel) a depth grid marched per light sample (shadowmaps/depth_grid_dh.h), or (Avsm, Vpcss)
+/// transmittance functions looked up once or filtered as PCSS filters depths
+/// (shadowmaps/avsm_dh.h).
+enum class ShadowFilter { None, Pcf, Pcss, Vsm, Esm, Evsm, Msm, Csm, Peel, Avsm, Vpcss };
+
+/// Whether a filter reads transmittance functions (AVSM) instead of a depth map.
+inline bool readsTransmittanceFunctions(ShadowFilter f) {
+    return f == ShadowFilter::Avsm || f == ShadowFilter::Vpcss;
+}
 
 /// Whether a filter averages a representation of the depths (VSM, ESM, EVSM, MSM, CSM).
 inline bool isFilteredRepresentation(ShadowFilter f) {
@@ -110,6 +117,11 @@ struct ShadowMapSettings {
     int peelSize = 512; ///< peel_size: grid texels per face edge
     int peelBins = 16;  ///< peel_bins: subintervals of each texel's depth range
     int peelSteps = 20; ///< peel_steps: march steps per light-sample ray
+    // Transmittance functions (AVSM, volumetric PCSS). Klein et al. used 1024² and 8 nodes: at
+    // 8 nodes a texel holds 68 bytes, 68 MB a face at 1024².
+    int avsmSize = 1024; ///< avsm_size: texels per face edge
+    int avsmNodes = 8;   ///< avsm_nodes: nodes of each texel's function
+    int vpcssTaps = 25;  ///< vpcss_taps: Poisson taps of the search and of the filter (the paper's 25)
 };
 
 /// One knob of ShadowMapSettings as a method's `--param`: its name, range and help, which filters
@@ -145,10 +157,16 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs();
 /// of `params` set on its knob. UsageError for a name that is no knob of `filter`.
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params);
 
-/// Texels per face edge of the frame's map: sm_size, or peel_size for the depth grid (`peel`).
+/// Texels per face edge of the frame's map: sm_size, peel_size for the depth grid (`peel`),
+/// avsm_size for the transmittance functions (`avsm`, `vpcss`).
 inline int shadowMapSize(const ShadowMapSettings& s) {
-    return s.filter == ShadowFilter::Peel ? s.peelSize : s.size;
+    if (s.filter == ShadowFilter::Peel) return s.peelSize;
+    return readsTransmittanceFunctions(s.filter) ? s.avsmSize : s.size;
 }
+
+/// Bytes of one light's transmittance functions: faces × size² texels of a node count and
+/// avsm_nodes nodes (a float depth and 32-bit units each).
+std::size_t avsmBytes(const ShadowMapView& view, const ShadowMapSettings& settings);
 
 /// Bytes of one light's depth grid (`peel`): faces × size² texels of peelTexelWords(peel_bins) words.
 std::size_t depthGridBytes(const ShadowMapView& view, const ShadowMapSettings& settings);

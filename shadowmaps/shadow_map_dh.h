@@ -57,6 +57,8 @@ DH_CONST uint SHADOW_FILTER_EVSM = 5u;
 DH_CONST uint SHADOW_FILTER_MSM = 6u;
 DH_CONST uint SHADOW_FILTER_CSM = 7u;
 DH_CONST uint SHADOW_FILTER_PEEL = 8u;
+DH_CONST uint SHADOW_FILTER_AVSM = 9u;
+DH_CONST uint SHADOW_FILTER_VPCSS = 10u;
 
 /// The filter knobs of a frame as the shaders read them, ahead of the views in one buffer
 /// (ShadowMapSettings on the host, shadowFilterParams). std430: 6 × 16 bytes.

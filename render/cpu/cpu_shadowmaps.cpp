@@ -164,6 +164,90 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
     if (stats) stats->filter_ms = timer.milliseconds();
 }
 
+AvsmMap traceAvsm(const EmbreeScene& embree, const ShadowMapView& view, uint maxNodes) {
+    AvsmMap map(view, maxNodes);
+    const int size = int(view.size);
+    for (uint face = 0; face < view.faces; ++face) {
+        parallelForTiles(size, size, [&](const PixelTile& tile) {
+            std::vector<SurfaceCrossing> crossings;
+            std::vector<AvsmSurface> surfaces;
+            for (int y = tile.y0; y < tile.y1; ++y)
+                for (int x = tile.x0; x < tile.x1; ++x) {
+                    vec3 o, d;
+                    shadowMapTexelRay(view, face, ivec2(x, y), o, d);
+                    // d·Z = 1: the ray parameter is the axial depth, clipped to [near, far] as the
+                    // rasteriser clips.
+                    embree.surfaceCrossings(o, d, view.near, view.far, crossings);
+                    surfaces.clear();
+                    for (const SurfaceCrossing& c : crossings)
+                        surfaces.push_back({shadowMapDepthAlong(view, d, c.t), c.units});
+                    map.store(map.texel(face, ivec2(x, y)), buildAvsmTexel(surfaces, maxNodes));
+                }
+        });
+    }
+    return map;
+}
+
+void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
+                      const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate, ImageF& vcoef,
+                      AvsmCpuStats* stats, int supersample) {
+    const ShadowMapView& view = map.view;
+    const AvsmSource src{&map, taps.data()};
+    auto receiver = [&](int x, int y, std::size_t i) {
+        return shadowReceiver(view, gbuffer.position[i], gbuffer.normal[i], settings.bias,
+                              settings.normalOffset,
+                              shadowTapRotation(uvec2(unsigned(x / supersample), unsigned(y / supersample)),
+                                                seed, decorrelate));
+    };
+    const bool vpcss = settings.filter == ShadowFilter::Vpcss;
+    const uint n = uint(settings.vpcssTaps);
+    Timer timer;
+    // vpcss's blocker search leaves the kernel radius (uv) or −1 (no light lost: lit) in `vcoef`.
+    if (vpcss) {
+        std::atomic<std::uint64_t> clamped{0};
+        parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
+            const std::size_t i = gbuffer.index(x, y);
+            if (!gbuffer.covered(i)) return;
+            const ShadowReceiver r = receiver(x, y, i);
+            const float blocker = vpcssAverageBlocker(view, src, r, n, settings.maxSearch);
+            vcoef.at(x, y, 0) =
+                blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
+            if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
+                clamped.fetch_add(1, std::memory_order_relaxed);
+        });
+        if (stats) {
+            stats->kernelClamped = clamped.load();
+            stats->blocker_ms = timer.milliseconds();
+        }
+        timer.reset();
+    }
+    parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
+        const std::size_t i = gbuffer.index(x, y);
+        if (!gbuffer.covered(i)) return;
+        float& v = vcoef.at(x, y, 0);
+        if (!vpcss)
+            v = avsmVisibility(view, src, receiver(x, y, i));
+        else
+            v = v < 0.0f ? 1.0f : vpcssFilter(view, src, receiver(x, y, i), v, n, n);
+    });
+    if (stats) stats->filter_ms = timer.milliseconds();
+}
+
+AvsmCpuStats avsmCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer, const ShadowMapView& view,
+                               const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
+                               ImageF& vcoef, AvsmMap* keep, int supersample) {
+    AvsmCpuStats stats;
+    Timer timer;
+    AvsmMap map = traceAvsm(embree, view, uint(settings.avsmNodes));
+    stats.map_ms = timer.milliseconds();
+    stats.map = avsmStats(map);
+    stats.bytes = avsmBytes(view, settings);
+    avsmFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, vcoef, &stats,
+                     supersample);
+    if (keep) *keep = std::move(map);
+    return stats;
+}
+
 ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer,
                                          const ShadowMapView& view, const ShadowMapSettings& settings,
                                          std::uint32_t seed, bool decorrelate, ImageF& vcoef, ShadowMap* keep,

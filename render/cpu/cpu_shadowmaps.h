@@ -8,6 +8,7 @@
 #include "render/options.h"
 #include "sampling/light_sampling.h"
 #include "sampling/ls_buffer.h"
+#include "shadowmaps/avsm.h"
 #include "shadowmaps/depth_grid.h"
 #include "shadowmaps/shadow_map.h"
 
@@ -66,5 +67,31 @@ PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, c
                             const SamplePlan& plan, float farDistance, const ShadowMapView& view,
                             const ShadowMapSettings& settings, LightSampleBuffer& out,
                             DepthGrid* keep = nullptr);
+
+/// The transmittance functions of `view` (`avsm`, `vpcss`): every surface each texel-centre ray
+/// crosses between near and far with the light it takes (EmbreeScene::surfaceCrossings), appended
+/// nearest first into at most settings.avsmNodes nodes.
+AvsmMap traceAvsm(const EmbreeScene& embree, const ShadowMapView& view, uint maxNodes);
+
+struct AvsmCpuStats {
+    double map_ms = 0.0;             ///< tracing and building the functions
+    double blocker_ms = 0.0;         ///< vpcss: the blocker search
+    double filter_ms = 0.0;          ///< the lookups (avsm), the filter (vpcss)
+    std::uint64_t kernelClamped = 0; ///< vpcss: pixels whose filter radius pcss_max_kernel clamped
+    AvsmStats map;
+    std::size_t bytes = 0; ///< avsmBytes
+};
+
+/// `avsm` (one lookup) or `vpcss` (blocker search, then filtered lookups) of every covered pixel
+/// into `vcoef`, on a given map (tests feed it maps of their own); the tap rotation as
+/// shadowMapFilterPixels'.
+void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const GBuffer& gbuffer,
+                      const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate, ImageF& vcoef,
+                      AvsmCpuStats* stats = nullptr, int supersample = 1);
+
+/// The functions of `view` (fitFrameShadowMap), then avsmFilterPixels, timed.
+AvsmCpuStats avsmCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer, const ShadowMapView& view,
+                               const ShadowMapSettings& settings, std::uint32_t seed, bool decorrelate,
+                               ImageF& vcoef, AvsmMap* keep = nullptr, int supersample = 1);
 
 } // namespace stsv

@@ -111,6 +111,7 @@ class ShadowMapTechnique final : public CpuTechnique {
     }
     void run(CpuLightWork& work) override {
         if (m_settings.filter == ShadowFilter::Peel) return runPeel(work);
+        if (readsTransmittanceFunctions(m_settings.filter)) return runAvsm(work);
         ShadowMap* keep = m_c.options.keepShadowMaps ? &work.frame.shadowMaps.emplace_back() : nullptr;
         const Scene& scene = m_c.embree.scene();
         const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
@@ -144,6 +145,22 @@ class ShadowMapTechnique final : public CpuTechnique {
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         map["grid_bytes"] = s.gridBytes;
         map["open_edges"] = m_openEdges;
+        m_stats.push_back(map);
+    }
+
+    void runAvsm(CpuLightWork& work) {
+        const Scene& scene = m_c.embree.scene();
+        const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
+        const AvsmCpuStats s =
+            avsmCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
+                              m_c.options.decorrelate, work.vcoef, nullptr, m_c.options.supersample);
+        work.passes[work.pass("avsm")] = s.map_ms;
+        if (m_settings.filter == ShadowFilter::Vpcss) work.passes[work.pass("vpcss_blocker")] = s.blocker_ms;
+        work.passes[work.pass("shadow_filter")] = s.filter_ms;
+        nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
+        map["avsm"] = avsmStatsJson(s.map, s.bytes);
+        if (m_settings.filter == ShadowFilter::Vpcss)
+            map.update(kernelClampStats(s.kernelClamped, work.gbuffer));
         m_stats.push_back(map);
     }
 

@@ -67,7 +67,8 @@ bool nearTexelBoundary(const Scene& scene, const GBuffer& g, std::size_t i, vec3
         const Texture& tex = scene.textures[std::size_t(m.blendTexture)];
         const uvec3 idx = scene.triangles[c.triangle];
         const dvec2 uv0(scene.texcoords[idx.x]), uv1(scene.texcoords[idx.y]), uv2(scene.texcoords[idx.z]);
-        const dvec2 at = (uv0 + c.bary.x * (uv1 - uv0) + c.bary.y * (uv2 - uv0)) * dvec2(tex.width, tex.height);
+        const dvec2 at =
+            (uv0 + c.bary.x * (uv1 - uv0) + c.bary.y * (uv2 - uv0)) * dvec2(tex.width, tex.height);
         for (int a = 0; a < 2; ++a)
             if (std::abs(at[a] - std::round(at[a])) < texels) return true;
     }
@@ -94,8 +95,8 @@ void expectMirrorExactButTexelTies(const Scene& scene, const Frame& frame, const
                 const LightFrame lf = lightFrame(scene.lights[0], frame.gbuffer.position[i], far);
                 const vec3 s = lightSamplePosition(lf, pixelSamplePoint(plan, x, y, k, lf.domain));
                 if (!nearTexelBoundary(scene, frame.gbuffer, i, s, 1e-4) && ++unexplained <= 10)
-                    where << "\n  pixel (" << x << "," << y << ") sample " << k << ": gpu " << gpu.opticalDepth(x, y, k)
-                          << ", mirror " << mirror.opticalDepth(x, y, k);
+                    where << "\n  pixel (" << x << "," << y << ") sample " << k << ": gpu "
+                          << gpu.opticalDepth(x, y, k) << ", mirror " << mirror.opticalDepth(x, y, k);
             }
     const std::size_t fractional = fractionalSamples(mirror);
     std::cout << what << ": " << fractional << " fractional samples (mirror), " << differing
@@ -147,7 +148,8 @@ TEST_F(GpuTransmittance, StsvMatchesTheMirrorButTexelTiesAndEmbreeAtBoundaries) 
         for (ExtrusionStage stage : {ExtrusionStage::Auto, ExtrusionStage::Geometry}) {
             const RenderOptions o = transmittanceOptions(Method::Stsv);
             const Frame frame = renderGpu(c.scene, o, stage);
-            const std::string what = std::string(c.name) + " (" + frame.stats["gpu"]["extrusion"].get<std::string>() + ")";
+            const std::string what =
+                std::string(c.name) + " (" + frame.stats["gpu"]["extrusion"].get<std::string>() + ")";
             ASSERT_EQ(frame.lightSamples[0].kind(), BufferKind::Transmittance);
             expectMirrorExactButTexelTies(c.scene, frame, test::mirrorSamples(c.scene, frame, 0, o), o, what);
             if (stage == ExtrusionStage::Auto) expectDepthsMatchEmbree(c.scene, frame, o, what);
@@ -192,8 +194,8 @@ TEST_F(GpuTransmittance, PwStsvSubtractsOneMinusTheMeanTransmittance) {
         const OpaqueOccluders occ(c.scene);
         ImageF mirror;
         LightSampleBuffer stsvSamples(W, H, o.samples, BufferKind::Transmittance);
-        pwStsvCpuVisibility(occ, frame.gbuffer, c.scene.lights[0], planOf(o), farDistanceFor(c.scene.bounds()),
-                            mirror, stsvSamples);
+        pwStsvCpuVisibility(occ, frame.gbuffer, c.scene.lights[0], planOf(o),
+                            farDistanceFor(c.scene.bounds()), mirror, stsvSamples);
         std::size_t covered = 0, close = 0, attenuated = 0;
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {

@@ -12,6 +12,7 @@
 #include "scene/geometry.h"
 #include "scene/occlusion_rules_dh.h"
 #include "tests/support/boundary.h"
+#include "tests/support/translucent_scene.h"
 
 #include <gtest/gtest.h>
 
@@ -22,41 +23,11 @@
 namespace stsv {
 namespace {
 
+using test::addBlend;
+using test::addVeil;
+using test::groundScene;
+
 constexpr int kW = 48, kH = 48;
-
-/// Ground [−2, 2]² at y = 0 and a camera straight above it; a square light of side `lightSize`
-/// at y = 3 facing down.
-Scene groundScene(float lightSize) {
-    Scene s;
-    s.source = "transmittance-test";
-    s.materials.push_back({"ground", vec3(0.8f), -1, WrapMode::Repeat, false});
-    const vec3 a(-2, 0, -2), b(2, 0, -2), c(2, 0, 2), d(-2, 0, 2);
-    s.addTriangle(a, c, b, vec2(0, 0), vec2(1, 1), vec2(1, 0), 0);
-    s.addTriangle(a, d, c, vec2(0, 0), vec2(0, 1), vec2(1, 1), 0);
-    s.lights.push_back(makeRectangleLight(vec3(0.0f, 3.0f, 0.0f), vec3(0.0f, -1.0f, 0.0f), vec2(lightSize),
-                                          vec3(1.0f), vec3(1.0f, 0.0f, 0.0f)));
-    // Slightly off the quads' diagonals: a segment exactly through the edge two triangles share
-    // crosses both (the inclusive rule every method shares), so a pixel centre on it would count
-    // the surface twice; the set-up keeps pixel centres off it.
-    s.camera.eye = vec3(0.0137f, 2.5f, 0.0071f);
-    s.camera.target = vec3(0.0137f, 0.0f, 0.0071f);
-    s.camera.up = vec3(0.0f, 0.0f, -1.0f);
-    s.camera.fovY = 60.0f;
-    return s;
-}
-
-/// A horizontal quad [−h, h]² at height y with uv over [0, 1]² (u along x, v along z).
-void addVeil(Scene& s, float y, float h, std::uint32_t material) {
-    const vec3 a(-h, y, -h), b(h, y, -h), c(h, y, h), d(-h, y, h);
-    s.addTriangle(a, b, c, vec2(0, 0), vec2(1, 0), vec2(1, 1), material);
-    s.addTriangle(a, c, d, vec2(0, 0), vec2(1, 1), vec2(0, 1), material);
-}
-
-std::uint32_t addBlend(Scene& s, float factor, int texture = -1) {
-    Material m{"veil", vec3(0.5f), -1, WrapMode::Clamp, true};
-    setMaterialAlpha(m, s.textures, AlphaMode::Blend, texture, factor, 0.5f);
-    return addMaterial(s, m);
-}
 
 Frame render(const Scene& scene, Method method, BufferKind buffer = BufferKind::Transmittance) {
     RenderOptions o;
