@@ -16,6 +16,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -100,14 +101,30 @@ bool parseLong(std::string_view token, long long& value) {
     return ec == std::errc() && ptr == token.data() + token.size();
 }
 
-/// A finite number or an InputError naming file:line and what the number was for.
+/// A finite number within a float's range (the scene holds floats) or an InputError naming
+/// file:line and what the number was for.
 double finiteNumber(std::string_view token, const std::string& file, std::size_t line, const char* what) {
     double value = 0.0;
     if (!parseDouble(token, value))
         throw InputError(file, line, "malformed number '" + std::string(token) + "' in " + what);
     if (!std::isfinite(value))
         throw InputError(file, line, "non-finite number '" + std::string(token) + "' in " + what);
+    if (std::abs(value) > double(std::numeric_limits<float>::max()))
+        throw InputError(
+            file, line, "number '" + std::string(token) + "' in " + what + " is beyond the range of a float");
     return value;
+}
+
+/// A validated number (finiteNumber) as OpenMesh is given it: the float it rounds to, written in
+/// the shortest form that reads back as that float, so that OpenMesh's stream never meets a
+/// spelling it reads differently from ours (a sign, hundreds of digits).
+std::string canonicalFloat(std::string_view token) {
+    if (!token.empty() && token.front() == '+') token.remove_prefix(1);
+    float value = 0.0f;
+    std::from_chars(token.data(), token.data() + token.size(), value);
+    char buffer[32];
+    const char* end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
+    return std::string(static_cast<const char*>(buffer), end);
 }
 
 /// OpenMesh writes warnings ("Material not defined", "complex edge") to its own streams; our
@@ -392,9 +409,9 @@ struct ObjScan {
     std::vector<std::int64_t> cornerTexcoord; ///< 0-based, −1 = none
     std::vector<std::uint32_t> faceMaterial;  ///< into MeshData::materials
     /// The file as OpenMesh reads it: the validated v, vt and f statements only (the numbers as
-    /// written, indices absolute, a face's texcoords only where every corner has one), so that
-    /// OpenMesh never meets what it mishandles (a comment after a face corner wrote one
-    /// texcoord out of bounds, found by fuzzing).
+    /// canonicalFloat writes them, indices absolute, a face's texcoords only where every corner has one), so
+    /// that OpenMesh never meets what it mishandles (a comment after a face corner wrote one texcoord out of
+    /// bounds, found by fuzzing).
     std::string canonical;
     std::vector<std::size_t> faceLine;
 };
@@ -461,8 +478,8 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
                                  "vertex needs 3 coordinates, got " + std::to_string(tokens.size() - 1));
             for (std::size_t k = 1; k < tokens.size(); ++k) finiteNumber(tokens[k], path, number, "vertex");
             ++scan.vertexCount;
-            scan.canonical.append("v ").append(tokens[1]).append(" ").append(tokens[2]).append(" ").append(
-                tokens[3]);
+            scan.canonical.append("v ").append(canonicalFloat(tokens[1])).append(" ");
+            scan.canonical.append(canonicalFloat(tokens[2])).append(" ").append(canonicalFloat(tokens[3]));
             scan.canonical.push_back('\n');
         } else if (key == "vt") {
             if (tokens.size() < 2) throw InputError(path, number, "texture coordinate needs at least u");
@@ -472,8 +489,8 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
                 if (k <= 2) uv[int(k - 1)] = float(value);
             }
             scan.texcoords.push_back(uv);
-            scan.canonical.append("vt ").append(tokens[1]).append(" ").append(tokens.size() > 2 ? tokens[2]
-                                                                                                : "0");
+            scan.canonical.append("vt ").append(canonicalFloat(tokens[1])).append(" ");
+            scan.canonical.append(tokens.size() > 2 ? canonicalFloat(tokens[2]) : "0");
             scan.canonical.push_back('\n');
         } else if (key == "vn") {
             if (tokens.size() < 4) throw InputError(path, number, "normal needs 3 numbers");
@@ -747,8 +764,12 @@ MeshData loadOff(const std::string& path) {
             throw InputError(path, number,
                              "vertex needs " + std::to_string(minVertexNumbers) + " numbers, got " +
                                  std::to_string(tokens.size()));
-        for (const auto token : tokens) finiteNumber(token, path, number, "vertex");
-        appendLine(tokens);
+        std::vector<std::string> numbers;
+        for (const auto token : tokens) {
+            finiteNumber(token, path, number, "vertex");
+            numbers.push_back(canonicalFloat(token));
+        }
+        appendLine(std::vector<std::string_view>(numbers.begin(), numbers.end()));
     }
     std::size_t repeated = 0;
     for (long long f = 0; f < faceCount; ++f) {
