@@ -46,12 +46,15 @@ measurement() {
     sheet-particles) echo compare particles --buffer transmittance --methods "$all_methods,avsm,vpcss" --converged 16 \
       --size 192x144 --sheet docs/particles-sheet.png ;;
     bench-particles) echo bench --preset particles --repeat 1 --warmup 0 ;;
+    sheet-fabric) echo compare fence --set fabric=0.6 --buffer transmittance --methods "$all_methods,avsm,vpcss" \
+      --converged 16 --size 192x144 --sheet docs/fabric-sheet.png ;;
     *) return 1 ;;
   esac
 }
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
-     bench-fence-vs-mesh bench-foliage-count bench-knot-scale compare-particles sheet-particles bench-particles)
+     bench-fence-vs-mesh bench-foliage-count bench-knot-scale compare-particles sheet-particles bench-particles
+     sheet-fabric)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")

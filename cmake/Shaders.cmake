@@ -163,6 +163,12 @@ stsv_check_shader(${S}/shadowmaps/shadowmap.vert ubo ${UBO})
 stsv_check_shader(${S}/shadowmaps/shadowmap.frag ubo ${UBO})
 stsv_check_shader(${S}/shadowmaps/shadow_filter.comp pcss_blocker SHADOW_FILTER_STEP=1)
 stsv_check_shader(${S}/shadowmaps/shadow_filter.comp pcss_filter_ubo SHADOW_FILTER_STEP=2 ${UBO})
+# The transmittance functions: the lists with alpha bits (a frame without translucent
+# triangles), and the steps of avsm and vpcss.
+stsv_check_shader(${S}/shadowmaps/avsm_fragments.frag ubo ${UBO})
+stsv_check_shader(${S}/shadowmaps/shadow_filter.comp avsm_lookup SHADOW_FILTER_STEP=4)
+stsv_check_shader(${S}/shadowmaps/shadow_filter.comp vpcss_blocker SHADOW_FILTER_STEP=5)
+stsv_check_shader(${S}/shadowmaps/shadow_filter.comp vpcss_filter_ubo SHADOW_FILTER_STEP=6 ${UBO})
 
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/shaders)
 add_custom_target(stsv_shaders ALL DEPENDS ${STSV_SHADER_OUTPUTS})

@@ -32,6 +32,9 @@ struct Frame {
     std::vector<ShadowMap> shadowMaps;
     /// `peel`: one depth grid per light instead, with RenderOptions::keepShadowMaps.
     std::vector<DepthGrid> depthGrids;
+    /// `avsm`, `vpcss`: one map of transmittance functions per light instead, with
+    /// RenderOptions::keepShadowMaps.
+    std::vector<AvsmMap> avsmMaps;
     /// options, scene counts, "startup_ms" (acceleration structures, devices, shader
     /// compilation), "frame_ms" (one frame without start-up) and "passes" (name → ms).
     nlohmann::json stats;

@@ -169,7 +169,7 @@ std::vector<MethodInfo> buildTable() {
                         "the least area lost on overflow; hard translucent shadows by lookup",
          .family = MethodFamily::ImageBased,
          .output = MethodOutput::Visibility,
-         .backends = {B::Cpu},
+         .backends = {B::Vulkan, B::Cpu},
          .knobs = mapKnobs(ShadowFilter::Avsm),
          .shadowMap = ShadowFilter::Avsm},
         {.id = Method::Vpcss,
@@ -179,7 +179,7 @@ std::vector<MethodInfo> buildTable() {
                         "13), filtered transmittance lookups over the penumbra (Eq. 12, 14)",
          .family = MethodFamily::ImageBased,
          .output = MethodOutput::Visibility,
-         .backends = {B::Cpu},
+         .backends = {B::Vulkan, B::Cpu},
          .knobs = mapKnobs(ShadowFilter::Vpcss),
          .shadowMap = ShadowFilter::Vpcss},
     };

@@ -303,6 +303,8 @@ ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
     params.csmDamp = uint(settings.csmDamp);
     params.peelBins = uint(settings.peelBins);
     params.peelSteps = uint(settings.peelSteps);
+    params.avsmNodes = uint(settings.avsmNodes);
+    params.vpcssTaps = uint(settings.vpcssTaps);
     return params;
 }
 

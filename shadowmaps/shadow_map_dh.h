@@ -37,11 +37,13 @@ struct ShadowMapView {
     float far;       ///< world units: farthest axial depth of the scene box
     vec4 window; ///< (u0, v0, u1, v1): the face on the plane z = 1 (perspective, cube: (−1, −1, 1, 1)),
                  ///< or in world units on the plane z = 0 (orthographic); square (u1 − u0 = v1 − v0)
-    float lightWidth;  ///< w_light of PCSS: world units (rectangle: larger edge; disk, sphere: diameter);
-                       ///< orthographic maps: 2·tan(angular radius), the width per unit distance
-    uint faces;        ///< 1, or 6 for cube maps
-    uint filteredLow;  ///< Vulkan, filtered representations: the planes' device address, low
-    uint filteredHigh; ///< and high 32 bits
+    float lightWidth; ///< w_light of PCSS: world units (rectangle: larger edge; disk, sphere: diameter);
+                      ///< orthographic maps: 2·tan(angular radius), the width per unit distance
+    uint faces;       ///< 1, or 6 for cube maps
+    /// Vulkan: the device address of what the map's row builds beside the depth map (the
+    /// filtered planes, the depth grid, the transmittance functions), low and high 32 bits
+    uint representationLow;
+    uint representationHigh;
 };
 
 #ifdef __cplusplus
@@ -86,8 +88,8 @@ struct ShadowFilterParams {
     uint csmDamp;
     uint peelBins;  ///< depth grid: subintervals per texel
     uint peelSteps; ///< depth grid: march steps per ray
-    uint pad2;
-    uint pad3;
+    uint avsmNodes; ///< transmittance functions: nodes per texel at most
+    uint vpcssTaps; ///< volumetric PCSS: Poisson taps of the blocker search and of the filter
 };
 
 #ifdef __cplusplus

@@ -151,9 +151,10 @@ class ShadowMapTechnique final : public CpuTechnique {
     void runAvsm(CpuLightWork& work) {
         const Scene& scene = m_c.embree.scene();
         const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
+        AvsmMap* keep = m_c.options.keepShadowMaps ? &work.frame.avsmMaps.emplace_back() : nullptr;
         const AvsmCpuStats s =
             avsmCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
-                              m_c.options.decorrelate, work.vcoef, nullptr, m_c.options.supersample);
+                              m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);
         work.passes[work.pass("avsm")] = s.map_ms;
         if (m_settings.filter == ShadowFilter::Vpcss) work.passes[work.pass("vpcss_blocker")] = s.blocker_ms;
         work.passes[work.pass("shadow_filter")] = s.filter_ms;

@@ -1,6 +1,7 @@
 #include "render/vulkan/gpu_frame_resources.h"
 
 #include "render/frame.h"
+#include "render/methods.h"
 #include "render/vulkan/gpu_renderer.h"
 #include "sampling/light_bounds.h"
 #include "scene/camera.h"
@@ -140,7 +141,10 @@ int maskAttachmentCount(int samples) {
 
 GpuSceneTables::GpuSceneTables(const Device& device, const Scene& scene, const RenderOptions& options,
                                const SamplePlan& plan) {
-    const bool transmittance = options.buffer == BufferKind::Transmittance;
+    // A transmittance frame, and the transmittance functions of avsm and vpcss, read the
+    // translucent triangles' blend textures and the materials' optical-depth tables.
+    const bool transmittance = options.buffer == BufferKind::Transmittance ||
+                               readsTransmittanceFunctions(methodInfo(options.method).shadowMap);
     triangles =
         createBuffer(device, std::span<const GpuTriangle>(gpuTriangles(scene, transmittance)), STORAGE);
     depthTables = createBuffer(

@@ -53,12 +53,13 @@ int maskAttachmentCount(int samples);
 /// The scene tables of render/vulkan/gpu_frame_dh.h, uploaded once and constant afterwards (no pass
 /// declares them: nothing on the GPU writes them).
 struct GpuSceneTables {
-    Buffer triangles;   ///< GpuTriangle[]
-    Buffer alpha;       ///< alpha bits (uniform) or bytes (storage) of every texture
-    Buffer textures;    ///< GpuTexture[]
-    Buffer pattern;     ///< SamplePlan::points, whole vec4s
-    Buffer frame;       ///< GpuFrame then GpuLight[]
-    Buffer depthTables; ///< 256 optical-depth units per material (transmittance frames), else 256 zeros
+    Buffer triangles; ///< GpuTriangle[]
+    Buffer alpha;     ///< alpha bits (uniform) or bytes (storage) of every texture
+    Buffer textures;  ///< GpuTexture[]
+    Buffer pattern;   ///< SamplePlan::points, whole vec4s
+    Buffer frame;     ///< GpuFrame then GpuLight[]
+    /// 256 optical-depth units per material (transmittance frames, avsm and vpcss), else 256 zeros
+    Buffer depthTables;
     FrameTableLayout layout;
 
     GpuSceneTables(const Device& device, const Scene& scene, const RenderOptions& options,

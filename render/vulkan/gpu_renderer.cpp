@@ -200,10 +200,12 @@ Frame VulkanFrame::render(double startupMs) {
         m_readback.unpack(frame);
         for (std::size_t i = 0; i < m_techniques.size(); ++i)
             m_techniques[i]->takeStats(m_readback.stagedStats(i));
-        // A fragment the list had no room for is lost: the list grows and the frame runs again.
+        // A fragment a list had no room for is lost: the list grows and the frame runs again.
         std::uint64_t listed = 0;
         for (const auto& technique : m_techniques) listed = std::max(listed, technique->listedFragments());
-        if (!m_deferred || !m_deferred->growFor(listed)) break;
+        bool grown = m_deferred && m_deferred->growFor(listed);
+        for (const auto& technique : m_techniques) grown = technique->growLists() || grown;
+        if (!grown) break;
         writeDescriptors();
     }
     for (const auto& technique : m_techniques) technique->readBack(frame);

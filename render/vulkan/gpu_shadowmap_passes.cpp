@@ -10,6 +10,9 @@
 #include "shadowmaps/filtered_map.h"
 #include "shadowmaps/shadow_fit.h"
 
+#include <algorithm>
+#include <cstdint>
+
 #include <cstring>
 #include <string>
 
@@ -23,65 +26,100 @@ constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 } // namespace
 
-std::vector<DescriptorBinding> ShadowMapResources::bindings() {
-    return {{GPU_BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_SHADOW_VIEWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_SHADOW_TAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+std::vector<DescriptorBinding> ShadowMapResources::bindings(ShadowFilter filter) {
+    std::vector<DescriptorBinding> b = {
+        {GPU_BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_SHADOW_VIEWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_SHADOW_TAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+    if (readsTransmittanceFunctions(filter)) {
+        b.push_back({GPU_BINDING_AVSM_HEADS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+        b.push_back({GPU_BINDING_AVSM_FRAGMENTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+    }
+    return b;
 }
 
+namespace {
+
+/// A buffer reached by device address from the shaders: the row's representation beside the
+/// depth map, `bytes` of it, which `what` names in the errors.
+Buffer representationBuffer(const Device& device, std::size_t bytes, const std::string& what,
+                            const std::string& lower) {
+    if (!device.info().shaderInt64 || !device.info().bufferDeviceAddress)
+        throw UsageError(what +
+                         " on Vulkan needs 64-bit integers in shaders and buffer device addresses, which " +
+                         device.info().name + " lacks: use --backend cpu");
+    if (bytes > device.info().maxMemoryAllocationSize)
+        throw UsageError(what + " needs " + std::to_string(bytes >> 20) +
+                         " MiB, more than one allocation of " + device.info().name + " may hold (" +
+                         std::to_string(device.info().maxMemoryAllocationSize >> 20) + " MiB): " + lower);
+    return Buffer(device, bytes, STORAGE | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
+                  MemoryUsage::DeviceLocal);
+}
+
+void setRepresentationAddress(ShadowMapView& view, const Buffer& buffer) {
+    const VkDeviceAddress address = buffer.deviceAddress();
+    view.representationLow = uint(address & 0xffffffffu);
+    view.representationHigh = uint(address >> 32);
+}
+
+} // namespace
+
 ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene, const RenderOptions& options)
-    : m_settings(shadowMapSettings(options)) {
+    : m_device(&device), m_settings(shadowMapSettings(options)) {
     if (scene.lights.empty()) throw Error("internal error: shadow maps of a scene without lights");
     const ShadowFilterParams params = shadowFilterParams(m_settings);
     const Bounds receivers = m_settings.fit == 0
                                  ? Bounds{}
                                  : shadowReceiverBounds(scene, float(options.width) / float(options.height));
+    const ShadowFilter filter = m_settings.filter;
+    const bool functions = readsTransmittanceFunctions(filter);
+    std::size_t mostTexels = 0;
     for (const Light& light : scene.lights) {
+        const std::size_t l = m_views.size();
         m_views.push_back(fitFrameShadowMap(scene, light, receivers, m_settings));
-        depth.emplace_back(device, shadowMapBytes(m_views.back()), STORAGE, MemoryUsage::DeviceLocal);
-        if (m_settings.filter == ShadowFilter::Peel) {
+        ShadowMapView& view = m_views.back();
+        const std::size_t texels = std::size_t(view.faces) * view.size * view.size;
+        mostTexels = std::max(mostTexels, texels);
+        // Rows that do not read the depth map bind a stand-in.
+        depth.emplace_back(device, filter == ShadowFilter::Peel || functions ? 16 : shadowMapBytes(view),
+                           STORAGE, MemoryUsage::DeviceLocal);
+        if (filter == ShadowFilter::Peel) {
             // A cube map's grid outgrows a storage buffer's range (512², 16 subintervals: 214 MB).
-            if (!device.info().shaderInt64 || !device.info().bufferDeviceAddress)
-                throw UsageError(
-                    "peel on Vulkan needs 64-bit integers in shaders and buffer device addresses, "
-                    "which " +
-                    device.info().name + " lacks: use --backend cpu");
-            const std::size_t bytes = depthGridBytes(m_views.back(), m_settings);
-            if (bytes > device.info().maxMemoryAllocationSize)
-                throw UsageError("the depth grid of light " + std::to_string(m_views.size() - 1) + " needs " +
-                                 std::to_string(bytes >> 20) + " MiB, more than one allocation of " +
-                                 device.info().name + " may hold (" +
-                                 std::to_string(device.info().maxMemoryAllocationSize >> 20) +
-                                 " MiB): lower peel_size or peel_bins");
-            grid.emplace_back(device, bytes, STORAGE | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                              MemoryUsage::DeviceLocal);
-            const VkDeviceAddress address = grid.back().deviceAddress();
-            m_views.back().filteredLow = uint(address & 0xffffffffu);
-            m_views.back().filteredHigh = uint(address >> 32);
+            grid.push_back(representationBuffer(device, depthGridBytes(view, m_settings),
+                                                "the depth grid of light " + std::to_string(l),
+                                                "lower peel_size or peel_bins"));
+            setRepresentationAddress(view, grid.back());
         }
-        if (isFilteredRepresentation(m_settings.filter)) {
+        if (isFilteredRepresentation(filter)) {
             // The planes outgrow a storage buffer's range (MSM's at 2048²: 134 MB, lavapipe's range
             // 128 MiB): the shaders reach them by device address.
-            if (!device.info().shaderInt64 || !device.info().bufferDeviceAddress)
-                throw UsageError(
-                    "the filtered shadow maps on Vulkan need 64-bit integers in shaders and buffer "
-                    "device addresses, which " +
-                    device.info().name + " lacks: use --backend cpu");
-            const std::size_t bytes = filteredMapBytes(m_views.back(), m_settings);
-            if (bytes > device.info().maxMemoryAllocationSize)
-                throw UsageError(
-                    "the " + std::string(methodInfo(options.method).name) + " representation of light " +
-                    std::to_string(m_views.size() - 1) + " needs " + std::to_string(bytes >> 20) +
-                    " MiB, more than one allocation of " + device.info().name + " may hold (" +
-                    std::to_string(device.info().maxMemoryAllocationSize >> 20) + " MiB): lower sm_size" +
-                    (m_settings.filter == ShadowFilter::Csm ? " or csm_terms" : "") +
-                    (filteredUsesMip(m_settings) ? "" : ", or use fm_mip=1 (4-byte mips)"));
-            filtered.emplace_back(device, bytes, STORAGE | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT,
-                                  MemoryUsage::DeviceLocal);
-            const VkDeviceAddress address = filtered.back().deviceAddress();
-            m_views.back().filteredLow = uint(address & 0xffffffffu);
-            m_views.back().filteredHigh = uint(address >> 32);
+            filtered.push_back(representationBuffer(
+                device, filteredMapBytes(view, m_settings),
+                "the " + std::string(methodInfo(options.method).name) + " representation of light " +
+                    std::to_string(l),
+                std::string("lower sm_size") + (filter == ShadowFilter::Csm ? " or csm_terms" : "") +
+                    (filteredUsesMip(m_settings) ? "" : ", or use fm_mip=1 (4-byte mips)")));
+            setRepresentationAddress(view, filtered.back());
         }
+        if (functions) {
+            // The functions outgrow a storage buffer's range (2048², 8 nodes: 272 MB); their words
+            // are indexed in 32 bits (gpuAvsmNodeWord).
+            const std::size_t bytes = avsmBytes(view, m_settings);
+            if (bytes / 4 > std::size_t(UINT32_MAX))
+                throw UsageError("the transmittance functions of light " + std::to_string(l) +
+                                 " hold more than 2^32 words: lower avsm_size or avsm_nodes");
+            avsm.push_back(representationBuffer(device, bytes,
+                                                "the transmittance functions of light " + std::to_string(l),
+                                                "lower avsm_size or avsm_nodes"));
+            setRepresentationAddress(view, avsm.back());
+            avsmHeads.emplace_back(device, texels * 4, STORAGE, MemoryUsage::DeviceLocal);
+        }
+    }
+    if (functions) {
+        // Room for four listed fragments a texel of the largest map at first; a frame that lists
+        // more grows the list and runs again (growAvsmFragments).
+        m_avsmCapacity = std::min<std::uint64_t>(4 * std::uint64_t(mostTexels), maxAvsmFragments());
+        avsmFragments = Buffer(device, m_avsmCapacity * 16, STORAGE, MemoryUsage::DeviceLocal);
     }
     const std::vector<vec2> tapPoints = shadowFilterTaps(m_settings);
     std::vector<std::byte> table(sizeof(ShadowFilterParams) + sizeof(ShadowMapView) * m_views.size());
@@ -89,6 +127,24 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     std::memcpy(table.data() + sizeof params, m_views.data(), sizeof(ShadowMapView) * m_views.size());
     views = createBuffer(device, std::span<const std::byte>(table), STORAGE);
     taps = createBuffer(device, std::span<const vec2>(tapPoints), STORAGE);
+}
+
+std::uint64_t ShadowMapResources::maxAvsmFragments() const {
+    const std::uint64_t bytes = std::min<std::uint64_t>(m_device->info().maxStorageBufferRange,
+                                                        m_device->info().maxMemoryAllocationSize);
+    return std::min<std::uint64_t>(bytes / 16, UINT32_MAX - 1);
+}
+
+bool ShadowMapResources::growAvsmFragments(std::uint64_t listed) {
+    if (listed <= m_avsmCapacity) return false;
+    const std::uint64_t most = maxAvsmFragments();
+    if (listed > most)
+        throw UsageError("the transmittance functions' fragment lists need " + std::to_string(listed) +
+                         " fragments for one light, more than the " + std::to_string(most) + " that " +
+                         m_device->info().name + " can bind: lower avsm_size");
+    m_avsmCapacity = std::min(listed + listed / 4, most);
+    avsmFragments = Buffer(*m_device, m_avsmCapacity * 16, STORAGE, MemoryUsage::DeviceLocal);
+    return true;
 }
 
 ShadowMap ShadowMapResources::download(std::size_t light) const {
@@ -108,10 +164,32 @@ DepthGrid ShadowMapResources::downloadGrid(std::size_t light) const {
     return out;
 }
 
+AvsmMap ShadowMapResources::downloadAvsm(std::size_t light) const {
+    const ShadowMapView& view = m_views.at(light);
+    const uint nodes = uint(m_settings.avsmNodes);
+    AvsmMap map(view, nodes);
+    const std::vector<std::uint32_t> words = avsm.at(light).download<std::uint32_t>();
+    const uint texels = uint(map.counts.size());
+    for (uint t = 0; t < texels; ++t) {
+        map.counts[t] = gpuAvsmHeaderCount(words[t]);
+        map.overflowed[t] = std::uint8_t(gpuAvsmHeaderOverflowed(words[t]));
+        for (uint j = 0; j < map.counts[t]; ++j) {
+            const uint w = gpuAvsmNodeWord(texels, t, nodes, j);
+            std::memcpy(&map.depth[std::size_t(t) * nodes + j], &words[w], 4);
+            map.units[std::size_t(t) * nodes + j] = words[w + 1];
+        }
+    }
+    return map;
+}
+
 void ShadowMapResources::writeDescriptors(DescriptorSet& set, std::size_t light) const {
     set.writeBuffer(GPU_BINDING_SHADOW_MAP, depth[light]);
     set.writeBuffer(GPU_BINDING_SHADOW_VIEWS, views);
     set.writeBuffer(GPU_BINDING_SHADOW_TAPS, taps);
+    if (!avsmHeads.empty()) {
+        set.writeBuffer(GPU_BINDING_AVSM_HEADS, avsmHeads[light]);
+        set.writeBuffer(GPU_BINDING_AVSM_FRAGMENTS, avsmFragments);
+    }
 }
 
 ShadowMapPass::ShadowMapPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
@@ -270,6 +348,64 @@ void PeelMarchPass::record(VkCommandBuffer cmd, std::size_t light) const {
     dispatchPerPixel(cmd, m_width, m_height);
 }
 
+AvsmListPass::AvsmListPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
+                           const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
+    : m_maps(&maps), m_descriptors(&descriptors),
+      m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
+    const ShaderCompiler compiler;
+    GraphicsPipelineDesc desc;
+    desc.stages = {
+        {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmaps/shadowmap.vert", defines)},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("shadowmaps/avsm_fragments.frag", defines)}};
+    // Every surface takes light whichever face the light sees: no culling.
+    desc.cullMode = VK_CULL_MODE_NONE;
+    m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+}
+
+PassAccesses AvsmListPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_maps->avsmHeads[light], ResourceUse::storageReadWrite(FRAGMENT))
+        .use(m_maps->avsmFragments, ResourceUse::storageReadWrite(FRAGMENT))
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(FRAGMENT));
+    return accesses;
+}
+
+void AvsmListPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    const ShadowMapView& view = m_maps->view(light);
+    beginRendering(cmd, VkExtent2D{view.size, view.size});
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, view.faces, 0, 0);
+    endRendering(cmd);
+}
+
+AvsmBuildPass::AvsmBuildPass(const Device& device, ShadowMapResources& maps,
+                             const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
+    : m_maps(&maps), m_descriptors(&descriptors) {
+    const ShaderCompiler compiler;
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       compiler.compileFile("shadowmaps/avsm_build.comp", defines));
+}
+
+PassAccesses AvsmBuildPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_maps->avsmHeads[light], ResourceUse::storageRead(COMPUTE))
+        .use(m_maps->avsmFragments, ResourceUse::storageRead(COMPUTE))
+        .use(m_maps->avsm[light], ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void AvsmBuildPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    const ShadowMapView& view = m_maps->view(light);
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    // avsm_build.comp: one texel a thread, 64 a workgroup; the faces along z.
+    vkCmdDispatch(cmd, (view.size * view.size + 63) / 64, view.faces, 1);
+}
+
 ShadowFilterPass::ShadowFilterPass(const Device& device, const RenderOptions& options, Step step,
                                    ShadowMapResources& maps, FrameResources& frame,
                                    const FamilyDescriptors& descriptors,
@@ -285,9 +421,13 @@ ShadowFilterPass::ShadowFilterPass(const Device& device, const RenderOptions& op
 
 PassAccesses ShadowFilterPass::accesses(std::size_t light) const {
     PassAccesses accesses;
+    // What the step reads of the light's: the transmittance functions, the filtered planes, or the map.
+    const Buffer& map = m_step >= AvsmLookup       ? m_maps->avsm[light]
+                        : m_step == FilteredLookup ? m_maps->filtered[light]
+                                                   : m_maps->depth[light];
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
-        .use(m_maps->depth[light], ResourceUse::storageRead(COMPUTE))
+        .use(map, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->samples.vcoef, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     return accesses;

@@ -1,7 +1,8 @@
 // The Vulkan passes of the image-based methods (DESIGN §4.6), per light: the light-space map
 // rasterised into a buffer (shadowmap.vert/frag, one instance per face), then PCF or PCSS's
 // blocker search and filter into the v_coef image (shadow_filter.comp), which the resolve
-// reads as v_coef.
+// reads as v_coef; or the filtered representations built from the map, `peel`'s depth grid and
+// march, and the transmittance functions of `avsm` and `vpcss` from per-texel fragment lists.
 #pragma once
 
 #include "gpu/buffer.h"
@@ -12,6 +13,7 @@
 #include "render/vulkan/gpu_pass.h"
 #include "render/vulkan/gpu_shadowmaps_dh.h"
 #include "scene/scene.h"
+#include "shadowmaps/avsm.h"
 #include "shadowmaps/depth_grid.h"
 #include "shadowmaps/shadow_map.h"
 
@@ -30,8 +32,8 @@ class ShadowMapResources {
   public:
     ShadowMapResources(const Device& device, const Scene& scene, const RenderOptions& options);
 
-    /// The bindings of the shadow-map family's set (gpu_shadowmaps_dh.h).
-    static std::vector<DescriptorBinding> bindings();
+    /// The bindings of the shadow-map family's set for a row's filter (gpu_shadowmaps_dh.h).
+    static std::vector<DescriptorBinding> bindings(ShadowFilter filter);
     /// Light `light`'s map, the views and the taps into its family set.
     void writeDescriptors(DescriptorSet& set, std::size_t light) const;
 
@@ -39,20 +41,39 @@ class ShadowMapResources {
     ShadowMap download(std::size_t light) const;
     /// Light `light`'s depth grid (`peel`) as the last frame left it.
     DepthGrid downloadGrid(std::size_t light) const;
+    /// Light `light`'s transmittance functions (`avsm`, `vpcss`) as the last frame left them.
+    AvsmMap downloadAvsm(std::size_t light) const;
+    /// The fragments the lists hold (`avsm`, `vpcss`).
+    std::uint64_t avsmCapacity() const { return m_avsmCapacity; }
+    /// After a frame whose fragment passes listed `listed` fragments (for one light, at most):
+    /// when the lists had less room, fragments were lost, so they grow to what the frame needed
+    /// (a quarter more) and the caller renders the frame again (true; the descriptors must be
+    /// written again). A UsageError past what the device can bind.
+    bool growAvsmFragments(std::uint64_t listed);
     const ShadowMapSettings& settings() const { return m_settings; }
     const ShadowMapView& view(std::size_t light) const { return m_views.at(light); }
 
-    std::vector<Buffer> depth; ///< [light]: gpuShadowDepthWord per texel, faces × size²
+    /// [light]: gpuShadowDepthWord per texel, faces × size²; a stand-in for rows that do not read it
+    std::vector<Buffer> depth;
     /// [light], filtered rows only: filteredMapBytes of planes, read and written by device
-    /// address (ShadowMapView::filteredLow/High)
+    /// address (ShadowMapView::representationLow/High)
     std::vector<Buffer> filtered;
     /// [light], `peel` only: depthGridBytes of grid words, read and written by device address
-    /// (ShadowMapView::filteredLow/High)
+    /// (ShadowMapView::representationLow/High)
     std::vector<Buffer> grid;
-    Buffer views; ///< ShadowFilterParams, then ShadowMapView per light
-    Buffer taps;  ///< vec2: blocker taps, then filter taps
+    /// [light], `avsm` and `vpcss`: the transmittance functions (avsmBytes; gpuAvsmNodeWord),
+    /// built by avsm_build.comp, read by device address (ShadowMapView::representationLow/High)
+    std::vector<Buffer> avsm;
+    std::vector<Buffer> avsmHeads; ///< [light], `avsm` and `vpcss`: per texel its list's head
+    Buffer avsmFragments;          ///< `avsm` and `vpcss`: the lists' fragments, uvec4 each, every light's
+    Buffer views;                  ///< ShadowFilterParams, then ShadowMapView per light
+    Buffer taps;                   ///< vec2: blocker taps, then filter taps
 
   private:
+    /// The most fragments the lists may hold: 16 bytes each within one storage-buffer binding.
+    std::uint64_t maxAvsmFragments() const;
+    const Device* m_device;
+    std::uint64_t m_avsmCapacity = 0;
     ShadowMapSettings m_settings;
     std::vector<ShadowMapView> m_views;
 };
@@ -130,11 +151,55 @@ class PeelMarchPass final : public GpuPass {
     Pipeline m_pipeline;
 };
 
+/// The fragment lists of one light's transmittance functions (avsm_fragments.frag, drawn as the
+/// map is): every fragment that takes light, with its depth and optical-depth units, pushed onto
+/// its texel's list (heads cleared first).
+class AvsmListPass final : public GpuPass {
+  public:
+    AvsmListPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
+                 const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    ShadowMapResources* m_maps;
+    const FamilyDescriptors* m_descriptors;
+    std::uint32_t m_triangleCount;
+    Pipeline m_pipeline;
+};
+
+/// One light's transmittance functions from its lists (avsm_build.comp): per texel the fragments
+/// in (depth, triangle) order appended into at most avsm_nodes nodes, as the CPU backend builds
+/// them from its rays, so the result does not depend on the order the rasteriser listed them in.
+class AvsmBuildPass final : public GpuPass {
+  public:
+    AvsmBuildPass(const Device& device, ShadowMapResources& maps, const FamilyDescriptors& descriptors,
+                  const std::vector<ShaderDefine>& defines);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    ShadowMapResources* m_maps;
+    const FamilyDescriptors* m_descriptors;
+    Pipeline m_pipeline;
+};
+
 /// One filter step per pixel into the v_coef image: PCF, PCSS's blocker search (the kernel
-/// radius), PCSS's filter (v_coef), or a filtered representation's lookup (v_coef).
+/// radius), PCSS's filter (v_coef), a filtered representation's lookup (v_coef), or on the
+/// transmittance functions `avsm`'s lookup, `vpcss`'s blocker search and its filter.
 class ShadowFilterPass final : public GpuPass {
   public:
-    enum Step { Pcf = 0, PcssBlocker = 1, PcssFilter = 2, FilteredLookup = 3 };
+    enum Step {
+        Pcf = 0,
+        PcssBlocker = 1,
+        PcssFilter = 2,
+        FilteredLookup = 3,
+        AvsmLookup = 4,
+        VpcssBlocker = 5,
+        VpcssFilter = 6
+    };
 
     ShadowFilterPass(const Device& device, const RenderOptions& options, Step step, ShadowMapResources& maps,
                      FrameResources& frame, const FamilyDescriptors& descriptors,

@@ -14,13 +14,25 @@ DH_CONST uint GPU_BINDING_SHADOW_MAP =
     1u; ///< the light's map: gpuShadowDepthWord words, faces × size² (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_VIEWS = 2u; ///< ShadowFilterParams then ShadowMapView per light (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_TAPS = 3u;  ///< Poisson-disk taps: blocker set, then filter set (SSBO)
+/// `avsm`, `vpcss`: the light's fragment lists, per texel the head (a fragment's index + 1; 0
+/// ends a list) (SSBO), and the fragments, one uvec4 each: depth bits, optical-depth units,
+/// triangle, the next fragment of its texel's list (index + 1) (SSBO). The transmittance functions
+/// built from them are reached by device address (ShadowMapView::representationLow/High), words as
+/// gpuAvsmHeaderWord and gpuAvsmNodeWord lay them out.
+DH_CONST uint GPU_BINDING_AVSM_HEADS = 4u;
+DH_CONST uint GPU_BINDING_AVSM_FRAGMENTS = 5u;
 
-/// What the filter passes count per light.
+/// What the shadow-map passes count per light.
 struct GpuShadowMapStats {
-    uint kernelClamped; ///< PCSS: pixels whose filter radius pcss_max_kernel clamped (shadow_filter.comp)
+    uint kernelClamped;  ///< PCSS, vpcss: pixels whose filter radius pcss_max_kernel clamped
+                         ///< (shadow_filter.comp)
+    uint avsmFragments;  ///< fragments listed (avsm_fragments.frag), past the list's end too
+    uint avsmTexels;     ///< texels whose function has nodes (avsm_build.comp)
+    uint avsmNodes;      ///< nodes over those texels
+    uint avsmMaxNodes;   ///< the most nodes of one texel
+    uint avsmOverflowed; ///< texels that had more surfaces than nodes
     uint pad0;
     uint pad1;
-    uint pad2;
 };
 
 /// A map texel as the rasteriser writes it with atomicMax: the bits of the depth (a positive
@@ -33,8 +45,25 @@ DH_FUNC float gpuShadowDepthOf(uint word) {
     return word == 0u ? SHADOW_MAP_EMPTY : uintBitsToFloat(~word);
 }
 
+/// The words of a light's transmittance functions (`avsm`, `vpcss`), uints: one header per texel
+/// (face-major, then row-major as the map), its node count in bits 0–7 and bit 8 set where a
+/// node was dropped; then per texel `maxNodes` (depth bits, cumulative units) pairs.
+DH_FUNC uint gpuAvsmHeader(uint count, uint overflowed) {
+    return count | (overflowed << 8u);
+}
+DH_FUNC uint gpuAvsmHeaderCount(uint header) {
+    return header & 255u;
+}
+DH_FUNC uint gpuAvsmHeaderOverflowed(uint header) {
+    return (header >> 8u) & 1u;
+}
+/// The word of node j's depth in a map of `texels` texels (its units follow it).
+DH_FUNC uint gpuAvsmNodeWord(uint texels, uint texel, uint maxNodes, uint j) {
+    return texels + 2u * (texel * maxNodes + j);
+}
+
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(GpuShadowMapStats) == 16);
+DH_STATIC_ASSERT(sizeof(GpuShadowMapStats) == 32);
 #endif
 
 DH_END

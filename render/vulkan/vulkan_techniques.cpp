@@ -264,8 +264,8 @@ ShadowFilterPass::Step filterStep(ShadowFilter f) {
 class ShadowMapTechnique final : public VulkanTechnique {
   public:
     explicit ShadowMapTechnique(const VulkanTechniqueContext& c)
-        : VulkanTechnique(c, ShadowMapResources::bindings(), sizeof(GpuShadowMapStats)), m_c(c),
-          m_maps(c.device, c.scene, c.options), m_map(c.device, c.scene, m_maps, m_family, c.defines),
+        : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
+          m_c(c), m_maps(c.device, c.scene, c.options), m_map(c.device, c.scene, m_maps, m_family, c.defines),
           m_filter(c.device, c.options, filterStep(c.method.shadowMap), m_maps, c.resources, m_family,
                    c.defines) {
         for (const Buffer& depth : m_maps.depth) m_clear.push_back(ClearPass({}, {&depth}));
@@ -327,8 +327,9 @@ class ShadowMapTechnique final : public VulkanTechnique {
 class DepthGridTechnique final : public VulkanTechnique {
   public:
     explicit DepthGridTechnique(const VulkanTechniqueContext& c)
-        : VulkanTechnique(c, ShadowMapResources::bindings(), sizeof(GpuShadowMapStats)), m_c(c),
-          m_maps(c.device, c.scene, c.options), m_grid(c.device, c.scene, m_maps, m_family, c.defines),
+        : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
+          m_c(c), m_maps(c.device, c.scene, c.options),
+          m_grid(c.device, c.scene, m_maps, m_family, c.defines),
           m_march(c.device, c.options, m_maps, c.resources, m_family, c.defines),
           m_openEdges(buildEdgeAdjacency(c.scene).openEdges) {
         for (const Buffer& grid : m_maps.grid) m_clear.push_back(ClearPass({}, {&grid}));
@@ -374,6 +375,89 @@ class DepthGridTechnique final : public VulkanTechnique {
     std::size_t m_openEdges; ///< the scene's edges with one triangle (not closed there)
 };
 
+/// `avsm` and `vpcss`: per light the cleared list heads, the fragment lists, the transmittance
+/// functions built from them, then avsm's lookup, or vpcss's blocker search and filter, into the
+/// v_coef image.
+class AvsmTechnique final : public VulkanTechnique {
+  public:
+    explicit AvsmTechnique(const VulkanTechniqueContext& c)
+        : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
+          m_c(c), m_maps(c.device, c.scene, c.options),
+          m_lists(c.device, c.scene, m_maps, m_family, c.defines),
+          m_build(c.device, m_maps, m_family, c.defines),
+          m_filter(c.device, c.options,
+                   vpcss() ? ShadowFilterPass::VpcssFilter : ShadowFilterPass::AvsmLookup, m_maps,
+                   c.resources, m_family, c.defines) {
+        for (const Buffer& heads : m_maps.avsmHeads) m_clear.push_back(ClearPass({}, {&heads}));
+        if (vpcss())
+            m_blocker.emplace(c.device, c.options, ShadowFilterPass::VpcssBlocker, m_maps, c.resources,
+                              m_family, c.defines);
+    }
+
+    void writeDescriptors() override {
+        for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
+    }
+    std::uint32_t timedPassesPerLight() const override { return 4; }
+
+    void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
+        runPass(recorder, cmd, "", m_clear[light], light);
+        runPass(recorder, cmd, passName(light, "avsm_fragments"), m_lists, light);
+        runPass(recorder, cmd, passName(light, "avsm_build"), m_build, light);
+        if (m_blocker) runPass(recorder, cmd, passName(light, "vpcss_blocker"), *m_blocker, light);
+        runPass(recorder, cmd, passName(light, "shadow_filter"), m_filter, light);
+    }
+
+    void takeStats(const std::byte* staged) override {
+        m_counts = stagedStats<GpuShadowMapStats>(staged, m_c.scene.lights.size());
+    }
+
+    bool growLists() override {
+        std::uint64_t listed = 0;
+        for (const GpuShadowMapStats& s : m_counts) listed = std::max<std::uint64_t>(listed, s.avsmFragments);
+        return m_maps.growAvsmFragments(listed);
+    }
+
+    void readBack(Frame& frame) const override {
+        if (!m_c.options.keepShadowMaps) return;
+        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l)
+            frame.avsmMaps.push_back(m_maps.downloadAvsm(l));
+    }
+
+    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
+        nlohmann::json maps = nlohmann::json::array();
+        for (std::size_t l = 0; l < m_counts.size(); ++l) {
+            const ShadowMapView& view = m_maps.view(l);
+            const GpuShadowMapStats& counts = m_counts[l];
+            AvsmStats functions;
+            functions.texels = std::size_t(view.faces) * view.size * view.size;
+            functions.texelsWithNodes = counts.avsmTexels;
+            functions.meanNodes =
+                counts.avsmTexels > 0 ? double(counts.avsmNodes) / double(counts.avsmTexels) : 0.0;
+            functions.maxNodes = counts.avsmMaxNodes;
+            functions.overflowedTexels = counts.avsmOverflowed;
+            nlohmann::json map = shadowMapViewStats(view, m_maps.settings(), m_c.scene.camera, gbuffer);
+            map["avsm"] = avsmStatsJson(functions, avsmBytes(view, m_maps.settings()));
+            map["avsm"]["fragments_listed"] = counts.avsmFragments;
+            map["avsm"]["fragment_capacity"] = m_maps.avsmCapacity();
+            if (vpcss()) map.update(kernelClampStats(counts.kernelClamped, gbuffer));
+            maps.push_back(map);
+        }
+        stats["shadow_maps"] = maps;
+    }
+
+  private:
+    bool vpcss() const { return m_c.method.shadowMap == ShadowFilter::Vpcss; }
+
+    const VulkanTechniqueContext& m_c;
+    ShadowMapResources m_maps;
+    std::vector<ClearPass> m_clear; ///< [light]: the list heads
+    AvsmListPass m_lists;
+    AvsmBuildPass m_build;
+    std::optional<ShadowFilterPass> m_blocker; ///< vpcss
+    ShadowFilterPass m_filter;
+    std::vector<GpuShadowMapStats> m_counts; ///< per light, after the frame
+};
+
 } // namespace
 
 std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanTechniqueContext& context) {
@@ -392,6 +476,8 @@ std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanT
             if (context.scene.lights.empty()) break;
             if (context.method.shadowMap == ShadowFilter::Peel)
                 techniques.push_back(std::make_unique<DepthGridTechnique>(context));
+            else if (readsTransmittanceFunctions(context.method.shadowMap))
+                techniques.push_back(std::make_unique<AvsmTechnique>(context));
             else
                 techniques.push_back(std::make_unique<ShadowMapTechnique>(context));
             break;

@@ -63,6 +63,10 @@ class VulkanTechnique {
     /// The most fragments its draws listed for their sample passes (DeferredFragments) for one
     /// light, past the end too, as the last takeStats says.
     virtual std::uint64_t listedFragments() const { return 0; }
+    /// After takeStats: when lists of its own had too little room for the frame (fragments were
+    /// lost), it grows them and returns true; the frame then writes the descriptors again and
+    /// runs again.
+    virtual bool growLists() { return false; }
     /// After the frame's fence: what it reads back itself (the kept shadow maps).
     virtual void readBack(Frame&) const {}
     /// Its stats over the frame's lights under its family's keys (render/cpu writes the same).

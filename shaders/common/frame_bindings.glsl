@@ -33,8 +33,9 @@ layout(push_constant) uniform Push { GpuPush pc; };
 #ifndef LS_OPAQUE_COUNTERS
 #define LS_OPAQUE_COUNTERS 0
 #endif
-#if LS_TRANSMITTANCE
-/// The materials' optical-depth tables, 256 units each (GpuTriangle::material · 256 + alpha byte).
+#if LS_TRANSMITTANCE || defined(FRAME_DEPTH_TABLES)
+/// The materials' optical-depth tables, 256 units each (GpuTriangle::material · 256 + alpha byte):
+/// a transmittance frame's, and the transmittance functions' (FRAME_DEPTH_TABLES).
 layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_DEPTH_TABLES) readonly buffer DepthTables { uint depthTables[]; };
 #endif
 

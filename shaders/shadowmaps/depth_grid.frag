@@ -5,7 +5,7 @@
 //   DEPTH_GRID_STEP 0: the texel's depth range, nearest and farthest (atomicMax of their words);
 //   DEPTH_GRID_STEP 1: the farthest front-face and back-face depth of each subinterval of that
 //                      range (atomicMax into the slot of the fragment's subinterval).
-// The grid is reached by device address (ShadowMapView::filteredLow/High): a cube map's grid
+// The grid is reached by device address (ShadowMapView::representationLow/High): a cube map's grid
 // outgrows a storage buffer's range.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -37,7 +37,7 @@ void main() {
     float depth = v.projection == SHADOW_MAP_CUBE ? length(q) : dot(q, Z);
     uint bins = shadowParams.peelBins;
     uint base = peelTexelBase(v, inFace, ivec2(gl_FragCoord.xy), bins);
-    uint64_t address = packUint2x32(uvec2(v.filteredLow, v.filteredHigh)) + 4ul * uint64_t(base);
+    uint64_t address = packUint2x32(uvec2(v.representationLow, v.representationHigh)) + 4ul * uint64_t(base);
 #if DEPTH_GRID_STEP == 0
     atomicMax(GridWordRef(address).value, peelNearWord(depth));
     atomicMax(GridWordRef(address + 4ul).value, peelDepthWord(depth));

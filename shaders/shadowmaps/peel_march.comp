@@ -48,7 +48,7 @@ void main() {
     bool decorrelate = frame.decorrelate != 0u;
     ShadowMapView v = shadowViews[pc.light];
     PeelGridSource src;
-    src.address = packUint2x32(uvec2(v.filteredLow, v.filteredHigh));
+    src.address = packUint2x32(uvec2(v.representationLow, v.representationHigh));
     uint bins = shadowParams.peelBins, steps = shadowParams.peelSteps;
 #if LS_COUNTERS
     uint counterWord = lsPixelCounterWord(lsPixelIndex(pixel, frame.width), uint(SAMPLE_COUNT));

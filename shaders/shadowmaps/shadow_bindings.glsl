@@ -1,5 +1,6 @@
 // Descriptor declarations of the image-based passes (set GPU_SET_FAMILY, render/vulkan/gpu_shadowmaps_dh.h): the
-// light's map, the map views and filter knobs, the Poisson-disk taps.
+// light's map, the map views and filter knobs, the Poisson-disk taps; with AVSM_LISTS the
+// transmittance functions' fragment lists, with AVSM_BINDINGS the functions themselves.
 #ifndef STSV_SHADERS_SHADOW_BINDINGS_GLSL
 #define STSV_SHADERS_SHADOW_BINDINGS_GLSL
 
@@ -34,7 +35,7 @@ vec2 shadowMapSourceTap(ShadowMapSource s, uint i) {
 
 #ifdef FILTERED_MAP_BINDINGS
 // The light's planes, summed-area sums or mip texels (the row's filter decides which), reached by
-// device address (ShadowMapView::filteredLow/High): they outgrow a storage buffer's range. Needs
+// device address (ShadowMapView::representationLow/High): they outgrow a storage buffer's range. Needs
 // GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_buffer_reference.
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer FilteredSumRef { int64_t value; };
 layout(buffer_reference, std430, buffer_reference_align = 4) buffer FilteredMipRef { float value; };
@@ -63,11 +64,63 @@ float filteredSourceMip(FilteredSource s, uint plane, uint index) {
 
 FilteredSource filteredSourceOf(ShadowMapView v) {
     FilteredSource s;
-    s.address = packUint2x32(uvec2(v.filteredLow, v.filteredHigh));
+    s.address = packUint2x32(uvec2(v.representationLow, v.representationHigh));
     s.satPlane = (v.size + 1u) * (v.size + 1u);
     s.mipPlane = filteredMipPlaneTexels(v.size);
     return s;
 }
+#endif
+
+#ifdef AVSM_LISTS
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_AVSM_HEADS) buffer AvsmHeads { uint avsmHeads[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_AVSM_FRAGMENTS) buffer AvsmFragments { uvec4 avsmFragments[]; };
+#endif
+
+#ifdef AVSM_BINDINGS
+// The light's transmittance functions (`avsm`, `vpcss`), words as gpuAvsmHeader and
+// gpuAvsmNodeWord lay them out, reached by device address (ShadowMapView::representationLow/High):
+// they outgrow a storage buffer's range. Needs GL_EXT_shader_explicit_arithmetic_types_int64 and
+// GL_EXT_buffer_reference.
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer AvsmWordRef { uint value; };
+
+AvsmWordRef avsmWordAt(uint64_t address, uint word) {
+    return AvsmWordRef(address + 4ul * uint64_t(word));
+}
+
+// The data access of shadowmaps/avsm_filter_dh.h.
+struct AvsmSource {
+    uint64_t address;
+    uint size;
+    uint texels;   ///< faces × size²
+    uint maxNodes; ///< avsm_nodes
+};
+AvsmSource avsmSourceOf(ShadowMapView v) {
+    AvsmSource s;
+    s.address = packUint2x32(uvec2(v.representationLow, v.representationHigh));
+    s.size = v.size;
+    s.texels = v.faces * v.size * v.size;
+    s.maxNodes = shadowParams.avsmNodes;
+    return s;
+}
+uint avsmTexelIndex(AvsmSource s, uint face, ivec2 texel) {
+    return (face * s.size + uint(texel.y)) * s.size + uint(texel.x);
+}
+uint avsmSourceCount(AvsmSource s, uint face, ivec2 texel) {
+    return gpuAvsmHeaderCount(avsmWordAt(s.address, avsmTexelIndex(s, face, texel)).value);
+}
+float avsmSourceDepth(AvsmSource s, uint face, ivec2 texel, uint j) {
+    uint word = gpuAvsmNodeWord(s.texels, avsmTexelIndex(s, face, texel), s.maxNodes, j);
+    return uintBitsToFloat(avsmWordAt(s.address, word).value);
+}
+uint avsmSourceUnits(AvsmSource s, uint face, ivec2 texel, uint j) {
+    uint word = gpuAvsmNodeWord(s.texels, avsmTexelIndex(s, face, texel), s.maxNodes, j);
+    return avsmWordAt(s.address, word + 1u).value;
+}
+vec2 avsmSourceTap(AvsmSource s, uint i) {
+    return shadowTaps[i];
+}
+#define AVSM_SOURCE
+#include "shadowmaps/avsm_filter_dh.h"
 #endif
 
 #endif // STSV_SHADERS_SHADOW_BINDINGS_GLSL

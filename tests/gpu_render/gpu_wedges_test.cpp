@@ -407,8 +407,11 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
             // The sphere light's cube map at 256²: CSM's 32 summed-area planes per face at the
             // default 2048² would need 6.4 GB.
             // peel's grid at 64² keeps the cube's six faces small.
+            // The transmittance functions at 256² too.
             if (method.shadowMap == ShadowFilter::Peel)
                 o.params = parseMethodParams(method, {"peel_size=64"});
+            else if (readsTransmittanceFunctions(method.shadowMap))
+                o.params = parseMethodParams(method, {"avsm_size=256"});
             else if (method.shadowMap != ShadowFilter::None)
                 o.params = parseMethodParams(method, {"sm_size=256"});
             const std::string what = method.name + " " + toString(kind);
@@ -451,6 +454,13 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                     // The depth grid's two draws, then the march.
                     expected.push_back(light + "depth_grid");
                     expected.push_back(light + "peel_march");
+                } else if (readsTransmittanceFunctions(method.shadowMap)) {
+                    // The fragment lists, the functions built from them, then the lookup or
+                    // vpcss's search and filter.
+                    expected.push_back(light + "avsm_fragments");
+                    expected.push_back(light + "avsm_build");
+                    expected.push_back(light + "shadow_filter");
+                    if (method.shadowMap == ShadowFilter::Vpcss) expected.push_back(light + "vpcss_blocker");
                 } else if (method.shadowMap != ShadowFilter::None) {
                     expected.push_back(light + "shadow_map");
                     expected.push_back(light + "shadow_filter");

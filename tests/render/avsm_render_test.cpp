@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 #include <random>
 
@@ -37,20 +38,6 @@ Frame render(const Scene& scene, Method method, int size, std::map<std::string, 
     return makeCpuRenderer(scene, o)->render();
 }
 
-/// Two veils of constant α = 0.5 and 0.3 over the ground, and an opaque tile over part of them.
-Scene veils() {
-    Scene s = test::groundScene(0.2f);
-    test::addVeil(s, 1.0f, 0.9f, test::addBlend(s, 0.5f));
-    test::addVeil(s, 1.4f, 0.6f, test::addBlend(s, 0.3f));
-    Material tile{"tile", vec3(0.4f), -1, WrapMode::Repeat, false};
-    const std::uint32_t m = addMaterial(s, tile);
-    const vec3 a(0.1f, 1.8f, 0.1f), b(0.5f, 1.8f, 0.1f), c(0.5f, 1.8f, 0.5f), d(0.1f, 1.8f, 0.5f);
-    s.addTriangle(a, b, c, vec2(0), vec2(0), vec2(0), m);
-    s.addTriangle(a, c, d, vec2(0), vec2(0), vec2(0), m);
-    s.validate();
-    return s;
-}
-
 /// Whether the segment p → c crosses any triangle within `margin` (world units, for triangles
 /// about as wide as their first edge) of one of its edges, the diagonal a quad's two triangles
 /// share included (a margin there skips a few pixels that would agree).
@@ -69,7 +56,7 @@ TEST(AvsmRender, WithAsManyNodesAsSurfacesItIsTheReferencesHardShadow) {
     // along p → light centre bit for bit (the same integer optical depths) wherever the texel's
     // ray and the segment cross the same triangles: away from the veils' and the tile's edges by
     // more than a texel's footprint (4 m / 1024 texels of the fitted map at most).
-    const Scene scene = veils();
+    const Scene scene = test::veilsAndTile();
     const Frame f = render(scene, Method::Avsm, kW);
     const EmbreeScene embree(scene);
     const float far = farDistanceFor(scene.bounds());
@@ -152,7 +139,7 @@ TEST(AvsmRender, ShuffledTrianglesGiveTheSameFunctions) {
     // Surfaces are appended nearest first, ties by triangle: the order the scene lists its
     // triangles in changes no node, except between two triangles at exactly the same depth
     // (none in these veils), so the visibility images are identical.
-    const Scene scene = veils();
+    const Scene scene = test::veilsAndTile();
     Scene shuffled = scene;
     std::vector<std::size_t> order(scene.triangleCount());
     std::iota(order.begin(), order.end(), std::size_t(0));
@@ -216,6 +203,66 @@ TEST(AvsmRender, VpcssOnParticlesIsCloseToTheConvergedReference) {
     EXPECT_LT(vpcss, 0.06);
     EXPECT_LT(vpcss, pcss / 3.0);
     EXPECT_LT(vpcss, avsm);
+}
+
+TEST(AvsmRender, VpcssTransitionsAreLinearWhereTheReferencesAreSmooth) {
+    // Klein et al. Fig. 4 on a profile: ten veils of α = 0.15 at heights 0.5 to 2.0, each over
+    // x < 0, under a square light of side 0.6 at height 3. Each veil's penumbra on the ground is
+    // centred on x = 0 with its own width, 0.6·y / (3 − y): 0.12 to 1.2. The reference's
+    // profile is the product of ten ramps of those widths: steep in the middle, reaching its
+    // plateaus slowly. vpcss filters with the one width of its Δ-weighted blocker depth (Eq. 12):
+    // a single transition, which reaches its plateaus at corners while the reference has not. The
+    // profiles are the columns' means over the rows (the scene does not change along z).
+    Scene scene = test::groundScene(0.6f);
+    for (int i = 0; i < 10; ++i) {
+        const float y = 0.5f + float(i) * (1.5f / 9.0f);
+        const std::uint32_t m = test::addBlend(scene, 0.15f);
+        const vec3 a(-2.0f, y, -2.0f), b(0.0f, y, -2.0f), c(0.0f, y, 2.0f), d(-2.0f, y, 2.0f);
+        scene.addTriangle(a, b, c, vec2(0, 0), vec2(1, 0), vec2(1, 1), m);
+        scene.addTriangle(a, c, d, vec2(0, 0), vec2(1, 1), vec2(0, 1), m);
+    }
+    scene.validate();
+    constexpr int kSize = 96;
+    const Frame reference = render(scene, Method::Reference, kSize, {}, 256, BufferKind::Transmittance);
+    const Frame vpcss = render(scene, Method::Vpcss, kSize, {{"avsm_size", 1024}});
+    auto profile = [&](const Frame& f) {
+        std::vector<double> p(kSize, 0.0);
+        for (int x = 0; x < kSize; ++x) {
+            for (int y = 0; y < kSize; ++y) p[std::size_t(x)] += double(f.visibility.at(x, y, 0));
+            p[std::size_t(x)] /= double(kSize);
+        }
+        return p;
+    };
+    const std::vector<double> r = profile(reference), v = profile(vpcss);
+    // The plateaus: T = 0.85^10 under every veil, 1 beside them (which side the image shows
+    // first depends on the camera; the profile is read from shadow to light).
+    const bool shadowFirst = r.front() < r.back();
+    const double shadow = std::pow(0.85, 10.0);
+    std::printf("column (every third, from shadow to light): reference vpcss\n");
+    double middleError = 1.0, cornerError = 0.0;
+    int corners = 0;
+    for (int i = 0; i < kSize; ++i) {
+        const std::size_t x = std::size_t(shadowFirst ? i : kSize - 1 - i);
+        if (i % 3 == 0) std::printf("%2d: %.4f %.4f\n", i, r[x], v[x]);
+        // Where the reference crosses the middle of the range.
+        if (std::abs(r[x] - 0.5 * (1.0 + shadow)) < 0.05)
+            middleError = std::min(middleError, std::abs(v[x] - r[x]));
+        // Where vpcss has reached a plateau (within 1 % of the range) and the reference has not
+        // (by more than 3 %).
+        const bool vPlateau = std::abs(v[x] - 1.0) < 0.01 * (1.0 - shadow) || std::abs(v[x] - shadow) < 0.01;
+        const bool rPlateau = std::abs(r[x] - 1.0) < 0.03 * (1.0 - shadow) || std::abs(r[x] - shadow) < 0.03;
+        if (vPlateau && !rPlateau) {
+            ++corners;
+            cornerError = std::max(cornerError, std::abs(v[x] - r[x]));
+        }
+    }
+    std::printf(
+        "|vpcss - reference|: %.4f in the middle, up to %.4f over %d columns where vpcss is at a plateau "
+        "and the reference is not\n",
+        middleError, cornerError, corners);
+    EXPECT_GE(corners, 2) << "vpcss's transition ends before the reference's";
+    EXPECT_GT(cornerError, 0.05);
+    EXPECT_GT(cornerError, 2.0 * middleError);
 }
 
 } // namespace

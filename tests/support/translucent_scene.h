@@ -41,4 +41,19 @@ inline std::uint32_t addBlend(Scene& s, float factor, int texture = -1) {
     return addMaterial(s, m);
 }
 
+/// Two veils of constant α = 0.5 and 0.3 over the ground (light side 0.2), and an opaque tile
+/// over part of them.
+inline Scene veilsAndTile() {
+    Scene s = groundScene(0.2f);
+    addVeil(s, 1.0f, 0.9f, addBlend(s, 0.5f));
+    addVeil(s, 1.4f, 0.6f, addBlend(s, 0.3f));
+    Material tile{"tile", vec3(0.4f), -1, WrapMode::Repeat, false};
+    const std::uint32_t m = addMaterial(s, tile);
+    const vec3 a(0.1f, 1.8f, 0.1f), b(0.5f, 1.8f, 0.1f), c(0.5f, 1.8f, 0.5f), d(0.1f, 1.8f, 0.5f);
+    s.addTriangle(a, b, c, vec2(0), vec2(0), vec2(0), m);
+    s.addTriangle(a, c, d, vec2(0), vec2(0), vec2(0), m);
+    s.validate();
+    return s;
+}
+
 } // namespace stsv::test

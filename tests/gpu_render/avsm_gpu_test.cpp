@@ -1,0 +1,197 @@
+// `avsm` and `vpcss` on Vulkan against the CPU backend (DESIGN §4.6): the transmittance functions
+// built from per-texel fragment lists (avsm_fragments.frag, avsm_build.comp) against those built
+// from Embree rays through the texel centres, texel by texel; their independence of the order the
+// rasteriser lists fragments in; lists that grow when a frame needs more room; and the visibility
+// of both methods.
+#include "gpu_render_helpers.h"
+
+#include "render/renderer.h"
+#include "scene/load.h"
+#include "tests/support/translucent_scene.h"
+
+#include <cstdio>
+#include <numeric>
+#include <random>
+
+namespace stsv::test {
+namespace {
+
+struct FunctionDiff {
+    std::size_t texels = 0, withNodes = 0, overflowed = 0, differing = 0;
+    float maxRelative = 0.0f; ///< largest relative depth difference of matching nodes
+};
+
+/// Texels agree when they hold as many nodes, with the same optical depths, at depths within 1e-4
+/// relative: the rasteriser interpolates the point at the texel centre (perspective-correct,
+/// float), Embree intersects the same ray; both round in float, a few ulp of the depth apart.
+FunctionDiff compareFunctions(const AvsmMap& gpu, const AvsmMap& cpu) {
+    FunctionDiff d;
+    const std::size_t nodes = cpu.maxNodes;
+    for (std::size_t t = 0; t < cpu.counts.size(); ++t) {
+        ++d.texels;
+        d.withNodes += cpu.counts[t] > 0 ? 1 : 0;
+        d.overflowed += cpu.overflowed[t];
+        bool same = gpu.counts[t] == cpu.counts[t] && gpu.overflowed[t] == cpu.overflowed[t];
+        for (std::size_t j = 0; same && j < cpu.counts[t]; ++j) {
+            const float a = gpu.depth[t * nodes + j], b = cpu.depth[t * nodes + j];
+            const float rel = std::abs(a - b) / std::max(b, 1e-6f);
+            same = gpu.units[t * nodes + j] == cpu.units[t * nodes + j] && rel <= 1e-4f;
+            if (same) d.maxRelative = std::max(d.maxRelative, rel);
+        }
+        d.differing += same ? 0 : 1;
+    }
+    return d;
+}
+
+struct Renders {
+    Frame gpu, cpu;
+};
+
+class AvsmGpu : public GpuRenderTest {
+  protected:
+    /// `o` on both backends, with the functions kept.
+    Renders renderBoth(const Scene& scene, RenderOptions o) {
+        o.keepShadowMaps = true;
+        Renders r;
+        r.gpu = renderGpu(scene, o);
+        RenderOptions cpu = o;
+        cpu.backend = Backend::Cpu;
+        r.cpu = makeRenderer(scene, cpu)->render();
+        return r;
+    }
+};
+
+RenderOptions avsmOptions(Method method, int size, std::vector<std::string> params) {
+    RenderOptions o = gpuOptions(size, size, 16);
+    o.method = method;
+    o.params = parseMethodParams(methodInfo(method), params);
+    return o;
+}
+
+/// The visibility of two frames: the mean |dv| over the covered pixels and those off by more
+/// than 1/16.
+struct VisibilityDiff {
+    double mean = 0.0;
+    std::size_t off = 0, covered = 0;
+};
+VisibilityDiff compareVisibility(const Frame& gpu, const Frame& cpu) {
+    VisibilityDiff d;
+    double sum = 0.0;
+    for (std::size_t i = 0; i < gpu.visibility.pixels.size(); ++i) {
+        if (!cpu.gbuffer.covered(i)) continue;
+        ++d.covered;
+        const double dv = std::abs(double(gpu.visibility.pixels[i]) - double(cpu.visibility.pixels[i]));
+        sum += dv;
+        d.off += dv > 1.0 / 16.0 ? 1 : 0;
+    }
+    d.mean = sum / double(std::max<std::size_t>(d.covered, 1));
+    return d;
+}
+
+/// Ten veils of α = 0.2 … 0.65 stacked over the ground, nearly as wide as it: eleven surfaces a
+/// texel under them, more than the lists' first room (four a texel) and than 4 nodes.
+Scene veilStack() {
+    Scene s = groundScene(0.2f);
+    for (int i = 0; i < 10; ++i) addVeil(s, 0.4f + 0.15f * float(i), 1.9f, addBlend(s, 0.2f + 0.05f * float(i)));
+    s.validate();
+    return s;
+}
+
+TEST_F(AvsmGpu, VeilStackFunctionsAreTheCpuMirrorsAndTheListsGrow) {
+    // Eleven surfaces a texel: the first frame's lists (four fragments a texel) overflow, so the
+    // frame grows them and runs again; with 16 nodes every surface is a node, with 4 the least
+    // area goes, on both backends alike. Texel centres on the diagonal a veil's two triangles
+    // share count both triangles on the CPU (the inclusive rule of its rays) and one on the GPU
+    // (the rasteriser's top-left rule): those texels, a diagonal of each veil, may differ.
+    const Scene scene = veilStack();
+    for (const int nodes : {16, 4}) {
+        const RenderOptions o =
+            avsmOptions(Method::Avsm, 48, {"avsm_size=128", "avsm_nodes=" + std::to_string(nodes)});
+        const Renders r = renderBoth(scene, o);
+        ASSERT_EQ(r.gpu.avsmMaps.size(), 1u);
+        ASSERT_EQ(r.cpu.avsmMaps.size(), 1u);
+        const FunctionDiff d = compareFunctions(r.gpu.avsmMaps[0], r.cpu.avsmMaps[0]);
+        const nlohmann::json& a = r.gpu.stats["shadow_maps"][0]["avsm"];
+        std::printf("%d nodes: %zu of %zu texels differ, %zu with nodes, %zu overflowed; max relative depth "
+                    "difference %.2g; gpu stats %s\n",
+                    nodes, d.differing, d.texels, d.withNodes, d.overflowed, double(d.maxRelative),
+                    a.dump().c_str());
+        EXPECT_GT(d.withNodes, d.texels / 2) << "the veils cover the map";
+        EXPECT_LE(d.differing, std::size_t(10 * 128)) << nodes << " nodes"; // a diagonal of each veil
+        EXPECT_GT(a["fragments_listed"].get<std::size_t>(), 4 * d.texels) << "the first lists were too small";
+        EXPECT_GE(a["fragment_capacity"].get<std::size_t>(), a["fragments_listed"].get<std::size_t>());
+        EXPECT_EQ(a["nodes_max"].get<int>(), std::min(nodes, 11)); // the ground and ten veils
+        EXPECT_EQ(a["nodes_max"], r.cpu.stats["shadow_maps"][0]["avsm"]["nodes_max"]);
+        if (nodes == 4) {
+            EXPECT_GT(d.overflowed, d.texels / 2) << "4 nodes for 11 surfaces";
+        }
+        const VisibilityDiff v = compareVisibility(r.gpu, r.cpu);
+        std::printf("%d nodes visibility: mean |dv| %.5f, %zu of %zu pixels off by more than 1/16\n", nodes,
+                    v.mean, v.off, v.covered);
+        EXPECT_LE(v.mean, 0.001);
+        EXPECT_LE(v.off, v.covered / 200);
+    }
+}
+
+TEST_F(AvsmGpu, ShuffledTrianglesGiveTheSameFunctions) {
+    // The lists are ordered by (depth, triangle) before they are appended, so neither the order
+    // the scene lists its triangles in nor the order the rasteriser's threads push fragments
+    // changes a node (no two veils share a depth); with 4 nodes for 11 surfaces the lossy
+    // compression too gives the same nodes.
+    const Scene scene = veilStack();
+    Scene shuffled = scene;
+    std::vector<std::size_t> order(scene.triangleCount());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::shuffle(order.begin(), order.end(), std::mt19937(11));
+    shuffled.triangles.clear();
+    shuffled.triangleMaterial.clear();
+    for (std::size_t t : order) {
+        shuffled.triangles.push_back(scene.triangles[t]);
+        shuffled.triangleMaterial.push_back(scene.triangleMaterial[t]);
+    }
+    shuffled.validate();
+    RenderOptions o = avsmOptions(Method::Avsm, 48, {"avsm_size=128", "avsm_nodes=4"});
+    o.keepShadowMaps = true;
+    const Frame a = renderGpu(scene, o);
+    const Frame b = renderGpu(shuffled, o);
+    ASSERT_EQ(a.avsmMaps.size(), 1u);
+    ASSERT_EQ(b.avsmMaps.size(), 1u);
+    EXPECT_EQ(a.avsmMaps[0].counts, b.avsmMaps[0].counts);
+    EXPECT_EQ(a.avsmMaps[0].overflowed, b.avsmMaps[0].overflowed);
+    EXPECT_EQ(a.avsmMaps[0].units, b.avsmMaps[0].units);
+    EXPECT_EQ(a.avsmMaps[0].depth, b.avsmMaps[0].depth);
+    EXPECT_EQ(a.visibility.pixels, b.visibility.pixels);
+}
+
+TEST_F(AvsmGpu, ParticlesMatchTheCpuMirror) {
+    // Textured translucent billboards: besides the silhouettes, texels whose centre falls on a
+    // texel-rule boundary of a billboard's texture may read the neighbouring alpha on one
+    // backend (interpolated against intersected barycentrics); a texel differs when any of its
+    // surfaces does. avsm's lookups and vpcss's filter then agree but for those texels' pixels.
+    const Scene scene = loadScene("particles", SceneOptions{{{"count", "300"}}});
+    for (const Method method : {Method::Avsm, Method::Vpcss}) {
+        const RenderOptions o = avsmOptions(method, 64, {"avsm_size=256"});
+        const Renders r = renderBoth(scene, o);
+        ASSERT_EQ(r.gpu.avsmMaps.size(), 1u);
+        ASSERT_EQ(r.cpu.avsmMaps.size(), 1u);
+        const FunctionDiff d = compareFunctions(r.gpu.avsmMaps[0], r.cpu.avsmMaps[0]);
+        const VisibilityDiff v = compareVisibility(r.gpu, r.cpu);
+        std::printf("%s: %zu of %zu texels differ (%zu with nodes, %zu overflowed), max relative depth "
+                    "difference %.2g; visibility mean |dv| %.5f, %zu of %zu pixels off by more than 1/16\n",
+                    toString(method).c_str(), d.differing, d.texels, d.withNodes, d.overflowed,
+                    double(d.maxRelative), v.mean, v.off, v.covered);
+        EXPECT_GT(d.withNodes, d.texels / 20) << "the map sees the particles";
+        EXPECT_LE(d.differing, d.withNodes / 100);
+        EXPECT_LE(v.mean, 0.002);
+        EXPECT_LE(v.off, v.covered / 100);
+        const nlohmann::json& g = r.gpu.stats["shadow_maps"][0]["avsm"];
+        const nlohmann::json& c = r.cpu.stats["shadow_maps"][0]["avsm"];
+        EXPECT_EQ(g["texels"], c["texels"]);
+        EXPECT_EQ(g["bytes"], c["bytes"]);
+        EXPECT_NEAR(g["texels_with_nodes"].get<double>(), c["texels_with_nodes"].get<double>(),
+                    double(d.differing));
+    }
+}
+
+} // namespace
+} // namespace stsv::test
