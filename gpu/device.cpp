@@ -200,7 +200,6 @@ DeviceInfo queryDeviceInfo(VkPhysicalDevice physicalDevice, uint32_t index) {
     info.timestamps = props.properties.limits.timestampComputeAndGraphics && validBits > 0;
     info.timestampPeriod = props.properties.limits.timestampPeriod;
     info.maxImageDimension2D = props.properties.limits.maxImageDimension2D;
-    info.maxStorageBufferRange = props.properties.limits.maxStorageBufferRange;
     info.maxColorAttachments = props.properties.limits.maxColorAttachments;
     info.maxGeometryOutputVertices = props.properties.limits.maxGeometryOutputVertices;
 

@@ -38,7 +38,6 @@ struct DeviceInfo {
     float timestampPeriod = 0.f;          ///< nanoseconds per timestamp tick
     uint64_t deviceLocalBytes = 0;        ///< largest device-local heap, bytes
     uint32_t maxImageDimension2D = 0;
-    uint32_t maxStorageBufferRange = 0; ///< bytes one storage-buffer binding may reach
     uint32_t maxColorAttachments = 0;
     uint32_t maxGeometryOutputVertices = 0;
 };

@@ -36,6 +36,7 @@ DH_CONST uint AVSM_MAX_NODES = 16u;
 struct AvsmFunction {
     float depth[AVSM_MAX_NODES + 1u];
     uint units[AVSM_MAX_NODES + 1u];
+    float transmittance[AVSM_MAX_NODES + 1u]; ///< avsmTransmittance(units[j]), kept for the removals
     uint count;
     uint overflowed; ///< 1 once a node was removed
 };
@@ -45,6 +46,7 @@ DH_FUNC AvsmFunction avsmEmpty() {
     for (uint j = 0u; j < AVSM_MAX_NODES + 1u; ++j) {
         f.depth[j] = 0.0f;
         f.units[j] = 0u;
+        f.transmittance[j] = 1.0f;
     }
     f.count = 0u;
     f.overflowed = 0u;
@@ -70,8 +72,8 @@ DH_FUNC void avsmRemoveCheapest(DH_INOUT(AvsmFunction) f) {
     uint best = 0u;
     bool merge = false; ///< into the previous node (else: its step moves to the next node)
     for (uint i = 0u; i < f.count; ++i) {
-        float before = i == 0u ? 1.0f : avsmTransmittance(f.units[i - 1u]);
-        float step = before - avsmTransmittance(f.units[i]);
+        float before = i == 0u ? 1.0f : f.transmittance[i - 1u];
+        float step = before - f.transmittance[i];
         if (i > 0u) {
             float cost = step * (f.depth[i] - f.depth[i - 1u]);
             if (cost < bestCost) {
@@ -89,10 +91,14 @@ DH_FUNC void avsmRemoveCheapest(DH_INOUT(AvsmFunction) f) {
             }
         }
     }
-    if (merge) f.units[best - 1u] = f.units[best];
+    if (merge) {
+        f.units[best - 1u] = f.units[best];
+        f.transmittance[best - 1u] = f.transmittance[best];
+    }
     for (uint j = best; j + 1u < f.count; ++j) {
         f.depth[j] = f.depth[j + 1u];
         f.units[j] = f.units[j + 1u];
+        f.transmittance[j] = f.transmittance[j + 1u];
     }
     f.count -= 1u;
     f.overflowed = 1u;
@@ -107,6 +113,7 @@ DH_FUNC void avsmAppend(DH_INOUT(AvsmFunction) f, float depth, uint units, uint 
     if (total == before) return;
     f.depth[f.count] = depth;
     f.units[f.count] = total;
+    f.transmittance[f.count] = avsmTransmittance(total);
     f.count += 1u;
     if (f.count > maxNodes) avsmRemoveCheapest(f);
 }

@@ -33,7 +33,7 @@ std::vector<DescriptorBinding> ShadowMapResources::bindings(ShadowFilter filter)
         {GPU_BINDING_SHADOW_TAPS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
     if (readsTransmittanceFunctions(filter)) {
         b.push_back({GPU_BINDING_AVSM_HEADS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
-        b.push_back({GPU_BINDING_AVSM_FRAGMENTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+        b.push_back({GPU_BINDING_AVSM_LISTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
     }
     return b;
 }
@@ -118,8 +118,7 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     if (functions) {
         // Room for four listed fragments a texel of the largest map at first; a frame that lists
         // more grows the list and runs again (growAvsmFragments).
-        m_avsmCapacity = std::min<std::uint64_t>(4 * std::uint64_t(mostTexels), maxAvsmFragments());
-        avsmFragments = Buffer(device, m_avsmCapacity * 16, STORAGE, MemoryUsage::DeviceLocal);
+        allocateAvsmFragments(std::min<std::uint64_t>(4 * std::uint64_t(mostTexels), maxAvsmFragments()));
     }
     const std::vector<vec2> tapPoints = shadowFilterTaps(m_settings);
     std::vector<std::byte> table(sizeof(ShadowFilterParams) + sizeof(ShadowMapView) * m_views.size());
@@ -130,9 +129,16 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
 }
 
 std::uint64_t ShadowMapResources::maxAvsmFragments() const {
-    const std::uint64_t bytes = std::min<std::uint64_t>(m_device->info().maxStorageBufferRange,
-                                                        m_device->info().maxMemoryAllocationSize);
-    return std::min<std::uint64_t>(bytes / 16, UINT32_MAX - 1);
+    return std::min<std::uint64_t>(m_device->info().maxMemoryAllocationSize / 16, UINT32_MAX - 1);
+}
+
+void ShadowMapResources::allocateAvsmFragments(std::uint64_t capacity) {
+    m_avsmCapacity = capacity;
+    avsmFragments = representationBuffer(*m_device, capacity * 16,
+                                         "the transmittance functions' fragment lists", "lower avsm_size");
+    const VkDeviceAddress address = avsmFragments.deviceAddress();
+    const GpuAvsmLists lists{uint(address & 0xffffffffu), uint(address >> 32), uint(capacity), 0u};
+    avsmLists = createBuffer(*m_device, std::span<const GpuAvsmLists>(&lists, 1), STORAGE);
 }
 
 bool ShadowMapResources::growAvsmFragments(std::uint64_t listed) {
@@ -140,10 +146,10 @@ bool ShadowMapResources::growAvsmFragments(std::uint64_t listed) {
     const std::uint64_t most = maxAvsmFragments();
     if (listed > most)
         throw UsageError("the transmittance functions' fragment lists need " + std::to_string(listed) +
-                         " fragments for one light, more than the " + std::to_string(most) + " that " +
-                         m_device->info().name + " can bind: lower avsm_size");
-    m_avsmCapacity = std::min(listed + listed / 4, most);
-    avsmFragments = Buffer(*m_device, m_avsmCapacity * 16, STORAGE, MemoryUsage::DeviceLocal);
+                         " fragments for one light, more than the " + std::to_string(most) +
+                         " (16 bytes each) that one allocation of " + m_device->info().name +
+                         " may hold: lower avsm_size");
+    allocateAvsmFragments(std::min(listed + listed / 4, most));
     return true;
 }
 
@@ -188,7 +194,7 @@ void ShadowMapResources::writeDescriptors(DescriptorSet& set, std::size_t light)
     set.writeBuffer(GPU_BINDING_SHADOW_TAPS, taps);
     if (!avsmHeads.empty()) {
         set.writeBuffer(GPU_BINDING_AVSM_HEADS, avsmHeads[light]);
-        set.writeBuffer(GPU_BINDING_AVSM_FRAGMENTS, avsmFragments);
+        set.writeBuffer(GPU_BINDING_AVSM_LISTS, avsmLists);
     }
 }
 

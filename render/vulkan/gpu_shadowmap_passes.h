@@ -65,13 +65,18 @@ class ShadowMapResources {
     /// built by avsm_build.comp, read by device address (ShadowMapView::representationLow/High)
     std::vector<Buffer> avsm;
     std::vector<Buffer> avsmHeads; ///< [light], `avsm` and `vpcss`: per texel its list's head
-    Buffer avsmFragments;          ///< `avsm` and `vpcss`: the lists' fragments, uvec4 each, every light's
-    Buffer views;                  ///< ShadowFilterParams, then ShadowMapView per light
-    Buffer taps;                   ///< vec2: blocker taps, then filter taps
+    /// `avsm` and `vpcss`: the lists' fragments, uvec4 each, every light's in turn, read and
+    /// written by device address (GpuAvsmLists in `avsmLists`)
+    Buffer avsmFragments;
+    Buffer avsmLists;
+    Buffer views; ///< ShadowFilterParams, then ShadowMapView per light
+    Buffer taps;  ///< vec2: blocker taps, then filter taps
 
   private:
-    /// The most fragments the lists may hold: 16 bytes each within one storage-buffer binding.
+    /// The most fragments the lists may hold: 16 bytes each within one allocation.
     std::uint64_t maxAvsmFragments() const;
+    /// Room for `capacity` fragments (the old ones dropped) and its GpuAvsmLists.
+    void allocateAvsmFragments(std::uint64_t capacity);
     const Device* m_device;
     std::uint64_t m_avsmCapacity = 0;
     ShadowMapSettings m_settings;

@@ -15,12 +15,20 @@ DH_CONST uint GPU_BINDING_SHADOW_MAP =
 DH_CONST uint GPU_BINDING_SHADOW_VIEWS = 2u; ///< ShadowFilterParams then ShadowMapView per light (SSBO)
 DH_CONST uint GPU_BINDING_SHADOW_TAPS = 3u;  ///< Poisson-disk taps: blocker set, then filter set (SSBO)
 /// `avsm`, `vpcss`: the light's fragment lists, per texel the head (a fragment's index + 1; 0
-/// ends a list) (SSBO), and the fragments, one uvec4 each: depth bits, optical-depth units,
-/// triangle, the next fragment of its texel's list (index + 1) (SSBO). The transmittance functions
-/// built from them are reached by device address (ShadowMapView::representationLow/High), words as
-/// gpuAvsmHeaderWord and gpuAvsmNodeWord lay them out.
+/// ends a list) (SSBO), and where the fragments are (GpuAvsmLists, SSBO): one uvec4 each, depth
+/// bits, optical-depth units, triangle, the next fragment of its texel's list (index + 1), reached
+/// by device address (they outgrow a storage buffer's range: 10 000 particles at 1024² list 56 M,
+/// 898 MB). The transmittance functions built from them are reached by device address too
+/// (ShadowMapView::representationLow/High), words as gpuAvsmHeader and gpuAvsmNodeWord lay them out.
 DH_CONST uint GPU_BINDING_AVSM_HEADS = 4u;
-DH_CONST uint GPU_BINDING_AVSM_FRAGMENTS = 5u;
+DH_CONST uint GPU_BINDING_AVSM_LISTS = 5u;
+
+struct GpuAvsmLists {
+    uint fragmentsLow;  ///< the fragments' device address, low
+    uint fragmentsHigh; ///< and high 32 bits
+    uint capacity;      ///< fragments they hold
+    uint pad0;
+};
 
 /// What the shadow-map passes count per light.
 struct GpuShadowMapStats {
@@ -64,6 +72,7 @@ DH_FUNC uint gpuAvsmNodeWord(uint texels, uint texel, uint maxNodes, uint j) {
 
 #ifdef __cplusplus
 DH_STATIC_ASSERT(sizeof(GpuShadowMapStats) == 32);
+DH_STATIC_ASSERT(sizeof(GpuAvsmLists) == 16);
 #endif
 
 DH_END

@@ -6,6 +6,8 @@
 // texture's alpha, an opaque one or a perforated one's blocking texel OPTICAL_DEPTH_OPAQUE, a
 // hole nothing. Pushed onto the texel's list; avsm_build.comp orders and compresses the lists.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_buffer_reference : require
 #define SHADOW_MAP_WRITE
 #define AVSM_LISTS
 #define FRAME_DEPTH_TABLES
@@ -44,7 +46,7 @@ void main() {
     uint index = (inFace * v.size + texel.y) * v.size + texel.x;
     // The count goes on past the end, so the host knows how much room the frame needed.
     uint slot = atomicAdd(stats[pc.light].avsmFragments, 1u);
-    if (slot >= uint(avsmFragments.length())) return;
+    if (slot >= avsmLists.capacity) return;
     uint next = atomicExchange(avsmHeads[index], slot + 1u);
-    avsmFragments[slot] = uvec4(floatBitsToUint(depth), units, tri, next);
+    avsmFragmentAt(slot).value = uvec4(floatBitsToUint(depth), units, tri, next);
 }

@@ -72,8 +72,16 @@ FilteredSource filteredSourceOf(ShadowMapView v) {
 #endif
 
 #ifdef AVSM_LISTS
+// The light's fragment lists: the heads, and the fragments by device address (GpuAvsmLists).
+// Needs GL_EXT_shader_explicit_arithmetic_types_int64 and GL_EXT_buffer_reference.
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_AVSM_HEADS) buffer AvsmHeads { uint avsmHeads[]; };
-layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_AVSM_FRAGMENTS) buffer AvsmFragments { uvec4 avsmFragments[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_AVSM_LISTS) readonly buffer AvsmLists { GpuAvsmLists avsmLists; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer AvsmFragmentRef { uvec4 value; };
+
+/// Fragment `i` of the lists (0 ≤ i < avsmLists.capacity).
+AvsmFragmentRef avsmFragmentAt(uint i) {
+    return AvsmFragmentRef(packUint2x32(uvec2(avsmLists.fragmentsLow, avsmLists.fragmentsHigh)) + 16ul * uint64_t(i));
+}
 #endif
 
 #ifdef AVSM_BINDINGS
