@@ -46,6 +46,8 @@ measurement() {
     sheet-particles) echo compare particles --buffer transmittance --methods "$all_methods,avsm,vpcss" --converged 16 \
       --size 192x144 --sheet docs/particles-sheet.png ;;
     bench-particles) echo bench --preset particles --repeat 1 --warmup 0 ;;
+    bench-particles-maps) echo bench particles --methods avsm,vpcss --backends vulkan,cpu --vary count=1000,10000 \
+      --size 1024x1024 --samples 64 --repeat 1 --warmup 1 ;;
     sheet-fabric) echo compare fence --set fabric=0.6 --buffer transmittance --methods "$all_methods,avsm,vpcss" \
       --converged 16 --size 192x144 --sheet docs/fabric-sheet.png ;;
     *) return 1 ;;
@@ -54,7 +56,7 @@ measurement() {
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
      bench-fence-vs-mesh bench-foliage-count bench-knot-scale compare-particles sheet-particles bench-particles
-     sheet-fabric)
+     bench-particles-maps sheet-fabric)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")

@@ -258,14 +258,46 @@ ShadowFilterPass::Step filterStep(ShadowFilter f) {
     return isFilteredRepresentation(f) ? ShadowFilterPass::FilteredLookup : ShadowFilterPass::Pcf;
 }
 
+/// What the image-based techniques share: each light's maps and views (ShadowMapResources) in
+/// their family set, their stats, and per light the view's stats with what the technique adds.
+class ShadowMapFamilyTechnique : public VulkanTechnique {
+  public:
+    void writeDescriptors() override {
+        for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
+    }
+    void takeStats(const std::byte* staged) override {
+        m_counts = stagedStats<GpuShadowMapStats>(staged, m_c.scene.lights.size());
+    }
+    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
+        nlohmann::json maps = nlohmann::json::array();
+        for (std::size_t l = 0; l < m_counts.size(); ++l) {
+            nlohmann::json map =
+                shadowMapViewStats(m_maps.view(l), m_maps.settings(), m_c.scene.camera, gbuffer);
+            addStats(l, gbuffer, map);
+            maps.push_back(map);
+        }
+        stats["shadow_maps"] = maps;
+    }
+
+  protected:
+    explicit ShadowMapFamilyTechnique(const VulkanTechniqueContext& c)
+        : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
+          m_c(c), m_maps(c.device, c.scene, c.options) {}
+    /// Light `light`'s stats beyond its view's.
+    virtual void addStats(std::size_t light, const GBuffer& gbuffer, nlohmann::json& map) const = 0;
+
+    const VulkanTechniqueContext& m_c;
+    ShadowMapResources m_maps;
+    std::vector<GpuShadowMapStats> m_counts; ///< per light, after the frame
+};
+
 /// The image-based baselines: per light the cleared map, its raster, then PCF, PCSS's two steps,
 /// or a filtered representation (built, then looked up over a fixed kernel or one sized by PCSS's
 /// blocker search) into the v_coef image.
-class ShadowMapTechnique final : public VulkanTechnique {
+class ShadowMapTechnique final : public ShadowMapFamilyTechnique {
   public:
     explicit ShadowMapTechnique(const VulkanTechniqueContext& c)
-        : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
-          m_c(c), m_maps(c.device, c.scene, c.options), m_map(c.device, c.scene, m_maps, m_family, c.defines),
+        : ShadowMapFamilyTechnique(c), m_map(c.device, c.scene, m_maps, m_family, c.defines),
           m_filter(c.device, c.options, filterStep(c.method.shadowMap), m_maps, c.resources, m_family,
                    c.defines) {
         for (const Buffer& depth : m_maps.depth) m_clear.push_back(ClearPass({}, {&depth}));
@@ -276,9 +308,6 @@ class ShadowMapTechnique final : public VulkanTechnique {
                               m_family, c.defines);
     }
 
-    void writeDescriptors() override {
-        for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
-    }
     std::uint32_t timedPassesPerLight() const override { return 4; }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
@@ -295,49 +324,30 @@ class ShadowMapTechnique final : public VulkanTechnique {
             frame.shadowMaps.push_back(m_maps.download(l));
     }
 
-    void takeStats(const std::byte* staged) override {
-        m_counts = stagedStats<GpuShadowMapStats>(staged, m_c.scene.lights.size());
-    }
-
-    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
-        nlohmann::json maps = nlohmann::json::array();
-        for (std::size_t l = 0; l < m_counts.size(); ++l) {
-            const ShadowMapView& view = m_maps.view(l);
-            nlohmann::json map = shadowMapViewStats(view, m_maps.settings(), m_c.scene.camera, gbuffer);
-            map.update(kernelClampStats(m_counts[l].kernelClamped, gbuffer));
-            if (m_filtered) map["representation_bytes"] = filteredMapBytes(view, m_maps.settings());
-            maps.push_back(map);
-        }
-        stats["shadow_maps"] = maps;
-    }
-
   private:
-    const VulkanTechniqueContext& m_c;
-    ShadowMapResources m_maps;
+    void addStats(std::size_t light, const GBuffer& gbuffer, nlohmann::json& map) const override {
+        map.update(kernelClampStats(m_counts[light].kernelClamped, gbuffer));
+        if (m_filtered) map["representation_bytes"] = filteredMapBytes(m_maps.view(light), m_maps.settings());
+    }
+
     std::vector<ClearPass> m_clear; ///< [light]
     ShadowMapPass m_map;
     std::optional<FilteredMapPass> m_filtered; ///< the filtered representations
     std::optional<ShadowFilterPass> m_blocker; ///< PCSS, and filtered maps with fm_kernel=1
     ShadowFilterPass m_filter;
-    std::vector<GpuShadowMapStats> m_counts; ///< per light, after the frame
 };
 
 /// `peel`: per light the cleared depth grid, its two draws, and the march of every sample's ray
 /// into the light's bits (or counters).
-class DepthGridTechnique final : public VulkanTechnique {
+class DepthGridTechnique final : public ShadowMapFamilyTechnique {
   public:
     explicit DepthGridTechnique(const VulkanTechniqueContext& c)
-        : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
-          m_c(c), m_maps(c.device, c.scene, c.options),
-          m_grid(c.device, c.scene, m_maps, m_family, c.defines),
+        : ShadowMapFamilyTechnique(c), m_grid(c.device, c.scene, m_maps, m_family, c.defines),
           m_march(c.device, c.options, m_maps, c.resources, m_family, c.defines),
           m_openEdges(buildEdgeAdjacency(c.scene).openEdges) {
         for (const Buffer& grid : m_maps.grid) m_clear.push_back(ClearPass({}, {&grid}));
     }
 
-    void writeDescriptors() override {
-        for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
-    }
     std::uint32_t timedPassesPerLight() const override { return 2; }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
@@ -352,23 +362,12 @@ class DepthGridTechnique final : public VulkanTechnique {
             frame.depthGrids.push_back(m_maps.downloadGrid(l));
     }
 
-    void takeStats(const std::byte*) override {}
-
-    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
-        nlohmann::json maps = nlohmann::json::array();
-        for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l) {
-            const ShadowMapView& view = m_maps.view(l);
-            nlohmann::json map = shadowMapViewStats(view, m_maps.settings(), m_c.scene.camera, gbuffer);
-            map["grid_bytes"] = depthGridBytes(view, m_maps.settings());
-            map["open_edges"] = m_openEdges;
-            maps.push_back(map);
-        }
-        stats["shadow_maps"] = maps;
+  private:
+    void addStats(std::size_t light, const GBuffer&, nlohmann::json& map) const override {
+        map["grid_bytes"] = depthGridBytes(m_maps.view(light), m_maps.settings());
+        map["open_edges"] = m_openEdges;
     }
 
-  private:
-    const VulkanTechniqueContext& m_c;
-    ShadowMapResources m_maps;
     std::vector<ClearPass> m_clear; ///< [light]
     DepthGridPass m_grid;
     PeelMarchPass m_march;
@@ -378,12 +377,10 @@ class DepthGridTechnique final : public VulkanTechnique {
 /// `avsm` and `vpcss`: per light the cleared list heads, the fragment lists, the transmittance
 /// functions built from them, then avsm's lookup, or vpcss's blocker search and filter, into the
 /// v_coef image.
-class AvsmTechnique final : public VulkanTechnique {
+class AvsmTechnique final : public ShadowMapFamilyTechnique {
   public:
     explicit AvsmTechnique(const VulkanTechniqueContext& c)
-        : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
-          m_c(c), m_maps(c.device, c.scene, c.options),
-          m_lists(c.device, c.scene, m_maps, m_family, c.defines),
+        : ShadowMapFamilyTechnique(c), m_lists(c.device, c.scene, m_maps, m_family, c.defines),
           m_build(c.device, m_maps, m_family, c.defines),
           m_filter(c.device, c.options,
                    vpcss() ? ShadowFilterPass::VpcssFilter : ShadowFilterPass::AvsmLookup, m_maps,
@@ -394,9 +391,6 @@ class AvsmTechnique final : public VulkanTechnique {
                               m_family, c.defines);
     }
 
-    void writeDescriptors() override {
-        for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
-    }
     std::uint32_t timedPassesPerLight() const override { return 4; }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
@@ -405,10 +399,6 @@ class AvsmTechnique final : public VulkanTechnique {
         runPass(recorder, cmd, passName(light, "avsm_build"), m_build, light);
         if (m_blocker) runPass(recorder, cmd, passName(light, "vpcss_blocker"), *m_blocker, light);
         runPass(recorder, cmd, passName(light, "shadow_filter"), m_filter, light);
-    }
-
-    void takeStats(const std::byte* staged) override {
-        m_counts = stagedStats<GpuShadowMapStats>(staged, m_c.scene.lights.size());
     }
 
     bool growLists() override {
@@ -423,39 +413,29 @@ class AvsmTechnique final : public VulkanTechnique {
             frame.avsmMaps.push_back(m_maps.downloadAvsm(l));
     }
 
-    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
-        nlohmann::json maps = nlohmann::json::array();
-        for (std::size_t l = 0; l < m_counts.size(); ++l) {
-            const ShadowMapView& view = m_maps.view(l);
-            const GpuShadowMapStats& counts = m_counts[l];
-            AvsmStats functions;
-            functions.texels = std::size_t(view.faces) * view.size * view.size;
-            functions.texelsWithNodes = counts.avsmTexels;
-            functions.meanNodes =
-                counts.avsmTexels > 0 ? double(counts.avsmNodes) / double(counts.avsmTexels) : 0.0;
-            functions.maxNodes = counts.avsmMaxNodes;
-            functions.overflowedTexels = counts.avsmOverflowed;
-            nlohmann::json map = shadowMapViewStats(view, m_maps.settings(), m_c.scene.camera, gbuffer);
-            map["avsm"] = avsmStatsJson(functions, avsmBytes(view, m_maps.settings()));
-            map["avsm"]["fragments_listed"] = counts.avsmFragments;
-            map["avsm"]["fragment_capacity"] = m_maps.avsmCapacity();
-            if (vpcss()) map.update(kernelClampStats(counts.kernelClamped, gbuffer));
-            maps.push_back(map);
-        }
-        stats["shadow_maps"] = maps;
-    }
-
   private:
+    void addStats(std::size_t light, const GBuffer& gbuffer, nlohmann::json& map) const override {
+        const ShadowMapView& view = m_maps.view(light);
+        const GpuShadowMapStats& counts = m_counts[light];
+        AvsmStats functions;
+        functions.texels = std::size_t(view.faces) * view.size * view.size;
+        functions.texelsWithNodes = counts.avsmTexels;
+        functions.meanNodes =
+            counts.avsmTexels > 0 ? double(counts.avsmNodes) / double(counts.avsmTexels) : 0.0;
+        functions.maxNodes = counts.avsmMaxNodes;
+        functions.overflowedTexels = counts.avsmOverflowed;
+        map["avsm"] = avsmStatsJson(functions, avsmBytes(view, m_maps.settings()));
+        map["avsm"]["fragments_listed"] = counts.avsmFragments;
+        map["avsm"]["fragment_capacity"] = m_maps.avsmCapacity();
+        if (vpcss()) map.update(kernelClampStats(counts.kernelClamped, gbuffer));
+    }
     bool vpcss() const { return m_c.method.shadowMap == ShadowFilter::Vpcss; }
 
-    const VulkanTechniqueContext& m_c;
-    ShadowMapResources m_maps;
     std::vector<ClearPass> m_clear; ///< [light]: the list heads
     AvsmListPass m_lists;
     AvsmBuildPass m_build;
     std::optional<ShadowFilterPass> m_blocker; ///< vpcss
     ShadowFilterPass m_filter;
-    std::vector<GpuShadowMapStats> m_counts; ///< per light, after the frame
 };
 
 } // namespace
