@@ -39,8 +39,13 @@ endef
 deps:
 	$(call install_missing,$(PACKAGES))
 
+# The mesh-shader tests run on a second lavapipe, fetched into the build folder without touching
+# the system's Vulkan (tests/drivers/fetch_lavapipe.sh); where it cannot be fetched, their ctest
+# entry fails and says why.
 test-deps:
 	$(call install_missing,$(TEST_PACKAGES))
+	@bash tests/drivers/fetch_lavapipe.sh $(BUILD)/drivers/lavapipe-backports || \
+	  echo "warning: the second lavapipe could not be fetched; mesh_shaders.lavapipe_backports will fail"
 
 $(BUILD)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo

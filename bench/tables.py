@@ -43,6 +43,8 @@ def machine_of(data):
                                          m.get("memory_bytes", 0) / 2**30)
     if m.get("device"):
         text += ", Vulkan: " + m["device"]
+        if m.get("driver"):
+            text += ", driver " + m["driver"]
     return text
 
 

@@ -343,8 +343,10 @@ int runBench(BenchArgs& args) {
                                              [](const auto& p) { return p.second == Backend::Vulkan; });
         nlohmann::json machine = machineJson(vulkanAsked, base.device);
         for (const Result& r : results)
-            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu"))
+            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu")) {
                 machine["device"] = r.lastStats["gpu"].value("device", std::string());
+                machine["driver"] = r.lastStats["gpu"].value("driver", std::string());
+            }
         nlohmann::json configurations = nlohmann::json::array();
         for (const Result& r : results) {
             const Config& c = r.config;

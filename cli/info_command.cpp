@@ -8,6 +8,7 @@
 #include "gpu/device.h"
 #include "gpu/shader_compiler.h"
 #include "render/frame.h"
+#include "render/vulkan/gpu_renderer.h"
 #include "scene/load.h"
 
 #include <glm/trigonometric.hpp>
@@ -21,6 +22,13 @@
 namespace stsv {
 
 namespace {
+
+/// The --extrusion values device `d` runs.
+std::vector<std::string> extrusionNames(const DeviceInfo& d) {
+    std::vector<std::string> names;
+    for (const ExtrusionStage stage : offeredExtrusions(d)) names.push_back(toString(stage));
+    return names;
+}
 
 std::string backendList(const MethodInfo& m) {
     std::string text;
@@ -213,6 +221,7 @@ int runInfo(const InfoArgs& args) {
                                    {"api", apiVersionString(d.apiVersion)},
                                    {"geometry_shader", d.geometryShader},
                                    {"mesh_shader", d.meshShader},
+                                   {"extrusions", extrusionNames(d)},
                                    {"device_local_bytes", d.deviceLocalBytes}});
             vulkan = {{"devices", devices}};
         } catch (const Error& e) {
@@ -261,7 +270,11 @@ int runInfo(const InfoArgs& args) {
     try {
         const std::vector<DeviceInfo> devices = listDevices();
         if (devices.empty()) out << "vulkan: no devices\n";
-        for (const DeviceInfo& d : devices) out << "vulkan " << describe(d);
+        for (const DeviceInfo& d : devices) {
+            out << "vulkan " << describe(d) << "  extrusions (--extrusion):";
+            for (const std::string& name : extrusionNames(d)) out << ' ' << name;
+            out << '\n';
+        }
     } catch (const Error& e) {
         std::string reason = e.what();
         if (const auto nl = reason.find('\n'); nl != std::string::npos) reason.resize(nl);

@@ -223,12 +223,20 @@ Frame VulkanFrame::render(double startupMs) {
     frame.stats["passes"] = passes;
     frame.stats["light_sample_buffer_bytes"] = lightSampleBufferBytes(m_options);
     frame.stats["gpu"] = {{"device", m_device.info().name},
+                          {"driver", m_device.info().driverName + " (" + m_device.info().driverInfo + ")"},
                           {"extrusion", toString(m_geometry)},
                           {"fragment_counts", "atomic counters in the volume passes' shaders"}};
     return frame;
 }
 
 } // namespace
+
+std::vector<ExtrusionStage> offeredExtrusions(const DeviceInfo& info) {
+    std::vector<ExtrusionStage> stages = {ExtrusionStage::Hull};
+    if (info.geometryShader) stages.push_back(ExtrusionStage::Geometry);
+    if (info.meshShader) stages.push_back(ExtrusionStage::Mesh);
+    return stages;
+}
 
 std::size_t lightSampleBufferBytes(const RenderOptions& options) {
     return LightSampleBuffer::payloadBytes(options.width, options.height, options.samples, options.buffer);
@@ -274,11 +282,12 @@ struct VulkanRenderer::Impl {
                 "Vulkan device " + info.name +
                 " lacks depth clamp, logic op or fragment stores/atomics needed by the STSV pass");
         const ExtrusionStage stage = options.extrusion; // the one source: --extrusion
-        if (stage == ExtrusionStage::Mesh && !info.meshShader)
-            throw UsageError("Vulkan device " + info.name +
-                             " lacks VK_EXT_mesh_shader (mesh-shader STSV extrusion)");
-        if (stage == ExtrusionStage::Geometry && !info.geometryShader)
-            throw UsageError("Vulkan device " + info.name + " lacks geometry shaders (--extrusion geometry)");
+        const std::vector<ExtrusionStage> offered = offeredExtrusions(info);
+        if (stage != ExtrusionStage::Auto &&
+            std::find(offered.begin(), offered.end(), stage) == offered.end())
+            throw UsageError("Vulkan device " + info.name + " lacks " +
+                             (stage == ExtrusionStage::Mesh ? "VK_EXT_mesh_shader" : "geometry shaders") +
+                             " (--extrusion " + toString(stage) + ")");
         geometry = stage == ExtrusionStage::Mesh       ? StsvGeometry::MeshShaderPrism
                    : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
                                                        : StsvGeometry::Hull;

@@ -8,10 +8,12 @@
 
 #include <cstddef>
 #include <memory>
+#include <vector>
 
 namespace stsv {
 
 class Device;
+struct DeviceInfo;
 
 struct VulkanRendererConfig {
     /// Render on this device (it must outlive the renderer) instead of creating one from
@@ -70,5 +72,9 @@ class VulkanRenderer final : public FrameRenderer {
     struct Impl;
     std::unique_ptr<Impl> m_impl;
 };
+
+/// The --extrusion stages a device runs: hull always, geometry and mesh where it has those
+/// shaders (`stsv info` lists them).
+std::vector<ExtrusionStage> offeredExtrusions(const DeviceInfo& info);
 
 } // namespace stsv

@@ -117,6 +117,15 @@ TEST(MethodTableCli, InfoListsEveryRowAndItsPairs) {
                                 (d["mesh_shader"].get<bool>() ? "yes" : "no")),
                   std::string::npos)
             << d.dump();
+        // The extrusions it offers: the hull always, the geometry and mesh stages where it has them.
+        std::string offered = "hull";
+        if (d["geometry_shader"].get<bool>()) offered += " geometry";
+        if (d["mesh_shader"].get<bool>()) offered += " mesh";
+        std::string listed;
+        for (const nlohmann::json& e : d["extrusions"])
+            listed += (listed.empty() ? "" : " ") + e.get<std::string>();
+        EXPECT_EQ(listed, offered) << d.dump();
+        EXPECT_NE(info.out.find("extrusions (--extrusion): " + offered), std::string::npos) << info.out;
     }
 }
 
