@@ -5,9 +5,10 @@
 #   bench/measure.sh [NAME...]     (no NAME: all of them; STSV=path/to/stsv to use another binary)
 #
 # Each measurement is one stsv command; its file records the command, the stsv version (the
-# commit) and the machine. Commit the files with the document: the tables are never edited by
-# hand, and `bench/tables.py check docs/measurements.md` (run by the test suite) fails when a
-# table does not match its file.
+# commit) and the machine (the Vulkan driver too: the *-mesa25 ones select the second lavapipe).
+# Commit the files with the document: the tables are never edited by hand, and
+# `bench/tables.py check docs/measurements.md` (run by the test suite) fails when a table does not
+# match its file.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 root=$(dirname "$here")
@@ -48,6 +49,10 @@ measurement() {
     bench-particles) echo bench --preset particles --repeat 1 --warmup 0 ;;
     bench-particles-maps) echo bench particles --methods avsm,vpcss --backends vulkan,cpu --vary count=1000,10000 \
       --size 1024x1024 --samples 64 --repeat 1 --warmup 1 ;;
+    extrusion-hull-mesa22 | extrusion-hull-mesa25 | extrusion-geometry-mesa25 | extrusion-mesh-mesa25)
+      local stage=${1#extrusion-}
+      echo bench foliage --methods stsv --backends vulkan --vary count=250,1000,4000 --size 512x512 --samples 64 \
+        --repeat 3 --extrusion "${stage%-*}" ;;
     sheet-fabric) echo compare fence --set fabric=0.6 --buffer transmittance --methods "$all_methods,avsm,vpcss" \
       --converged 16 --size 192x144 --sheet docs/fabric-sheet.png ;;
     *) return 1 ;;
@@ -56,7 +61,8 @@ measurement() {
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
      bench-fence-vs-mesh bench-foliage-count bench-knot-scale compare-particles sheet-particles bench-particles
-     bench-particles-maps sheet-fabric)
+     bench-particles-maps sheet-fabric extrusion-hull-mesa22 extrusion-hull-mesa25 extrusion-geometry-mesa25
+     extrusion-mesh-mesa25)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")
@@ -65,7 +71,13 @@ for name in "${names[@]}"; do
     echo "measure.sh: unknown measurement '$name' (known: ${all[*]})" >&2
     exit 2
   fi
-  echo "== $name: stsv $args"
+  # The *-mesa25 measurements run on the second lavapipe that `make test-deps` fetches
+  # (docs/developer.md#two-lavapipes); the others on the system's driver.
+  case $name in
+    *-mesa25) export VK_DRIVER_FILES=$root/build/drivers/lavapipe-backports/lvp_icd.json ;;
+    *) unset VK_DRIVER_FILES ;;
+  esac
+  echo "== $name: stsv $args${VK_DRIVER_FILES:+ (VK_DRIVER_FILES=$VK_DRIVER_FILES)}"
   start=$(date +%s)
   # shellcheck disable=SC2086 # the arguments hold no spaces
   "$stsv" $args --json "$results/$name.json"

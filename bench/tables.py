@@ -190,9 +190,12 @@ def bench_table(files):
         for c in data["configurations"]:
             err = c.get("visibility_vs_reference")
             speedup = c.get("speedup_vs_reference")
+            # The extrusion stage where it is not the default hull.
+            extrusion = c.get("gpu", {}).get("extrusion", "")
             rows.append([
                 c["scene_name"] + (" " + c["variant"] if c.get("variant") else ""),
-                c["method"] + "/" + c["backend"],
+                c["method"] + "/" + c["backend"] +
+                (" (%s)" % extrusion if extrusion and not extrusion.startswith("hull") else ""),
                 str(c["samples"]),
                 "%.1f" % c["frame_ms"]["median"],
                 "–" if speedup is None else "%.2f×" % speedup,
