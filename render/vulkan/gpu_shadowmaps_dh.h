@@ -39,8 +39,10 @@ struct GpuShadowMapStats {
     uint avsmNodes;      ///< nodes over those texels
     uint avsmMaxNodes;   ///< the most nodes of one texel
     uint avsmOverflowed; ///< texels that had more surfaces than nodes
+    /// 1 when a fragment found the lists full: with avsmFragments no larger than the lists, its
+    /// count wrapped past 2^32
+    uint avsmLost;
     uint pad0;
-    uint pad1;
 };
 
 /// A map texel as the rasteriser writes it with atomicMax: the bits of the depth (a positive

@@ -403,7 +403,14 @@ class AvsmTechnique final : public ShadowMapFamilyTechnique {
 
     bool growLists() override {
         std::uint64_t listed = 0;
-        for (const GpuShadowMapStats& s : m_counts) listed = std::max<std::uint64_t>(listed, s.avsmFragments);
+        for (const GpuShadowMapStats& s : m_counts) {
+            // Lost fragments with a count that fits: the 32-bit count wrapped.
+            if (s.avsmLost != 0 && s.avsmFragments <= m_maps.avsmCapacity())
+                throw UsageError(
+                    "the transmittance functions' fragment lists need more than 2^32 fragments for "
+                    "one light: lower avsm_size");
+            listed = std::max<std::uint64_t>(listed, s.avsmFragments);
+        }
         return m_maps.growAvsmFragments(listed);
     }
 

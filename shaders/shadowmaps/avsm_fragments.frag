@@ -46,7 +46,10 @@ void main() {
     uint index = (inFace * v.size + texel.y) * v.size + texel.x;
     // The count goes on past the end, so the host knows how much room the frame needed.
     uint slot = atomicAdd(stats[pc.light].avsmFragments, 1u);
-    if (slot >= avsmLists.capacity) return;
+    if (slot >= avsmLists.capacity) {
+        atomicOr(stats[pc.light].avsmLost, 1u);
+        return;
+    }
     uint next = atomicExchange(avsmHeads[index], slot + 1u);
     avsmFragmentAt(slot).value = uvec4(floatBitsToUint(depth), units, tri, next);
 }
