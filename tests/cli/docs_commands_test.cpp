@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <regex>
@@ -168,7 +169,8 @@ TEST(DocsCommands, EveryStsvCommandInTheReadmeAndDocsRuns) {
     ScratchDir dir;
     const fs::path before = fs::current_path();
     fs::current_path(dir.path());
-    std::size_t ran = 0;
+    std::size_t ran = 0, refused = 0;
+    const std::vector<std::string> meshExtrusion = {"--extrusion", "mesh"};
     for (const std::string& file : docFiles())
         for (const DocCommand& c : commandsIn(file)) {
             const std::vector<std::string> all = words(c.text);
@@ -179,12 +181,24 @@ TEST(DocsCommands, EveryStsvCommandInTheReadmeAndDocsRuns) {
             const CliResult r = runStsv(args);
             std::string shown;
             for (const std::string& a : args) shown += " " + a;
+            ++ran;
+            // `--extrusion mesh` needs VK_EXT_mesh_shader: on a driver without it (Debian 12's
+            // lavapipe) the command refuses and says so; the mesh path itself runs in ctest's
+            // mesh_shaders.lavapipe_backports, on the second lavapipe.
+            const bool mesh =
+                std::search(all.begin(), all.end(), meshExtrusion.begin(), meshExtrusion.end()) != all.end();
+            if (mesh && r.code != 0 &&
+                r.err.find("lacks VK_EXT_mesh_shader (--extrusion mesh)") != std::string::npos) {
+                ++refused;
+                continue;
+            }
             EXPECT_EQ(r.code, 0) << fs::path(c.file).filename().string() << ":" << c.line << ": " << c.text
                                  << "\n  ran: stsv" << shown << "\n  stderr: " << r.err;
-            ++ran;
         }
     fs::current_path(before);
-    std::printf("ran %zu commands from the README and docs/\n", ran);
+    std::printf(
+        "ran %zu commands from the README and docs/ (%zu refused --extrusion mesh: no mesh shaders)\n", ran,
+        refused);
     EXPECT_GE(ran, 10u);
 }
 
