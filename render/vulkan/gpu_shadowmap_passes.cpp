@@ -62,6 +62,29 @@ void setRepresentationAddress(ShadowMapView& view, const Buffer& buffer) {
     view.representationHigh = uint(address >> 32);
 }
 
+/// A draw of every triangle from the light (shadowmap.vert, one instance per face of its map)
+/// into `fragment`. No culling: a triangle takes light whichever face the light sees.
+Pipeline lightDrawPipeline(const Device& device, const FamilyDescriptors& descriptors,
+                           const std::vector<ShaderDefine>& defines, const char* fragment) {
+    const ShaderCompiler compiler;
+    GraphicsPipelineDesc desc;
+    desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmaps/shadowmap.vert", defines)},
+                   {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile(fragment, defines)}};
+    desc.cullMode = VK_CULL_MODE_NONE;
+    return createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+}
+
+/// Records `pipeline`'s draw of `triangles` triangles for light `light` over its map's texels.
+void recordLightDraw(VkCommandBuffer cmd, const Pipeline& pipeline, const FamilyDescriptors& descriptors,
+                     const ShadowMapView& view, std::size_t light, std::uint32_t triangles) {
+    beginRendering(cmd, VkExtent2D{view.size, view.size});
+    pipeline.bind(cmd);
+    descriptors.bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
+    descriptors.push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    if (triangles > 0) vkCmdDraw(cmd, 3 * triangles, view.faces, 0, 0);
+    endRendering(cmd);
+}
+
 } // namespace
 
 ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene, const RenderOptions& options)
@@ -201,16 +224,8 @@ void ShadowMapResources::writeDescriptors(DescriptorSet& set, std::size_t light)
 ShadowMapPass::ShadowMapPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
                              const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_descriptors(&descriptors),
-      m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
-    const ShaderCompiler compiler;
-    GraphicsPipelineDesc desc;
-    desc.stages = {
-        {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmaps/shadowmap.vert", defines)},
-        {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("shadowmaps/shadowmap.frag", defines)}};
-    // A triangle blocks light whichever face the light sees: no culling.
-    desc.cullMode = VK_CULL_MODE_NONE;
-    m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
-}
+      m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())),
+      m_pipeline(lightDrawPipeline(device, descriptors, defines, "shadowmaps/shadowmap.frag")) {}
 
 PassAccesses ShadowMapPass::accesses(std::size_t light) const {
     PassAccesses accesses;
@@ -219,13 +234,7 @@ PassAccesses ShadowMapPass::accesses(std::size_t light) const {
 }
 
 void ShadowMapPass::record(VkCommandBuffer cmd, std::size_t light) const {
-    const ShadowMapView& view = m_maps->view(light);
-    beginRendering(cmd, VkExtent2D{view.size, view.size});
-    m_pipeline.bind(cmd);
-    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
-    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, view.faces, 0, 0);
-    endRendering(cmd);
+    recordLightDraw(cmd, m_pipeline, *m_descriptors, m_maps->view(light), light, m_triangleCount);
 }
 
 FilteredMapPass::FilteredMapPass(const Device& device, ShadowMapResources& maps,
@@ -284,18 +293,12 @@ DepthGridPass::DepthGridPass(const Device& device, const Scene& scene, ShadowMap
                              const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_descriptors(&descriptors),
       m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
-    const ShaderCompiler compiler;
+    // Every surface counts, front and back.
     Pipeline* pipelines[] = {&m_range, &m_bins};
     for (int step = 0; step < 2; ++step) {
         std::vector<ShaderDefine> withStep = defines;
         withStep.push_back({"DEPTH_GRID_STEP", std::to_string(step)});
-        GraphicsPipelineDesc desc;
-        desc.stages = {
-            {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmaps/shadowmap.vert", withStep)},
-            {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("shadowmaps/depth_grid.frag", withStep)}};
-        // Every surface counts, front and back: no culling.
-        desc.cullMode = VK_CULL_MODE_NONE;
-        *pipelines[step] = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+        *pipelines[step] = lightDrawPipeline(device, descriptors, withStep, "shadowmaps/depth_grid.frag");
     }
 }
 
@@ -312,12 +315,7 @@ void DepthGridPass::record(VkCommandBuffer cmd, std::size_t light) const {
         if (pipeline == &m_bins)
             memoryBarrier(cmd, FRAGMENT, VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT, FRAGMENT,
                           VK_ACCESS_2_SHADER_STORAGE_READ_BIT | VK_ACCESS_2_SHADER_STORAGE_WRITE_BIT);
-        beginRendering(cmd, VkExtent2D{view.size, view.size});
-        pipeline->bind(cmd);
-        m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
-        m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-        if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, view.faces, 0, 0);
-        endRendering(cmd);
+        recordLightDraw(cmd, *pipeline, *m_descriptors, view, light, m_triangleCount);
     }
 }
 
@@ -357,16 +355,8 @@ void PeelMarchPass::record(VkCommandBuffer cmd, std::size_t light) const {
 AvsmListPass::AvsmListPass(const Device& device, const Scene& scene, ShadowMapResources& maps,
                            const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_descriptors(&descriptors),
-      m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())) {
-    const ShaderCompiler compiler;
-    GraphicsPipelineDesc desc;
-    desc.stages = {
-        {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("shadowmaps/shadowmap.vert", defines)},
-        {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("shadowmaps/avsm_fragments.frag", defines)}};
-    // Every surface takes light whichever face the light sees: no culling.
-    desc.cullMode = VK_CULL_MODE_NONE;
-    m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
-}
+      m_triangleCount(static_cast<std::uint32_t>(scene.triangleCount())),
+      m_pipeline(lightDrawPipeline(device, descriptors, defines, "shadowmaps/avsm_fragments.frag")) {}
 
 PassAccesses AvsmListPass::accesses(std::size_t light) const {
     PassAccesses accesses;
@@ -377,13 +367,7 @@ PassAccesses AvsmListPass::accesses(std::size_t light) const {
 }
 
 void AvsmListPass::record(VkCommandBuffer cmd, std::size_t light) const {
-    const ShadowMapView& view = m_maps->view(light);
-    beginRendering(cmd, VkExtent2D{view.size, view.size});
-    m_pipeline.bind(cmd);
-    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
-    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    if (m_triangleCount > 0) vkCmdDraw(cmd, 3 * m_triangleCount, view.faces, 0, 0);
-    endRendering(cmd);
+    recordLightDraw(cmd, m_pipeline, *m_descriptors, m_maps->view(light), light, m_triangleCount);
 }
 
 AvsmBuildPass::AvsmBuildPass(const Device& device, ShadowMapResources& maps,
