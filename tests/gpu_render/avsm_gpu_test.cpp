@@ -10,8 +10,6 @@
 #include "tests/support/translucent_scene.h"
 
 #include <cstdio>
-#include <numeric>
-#include <random>
 
 namespace stsv::test {
 namespace {
@@ -144,17 +142,7 @@ TEST_F(AvsmGpu, ShuffledTrianglesGiveTheSameFunctions) {
     // changes a node (no two veils share a depth); with 4 nodes for 21 surfaces the lossy
     // compression too gives the same nodes.
     const Scene scene = veilStack(20);
-    Scene shuffled = scene;
-    std::vector<std::size_t> order(scene.triangleCount());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    std::shuffle(order.begin(), order.end(), std::mt19937(11));
-    shuffled.triangles.clear();
-    shuffled.triangleMaterial.clear();
-    for (std::size_t t : order) {
-        shuffled.triangles.push_back(scene.triangles[t]);
-        shuffled.triangleMaterial.push_back(scene.triangleMaterial[t]);
-    }
-    shuffled.validate();
+    const Scene shuffled = test::shuffledTriangles(scene, 11u);
     RenderOptions o = avsmOptions(Method::Avsm, 48, {"avsm_size=128", "avsm_nodes=4"});
     o.keepShadowMaps = true;
     const Frame a = renderGpu(scene, o);

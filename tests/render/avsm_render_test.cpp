@@ -17,8 +17,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
-#include <random>
 
 namespace stsv {
 namespace {
@@ -140,17 +138,7 @@ TEST(AvsmRender, ShuffledTrianglesGiveTheSameFunctions) {
     // triangles in changes no node, except between two triangles at exactly the same depth
     // (none in these veils), so the visibility images are identical.
     const Scene scene = test::veilsAndTile();
-    Scene shuffled = scene;
-    std::vector<std::size_t> order(scene.triangleCount());
-    std::iota(order.begin(), order.end(), std::size_t(0));
-    std::shuffle(order.begin(), order.end(), std::mt19937(5));
-    shuffled.triangles.clear();
-    shuffled.triangleMaterial.clear();
-    for (std::size_t t : order) {
-        shuffled.triangles.push_back(scene.triangles[t]);
-        shuffled.triangleMaterial.push_back(scene.triangleMaterial[t]);
-    }
-    shuffled.validate();
+    const Scene shuffled = test::shuffledTriangles(scene, 5u);
     for (Method m : {Method::Avsm, Method::Vpcss}) {
         const Frame a = render(scene, m, kW);
         const Frame b = render(shuffled, m, kW);

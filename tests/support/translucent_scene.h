@@ -5,6 +5,11 @@
 #include "scene/geometry.h"
 #include "scene/scene.h"
 
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <vector>
+
 namespace stsv::test {
 
 /// Ground [−2, 2]² at y = 0 and a camera straight above it; a square light of side `lightSize`
@@ -54,6 +59,23 @@ inline Scene veilsAndTile() {
     s.addTriangle(a, c, d, vec2(0), vec2(0), vec2(0), m);
     s.validate();
     return s;
+}
+
+/// `scene` with its triangles in a random order (mt19937 of `seed`): the same surfaces, other
+/// triangle indices.
+inline Scene shuffledTriangles(const Scene& scene, unsigned seed) {
+    Scene shuffled = scene;
+    std::vector<std::size_t> order(scene.triangleCount());
+    std::iota(order.begin(), order.end(), std::size_t(0));
+    std::shuffle(order.begin(), order.end(), std::mt19937(seed));
+    shuffled.triangles.clear();
+    shuffled.triangleMaterial.clear();
+    for (std::size_t t : order) {
+        shuffled.triangles.push_back(scene.triangles[t]);
+        shuffled.triangleMaterial.push_back(scene.triangleMaterial[t]);
+    }
+    shuffled.validate();
+    return shuffled;
 }
 
 } // namespace stsv::test
