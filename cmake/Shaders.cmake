@@ -97,16 +97,17 @@ stsv_pattern_q(128 STSV_Q128)
 # LS_COUNTERS (--samples, --buffer) on the sample passes; the uniform-buffer layouts
 # (STSV_PATTERN_VEC4S, STSV_ALPHA_BIT_VEC4S) on every pass; FIXED_LIGHT_TYPE per light type on
 # stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and
-# RESOLVE_VCOEF (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh;
+# RESOLVE_VCOEF (pw, pw+stsv) on the resolve; STSV_MESH_PATH on stsv.frag behind stsv.mesh and
+# WEDGE_MESH_PATH on wedge.frag behind wedge.mesh, HULL_MESH_VOLUMES on the task and mesh shaders;
 # STSV_HULL_PATH and WEDGE_HULL_PATH on the fragments behind hull.vert, CLIP_SHARED_INVOCATIONS
 # and HULL_ITEMS_PER_THREAD (render/vulkan/gpu_hulls.cpp) on the hull passes; the sample defines and FIXED_LIGHT_TYPE on
 # stsv_samples.comp, the sample defines on stsv_merge.comp and wedge_samples.comp; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
 # and each sample count with each buffer kind, without the full product (two cores).
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
 set(S ${PROJECT_SOURCE_DIR}/shaders) # shader folder, for the lines below
-foreach(source stsv/stsv.vert stsv/stsv.geom stsv/stsv.mesh common/gbuffer.vert common/gbuffer.frag
+foreach(source stsv/stsv.vert stsv/stsv.geom stsv/stsv.task stsv/stsv.mesh common/gbuffer.vert common/gbuffer.frag
                wedges/dcs_center.geom wedges/dcs_center.frag wedges/wedge.geom common/hull.vert stsv/stsv_hull.comp
-               wedges/wedge_hull.comp)
+               wedges/wedge_hull.comp wedges/wedge.task wedges/wedge.mesh)
   stsv_check_shader(${S}/${source} ubo ${UBO})
 endforeach()
 
@@ -123,6 +124,8 @@ stsv_check_shader(${S}/stsv/stsv.frag mesh_s256_counters_ubo_l0 STSV_MESH_PATH=1
 stsv_check_shader(${S}/stsv/stsv.frag hull_s64_l0 STSV_HULL_PATH=1 SAMPLE_COUNT=64 FIXED_LIGHT_TYPE=0u)
 stsv_check_shader(${S}/stsv/stsv.frag hull_s256_counters_ubo_l2 STSV_HULL_PATH=1 SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO}
                   FIXED_LIGHT_TYPE=2u)
+stsv_check_shader(${S}/stsv/stsv.mesh volumes1 HULL_MESH_VOLUMES=1)
+stsv_check_shader(${S}/wedges/wedge.mesh volumes3 HULL_MESH_VOLUMES=3)
 stsv_check_shader(${S}/stsv/stsv_hull.comp shared4 CLIP_SHARED_INVOCATIONS=4 HULL_ITEMS_PER_THREAD=16)
 stsv_check_shader(${S}/wedges/wedge_hull.comp shared1_ubo CLIP_SHARED_INVOCATIONS=1 ${UBO})
 stsv_check_shader(${S}/stsv/stsv_samples.comp s16_l1 SAMPLE_COUNT=16 FIXED_LIGHT_TYPE=1u)
@@ -150,6 +153,8 @@ stsv_check_shader(${S}/wedges/wedge.frag pw WEDGE_PW=1 WEDGE_STSV=0)
 stsv_check_shader(${S}/wedges/wedge.frag pw_stsv_ubo WEDGE_PW=1 WEDGE_STSV=1 ${UBO})
 stsv_check_shader(${S}/wedges/wedge.frag hull_dcs_s64 WEDGE_HULL_PATH=1 WEDGE_PW=0 SAMPLE_COUNT=64 LS_COUNTERS=1)
 stsv_check_shader(${S}/wedges/wedge.frag hull_pw_ubo WEDGE_HULL_PATH=1 WEDGE_PW=1 ${UBO})
+stsv_check_shader(${S}/wedges/wedge.frag mesh_dcs_s64 WEDGE_MESH_PATH=1 WEDGE_PW=0 SAMPLE_COUNT=64 LS_COUNTERS=1)
+stsv_check_shader(${S}/wedges/wedge.frag mesh_pw_ubo WEDGE_MESH_PATH=1 WEDGE_PW=1 ${UBO})
 stsv_check_shader(${S}/wedges/wedge_samples.comp s16 SAMPLE_COUNT=16 LS_COUNTERS=1)
 stsv_check_shader(${S}/wedges/wedge_samples.comp s256_ubo SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedges/wedge_fold.comp dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 LS_COUNTERS=1)

@@ -164,12 +164,15 @@ DeviceInfo queryDeviceInfo(VkPhysicalDevice physicalDevice, uint32_t index) {
     VkPhysicalDeviceDriverProperties driver{};
     driver.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_DRIVER_PROPERTIES;
     driver.pNext = &maintenance3;
+    const bool meshExtension = hasDeviceExtension(physicalDevice, VK_EXT_MESH_SHADER_EXTENSION_NAME);
+    VkPhysicalDeviceMeshShaderPropertiesEXT mesh{};
+    mesh.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MESH_SHADER_PROPERTIES_EXT;
+    maintenance3.pNext = meshExtension ? &mesh : nullptr;
     VkPhysicalDeviceProperties2 props{};
     props.sType = VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2;
     props.pNext = &driver;
     vkGetPhysicalDeviceProperties2(physicalDevice, &props);
 
-    const bool meshExtension = hasDeviceExtension(physicalDevice, VK_EXT_MESH_SHADER_EXTENSION_NAME);
     FeatureChain features;
     features.link(meshExtension);
     vkGetPhysicalDeviceFeatures2(physicalDevice, &features.core);
@@ -190,6 +193,13 @@ DeviceInfo queryDeviceInfo(VkPhysicalDevice physicalDevice, uint32_t index) {
     info.geometryShader = features.core.features.geometryShader;
     info.meshShader = meshExtension && features.mesh.meshShader;
     info.taskShader = meshExtension && features.mesh.taskShader;
+    if (info.meshShader) {
+        info.maxMeshOutputVertices = mesh.maxMeshOutputVertices;
+        info.maxMeshOutputPrimitives = mesh.maxMeshOutputPrimitives;
+        info.maxMeshOutputMemorySize = mesh.maxMeshOutputMemorySize;
+        info.maxMeshSharedMemorySize = mesh.maxMeshSharedMemorySize;
+        info.maxTaskWorkGroupCountX = mesh.maxTaskWorkGroupCount[0];
+    }
     info.logicOp = features.core.features.logicOp;
     info.fragmentStoresAndAtomics = features.core.features.fragmentStoresAndAtomics;
     info.vertexPipelineStoresAndAtomics = features.core.features.vertexPipelineStoresAndAtomics;

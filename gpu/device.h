@@ -40,6 +40,12 @@ struct DeviceInfo {
     uint32_t maxImageDimension2D = 0;
     uint32_t maxColorAttachments = 0;
     uint32_t maxGeometryOutputVertices = 0;
+    /// VK_EXT_mesh_shader's limits (0 without it): what one mesh workgroup may emit and keep.
+    uint32_t maxMeshOutputVertices = 0;
+    uint32_t maxMeshOutputPrimitives = 0;
+    uint32_t maxMeshOutputMemorySize = 0; ///< bytes
+    uint32_t maxMeshSharedMemorySize = 0; ///< bytes
+    uint32_t maxTaskWorkGroupCountX = 0;
 };
 
 /// "1.3.230"

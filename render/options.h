@@ -15,11 +15,11 @@ namespace stsv {
 /// Which stage builds the STSV volumes on Vulkan, and what it draws.
 enum class ExtrusionStage {
     Auto,     ///< Hull
-    Geometry, ///< shaders/stsv/stsv.geom: the paper's ten-vertex prism
-    Mesh, ///< shaders/stsv/stsv.mesh: the same prism; UsageError naming VK_EXT_mesh_shader when the device
-          ///< lacks it
-    Hull, ///< shaders/stsv/stsv_hull.comp: the box clipped by the volume's and the light's planes, drawn
-          ///< indirect
+    Geometry, ///< shaders/stsv/stsv.geom, wedge.geom: the paper's ten-vertex prism
+    Mesh, ///< task and mesh shaders (stsv.task/.mesh, wedge.task/.mesh): the hulls built, clipped and drawn
+          ///< in the draw; UsageError naming VK_EXT_mesh_shader when the device lacks it
+    Hull, ///< shaders/stsv/stsv_hull.comp, wedge_hull.comp: the box clipped by the volume's and the light's
+          ///< planes, drawn indirect
 };
 
 ExtrusionStage parseExtrusionStage(const std::string& name); ///< auto | hull | geometry | mesh
@@ -42,7 +42,7 @@ struct RenderOptions {
     float ambient = 0.05f;   ///< ambient term, fraction of albedo
     std::string device;      ///< Vulkan device: "" = best, an index, or a name substring
     bool validation = false; ///< Vulkan validation layers (always on in tests)
-    ExtrusionStage extrusion = ExtrusionStage::Auto; ///< Vulkan: stage of the STSV extrusion
+    ExtrusionStage extrusion = ExtrusionStage::Auto; ///< Vulkan: stage that builds the STSV and wedge volumes
     MethodParams params;         ///< the method's knobs (render/methods.h); missing ones take their defaults
     bool keepShadowMaps = false; ///< image-based methods: Frame::shadowMaps holds each light's map
     /// K: K×K visible points per pixel (sub-pixel centres), each with the pixel's own light

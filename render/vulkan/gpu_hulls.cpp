@@ -39,7 +39,75 @@ std::uint32_t hullItemsPerThread(const Device& device) {
     return device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? GPU_HULL_MAX_ITEMS_PER_THREAD : 4u;
 }
 
+/// The items a task workgroup culls (HULL_TASK_ITEMS).
+constexpr std::uint32_t kTaskItems = 32;
+
+/// Volumes a mesh workgroup builds and emits (HULL_MESH_VOLUMES): 3 (the most whose corners fit the
+/// compiler's 256 output vertices), or fewer where the device's
+/// limits cannot hold that many hulls at their largest (common/hull_mesh.glsl: 6F − 12 corners
+/// and 4F − 12 triangles of F = CLIP_MAX_FACES faces, each triangle with an 18-texel record and
+/// its indices) or their clipping in shared memory (as hullThreadsPerGroup).
+std::uint32_t meshVolumesPerGroup(const DeviceInfo& info) {
+    constexpr std::uint32_t corners = 6 * CLIP_MAX_FACES - 12;
+    constexpr std::uint32_t triangles = CLIP_MAX_TRIANGLES;
+    constexpr std::uint32_t outputBytes = corners * 16 + triangles * (GPU_HULL_RECORD_TEXELS * 16 + 16);
+    constexpr std::uint32_t sharedBytes =
+        ((CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES + 2 * CLIP_MAX_FACES) * 16 + 8;
+    const auto fits = [&](std::uint32_t k) {
+        return k * corners <= info.maxMeshOutputVertices && k * triangles <= info.maxMeshOutputPrimitives &&
+               k * outputBytes <= info.maxMeshOutputMemorySize &&
+               k * sharedBytes <= info.maxMeshSharedMemorySize;
+    };
+    std::uint32_t volumes = 3;
+    while (volumes > 1 && !fits(volumes)) --volumes;
+    if (!fits(volumes))
+        throw UsageError("Vulkan device " + info.name +
+                         "'s mesh shader limits cannot hold one volume's hull; use --extrusion hull");
+    return volumes;
+}
+
 } // namespace
+
+const char* toString(VolumeGeometry geometry) {
+    switch (geometry) {
+    case VolumeGeometry::GeometryShaderPrism:
+        return "geometry shader";
+    case VolumeGeometry::MeshShaderHull:
+        return "mesh shader (hull)";
+    case VolumeGeometry::ComputeHull:
+        return "hull (compute)";
+    }
+    return "?";
+}
+
+std::vector<ShaderStage> meshHullStages(const Device& device, const std::string& shader,
+                                        const std::vector<ShaderDefine>& defines) {
+    std::vector<ShaderDefine> sized = defines;
+    sized.push_back({"HULL_TASK_ITEMS", std::to_string(kTaskItems)});
+    sized.push_back({"HULL_MESH_VOLUMES", std::to_string(meshVolumesPerGroup(device.info()))});
+    const ShaderCompiler compiler;
+    return {{VK_SHADER_STAGE_TASK_BIT_EXT, compiler.compileFile(shader + ".task", sized)},
+            {VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile(shader + ".mesh", sized)}};
+}
+
+void recordMeshHullDraw(const Device& device, VkCommandBuffer cmd, std::uint32_t items) {
+    // A task workgroup a kTaskItems sides, in rows of at most 65535 workgroups (the minimum
+    // maxTaskWorkGroupCount[0]); hull_mesh.glsl numbers them row by row.
+    const std::uint64_t groups = (2ull * items + kTaskItems - 1) / kTaskItems;
+    if (groups == 0) return;
+    const auto rowLength = static_cast<std::uint32_t>(std::min<std::uint64_t>(
+        {groups, 65535, std::max<std::uint32_t>(device.info().maxTaskWorkGroupCountX, 1)}));
+    device.cmdDrawMeshTasks()(cmd, rowLength,
+                              static_cast<std::uint32_t>((groups + rowLength - 1) / rowLength), 1);
+}
+
+void checkMeshHullOverflow(std::size_t light, const char* pass, std::uint32_t overflow) {
+    if (overflow > 0)
+        throw Error(
+            "light " + std::to_string(light) + "'s " + pass + " mesh shader met " + std::to_string(overflow) +
+            " volume hulls with more corners or triangles than a convex hull of " +
+            std::to_string(CLIP_MAX_FACES) + " faces has, and drew none of them; use --extrusion hull");
+}
 
 HullResources::HullResources(const Device& device) : m_device(&device) {
     draw = Buffer(device, sizeof(GpuHullDraw), STORAGE | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,

@@ -21,6 +21,16 @@ namespace stsv {
 class CommandBuffer;
 class HullPass;
 
+/// What builds the volumes the STSV and wedge passes rasterise (ExtrusionStage, resolved for the
+/// device).
+enum class VolumeGeometry {
+    GeometryShaderPrism, ///< stsv.vert + stsv.geom, wedge.geom: the ten-vertex prisms
+    MeshShaderHull,      ///< stsv.task + stsv.mesh, wedge.task + wedge.mesh: the hulls, in the draw
+    ComputeHull,         ///< stsv_hull.comp, wedge_hull.comp, then hull.vert: the hulls, drawn indirect
+};
+
+const char* toString(VolumeGeometry geometry);
+
 /// What the hull passes append and the draws read: the indirect arguments and counts, the
 /// records and the vertices. Sized at start-up by a run of the hull passes (resize), so a
 /// frame's exact needs; 1-element stand-ins before that.
@@ -90,5 +100,20 @@ class HullPass final : public GpuPass {
     std::uint32_t m_itemsPerThread;
     Pipeline m_pipeline;
 };
+
+/// The mesh path of a family's hulls (VK_EXT_mesh_shader; common/hull_mesh.glsl): the task and
+/// mesh stages of `shader` ("stsv/stsv", "wedges/wedge": its .task and .mesh), which cull, build,
+/// clip and emit the hulls within the volume pass's draw. A mesh workgroup takes as many volumes
+/// as the device's mesh output and shared-memory limits hold (HULL_MESH_VOLUMES).
+std::vector<ShaderStage> meshHullStages(const Device& device, const std::string& shader,
+                                        const std::vector<ShaderDefine>& defines);
+/// The draw of the mesh path over the sides of `items` items (triangles, carrier faces).
+void recordMeshHullDraw(const Device& device, VkCommandBuffer cmd, std::uint32_t items);
+/// The stages in which the mesh path reads the scene and counts in its family's stats.
+constexpr VkPipelineStageFlags2 MESH_HULL_STAGES =
+    VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
+/// A mesh path that met a hull larger than a workgroup emits drew it not; `overflow` such hulls
+/// of light `light` are an error, not a picture.
+void checkMeshHullOverflow(std::size_t light, const char* pass, std::uint32_t overflow);
 
 } // namespace stsv

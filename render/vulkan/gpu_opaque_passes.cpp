@@ -151,9 +151,10 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
 
 WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
                      FrameResources& frame, const FamilyDescriptors& descriptors,
-                     const std::vector<ShaderDefine>& defines, const HullResources* hulls,
-                     DeferredFragments& deferred)
-    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_hulls(hulls), m_deferred(&deferred),
+                     const std::vector<ShaderDefine>& defines, VolumeGeometry geometry,
+                     const HullResources& hulls, DeferredFragments& deferred)
+    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_device(&device),
+      m_geometry(geometry), m_hulls(&hulls), m_deferred(&deferred),
       m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw) {
     VkFormatProperties coverageFormat{};
     vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), VCOEF_FORMAT, &coverageFormat);
@@ -164,17 +165,29 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
     // The back faces of the bound behind the visible point, as the STSV pass.
     std::vector<ShaderDefine> fragmentDefines = wedgeDefines(options, defines);
     GraphicsPipelineDesc desc;
-    if (m_hulls) {
+    switch (m_geometry) {
+    case VolumeGeometry::ComputeHull:
         fragmentDefines.push_back({"WEDGE_HULL_PATH", "1"});
         desc = volumePipelineDesc(
             {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("common/hull.vert", defines)},
              {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/wedge.frag", fragmentDefines)}});
         desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
-    } else {
+        break;
+    case VolumeGeometry::MeshShaderHull: {
+        fragmentDefines.push_back({"WEDGE_MESH_PATH", "1"});
+        std::vector<ShaderStage> stages = meshHullStages(device, "wedges/wedge", defines);
+        stages.push_back(
+            {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/wedge.frag", fragmentDefines)});
+        desc = volumePipelineDesc(std::move(stages));
+        desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        break;
+    }
+    case VolumeGeometry::GeometryShaderPrism:
         desc = volumePipelineDesc(
             {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv/stsv.vert", defines)},
              {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedges/wedge.geom", defines)},
              {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/wedge.frag", fragmentDefines)}});
+        break;
     }
     if (m_pw) {
         desc.colorFormats = {VCOEF_FORMAT};
@@ -186,11 +199,14 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
 
 PassAccesses WedgePass::accesses(std::size_t) const {
     PassAccesses accesses;
+    // The mesh shader counts the hulls it emits.
+    const VkPipelineStageFlags2 statsStages =
+        m_geometry == VolumeGeometry::MeshShaderHull ? MESH_HULL_STAGES | FRAGMENT : FRAGMENT;
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(FRAGMENT));
-    if (m_hulls) m_hulls->declareDrawReads(accesses);
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(statsStages));
+    if (m_geometry == VolumeGeometry::ComputeHull) m_hulls->declareDrawReads(accesses);
     if (m_pw)
         accesses.use(m_frame->samples.vcoef, ResourceUse::colorAttachment());
     else
@@ -206,10 +222,18 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    if (m_hulls)
+    const auto carriers = static_cast<uint32_t>(m_opaque->carrierCount());
+    switch (m_geometry) {
+    case VolumeGeometry::ComputeHull:
         m_hulls->recordDraw(cmd);
-    else if (m_opaque->carrierCount() > 0)
-        vkCmdDraw(cmd, static_cast<uint32_t>(m_opaque->carrierCount()), 1, 0, 0);
+        break;
+    case VolumeGeometry::MeshShaderHull:
+        recordMeshHullDraw(*m_device, cmd, carriers);
+        break;
+    case VolumeGeometry::GeometryShaderPrism:
+        if (carriers > 0) vkCmdDraw(cmd, carriers, 1, 0, 0);
+        break;
+    }
     endRendering(cmd);
 }
 

@@ -88,13 +88,13 @@ class CenterCountPass final : public GpuPass {
 /// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume and light
 /// planes: DCS lists the fragments with the edge a silhouette seen from p in `deferred` (for
 /// WedgeSamplesPass), PW adds the analytic wedge coverage to the v_coef image (an attachment here, summing
-/// the terms). The bounds are drawn as the carrier's prism (wedge.geom) or, with `hulls`, as the hulls of
-/// wedge_hull.comp (render/vulkan/gpu_hulls.h).
+/// the terms). The bounds are drawn as the carrier's prism (wedge.geom), as the hulls of wedge_hull.comp
+/// from `hulls` (render/vulkan/gpu_hulls.h), or as the hulls wedge.task and wedge.mesh emit.
 class WedgePass final : public GpuPass {
   public:
     WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
               FrameResources& frame, const FamilyDescriptors& descriptors,
-              const std::vector<ShaderDefine>& defines, const HullResources* hulls,
+              const std::vector<ShaderDefine>& defines, VolumeGeometry geometry, const HullResources& hulls,
               DeferredFragments& deferred);
 
     PassAccesses accesses(std::size_t light) const override;
@@ -104,7 +104,9 @@ class WedgePass final : public GpuPass {
     OpaqueOccluderResources* m_opaque;
     FrameResources* m_frame;
     const FamilyDescriptors* m_descriptors;
-    const HullResources* m_hulls; ///< null: the prisms of wedge.geom
+    const Device* m_device;
+    VolumeGeometry m_geometry;
+    const HullResources* m_hulls; ///< read by the draw of ComputeHull
     DeferredFragments* m_deferred;
     bool m_pw;
     Pipeline m_pipeline;

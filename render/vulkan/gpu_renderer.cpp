@@ -77,8 +77,8 @@ class VulkanFrame {
   public:
     /// `deferredCapacity`: the fragments the STSV hull draw and the DCS wedge draw may list for
     /// their sample passes at first (the list grows when a frame needs more).
-    VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options, StsvGeometry geometry,
-                std::uint64_t deferredCapacity);
+    VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
+                VolumeGeometry geometry, std::uint64_t deferredCapacity);
     Frame render(double startupMs);
 
   private:
@@ -86,7 +86,7 @@ class VulkanFrame {
     const Scene& m_scene;
     RenderOptions m_options;
     const MethodInfo& m_method;
-    StsvGeometry m_geometry;
+    VolumeGeometry m_geometry;
     SamplePlan m_plan;
     FrameResources m_resources;
     std::optional<HullResources> m_hulls;        ///< with a volume family
@@ -110,7 +110,7 @@ class VulkanFrame {
 };
 
 VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
-                         StsvGeometry geometry, std::uint64_t deferredCapacity)
+                         VolumeGeometry geometry, std::uint64_t deferredCapacity)
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
       m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
       m_hulls(hullResourcesFor(device, m_method)),
@@ -234,7 +234,7 @@ Frame VulkanFrame::render(double startupMs) {
 std::vector<ExtrusionStage> offeredExtrusions(const DeviceInfo& info) {
     std::vector<ExtrusionStage> stages = {ExtrusionStage::Hull};
     if (info.geometryShader) stages.push_back(ExtrusionStage::Geometry);
-    if (info.meshShader) stages.push_back(ExtrusionStage::Mesh);
+    if (info.meshShader && info.taskShader) stages.push_back(ExtrusionStage::Mesh);
     return stages;
 }
 
@@ -256,7 +256,7 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height) {
 struct VulkanRenderer::Impl {
     std::unique_ptr<Device> ownDevice;
     Device* device = nullptr;
-    StsvGeometry geometry = StsvGeometry::Hull;
+    VolumeGeometry geometry = VolumeGeometry::ComputeHull;
     std::unique_ptr<VulkanFrame> frame;
     RenderOptions requestedOptions; ///< as asked: the frame renders the sub-pixel grid
     double startupMs = 0.0;
@@ -288,9 +288,9 @@ struct VulkanRenderer::Impl {
             throw UsageError("Vulkan device " + info.name + " lacks " +
                              (stage == ExtrusionStage::Mesh ? "VK_EXT_mesh_shader" : "geometry shaders") +
                              " (--extrusion " + toString(stage) + ")");
-        geometry = stage == ExtrusionStage::Mesh       ? StsvGeometry::MeshShaderPrism
-                   : stage == ExtrusionStage::Geometry ? StsvGeometry::GeometryShaderPrism
-                                                       : StsvGeometry::Hull;
+        geometry = stage == ExtrusionStage::Mesh       ? VolumeGeometry::MeshShaderHull
+                   : stage == ExtrusionStage::Geometry ? VolumeGeometry::GeometryShaderPrism
+                                                       : VolumeGeometry::ComputeHull;
         // Room for two listed fragments a pixel (foliage with 16 k S-triangles lists 1.5 a
         // pixel), at most kMaxDeferredFragments; a frame that lists more grows the list and runs
         // again.
@@ -323,7 +323,7 @@ const Device& VulkanRenderer::device() const {
 }
 
 bool VulkanRenderer::usesMeshShader() const {
-    return m_impl->geometry == StsvGeometry::MeshShaderPrism;
+    return m_impl->geometry == VolumeGeometry::MeshShaderHull;
 }
 
 } // namespace stsv

@@ -15,13 +15,11 @@ DH_CONST uint GPU_BINDING_STSV_MASK_WORDS = GPU_BINDING_VOLUME_FAMILY_FIRST;
 
 /// What the STSV passes count per light (atomic counters in the shaders).
 struct GpuStsvStats {
-    GpuHullCounts hull; ///< stsv_hull.comp
+    GpuHullCounts hull; ///< stsv_hull.comp or stsv.mesh
     uint fragments;     ///< fragments that passed the depth test (volume behind the visible point)
     uint inside;        ///< of those, p inside the volume and on its side: they run the sample loop
     uint listed;        ///< hull-draw fragments listed for stsv_samples.comp, past the end too
     uint deferred;      ///< listed fragments whose samples stsv_samples.comp tested
-    uint pad0;
-    uint pad1;
 };
 
 /// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of

@@ -17,18 +17,6 @@ constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 } // namespace
 
-const char* toString(StsvGeometry geometry) {
-    switch (geometry) {
-    case StsvGeometry::GeometryShaderPrism:
-        return "geometry shader";
-    case StsvGeometry::MeshShaderPrism:
-        return "mesh shader";
-    case StsvGeometry::Hull:
-        return "hull (compute)";
-    }
-    return "?";
-}
-
 StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
                                  FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
                                  const FamilyDescriptors& descriptors)
@@ -98,7 +86,7 @@ void StsvMergePass::record(VkCommandBuffer cmd, std::size_t light) const {
 
 StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
                    FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
-                   const FamilyDescriptors& descriptors, StsvGeometry geometry)
+                   const FamilyDescriptors& descriptors, VolumeGeometry geometry)
     : m_device(&device), m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_geometry(geometry), m_counters(options.buffer == BufferKind::Counters),
       m_transmittance(options.buffer == BufferKind::Transmittance),
@@ -111,15 +99,15 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
     // far extrusion may pass the far plane): one fragment per pixel and volume.
     GraphicsPipelineDesc desc;
     switch (m_geometry) {
-    case StsvGeometry::MeshShaderPrism:
+    case VolumeGeometry::MeshShaderHull:
         fragmentDefines.push_back({"STSV_MESH_PATH", "1"});
-        desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, compiler.compileFile("stsv/stsv.mesh", common)}};
+        desc.stages = meshHullStages(device, "stsv/stsv", common);
         break;
-    case StsvGeometry::GeometryShaderPrism:
+    case VolumeGeometry::GeometryShaderPrism:
         desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv/stsv.vert", common)},
                        {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("stsv/stsv.geom", common)}};
         break;
-    case StsvGeometry::Hull:
+    case VolumeGeometry::ComputeHull:
         fragmentDefines.push_back({"STSV_HULL_PATH", "1"});
         desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("common/hull.vert", common)}};
         break;
@@ -147,11 +135,14 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
 
 PassAccesses StsvPass::accesses(std::size_t light) const {
     PassAccesses accesses;
+    // The mesh shader counts the hulls it emits.
+    const VkPipelineStageFlags2 statsStages =
+        m_geometry == VolumeGeometry::MeshShaderHull ? MESH_HULL_STAGES | FRAGMENT : FRAGMENT;
     accesses.use(m_resources->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_resources->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_resources->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(FRAGMENT));
-    if (m_geometry == StsvGeometry::Hull) {
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(statsStages));
+    if (m_geometry == VolumeGeometry::ComputeHull) {
         m_hulls->declareDrawReads(accesses);
         accesses.use(m_deferred->count, ResourceUse::storageReadWrite(FRAGMENT))
             .use(m_deferred->fragments, ResourceUse::storageReadWrite(FRAGMENT));
@@ -173,16 +164,13 @@ void StsvPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, m_perforatedOnly ? GPU_PUSH_PERFORATED_ONLY : 0u, 0u});
     if (m_triangleCount > 0) {
         switch (m_geometry) {
-        case StsvGeometry::MeshShaderPrism: {
-            // Workgroups in rows of at most 65535 (the minimum maxMeshWorkGroupCount[0]).
-            const uint32_t rowLength = std::min<uint32_t>(m_triangleCount, 65535u);
-            m_device->cmdDrawMeshTasks()(cmd, rowLength, (m_triangleCount + rowLength - 1) / rowLength, 1);
+        case VolumeGeometry::MeshShaderHull:
+            recordMeshHullDraw(*m_device, cmd, m_triangleCount);
             break;
-        }
-        case StsvGeometry::GeometryShaderPrism:
+        case VolumeGeometry::GeometryShaderPrism:
             vkCmdDraw(cmd, 3 * m_triangleCount, 1, 0, 0);
             break;
-        case StsvGeometry::Hull:
+        case VolumeGeometry::ComputeHull:
             m_hulls->recordDraw(cmd);
             break;
         }

@@ -18,15 +18,6 @@
 
 namespace stsv {
 
-/// What builds the volumes the STSV pass rasterises (ExtrusionStage, resolved for the device).
-enum class StsvGeometry {
-    GeometryShaderPrism, ///< stsv.vert + stsv.geom
-    MeshShaderPrism,     ///< stsv.mesh
-    Hull,                ///< stsv_hull.comp, then hull.vert
-};
-
-const char* toString(StsvGeometry geometry);
-
 /// stsv_samples.comp for one light: the deferred fragments' samples, into the mask words or the
 /// counters.
 class StsvSamplesPass final : public GpuPass {
@@ -73,7 +64,7 @@ class StsvPass final : public GpuPass {
     /// With hulls, `deferred` receives the fragments whose samples StsvSamplesPass tests.
     StsvPass(const Device& device, const Scene& scene, const RenderOptions& options,
              FrameResources& resources, HullResources& hulls, DeferredFragments& deferred,
-             const FamilyDescriptors& descriptors, StsvGeometry geometry);
+             const FamilyDescriptors& descriptors, VolumeGeometry geometry);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -85,7 +76,7 @@ class StsvPass final : public GpuPass {
     HullResources* m_hulls;
     DeferredFragments* m_deferred;
     const FamilyDescriptors* m_descriptors;
-    StsvGeometry m_geometry;
+    VolumeGeometry m_geometry;
     bool m_counters;       ///< counters buffer, else bitmask attachments
     bool m_transmittance;  ///< translucent triangles add optical depths
     bool m_perforatedOnly; ///< StsvTriangles::Perforated

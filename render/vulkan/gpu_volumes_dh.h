@@ -25,8 +25,10 @@ DH_CONST uint GPU_BINDING_VOLUME_FAMILY_FIRST = 8u;
 /// What a hull pass counts per light: the first member of its family's stats (GpuStsvStats,
 /// GpuWedgeStats), where render/vulkan/gpu_hulls.cpp reads it to size the hull buffers.
 struct GpuHullCounts {
-    uint volumes;   ///< volumes the hull pass built (stsv_hull.comp, wedge_hull.comp)
+    uint volumes;   ///< volumes the hull pass (stsv_hull.comp, wedge_hull.comp) or mesh shader built
     uint triangles; ///< triangles of their hulls drawn (those facing away from the eye)
+    uint overflow;  ///< mesh shader: volumes whose hull outgrew a mesh workgroup's outputs (none drawn)
+    uint pad;
 };
 
 /// A hull pass's record of one volume: GPU_HULL_RECORD_TEXELS 16-byte texels (GpuStsvRecord,
@@ -53,7 +55,7 @@ struct GpuHullDraw {
 };
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(GpuHullCounts) == 8);
+DH_STATIC_ASSERT(sizeof(GpuHullCounts) == 16);
 DH_STATIC_ASSERT(sizeof(GpuHullDraw) == 32);
 #endif
 

@@ -25,13 +25,15 @@ DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
 
 /// What the wedge passes count per light (atomic counters in the shaders).
 struct GpuWedgeStats {
-    GpuHullCounts hull;   ///< wedge_hull.comp
+    GpuHullCounts hull;   ///< wedge_hull.comp or wedge.mesh
     uint fragments;       ///< wedge-pass fragments that passed the depth test
     uint inside;          ///< of those, p inside the bound with the edge a silhouette seen from p
     uint listed;          ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
     uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
     uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
     uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 /// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a
@@ -76,7 +78,7 @@ struct GpuEdgeFace {
 DH_CONST uint GPU_EDGE_FACE_TEXELS = 2u;
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(GpuWedgeStats) == 32);
+DH_STATIC_ASSERT(sizeof(GpuWedgeStats) == 48);
 DH_STATIC_ASSERT(offsetof(GpuWedgeStats, hull) == 0);
 DH_STATIC_ASSERT(sizeof(GpuWedgeRecord) == 16 * GPU_HULL_RECORD_TEXELS);
 DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planes) == 16 * GPU_WEDGE_RECORD_PLANES);

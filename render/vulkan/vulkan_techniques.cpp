@@ -55,8 +55,8 @@ bool drawsStsv(StsvTriangles which, const Scene& scene) {
 
 /// STSV over the row's triangles (Algorithm 2 lines 8–10): the volumes' hulls built by a compute
 /// pass and drawn, their listed fragments' samples and, for bits, the merge into the masks; or
-/// the prisms of the geometry or mesh shader. Without S-triangles in the scene it records
-/// nothing, and the frame clears the masks (every sample lit).
+/// the prisms of the geometry shader or the hulls of the mesh shader. Without S-triangles in the scene it
+/// records nothing, and the frame clears the masks (every sample lit).
 class StsvTechnique final : public VulkanTechnique {
   public:
     explicit StsvTechnique(const VulkanTechniqueContext& c)
@@ -68,10 +68,10 @@ class StsvTechnique final : public VulkanTechnique {
           m_clearDeferred({}, {&c.deferred->count, &c.deferred->maskWords}) {
         if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
         const bool bitmask = c.options.buffer != BufferKind::Counters; // occlusion bits
-        if (c.geometry == StsvGeometry::Hull) c.deferred->use(bitmask);
+        if (c.geometry == VolumeGeometry::ComputeHull) c.deferred->use(bitmask);
         m_stsv.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family,
                        c.geometry);
-        if (c.geometry != StsvGeometry::Hull) return;
+        if (c.geometry != VolumeGeometry::ComputeHull) return;
         m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family);
         if (bitmask) m_merge.emplace(c.device, c.options, c.resources, *c.deferred, m_family);
         m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", layoutDefines(c.resources.tables.layout),
@@ -122,10 +122,14 @@ class StsvTechnique final : public VulkanTechnique {
             const GpuStsvStats& s = m_counts[l];
             nlohmann::json light = {
                 {"fragments", s.fragments}, {"inside_fragments", s.inside}, {"samples_tested", n * s.inside}};
-            if (m_hullPass) {
-                m_c.hulls->checkCapacity(l, "STSV", s.hull.volumes, s.hull.triangles);
+            if (m_c.geometry == VolumeGeometry::MeshShaderHull)
+                checkMeshHullOverflow(l, "STSV", s.hull.overflow);
+            if (m_c.geometry != VolumeGeometry::GeometryShaderPrism) {
                 light["hull_volumes"] = s.hull.volumes;
                 light["hull_triangles"] = s.hull.triangles;
+            }
+            if (m_hullPass) {
+                m_c.hulls->checkCapacity(l, "STSV", s.hull.volumes, s.hull.triangles);
                 light["listed_fragments"] = s.listed;
                 light["deferred_fragments"] = s.deferred;
             }
@@ -158,14 +162,14 @@ class WedgeTechnique final : public VulkanTechnique {
           m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls->draw}),
           m_clearDeferredCount({}, {&c.deferred->count}),
           m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
-          m_wedges(c.device, c.options, m_opaque, c.resources, m_family, c.defines,
-                   c.geometry == StsvGeometry::Hull ? c.hulls : nullptr, *c.deferred),
+          m_wedges(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry, *c.hulls,
+                   *c.deferred),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
             c.deferred->use(false);
             m_samples.emplace(c.device, c.resources, *c.deferred, m_family, c.defines);
         }
-        if (c.geometry == StsvGeometry::Hull && m_opaque.carrierCount() > 0)
+        if (c.geometry == VolumeGeometry::ComputeHull && m_opaque.carrierCount() > 0)
             m_hullPass.emplace(c.device, "wedges/wedge_hull.comp", layoutDefines(c.resources.tables.layout),
                                static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u, *c.hulls, m_family);
     }
@@ -224,8 +228,10 @@ class WedgeTechnique final : public VulkanTechnique {
                 wedge["listed_fragments"] = s.listed;
                 wedge["samples_tested"] = n * s.inside;
             }
-            if (m_hullPass) {
-                m_c.hulls->checkCapacity(l, "wedge", s.hull.volumes, s.hull.triangles);
+            if (m_hullPass) m_c.hulls->checkCapacity(l, "wedge", s.hull.volumes, s.hull.triangles);
+            if (m_c.geometry == VolumeGeometry::MeshShaderHull)
+                checkMeshHullOverflow(l, "wedge", s.hull.overflow);
+            if (m_c.geometry != VolumeGeometry::GeometryShaderPrism) {
                 wedge["hull_volumes"] = s.hull.volumes;
                 wedge["hull_triangles"] = s.hull.triangles;
             }

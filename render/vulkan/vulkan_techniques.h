@@ -32,7 +32,7 @@ struct VulkanTechniqueContext {
     const Scene& scene;
     const RenderOptions& options; ///< the frame's (the sub-pixel grid with --supersample)
     const MethodInfo& method;
-    StsvGeometry geometry;
+    VolumeGeometry geometry;
     FrameResources& resources;
     const FrameDescriptors& descriptors;
     HullResources* hulls;              ///< the volume families' (STSV, wedges); null in a frame without them

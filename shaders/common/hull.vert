@@ -6,6 +6,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "common/frame_bindings.glsl"
 #include "render/vulkan/gpu_volumes_dh.h"
+#include "common/hull_faces.glsl"
 
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_VERTEX_TEXELS) uniform usamplerBuffer hullTexels;
 
@@ -15,6 +16,6 @@ void main() {
     // A draw past the buffer (an overflow the host reports) draws nothing there.
     bool inBuffer = gl_VertexIndex < textureSize(hullTexels);
     uvec4 v = inBuffer ? texelFetch(hullTexels, gl_VertexIndex) : uvec4(0u);
-    gl_Position = frame.clipFromWorld * vec4(uintBitsToFloat(v.xyz), 1.0);
+    gl_Position = hullClipPosition(uintBitsToFloat(v.xyz));
     outRecord = inBuffer ? v.w : 0xffffffffu;
 }

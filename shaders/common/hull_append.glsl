@@ -9,6 +9,7 @@
 #include "common/frame_bindings.glsl"
 #include "render/vulkan/gpu_volumes_dh.h"
 #include "volumes/extrusion_dh.h"
+#include "common/hull_faces.glsl"
 
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_DRAW) buffer HullDraw { GpuHullDraw draw; };
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_RECORDS) writeonly buffer HullRecords { uvec4 hullRecords[]; };
@@ -16,38 +17,21 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_HULL_VERTICES) writeo
 
 const uint HULL_NO_RECORD = 0xffffffffu;
 
-/// A hull corner in world space (x_world = origin + scale·x) with its record: `precise`, so that
-/// the corner two faces share gets the same bits in both (no contraction at one of them).
+/// A hull corner in world space with its record, as hull.vert reads it.
 uvec4 hullVertex(vec3 corner, vec3 origin, float scale, uint record) {
-    precise vec3 p = origin + scale * corner;
-    return uvec4(floatBitsToUint(p), record);
+    return uvec4(floatBitsToUint(hullWorldCorner(corner, origin, scale)), record);
 }
 
-/// The hull of `h` appended: the fans of its faces that the rasteriser keeps, those not turned
-/// towards the eye (the volume passes draw back faces). A face is left out only when the eye
-/// lies clearly on its outer side, 1e-4 of the eye's distance beyond its plane, far beyond the
-/// rounding of the rasteriser's own decision. Returns the record index whose texels the caller
-/// writes (hullRecords[record · GPU_HULL_RECORD_TEXELS + i]), or HULL_NO_RECORD when nothing was
-/// appended; `triangles` gets the triangles counted.
+/// The hull of `h` appended: the fans of its faces that the rasteriser keeps (hullDrawnFaces).
+/// Returns the record index whose texels the caller writes (hullRecords[record ·
+/// GPU_HULL_RECORD_TEXELS + i]), or HULL_NO_RECORD when nothing was appended; `triangles` gets
+/// the triangles counted.
 uint appendHull(StsvHullSetup h, out uint triangles) {
     triangles = 0u;
     if (h.empty != 0u) return HULL_NO_RECORD;
     ClippedBox hull = clipBox(h.lo, h.hi, h.planes, h.count, h.minCut);
-    vec3 eye = (vec3(frame.eye) - h.origin) / h.scale;
-    uint drawn = 0u; // bit f: face f is drawn
-    for (uint f = 0u; f < hull.faceCount; ++f) {
-        uint o = f * CLIP_MAX_FACE_VERTICES;
-        vec3 normal = vec3(0.0); // Newell: twice the area, outward
-        for (uint i = 0u; i < hull.count[f]; ++i) {
-            vec3 a = CLIP_CORNER(hull, o + i);
-            vec3 b = CLIP_CORNER(hull, o + (i + 1u) % hull.count[f]);
-            normal += vec3((a.y - b.y) * (a.z + b.z), (a.z - b.z) * (a.x + b.x), (a.x - b.x) * (a.y + b.y));
-        }
-        vec3 toEye = eye - CLIP_CORNER(hull, o);
-        if (dot(normal, toEye) > 1e-4 * length(normal) * length(toEye)) continue;
-        drawn |= 1u << f;
-        triangles += hull.count[f] - 2u;
-    }
+    uint corners;
+    uint drawn = hullDrawnFaces(hull, h, triangles, corners);
     if (triangles == 0u) return HULL_NO_RECORD;
     uint record = atomicAdd(draw.records, 1u);
     uint first = atomicAdd(draw.vertexCount, 3u * triangles);

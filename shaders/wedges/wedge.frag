@@ -20,6 +20,16 @@
 #ifndef WEDGE_HULL_PATH
 #define WEDGE_HULL_PATH 0
 #endif
+// The bound's record as per-primitive inputs from wedge.mesh instead of wedge.geom's flat varyings.
+#ifndef WEDGE_MESH_PATH
+#define WEDGE_MESH_PATH 0
+#endif
+#if WEDGE_MESH_PATH
+#extension GL_EXT_mesh_shader : require
+#define WEDGE_FLAT perprimitiveEXT flat
+#else
+#define WEDGE_FLAT flat
+#endif
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "wedges/wedge_term.glsl"
@@ -43,10 +53,10 @@ vec4 boundPlane(uint i) { return uintBitsToFloat(recordTexel(GPU_WEDGE_RECORD_PL
 vec4 boundPlaneSide0(uint i) { return uintBitsToFloat(recordTexel(GPU_WEDGE_RECORD_PLANES_SIDE0 + i)); }
 vec4 boundLightPlane(uint i) { return uintBitsToFloat(recordTexel(GPU_WEDGE_RECORD_LIGHT_PLANES + i)); }
 #else
-layout(location = 0) flat in uvec4 inIds;
-layout(location = 1) flat in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
-layout(location = 6) flat in vec4 inPlanesSide0[STSV_VOLUME_MAX_PLANES];
-layout(location = 11) flat in vec4 inLightPlanes[STSV_LIGHT_PLANES_MAX];
+layout(location = 0) WEDGE_FLAT in uvec4 inIds;
+layout(location = 1) WEDGE_FLAT in vec4 inPlanes[STSV_VOLUME_MAX_PLANES];
+layout(location = 6) WEDGE_FLAT in vec4 inPlanesSide0[STSV_VOLUME_MAX_PLANES];
+layout(location = 11) WEDGE_FLAT in vec4 inLightPlanes[STSV_LIGHT_PLANES_MAX];
 uvec4 boundIds() { return inIds; }
 vec4 boundPlane(uint i) { return inPlanes[i]; }
 vec4 boundPlaneSide0(uint i) { return inPlanesSide0[i]; }
