@@ -121,12 +121,13 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
                         "Vulkan device: index or name substring (see stsv info)");
     command->add_flag("--validation", a.options.validation, "Vulkan validation layers (messages on stderr)");
     command
-        ->add_option("--extrusion", a.extrusion,
-                     "Vulkan stage that builds the STSV volumes and wedge bounds: auto | hull | geometry | mesh "
-                     "(auto: hull, the scene box clipped by each volume's and the light's planes in a compute "
-                     "pass and drawn indirect; mesh: the same hulls culled by a task shader and clipped and "
-                     "emitted by a mesh shader, where the device has VK_EXT_mesh_shader; geometry: the "
-                     "paper's ten-vertex prism)")
+        ->add_option(
+            "--extrusion", a.extrusion,
+            "Vulkan stage that builds the STSV volumes and wedge bounds: auto | hull | geometry | mesh "
+            "(auto: hull, the scene box clipped by each volume's and the light's planes in a compute "
+            "pass and drawn indirect; mesh: the same hulls culled by a task shader and clipped and "
+            "emitted by a mesh shader, where the device has VK_EXT_mesh_shader; geometry: the "
+            "paper's ten-vertex prism)")
         ->capture_default_str();
     command->add_option("--max-memory", a.maxMemory,
                         "memory the scene and the frame may hold, e.g. 8G or 512M (default: half of this "

@@ -40,7 +40,8 @@ std::vector<MeshCase> meshCases() {
     std::vector<MeshCase> cases;
     for (const char* name : {"fence", "foliage", "knot"}) cases.push_back({name, loadScene(name)});
     cases.push_back({"example.json", loadScene(dataPath("example.json"))});
-    cases.push_back({"torus knot mesh", makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot")});
+    cases.push_back(
+        {"torus knot mesh", makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot")});
     Scene sphere = makeMeshScene(test::makeSphereMesh(32, 16), "sphere");
     sphere.lights[0] = makeSphereLight(sphere.lights[0].position, 0.3f, sphere.lights[0].radiance);
     cases.push_back({"sphere mesh, sphere light", std::move(sphere)});
@@ -64,8 +65,8 @@ void expectSameCounts(const Frame& mesh, const Frame& hull, const char* family, 
     for (std::size_t l = 0; l < hull.stats[family].size(); ++l) {
         const nlohmann::json& m = mesh.stats[family][l];
         const nlohmann::json& h = hull.stats[family][l];
-        for (const char* key : {"hull_volumes", "hull_triangles", "fragments", "inside_fragments",
-                                "silhouette_fragments"}) {
+        for (const char* key :
+             {"hull_volumes", "hull_triangles", "fragments", "inside_fragments", "silhouette_fragments"}) {
             if (h.contains(key)) {
                 EXPECT_EQ(m[key], h[key]) << what << " " << family << " light " << l << " " << key;
             }
@@ -74,56 +75,60 @@ void expectSameCounts(const Frame& mesh, const Frame& hull, const char* family, 
 }
 
 TEST_F(GpuMeshShader, MeshShaderHullsGiveTheBuffersOfTheHullAndGeometryPaths) {
-    if (!meshShaders()) GTEST_SKIP() << device().info().name << " lacks VK_EXT_mesh_shader: mesh path not run";
+    if (!meshShaders())
+        GTEST_SKIP() << device().info().name << " lacks VK_EXT_mesh_shader: mesh path not run";
     for (const MeshCase& c : meshCases())
         for (Method method : {Method::Stsv, Method::Dcs, Method::Pw, Method::DcsStsv, Method::PwStsv})
             for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
-            // The frame's buffer is the method's (methodInfo.bufferKind); STSV alone writes either.
-            if (method != Method::Stsv && kind == BufferKind::Counters) continue;
-            RenderOptions o = gpuOptions(96, 72, 64, kind);
-            o.method = method;
-            const std::string what = c.name + " " + toString(method) + " " + toString(kind);
-            const Frame mesh = renderGpu(c.scene, o, ExtrusionStage::Mesh);
-            const Frame hull = renderGpu(c.scene, o, ExtrusionStage::Hull);
-            const Frame prism = renderGpu(c.scene, o, ExtrusionStage::Geometry);
-            EXPECT_EQ(mesh.stats["gpu"]["extrusion"], "mesh shader (hull)") << what;
-            ASSERT_EQ(mesh.lightSamples.size(), hull.lightSamples.size()) << what;
-            for (std::size_t l = 0; l < mesh.lightSamples.size(); ++l)
-                for (const Frame* other : {&hull, &prism}) {
-                    EXPECT_EQ(mesh.lightSamples[l].words(), other->lightSamples[l].words()) << what << " light " << l;
-                    EXPECT_EQ(mesh.lightSamples[l].counters(), other->lightSamples[l].counters())
-                        << what << " light " << l;
-                }
-            expectSameCounts(mesh, hull, "stsv", what);
-            expectSameCounts(mesh, hull, "wedges", what);
-            const bool pw = methodInfo(method).opaque == OpaqueTechnique::Pw;
-            ASSERT_EQ(mesh.visibility.pixels.size(), hull.visibility.pixels.size()) << what;
-            for (const Frame* other : {&hull, &prism})
-                for (std::size_t i = 0; i < mesh.visibility.pixels.size(); ++i) {
-                    if (!pw) {
-                        ASSERT_EQ(mesh.visibility.pixels[i], other->visibility.pixels[i]) << what << " pixel " << i;
-                        continue;
+                // The frame's buffer is the method's (methodInfo.bufferKind); STSV alone writes either.
+                if (method != Method::Stsv && kind == BufferKind::Counters) continue;
+                RenderOptions o = gpuOptions(96, 72, 64, kind);
+                o.method = method;
+                const std::string what = c.name + " " + toString(method) + " " + toString(kind);
+                const Frame mesh = renderGpu(c.scene, o, ExtrusionStage::Mesh);
+                const Frame hull = renderGpu(c.scene, o, ExtrusionStage::Hull);
+                const Frame prism = renderGpu(c.scene, o, ExtrusionStage::Geometry);
+                EXPECT_EQ(mesh.stats["gpu"]["extrusion"], "mesh shader (hull)") << what;
+                ASSERT_EQ(mesh.lightSamples.size(), hull.lightSamples.size()) << what;
+                for (std::size_t l = 0; l < mesh.lightSamples.size(); ++l)
+                    for (const Frame* other : {&hull, &prism}) {
+                        EXPECT_EQ(mesh.lightSamples[l].words(), other->lightSamples[l].words())
+                            << what << " light " << l;
+                        EXPECT_EQ(mesh.lightSamples[l].counters(), other->lightSamples[l].counters())
+                            << what << " light " << l;
                     }
-                    // PW sums float coverages by additive blending in primitive order, which the
-                    // three draws do not share: equal up to the rounding of a few dozen additions
-                    // of terms ≤ 1.
-                    ASSERT_NEAR(mesh.visibility.pixels[i], other->visibility.pixels[i], 1e-5f)
-                        << what << " pixel " << i;
+                expectSameCounts(mesh, hull, "stsv", what);
+                expectSameCounts(mesh, hull, "wedges", what);
+                const bool pw = methodInfo(method).opaque == OpaqueTechnique::Pw;
+                ASSERT_EQ(mesh.visibility.pixels.size(), hull.visibility.pixels.size()) << what;
+                for (const Frame* other : {&hull, &prism})
+                    for (std::size_t i = 0; i < mesh.visibility.pixels.size(); ++i) {
+                        if (!pw) {
+                            ASSERT_EQ(mesh.visibility.pixels[i], other->visibility.pixels[i])
+                                << what << " pixel " << i;
+                            continue;
+                        }
+                        // PW sums float coverages by additive blending in primitive order, which the
+                        // three draws do not share: equal up to the rounding of a few dozen additions
+                        // of terms ≤ 1.
+                        ASSERT_NEAR(mesh.visibility.pixels[i], other->visibility.pixels[i], 1e-5f)
+                            << what << " pixel " << i;
+                    }
+                if (pw) {
+                    // The task shader hands its survivors on in item order, and a mesh workgroup emits
+                    // them in that order: the primitive order, and so PW's sums, are the same in every frame.
+                    const Frame again = renderGpu(c.scene, o, ExtrusionStage::Mesh);
+                    EXPECT_EQ(again.visibility.pixels, mesh.visibility.pixels) << what;
                 }
-            if (pw) {
-                // The task shader hands its survivors on in item order, and a mesh workgroup emits
-                // them in that order: the primitive order, and so PW's sums, are the same in every frame.
-                const Frame again = renderGpu(c.scene, o, ExtrusionStage::Mesh);
-                EXPECT_EQ(again.visibility.pixels, mesh.visibility.pixels) << what;
             }
-        }
 }
 
 TEST_F(GpuMeshShader, MeshShaderPathCullsAndDrawsFewerFragmentsThanPrisms) {
     // The task shader's culling and the clipped hulls: on the knot, DCS's mesh path draws the
     // compute path's hulls, a small fraction of the prisms' fragments (the compute path's bound
     // in the wedge tests: 2 %).
-    if (!meshShaders()) GTEST_SKIP() << device().info().name << " lacks VK_EXT_mesh_shader: mesh path not run";
+    if (!meshShaders())
+        GTEST_SKIP() << device().info().name << " lacks VK_EXT_mesh_shader: mesh path not run";
     const Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
     RenderOptions o = gpuOptions(96, 72, 32, BufferKind::Counters);
     o.method = Method::Dcs;
