@@ -41,9 +41,14 @@ struct Config {
     Backend backend;
     int samples;
     std::size_t variant;
-    MethodParams params; ///< the method's --param values, defaults included
+    MethodParams params;                             ///< the method's --param values, defaults included
+    ExtrusionStage extrusion = ExtrusionStage::Auto; ///< Vulkan: one of --extrusion's list
+    /// "vulkan", or "vulkan/mesh" with an extrusion asked for.
+    std::string backendLabel() const {
+        return toString(backend) + (extrusion == ExtrusionStage::Auto ? "" : "/" + toString(extrusion));
+    }
     std::string label() const {
-        return toString(method) + "/" + toString(backend) + " " + std::to_string(samples);
+        return toString(method) + "/" + backendLabel() + " " + std::to_string(samples);
     }
 };
 
@@ -108,6 +113,7 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
     o.params = result.config.params;
     o.backend = result.config.backend;
     o.samples = result.config.samples;
+    o.extrusion = result.config.extrusion;
     // A method without fractional transmittance runs on bits, as in compare.
     if (o.buffer == BufferKind::Transmittance && !methodInfo(o.method).writesTransmittance())
         o.buffer = BufferKind::Bitmask;
@@ -147,7 +153,7 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
 }
 
 void printTable(const std::vector<Result>& results, const std::vector<Variant>& variants, bool check) {
-    std::printf("%-24s %-10s %-8s %7s %11s %11s %11s %11s %9s%s\n", "scene", "method", "backend", "samples",
+    std::printf("%-24s %-10s %-15s %7s %11s %11s %11s %11s %9s%s\n", "scene", "method", "backend", "samples",
                 "startup ms", "median ms", "min ms", "max ms", "speed-up",
                 check ? "  identical bits   vis RMSE   vis bias" : "");
     for (const Result& r : results) {
@@ -155,8 +161,8 @@ void printTable(const std::vector<Result>& results, const std::vector<Variant>& 
         const Variant& variant = variants[c.variant];
         const std::string name = variant.label.empty() ? variant.scene : variant.scene + " " + variant.label;
         if (!r.error.empty()) {
-            std::printf("%-24s %-10s %-8s %7d  failed: %s\n", name.c_str(), toString(c.method).c_str(),
-                        toString(c.backend).c_str(), c.samples, r.error.c_str());
+            std::printf("%-24s %-10s %-15s %7d  failed: %s\n", name.c_str(), toString(c.method).c_str(),
+                        c.backendLabel().c_str(), c.samples, r.error.c_str());
             continue;
         }
         const Summary f = summarize(r.frameMs);
@@ -174,8 +180,8 @@ void printTable(const std::vector<Result>& results, const std::vector<Variant>& 
                               r.visibilityError->bias);
             std::snprintf(agreement, sizeof agreement, "%s%s", bits, vis);
         }
-        std::printf("%-24s %-10s %-8s %7d %11.1f %11.2f %11.2f %11.2f %9s%s\n", name.c_str(),
-                    toString(c.method).c_str(), toString(c.backend).c_str(), c.samples, r.startupMs, f.median,
+        std::printf("%-24s %-10s %-15s %7d %11.1f %11.2f %11.2f %11.2f %9s%s\n", name.c_str(),
+                    toString(c.method).c_str(), c.backendLabel().c_str(), c.samples, r.startupMs, f.median,
                     f.min, f.max, speedup, agreement);
         for (const auto& [pass, values] : r.passes) {
             const Summary p = summarize(values);
@@ -279,7 +285,13 @@ int runBench(BenchArgs& args) {
     if (args.repeat < 1 || args.repeat > 10000) throw UsageError("--repeat must lie in [1, 10000]");
     if (args.warmup < 0 || args.warmup > 1000) throw UsageError("--warmup must lie in [0, 1000]");
 
-    RenderOptions base = resolveFrameOptions(args);
+    // --extrusion takes a list here: each Vulkan configuration runs through each stage, in one run.
+    BenchArgs single = args;
+    single.extrusion = "auto";
+    RenderOptions base = resolveFrameOptions(single);
+    std::vector<ExtrusionStage> extrusions;
+    for (const std::string& e : splitList(args.extrusion)) extrusions.push_back(parseExtrusionStage(e));
+    if (extrusions.empty()) throw UsageError("--extrusion is empty");
     std::vector<Method> methods;
     for (const std::string& m : splitList(args.methods)) methods.push_back(parseMethod(m));
     std::vector<Backend> backends;
@@ -355,6 +367,7 @@ int runBench(BenchArgs& args) {
             o.params = c.params;
             o.backend = c.backend;
             o.samples = c.samples;
+            o.extrusion = c.extrusion;
             nlohmann::json j = {{"method", toString(c.method)},
                                 {"backend", toString(c.backend)},
                                 {"samples", c.samples},
@@ -421,29 +434,36 @@ int runBench(BenchArgs& args) {
         for (int n : samples) {
             std::optional<std::size_t> referenceIndex;
             const std::size_t groupStart = results.size();
-            for (const auto& [method, backend] : pairs) {
-                Result r;
-                r.config = {method, backend, n, v, paramsOf(method)};
-                r.scene = counts;
-                try {
-                    runConfiguration(scene, base, args.warmup, args.repeat, progressOn, args.onFrame, r);
-                } catch (const std::bad_alloc&) {
-                    r.error = "out of memory";
-                } catch (const Error& e) {
-                    r.error = e.what();
+            for (const auto& [method, backend] : pairs)
+                for (std::size_t x = 0; x < (backend == Backend::Vulkan ? extrusions.size() : 1); ++x) {
+                    Result r;
+                    r.config = {method,
+                                backend,
+                                n,
+                                v,
+                                paramsOf(method),
+                                backend == Backend::Vulkan ? extrusions[x] : ExtrusionStage::Auto};
+                    r.scene = counts;
+                    try {
+                        runConfiguration(scene, base, args.warmup, args.repeat, progressOn, args.onFrame, r);
+                    } catch (const std::bad_alloc&) {
+                        r.error = "out of memory";
+                    } catch (const Error& e) {
+                        r.error = e.what();
+                    }
+                    Progress::setEnabled(progressOn);
+                    if (!args.quiet && !progressOn && r.error.empty()) // a log line where there is no bar
+                        std::fprintf(stderr, "  %s: %zu timed frames, median %.2f ms\n",
+                                     r.config.label().c_str(), r.frameMs.size(), summarize(r.frameMs).median);
+                    if (!r.error.empty()) {
+                        failed = true;
+                        std::fprintf(stderr, "stsv: error: %s: %s\n", r.config.label().c_str(),
+                                     r.error.c_str());
+                    }
+                    results.push_back(std::move(r));
+                    if (isGroundTruth(method) && results.back().error.empty())
+                        referenceIndex = results.size() - 1;
                 }
-                Progress::setEnabled(progressOn);
-                if (!args.quiet && !progressOn && r.error.empty()) // a log line where there is no bar
-                    std::fprintf(stderr, "  %s: %zu timed frames, median %.2f ms\n", r.config.label().c_str(),
-                                 r.frameMs.size(), summarize(r.frameMs).median);
-                if (!r.error.empty()) {
-                    failed = true;
-                    std::fprintf(stderr, "stsv: error: %s: %s\n", r.config.label().c_str(), r.error.c_str());
-                }
-                results.push_back(std::move(r));
-                if (isGroundTruth(method) && results.back().error.empty())
-                    referenceIndex = results.size() - 1;
-            }
             for (std::size_t i = groupStart; i < results.size(); ++i) {
                 Result& r = results[i];
                 if (!referenceIndex || !r.error.empty()) continue;

@@ -243,6 +243,9 @@ int runCli(int argc, char** argv) {
                       "read presets from this JSON file instead of the built-in ones");
     bench->add_flag("--list-presets", b.listPresets, "print the presets and exit");
     addFrameOptions(bench, b);
+    bench->get_option("--extrusion")
+        ->description("Vulkan stages that build the volumes, comma-separated: each Vulkan configuration runs "
+                      "through each (auto | hull | geometry | mesh; see stsv render --help)");
 
     CompareArgs c;
     c.options.samples = 64;
