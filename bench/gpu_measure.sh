@@ -11,9 +11,13 @@
 #   foliage-scale.json   --preset foliage-scale (1k to 64k S-triangles, 1024², with the check)
 #   knot-scale.json      --preset knot-scale (11.5k to 184k triangles, dcs, with the check)
 #   extrusion-SCENE-STAGE.json  stsv compare of the light-sample buffers of --extrusion hull (the
-#                        default) and, where the device has VK_EXT_mesh_shader, mesh against the
-#                        geometry shader's prisms, bit by bit, on fence and foliage (1024², 64
-#                        samples); each render's --stats (fragments, frame time) beside them
+#                        default) and, where the device has VK_EXT_mesh_shader, mesh (the task and
+#                        mesh shaders' hulls) against the geometry shader's prisms, bit by bit, on
+#                        fence and foliage (stsv) and the knot (dcs), 1024², 64 samples; each
+#                        render's --stats (fragments, frame time) beside them
+#   extrusions-foliage.json, extrusions-knot.json  stsv bench through every extrusion the device
+#                        offers in one run: stsv on foliage (1k, 4k, 16k S-triangles) and dcs on
+#                        the knot, 1024², 64 samples, with the fragment counts
 #   summary.txt          the table lines of every step and its exit status
 # It stops at nothing: every step runs, and the script exits non-zero if any failed.
 set -uo pipefail
@@ -35,7 +39,7 @@ step() {
   {
     echo "== $name: exit $rc after $((SECONDS - start)) s"
     # The bench's table rows and check columns; compare's error lines.
-    grep -E '^[a-z].* (vulkan|cpu) |identical|differ|error' "$out/$name.txt" | head -40
+    grep -E '^[a-z].* (vulkan|cpu)[/ ]|identical|differ|error' "$out/$name.txt" | head -40
   } >>"$summary"
   [ "$rc" = 0 ] || failed=1
 }
@@ -54,9 +58,15 @@ if grep -q '"mesh_shader": *true' "$out/info.json"; then
 else
   echo "== extrusion: the device has no VK_EXT_mesh_shader; the mesh-shader path was not run" >>"$summary"
 fi
-for scene in fence foliage; do
+step extrusions-foliage "$stsv" bench foliage --methods stsv --backends vulkan --vary count=250,1000,4000 \
+  --size 1024x1024 --samples 64 --extrusion "${stages// /,}" --json "$out/extrusions-foliage.json" -q
+step extrusions-knot "$stsv" bench knot --methods dcs --backends vulkan --size 1024x1024 --samples 64 \
+  --extrusion "${stages// /,}" --json "$out/extrusions-knot.json" -q
+for scene in fence foliage knot; do
+  method=stsv
+  [ "$scene" = knot ] && method=dcs
   for stage in $stages; do
-    step "render-$scene-$stage" "$stsv" render "$scene" --size 1024x1024 --samples 64 -q \
+    step "render-$scene-$stage" "$stsv" render "$scene" --method "$method" --size 1024x1024 --samples 64 -q \
       --extrusion "$stage" --dump-ls "$out/$scene-$stage.npy" --stats "$out/$scene-$stage-stats.json"
   done
   for stage in $stages; do

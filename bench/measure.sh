@@ -49,10 +49,12 @@ measurement() {
     bench-particles) echo bench --preset particles --repeat 1 --warmup 0 ;;
     bench-particles-maps) echo bench particles --methods avsm,vpcss --backends vulkan,cpu --vary count=1000,10000 \
       --size 1024x1024 --samples 64 --repeat 1 --warmup 1 ;;
-    extrusion-hull-mesa22 | extrusion-hull-mesa25 | extrusion-geometry-mesa25 | extrusion-mesh-mesa25)
-      local stage=${1#extrusion-}
-      echo bench foliage --methods stsv --backends vulkan --vary count=250,1000,4000 --size 512x512 --samples 64 \
-        --repeat 3 --extrusion "${stage%-*}" ;;
+    extrusion-hull-mesa22) echo bench foliage --methods stsv --backends vulkan --vary count=250,1000,4000 \
+      --size 512x512 --samples 64 --repeat 3 --extrusion hull ;;
+    extrusion-foliage-mesa25) echo bench foliage --methods stsv --backends vulkan --vary count=250,1000,4000 \
+      --size 512x512 --samples 64 --repeat 3 --extrusion hull,mesh,geometry ;;
+    extrusion-knot-mesa25) echo bench knot --methods dcs --backends vulkan --size 512x512 --samples 64 --repeat 3 \
+      --extrusion hull,mesh,geometry ;;
     sheet-fabric) echo compare fence --set fabric=0.6 --buffer transmittance --methods "$all_methods,avsm,vpcss" \
       --converged 16 --size 192x144 --sheet docs/fabric-sheet.png ;;
     *) return 1 ;;
@@ -61,8 +63,7 @@ measurement() {
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
      bench-fence-vs-mesh bench-foliage-count bench-knot-scale compare-particles sheet-particles bench-particles
-     bench-particles-maps sheet-fabric extrusion-hull-mesa22 extrusion-hull-mesa25 extrusion-geometry-mesa25
-     extrusion-mesh-mesa25)
+     bench-particles-maps sheet-fabric extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")
