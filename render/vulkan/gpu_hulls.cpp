@@ -73,7 +73,7 @@ const char* toString(VolumeGeometry geometry) {
     case VolumeGeometry::GeometryShaderPrism:
         return "geometry shader";
     case VolumeGeometry::MeshShaderHull:
-        return "mesh shader (hull)";
+        return "mesh shader hull";
     case VolumeGeometry::ComputeHull:
         return "hull (compute)";
     }

@@ -88,7 +88,7 @@ TEST_F(GpuMeshShader, MeshShaderHullsGiveTheBuffersOfTheHullAndGeometryPaths) {
                 const Frame mesh = renderGpu(c.scene, o, ExtrusionStage::Mesh);
                 const Frame hull = renderGpu(c.scene, o, ExtrusionStage::Hull);
                 const Frame prism = renderGpu(c.scene, o, ExtrusionStage::Geometry);
-                EXPECT_EQ(mesh.stats["gpu"]["extrusion"], "mesh shader (hull)") << what;
+                EXPECT_EQ(mesh.stats["gpu"]["extrusion"], "mesh shader hull") << what;
                 ASSERT_EQ(mesh.lightSamples.size(), hull.lightSamples.size()) << what;
                 for (std::size_t l = 0; l < mesh.lightSamples.size(); ++l)
                     for (const Frame* other : {&hull, &prism}) {
