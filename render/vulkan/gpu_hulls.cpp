@@ -18,14 +18,16 @@ constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_B
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 constexpr VkDeviceSize TEXEL_BYTES = 16; ///< rgba32ui
 
+/// Shared memory of one polyhedron being clipped (clip_box_dh.h with CLIP_SHARED_INVOCATIONS):
+/// its corners, one face and a cut's entry and exit points, counted at 16 bytes a vec3.
+constexpr std::uint32_t CLIP_SHARED_BYTES =
+    ((CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES + 2 * CLIP_MAX_FACES) * 16;
+
 /// Threads of the hull shaders' workgroups (CLIP_SHARED_INVOCATIONS): 8, a SIMD batch of
 /// lavapipe, or fewer where the device's shared memory cannot hold 8 polyhedra being clipped
-/// (their corners, one face and a cut's entry and exit points, counted at 16 bytes a vec3, and
-/// the queue of their items).
+/// and the queue of their items.
 std::uint32_t hullThreadsPerGroup(const Device& device) {
-    constexpr std::uint32_t bytesPerThread =
-        ((CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES + 2 * CLIP_MAX_FACES) * 16 +
-        GPU_HULL_MAX_ITEMS_PER_THREAD * 4;
+    constexpr std::uint32_t bytesPerThread = CLIP_SHARED_BYTES + GPU_HULL_MAX_ITEMS_PER_THREAD * 4;
     std::uint32_t threads = 8;
     while (threads > 1 && threads * bytesPerThread > device.limits().maxComputeSharedMemorySize) threads /= 2;
     return threads;
@@ -51,8 +53,7 @@ std::uint32_t meshVolumesPerGroup(const DeviceInfo& info) {
     constexpr std::uint32_t corners = 6 * CLIP_MAX_FACES - 12;
     constexpr std::uint32_t triangles = CLIP_MAX_TRIANGLES;
     constexpr std::uint32_t outputBytes = corners * 16 + triangles * (GPU_HULL_RECORD_TEXELS * 16 + 16);
-    constexpr std::uint32_t sharedBytes =
-        ((CLIP_MAX_FACES + 1) * CLIP_MAX_FACE_VERTICES + 2 * CLIP_MAX_FACES) * 16 + 8;
+    constexpr std::uint32_t sharedBytes = CLIP_SHARED_BYTES + 8; // and its corner and triangle counts
     const auto fits = [&](std::uint32_t k) {
         return k * corners <= info.maxMeshOutputVertices && k * triangles <= info.maxMeshOutputPrimitives &&
                k * outputBytes <= info.maxMeshOutputMemorySize &&
@@ -99,14 +100,6 @@ void recordMeshHullDraw(const Device& device, VkCommandBuffer cmd, std::uint32_t
         {groups, 65535, std::max<std::uint32_t>(device.info().maxTaskWorkGroupCountX, 1)}));
     device.cmdDrawMeshTasks()(cmd, rowLength,
                               static_cast<std::uint32_t>((groups + rowLength - 1) / rowLength), 1);
-}
-
-void checkMeshHullOverflow(std::size_t light, const char* pass, std::uint32_t overflow) {
-    if (overflow > 0)
-        throw Error(
-            "light " + std::to_string(light) + "'s " + pass + " mesh shader met " + std::to_string(overflow) +
-            " volume hulls with more corners or triangles than a convex hull of " +
-            std::to_string(CLIP_MAX_FACES) + " faces has, and drew none of them; use --extrusion hull");
 }
 
 HullResources::HullResources(const Device& device) : m_device(&device) {
@@ -185,6 +178,27 @@ void HullResources::checkCapacity(std::size_t light, const char* pass, std::uint
         throw Error("internal error: light " + std::to_string(light) + "'s " + pass + " hulls (" +
                     std::to_string(volumes) + " volumes, " + std::to_string(triangles) +
                     " triangles) outgrew the buffers sized at start-up");
+}
+
+void HullResources::reportCounts(VolumeGeometry geometry, std::size_t light, const char* pass,
+                                 const GpuHullCounts& counts, nlohmann::json& out) const {
+    switch (geometry) {
+    case VolumeGeometry::GeometryShaderPrism:
+        return;
+    case VolumeGeometry::ComputeHull:
+        checkCapacity(light, pass, counts.volumes, counts.triangles);
+        break;
+    case VolumeGeometry::MeshShaderHull:
+        if (counts.overflow > 0)
+            throw Error("light " + std::to_string(light) + "'s " + pass + " mesh shader met " +
+                        std::to_string(counts.overflow) +
+                        " volume hulls with more corners or triangles than a convex hull of " +
+                        std::to_string(CLIP_MAX_FACES) +
+                        " faces has, and drew none of them; use --extrusion hull");
+        break;
+    }
+    out["hull_volumes"] = counts.volumes;
+    out["hull_triangles"] = counts.triangles;
 }
 
 void HullResources::declareDrawReads(PassAccesses& accesses) const {

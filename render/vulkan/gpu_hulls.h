@@ -12,6 +12,8 @@
 #include "render/vulkan/gpu_volumes_dh.h"
 #include "volumes/clip_box_dh.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -54,6 +56,12 @@ class HullResources {
     /// is wrong, so it is an error, not a picture.
     void checkCapacity(std::size_t light, const char* pass, std::uint64_t volumes,
                        std::uint64_t triangles) const;
+    /// A family's hull counts of light `light` after a frame drawn through `geometry`: an error
+    /// where the compute path outgrew these buffers or the mesh path met a hull larger than a
+    /// workgroup emits (drawn by neither), else `hull_volumes` and `hull_triangles` into `out`
+    /// (both hull paths; the prisms have no hulls).
+    void reportCounts(VolumeGeometry geometry, std::size_t light, const char* pass,
+                      const GpuHullCounts& counts, nlohmann::json& out) const;
 
     std::uint64_t recordCapacity() const { return m_recordCapacity; }
     std::uint64_t triangleCapacity() const { return m_triangleCapacity; }
@@ -109,11 +117,13 @@ std::vector<ShaderStage> meshHullStages(const Device& device, const std::string&
                                         const std::vector<ShaderDefine>& defines);
 /// The draw of the mesh path over the sides of `items` items (triangles, carrier faces).
 void recordMeshHullDraw(const Device& device, VkCommandBuffer cmd, std::uint32_t items);
-/// The stages in which the mesh path reads the scene and counts in its family's stats.
-constexpr VkPipelineStageFlags2 MESH_HULL_STAGES =
-    VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT;
-/// A mesh path that met a hull larger than a workgroup emits drew it not; `overflow` such hulls
-/// of light `light` are an error, not a picture.
-void checkMeshHullOverflow(std::size_t light, const char* pass, std::uint32_t overflow);
+/// The stages in which a volume pass drawn through `geometry` counts in its family's stats: the
+/// fragments, and the task and mesh shaders that count the hulls they emit.
+constexpr VkPipelineStageFlags2 volumeStatsStages(VolumeGeometry geometry) {
+    return VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT |
+           (geometry == VolumeGeometry::MeshShaderHull
+                ? VK_PIPELINE_STAGE_2_TASK_SHADER_BIT_EXT | VK_PIPELINE_STAGE_2_MESH_SHADER_BIT_EXT
+                : VkPipelineStageFlags2(0));
+}
 
 } // namespace stsv

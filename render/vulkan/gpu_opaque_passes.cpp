@@ -178,8 +178,7 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
         std::vector<ShaderStage> stages = meshHullStages(device, "wedges/wedge", defines);
         stages.push_back(
             {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/wedge.frag", fragmentDefines)});
-        desc = volumePipelineDesc(std::move(stages));
-        desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_LIST;
+        desc = volumePipelineDesc(std::move(stages)); // no input assembly: the topology is unused
         break;
     }
     case VolumeGeometry::GeometryShaderPrism:
@@ -199,13 +198,10 @@ WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueO
 
 PassAccesses WedgePass::accesses(std::size_t) const {
     PassAccesses accesses;
-    // The mesh shader counts the hulls it emits.
-    const VkPipelineStageFlags2 statsStages =
-        m_geometry == VolumeGeometry::MeshShaderHull ? MESH_HULL_STAGES | FRAGMENT : FRAGMENT;
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(statsStages));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(volumeStatsStages(m_geometry)));
     if (m_geometry == VolumeGeometry::ComputeHull) m_hulls->declareDrawReads(accesses);
     if (m_pw)
         accesses.use(m_frame->samples.vcoef, ResourceUse::colorAttachment());

@@ -135,13 +135,10 @@ StsvPass::StsvPass(const Device& device, const Scene& scene, const RenderOptions
 
 PassAccesses StsvPass::accesses(std::size_t light) const {
     PassAccesses accesses;
-    // The mesh shader counts the hulls it emits.
-    const VkPipelineStageFlags2 statsStages =
-        m_geometry == VolumeGeometry::MeshShaderHull ? MESH_HULL_STAGES | FRAGMENT : FRAGMENT;
     accesses.use(m_resources->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
         .use(m_resources->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
         .use(m_resources->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(statsStages));
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(volumeStatsStages(m_geometry)));
     if (m_geometry == VolumeGeometry::ComputeHull) {
         m_hulls->declareDrawReads(accesses);
         accesses.use(m_deferred->count, ResourceUse::storageReadWrite(FRAGMENT))

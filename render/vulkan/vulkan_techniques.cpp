@@ -122,14 +122,8 @@ class StsvTechnique final : public VulkanTechnique {
             const GpuStsvStats& s = m_counts[l];
             nlohmann::json light = {
                 {"fragments", s.fragments}, {"inside_fragments", s.inside}, {"samples_tested", n * s.inside}};
-            if (m_c.geometry == VolumeGeometry::MeshShaderHull)
-                checkMeshHullOverflow(l, "STSV", s.hull.overflow);
-            if (m_c.geometry != VolumeGeometry::GeometryShaderPrism) {
-                light["hull_volumes"] = s.hull.volumes;
-                light["hull_triangles"] = s.hull.triangles;
-            }
+            m_c.hulls->reportCounts(m_c.geometry, l, "STSV", s.hull, light);
             if (m_hullPass) {
-                m_c.hulls->checkCapacity(l, "STSV", s.hull.volumes, s.hull.triangles);
                 light["listed_fragments"] = s.listed;
                 light["deferred_fragments"] = s.deferred;
             }
@@ -228,13 +222,7 @@ class WedgeTechnique final : public VulkanTechnique {
                 wedge["listed_fragments"] = s.listed;
                 wedge["samples_tested"] = n * s.inside;
             }
-            if (m_hullPass) m_c.hulls->checkCapacity(l, "wedge", s.hull.volumes, s.hull.triangles);
-            if (m_c.geometry == VolumeGeometry::MeshShaderHull)
-                checkMeshHullOverflow(l, "wedge", s.hull.overflow);
-            if (m_c.geometry != VolumeGeometry::GeometryShaderPrism) {
-                wedge["hull_volumes"] = s.hull.volumes;
-                wedge["hull_triangles"] = s.hull.triangles;
-            }
+            m_c.hulls->reportCounts(m_c.geometry, l, "wedge", s.hull, wedge);
             // The counting volume at the light centre (dcs_center.frag): its fragments and the faces
             // behind p that added to D(r). The CPU casts rays for D(r): it has no fragments.
             wedge["center"] = {{"fragments", s.centerFragments}, {"counted_fragments", s.centerCounted}};
