@@ -10,6 +10,8 @@
 #include "volumes/extrusion.h"
 #include "volumes/stsv_dh.h"
 #include "wedges/dcs_dh.h"
+#include "wedges/edge_cluster_dh.h"
+#include "wedges/edge_clusters.h"
 #include "wedges/pw_dh.h"
 
 #include <algorithm>
@@ -18,20 +20,31 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <thread>
 
 namespace stsv {
 
-/// The data access of wedges/wedge_fragment_dh.h on the CPU: the edge's faces in the adjacency.
+/// A face of an edge, copied next to it (PackedEdge).
+struct PackedFace {
+    vec3 opposite; ///< the face's vertex opposite the edge
+    uint triangle; ///< scene triangle
+};
+
+/// The data access of wedges/wedge_fragment_dh.h on the CPU: the edge's faces copied next to it
+/// (`local`, two at most) or, for an edge with more, in the adjacency.
 struct WedgeFaces {
     const EdgeAdjacency* adjacency;
+    const PackedFace* local; ///< null: the faces first … first + count − 1 of the adjacency
     uint first;
     uint count;
 };
 inline uint wedgeFaceTriangle(WedgeFaces faces, uint f) {
-    return faces.adjacency->faces[f].triangle;
+    return faces.local ? faces.local[f].triangle : faces.adjacency->faces[f].triangle;
 }
 inline vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
-    return faces.adjacency->positions[faces.adjacency->faces[f].opposite];
+    return faces.local ? faces.local[f].opposite
+                       : faces.adjacency->positions[faces.adjacency->faces[f].opposite];
 }
 
 } // namespace stsv
@@ -45,7 +58,10 @@ nlohmann::json toJson(const WedgeCpuStats& s) {
     nlohmann::json j = {{"edges", s.edges},
                         {"potential_silhouettes", s.potentialSilhouettes},
                         {"volumes", s.volumes},
-                        {"tile_entries", s.tileEntries},
+                        {"block_edges", s.blockEdges},
+                        {"clusters", s.clusters},
+                        {"cluster_tests", s.clusterTests},
+                        {"clusters_rejected", s.clustersRejected},
                         {"fragments", s.pixelVolumeTests},
                         {"silhouette_fragments", s.pixelEdgeVisits},
                         {"negative_counts", s.negativeCounts},
@@ -84,221 +100,322 @@ std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint
 
 namespace {
 
-constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
-
-/// One face that bounds the wedge region of the potential silhouette edges assigned to it.
-struct FaceRecord {
+/// One non-degenerate face that bounds the wedges of the potential silhouette edges it carries
+/// (wedges/adjacency.h edgeCarriers), by the rule of wedge_bindings.glsl wedgeSetupBound: its
+/// STSV volume of each side the light sees, and its light planes. A segment that touches an edge
+/// touches the closed face, which STSV bounds conservatively. Trivial, so that storage for every
+/// carrier costs no page until a pixel needs its bound.
+struct FaceBound {
     StsvVolume volumes[2];
-    StsvLightPlanes lightPlanes; ///< of the face: a segment that touches an edge touches the face
+    StsvLightPlanes lightPlanes;
     std::uint32_t volumeCount;
-    std::uint32_t firstEdge; ///< into EdgeBins::edges
-    std::uint32_t edgeCount;
-};
 
-struct EdgeBins {
-    std::vector<FaceRecord> records;
-    std::vector<std::uint32_t> edges;
-    std::vector<std::vector<std::uint32_t>> tiles; ///< record indices per screen tile
-    int tilesX = 0;
-    int tilesY = 0;
-};
-
-/// Potential silhouettes of the light, grouped by a non-degenerate face each, that face's STSV
-/// volumes (both sides when the light straddles it: a segment touching the edge touches the
-/// closed face, which STSV bounds conservatively), binned to screen tiles.
-EdgeBins binEdges(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light, float farDistance,
-                  WedgeCpuStats& stats) {
-    const Scene& scene = occ.scene();
-    const EdgeAdjacency& adj = occ.adjacency();
-    const Bounds bounds = scene.bounds();
-    const vec4 sphere = lightBoundingSphere(light, bounds, farDistance);
-    const std::vector<std::uint32_t> candidates = potentialSilhouetteEdges(adj, sphere);
-    stats.edges = adj.edges.size();
-    stats.potentialSilhouettes = candidates.size();
-
-    auto corners = [&](std::uint32_t tri) {
-        const uvec3 i = scene.triangles[tri];
-        return std::array<vec3, 3>{scene.positions[i.x], scene.positions[i.y], scene.positions[i.z]};
-    };
-    // The potential silhouettes grouped by carrier face (wedges/adjacency.h); an edge without a
-    // carrier has k_e = 0 for every p and is dropped.
-    std::vector<std::pair<std::uint32_t, std::uint32_t>> byFace; // (triangle, edge)
-    byFace.reserve(candidates.size());
-    for (std::uint32_t e : candidates)
-        if (occ.carriers()[e] != NO_CARRIER) byFace.emplace_back(occ.carriers()[e], e);
-    std::sort(byFace.begin(), byFace.end());
-
-    EdgeBins bins;
-    bins.edges.reserve(byFace.size());
-    for (std::size_t i = 0; i < byFace.size();) {
-        const std::uint32_t tri = byFace[i].first;
-        FaceRecord record{};
-        record.firstEdge = static_cast<std::uint32_t>(bins.edges.size());
-        for (; i < byFace.size() && byFace[i].first == tri; ++i) bins.edges.push_back(byFace[i].second);
-        record.edgeCount = static_cast<std::uint32_t>(bins.edges.size()) - record.firstEdge;
-        const auto c = corners(tri);
-        // The bound's rule, as wedge_bindings.glsl wedgeSetupBound: the face's volume of each
-        // side the light sees, and its light planes.
-        record.lightPlanes =
-            stsvTriangleLightPlanes(c[0], c[1], c[2], light, farDistance, bounds.lo, bounds.hi);
-        for (uint side = 0; side < 2; ++side)
-            if (stsvSideVolume(c[0], c[1], c[2], sphere, bounds.lo, bounds.hi, side, true,
-                               record.volumes[record.volumeCount]))
-                ++record.volumeCount;
-        if (record.volumeCount == 0) {
-            bins.edges.resize(record.firstEdge);
-            continue;
-        }
-        stats.volumes += record.volumeCount;
-        bins.records.push_back(record);
-    }
-
-    const mat4 clipFromWorld =
-        binningClipFromView(scene.camera, gbuffer.width, gbuffer.height) * viewFromWorld(scene.camera);
-    bins.tilesX = tilesAcross(gbuffer.width);
-    bins.tilesY = tilesAcross(gbuffer.height);
-    bins.tiles.resize(std::size_t(bins.tilesX) * std::size_t(bins.tilesY));
-    for (std::size_t r = 0; r < bins.records.size(); ++r) {
-        ivec4 rect(std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), -1, -1);
-        bool any = false;
-        for (std::uint32_t v = 0; v < bins.records[r].volumeCount; ++v) {
-            ivec4 vr;
-            if (!volumeScreenRect(bins.records[r].volumes[v], clipFromWorld, gbuffer.width, gbuffer.height,
-                                  vr))
-                continue;
-            rect = ivec4(min(ivec2(rect.x, rect.y), ivec2(vr.x, vr.y)),
-                         max(ivec2(rect.z, rect.w), ivec2(vr.z, vr.w)));
-            any = true;
-        }
-        if (!any) continue;
-        for (int ty = rect.y / TILE; ty <= rect.w / TILE; ++ty)
-            for (int tx = rect.x / TILE; tx <= rect.z / TILE; ++tx) {
-                bins.tiles[std::size_t(ty) * std::size_t(bins.tilesX) + std::size_t(tx)].push_back(
-                    static_cast<std::uint32_t>(r));
-                ++stats.tileEntries;
-            }
-    }
-    return bins;
-}
-
-/// A face record with the edges of it that may be a silhouette from some point of a box.
-struct RecordEdges {
-    std::uint32_t record;
-    std::uint32_t first; ///< into the list's edges
-    std::uint32_t count;
-};
-
-/// The records and edges a box of visible points keeps.
-struct EdgeList {
-    std::vector<RecordEdges> records;
-    std::vector<std::uint32_t> edges; ///< adjacency edge indices
-
-    void clear() {
-        records.clear();
-        edges.clear();
-    }
-};
-
-/// False when the edge's weight k_e (wedgeWorldWeight) is zero for every point of the box with
-/// any receiver: every face's plane leaves the box strictly on one side (dcsBoxSide) and the
-/// sides cancel. A face whose triangle is a receiver in the box has the receiver point on its
-/// plane, so that face is never strict and the edge is kept.
-bool edgeMayBeSilhouette(const EdgeAdjacency& adj, const MeshEdge& edge, vec3 lo, vec3 hi) {
-    const vec3 v0 = adj.positions[edge.v0], v1 = adj.positions[edge.v1];
-    int sum = 0;
-    for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
-        const int side = dcsBoxSide(v0, v1, adj.positions[adj.faces[f].opposite], lo, hi);
-        if (side == 0) return true;
-        sum += side;
-    }
-    return sum != 0;
-}
-
-/// Of `records` (their edges in `edges`), those whose bound reaches the box [lo, hi] and that may be a
-/// silhouette in it, into `to`. Both tests are conservative (stsvVolumeMissesBox,
-/// edgeMayBeSilhouette), so they change no result.
-void keepForBox(const EdgeBins& bins, const EdgeAdjacency& adj, const std::vector<RecordEdges>& records,
-                const std::vector<std::uint32_t>& edges, const Bounds& box, EdgeList& to) {
-    to.clear();
-    for (const RecordEdges& entry : records) {
-        const FaceRecord& record = bins.records[entry.record];
-        bool reaches = false;
-        for (std::uint32_t v = 0; v < record.volumeCount && !reaches; ++v)
-            reaches = !stsvVolumeMissesBox(record.volumes[v], box.lo, box.hi);
-        if (!reaches || stsvLightPlanesMissBox(record.lightPlanes, box.lo, box.hi)) continue;
-        const auto first = static_cast<std::uint32_t>(to.edges.size());
-        for (std::uint32_t i = entry.first; i < entry.first + entry.count; ++i)
-            if (edgeMayBeSilhouette(adj, adj.edges[edges[i]], box.lo, box.hi)) to.edges.push_back(edges[i]);
-        const auto count = static_cast<std::uint32_t>(to.edges.size()) - first;
-        if (count > 0) to.records.push_back({entry.record, first, count});
-    }
-}
-
-/// The fragment work of one pixel: calls visit(l, a, b, k) for every edge that is a silhouette
-/// from p (k ≠ 0, receiver face excluded) with a non-empty part between p and the light.
-template <class Visit>
-void forEachSilhouette(const OpaqueOccluders& occ, const EdgeBins& bins, const EdgeList& list,
-                       const DcsPixel& px, std::uint32_t receiver, std::size_t& tests, std::size_t& visits,
-                       Visit&& visit) {
-    const EdgeAdjacency& adj = occ.adjacency();
-    for (const RecordEdges& entry : list.records) {
-        const FaceRecord& record = bins.records[entry.record];
-        ++tests;
+    bool contains(vec3 p) const {
         bool inside = false;
-        for (std::uint32_t v = 0; v < record.volumeCount && !inside; ++v)
-            inside = stsvPointInVolume(record.volumes[v], px.p);
-        if (!inside || !stsvPointInLightPlanes(record.lightPlanes, px.p)) continue;
-        for (std::uint32_t i = entry.first; i < entry.first + entry.count; ++i) {
-            const MeshEdge& edge = adj.edges[list.edges[i]];
-            const WedgeFaces faces{&adj, edge.firstFace, edge.faceCount};
-            const vec3 v0 = adj.positions[edge.v0], v1 = adj.positions[edge.v1];
-            if (wedgeWorldWeight(px.p, v0, v1, faces, receiver) == 0) continue;
-            vec3 l, h0, h1;
-            int k;
-            if (!wedgeEdgeTerm(px, v0, v1, faces, receiver, l, h0, h1, k)) continue;
-            ++visits;
-            visit(l, h0, h1, k);
+        for (std::uint32_t v = 0; v < volumeCount && !inside; ++v) inside = stsvPointInVolume(volumes[v], p);
+        return inside && stsvPointInLightPlanes(lightPlanes, p);
+    }
+};
+
+/// One potential silhouette edge as a pixel reads it: its vertices and, for two faces at most,
+/// the faces themselves.
+struct PackedEdge {
+    vec3 v0, v1;
+    std::uint32_t item; ///< the edge's index in (carrier, edge) order
+    std::uint32_t faceCount;
+    std::uint32_t firstFace; ///< into the adjacency's faces
+    PackedFace faces[2];     ///< the first two (unused ones: NO_TRIANGLE)
+
+    WedgeFaces wedgeFaces(const EdgeAdjacency& adj) const {
+        return faceCount <= 2 ? WedgeFaces{&adj, faces, 0u, faceCount}
+                              : WedgeFaces{&adj, nullptr, firstFace, faceCount};
+    }
+};
+
+/// The potential silhouettes of one light with a carrier, in (carrier, edge) order — the order
+/// every pixel visits them in (PW sums in it) — the tree of clusters over them, and their
+/// carriers' bounds, each built when a pixel first tests it: most carriers never hold a pixel's
+/// silhouette edge that crosses its light.
+class SilhouetteEdges {
+  public:
+    SilhouetteEdges(const OpaqueOccluders& occ, const Light& light, float farDistance, WedgeCpuStats& stats)
+        : m_scene(occ.scene()), m_lightSource(light), m_farDistance(farDistance) {
+        const EdgeAdjacency& adj = occ.adjacency();
+        m_sceneBounds = m_scene.bounds();
+        light_ = lightBoundingSphere(light, m_sceneBounds, farDistance);
+        const std::vector<std::uint32_t> candidates = potentialSilhouetteEdges(adj, light_);
+        stats.edges = adj.edges.size();
+        stats.potentialSilhouettes = candidates.size();
+        // Grouped by carrier face; an edge without a carrier has k_e = 0 for every p and is dropped.
+        std::vector<std::pair<std::uint32_t, std::uint32_t>> byFace; // (triangle, edge)
+        byFace.reserve(candidates.size());
+        for (std::uint32_t e : candidates)
+            if (occ.carriers()[e] != NO_CARRIER) byFace.emplace_back(occ.carriers()[e], e);
+        std::sort(byFace.begin(), byFace.end());
+        std::vector<vec3> turn; // the carriers' own normals, which orient the clusters' cones
+        turn.reserve(byFace.size());
+        edges_.reserve(byFace.size());
+        carrier_.reserve(byFace.size());
+        vec3 normal(0.f);
+        for (std::size_t i = 0; i < byFace.size(); ++i) {
+            if (i == 0 || byFace[i].first != byFace[i - 1].first) {
+                m_carrierTriangle.push_back(byFace[i].first);
+                const uvec3 t = m_scene.triangles[byFace[i].first];
+                const vec3 c0 = m_scene.positions[t.x];
+                normal = cross(m_scene.positions[t.y] - c0, m_scene.positions[t.z] - c0);
+            }
+            edges_.push_back(byFace[i].second);
+            carrier_.push_back(std::uint32_t(m_carrierTriangle.size() - 1));
+            turn.push_back(normal);
         }
+        m_bounds = std::make_unique_for_overwrite<FaceBound[]>(m_carrierTriangle.size());
+        m_state = std::make_unique<std::atomic<std::uint8_t>[]>(m_carrierTriangle.size());
+        tree_ = buildEdgeClusters(adj, edges_, turn, m_sceneBounds.diameter());
+        stats.clusters = tree_.leaves;
+        // What a pixel reads of each edge, leaf after leaf.
+        packed_.resize(tree_.items.size());
+        parallelForChunks(packed_.size(), [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const MeshEdge& edge = adj.edges[edges_[tree_.items[k]]];
+                PackedEdge& e = packed_[k];
+                e.v0 = adj.positions[edge.v0];
+                e.v1 = adj.positions[edge.v1];
+                e.item = tree_.items[k];
+                e.faceCount = edge.faceCount;
+                e.firstFace = edge.firstFace;
+                for (uint f = 0; f < 2; ++f) {
+                    const bool has = f < edge.faceCount;
+                    const EdgeFace& face = adj.faces[edge.firstFace + (has ? f : 0)];
+                    e.faces[f] = {has ? adj.positions[face.opposite] : vec3(0.f),
+                                  has ? face.triangle : NO_TRIANGLE};
+                }
+            }
+        });
+    }
+
+    /// Edge `position` of the tree's items (EdgeClusterTree::items order).
+    const PackedEdge& packed(std::uint32_t position) const { return packed_[position]; }
+
+    const std::vector<std::uint32_t>& edges() const { return edges_; } ///< adjacency edge indices
+    const EdgeClusterTree& tree() const { return tree_; }
+    vec4 light() const { return light_; } ///< the light's bounding ball (sampling/light_bounds.h)
+
+    /// The bound of item `item`'s carrier, built by the first thread that asks.
+    const FaceBound& bound(std::uint32_t item) const {
+        const std::uint32_t f = carrier_[item];
+        std::atomic<std::uint8_t>& state = m_state[f];
+        if (state.load(std::memory_order_acquire) == READY) return m_bounds[f];
+        std::uint8_t expected = UNBUILT;
+        if (state.compare_exchange_strong(expected, BUILDING, std::memory_order_acq_rel)) {
+            build(f);
+            state.store(READY, std::memory_order_release);
+        } else {
+            while (state.load(std::memory_order_acquire) != READY) std::this_thread::yield();
+        }
+        return m_bounds[f];
+    }
+
+    /// Volumes of the bounds built so far.
+    std::size_t volumesBuilt() const { return m_volumes.load(); }
+
+  private:
+    static constexpr std::uint8_t UNBUILT = 0, BUILDING = 1, READY = 2;
+
+    void build(std::uint32_t f) const {
+        const uvec3 i = m_scene.triangles[m_carrierTriangle[f]];
+        const vec3 c0 = m_scene.positions[i.x], c1 = m_scene.positions[i.y], c2 = m_scene.positions[i.z];
+        FaceBound& b = m_bounds[f];
+        b.volumeCount = 0;
+        b.lightPlanes = stsvTriangleLightPlanes(c0, c1, c2, m_lightSource, m_farDistance, m_sceneBounds.lo,
+                                                m_sceneBounds.hi);
+        for (uint side = 0; side < 2; ++side)
+            if (stsvSideVolume(c0, c1, c2, light_, m_sceneBounds.lo, m_sceneBounds.hi, side, false,
+                               b.volumes[b.volumeCount]))
+                ++b.volumeCount;
+        m_volumes += b.volumeCount;
+    }
+
+    const Scene& m_scene;
+    const Light& m_lightSource;
+    float m_farDistance;
+    Bounds m_sceneBounds;
+    vec4 light_;
+    std::vector<std::uint32_t> edges_;
+    std::vector<std::uint32_t> carrier_; ///< per item, its carrier's index
+    std::vector<std::uint32_t> m_carrierTriangle;
+    EdgeClusterTree tree_;
+    std::vector<PackedEdge> packed_;
+    std::unique_ptr<FaceBound[]> m_bounds;
+    std::unique_ptr<std::atomic<std::uint8_t>[]> m_state;
+    mutable std::atomic<std::size_t> m_volumes{0};
+};
+
+/// A ball of receiver points and the segments from it to the light.
+struct Region {
+    vec4 ball;
+    ClusterLightHull hull;
+
+    Region(vec4 region, vec4 light) : ball(region), hull(clusterLightHull(region, light)) {}
+    Region(const Bounds& box, vec4 light)
+        : Region(vec4(0.5f * (box.lo + box.hi), 0.5f * stsv::length(box.hi - box.lo) * (1.f + 1e-5f)),
+                 light) {}
+};
+
+/// A node of the tree against a region: false when no edge below it can add to any of its
+/// points (edge_cluster_dh.h). The cone test's margin grows by the rounding of the per-point
+/// orientation test (dcsWorldSide): its determinant, of differences up to M long, is off by at
+/// most about 16·2⁻²⁴·M³ (10⁻⁶·M³), the margin twice that over |n| in distance from a face's plane.
+bool nodeMayAdd(const EdgeClusterNode& node, const Region& region) {
+    if (!clusterMeetsLightHull(node.ball, region.hull)) return false;
+    if (node.cone.w < 0.f) return true;
+    const float m = stsv::length(vec3(region.ball) - vec3(node.ball)) + region.ball.w + node.faceReach;
+    return clusterMayHaveSilhouette(node.ball, node.cone, region.ball,
+                                    2e-6f * m * m * m * node.inverseNormal);
+}
+
+/// An edge of a block's leaves, where the visit order matters.
+struct BlockItem {
+    std::uint32_t item;     ///< (carrier, edge) order
+    std::uint32_t position; ///< in the tree's items
+    std::uint32_t slot;     ///< its leaf's slot in BlockEdges::leaves
+
+    bool operator<(const BlockItem& other) const { return item < other.item; }
+};
+
+/// The edges a block of pixels tests: the leaves its region keeps and, where the visit order
+/// matters (PW sums floats), their edges in (carrier, edge) order.
+struct BlockEdges {
+    std::vector<std::uint32_t> leaves; ///< node indices
+    std::vector<BlockItem> items;      ///< ordered only
+    std::vector<char> leafKept;        ///< per slot, for the current pixel
+};
+
+/// The fragment work of one pixel: calls visit(l, a, b, k) for every edge of the block that is a
+/// silhouette from p (k ≠ 0, receiver face excluded), whose ball meets the segments from p to the
+/// light (edgeBall, clusterMeetsLightHull), with a non-empty part between p and the light, and
+/// whose carrier's bound holds p: the pairs a GPU fragment counts (wedge_term.glsl). The block's
+/// leaves' balls are tested with p first; a leaf's ball holds its edges' balls, so a leaf p
+/// rejects holds no such edge (the silhouette test is exact per edge). `tests` counts the bound tests,
+/// `visits` the edges visited. `ordered`: in item order, else leaf by leaf.
+template <class Visit>
+void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, BlockEdges& block,
+                       bool ordered, const DcsPixel& px, vec4 light, std::uint32_t receiver,
+                       std::size_t& tests, std::size_t& visits, Visit&& visit) {
+    const EdgeAdjacency& adj = occ.adjacency();
+    const EdgeClusterTree& tree = sil.tree();
+    const Region point(vec4(px.p, 0.f), light);
+    bool any = false;
+    for (std::size_t s = 0; s < block.leaves.size(); ++s) {
+        block.leafKept[s] = clusterMeetsLightHull(tree.nodes[block.leaves[s]].ball, point.hull);
+        any = any || block.leafKept[s];
+    }
+    if (!any) return;
+    const auto edgeTerm = [&](std::uint32_t position) {
+        const PackedEdge& edge = sil.packed(position);
+        const WedgeFaces faces = edge.wedgeFaces(adj);
+        const vec3 v0 = edge.v0, v1 = edge.v1;
+        if (wedgeWorldWeight(px.p, v0, v1, faces, receiver) == 0) return;
+        if (!clusterMeetsLightHull(edgeBall(v0, v1), point.hull)) return;
+        vec3 l, h0, h1;
+        int k;
+        if (!wedgeEdgeTerm(px, v0, v1, faces, receiver, l, h0, h1, k)) return;
+        ++tests;
+        if (!sil.bound(edge.item).contains(px.p)) return;
+        ++visits;
+        visit(l, h0, h1, k);
+    };
+    if (ordered) {
+        for (const BlockItem& entry : block.items)
+            if (block.leafKept[entry.slot]) edgeTerm(entry.position);
+        return;
+    }
+    for (std::size_t s = 0; s < block.leaves.size(); ++s) {
+        if (!block.leafKept[s]) continue;
+        const EdgeClusterNode& leaf = tree.nodes[block.leaves[s]];
+        for (std::uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) edgeTerm(k);
     }
 }
 
-/// Runs `pixel(x, y, i, list)` over the covered pixels, tile by tile, on every core. The list
-/// holds the records and edges kept first for the tile's box of visible points and then for
-/// the pixel's CPU_BLOCK × CPU_BLOCK block (keepForBox).
+/// Runs `pixel(x, y, i, block)` over the covered pixels, tile by tile, on every core. Each tile
+/// walks the cluster tree with the region of its visible points and keeps the leaves that may
+/// add to them (nodeMayAdd); each CPU_BLOCK × CPU_BLOCK block of it keeps those of the tile's
+/// leaves that pass for its own region, and forEachSilhouette those that pass for the pixel's
+/// point. The tests are conservative, so they change no result; `stats` counts the tile and
+/// block ones. `ordered`: the block lists its edges in item order too (forEachSilhouette).
 template <class PixelFn>
-void forEachPixel(const OpaqueOccluders& occ, const GBuffer& gbuffer, const EdgeBins& bins, const char* label,
-                  PixelFn&& pixel) {
-    const EdgeAdjacency& adj = occ.adjacency();
-    Progress progress(label, bins.tiles.size());
+void forEachPixel(const GBuffer& gbuffer, const SilhouetteEdges& sil, bool ordered, const char* label,
+                  WedgeCpuStats& stats, PixelFn&& pixel) {
+    Progress progress(label,
+                      std::size_t(tilesAcross(gbuffer.width)) * std::size_t(tilesAcross(gbuffer.height)));
+    std::atomic<std::size_t> testCount{0}, rejectedCount{0}, entryCount{0};
+    const EdgeClusterTree& tree = sil.tree();
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
-        const std::size_t tileIndex = std::size_t(tile.ty) * std::size_t(bins.tilesX) + std::size_t(tile.tx);
         const Bounds box = tileReceiverBounds(gbuffer, tile);
         if (box.empty()) {
             progress.advance();
             return;
         }
-        thread_local std::vector<RecordEdges> binned;
-        thread_local EdgeList tileList, blockList;
-        binned.clear();
-        for (std::uint32_t r : bins.tiles[tileIndex])
-            binned.push_back({r, bins.records[r].firstEdge, bins.records[r].edgeCount});
-        keepForBox(bins, adj, binned, bins.edges, box, tileList);
+        thread_local std::vector<std::uint32_t> tileLeaves, stack;
+        thread_local BlockEdges block;
+        tileLeaves.clear();
+        std::size_t tests = 0, rejected = 0, entries = 0;
+        if (!tree.nodes.empty()) {
+            const Region region(box, sil.light());
+            stack.assign(1, 0u);
+            while (!stack.empty()) {
+                const std::uint32_t index = stack.back();
+                stack.pop_back();
+                const EdgeClusterNode& node = tree.nodes[index];
+                ++tests;
+                if (!nodeMayAdd(node, region)) {
+                    ++rejected;
+                } else if (node.count > 0) {
+                    tileLeaves.push_back(index);
+                } else {
+                    stack.push_back(node.first + 1);
+                    stack.push_back(node.first);
+                }
+            }
+        }
         // Every covered pixel is visited, with whatever its block keeps (D(r) needs no edge).
         for (int by = 0; by < CPU_BLOCKS; ++by)
             for (int bx = 0; bx < CPU_BLOCKS; ++bx) {
-                const PixelTile block = tileBlock(tile, bx, by);
-                if (block.x0 >= block.x1 || block.y0 >= block.y1) continue;
-                const Bounds blockBox = tileReceiverBounds(gbuffer, block);
+                const PixelTile sub = tileBlock(tile, bx, by);
+                if (sub.x0 >= sub.x1 || sub.y0 >= sub.y1) continue;
+                const Bounds blockBox = tileReceiverBounds(gbuffer, sub);
                 if (blockBox.empty()) continue;
-                keepForBox(bins, adj, tileList.records, tileList.edges, blockBox, blockList);
-                for (int y = block.y0; y < block.y1; ++y)
-                    for (int x = block.x0; x < block.x1; ++x) {
+                const Region region(blockBox, sil.light());
+                block.leaves.clear();
+                block.items.clear();
+                for (std::uint32_t index : tileLeaves) {
+                    ++tests;
+                    if (!nodeMayAdd(tree.nodes[index], region)) {
+                        ++rejected;
+                        continue;
+                    }
+                    const EdgeClusterNode& leaf = tree.nodes[index];
+                    entries += leaf.count;
+                    if (ordered)
+                        for (std::uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k)
+                            block.items.push_back({tree.items[k], k, std::uint32_t(block.leaves.size())});
+                    block.leaves.push_back(index);
+                }
+                if (ordered) std::sort(block.items.begin(), block.items.end());
+                block.leafKept.resize(block.leaves.size());
+                for (int y = sub.y0; y < sub.y1; ++y)
+                    for (int x = sub.x0; x < sub.x1; ++x) {
                         const std::size_t i = gbuffer.index(x, y);
-                        if (gbuffer.covered(i)) pixel(x, y, i, blockList);
+                        if (gbuffer.covered(i)) pixel(x, y, i, block);
                     }
             }
+        testCount += tests;
+        rejectedCount += rejected;
+        entryCount += entries;
         progress.advance();
     });
+    stats.clusterTests = testCount;
+    stats.clustersRejected = rejectedCount;
+    stats.blockEdges = entryCount;
 }
 
 } // namespace
@@ -309,67 +426,70 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
         throw UsageError("dcs needs a counter light-sample buffer (--buffer counters)");
     WedgeCpuStats stats;
     Timer timer;
-    const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
+    const SilhouetteEdges sil(occ, light, farDistance, stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();
     std::atomic<std::size_t> tests{0}, visits{0}, negative{0}, samples{0};
-    forEachPixel(occ, gbuffer, bins, "dcs (cpu)", [&](int x, int y, std::size_t i, const EdgeList& list) {
-        thread_local std::vector<std::uint32_t> scratch;
-        thread_local std::vector<vec2> ab;
-        thread_local std::vector<int> count;
-        const vec3 p = gbuffer.position[i];
-        const LightFrame frame = lightFrame(light, p, farDistance);
-        const float tMin = shadowTMin(p, frame.center, sceneDiameter);
-        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
-        // D(r): the layer count at the light centre (DESIGN §4.5).
-        const int base =
-            static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch));
-        count.assign(std::size_t(plan.count), base);
-        ab.resize(std::size_t(plan.count));
-        // The samples in a grid of cells, made when the first edge needs them: an edge tests
-        // only those of the cells its crossing region (dcsSampleRegion) touches.
-        SampleCells cells;
-        bool sampled = false;
-        const uint wordCount = uint(plan.count + 31) / 32u;
-        std::size_t localTests = 0, localVisits = 0, localNegative = 0, localSamples = 0;
-        if (px.valid != 0.0f)
-            forEachSilhouette(occ, bins, list, px, gbuffer.triangle[i], localTests, localVisits,
-                              [&](vec3 l, vec3 a, vec3 b, int k) {
-                                  vec2 lo, hi;
-                                  if (!dcsSampleRegion(l, a, b, vec2(-1.0f), vec2(1.0f), lo, hi)) return;
-                                  if (!sampled) {
-                                      for (int s = 0; s < plan.count; ++s) {
-                                          ab[std::size_t(s)] = pixelSamplePoint(plan, x, y, s, frame.domain);
-                                          cells.add(ab[std::size_t(s)], uint(s));
+    forEachPixel(
+        gbuffer, sil, false, "dcs (cpu)", stats, [&](int x, int y, std::size_t i, BlockEdges& block) {
+            thread_local std::vector<std::uint32_t> scratch;
+            thread_local std::vector<vec2> ab;
+            thread_local std::vector<int> count;
+            const vec3 p = gbuffer.position[i];
+            const LightFrame frame = lightFrame(light, p, farDistance);
+            const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
+            // D(r): the layer count at the light centre (DESIGN §4.5).
+            const int base =
+                static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch));
+            count.assign(std::size_t(plan.count), base);
+            ab.resize(std::size_t(plan.count));
+            // The samples in a grid of cells, made when the first edge needs them: an edge tests
+            // only those of the cells its crossing region (dcsSampleRegion) touches.
+            SampleCells cells;
+            bool sampled = false;
+            const uint wordCount = uint(plan.count + 31) / 32u;
+            std::size_t localTests = 0, localVisits = 0, localNegative = 0, localSamples = 0;
+            if (px.valid != 0.0f)
+                forEachSilhouette(occ, sil, block, false, px, sil.light(), gbuffer.triangle[i], localTests,
+                                  localVisits, [&](vec3 l, vec3 a, vec3 b, int k) {
+                                      vec2 lo, hi;
+                                      if (!dcsSampleRegion(l, a, b, vec2(-1.0f), vec2(1.0f), lo, hi)) return;
+                                      if (!sampled) {
+                                          for (int s = 0; s < plan.count; ++s) {
+                                              ab[std::size_t(s)] =
+                                                  pixelSamplePoint(plan, x, y, s, frame.domain);
+                                              cells.add(ab[std::size_t(s)], uint(s));
+                                          }
+                                          sampled = true;
                                       }
-                                      sampled = true;
-                                  }
-                                  const std::array<uint, 8> tested = cells.within(lo, hi, wordCount);
-                                  for (uint w = 0; w < wordCount; ++w)
-                                      for (uint bits = tested[w]; bits != 0u; bits &= bits - 1u) {
-                                          const std::size_t s = 32u * w + uint(std::countr_zero(bits));
-                                          ++localSamples;
-                                          count[s] += k * dcsSampleCrossing(l, a, b, ab[s]);
-                                      }
-                              });
-        for (int k = 0; k < plan.count; ++k) {
-            int c = count[std::size_t(k)];
-            if (c < 0) {
-                ++localNegative;
-                c = 0;
+                                      const std::array<uint, 8> tested = cells.within(lo, hi, wordCount);
+                                      for (uint w = 0; w < wordCount; ++w)
+                                          for (uint bits = tested[w]; bits != 0u; bits &= bits - 1u) {
+                                              const std::size_t s = 32u * w + uint(std::countr_zero(bits));
+                                              ++localSamples;
+                                              count[s] += k * dcsSampleCrossing(l, a, b, ab[s]);
+                                          }
+                                  });
+            for (int k = 0; k < plan.count; ++k) {
+                int c = count[std::size_t(k)];
+                if (c < 0) {
+                    ++localNegative;
+                    c = 0;
+                }
+                if (c) counters.addCount(x, y, k, c);
             }
-            if (c) counters.addCount(x, y, k, c);
-        }
-        tests += localTests;
-        visits += localVisits;
-        negative += localNegative;
-        samples += localSamples;
-    });
+            tests += localTests;
+            visits += localVisits;
+            negative += localNegative;
+            samples += localSamples;
+        });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.negativeCounts = negative;
     stats.samplesTested = samples.load();
+    stats.volumes = sil.volumesBuilt();
     stats.shade_ms = timer.milliseconds();
     return stats;
 }
@@ -394,14 +514,14 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
                               float farDistance, ImageF& visibility) {
     WedgeCpuStats stats;
     Timer timer;
-    const EdgeBins bins = binEdges(occ, gbuffer, light, farDistance, stats);
+    const SilhouetteEdges sil(occ, light, farDistance, stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();
     visibility = ImageF(gbuffer.width, gbuffer.height, 1);
     std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
     std::atomic<std::size_t> tests{0}, visits{0};
-    forEachPixel(occ, gbuffer, bins, "pw (cpu)", [&](int x, int y, std::size_t i, const EdgeList& list) {
+    forEachPixel(gbuffer, sil, true, "pw (cpu)", stats, [&](int x, int y, std::size_t i, BlockEdges& block) {
         thread_local std::vector<std::uint32_t> scratch;
         const vec3 p = gbuffer.position[i];
         const LightFrame frame = lightFrame(light, p, farDistance);
@@ -412,8 +532,8 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
             pwCenterOcclusion(int(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch)));
         std::size_t localTests = 0, localVisits = 0;
         if (px.valid != 0.0f)
-            forEachSilhouette(occ, bins, list, px, gbuffer.triangle[i], localTests, localVisits,
-                              [&](vec3 l, vec3 a, vec3 b, int k) {
+            forEachSilhouette(occ, sil, block, true, px, sil.light(), gbuffer.triangle[i], localTests,
+                              localVisits, [&](vec3 l, vec3 a, vec3 b, int k) {
                                   occlusion += pwWedgeTerm(k, pwEdgeCoverage(l, a, b, frame.domain));
                               });
         visibility.at(x, y, 0) = pwVisibility(occlusion);
@@ -422,6 +542,7 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
+    stats.volumes = sil.volumesBuilt();
     stats.shade_ms = timer.milliseconds();
     return stats;
 }

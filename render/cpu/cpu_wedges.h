@@ -25,10 +25,19 @@ namespace stsv {
 struct WedgeCpuStats {
     std::size_t edges = 0;                ///< welded edges of the opaque triangles
     std::size_t potentialSilhouettes = 0; ///< of those, potential silhouettes for this light
-    std::size_t volumes = 0;              ///< face volumes built for binning
-    std::size_t tileEntries = 0;          ///< (tile, face record) pairs
-    /// Point-in-volume tests of a face record's bound ("fragments"; one record holds the
-    /// face's potential silhouette edges, a GPU fragment one edge).
+    /// STSV volumes of the carrier faces, which bound the wedges: built for a face when a pixel
+    /// first tests its bound.
+    std::size_t volumes = 0;
+    std::size_t clusters = 0; ///< leaves of the cluster tree (EDGE_CLUSTER_LEAF edges at most)
+    /// (region, node) tests of the cluster tree: each screen tile walks the tree with the ball of
+    /// its visible points, each block of it tests the tile's leaves with its own ball.
+    std::size_t clusterTests = 0;
+    /// Of those, nodes rejected: no segment from the region to the light meets their ball, or no
+    /// edge below can be a silhouette from any point of it (wedges/edge_cluster_dh.h).
+    std::size_t clustersRejected = 0;
+    std::size_t blockEdges = 0; ///< (block, edge) pairs the blocks' pixels test
+    /// Point-in-bound tests of an edge's carrier face ("fragments"), run for the (pixel, edge)
+    /// pairs that pass the silhouette and clip tests; a GPU fragment is one pair inside the bound.
     std::size_t pixelVolumeTests = 0;
     /// (pixel, edge) pairs with the edge a silhouette from p, clipped non-empty
     /// ("silhouette_fragments", as the GPU counts them; DCS tests every sample of each).

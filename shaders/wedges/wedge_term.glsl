@@ -21,6 +21,7 @@ vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
 }
 #define WEDGE_FACES
 #include "wedges/wedge_fragment_dh.h"
+#include "wedges/edge_cluster_dh.h"
 
 WedgeFaces wedgeFacesOf(WedgeEdge edge) {
     WedgeFaces faces;
@@ -31,7 +32,8 @@ WedgeFaces wedgeFacesOf(WedgeEdge edge) {
 
 /// Edge `edge` seen from the visible point p of triangle `receiver`, light pc.light: the
 /// pixel's light frame lf, the edge projected onto it (h0, h1, l = h0 × h1) and its weight k;
-/// false when it adds nothing (no valid frame, k = 0, nothing between p and the light).
+/// false when it adds nothing (no valid frame, the edge's ball meets no segment from p to the
+/// light's ball, k = 0, nothing between p and the light).
 bool wedgePixelTerm(vec3 p, WedgeEdge edge, uint receiver, out vec3 l, out vec3 h0, out vec3 h1, out int k,
                     out LightFrame lf) {
     Light light = lights[pc.light].light;
@@ -43,6 +45,8 @@ bool wedgePixelTerm(vec3 p, WedgeEdge edge, uint receiver, out vec3 l, out vec3 
     h1 = vec3(0.0);
     k = 0;
     if (px.valid == 0.0) return false;
+    if (!clusterMeetsLightHull(edgeBall(edge.v0, edge.v1), clusterLightHull(vec4(p, 0.0), lights[pc.light].sphere)))
+        return false;
     return wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, k);
 }
 

@@ -1,5 +1,5 @@
-// wedges/dcs_dh.h and wedges/pw_dh.h must compile as GLSL 4.50 too (DESIGN §3): a fragment shader
-// running the per-pixel DCS edge loop and the PW coverage, compiled with glslangValidator.
+// wedges/dcs_dh.h, wedges/pw_dh.h and wedges/edge_cluster_dh.h must compile as GLSL 4.50 too (DESIGN §3): a
+// fragment shader running the per-pixel DCS edge loop and the PW coverage, compiled with glslangValidator.
 #include "tests/support/glsl.h"
 
 #include <gtest/gtest.h>
@@ -12,6 +12,7 @@ const char* kFragment = R"(#version 450
 #extension GL_GOOGLE_include_directive : require
 #include "wedges/dcs_dh.h"
 #include "wedges/pw_dh.h"
+#include "wedges/edge_cluster_dh.h"
 layout(location = 0) in vec3 inP;
 layout(location = 0) out vec4 color;
 layout(std430, binding = 0) readonly buffer Edges { vec4 edgeData[]; };
@@ -29,7 +30,10 @@ void main() {
         for (int s = 0; s < 16; ++s) counts[s] += k * dcsSampleCrossing(l, h0, h1, vec2(float(s) / 16.0f - 0.5f, 0.25f));
         occlusion += float(k) * pwEdgeCoverage(l, h0, h1, DOMAIN_DISK) + pwEdgeCoverage(l, h0, h1, DOMAIN_SQUARE);
     }
-    color = vec4(float(counts[3]), occlusion, px.valid, 1.0f);
+    ClusterLightHull hull = clusterLightHull(vec4(inP, 0.0f), vec4(0.0f, 5.0f, 0.0f, 0.5f));
+    bool meets = clusterMeetsLightHull(edgeBall(vec3(edgeData[0]), vec3(edgeData[1])), hull);
+    bool cone = clusterMayHaveSilhouette(edgeData[4], edgeData[5], vec4(inP, 0.1f), 1e-5f);
+    color = vec4(float(counts[3]), occlusion, px.valid, meets && cone ? 1.0f : 0.0f);
 }
 )";
 

@@ -1,0 +1,249 @@
+// The cluster tree over potential silhouette edges (wedges/edge_clusters.h) and its two tests
+// (wedges/edge_cluster_dh.h): the tree's bounds hold what they claim, the light-hull test never
+// rejects a ball that a segment from the region to the light meets, it is monotone (a point of a
+// region, a ball inside a ball), and a node the silhouette test rejects for a region holds no edge
+// that is a silhouette from any point of it — checked against brute force on real meshes.
+#include "scene/geometry.h"
+#include "wedges/adjacency.h"
+#include "wedges/dcs_dh.h"
+#include "wedges/edge_cluster_dh.h"
+#include "wedges/edge_clusters.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <set>
+
+namespace stsv {
+namespace {
+
+Scene sceneOf(const MeshData& mesh) {
+    Scene scene;
+    appendMesh(scene, mesh, mat4(1.0f), "m");
+    return scene;
+}
+
+struct Built {
+    Scene scene;
+    EdgeAdjacency adj;
+    std::vector<std::uint32_t> edges;
+    EdgeClusterTree tree;
+};
+
+/// Every edge of the mesh, each cone turned to its first face's normal.
+Built buildAll(const MeshData& mesh) {
+    Built b;
+    b.scene = sceneOf(mesh);
+    b.adj = buildEdgeAdjacency(b.scene, [](std::size_t) { return true; });
+    std::vector<vec3> turn;
+    for (std::uint32_t e = 0; e < b.adj.edges.size(); ++e) {
+        b.edges.push_back(e);
+        const uvec3 t = b.scene.triangles[b.adj.faces[b.adj.edges[e].firstFace].triangle];
+        const vec3 c0 = b.scene.positions[t.x];
+        turn.push_back(cross(b.scene.positions[t.y] - c0, b.scene.positions[t.z] - c0));
+    }
+    b.tree = buildEdgeClusters(b.adj, b.edges, turn, b.scene.bounds().diameter());
+    return b;
+}
+
+MeshData knot() {
+    return makeTorusKnotMesh(1024, 16, 0.12f);
+}
+
+/// The items below node `index`.
+void collect(const EdgeClusterTree& tree, std::uint32_t index, std::vector<std::uint32_t>& out) {
+    const EdgeClusterNode& node = tree.nodes[index];
+    if (node.count > 0) {
+        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) out.push_back(tree.items[k]);
+        return;
+    }
+    collect(tree, node.first, out);
+    collect(tree, node.first + 1, out);
+}
+
+bool ballHolds(vec4 outer, vec4 inner) {
+    // 1e-5 of the radius: the balls are grown by that much for rounding.
+    return length(vec3(inner) - vec3(outer)) + inner.w <= outer.w * (1.0f + 1e-5f) + 1e-6f;
+}
+
+TEST(EdgeClusters, EveryEdgeOnceInLeavesOfAtMostALeafAndBoundsHoldTheirContents) {
+    const Built b = buildAll(knot());
+    ASSERT_FALSE(b.tree.nodes.empty());
+    std::vector<std::uint32_t> items;
+    collect(b.tree, 0, items);
+    EXPECT_EQ(items.size(), b.edges.size());
+    EXPECT_EQ(std::set<std::uint32_t>(items.begin(), items.end()).size(), b.edges.size());
+    std::size_t leaves = 0;
+    for (std::uint32_t n = 0; n < b.tree.nodes.size(); ++n) {
+        const EdgeClusterNode& node = b.tree.nodes[n];
+        if (node.count == 0) {
+            for (std::uint32_t c : {node.first, node.first + 1}) {
+                const EdgeClusterNode& child = b.tree.nodes[c];
+                EXPECT_TRUE(ballHolds(node.ball, child.ball)) << "node " << n << " child " << c;
+                // A node's cone holds its children's (or there is none).
+                if (node.cone.w >= 0.0f) {
+                    ASSERT_GE(child.cone.w, 0.0f);
+                    const float angle = std::acos(std::clamp(dot(vec3(node.cone), vec3(child.cone)), -1.0f, 1.0f));
+                    EXPECT_LE(angle + child.halfAngle, node.halfAngle + 1e-5f) << "node " << n;
+                }
+            }
+            continue;
+        }
+        ++leaves;
+        EXPECT_LE(node.count, EDGE_CLUSTER_LEAF);
+        for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+            const MeshEdge& edge = b.adj.edges[b.edges[b.tree.items[k]]];
+            const vec3 v0 = b.adj.positions[edge.v0], v1 = b.adj.positions[edge.v1];
+            EXPECT_TRUE(ballHolds(node.ball, edgeBall(v0, v1))) << "leaf " << n;
+            if (node.cone.w < 0.0f) continue;
+            // Both deciding normals n_0 and −n_1 (or both negated) lie in the cone.
+            const vec3 n0 = normalize(cross(v1 - v0, b.adj.positions[b.adj.faces[edge.firstFace].opposite] - v0));
+            const vec3 n1 =
+                -normalize(cross(v1 - v0, b.adj.positions[b.adj.faces[edge.firstFace + 1].opposite] - v0));
+            const float c0 = dot(n0, vec3(node.cone)), c1 = dot(n1, vec3(node.cone));
+            const bool straight = c0 >= node.cone.w - 1e-5f && c1 >= node.cone.w - 1e-5f;
+            const bool turned = -c0 >= node.cone.w - 1e-5f && -c1 >= node.cone.w - 1e-5f;
+            EXPECT_TRUE(straight || turned) << "leaf " << n << " edge " << b.tree.items[k];
+        }
+    }
+    EXPECT_EQ(leaves, b.tree.leaves);
+    // A smooth mesh clusters into narrow cones (its leaves are small patches, not rings around the
+    // tube): nearly every leaf has one, most within 30 degrees.
+    std::size_t coned = 0, narrow = 0;
+    for (const EdgeClusterNode& node : b.tree.nodes) {
+        coned += node.count > 0 && node.cone.w >= 0.0f ? 1u : 0u;
+        narrow += node.count > 0 && node.cone.w > 0.866f ? 1u : 0u;
+    }
+    EXPECT_GT(coned, leaves * 9 / 10);
+    EXPECT_GT(narrow, leaves / 2) << coned << " coned leaves of " << leaves;
+}
+
+TEST(EdgeClusters, OpenAndNonManifoldEdgesHaveNoConeAndAreKept) {
+    // A quad (four open edges) and a fin of three triangles on one edge.
+    Scene scene;
+    Material m;
+    scene.materials.push_back(m);
+    const auto tri = [&](vec3 a, vec3 c, vec3 d) { scene.addTriangle(a, c, d, vec2(0.f), vec2(0.f), vec2(0.f), 0); };
+    tri({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+    tri({0, 0, 0}, {1, 0, 0}, {0, -1, 0});
+    tri({0, 0, 0}, {1, 0, 0}, {0, 0, 1});
+    const EdgeAdjacency adj = buildEdgeAdjacency(scene, [](std::size_t) { return true; });
+    std::vector<std::uint32_t> edges;
+    for (std::uint32_t e = 0; e < adj.edges.size(); ++e) edges.push_back(e);
+    const EdgeClusterTree tree = buildEdgeClusters(adj, edges, std::vector<vec3>(edges.size(), vec3(0, 0, 1)), 2.0f);
+    ASSERT_EQ(tree.leaves, 1u);
+    EXPECT_LT(tree.nodes[0].cone.w, 0.0f);
+    // Without a cone no region is rejected for silhouettes, however far.
+    EXPECT_TRUE(clusterMayHaveSilhouette(tree.nodes[0].ball, tree.nodes[0].cone, vec4(100, 0, 0, 0.1f), 0.0f));
+}
+
+/// The smallest distance, over t ∈ [0, 1] sampled finely, from c to the ball (1 − t)·region + t·light
+/// minus that ball's radius, in double precision: ≤ r exactly when the ball (c, r) meets the hull.
+double hullGap(vec4 cluster, vec4 region, vec4 light) {
+    double best = 1e30;
+    for (int i = 0; i <= 20000; ++i) {
+        const double t = i / 20000.0;
+        const dvec3 centre = dvec3(vec3(region)) * (1.0 - t) + dvec3(vec3(light)) * t;
+        const double radius = double(region.w) * (1.0 - t) + double(light.w) * t;
+        best = std::min(best, length(dvec3(vec3(cluster)) - centre) - radius);
+    }
+    return best - double(cluster.w);
+}
+
+TEST(EdgeClusterTests, LightHullKeepsEveryBallASegmentMeetsAndRejectsTheFarOnes) {
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(-3.0f, 3.0f), r(0.0f, 1.0f), s(-1.0f, 1.0f);
+    int kept = 0, rejected = 0;
+    for (int trial = 0; trial < 3000; ++trial) {
+        const vec4 region(u(rng), u(rng), u(rng), trial % 3 == 0 ? 0.0f : 0.5f * r(rng));
+        const vec4 light(u(rng), 4.0f + u(rng), u(rng), r(rng));
+        // Half the balls about a point of the hull's axis, where the answer is less one-sided.
+        const float t = r(rng);
+        const vec3 near = vec3(region) * (1.0f - t) + vec3(light) * t + vec3(s(rng), s(rng), s(rng));
+        const vec4 cluster(trial % 2 ? near : vec3(u(rng), u(rng), u(rng)), 0.3f * r(rng));
+        const bool meets = clusterMeetsLightHull(cluster, clusterLightHull(region, light));
+        const double gap = hullGap(cluster, region, light);
+        // Sampling t finely overestimates the gap by at most the step times the axis length.
+        if (gap < 0.0) {
+            EXPECT_TRUE(meets) << "trial " << trial << ": the ball meets the hull (gap " << gap << ")";
+        }
+        if (gap > 1e-2) {
+            EXPECT_FALSE(meets) << "trial " << trial << ": gap " << gap;
+        }
+        (meets ? kept : rejected) += 1;
+    }
+    EXPECT_GT(kept, 100);
+    EXPECT_GT(rejected, 100);
+}
+
+TEST(EdgeClusterTests, LightHullIsMonotoneInTheRegionAndTheBall) {
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u(-3.0f, 3.0f), r(0.0f, 1.0f), s(-1.0f, 1.0f);
+    int checked = 0;
+    for (int trial = 0; trial < 5000; ++trial) {
+        const vec4 region(u(rng), u(rng), u(rng), 0.6f * r(rng));
+        const vec4 light(u(rng), 4.0f + u(rng), u(rng), r(rng));
+        const float t = r(rng);
+        const vec3 near = vec3(region) * (1.0f - t) + vec3(light) * t + vec3(s(rng), s(rng), s(rng));
+        const vec4 cluster(near, 0.5f * r(rng));
+        // A point of the region and a ball inside the cluster's.
+        vec3 offset(s(rng), s(rng), s(rng));
+        if (length(offset) > 1.0f) offset /= length(offset);
+        const vec4 point(vec3(region) + offset * region.w, 0.0f);
+        const float innerRadius = cluster.w * r(rng);
+        vec3 shift(s(rng), s(rng), s(rng));
+        if (length(shift) > 1.0f) shift /= length(shift);
+        const vec4 inner(vec3(cluster) + shift * (cluster.w - innerRadius), innerRadius);
+        const ClusterLightHull pointHull = clusterLightHull(point, light);
+        if (clusterMeetsLightHull(inner, pointHull)) {
+            ++checked;
+            EXPECT_TRUE(clusterMeetsLightHull(cluster, pointHull)) << "trial " << trial << ": ball";
+            EXPECT_TRUE(clusterMeetsLightHull(inner, clusterLightHull(region, light))) << "trial " << trial
+                                                                                      << ": region";
+        }
+    }
+    EXPECT_GT(checked, 200);
+}
+
+/// The DCS weight of an edge seen from p in float, as wedgeWorldWeight computes it (dcsWorldSide).
+int floatWeight(const EdgeAdjacency& adj, const MeshEdge& edge, vec3 p) {
+    int k = 0;
+    for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
+        k += dcsWorldSide(p, adj.positions[edge.v0], adj.positions[edge.v1], adj.positions[adj.faces[f].opposite]);
+    return k;
+}
+
+TEST(EdgeClusterTests, ALeafTheSilhouetteTestRejectsHoldsNoSilhouetteFromAnyPointOfTheRegion) {
+    const Built b = buildAll(knot());
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(-2.5f, 2.5f), r(0.0f, 1.0f), s(-1.0f, 1.0f);
+    std::size_t rejections = 0, pointsChecked = 0;
+    for (int trial = 0; trial < 60; ++trial) {
+        const vec4 region(u(rng), u(rng), u(rng), 0.3f * r(rng));
+        for (const EdgeClusterNode& node : b.tree.nodes) {
+            if (node.count == 0) continue;
+            // The rounding allowance the mirror passes (render/cpu/cpu_wedges.cpp nodeMayAdd).
+            const float m = length(vec3(region) - vec3(node.ball)) + region.w + node.faceReach;
+            if (clusterMayHaveSilhouette(node.ball, node.cone, region, 2e-6f * m * m * m * node.inverseNormal))
+                continue;
+            ++rejections;
+            for (int i = 0; i < 8; ++i) {
+                vec3 offset(s(rng), s(rng), s(rng));
+                if (length(offset) > 1.0f) offset /= length(offset);
+                const vec3 p = vec3(region) + offset * region.w;
+                for (std::uint32_t k = node.first; k < node.first + node.count; ++k) {
+                    ++pointsChecked;
+                    ASSERT_EQ(floatWeight(b.adj, b.adj.edges[b.edges[b.tree.items[k]]], p), 0)
+                        << "trial " << trial << ": a rejected leaf holds a silhouette from the region";
+                }
+            }
+        }
+    }
+    // Many leaves face a random region, or turn away from it, as a whole.
+    EXPECT_GT(rejections, 60u * b.tree.leaves / 8);
+    EXPECT_GT(pointsChecked, 10000u);
+}
+
+} // namespace
+} // namespace stsv

@@ -1,0 +1,249 @@
+#include "wedges/edge_clusters.h"
+
+#include "wedges/edge_cluster_dh.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+
+namespace stsv {
+
+namespace {
+
+/// What the split sees of one edge: its midpoint and the mean of its deciding normals, and
+/// whether those normals make a cone (a two-face edge with both faces non-degenerate).
+struct EdgePoint {
+    vec3 position;
+    vec3 direction;
+    bool coned;
+};
+
+struct Builder {
+    const EdgeAdjacency& adj;
+    const std::vector<std::uint32_t>& edges;
+    const std::vector<vec3>& turn;
+    std::vector<EdgePoint> points;
+    EdgeClusterTree tree;
+    float positionWeight;
+
+    /// The unit deciding normals of item i (n_0/|n_0| and −n_1/|n_1|, turned), or none (false).
+    bool normals(std::uint32_t i, std::array<vec3, 2>& out, float& smallest) const {
+        const MeshEdge& edge = adj.edges[edges[i]];
+        const vec3 q0 = adj.positions[edge.v0], q1 = adj.positions[edge.v1];
+        smallest = std::numeric_limits<float>::max();
+        bool ok = edge.faceCount == 2;
+        for (std::uint32_t f = 0; f < edge.faceCount; ++f) {
+            const vec3 n = cross(q1 - q0, adj.positions[adj.faces[edge.firstFace + f].opposite] - q0);
+            const float length = stsv::length(n);
+            smallest = std::min(smallest, length);
+            if (!(length > 0.f)) ok = false;
+            if (f < 2 && length > 0.f) out[f] = (f == 0 ? 1.f : -1.f) * n / length;
+        }
+        if (!ok) return false;
+        if (dot(out[0], turn[i]) < 0.f) out = {-out[0], -out[1]};
+        return true;
+    }
+
+    /// Nodes of the subtree over `count` items.
+    static std::uint32_t subtreeNodes(std::uint32_t count) {
+        return count <= EDGE_CLUSTER_LEAF ? 1u
+                                          : 1u + subtreeNodes(count / 2) + subtreeNodes(count - count / 2);
+    }
+
+    /// Fills node `index` from items [first, first + count) and splits it while it holds more
+    /// than a leaf: at the median of the widest of the six coordinates (position weighed by
+    /// positionWeight, direction). Its two children go to `free` and free + 1, their descendants
+    /// after them, the first child's before the second's: every subtree owns a fixed range, so
+    /// the halves build in parallel into the same layout.
+    void build(std::uint32_t index, std::uint32_t first, std::uint32_t count, std::uint32_t free) {
+        if (count <= EDGE_CLUSTER_LEAF) {
+            makeLeaf(index, first, count);
+            return;
+        }
+        std::array<float, 6> lo, hi;
+        lo.fill(std::numeric_limits<float>::max());
+        hi.fill(-std::numeric_limits<float>::max());
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const EdgePoint& p = points[tree.items[k]];
+            for (int a = 0; a < 3; ++a) {
+                lo[a] = std::min(lo[a], p.position[a] * positionWeight);
+                hi[a] = std::max(hi[a], p.position[a] * positionWeight);
+                lo[3 + a] = std::min(lo[3 + a], p.direction[a]);
+                hi[3 + a] = std::max(hi[3 + a], p.direction[a]);
+            }
+        }
+        int axis = 0;
+        for (int a = 1; a < 6; ++a)
+            if (hi[a] - lo[a] > hi[axis] - lo[axis]) axis = a;
+        const auto key = [&](std::uint32_t item) {
+            const EdgePoint& p = points[item];
+            return axis < 3 ? p.position[axis] : p.direction[axis - 3];
+        };
+        const std::uint32_t half = count / 2;
+        auto begin = tree.items.begin() + first;
+        std::nth_element(begin, begin + half, begin + count, [&](std::uint32_t a, std::uint32_t b) {
+            const float ka = key(a), kb = key(b);
+            return ka < kb || (ka == kb && a < b);
+        });
+        tree.nodes[index].first = free;
+        tree.nodes[index].count = 0;
+        const std::uint32_t secondFree = free + 2 + subtreeNodes(half) - 1;
+        const auto left = [&] { build(free, first, half, free + 2); };
+        const auto right = [&] { build(free + 1, first + half, count - half, secondFree); };
+        if (count > 8192) {
+            tbb::parallel_invoke(left, right);
+        } else {
+            left();
+            right();
+        }
+        merge(index, free, free + 1);
+    }
+
+    void makeLeaf(std::uint32_t index, std::uint32_t first, std::uint32_t count) {
+        EdgeClusterNode node;
+        node.first = first;
+        node.count = count;
+        vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        vec3 sum(0.f);
+        bool coned = true;
+        float smallestNormal = std::numeric_limits<float>::max();
+        std::vector<vec3> normalList;
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const std::uint32_t item = tree.items[k];
+            const MeshEdge& edge = adj.edges[edges[item]];
+            lo = min(lo, min(adj.positions[edge.v0], adj.positions[edge.v1]));
+            hi = max(hi, max(adj.positions[edge.v0], adj.positions[edge.v1]));
+            std::array<vec3, 2> n;
+            float smallest = 0.f;
+            if (normals(item, n, smallest)) {
+                normalList.push_back(n[0]);
+                normalList.push_back(n[1]);
+                sum += n[0] + n[1];
+            } else {
+                coned = false;
+            }
+            smallestNormal = std::min(smallestNormal, smallest);
+        }
+        // The ball holds every edge's own ball (edgeBall), which the per-point test uses.
+        const vec3 centre = 0.5f * (lo + hi);
+        float radius = 0.f;
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const MeshEdge& edge = adj.edges[edges[tree.items[k]]];
+            const vec4 ball = edgeBall(adj.positions[edge.v0], adj.positions[edge.v1]);
+            radius = std::max(radius, stsv::length(vec3(ball) - centre) + ball.w);
+        }
+        node.ball = vec4(centre, radius * (1.f + 1e-5f));
+        float reach = node.ball.w;
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const MeshEdge& edge = adj.edges[edges[tree.items[k]]];
+            for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
+                reach = std::max(reach, stsv::length(adj.positions[adj.faces[f].opposite] - centre));
+        }
+        node.faceReach = reach * (1.f + 1e-5f);
+        node.inverseNormal =
+            smallestNormal > 0.f ? 1.f / smallestNormal : std::numeric_limits<float>::infinity();
+        node.cone = vec4(0.f, 0.f, 1.f, -1.f);
+        const float sumLength = stsv::length(sum);
+        if (coned && sumLength > 0.f && std::isfinite(node.inverseNormal)) {
+            const vec3 axis = sum / sumLength;
+            float cosHalf = 1.f;
+            for (const vec3& n : normalList) cosHalf = std::min(cosHalf, dot(n, axis));
+            setCone(node, axis, std::acos(std::clamp(cosHalf, -1.f, 1.f)));
+        }
+        tree.nodes[index] = node;
+    }
+
+    /// The cone (axis, half-angle + a rounding allowance), unless it is near a half-space, where it
+    /// rejects nothing.
+    static void setCone(EdgeClusterNode& node, vec3 axis, float halfAngle) {
+        if (!(halfAngle + 1e-4f < 1.52f)) return;
+        node.halfAngle = halfAngle + 1e-4f;
+        node.cone = vec4(axis, std::cos(node.halfAngle));
+    }
+
+    void merge(std::uint32_t index, std::uint32_t a, std::uint32_t b) {
+        EdgeClusterNode& node = tree.nodes[index];
+        const EdgeClusterNode &na = tree.nodes[a], &nb = tree.nodes[b];
+        // The smallest ball around both children's balls.
+        const vec3 ca(na.ball), cb(nb.ball);
+        const float distance = stsv::length(cb - ca);
+        vec3 centre;
+        float radius;
+        if (distance + nb.ball.w <= na.ball.w) {
+            centre = ca;
+            radius = na.ball.w;
+        } else if (distance + na.ball.w <= nb.ball.w) {
+            centre = cb;
+            radius = nb.ball.w;
+        } else {
+            radius = 0.5f * (distance + na.ball.w + nb.ball.w);
+            centre = ca + (cb - ca) * ((radius - na.ball.w) / distance);
+        }
+        node.ball = vec4(centre, radius * (1.f + 1e-5f));
+        node.faceReach =
+            std::max(na.faceReach + stsv::length(ca - centre), nb.faceReach + stsv::length(cb - centre)) *
+            (1.f + 1e-5f);
+        node.inverseNormal = std::max(na.inverseNormal, nb.inverseNormal);
+        node.cone = vec4(0.f, 0.f, 1.f, -1.f);
+        node.halfAngle = -1.f;
+        if (na.cone.w < 0.f || nb.cone.w < 0.f) return;
+        const vec3 sum = vec3(na.cone) + vec3(nb.cone);
+        const float sumLength = stsv::length(sum);
+        if (!(sumLength > 0.f)) return;
+        const vec3 axis = sum / sumLength;
+        const auto spread = [&](const EdgeClusterNode& child) {
+            return std::acos(std::clamp(dot(axis, vec3(child.cone)), -1.f, 1.f)) + child.halfAngle;
+        };
+        setCone(node, axis, std::max(spread(na), spread(nb)));
+    }
+};
+
+} // namespace
+
+EdgeClusterTree buildEdgeClusters(const EdgeAdjacency& adj, const std::vector<std::uint32_t>& edges,
+                                  const std::vector<vec3>& turn, float scale) {
+    Builder b{adj, edges, turn, {}, {}, scale > 0.f ? 64.f / scale : 1.f};
+    b.points.resize(edges.size());
+    tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, std::uint32_t(edges.size()), 4096),
+                      [&](const tbb::blocked_range<std::uint32_t>& range) {
+                          for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
+                              const MeshEdge& edge = adj.edges[edges[i]];
+                              std::array<vec3, 2> n;
+                              float smallest = 0.f;
+                              const bool coned = b.normals(i, n, smallest);
+                              const vec3 mean = n[0] + n[1];
+                              const float length = stsv::length(mean);
+                              b.points[i] = {0.5f * (adj.positions[edge.v0] + adj.positions[edge.v1]),
+                                             coned && length > 0.f ? mean / length : vec3(0.f), coned};
+                          }
+                      });
+    if (edges.empty()) return std::move(b.tree);
+    // Edges without a cone apart from the rest, so that they widen no cone: the root's first
+    // child holds the coned edges, its second the others (when both kinds exist).
+    b.tree.items.resize(edges.size());
+    for (std::uint32_t i = 0; i < edges.size(); ++i) b.tree.items[i] = i;
+    const auto split =
+        static_cast<std::uint32_t>(std::stable_partition(b.tree.items.begin(), b.tree.items.end(),
+                                                         [&](std::uint32_t i) { return b.points[i].coned; }) -
+                                   b.tree.items.begin());
+    const auto total = static_cast<std::uint32_t>(edges.size());
+    if (split == 0 || split == total) {
+        b.tree.nodes.resize(Builder::subtreeNodes(total));
+        b.build(0, 0, total, 1);
+    } else {
+        b.tree.nodes.resize(3 + Builder::subtreeNodes(split) - 1 + Builder::subtreeNodes(total - split) - 1);
+        b.tree.nodes[0].first = 1;
+        b.build(1, 0, split, 3);
+        b.build(2, split, total - split, 3 + Builder::subtreeNodes(split) - 1);
+        b.merge(0, 1, 2);
+    }
+    for (const EdgeClusterNode& node : b.tree.nodes) b.tree.leaves += node.count > 0 ? 1u : 0u;
+    return std::move(b.tree);
+}
+
+} // namespace stsv
