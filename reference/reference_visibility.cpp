@@ -5,6 +5,8 @@
 #include "sampling/light_sampling.h"
 #include "scene/occlusion_rules_dh.h"
 
+#include <array>
+
 namespace stsv {
 
 void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, const Light& light,
@@ -18,6 +20,7 @@ void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, con
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         std::vector<std::uint32_t> scratch;
         std::vector<std::pair<std::uint32_t, std::uint32_t>> crossings;
+        std::array<vec2, 256> points;
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
@@ -25,8 +28,9 @@ void traceReferenceSamples(const EmbreeScene& scene, const GBuffer& gbuffer, con
                 const vec3 p = gbuffer.position[i];
                 const LightFrame frame = lightFrame(light, p, farDistance);
                 const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+                pixelSamplePoints(plan, x, y, frame.domain, points.data());
                 for (int k = 0; k < plan.count; ++k) {
-                    const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
+                    const vec3 s = lightSamplePosition(frame, points[std::size_t(k)]);
                     if (transmittance) {
                         out.addOpticalDepth(x, y, k,
                                             scene.opticalDepth(p, s, tMin, gbuffer.triangle[i], crossings));

@@ -1,6 +1,7 @@
 #include "sampling/light_sampling.h"
 
 #include <algorithm>
+#include <array>
 
 namespace stsv {
 
@@ -8,13 +9,12 @@ namespace stsv {
 /// its sample points from the SamplePlan.
 struct ResolveSource {
     const LightSampleBuffer* buffer;
-    const SamplePlan* plan;
-    int x; ///< pixel
+    const vec2* points; ///< the pixel's samples (pixelSamplePoints)
+    int x;              ///< pixel
     int y;
-    uint domain; ///< LightFrame::domain
 };
 inline vec2 resolveSourcePoint(ResolveSource s, uint k) {
-    return pixelSamplePoint(*s.plan, s.x, s.y, int(k), s.domain);
+    return s.points[k];
 }
 inline uint resolveSourceWord(ResolveSource s, uint w) {
     return s.buffer->occludedWord(s.x, s.y, int(w));
@@ -40,6 +40,16 @@ vec2 pixelSamplePoint(const SamplePlan& plan, int x, int y, int k, uint domain) 
     return samplePoint(plan.patternPoint(x, y, k), pixel, plan.seed, plan.decorrelate, domain);
 }
 
+void pixelSamplePoints(const SamplePlan& plan, int x, int y, uint domain, vec2* out) {
+    const uvec2 pixel(unsigned(x / plan.supersample), unsigned(y / plan.supersample));
+    const uvec2 offset = decorrelationOffset(pixel, plan.seed);
+    const vec2* pattern =
+        &plan.points[std::size_t(plan.setIndex(x / plan.supersample, y / plan.supersample)) *
+                     std::size_t(plan.count)];
+    for (int k = 0; k < plan.count; ++k)
+        out[k] = domainPoint(plan.decorrelate ? decorrelateBy(pattern[k], offset) : pattern[k], domain);
+}
+
 vec3 pixelLightSample(const SamplePlan& plan, int x, int y, int k, const LightFrame& frame) {
     return lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
 }
@@ -47,7 +57,9 @@ vec3 pixelLightSample(const SamplePlan& plan, int x, int y, int k, const LightFr
 vec3 resolveDirect(const LightSampleBuffer& buffer, const SamplePlan& plan, int x, int y, const Light& light,
                    vec3 p, vec3 n, vec3 albedo, float farDistance, float scale) {
     const LightFrame frame = lightFrame(light, p, farDistance);
-    const ResolveSource src{&buffer, &plan, x, y, frame.domain};
+    std::array<vec2, 256> points;
+    pixelSamplePoints(plan, x, y, frame.domain, points.data());
+    const ResolveSource src{&buffer, points.data(), x, y};
     const uint count = uint(plan.count);
     const ResolveSums sums =
         resolveSamples(light, frame, p, n, src, lsMaskWordCount(count), std::min(32u, count));

@@ -15,6 +15,10 @@ namespace stsv {
 /// domain map exactly as samplePoint() on the GPU.
 vec2 pixelSamplePoint(const SamplePlan& plan, int x, int y, int k, uint domain);
 
+/// Every sample of pixel (x, y), plan.count of them into `out`: pixelSamplePoint's values, the
+/// pixel's decorrelation offset computed once.
+void pixelSamplePoints(const SamplePlan& plan, int x, int y, uint domain, vec2* out);
+
 /// World position of sample k of pixel (x, y) for receiver p.
 vec3 pixelLightSample(const SamplePlan& plan, int x, int y, int k, const LightFrame& frame);
 

@@ -125,11 +125,15 @@ DH_FUNC uvec2 decorrelationOffset(uvec2 pixel, uint seed) {
 /// Per-pixel "random rotation" of the pattern (STSV paper §4.1, DESIGN §4.1): a Cranley–
 /// Patterson rotation u' = (u + offset(pixel)) mod 1 in exact 24-bit fixed point. u01 must be
 /// in [0,1) (pattern points are; other values are truncated to 2⁻²⁴).
-DH_FUNC vec2 decorrelate(vec2 u01, uvec2 pixel, uint seed) {
-    uvec2 offset = decorrelationOffset(pixel, seed);
+DH_FUNC vec2 decorrelateBy(vec2 u01, uvec2 offset) {
     uvec2 q = uvec2(u01 * SAMPLING_FIXED_ONE);
     q = (q + offset) & uvec2(SAMPLING_FIXED_MASK);
     return vec2(q) * (1.0f / SAMPLING_FIXED_ONE);
+}
+
+/// decorrelateBy the pixel's offset (decorrelationOffset).
+DH_FUNC vec2 decorrelate(vec2 u01, uvec2 pixel, uint seed) {
+    return decorrelateBy(u01, decorrelationOffset(pixel, seed));
 }
 
 /// [0,1)² → [−1,1]² (square) or the unit disk by the concentric map of Shirley & Chiu 1997,

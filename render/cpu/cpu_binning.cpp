@@ -2,48 +2,9 @@
 
 #include <limits>
 
+#include <tbb/parallel_invoke.h>
+
 namespace stsv {
-
-/// Pixel rectangle that may hold points of the convex volume (its strip vertices projected, edges
-/// crossing the near plane clipped there). False when nothing lies in front of the camera.
-bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect) {
-    constexpr float NEAR_W = 1e-4f;
-    vec4 clip[STSV_STRIP_VERTEX_COUNT];
-    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i)
-        clip[i] = clipFromWorld * vec4(vec3(v.vertices[i]), 1.0f);
-    vec2 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
-    bool any = false;
-    auto add = [&](vec4 c) {
-        const vec2 ndc = vec2(c) / c.w;
-        lo = min(lo, ndc);
-        hi = max(hi, ndc);
-        any = true;
-    };
-    for (uint i = 0; i < STSV_STRIP_VERTEX_COUNT; ++i) {
-        if (clip[i].w > NEAR_W) add(clip[i]);
-        for (uint j = i + 1; j < std::min(i + 3, STSV_STRIP_VERTEX_COUNT); ++j) {
-            const float wa = clip[i].w - NEAR_W, wb = clip[j].w - NEAR_W;
-            if ((wa > 0.0f) != (wb > 0.0f)) {
-                vec4 c = clip[i] + (wa / (wa - wb)) * (clip[j] - clip[i]);
-                c.w = NEAR_W;
-                add(c);
-            }
-        }
-    }
-    if (!any) return false;
-    lo = clamp(lo, vec2(-1.0f), vec2(1.0f));
-    hi = clamp(hi, vec2(-1.0f), vec2(1.0f));
-    rect = ivec4(int(std::floor((lo.x * 0.5f + 0.5f) * float(width))),
-                 int(std::floor((lo.y * 0.5f + 0.5f) * float(height))),
-                 int(std::ceil((hi.x * 0.5f + 0.5f) * float(width))),
-                 int(std::ceil((hi.y * 0.5f + 0.5f) * float(height))));
-    rect = clamp(rect, ivec4(0), ivec4(width - 1, height - 1, width - 1, height - 1));
-    return true;
-}
-
-mat4 binningClipFromView(const Camera& camera, int width, int height) {
-    return clipFromView(camera, float(width) / float(height), 0.01f, 1e4f);
-}
 
 PixelTile tileBlock(const PixelTile& tile, int bx, int by) {
     return {tile.x0 + bx * CPU_BLOCK,
@@ -61,6 +22,85 @@ Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile) {
             if (const std::size_t i = gbuffer.index(x, y); gbuffer.covered(i))
                 box.extend(gbuffer.position[i]);
     return box;
+}
+
+namespace {
+
+std::uint32_t ballTreeNodes(std::uint32_t count) {
+    return count <= BallTree::LEAF ? 1u : 1u + ballTreeNodes(count / 2) + ballTreeNodes(count - count / 2);
+}
+
+/// The smallest ball around two balls.
+vec4 ballAround(vec4 a, vec4 b) {
+    const float distance = length(vec3(b) - vec3(a));
+    if (distance + b.w <= a.w) return a;
+    if (distance + a.w <= b.w) return b;
+    const float radius = 0.5f * (distance + a.w + b.w);
+    return vec4(vec3(a) + (vec3(b) - vec3(a)) * ((radius - a.w) / distance), radius * (1.0f + 1e-5f));
+}
+
+/// Node `index` over items [first, first + count): its children at `free` and free + 1, their
+/// descendants after them, the first child's before the second's (a fixed layout, so that the
+/// halves build in parallel).
+void buildBallNode(BallTree& tree, const std::vector<vec4>& balls, std::uint32_t index, std::uint32_t first,
+                   std::uint32_t count, std::uint32_t free) {
+    BallTree::Node& node = tree.nodes[index];
+    if (count <= BallTree::LEAF) {
+        node.first = first;
+        node.count = count;
+        vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const vec4 b = balls[tree.items[k]];
+            lo = min(lo, vec3(b) - b.w);
+            hi = max(hi, vec3(b) + b.w);
+        }
+        const vec3 centre = 0.5f * (lo + hi);
+        float radius = 0.0f;
+        for (std::uint32_t k = first; k < first + count; ++k) {
+            const vec4 b = balls[tree.items[k]];
+            radius = std::max(radius, length(vec3(b) - centre) + b.w);
+        }
+        node.ball = vec4(centre, radius * (1.0f + 1e-5f));
+        return;
+    }
+    vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (std::uint32_t k = first; k < first + count; ++k) {
+        lo = min(lo, vec3(balls[tree.items[k]]));
+        hi = max(hi, vec3(balls[tree.items[k]]));
+    }
+    const vec3 extent = hi - lo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    const std::uint32_t half = count / 2;
+    auto begin = tree.items.begin() + first;
+    std::nth_element(begin, begin + half, begin + count, [&](std::uint32_t a, std::uint32_t b) {
+        const float ka = balls[a][axis], kb = balls[b][axis];
+        return ka < kb || (ka == kb && a < b);
+    });
+    node.first = free;
+    node.count = 0;
+    const std::uint32_t secondFree = free + 2 + ballTreeNodes(half) - 1;
+    const auto left = [&] { buildBallNode(tree, balls, free, first, half, free + 2); };
+    const auto right = [&] { buildBallNode(tree, balls, free + 1, first + half, count - half, secondFree); };
+    if (count > 8192) {
+        tbb::parallel_invoke(left, right);
+    } else {
+        left();
+        right();
+    }
+    tree.nodes[index].ball = ballAround(tree.nodes[free].ball, tree.nodes[free + 1].ball);
+}
+
+} // namespace
+
+BallTree buildBallTree(const std::vector<vec4>& balls) {
+    BallTree tree;
+    if (balls.empty()) return tree;
+    const auto count = static_cast<std::uint32_t>(balls.size());
+    tree.items.resize(count);
+    for (std::uint32_t i = 0; i < count; ++i) tree.items[i] = i;
+    tree.nodes.resize(ballTreeNodes(count));
+    buildBallNode(tree, balls, 0, 0, count, 1);
+    return tree;
 }
 
 } // namespace stsv

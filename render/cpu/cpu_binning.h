@@ -1,29 +1,21 @@
-// What the CPU passes (STSV and the wedges) share to bin their volumes to screen tiles the way
-// the rasteriser would cover them, to cull per tile and per block by the visible points' box,
+// What the CPU passes (STSV and the wedges) share to find, per screen tile and per block, what
+// can reach its visible points — the box and ball of those points, a tree of balls to walk —
 // and to visit only the light samples a bounded test can reach.
 #pragma once
 
 #include "core/gbuffer.h"
 #include "core/parallel.h"
 #include "sampling/ls_buffer_dh.h"
-#include "scene/camera.h"
 #include "scene/scene.h"
 #include "volumes/extrusion_dh.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <vector>
 
 namespace stsv {
-
-/// Pixel rectangle that may hold points of the convex volume `v`: its strip vertices projected,
-/// and its edges crossing the near plane clipped there (so volumes reaching behind the eye are
-/// bounded correctly). False when nothing of it lies in front of the camera. The CPU passes bin
-/// volumes to screen tiles with it, the way the rasteriser would cover them.
-bool volumeScreenRect(const StsvVolume& v, const mat4& clipFromWorld, int width, int height, ivec4& rect);
-
-/// The projection the CPU passes bin with (any near/far: only x, y and w are used).
-mat4 binningClipFromView(const Camera& camera, int width, int height);
 
 /// The bounds of the visible points of one screen tile; empty when it covers no surface. The CPU
 /// passes drop, per tile, the volumes with the whole box outside one plane
@@ -38,6 +30,29 @@ constexpr int CPU_BLOCKS = CPU_TILE / CPU_BLOCK;
 
 /// Block (bx, by) of `tile`, clipped to it: empty (x0 ≥ x1 or y0 ≥ y1) past the image's edge.
 PixelTile tileBlock(const PixelTile& tile, int bx, int by);
+
+/// A binary tree over balls (centre, radius; world units): median splits of their centres along
+/// the widest axis, leaves of BALL_TREE_LEAF at most, every node's ball holding its children's.
+/// The STSV pass's hierarchy over its triangles: a screen tile walks it with the ball of its
+/// visible points and keeps the leaves whose ball meets the segments from there to the light.
+struct BallTree {
+    static constexpr std::uint32_t LEAF = 16;
+    struct Node {
+        vec4 ball;
+        std::uint32_t first = 0; ///< leaf: into items; inner: its first child (the second follows)
+        std::uint32_t count = 0; ///< leaf: items; inner: 0
+    };
+    std::vector<Node> nodes;          ///< nodes[0] is the root when there is any ball
+    std::vector<std::uint32_t> items; ///< indices of the balls, leaf after leaf
+};
+
+BallTree buildBallTree(const std::vector<vec4>& balls);
+
+/// The smallest ball around the points [lo, hi] (the box's circumscribed ball), grown by 1e-5 of
+/// its radius for rounding.
+inline vec4 boxBall(vec3 lo, vec3 hi) {
+    return vec4(0.5f * (lo + hi), 0.5f * length(hi - lo) * (1.0f + 1e-5f));
+}
 
 /// A pixel's light samples in a CELLS × CELLS grid over the frame square [−1, 1]²: per cell the
 /// mask words (sampling/ls_buffer_dh.h) of the samples in it, so that a per-sample test bounded

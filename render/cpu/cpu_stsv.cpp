@@ -7,6 +7,7 @@
 #include "sampling/light_sampling.h"
 #include "scene/camera.h"
 #include "volumes/extrusion_dh.h"
+#include "volumes/light_hull_dh.h"
 #include "volumes/stsv.h"
 
 #include <algorithm>
@@ -18,7 +19,7 @@
 namespace stsv {
 
 /// The data access of volumes/stsv_fragment_dh.h on the CPU: the pixel's sample points,
-/// computed once per pixel (pixelSamplePoint), the texels from the triangle's Texture (null for
+/// computed once per pixel (pixelSamplePoints), the texels from the triangle's Texture (null for
 /// an opaque triangle), a translucent triangle's optical-depth table.
 struct StsvSampleSource {
     const vec2* points; ///< the pixel's samples in frame coordinates, plan.count of them
@@ -47,8 +48,6 @@ namespace stsv {
 
 namespace {
 
-constexpr int TILE = CPU_TILE; // screen bins are the parallel tiles (core/parallel.h)
-
 struct VolumeRecord {
     StsvVolume volume;
     std::uint32_t triangle; ///< index into the StsvTriangle table
@@ -60,6 +59,9 @@ struct VolumeRecord {
 nlohmann::json toJson(const StsvCpuStats& s) {
     return {{"volumes", s.volumes},
             {"degenerate_skipped", s.degenerateSkipped},
+            {"clusters", s.clusters},
+            {"cluster_tests", s.clusterTests},
+            {"clusters_rejected", s.clustersRejected},
             {"tile_entries", s.tileEntries},
             {"tile_entries_culled", s.tileEntriesCulled},
             {"fragments", s.pixelVolumeTests},
@@ -83,44 +85,49 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     if (transmittance)
         for (const Material& m : scene.materials) depthTables.push_back(opticalDepthTable(m));
 
-    // Per-triangle constants, light planes and volumes (the geometry shader's work).
+    // Per-triangle constants, light planes and volumes (the geometry shader's work), on every
+    // core; the volumes then in triangle order.
     std::vector<StsvTriangle> triangles(scene.triangleCount());
     std::vector<StsvLightPlanes> lightPlanes(scene.triangleCount(), stsvNoLightPlanes());
-    std::vector<VolumeRecord> volumes;
-    volumes.reserve(scene.triangleCount());
-    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
-        if (include && !include(t)) continue;
-        triangles[t] = stsvTriangleFor(scene, t, lightCenter, transmittance);
-        if (triangles[t].flags & STSV_FLAG_DEGENERATE) {
-            ++stats.degenerateSkipped;
-            continue;
-        }
-        const uvec3 idx = scene.triangles[t];
-        const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
-        lightPlanes[t] = stsvTriangleLightPlanes(v0, v1, v2, light, farDistance, bounds.lo, bounds.hi);
-        for (uint side = 0; side < 2; ++side) {
-            StsvVolume volume;
-            if (stsvSideVolume(v0, v1, v2, sphere, bounds.lo, bounds.hi, side, true, volume))
-                volumes.push_back({volume, static_cast<std::uint32_t>(t), side});
-        }
-    }
-    stats.volumes = volumes.size();
-
-    // Bin volumes to screen tiles (the rasteriser's coverage, conservatively).
-    const mat4 clipFromWorld =
-        binningClipFromView(scene.camera, gbuffer.width, gbuffer.height) * viewFromWorld(scene.camera);
-    const int tilesX = tilesAcross(gbuffer.width), tilesY = tilesAcross(gbuffer.height);
-    std::vector<std::vector<std::uint32_t>> tiles(std::size_t(tilesX) * tilesY);
-    for (std::size_t v = 0; v < volumes.size(); ++v) {
-        ivec4 rect;
-        if (!volumeScreenRect(volumes[v].volume, clipFromWorld, gbuffer.width, gbuffer.height, rect))
-            continue;
-        for (int ty = rect.y / TILE; ty <= rect.w / TILE; ++ty)
-            for (int tx = rect.x / TILE; tx <= rect.z / TILE; ++tx) {
-                tiles[std::size_t(ty) * tilesX + tx].push_back(static_cast<std::uint32_t>(v));
-                ++stats.tileEntries;
+    std::vector<VolumeRecord> slots(2 * scene.triangleCount());
+    std::vector<std::uint8_t> slotUsed(2 * scene.triangleCount(), 0);
+    std::atomic<std::size_t> degenerate{0};
+    parallelForChunks(scene.triangleCount(), [&](std::size_t begin, std::size_t end) {
+        for (std::size_t t = begin; t < end; ++t) {
+            if (include && !include(t)) continue;
+            triangles[t] = stsvTriangleFor(scene, t, lightCenter, transmittance);
+            if (triangles[t].flags & STSV_FLAG_DEGENERATE) {
+                ++degenerate;
+                continue;
             }
+            const uvec3 idx = scene.triangles[t];
+            const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
+            lightPlanes[t] = stsvTriangleLightPlanes(v0, v1, v2, light, farDistance, bounds.lo, bounds.hi);
+            for (uint side = 0; side < 2; ++side)
+                if (stsvSideVolume(v0, v1, v2, sphere, bounds.lo, bounds.hi, side, false,
+                                   slots[2 * t + side].volume)) {
+                    slots[2 * t + side].triangle = static_cast<std::uint32_t>(t);
+                    slots[2 * t + side].side = side;
+                    slotUsed[2 * t + side] = 1;
+                }
+        }
+    });
+    stats.degenerateSkipped = degenerate;
+    std::vector<VolumeRecord> volumes;
+    std::vector<vec4> balls; // each volume's triangle's ball
+    for (std::size_t i = 0; i < slots.size(); ++i) {
+        if (!slotUsed[i]) continue;
+        volumes.push_back(slots[i]);
+        const uvec3 idx = scene.triangles[slots[i].triangle];
+        const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
+        balls.push_back(boxBall(min(v0, min(v1, v2)), max(v0, max(v1, v2))));
     }
+    slots = {};
+    stats.volumes = volumes.size();
+    // The hierarchy the tiles walk: a volume's triangle occludes a sample of p only where it
+    // meets the segment from p to the sample, so a node whose ball meets no segment from the
+    // tile's visible points to the light holds nothing for the tile (volumes/light_hull_dh.h).
+    const BallTree tree = buildBallTree(balls);
     stats.bin_ms = timer.milliseconds();
     timer.reset();
 
@@ -140,17 +147,38 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
         const uint n = std::min(32u, uint(plan.count) - 32u * w);
         return n == 32u ? ~0u : (1u << n) - 1u;
     };
-    Progress progress("stsv (cpu)", tiles.size());
+    std::atomic<std::size_t> nodeTests{0}, nodesRejected{0}, entries{0};
+    Progress progress("stsv (cpu)",
+                      std::size_t(tilesAcross(gbuffer.width)) * std::size_t(tilesAcross(gbuffer.height)));
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
         std::size_t localTests = 0, localHits = 0, localCulled = 0, localSamples = 0;
-        // The volumes of the tile's bin that may hold one of its visible points, then the same
-        // per CPU_BLOCK × CPU_BLOCK block of pixels (a smaller box culls more).
+        std::size_t localNodeTests = 0, localRejected = 0;
+        // The volumes of the leaves whose ball meets the segments from the tile's visible points
+        // to the light, in volume order, less those with the tile's box outside a plane; then
+        // the same per CPU_BLOCK × CPU_BLOCK block of pixels (a smaller box culls more).
         const Bounds box = tileReceiverBounds(gbuffer, tile);
         std::vector<std::uint32_t> candidates;
-        if (!box.empty()) {
-            const std::vector<std::uint32_t>& binned = tiles[std::size_t(tile.ty) * tilesX + tile.tx];
-            candidates.reserve(binned.size());
-            for (std::uint32_t v : binned) {
+        if (!box.empty() && !tree.nodes.empty()) {
+            const LightHull hull = lightHull(boxBall(box.lo, box.hi), sphere);
+            std::vector<std::uint32_t> stack{0u}, reached;
+            while (!stack.empty()) {
+                const BallTree::Node& node = tree.nodes[stack.back()];
+                stack.pop_back();
+                ++localNodeTests;
+                if (!ballMeetsLightHull(node.ball, hull)) {
+                    ++localRejected;
+                } else if (node.count > 0) {
+                    reached.insert(reached.end(), tree.items.begin() + node.first,
+                                   tree.items.begin() + node.first + node.count);
+                } else {
+                    stack.push_back(node.first + 1);
+                    stack.push_back(node.first);
+                }
+            }
+            std::sort(reached.begin(), reached.end());
+            entries += reached.size();
+            candidates.reserve(reached.size());
+            for (std::uint32_t v : reached) {
                 if (volumeMissesBox(volumes[v], box))
                     ++localCulled;
                 else
@@ -165,8 +193,10 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                 const Bounds blockBox = tileReceiverBounds(gbuffer, block);
                 if (blockBox.empty()) continue;
                 std::vector<std::uint32_t>& list = blockCandidates[std::size_t(by * CPU_BLOCKS + bx)];
+                const LightHull blockHull = lightHull(boxBall(blockBox.lo, blockBox.hi), sphere);
                 for (std::uint32_t v : candidates)
-                    if (!volumeMissesBox(volumes[v], blockBox)) list.push_back(v);
+                    if (ballMeetsLightHull(balls[v], blockHull) && !volumeMissesBox(volumes[v], blockBox))
+                        list.push_back(v);
             }
         std::array<vec2, 256> points;
         for (int y = tile.y0; y < tile.y1; ++y)
@@ -209,11 +239,8 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                     vec2 regionLo, regionHi;
                     if (!stsvSampleRegion(px, vec2(-1.0f), vec2(1.0f), regionLo, regionHi)) continue;
                     if (!placed) {
-                        for (int k = 0; k < plan.count; ++k) {
-                            const vec2 ab = pixelSamplePoint(plan, x, y, k, frame.domain);
-                            points[std::size_t(k)] = ab;
-                            cells.add(ab, uint(k));
-                        }
+                        pixelSamplePoints(plan, x, y, frame.domain, points.data());
+                        for (int k = 0; k < plan.count; ++k) cells.add(points[std::size_t(k)], uint(k));
                         placed = true;
                     }
                     const std::array<uint, 8> inRegion = cells.within(regionLo, regionHi, wordCount);
@@ -264,12 +291,18 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
                             out.addOpticalDepth(x, y, k, depth[std::size_t(k)]);
             }
         tests += localTests;
+        nodeTests += localNodeTests;
+        nodesRejected += localRejected;
         hits += localHits;
         culled += localCulled;
         samples += localSamples;
         progress.advance();
     });
     stats.pixelVolumeTests = tests;
+    stats.clusters = tree.nodes.empty() ? 0 : (tree.nodes.size() + 1) / 2;
+    stats.clusterTests = nodeTests;
+    stats.clustersRejected = nodesRejected;
+    stats.tileEntries = entries;
     stats.pixelVolumeHits = hits;
     stats.tileEntriesCulled = culled;
     stats.samplesTested = samples;

@@ -26,7 +26,12 @@ namespace stsv {
 struct StsvCpuStats {
     std::size_t volumes = 0;           ///< volumes built (one or two per non-degenerate triangle)
     std::size_t degenerateSkipped = 0; ///< zero-area triangles, no volume
-    std::size_t tileEntries = 0;       ///< (tile, volume) pairs after binning
+    std::size_t clusters = 0;          ///< leaves of the tree over the volumes (BallTree)
+    /// Tree nodes the tiles tested with the ball of their visible points, and of those the ones
+    /// no segment from there to the light meets (volumes/light_hull_dh.h).
+    std::size_t clusterTests = 0;
+    std::size_t clustersRejected = 0;
+    std::size_t tileEntries = 0;       ///< (tile, volume) pairs of the leaves the tiles reached
     std::size_t tileEntriesCulled = 0; ///< of those, dropped: the tile's visible points all outside a plane
     std::size_t pixelVolumeTests = 0;  ///< point-in-volume tests run ("fragments", as the GPU counts them)
     std::size_t pixelVolumeHits = 0;   ///< of those, points inside ("inside_fragments")

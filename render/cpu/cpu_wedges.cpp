@@ -253,9 +253,9 @@ class SilhouetteEdges {
 /// A ball of receiver points and the segments from it to the light.
 struct Region {
     vec4 ball;
-    ClusterLightHull hull;
+    LightHull hull;
 
-    Region(vec4 region, vec4 light) : ball(region), hull(clusterLightHull(region, light)) {}
+    Region(vec4 region, vec4 light) : ball(region), hull(lightHull(region, light)) {}
     Region(const Bounds& box, vec4 light)
         : Region(vec4(0.5f * (box.lo + box.hi), 0.5f * stsv::length(box.hi - box.lo) * (1.f + 1e-5f)),
                  light) {}
@@ -266,7 +266,7 @@ struct Region {
 /// orientation test (dcsWorldSide): its determinant, of differences up to M long, is off by at
 /// most about 16·2⁻²⁴·M³ (10⁻⁶·M³), the margin twice that over |n| in distance from a face's plane.
 bool nodeMayAdd(const EdgeClusterNode& node, const Region& region) {
-    if (!clusterMeetsLightHull(node.ball, region.hull)) return false;
+    if (!ballMeetsLightHull(node.ball, region.hull)) return false;
     if (node.cone.w < 0.f) return true;
     const float m = stsv::length(vec3(region.ball) - vec3(node.ball)) + region.ball.w + node.faceReach;
     return clusterMayHaveSilhouette(node.ball, node.cone, region.ball,
@@ -292,7 +292,7 @@ struct BlockEdges {
 
 /// The fragment work of one pixel: calls visit(l, a, b, k) for every edge of the block that is a
 /// silhouette from p (k ≠ 0, receiver face excluded), whose ball meets the segments from p to the
-/// light (edgeBall, clusterMeetsLightHull), with a non-empty part between p and the light, and
+/// light (edgeBall, ballMeetsLightHull), with a non-empty part between p and the light, and
 /// whose carrier's bound holds p: the pairs a GPU fragment counts (wedge_term.glsl). The block's
 /// leaves' balls are tested with p first; a leaf's ball holds its edges' balls, so a leaf p
 /// rejects holds no such edge (the silhouette test is exact per edge). `tests` counts the bound tests,
@@ -306,7 +306,7 @@ void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, B
     const Region point(vec4(px.p, 0.f), light);
     bool any = false;
     for (std::size_t s = 0; s < block.leaves.size(); ++s) {
-        block.leafKept[s] = clusterMeetsLightHull(tree.nodes[block.leaves[s]].ball, point.hull);
+        block.leafKept[s] = ballMeetsLightHull(tree.nodes[block.leaves[s]].ball, point.hull);
         any = any || block.leafKept[s];
     }
     if (!any) return;
@@ -315,7 +315,7 @@ void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, B
         const WedgeFaces faces = edge.wedgeFaces(adj);
         const vec3 v0 = edge.v0, v1 = edge.v1;
         if (wedgeWorldWeight(px.p, v0, v1, faces, receiver) == 0) return;
-        if (!clusterMeetsLightHull(edgeBall(v0, v1), point.hull)) return;
+        if (!ballMeetsLightHull(edgeBall(v0, v1), point.hull)) return;
         vec3 l, h0, h1;
         int k;
         if (!wedgeEdgeTerm(px, v0, v1, faces, receiver, l, h0, h1, k)) return;
@@ -457,11 +457,9 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
                                       vec2 lo, hi;
                                       if (!dcsSampleRegion(l, a, b, vec2(-1.0f), vec2(1.0f), lo, hi)) return;
                                       if (!sampled) {
-                                          for (int s = 0; s < plan.count; ++s) {
-                                              ab[std::size_t(s)] =
-                                                  pixelSamplePoint(plan, x, y, s, frame.domain);
+                                          pixelSamplePoints(plan, x, y, frame.domain, ab.data());
+                                          for (int s = 0; s < plan.count; ++s)
                                               cells.add(ab[std::size_t(s)], uint(s));
-                                          }
                                           sampled = true;
                                       }
                                       const std::array<uint, 8> tested = cells.within(lo, hi, wordCount);

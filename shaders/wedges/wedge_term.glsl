@@ -21,7 +21,7 @@ vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
 }
 #define WEDGE_FACES
 #include "wedges/wedge_fragment_dh.h"
-#include "wedges/edge_cluster_dh.h"
+#include "volumes/light_hull_dh.h"
 
 WedgeFaces wedgeFacesOf(WedgeEdge edge) {
     WedgeFaces faces;
@@ -45,7 +45,7 @@ bool wedgePixelTerm(vec3 p, WedgeEdge edge, uint receiver, out vec3 l, out vec3 
     h1 = vec3(0.0);
     k = 0;
     if (px.valid == 0.0) return false;
-    if (!clusterMeetsLightHull(edgeBall(edge.v0, edge.v1), clusterLightHull(vec4(p, 0.0), lights[pc.light].sphere)))
+    if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lights[pc.light].sphere)))
         return false;
     return wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, k);
 }

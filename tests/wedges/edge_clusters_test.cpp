@@ -84,7 +84,8 @@ TEST(EdgeClusters, EveryEdgeOnceInLeavesOfAtMostALeafAndBoundsHoldTheirContents)
                 // A node's cone holds its children's (or there is none).
                 if (node.cone.w >= 0.0f) {
                     ASSERT_GE(child.cone.w, 0.0f);
-                    const float angle = std::acos(std::clamp(dot(vec3(node.cone), vec3(child.cone)), -1.0f, 1.0f));
+                    const float angle =
+                        std::acos(std::clamp(dot(vec3(node.cone), vec3(child.cone)), -1.0f, 1.0f));
                     EXPECT_LE(angle + child.halfAngle, node.halfAngle + 1e-5f) << "node " << n;
                 }
             }
@@ -98,7 +99,8 @@ TEST(EdgeClusters, EveryEdgeOnceInLeavesOfAtMostALeafAndBoundsHoldTheirContents)
             EXPECT_TRUE(ballHolds(node.ball, edgeBall(v0, v1))) << "leaf " << n;
             if (node.cone.w < 0.0f) continue;
             // Both deciding normals n_0 and −n_1 (or both negated) lie in the cone.
-            const vec3 n0 = normalize(cross(v1 - v0, b.adj.positions[b.adj.faces[edge.firstFace].opposite] - v0));
+            const vec3 n0 =
+                normalize(cross(v1 - v0, b.adj.positions[b.adj.faces[edge.firstFace].opposite] - v0));
             const vec3 n1 =
                 -normalize(cross(v1 - v0, b.adj.positions[b.adj.faces[edge.firstFace + 1].opposite] - v0));
             const float c0 = dot(n0, vec3(node.cone)), c1 = dot(n1, vec3(node.cone));
@@ -124,18 +126,22 @@ TEST(EdgeClusters, OpenAndNonManifoldEdgesHaveNoConeAndAreKept) {
     Scene scene;
     Material m;
     scene.materials.push_back(m);
-    const auto tri = [&](vec3 a, vec3 c, vec3 d) { scene.addTriangle(a, c, d, vec2(0.f), vec2(0.f), vec2(0.f), 0); };
+    const auto tri = [&](vec3 a, vec3 c, vec3 d) {
+        scene.addTriangle(a, c, d, vec2(0.f), vec2(0.f), vec2(0.f), 0);
+    };
     tri({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
     tri({0, 0, 0}, {1, 0, 0}, {0, -1, 0});
     tri({0, 0, 0}, {1, 0, 0}, {0, 0, 1});
     const EdgeAdjacency adj = buildEdgeAdjacency(scene, [](std::size_t) { return true; });
     std::vector<std::uint32_t> edges;
     for (std::uint32_t e = 0; e < adj.edges.size(); ++e) edges.push_back(e);
-    const EdgeClusterTree tree = buildEdgeClusters(adj, edges, std::vector<vec3>(edges.size(), vec3(0, 0, 1)), 2.0f);
+    const EdgeClusterTree tree =
+        buildEdgeClusters(adj, edges, std::vector<vec3>(edges.size(), vec3(0, 0, 1)), 2.0f);
     ASSERT_EQ(tree.leaves, 1u);
     EXPECT_LT(tree.nodes[0].cone.w, 0.0f);
     // Without a cone no region is rejected for silhouettes, however far.
-    EXPECT_TRUE(clusterMayHaveSilhouette(tree.nodes[0].ball, tree.nodes[0].cone, vec4(100, 0, 0, 0.1f), 0.0f));
+    EXPECT_TRUE(
+        clusterMayHaveSilhouette(tree.nodes[0].ball, tree.nodes[0].cone, vec4(100, 0, 0, 0.1f), 0.0f));
 }
 
 /// The smallest distance, over t ∈ [0, 1] sampled finely, from c to the ball (1 − t)·region + t·light
@@ -162,7 +168,7 @@ TEST(EdgeClusterTests, LightHullKeepsEveryBallASegmentMeetsAndRejectsTheFarOnes)
         const float t = r(rng);
         const vec3 near = vec3(region) * (1.0f - t) + vec3(light) * t + vec3(s(rng), s(rng), s(rng));
         const vec4 cluster(trial % 2 ? near : vec3(u(rng), u(rng), u(rng)), 0.3f * r(rng));
-        const bool meets = clusterMeetsLightHull(cluster, clusterLightHull(region, light));
+        const bool meets = ballMeetsLightHull(cluster, lightHull(region, light));
         const double gap = hullGap(cluster, region, light);
         // Sampling t finely overestimates the gap by at most the step times the axis length.
         if (gap < 0.0) {
@@ -195,12 +201,12 @@ TEST(EdgeClusterTests, LightHullIsMonotoneInTheRegionAndTheBall) {
         vec3 shift(s(rng), s(rng), s(rng));
         if (length(shift) > 1.0f) shift /= length(shift);
         const vec4 inner(vec3(cluster) + shift * (cluster.w - innerRadius), innerRadius);
-        const ClusterLightHull pointHull = clusterLightHull(point, light);
-        if (clusterMeetsLightHull(inner, pointHull)) {
+        const LightHull pointHull = lightHull(point, light);
+        if (ballMeetsLightHull(inner, pointHull)) {
             ++checked;
-            EXPECT_TRUE(clusterMeetsLightHull(cluster, pointHull)) << "trial " << trial << ": ball";
-            EXPECT_TRUE(clusterMeetsLightHull(inner, clusterLightHull(region, light))) << "trial " << trial
-                                                                                      << ": region";
+            EXPECT_TRUE(ballMeetsLightHull(cluster, pointHull)) << "trial " << trial << ": ball";
+            EXPECT_TRUE(ballMeetsLightHull(inner, lightHull(region, light)))
+                << "trial " << trial << ": region";
         }
     }
     EXPECT_GT(checked, 200);
@@ -210,7 +216,8 @@ TEST(EdgeClusterTests, LightHullIsMonotoneInTheRegionAndTheBall) {
 int floatWeight(const EdgeAdjacency& adj, const MeshEdge& edge, vec3 p) {
     int k = 0;
     for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
-        k += dcsWorldSide(p, adj.positions[edge.v0], adj.positions[edge.v1], adj.positions[adj.faces[f].opposite]);
+        k += dcsWorldSide(p, adj.positions[edge.v0], adj.positions[edge.v1],
+                          adj.positions[adj.faces[f].opposite]);
     return k;
 }
 
@@ -225,7 +232,8 @@ TEST(EdgeClusterTests, ALeafTheSilhouetteTestRejectsHoldsNoSilhouetteFromAnyPoin
             if (node.count == 0) continue;
             // The rounding allowance the mirror passes (render/cpu/cpu_wedges.cpp nodeMayAdd).
             const float m = length(vec3(region) - vec3(node.ball)) + region.w + node.faceReach;
-            if (clusterMayHaveSilhouette(node.ball, node.cone, region, 2e-6f * m * m * m * node.inverseNormal))
+            if (clusterMayHaveSilhouette(node.ball, node.cone, region,
+                                         2e-6f * m * m * m * node.inverseNormal))
                 continue;
             ++rejections;
             for (int i = 0; i < 8; ++i) {

@@ -30,8 +30,8 @@ void main() {
         for (int s = 0; s < 16; ++s) counts[s] += k * dcsSampleCrossing(l, h0, h1, vec2(float(s) / 16.0f - 0.5f, 0.25f));
         occlusion += float(k) * pwEdgeCoverage(l, h0, h1, DOMAIN_DISK) + pwEdgeCoverage(l, h0, h1, DOMAIN_SQUARE);
     }
-    ClusterLightHull hull = clusterLightHull(vec4(inP, 0.0f), vec4(0.0f, 5.0f, 0.0f, 0.5f));
-    bool meets = clusterMeetsLightHull(edgeBall(vec3(edgeData[0]), vec3(edgeData[1])), hull);
+    LightHull hull = lightHull(vec4(inP, 0.0f), vec4(0.0f, 5.0f, 0.0f, 0.5f));
+    bool meets = ballMeetsLightHull(edgeBall(vec3(edgeData[0]), vec3(edgeData[1])), hull);
     bool cone = clusterMayHaveSilhouette(edgeData[4], edgeData[5], vec4(inP, 0.1f), 1e-5f);
     color = vec4(float(counts[3]), occlusion, px.valid, meets && cone ? 1.0f : 0.0f);
 }
