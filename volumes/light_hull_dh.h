@@ -53,9 +53,9 @@ DH_FUNC LightHull lightHull(vec4 region, vec4 light) {
 /// False when the ball `ball` (grown by the margin) meets no segment of the hull: then nothing
 /// inside it occludes a light sample of any point of the region — no triangle (STSV), no edge
 /// (an edge adds to a receiver point p only where it crosses a segment from p to a light sample,
-/// wedges/dcs_dh.h, or, for PW, where its projection from p reaches the light). The ball meets the hull iff it meets a ball of the
-/// family; the distance from its centre to the ball at t minus that ball's radius is convex in
-/// t, so its minimum over [0, 1] is at the clamped stationary point.
+/// wedges/dcs_dh.h, or, for PW, where its projection from p reaches the light). The ball meets the hull iff
+/// it meets a ball of the family; the distance from its centre to the ball at t minus that ball's radius is
+/// convex in t, so its minimum over [0, 1] is at the clamped stationary point.
 ///
 /// The margin, 1e-4 of the magnitudes involved, is far beyond the rounding of the test, and it
 /// grows with both radii so that the test is monotone: a ball inside a ball that fails, or a

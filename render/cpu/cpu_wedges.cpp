@@ -54,52 +54,6 @@ inline vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
 
 namespace stsv {
 
-nlohmann::json toJson(const WedgeCpuStats& s) {
-    nlohmann::json j = {{"edges", s.edges},
-                        {"potential_silhouettes", s.potentialSilhouettes},
-                        {"volumes", s.volumes},
-                        {"block_edges", s.blockEdges},
-                        {"clusters", s.clusters},
-                        {"cluster_tests", s.clusterTests},
-                        {"clusters_rejected", s.clustersRejected},
-                        {"fragments", s.pixelVolumeTests},
-                        {"silhouette_fragments", s.pixelEdgeVisits},
-                        {"negative_counts", s.negativeCounts},
-                        {"setup_ms", s.setup_ms},
-                        {"shade_ms", s.shade_ms}};
-    if (s.samplesTested) j["samples_tested"] = *s.samplesTested;
-    return j;
-}
-
-OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
-    m_opaque.source = scene.source + " (opaque triangles)";
-    m_opaque.positions = scene.positions;
-    m_opaque.texcoords = scene.texcoords;
-    m_opaque.materials = scene.materials;
-    m_opaque.textures = scene.textures;
-    m_sceneToOpaque.assign(scene.triangleCount(), NO_TRIANGLE);
-    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
-        if (!scene.opaqueOccluder(t)) continue;
-        m_sceneToOpaque[t] = static_cast<std::uint32_t>(m_opaque.triangles.size());
-        m_opaqueToScene.push_back(static_cast<std::uint32_t>(t));
-        m_opaque.triangles.push_back(scene.triangles[t]);
-        m_opaque.triangleMaterial.push_back(scene.triangleMaterial[t]);
-    }
-    if (!m_opaqueToScene.empty()) m_embree = std::make_unique<EmbreeScene>(m_opaque);
-    m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
-    m_carriers = edgeCarriers(m_adjacency, scene);
-}
-
-std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
-                                           std::vector<std::uint32_t>& scratch) const {
-    if (!m_embree) return 0;
-    const std::uint32_t ignoreOpaque =
-        ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
-    return m_embree->countLayers(p, r, tMin, ignoreOpaque, scratch);
-}
-
-namespace {
-
 /// One non-degenerate face that bounds the wedges of the potential silhouette edges it carries
 /// (wedges/adjacency.h edgeCarriers), by the rule of wedge_bindings.glsl wedgeSetupBound: its
 /// STSV volume of each side the light sees, and its light planes. A segment that touches an edge
@@ -138,14 +92,14 @@ struct PackedEdge {
 /// silhouette edge that crosses its light.
 class SilhouetteEdges {
   public:
-    SilhouetteEdges(const OpaqueOccluders& occ, const Light& light, float farDistance, WedgeCpuStats& stats)
+    SilhouetteEdges(const OpaqueOccluders& occ, const Light& light, float farDistance)
         : m_scene(occ.scene()), m_lightSource(light), m_farDistance(farDistance) {
         const EdgeAdjacency& adj = occ.adjacency();
         m_sceneBounds = m_scene.bounds();
         light_ = lightBoundingSphere(light, m_sceneBounds, farDistance);
         const std::vector<std::uint32_t> candidates = potentialSilhouetteEdges(adj, light_);
-        stats.edges = adj.edges.size();
-        stats.potentialSilhouettes = candidates.size();
+        m_edgeCount = adj.edges.size();
+        m_potential = candidates.size();
         // Grouped by carrier face; an edge without a carrier has k_e = 0 for every p and is dropped.
         std::vector<std::pair<std::uint32_t, std::uint32_t>> byFace; // (triangle, edge)
         byFace.reserve(candidates.size());
@@ -171,7 +125,7 @@ class SilhouetteEdges {
         m_bounds = std::make_unique_for_overwrite<FaceBound[]>(m_carrierTriangle.size());
         m_state = std::make_unique<std::atomic<std::uint8_t>[]>(m_carrierTriangle.size());
         tree_ = buildEdgeClusters(adj, edges_, turn, m_sceneBounds.diameter());
-        stats.clusters = tree_.leaves;
+
         // What a pixel reads of each edge, leaf after leaf.
         packed_.resize(tree_.items.size());
         parallelForChunks(packed_.size(), [&](std::size_t begin, std::size_t end) {
@@ -218,6 +172,21 @@ class SilhouetteEdges {
     /// Volumes of the bounds built so far.
     std::size_t volumesBuilt() const { return m_volumes.load(); }
 
+    /// Whether these are the silhouettes of `light` at `farDistance` (its geometry; not its radiance).
+    bool isFor(const Light& light, float farDistance) const {
+        const Light& l = m_lightSource;
+        return l.type == light.type && l.position == light.position && l.normal == light.normal &&
+               l.radius == light.radius && l.axisU == light.axisU && l.axisV == light.axisV &&
+               l.angularRadius == light.angularRadius && m_farDistance == farDistance;
+    }
+
+    /// The counts of the setup into `stats`.
+    void report(WedgeCpuStats& stats) const {
+        stats.edges = m_edgeCount;
+        stats.potentialSilhouettes = m_potential;
+        stats.clusters = tree_.leaves;
+    }
+
   private:
     static constexpr std::uint8_t UNBUILT = 0, BUILDING = 1, READY = 2;
 
@@ -236,8 +205,10 @@ class SilhouetteEdges {
     }
 
     const Scene& m_scene;
-    const Light& m_lightSource;
+    Light m_lightSource;
     float m_farDistance;
+    std::size_t m_edgeCount = 0;
+    std::size_t m_potential = 0;
     Bounds m_sceneBounds;
     vec4 light_;
     std::vector<std::uint32_t> edges_;
@@ -249,6 +220,62 @@ class SilhouetteEdges {
     std::unique_ptr<std::atomic<std::uint8_t>[]> m_state;
     mutable std::atomic<std::size_t> m_volumes{0};
 };
+
+nlohmann::json toJson(const WedgeCpuStats& s) {
+    nlohmann::json j = {{"edges", s.edges},
+                        {"potential_silhouettes", s.potentialSilhouettes},
+                        {"volumes", s.volumes},
+                        {"block_edges", s.blockEdges},
+                        {"clusters", s.clusters},
+                        {"cluster_tests", s.clusterTests},
+                        {"clusters_rejected", s.clustersRejected},
+                        {"fragments", s.pixelVolumeTests},
+                        {"silhouette_fragments", s.pixelEdgeVisits},
+                        {"negative_counts", s.negativeCounts},
+                        {"setup_ms", s.setup_ms},
+                        {"shade_ms", s.shade_ms}};
+    if (s.samplesTested) j["samples_tested"] = *s.samplesTested;
+    return j;
+}
+
+OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
+    m_opaque.source = scene.source + " (opaque triangles)";
+    m_opaque.positions = scene.positions;
+    m_opaque.texcoords = scene.texcoords;
+    m_opaque.materials = scene.materials;
+    m_opaque.textures = scene.textures;
+    m_sceneToOpaque.assign(scene.triangleCount(), NO_TRIANGLE);
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        if (!scene.opaqueOccluder(t)) continue;
+        m_sceneToOpaque[t] = static_cast<std::uint32_t>(m_opaque.triangles.size());
+        m_opaqueToScene.push_back(static_cast<std::uint32_t>(t));
+        m_opaque.triangles.push_back(scene.triangles[t]);
+        m_opaque.triangleMaterial.push_back(scene.triangleMaterial[t]);
+    }
+    if (!m_opaqueToScene.empty()) m_embree = std::make_unique<EmbreeScene>(m_opaque);
+    m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
+    m_carriers = edgeCarriers(m_adjacency, scene);
+}
+
+OpaqueOccluders::~OpaqueOccluders() = default;
+
+const SilhouetteEdges& OpaqueOccluders::silhouettes(const Light& light, float farDistance) const {
+    const std::lock_guard<std::mutex> lock(m_silhouettesMutex);
+    for (const auto& s : m_silhouettes)
+        if (s->isFor(light, farDistance)) return *s;
+    m_silhouettes.push_back(std::make_unique<SilhouetteEdges>(*this, light, farDistance));
+    return *m_silhouettes.back();
+}
+
+std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
+                                           std::vector<std::uint32_t>& scratch) const {
+    if (!m_embree) return 0;
+    const std::uint32_t ignoreOpaque =
+        ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
+    return m_embree->countLayers(p, r, tMin, ignoreOpaque, scratch);
+}
+
+namespace {
 
 /// A ball of receiver points and the segments from it to the light.
 struct Region {
@@ -426,7 +453,8 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
         throw UsageError("dcs needs a counter light-sample buffer (--buffer counters)");
     WedgeCpuStats stats;
     Timer timer;
-    const SilhouetteEdges sil(occ, light, farDistance, stats);
+    const SilhouetteEdges& sil = occ.silhouettes(light, farDistance);
+    sil.report(stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();
@@ -512,7 +540,8 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
                               float farDistance, ImageF& visibility) {
     WedgeCpuStats stats;
     Timer timer;
-    const SilhouetteEdges sil(occ, light, farDistance, stats);
+    const SilhouetteEdges& sil = occ.silhouettes(light, farDistance);
+    sil.report(stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();

@@ -17,6 +17,7 @@
 
 #include <cstddef>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -26,7 +27,7 @@ struct WedgeCpuStats {
     std::size_t edges = 0;                ///< welded edges of the opaque triangles
     std::size_t potentialSilhouettes = 0; ///< of those, potential silhouettes for this light
     /// STSV volumes of the carrier faces, which bound the wedges: built for a face when a pixel
-    /// first tests its bound.
+    /// first tests its bound, and kept for the light's next frames (the count so far).
     std::size_t volumes = 0;
     std::size_t clusters = 0; ///< leaves of the cluster tree (EDGE_CLUSTER_LEAF edges at most)
     /// (region, node) tests of the cluster tree: each screen tile walks the tree with the ball of
@@ -46,11 +47,13 @@ struct WedgeCpuStats {
     /// DCS: samples whose crossing with a silhouette edge was tested ("samples_tested"; only
     /// those in the cells of the edge's dcsSampleRegion). Empty for PW, which tests no samples.
     std::optional<std::size_t> samplesTested;
-    double setup_ms = 0.0; ///< silhouettes, volumes, binning
+    double setup_ms = 0.0; ///< potential silhouettes and their tree (the light's first frame)
     double shade_ms = 0.0; ///< per-pixel centre count and edge loop
 };
 
 nlohmann::json toJson(const WedgeCpuStats& stats);
+
+class SilhouetteEdges; // render/cpu/cpu_wedges.cpp
 
 /// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
 /// an Embree scene of them alone, which gives the layer count D(r) at the light centre (the CPU
@@ -58,6 +61,7 @@ nlohmann::json toJson(const WedgeCpuStats& stats);
 class OpaqueOccluders {
   public:
     explicit OpaqueOccluders(const Scene& scene);
+    ~OpaqueOccluders();
 
     const Scene& scene() const { return m_scene; }
     const EdgeAdjacency& adjacency() const { return m_adjacency; }
@@ -69,8 +73,15 @@ class OpaqueOccluders {
     std::uint32_t centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
                               std::vector<std::uint32_t>& scratch) const;
 
+    /// The potential silhouettes of a light with their cluster tree and their carriers' bounds:
+    /// they depend on the scene and the light alone, so the first frame that asks for a light
+    /// makes them and later frames reuse them (as the Embree scene is built once).
+    const SilhouetteEdges& silhouettes(const Light& light, float farDistance) const;
+
   private:
     const Scene& m_scene;
+    mutable std::mutex m_silhouettesMutex;
+    mutable std::vector<std::unique_ptr<SilhouetteEdges>> m_silhouettes;
     Scene m_opaque; ///< the opaque triangles only (Embree holds a reference)
     std::vector<std::uint32_t> m_opaqueToScene;
     std::vector<std::uint32_t> m_sceneToOpaque;

@@ -77,7 +77,8 @@ TEST(BallTree, AWalkWithTheLightHullKeepsEveryBallThatMeetsIt) {
         for (std::uint32_t i = 0; i < balls.size(); ++i)
             if (ballMeetsLightHull(balls[i], hull)) {
                 ++kept;
-                EXPECT_TRUE(reached.count(i)) << "trial " << trial << ": ball " << i << " lost on the way down";
+                EXPECT_TRUE(reached.count(i))
+                    << "trial " << trial << ": ball " << i << " lost on the way down";
             }
         walked += reached.size();
     }

@@ -255,6 +255,49 @@ Scene meshScene(const MeshData& mesh, const char* name, bool perforated) {
     return scene;
 }
 
+// The potential silhouettes, their cluster tree and their carriers' bounds are made by the first
+// frame of a light and reused by later ones (OpaqueOccluders::silhouettes): a second frame gives
+// the same counters, another light its own (those a fresh OpaqueOccluders gives it), and the
+// first light again its first counters.
+TEST(DcsVsReference, LaterFramesReuseEachLightsSilhouettes) {
+    Progress::setEnabled(false);
+    Scene scene = meshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "knot", false);
+    Light moved = scene.lights[0];
+    moved.position += vec3(1.5f, 0.0f, -1.0f);
+    const EmbreeScene embree(scene);
+    const int size = 96, samples = 32;
+    const GBuffer g = embree.traceGBuffer(size, size);
+    const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 3);
+    const float farDistance = farDistanceFor(scene.bounds());
+    const auto frame = [&](const OpaqueOccluders& occ, const Light& light, WedgeCpuStats& stats) {
+        LightSampleBuffer counters(size, size, samples, BufferKind::Counters);
+        stats = dcsCpuSamples(occ, g, light, plan, farDistance, counters);
+        std::vector<int> out;
+        for (int y = 0; y < size; ++y)
+            for (int x = 0; x < size; ++x)
+                for (int k = 0; k < samples; ++k) out.push_back(int(counters.count(x, y, k)));
+        return out;
+    };
+    const OpaqueOccluders occ(scene);
+    WedgeCpuStats first, second, other, fresh, again;
+    const std::vector<int> a = frame(occ, scene.lights[0], first);
+    const std::vector<int> b = frame(occ, scene.lights[0], second);
+    const std::vector<int> c = frame(occ, moved, other);
+    const std::vector<int> d = frame(OpaqueOccluders(scene), moved, fresh);
+    const std::vector<int> e = frame(occ, scene.lights[0], again);
+    EXPECT_EQ(a, b);
+    EXPECT_EQ(a, e);
+    EXPECT_EQ(c, d);
+    EXPECT_NE(a, c) << "the moved light casts other shadows";
+    EXPECT_GT(std::count_if(a.begin(), a.end(), [](int v) { return v > 0; }), size * size);
+    EXPECT_EQ(first.potentialSilhouettes, second.potentialSilhouettes);
+    EXPECT_EQ(first.clusters, again.clusters);
+    EXPECT_EQ(other.potentialSilhouettes, fresh.potentialSilhouettes);
+    EXPECT_EQ(first.pixelEdgeVisits, second.pixelEdgeVisits);
+    // The second frame builds no bound the first did not.
+    EXPECT_EQ(first.volumes, second.volumes);
+}
+
 TEST(DcsVsReference, Sphere) {
     for (bool perforated : {false, true})
         expectAgreement("sphere 32x16", meshScene(test::makeSphereMesh(32, 16), "sphere", perforated),
