@@ -1,6 +1,6 @@
 // The CPU mirror of the STSV pass (DESIGN §3): the same device/host functions the fragment
-// shader runs, over the pixels, with volumes binned to screen tiles the way the rasteriser
-// would cover them.
+// shader runs, over the pixels, each screen tile taking the volumes of the triangles that can
+// shadow it from a tree of balls over them (render/cpu/cpu_binning.h BallTree).
 #pragma once
 
 #include "core/gbuffer.h"

@@ -1,9 +1,10 @@
 // CPU mirror of the opaque-occluder passes (DESIGN §4.5, STSV paper Algorithm 2):
 // depth complexity sampling (DCS) and penumbra wedges (PW) over the welded edge adjacency of the
 // opaque triangles, and their combinations with STSV for the perforated ones. The per-pixel,
-// per-edge math is the device/host code of wedges/dcs_dh.h and wedges/pw_dh.h; candidate edges
-// are binned to screen tiles through the STSV volume of one of their faces (a conservative
-// bound of the region whose light segments can touch the edge).
+// per-edge math is the device/host code of wedges/dcs_dh.h and wedges/pw_dh.h; each tile finds
+// its candidate edges through a tree of clusters of the light's potential silhouettes
+// (wedges/edge_clusters.h), and each edge's bound is the STSV volume of one of its faces (a
+// conservative bound of the region whose light segments can touch the edge).
 #pragma once
 
 #include "core/gbuffer.h"
