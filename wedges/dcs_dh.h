@@ -98,35 +98,6 @@ DH_FUNC int dcsWorldSide(vec3 p, vec3 v0, vec3 v1, vec3 o) {
     return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
 }
 
-/// dcsWorldSide over a whole box [lo, hi]: ±1 when every point p of the box gets that side, 0
-/// when the box may hold points of either side (or on the plane). The determinant is
-/// n·(v0 − p) with n = (v1 − v0) × (o − v0), linear in p, so its range over the box is
-/// n·(v0 − c) ± |n|·e (centre c, half extent e). The margin, 10⁻⁵·M³ with M the largest
-/// L1 reach from the box to v0, v1 or o (plus 10⁻⁶ of the coordinates, for the subtractions),
-/// is over a hundred times the float rounding of the per-point determinant (a cross and a dot
-/// of differences, each within a few 2⁻²⁴ of its factors' products), so a strict answer is the
-/// answer dcsWorldSide gives at every point of the box.
-DH_FUNC int dcsBoxSide(vec3 v0, vec3 v1, vec3 o, vec3 lo, vec3 hi) {
-    vec3 c = 0.5f * (lo + hi);
-    vec3 e = 0.5f * (hi - lo);
-    vec3 n = cross(v1 - v0, o - v0);
-    float mid = dot(n, v0 - c);
-    float rad = dot(abs(n), e);
-    float spread = e.x + e.y + e.z;
-    float coords = abs(c.x) + abs(c.y) + abs(c.z) + spread;
-    vec3 d0 = abs(v0 - c);
-    vec3 d1 = abs(v1 - c);
-    vec3 d2 = abs(o - c);
-    float reach = max(max(d0.x + d0.y + d0.z, d1.x + d1.y + d1.z), d2.x + d2.y + d2.z) + spread;
-    float m = reach +
-              1e-6f * (coords + max(max(abs(v0.x) + abs(v0.y) + abs(v0.z), abs(v1.x) + abs(v1.y) + abs(v1.z)),
-                                    abs(o.x) + abs(o.y) + abs(o.z)));
-    float margin = 1e-5f * m * m * m;
-    if (mid - rad > margin) return 1;
-    if (mid + rad < -margin) return -1;
-    return 0;
-}
-
 /// Light-side culling of a manifold edge q0 q1 whose faces have third vertices o0 and o1: false
 /// iff the edge is a silhouette for no light point in `sphere` (centre xyz, radius w, world
 /// units). With face normals oriented by the edge, n_f = (q1 − q0) × (o_f − q0), the edge is a

@@ -118,7 +118,7 @@ struct Builder {
             const MeshEdge& edge = adj.edges[edges[item]];
             lo = min(lo, min(adj.positions[edge.v0], adj.positions[edge.v1]));
             hi = max(hi, max(adj.positions[edge.v0], adj.positions[edge.v1]));
-            std::array<vec3, 2> n;
+            std::array<vec3, 2> n{vec3(0.f), vec3(0.f)};
             float smallest = 0.f;
             if (normals(item, n, smallest)) {
                 normalList.push_back(n[0]);
@@ -159,10 +159,12 @@ struct Builder {
     }
 
     /// The cone (axis, half-angle + a rounding allowance), unless it is near a half-space, where it
-    /// rejects nothing.
+    /// rejects nothing. The allowance, 1e-3 rad, covers the angles' float acos, which returns 0
+    /// for unit vectors up to 3.5e-4 rad apart, and keeps cos θ below 1 in float (a cone stored as
+    /// cos θ = 1 would be tested as a single direction).
     static void setCone(EdgeClusterNode& node, vec3 axis, float halfAngle) {
-        if (!(halfAngle + 1e-4f < 1.52f)) return;
-        node.halfAngle = halfAngle + 1e-4f;
+        if (!(halfAngle + 1e-3f < 1.52f)) return;
+        node.halfAngle = halfAngle + 1e-3f;
         node.cone = vec4(axis, std::cos(node.halfAngle));
     }
 
@@ -213,7 +215,7 @@ EdgeClusterTree buildEdgeClusters(const EdgeAdjacency& adj, const std::vector<st
                       [&](const tbb::blocked_range<std::uint32_t>& range) {
                           for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
                               const MeshEdge& edge = adj.edges[edges[i]];
-                              std::array<vec3, 2> n;
+                              std::array<vec3, 2> n{vec3(0.f), vec3(0.f)};
                               float smallest = 0.f;
                               const bool coned = b.normals(i, n, smallest);
                               const vec3 mean = n[0] + n[1];

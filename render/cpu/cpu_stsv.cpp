@@ -113,16 +113,20 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
         }
     });
     stats.degenerateSkipped = degenerate;
-    std::vector<VolumeRecord> volumes;
+    // The used slots moved to the front, in order: the volumes.
+    std::vector<VolumeRecord>& volumes = slots;
     std::vector<vec4> balls; // each volume's triangle's ball
+    std::size_t used = 0;
     for (std::size_t i = 0; i < slots.size(); ++i) {
         if (!slotUsed[i]) continue;
-        volumes.push_back(slots[i]);
-        const uvec3 idx = scene.triangles[slots[i].triangle];
+        if (used != i) slots[used] = slots[i];
+        const uvec3 idx = scene.triangles[slots[used].triangle];
         const vec3 v0 = scene.positions[idx.x], v1 = scene.positions[idx.y], v2 = scene.positions[idx.z];
         balls.push_back(boxBall(min(v0, min(v1, v2)), max(v0, max(v1, v2))));
+        ++used;
     }
-    slots = {};
+    slots.resize(used);
+    slotUsed = {};
     stats.volumes = volumes.size();
     // The hierarchy the tiles walk: a volume's triangle occludes a sample of p only where it
     // meets the segment from p to the sample, so a node whose ball meets no segment from the

@@ -23,6 +23,8 @@
 #include <memory>
 #include <thread>
 
+#include <tbb/task_arena.h>
+
 namespace stsv {
 
 /// A face of an edge, copied next to it (PackedEdge).
@@ -263,7 +265,10 @@ const SilhouetteEdges& OpaqueOccluders::silhouettes(const Light& light, float fa
     const std::lock_guard<std::mutex> lock(m_silhouettesMutex);
     for (const auto& s : m_silhouettes)
         if (s->isFor(light, farDistance)) return *s;
-    m_silhouettes.push_back(std::make_unique<SilhouetteEdges>(*this, light, farDistance));
+    // Built in an isolated arena: the build's parallel loops must not take another task that
+    // waits for this lock.
+    tbb::this_task_arena::isolate(
+        [&] { m_silhouettes.push_back(std::make_unique<SilhouetteEdges>(*this, light, farDistance)); });
     return *m_silhouettes.back();
 }
 

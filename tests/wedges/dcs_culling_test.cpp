@@ -1,8 +1,7 @@
-// The CPU DCS pass's conservative culling (render/cpu/cpu_wedges.cpp): dcsBoxSide, which drops an
-// edge for a box of visible points when it can be a silhouette from none of them, and
-// dcsSampleRegion, which bounds the samples an edge's crossing can count. Each must keep
-// everything the per-point or per-sample test would accept, at the rounding limit too: points
-// on a box's corners and faces, samples on the region's boundary found by bisection.
+// The CPU DCS pass's per-sample culling (render/cpu/cpu_wedges.cpp): dcsSampleRegion, which
+// bounds the samples an edge's crossing can count, must keep every sample the per-sample test
+// would accept, at the rounding limit too: samples on the region's boundary found by bisection.
+// (Its culling of edges and clusters is tested in edge_clusters_test.cpp.)
 #include "wedge_test_util.h"
 #include "wedges/dcs_dh.h"
 
@@ -15,39 +14,6 @@ namespace stsv {
 namespace {
 
 using test::Rng;
-
-TEST(DcsCulling, BoxSideIsTheSideOfEveryPointOfTheBox) {
-    Rng rng(3);
-    std::size_t strict = 0, points = 0, touching = 0;
-    for (int c = 0; c < 20000; ++c) {
-        const vec3 v0 = rng.inBox(vec3(-2.0f), vec3(2.0f));
-        const vec3 v1 = v0 + rng.inBox(vec3(-0.3f), vec3(0.3f));
-        const vec3 o = v0 + rng.inBox(vec3(-0.3f), vec3(0.3f));
-        vec3 lo = rng.inBox(vec3(-3.0f), vec3(3.0f));
-        vec3 hi = lo + rng.inBox(vec3(0.0f), vec3(c % 3 == 0 ? 0.01f : 0.5f));
-        if (c % 4 == 1) {
-            // A box with a corner on the face's plane: the answer must not be strict.
-            const vec3 n = cross(v1 - v0, o - v0);
-            const vec3 corner = lo - n * (dot(n, lo - v0) / dot(n, n));
-            hi = corner + (hi - lo);
-            lo = corner;
-            ++touching;
-        }
-        const int side = dcsBoxSide(v0, v1, o, lo, hi);
-        if (side == 0) continue;
-        ++strict;
-        for (int k = 0; k < 40; ++k) {
-            vec3 p = rng.inBox(lo, hi);
-            if (k < 8) p = vec3((k & 1) ? hi.x : lo.x, (k & 2) ? hi.y : lo.y, (k & 4) ? hi.z : lo.z);
-            ++points;
-            ASSERT_EQ(dcsWorldSide(p, v0, v1, o), side)
-                << "case " << c << " p " << test::str(p) << " box " << test::str(lo) << " " << test::str(hi);
-        }
-    }
-    std::cout << strict << " strict boxes, " << points << " points checked, " << touching
-              << " boxes touching the plane\n";
-    EXPECT_GT(strict, 5000u);
-}
 
 /// Random projected edges in a pixel's frame: h0, h1 homogeneous with w in (0, 1.5), clipped as
 /// wedgeEdgeTerm clips them.
