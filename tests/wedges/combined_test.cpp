@@ -125,7 +125,7 @@ TEST(Combined, PwStsvWithOpaqueMeshMeasured) {
 
 // The CPU frame's per-pass counts under the names the Vulkan frame uses: "wedges" per light
 // (fragments = bound tests, silhouette_fragments, DCS samples_tested ≤ silhouettes × N, only
-// those in each edge's crossing region) and,
+// those in each edge's crossing region; the cluster tree's clusters, tests and rejections) and,
 // for the combined methods, the STSV part under "stsv".
 TEST(Combined, CpuFrameStatsCountEachPass) {
     Progress::setEnabled(false);
@@ -150,8 +150,23 @@ TEST(Combined, CpuFrameStatsCountEachPass) {
             const nlohmann::json& w = frame.stats["wedges"][0];
             const auto silhouettes = w["silhouette_fragments"].get<std::size_t>();
             EXPECT_LE(silhouettes, w["fragments"].get<std::size_t>() * w["edges"].get<std::size_t>()) << what;
+            // The cluster tree: its leaves hold the potential silhouettes (32 at most each), the
+            // tiles' and blocks' node tests reject some of it, and what is left for the blocks'
+            // pixels is at most every potential silhouette per block.
+            const auto potential = w["potential_silhouettes"].get<std::size_t>();
+            const auto clusters = w["clusters"].get<std::size_t>();
+            EXPECT_GE(clusters * 32u, potential) << what;
+            EXPECT_LE(clusters, potential) << what;
+            EXPECT_LE(w["clusters_rejected"].get<std::size_t>(), w["cluster_tests"].get<std::size_t>())
+                << what;
+            EXPECT_LE(w["block_edges"].get<std::size_t>(), potential * std::size_t(16 * 12)) << what;
+            EXPECT_LE(silhouettes, w["fragments"].get<std::size_t>()) << what;
             if (scene == &sphere) {
                 EXPECT_GT(silhouettes, 100u) << what;
+                EXPECT_GT(clusters, 1u) << what;
+                EXPECT_GT(w["clusters_rejected"].get<std::size_t>(), 0u)
+                    << what << ": the tree culls nothing";
+                EXPECT_GT(w["volumes"].get<std::size_t>(), 0u) << what;
             }
             if (method == Method::PwStsv) {
                 EXPECT_FALSE(w.contains("samples_tested")) << what << ": PW integrates, it tests no samples";
@@ -168,6 +183,15 @@ TEST(Combined, CpuFrameStatsCountEachPass) {
             const auto inside = s["inside_fragments"].get<std::size_t>();
             EXPECT_LE(inside, s["fragments"].get<std::size_t>()) << what;
             EXPECT_LE(s["samples_tested"].get<std::size_t>(), inside * 32u) << what;
+            // The tiles walk the tree of the STSV triangles: the volumes they reach, less those
+            // their boxes drop, are what the blocks test.
+            EXPECT_LE(s["clusters_rejected"].get<std::size_t>(), s["cluster_tests"].get<std::size_t>())
+                << what;
+            EXPECT_LE(s["tile_entries_culled"].get<std::size_t>(), s["tile_entries"].get<std::size_t>())
+                << what;
+            EXPECT_LE(s["tile_entries"].get<std::size_t>(),
+                      s["volumes"].get<std::size_t>() * std::size_t(4 * 3))
+                << what;
             // The fence's quad shadows the ground; the sphere scene has no perforated triangle.
             if (scene == &fence) {
                 EXPECT_GT(s["samples_tested"].get<std::size_t>(), 1000u) << what;
