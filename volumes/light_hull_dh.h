@@ -71,6 +71,22 @@ DH_FUNC bool ballMeetsLightHull(vec4 ball, LightHull h) {
     return length(d - h.axis * t) - (h.radius + t * h.slope) <= ball.w + margin;
 }
 
+/// The ball around the points [lo, hi] (the box's circumscribed ball), grown by 1e-5 of its radius
+/// for rounding: the region ball of a box of receiver points, or a cluster's ball.
+DH_FUNC vec4 boxBall(vec3 lo, vec3 hi) {
+    return vec4(0.5f * (lo + hi), 0.5f * length(hi - lo) * (1.0f + 1e-5f));
+}
+
+/// The smallest ball around the balls a and b (grown by 1e-5 of its radius where it is neither):
+/// a tree node's ball around its children's.
+DH_FUNC vec4 ballAround(vec4 a, vec4 b) {
+    float distance = length(vec3(b) - vec3(a));
+    if (distance + b.w <= a.w) return a;
+    if (distance + a.w <= b.w) return b;
+    float radius = 0.5f * (distance + a.w + b.w);
+    return vec4(vec3(a) + (vec3(b) - vec3(a)) * ((radius - a.w) / distance), radius * (1.0f + 1e-5f));
+}
+
 /// The ball of edge v0 v1 (its midpoint, half its length): what a cluster's ball holds of each
 /// of its edges, and what one edge tests against the hull of its receiver point.
 DH_FUNC vec4 edgeBall(vec3 v0, vec3 v1) {

@@ -171,25 +171,11 @@ struct Builder {
     void merge(std::uint32_t index, std::uint32_t a, std::uint32_t b) {
         EdgeClusterNode& node = tree.nodes[index];
         const EdgeClusterNode &na = tree.nodes[a], &nb = tree.nodes[b];
-        // The smallest ball around both children's balls.
-        const vec3 ca(na.ball), cb(nb.ball);
-        const float distance = stsv::length(cb - ca);
-        vec3 centre;
-        float radius;
-        if (distance + nb.ball.w <= na.ball.w) {
-            centre = ca;
-            radius = na.ball.w;
-        } else if (distance + na.ball.w <= nb.ball.w) {
-            centre = cb;
-            radius = nb.ball.w;
-        } else {
-            radius = 0.5f * (distance + na.ball.w + nb.ball.w);
-            centre = ca + (cb - ca) * ((radius - na.ball.w) / distance);
-        }
-        node.ball = vec4(centre, radius * (1.f + 1e-5f));
-        node.faceReach =
-            std::max(na.faceReach + stsv::length(ca - centre), nb.faceReach + stsv::length(cb - centre)) *
-            (1.f + 1e-5f);
+        node.ball = ballAround(na.ball, nb.ball);
+        const vec3 centre(node.ball);
+        node.faceReach = std::max(na.faceReach + stsv::length(vec3(na.ball) - centre),
+                                  nb.faceReach + stsv::length(vec3(nb.ball) - centre)) *
+                         (1.f + 1e-5f);
         node.inverseNormal = std::max(na.inverseNormal, nb.inverseNormal);
         node.cone = vec4(0.f, 0.f, 1.f, -1.f);
         node.halfAngle = -1.f;

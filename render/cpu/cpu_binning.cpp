@@ -30,15 +30,6 @@ std::uint32_t ballTreeNodes(std::uint32_t count) {
     return count <= BallTree::LEAF ? 1u : 1u + ballTreeNodes(count / 2) + ballTreeNodes(count - count / 2);
 }
 
-/// The smallest ball around two balls.
-vec4 ballAround(vec4 a, vec4 b) {
-    const float distance = length(vec3(b) - vec3(a));
-    if (distance + b.w <= a.w) return a;
-    if (distance + a.w <= b.w) return b;
-    const float radius = 0.5f * (distance + a.w + b.w);
-    return vec4(vec3(a) + (vec3(b) - vec3(a)) * ((radius - a.w) / distance), radius * (1.0f + 1e-5f));
-}
-
 /// Node `index` over items [first, first + count): its children at `free` and free + 1, their
 /// descendants after them, the first child's before the second's (a fixed layout, so that the
 /// halves build in parallel).

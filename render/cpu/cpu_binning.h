@@ -8,6 +8,7 @@
 #include "sampling/ls_buffer_dh.h"
 #include "scene/scene.h"
 #include "volumes/extrusion_dh.h"
+#include "volumes/light_hull_dh.h"
 
 #include <algorithm>
 #include <array>
@@ -47,12 +48,6 @@ struct BallTree {
 };
 
 BallTree buildBallTree(const std::vector<vec4>& balls);
-
-/// The smallest ball around the points [lo, hi] (the box's circumscribed ball), grown by 1e-5 of
-/// its radius for rounding.
-inline vec4 boxBall(vec3 lo, vec3 hi) {
-    return vec4(0.5f * (lo + hi), 0.5f * length(hi - lo) * (1.0f + 1e-5f));
-}
 
 /// A pixel's light samples in a CELLS × CELLS grid over the frame square [−1, 1]²: per cell the
 /// mask words (sampling/ls_buffer_dh.h) of the samples in it, so that a per-sample test bounded

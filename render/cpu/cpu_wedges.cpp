@@ -152,7 +152,6 @@ class SilhouetteEdges {
     /// Edge `position` of the tree's items (EdgeClusterTree::items order).
     const PackedEdge& packed(std::uint32_t position) const { return packed_[position]; }
 
-    const std::vector<std::uint32_t>& edges() const { return edges_; } ///< adjacency edge indices
     const EdgeClusterTree& tree() const { return tree_; }
     vec4 light() const { return light_; } ///< the light's bounding ball (sampling/light_bounds.h)
 
@@ -288,9 +287,7 @@ struct Region {
     LightHull hull;
 
     Region(vec4 region, vec4 light) : ball(region), hull(lightHull(region, light)) {}
-    Region(const Bounds& box, vec4 light)
-        : Region(vec4(0.5f * (box.lo + box.hi), 0.5f * stsv::length(box.hi - box.lo) * (1.f + 1e-5f)),
-                 light) {}
+    Region(const Bounds& box, vec4 light) : Region(boxBall(box.lo, box.hi), light) {}
 };
 
 /// A node of the tree against a region: false when no edge below it can add to any of its
@@ -331,11 +328,11 @@ struct BlockEdges {
 /// `visits` the edges visited. `ordered`: in item order, else leaf by leaf.
 template <class Visit>
 void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, BlockEdges& block,
-                       bool ordered, const DcsPixel& px, vec4 light, std::uint32_t receiver,
-                       std::size_t& tests, std::size_t& visits, Visit&& visit) {
+                       bool ordered, const DcsPixel& px, std::uint32_t receiver, std::size_t& tests,
+                       std::size_t& visits, Visit&& visit) {
     const EdgeAdjacency& adj = occ.adjacency();
     const EdgeClusterTree& tree = sil.tree();
-    const Region point(vec4(px.p, 0.f), light);
+    const Region point(vec4(px.p, 0.f), sil.light());
     bool any = false;
     for (std::size_t s = 0; s < block.leaves.size(); ++s) {
         block.leafKept[s] = ballMeetsLightHull(tree.nodes[block.leaves[s]].ball, point.hull);
@@ -485,8 +482,8 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
             const uint wordCount = uint(plan.count + 31) / 32u;
             std::size_t localTests = 0, localVisits = 0, localNegative = 0, localSamples = 0;
             if (px.valid != 0.0f)
-                forEachSilhouette(occ, sil, block, false, px, sil.light(), gbuffer.triangle[i], localTests,
-                                  localVisits, [&](vec3 l, vec3 a, vec3 b, int k) {
+                forEachSilhouette(occ, sil, block, false, px, gbuffer.triangle[i], localTests, localVisits,
+                                  [&](vec3 l, vec3 a, vec3 b, int k) {
                                       vec2 lo, hi;
                                       if (!dcsSampleRegion(l, a, b, vec2(-1.0f), vec2(1.0f), lo, hi)) return;
                                       if (!sampled) {
@@ -564,8 +561,8 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
             pwCenterOcclusion(int(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch)));
         std::size_t localTests = 0, localVisits = 0;
         if (px.valid != 0.0f)
-            forEachSilhouette(occ, sil, block, true, px, sil.light(), gbuffer.triangle[i], localTests,
-                              localVisits, [&](vec3 l, vec3 a, vec3 b, int k) {
+            forEachSilhouette(occ, sil, block, true, px, gbuffer.triangle[i], localTests, localVisits,
+                              [&](vec3 l, vec3 a, vec3 b, int k) {
                                   occlusion += pwWedgeTerm(k, pwEdgeCoverage(l, a, b, frame.domain));
                               });
         visibility.at(x, y, 0) = pwVisibility(occlusion);
