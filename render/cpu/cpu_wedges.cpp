@@ -27,20 +27,6 @@
 
 namespace stsv {
 
-/// A face of an edge, copied next to it (PackedEdge).
-struct PackedFace {
-    vec3 opposite; ///< the face's vertex opposite the edge
-    uint triangle; ///< scene triangle
-};
-
-/// The data access of wedges/wedge_fragment_dh.h on the CPU: the edge's faces copied next to it
-/// (`local`, two at most) or, for an edge with more, in the adjacency.
-struct WedgeFaces {
-    const EdgeAdjacency* adjacency;
-    const PackedFace* local; ///< null: the faces first … first + count − 1 of the adjacency
-    uint first;
-    uint count;
-};
 inline uint wedgeFaceTriangle(WedgeFaces faces, uint f) {
     return faces.local ? faces.local[f].triangle : faces.adjacency->faces[f].triangle;
 }
@@ -56,171 +42,16 @@ inline vec3 wedgeFaceOpposite(WedgeFaces faces, uint f) {
 
 namespace stsv {
 
-/// One non-degenerate face that bounds the wedges of the potential silhouette edges it carries
-/// (wedges/adjacency.h edgeCarriers), by the rule of wedge_bindings.glsl wedgeSetupBound: its
-/// STSV volume of each side the light sees, and its light planes. A segment that touches an edge
-/// touches the closed face, which STSV bounds conservatively. Trivial, so that storage for every
-/// carrier costs no page until a pixel needs its bound.
-struct FaceBound {
-    StsvVolume volumes[2];
-    StsvLightPlanes lightPlanes;
-    std::uint32_t volumeCount;
+namespace {
 
-    bool contains(vec3 p) const {
-        bool inside = false;
-        for (std::uint32_t v = 0; v < volumeCount && !inside; ++v) inside = stsvPointInVolume(volumes[v], p);
-        return inside && stsvPointInLightPlanes(lightPlanes, p);
-    }
-};
+/// The counts of the light's setup into `stats`.
+void reportSetup(const SilhouetteEdges& sil, WedgeCpuStats& stats) {
+    stats.edges = sil.edgeCount();
+    stats.potentialSilhouettes = sil.potentialCount();
+    stats.clusters = sil.tree().leaves;
+}
 
-/// One potential silhouette edge as a pixel reads it: its vertices and, for two faces at most,
-/// the faces themselves.
-struct PackedEdge {
-    vec3 v0, v1;
-    std::uint32_t item; ///< the edge's index in (carrier, edge) order
-    std::uint32_t faceCount;
-    std::uint32_t firstFace; ///< into the adjacency's faces
-    PackedFace faces[2];     ///< the first two (unused ones: NO_TRIANGLE)
-
-    WedgeFaces wedgeFaces(const EdgeAdjacency& adj) const {
-        return faceCount <= 2 ? WedgeFaces{&adj, faces, 0u, faceCount}
-                              : WedgeFaces{&adj, nullptr, firstFace, faceCount};
-    }
-};
-
-/// The potential silhouettes of one light with a carrier, in (carrier, edge) order — the order
-/// every pixel visits them in (PW sums in it) — the tree of clusters over them, and their
-/// carriers' bounds, each built when a pixel first tests it: most carriers never hold a pixel's
-/// silhouette edge that crosses its light.
-class SilhouetteEdges {
-  public:
-    SilhouetteEdges(const OpaqueOccluders& occ, const Light& light, float farDistance)
-        : m_scene(occ.scene()), m_lightSource(light), m_farDistance(farDistance) {
-        const EdgeAdjacency& adj = occ.adjacency();
-        m_sceneBounds = m_scene.bounds();
-        light_ = lightBoundingSphere(light, m_sceneBounds, farDistance);
-        const std::vector<std::uint32_t> candidates = potentialSilhouetteEdges(adj, light_);
-        m_edgeCount = adj.edges.size();
-        m_potential = candidates.size();
-        // Grouped by carrier face; an edge without a carrier has k_e = 0 for every p and is dropped.
-        std::vector<std::pair<std::uint32_t, std::uint32_t>> byFace; // (triangle, edge)
-        byFace.reserve(candidates.size());
-        for (std::uint32_t e : candidates)
-            if (occ.carriers()[e] != NO_CARRIER) byFace.emplace_back(occ.carriers()[e], e);
-        std::sort(byFace.begin(), byFace.end());
-        std::vector<vec3> turn; // the carriers' own normals, which orient the clusters' cones
-        turn.reserve(byFace.size());
-        edges_.reserve(byFace.size());
-        carrier_.reserve(byFace.size());
-        vec3 normal(0.f);
-        for (std::size_t i = 0; i < byFace.size(); ++i) {
-            if (i == 0 || byFace[i].first != byFace[i - 1].first) {
-                m_carrierTriangle.push_back(byFace[i].first);
-                const uvec3 t = m_scene.triangles[byFace[i].first];
-                const vec3 c0 = m_scene.positions[t.x];
-                normal = cross(m_scene.positions[t.y] - c0, m_scene.positions[t.z] - c0);
-            }
-            edges_.push_back(byFace[i].second);
-            carrier_.push_back(std::uint32_t(m_carrierTriangle.size() - 1));
-            turn.push_back(normal);
-        }
-        m_bounds = std::make_unique_for_overwrite<FaceBound[]>(m_carrierTriangle.size());
-        m_state = std::make_unique<std::atomic<std::uint8_t>[]>(m_carrierTriangle.size());
-        tree_ = buildEdgeClusters(adj, edges_, turn, m_sceneBounds.diameter());
-
-        // What a pixel reads of each edge, leaf after leaf.
-        packed_.resize(tree_.items.size());
-        parallelForChunks(packed_.size(), [&](std::size_t begin, std::size_t end) {
-            for (std::size_t k = begin; k < end; ++k) {
-                const MeshEdge& edge = adj.edges[edges_[tree_.items[k]]];
-                PackedEdge& e = packed_[k];
-                e.v0 = adj.positions[edge.v0];
-                e.v1 = adj.positions[edge.v1];
-                e.item = tree_.items[k];
-                e.faceCount = edge.faceCount;
-                e.firstFace = edge.firstFace;
-                for (uint f = 0; f < 2; ++f) {
-                    const bool has = f < edge.faceCount;
-                    const EdgeFace& face = adj.faces[edge.firstFace + (has ? f : 0)];
-                    e.faces[f] = {has ? adj.positions[face.opposite] : vec3(0.f),
-                                  has ? face.triangle : NO_TRIANGLE};
-                }
-            }
-        });
-    }
-
-    /// Edge `position` of the tree's items (EdgeClusterTree::items order).
-    const PackedEdge& packed(std::uint32_t position) const { return packed_[position]; }
-
-    const EdgeClusterTree& tree() const { return tree_; }
-    vec4 light() const { return light_; } ///< the light's bounding ball (sampling/light_bounds.h)
-
-    /// The bound of item `item`'s carrier, built by the first thread that asks.
-    const FaceBound& bound(std::uint32_t item) const {
-        const std::uint32_t f = carrier_[item];
-        std::atomic<std::uint8_t>& state = m_state[f];
-        if (state.load(std::memory_order_acquire) == READY) return m_bounds[f];
-        std::uint8_t expected = UNBUILT;
-        if (state.compare_exchange_strong(expected, BUILDING, std::memory_order_acq_rel)) {
-            build(f);
-            state.store(READY, std::memory_order_release);
-        } else {
-            while (state.load(std::memory_order_acquire) != READY) std::this_thread::yield();
-        }
-        return m_bounds[f];
-    }
-
-    /// Volumes of the bounds built so far.
-    std::size_t volumesBuilt() const { return m_volumes.load(); }
-
-    /// Whether these are the silhouettes of `light` at `farDistance` (its geometry; not its radiance).
-    bool isFor(const Light& light, float farDistance) const {
-        const Light& l = m_lightSource;
-        return l.type == light.type && l.position == light.position && l.normal == light.normal &&
-               l.radius == light.radius && l.axisU == light.axisU && l.axisV == light.axisV &&
-               l.angularRadius == light.angularRadius && m_farDistance == farDistance;
-    }
-
-    /// The counts of the setup into `stats`.
-    void report(WedgeCpuStats& stats) const {
-        stats.edges = m_edgeCount;
-        stats.potentialSilhouettes = m_potential;
-        stats.clusters = tree_.leaves;
-    }
-
-  private:
-    static constexpr std::uint8_t UNBUILT = 0, BUILDING = 1, READY = 2;
-
-    void build(std::uint32_t f) const {
-        const uvec3 i = m_scene.triangles[m_carrierTriangle[f]];
-        const vec3 c0 = m_scene.positions[i.x], c1 = m_scene.positions[i.y], c2 = m_scene.positions[i.z];
-        FaceBound& b = m_bounds[f];
-        b.volumeCount = 0;
-        b.lightPlanes = stsvTriangleLightPlanes(c0, c1, c2, m_lightSource, m_farDistance, m_sceneBounds.lo,
-                                                m_sceneBounds.hi);
-        for (uint side = 0; side < 2; ++side)
-            if (stsvSideVolume(c0, c1, c2, light_, m_sceneBounds.lo, m_sceneBounds.hi, side, false,
-                               b.volumes[b.volumeCount]))
-                ++b.volumeCount;
-        m_volumes += b.volumeCount;
-    }
-
-    const Scene& m_scene;
-    Light m_lightSource;
-    float m_farDistance;
-    std::size_t m_edgeCount = 0;
-    std::size_t m_potential = 0;
-    Bounds m_sceneBounds;
-    vec4 light_;
-    std::vector<std::uint32_t> edges_;
-    std::vector<std::uint32_t> carrier_; ///< per item, its carrier's index
-    std::vector<std::uint32_t> m_carrierTriangle;
-    EdgeClusterTree tree_;
-    std::vector<PackedEdge> packed_;
-    std::unique_ptr<FaceBound[]> m_bounds;
-    std::unique_ptr<std::atomic<std::uint8_t>[]> m_state;
-    mutable std::atomic<std::size_t> m_volumes{0};
-};
+} // namespace
 
 nlohmann::json toJson(const WedgeCpuStats& s) {
     nlohmann::json j = {{"edges", s.edges},
@@ -266,8 +97,10 @@ const SilhouetteEdges& OpaqueOccluders::silhouettes(const Light& light, float fa
         if (s->isFor(light, farDistance)) return *s;
     // Built in an isolated arena: the build's parallel loops must not take another task that
     // waits for this lock.
-    tbb::this_task_arena::isolate(
-        [&] { m_silhouettes.push_back(std::make_unique<SilhouetteEdges>(*this, light, farDistance)); });
+    tbb::this_task_arena::isolate([&] {
+        m_silhouettes.push_back(
+            std::make_unique<SilhouetteEdges>(m_scene, m_adjacency, m_carriers, light, farDistance));
+    });
     return *m_silhouettes.back();
 }
 
@@ -290,16 +123,9 @@ struct Region {
     Region(const Bounds& box, vec4 light) : Region(boxBall(box.lo, box.hi), light) {}
 };
 
-/// A node of the tree against a region: false when no edge below it can add to any of its
-/// points (edge_cluster_dh.h). The cone test's margin grows by the rounding of the per-point
-/// orientation test (dcsWorldSide): its determinant, of differences up to M long, is off by at
-/// most about 16·2⁻²⁴·M³ (10⁻⁶·M³), the margin twice that over |n| in distance from a face's plane.
+/// A node of the tree against a region (edge_cluster_dh.h clusterMayAdd).
 bool nodeMayAdd(const EdgeClusterNode& node, const Region& region) {
-    if (!ballMeetsLightHull(node.ball, region.hull)) return false;
-    if (node.cone.w < 0.f) return true;
-    const float m = stsv::length(vec3(region.ball) - vec3(node.ball)) + region.ball.w + node.faceReach;
-    return clusterMayHaveSilhouette(node.ball, node.cone, region.ball,
-                                    2e-6f * m * m * m * node.inverseNormal);
+    return clusterMayAdd(node.ball, node.cone, node.inverseNormal, node.faceReach, region.ball, region.hull);
 }
 
 /// An edge of a block's leaves, where the visit order matters.
@@ -456,7 +282,7 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     WedgeCpuStats stats;
     Timer timer;
     const SilhouetteEdges& sil = occ.silhouettes(light, farDistance);
-    sil.report(stats);
+    reportSetup(sil, stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();
@@ -543,7 +369,7 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     WedgeCpuStats stats;
     Timer timer;
     const SilhouetteEdges& sil = occ.silhouettes(light, farDistance);
-    sil.report(stats);
+    reportSetup(sil, stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setup_ms = timer.milliseconds();
     timer.reset();

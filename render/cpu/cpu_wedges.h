@@ -15,6 +15,7 @@
 #include "sampling/pattern.h"
 #include "scene/scene.h"
 #include "wedges/adjacency.h"
+#include "wedges/silhouette_edges.h"
 
 #include <cstddef>
 #include <memory>
@@ -53,8 +54,6 @@ struct WedgeCpuStats {
 };
 
 nlohmann::json toJson(const WedgeCpuStats& stats);
-
-class SilhouetteEdges; // render/cpu/cpu_wedges.cpp
 
 /// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
 /// an Embree scene of them alone, which gives the layer count D(r) at the light centre (the CPU
