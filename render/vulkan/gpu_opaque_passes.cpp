@@ -43,7 +43,10 @@ GraphicsPipelineDesc volumePipelineDesc(std::vector<ShaderStage> stages) {
 GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
     const EdgeAdjacency adj =
         buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
-    const std::vector<std::uint32_t> carriers = edgeCarriers(adj, scene);
+    return buildGpuEdgeTables(adj, edgeCarriers(adj, scene));
+}
+
+GpuEdgeTables buildGpuEdgeTables(const EdgeAdjacency& adj, const std::vector<std::uint32_t>& carriers) {
     GpuEdgeTables tables;
     std::unordered_map<std::uint32_t, std::uint32_t> carrierOf; // triangle → its index in tables.carriers
     tables.faces.reserve(adj.faces.size());
@@ -76,18 +79,23 @@ GpuEdgeTables buildGpuEdgeTables(const Scene& scene) {
 }
 
 std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
-    return {{GPU_BINDING_EDGES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_EDGE_FACES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CARRIER_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_EDGE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1}};
+    std::vector<DescriptorBinding> bindings = {
+        {GPU_BINDING_EDGES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_EDGE_FACES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_CARRIER_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_EDGE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1}};
+    for (const DescriptorBinding& b : WedgeClusterTables::bindings()) bindings.push_back(b);
+    return bindings;
 }
 
 OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Scene& scene,
                                                  const RenderOptions& options) {
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-    GpuEdgeTables tables = buildGpuEdgeTables(scene);
+    m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
+    m_carriers = edgeCarriers(m_adjacency, scene);
+    GpuEdgeTables tables = buildGpuEdgeTables(m_adjacency, m_carriers);
     m_edgeCount = tables.edges.size();
     m_carrierCount = tables.carriers.size();
     if (tables.edges.empty()) tables.edges.push_back({});
@@ -104,15 +112,17 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
+    m_clusters.emplace(device, scene, m_adjacency, m_carriers, usesWedgeClusters(options));
 }
 
-void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set) const {
+void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t light) const {
     set.writeBuffer(GPU_BINDING_EDGES, edges);
     set.writeBuffer(GPU_BINDING_EDGE_FACES, faces);
     set.writeTexelBuffer(GPU_BINDING_CARRIER_TEXELS, carrierTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_EDGE_TEXELS, edgeTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_EDGE_FACE_TEXELS, faceTexels.handle());
     set.writeStorageImage(GPU_BINDING_CENTER, center);
+    m_clusters->writeDescriptors(set, light);
 }
 
 CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,

@@ -13,13 +13,16 @@
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_hulls.h"
 #include "render/vulkan/gpu_pass.h"
+#include "render/vulkan/gpu_wedge_clusters.h"
 #include "render/vulkan/gpu_wedges_dh.h"
 #include "scene/scene.h"
+#include "wedges/adjacency.h"
 
 #include "gpu/vulkan.h"
 
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 namespace stsv {
@@ -38,18 +41,23 @@ struct GpuEdgeTables {
 };
 
 GpuEdgeTables buildGpuEdgeTables(const Scene& scene);
+/// The tables of an adjacency and its edges' carriers (edgeCarriers).
+GpuEdgeTables buildGpuEdgeTables(const EdgeAdjacency& adjacency, const std::vector<std::uint32_t>& carriers);
 
 /// What the opaque passes share: the edge tables (uploaded once; 1-element stand-ins for a scene
-/// without opaque edges) and the centre-count image. Only a frame with the wedge technique has them.
+/// without opaque edges), for the cluster pass each light's silhouette tables, and the
+/// centre-count image. Only a frame with the wedge technique has them.
 class OpaqueOccluderResources {
   public:
     OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options);
 
     /// The bindings these resources add to the wedge family's set (gpu_wedges_dh.h).
     static std::vector<DescriptorBinding> bindings();
-    void writeDescriptors(DescriptorSet& set) const;
+    /// Into light `light`'s set.
+    void writeDescriptors(DescriptorSet& set, std::size_t light) const;
 
     std::size_t edgeCount() const { return m_edgeCount; }
+    const WedgeClusterTables& clusters() const { return *m_clusters; }
     std::size_t carrierCount() const { return m_carrierCount; }
 
     Buffer edges;    ///< GpuEdge[], read as storage and as texels
@@ -63,6 +71,9 @@ class OpaqueOccluderResources {
   private:
     std::size_t m_edgeCount = 0;
     std::size_t m_carrierCount = 0;
+    EdgeAdjacency m_adjacency;
+    std::vector<std::uint32_t> m_carriers;
+    std::optional<WedgeClusterTables> m_clusters;
 };
 
 /// D(r): every face of the counting volumes (the opaque triangles' caps and edge quads seen from

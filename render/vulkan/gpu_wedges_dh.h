@@ -21,19 +21,33 @@ DH_CONST uint GPU_BINDING_EDGE_FACE_TEXELS = GPU_BINDING_EDGES + 4u; ///< GpuEdg
 DH_CONST uint GPU_BINDING_CENTER =
     GPU_BINDING_EDGES + 5u; ///< r32i storage image: z-fail layer count at the light centre
 
+/// A light's potential silhouettes for the cluster pass (dcs_clusters.comp; render/vulkan/
+/// gpu_wedge_clusters.cpp uploads them per light, wedges/silhouette_edges.h): the cluster tree's
+/// nodes, GPU_CLUSTER_NODE_TEXELS rgba32ui each (ball, cone, (first, count, inverseNormal,
+/// faceReach)); its items, one texel each (adjacency edge, carrier, 0, 0); the carriers' bounds,
+/// GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1, light planes), the
+/// two volumes' planes, the light planes).
+DH_CONST uint GPU_BINDING_CLUSTER_NODES = GPU_BINDING_EDGES + 6u;
+DH_CONST uint GPU_BINDING_CLUSTER_ITEMS = GPU_BINDING_EDGES + 7u;
+DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 8u;
+DH_CONST uint GPU_CLUSTER_NODE_TEXELS = 3u;
+DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
+/// The cluster pass's walk keeps its stack of nodes in shared memory: a tree at most this deep.
+DH_CONST uint GPU_CLUSTER_STACK = 64u;
+
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
 
 /// What the wedge passes count per light (atomic counters in the shaders).
 struct GpuWedgeStats {
-    GpuHullCounts hull;   ///< wedge_hull.comp or wedge.mesh
-    uint fragments;       ///< wedge-pass fragments that passed the depth test
-    uint inside;          ///< of those, p inside the bound with the edge a silhouette seen from p
-    uint listed;          ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
-    uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
-    uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
+    GpuHullCounts hull;    ///< wedge_hull.comp or wedge.mesh
+    uint fragments;        ///< wedge-pass fragments that passed the depth test
+    uint inside;           ///< of those, p inside the bound with the edge a silhouette seen from p
+    uint listed;           ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
+    uint centerFragments;  ///< counting-volume fragments that passed the (biased) depth test
+    uint centerCounted;    ///< of those, faces behind the visible point: they add ±w to D(r)
+    uint clusterTests;     ///< cluster pass: (tile, node) tests of the walk
+    uint clustersRejected; ///< of those, nodes no point of the tile can have an edge of (clusterMayAdd)
     uint pad0;
-    uint pad1;
-    uint pad2;
 };
 
 /// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a

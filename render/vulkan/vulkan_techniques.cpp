@@ -144,9 +144,10 @@ class StsvTechnique final : public VulkanTechnique {
 };
 
 /// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the counting volume at the
-/// light centre, the wedge bounds (hulls or wedge.geom prisms), for DCS the listed silhouette
-/// fragments' samples and the fold of D(r) into them; for PW the fold (line 11) after the other
-/// techniques of the row.
+/// light centre; for DCS with the auto extrusion the cluster pass (dcs_clusters.comp), else the
+/// wedge bounds (hulls, mesh-shader hulls or wedge.geom prisms) drawn, with for DCS the listed
+/// silhouette fragments' samples; DCS then folds D(r) into its counters; PW folds (line 11)
+/// after the other techniques of the row.
 class WedgeTechnique final : public VulkanTechnique {
   public:
     explicit WedgeTechnique(const VulkanTechniqueContext& c)
@@ -156,9 +157,13 @@ class WedgeTechnique final : public VulkanTechnique {
           m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls->draw}),
           m_clearDeferredCount({}, {&c.deferred->count}),
           m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
-          m_wedges(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry, *c.hulls,
-                   *c.deferred),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
+        if (usesWedgeClusters(c.options)) {
+            m_clusters.emplace(c.device, c.options, c.resources, m_family, c.defines);
+            return;
+        }
+        m_wedges.emplace(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry,
+                         *c.hulls, *c.deferred);
         if (!m_pw) {
             c.deferred->use(false);
             m_samples.emplace(c.device, c.resources, *c.deferred, m_family, c.defines);
@@ -173,7 +178,7 @@ class WedgeTechnique final : public VulkanTechnique {
             DescriptorSet& set = m_family.set(l);
             m_c.hulls->writeDescriptors(set);
             m_c.deferred->writeDescriptors(set);
-            m_opaque.writeDescriptors(set);
+            m_opaque.writeDescriptors(set, l);
         }
     }
     std::uint32_t timedPassesPerLight() const override { return 5; }
@@ -190,8 +195,9 @@ class WedgeTechnique final : public VulkanTechnique {
             runPass(recorder, cmd, "", m_clearHullDraw, light);
             runPass(recorder, cmd, technique + "wedge_hulls", *m_hullPass, light);
         }
+        if (m_clusters) runPass(recorder, cmd, technique + "clusters", *m_clusters, light);
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
-        runPass(recorder, cmd, technique + "wedges", m_wedges, light);
+        if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
         if (m_samples) runPass(recorder, cmd, technique + "wedge_samples", *m_samples, light);
         // DCS's count is clamped at 0 before another technique adds its layers (dcs+stsv), as
         // on the CPU (render/cpu/cpu_wedges.cpp dcsCpuSamples).
@@ -210,19 +216,34 @@ class WedgeTechnique final : public VulkanTechnique {
     std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
 
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {
-        // wedge_samples.comp (DCS) tests every sample of a silhouette fragment.
+        // wedge_samples.comp (DCS) tests every sample of a silhouette fragment; so does the
+        // cluster pass, where a sample outside the edge's crossing region is a test that fails.
         const std::uint64_t n = std::uint64_t(m_c.options.samples);
         nlohmann::json wedges = nlohmann::json::array();
         for (std::size_t l = 0; l < m_counts.size(); ++l) {
             const GpuWedgeStats& s = m_counts[l];
-            nlohmann::json wedge = {{"edges", m_opaque.edgeCount()},
-                                    {"fragments", s.fragments},
-                                    {"silhouette_fragments", s.inside}};
+            nlohmann::json wedge = {{"edges", m_opaque.edgeCount()}, {"silhouette_fragments", s.inside}};
+            if (m_clusters) {
+                // The tree's tables and the walk, as the CPU mirror counts them (its blocks aside);
+                // "fragments": the bound tests of the (pixel, edge) pairs that reach them.
+                const WedgeClusterTables::Counts& t = m_opaque.clusters().counts()[l];
+                wedge["path"] = "clusters";
+                wedge["potential_silhouettes"] = t.potentialSilhouettes;
+                wedge["clusters"] = t.leaves;
+                wedge["cluster_depth"] = t.depth;
+                wedge["bounds"] = t.carriers; // the carriers' bounds uploaded
+                wedge["cluster_tests"] = s.clusterTests;
+                wedge["clusters_rejected"] = s.clustersRejected;
+                wedge["fragments"] = s.fragments;
+            } else {
+                wedge["path"] = "volumes";
+                wedge["fragments"] = s.fragments;
+                m_c.hulls->reportCounts(m_c.geometry, l, "wedge", s.hull, wedge);
+            }
             if (!m_pw) {
-                wedge["listed_fragments"] = s.listed;
+                if (m_samples) wedge["listed_fragments"] = s.listed;
                 wedge["samples_tested"] = n * s.inside;
             }
-            m_c.hulls->reportCounts(m_c.geometry, l, "wedge", s.hull, wedge);
             // The counting volume at the light centre (dcs_center.frag): its fragments and the faces
             // behind p that added to D(r). The CPU casts rays for D(r): it has no fragments.
             wedge["center"] = {{"fragments", s.centerFragments}, {"counted_fragments", s.centerCounted}};
@@ -239,8 +260,9 @@ class WedgeTechnique final : public VulkanTechnique {
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferredCount;
     CenterCountPass m_center;
-    WedgePass m_wedges;
     FoldPass m_fold;
+    std::optional<DcsClusterPass> m_clusters;  ///< DCS with the auto extrusion
+    std::optional<WedgePass> m_wedges;         ///< else the wedge bounds drawn
     std::optional<WedgeSamplesPass> m_samples; ///< DCS: the listed silhouette fragments
     std::optional<HullPass> m_hullPass;        ///< with hulls, when the scene has carriers
     std::vector<GpuWedgeStats> m_counts;       ///< per light, after the frame

@@ -356,7 +356,9 @@ TEST_F(GpuWedges, AShortSilhouetteListGrowsAndTheFrameIsRenderedAgain) {
     // are those of a renderer whose list had room from the start, in this frame and the next.
     constexpr std::uint64_t CAPACITY = 50;
     const Scene scene = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
-    const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+    // The wedge hulls drawn (the cluster pass, auto's DCS path, lists nothing).
+    RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+    o.extrusion = ExtrusionStage::Hull;
     VulkanRenderer small(scene, o, {&device(), CAPACITY});
     const Frame first = small.render();
     const Frame second = small.render();
@@ -472,10 +474,15 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                 }
                 if (method.opaque == OpaqueTechnique::None) continue;
                 const std::string technique = method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_";
-                for (const char* pass : {"center", "wedges", "wedge_hulls"})
-                    expected.push_back(light + technique + pass);
-                // DCS: the listed silhouette fragments' edge terms and samples
-                if (method.opaque == OpaqueTechnique::Dcs) expected.push_back(light + "dcs_wedge_samples");
+                expected.push_back(light + technique + "center");
+                // Auto extrusion: DCS walks the cluster tree (the edge terms and samples in one
+                // pass); PW builds the wedge hulls and draws them.
+                if (method.opaque == OpaqueTechnique::Dcs) {
+                    expected.push_back(light + "dcs_clusters");
+                } else {
+                    expected.push_back(light + "pw_wedge_hulls");
+                    expected.push_back(light + "pw_wedges");
+                }
                 expected.push_back(light + "fold");
             }
             EXPECT_EQ(passes.size(), expected.size()) << what << ": " << passes.dump();
