@@ -205,4 +205,12 @@ void PassRecorder::addPass(VkCommandBuffer cmd, const std::string& scope, const 
     if (!scope.empty()) m_timer->end(cmd);
 }
 
+void PassRecorder::beginScope(VkCommandBuffer cmd, const std::string& scope) {
+    m_timer->begin(cmd, scope);
+}
+
+void PassRecorder::endScope(VkCommandBuffer cmd) {
+    m_timer->end(cmd);
+}
+
 } // namespace stsv

@@ -124,6 +124,10 @@ class PassRecorder {
     /// untimed).
     void addPass(VkCommandBuffer cmd, const std::string& scope, const PassAccesses& accesses,
                  const std::function<void(VkCommandBuffer)>& record);
+    /// Opens the timer scope `scope` around the passes that follow, until endScope (a pass
+    /// recorded in several dispatches, each added untimed).
+    void beginScope(VkCommandBuffer cmd, const std::string& scope);
+    void endScope(VkCommandBuffer cmd);
 
   private:
     GpuTimer* m_timer;

@@ -31,6 +31,7 @@
     X(vkCmdCopyImageToBuffer)                                                                                \
     X(vkCmdCopyQueryPoolResults)                                                                             \
     X(vkCmdDispatch)                                                                                         \
+    X(vkCmdDispatchIndirect)                                                                                 \
     X(vkCmdDraw)                                                                                             \
     X(vkCmdDrawIndirect)                                                                                     \
     X(vkCmdEndRendering)                                                                                     \

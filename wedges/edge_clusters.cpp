@@ -193,6 +193,16 @@ struct Builder {
 
 } // namespace
 
+EdgeClusterNode edgeCluster(const EdgeAdjacency& adj, std::uint32_t edge, vec3 turn) {
+    const std::vector<std::uint32_t> edges = {edge};
+    const std::vector<vec3> turns = {turn};
+    Builder b{adj, edges, turns, {}, {}, 1.f};
+    b.tree.items = {0};
+    b.tree.nodes.resize(1);
+    b.makeLeaf(0, 0, 1);
+    return b.tree.nodes[0];
+}
+
 EdgeClusterTree buildEdgeClusters(const EdgeAdjacency& adj, const std::vector<std::uint32_t>& edges,
                                   const std::vector<vec3>& turn, float scale) {
     Builder b{adj, edges, turn, {}, {}, scale > 0.f ? 64.f / scale : 1.f};

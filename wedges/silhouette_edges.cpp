@@ -29,17 +29,11 @@ SilhouetteEdges::SilhouetteEdges(const Scene& scene, const EdgeAdjacency& adj,
     turn.reserve(byFace.size());
     m_edges.reserve(byFace.size());
     m_carrier.reserve(byFace.size());
-    vec3 normal(0.f);
     for (std::size_t i = 0; i < byFace.size(); ++i) {
-        if (i == 0 || byFace[i].first != byFace[i - 1].first) {
-            m_carrierTriangle.push_back(byFace[i].first);
-            const uvec3 t = m_scene.triangles[byFace[i].first];
-            const vec3 c0 = m_scene.positions[t.x];
-            normal = cross(m_scene.positions[t.y] - c0, m_scene.positions[t.z] - c0);
-        }
+        if (i == 0 || byFace[i].first != byFace[i - 1].first) m_carrierTriangle.push_back(byFace[i].first);
         m_edges.push_back(byFace[i].second);
         m_carrier.push_back(std::uint32_t(m_carrierTriangle.size() - 1));
-        turn.push_back(normal);
+        turn.push_back(carrierNormal(std::uint32_t(i)));
     }
     m_bounds = std::make_unique_for_overwrite<FaceBound[]>(m_carrierTriangle.size());
     m_state = std::make_unique<std::atomic<std::uint8_t>[]>(m_carrierTriangle.size());
@@ -64,6 +58,12 @@ SilhouetteEdges::SilhouetteEdges(const Scene& scene, const EdgeAdjacency& adj,
             }
         }
     });
+}
+
+vec3 SilhouetteEdges::carrierNormal(std::uint32_t item) const {
+    const uvec3 t = m_scene.triangles[m_carrierTriangle[m_carrier[item]]];
+    const vec3 c0 = m_scene.positions[t.x];
+    return cross(m_scene.positions[t.y] - c0, m_scene.positions[t.z] - c0);
 }
 
 const FaceBound& SilhouetteEdges::carrierBound(std::uint32_t c) const {

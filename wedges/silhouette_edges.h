@@ -82,6 +82,8 @@ class SilhouetteEdges {
     /// The index of item `item`'s carrier among the carriers (0 … carrierCount() − 1).
     std::uint32_t carrier(std::uint32_t item) const { return m_carrier[item]; }
     std::size_t carrierCount() const { return m_carrierTriangle.size(); }
+    /// The normal of item `item`'s carrier (its winding's), which orients the clusters' cones.
+    vec3 carrierNormal(std::uint32_t item) const;
 
     const EdgeClusterTree& tree() const { return m_tree; }
     vec4 light() const { return m_light; } ///< the light's bounding ball (sampling/light_bounds.h)

@@ -110,7 +110,7 @@ struct GpuPush {
     uint light;      ///< index into GpuLight[]; ≥ lightCount: none (resolve only initialises)
     uint initialize; ///< resolve: 1 = write ambient/background first (the first light)
     uint flags;      ///< GPU_PUSH_* bits
-    uint pad0;
+    uint step;       ///< DCS's cluster passes: the walk's level, or the list an args pass sizes
 };
 
 /// GpuPush::flags: the STSV pass takes the perforated triangles only (pw+stsv, dcs+stsv).

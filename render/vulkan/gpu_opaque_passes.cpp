@@ -86,7 +86,7 @@ std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
         {GPU_BINDING_EDGE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1}};
-    for (const DescriptorBinding& b : WedgeClusterTables::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : WedgeClusters::bindings()) bindings.push_back(b);
     return bindings;
 }
 
@@ -112,7 +112,7 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
-    m_clusters.emplace(device, scene, m_adjacency, m_carriers, usesWedgeClusters(options));
+    m_clusters.emplace(device, scene, options, m_adjacency, m_carriers, usesWedgeClusters(options));
 }
 
 void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t light) const {

@@ -57,7 +57,8 @@ class OpaqueOccluderResources {
     void writeDescriptors(DescriptorSet& set, std::size_t light) const;
 
     std::size_t edgeCount() const { return m_edgeCount; }
-    const WedgeClusterTables& clusters() const { return *m_clusters; }
+    WedgeClusters& clusters() { return *m_clusters; }
+    const WedgeClusters& clusters() const { return *m_clusters; }
     std::size_t carrierCount() const { return m_carrierCount; }
 
     Buffer edges;    ///< GpuEdge[], read as storage and as texels
@@ -73,7 +74,7 @@ class OpaqueOccluderResources {
     std::size_t m_carrierCount = 0;
     EdgeAdjacency m_adjacency;
     std::vector<std::uint32_t> m_carriers;
-    std::optional<WedgeClusterTables> m_clusters;
+    std::optional<WedgeClusters> m_clusters;
 };
 
 /// D(r): every face of the counting volumes (the opaque triangles' caps and edge quads seen from

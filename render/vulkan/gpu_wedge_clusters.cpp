@@ -4,6 +4,7 @@
 #include "core/parallel.h"
 #include "gpu/shader_compiler.h"
 #include "render/methods.h"
+#include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_wedges_dh.h"
 #include "sampling/light_bounds.h"
 #include "wedges/silhouette_edges.h"
@@ -38,9 +39,20 @@ bool usesWedgeClusters(const RenderOptions& options) {
            options.extrusion == ExtrusionStage::Auto;
 }
 
-WedgeClusterTables::WedgeClusterTables(const Device& device, const Scene& scene, const EdgeAdjacency& adj,
-                                       const std::vector<std::uint32_t>& carriers, bool build) {
+WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const RenderOptions& options,
+                             const EdgeAdjacency& adj, const std::vector<std::uint32_t>& carriers, bool build)
+    : m_device(&device) {
     const VkBufferUsageFlags usage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+    listCounts = Buffer(device, GPU_CLUSTER_COUNT_SLOTS * sizeof(uint), storage, MemoryUsage::DeviceLocal);
+    dispatch = Buffer(device, 4 * sizeof(uint), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
+                      MemoryUsage::DeviceLocal);
+    const std::uint64_t blockCount =
+        build ? std::uint64_t((options.width + 3) / 4) * std::uint64_t((options.height + 3) / 4) : 1;
+    blocks = Buffer(device, blockCount * sizeof(vec4), storage, MemoryUsage::DeviceLocal);
+    // Room for a few of the walk's pairs per block to start with; a frame that needs more
+    // grows the lists.
+    resize(build ? std::max<std::uint64_t>(blockCount * 16, 4096) : 1);
     const auto upload = [&](std::vector<uvec4> texels, Buffer& buffer, BufferView& view) {
         if (texels.empty()) texels.push_back(uvec4(0u)); // fewer texels than a node: no tree
         buffer = createBuffer(device, std::span<const uvec4>(texels), usage);
@@ -61,11 +73,10 @@ WedgeClusterTables::WedgeClusterTables(const Device& device, const Scene& scene,
         counts.nodes = tree.nodes.size();
         counts.carriers = sil.carrierCount();
         counts.depth = tree.nodes.empty() ? 0 : treeDepth(tree, 0);
-        // The walk's stack holds one node per level and the second child of each above.
-        if (counts.depth >= GPU_CLUSTER_STACK)
+        if (counts.depth >= GPU_CLUSTER_MAX_DEPTH)
             throw UsageError("the cluster tree of " + scene.source + " is " + std::to_string(counts.depth) +
-                             " levels deep, more than the cluster pass's stack holds (" +
-                             std::to_string(GPU_CLUSTER_STACK - 1) + "); use --extrusion hull");
+                             " levels deep, more than the cluster passes take (" +
+                             std::to_string(GPU_CLUSTER_MAX_DEPTH - 1) + "); use --extrusion hull");
         std::vector<uvec4> nodes;
         nodes.reserve(tree.nodes.size() * GPU_CLUSTER_NODE_TEXELS);
         for (const EdgeClusterNode& node : tree.nodes) {
@@ -74,9 +85,18 @@ WedgeClusterTables::WedgeClusterTables(const Device& device, const Scene& scene,
             nodes.push_back(uvec4(node.first, node.count, std::bit_cast<uint>(node.inverseNormal),
                                   std::bit_cast<uint>(node.faceReach)));
         }
-        std::vector<uvec4> items(tree.items.size());
-        for (std::size_t k = 0; k < items.size(); ++k)
-            items[k] = uvec4(sil.edge(tree.items[k]), sil.carrier(tree.items[k]), 0u, 0u);
+        std::vector<uvec4> items(tree.items.size() * GPU_CLUSTER_ITEM_TEXELS);
+        parallelForChunks(tree.items.size(), [&](std::size_t begin, std::size_t end) {
+            for (std::size_t k = begin; k < end; ++k) {
+                const std::uint32_t item = tree.items[k];
+                const EdgeClusterNode own = edgeCluster(adj, sil.edge(item), sil.carrierNormal(item));
+                uvec4* t = items.data() + k * GPU_CLUSTER_ITEM_TEXELS;
+                t[0] = bitsOf(own.ball);
+                t[1] = bitsOf(own.cone);
+                t[2] = uvec4(sil.edge(item), sil.carrier(item), std::bit_cast<uint>(own.inverseNormal),
+                             std::bit_cast<uint>(own.faceReach));
+            }
+        });
         std::vector<uvec4> bounds(sil.carrierCount() * GPU_CLUSTER_BOUND_TEXELS);
         parallelForChunks(sil.carrierCount(), [&](std::size_t begin, std::size_t end) {
             for (std::size_t c = begin; c < end; ++c) {
@@ -101,43 +121,109 @@ WedgeClusterTables::WedgeClusterTables(const Device& device, const Scene& scene,
     }
 }
 
-std::vector<DescriptorBinding> WedgeClusterTables::bindings() {
-    const VkDescriptorType texels = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    return {{GPU_BINDING_CLUSTER_NODES, texels, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_ITEMS, texels, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_BOUNDS, texels, VK_SHADER_STAGE_ALL, 1}};
+void WedgeClusters::resize(std::uint64_t capacity) {
+    m_capacity = capacity;
+    pairs = Buffer(*m_device, GPU_CLUSTER_LISTS * capacity * 2 * sizeof(uint),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::DeviceLocal);
 }
 
-void WedgeClusterTables::writeDescriptors(DescriptorSet& set, std::size_t light) const {
+bool WedgeClusters::growFor(std::uint64_t needed) {
+    if (needed <= m_capacity) return false;
+    if (needed > kMaxDeferredFragments)
+        throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list, more than " +
+                    std::to_string(kMaxDeferredFragments) + "; use --extrusion hull");
+    resize(std::min<std::uint64_t>(needed + needed / 4, kMaxDeferredFragments));
+    return true;
+}
+
+std::vector<DescriptorBinding> WedgeClusters::bindings() {
+    const VkDescriptorType texels = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+    const VkDescriptorType storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    return {{GPU_BINDING_CLUSTER_NODES, texels, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CLUSTER_ITEMS, texels, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CLUSTER_BOUNDS, texels, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CLUSTER_COUNTS, storage, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CLUSTER_PAIRS, storage, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CLUSTER_BLOCKS, storage, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_CLUSTER_DISPATCH, storage, VK_SHADER_STAGE_ALL, 1}};
+}
+
+void WedgeClusters::writeDescriptors(DescriptorSet& set, std::size_t light) const {
     const Tables& t = light < m_lights.size() ? m_lights[light] : m_empty;
     set.writeTexelBuffer(GPU_BINDING_CLUSTER_NODES, t.nodeTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_CLUSTER_ITEMS, t.itemTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_CLUSTER_BOUNDS, t.boundTexels.handle());
+    set.writeBuffer(GPU_BINDING_CLUSTER_COUNTS, listCounts);
+    set.writeBuffer(GPU_BINDING_CLUSTER_PAIRS, pairs);
+    set.writeBuffer(GPU_BINDING_CLUSTER_BLOCKS, blocks);
+    set.writeBuffer(GPU_BINDING_CLUSTER_DISPATCH, dispatch);
 }
 
-DcsClusterPass::DcsClusterPass(const Device& device, const RenderOptions& options, FrameResources& frame,
-                               const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines)
-    : m_frame(&frame), m_descriptors(&descriptors), m_width(static_cast<std::uint32_t>(options.width)),
-      m_height(static_cast<std::uint32_t>(options.height)) {
-    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
-                                       ShaderCompiler().compileFile("wedges/dcs_clusters.comp", defines));
+DcsClusterPasses::DcsClusterPasses(const Device& device, const RenderOptions& options, FrameResources& frame,
+                                   DeferredFragments& deferred, WedgeClusters& clusters,
+                                   const FamilyDescriptors& descriptors,
+                                   const std::vector<ShaderDefine>& defines)
+    : m_frame(&frame), m_deferred(&deferred), m_clusters(&clusters), m_descriptors(&descriptors),
+      m_blocksAcross(static_cast<std::uint32_t>((options.width + 3) / 4)),
+      m_blocksDown(static_cast<std::uint32_t>((options.height + 3) / 4)) {
+    const ShaderCompiler compiler;
+    for (std::uint32_t stage = 0; stage < 4; ++stage) {
+        std::vector<ShaderDefine> stageDefines = defines;
+        stageDefines.push_back({"DCS_CLUSTER_STAGE", std::to_string(stage)});
+        m_pipelines[stage] =
+            createComputePipeline(device, descriptors.pipelineLayout(),
+                                  compiler.compileFile("wedges/dcs_clusters.comp", stageDefines));
+    }
 }
 
-PassAccesses DcsClusterPass::accesses(std::size_t light) const {
+void DcsClusterPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light,
+                              const std::string& scope) const {
+    const std::size_t depth = light < m_clusters->counts().size() ? m_clusters->counts()[light].depth : 0;
+    recorder.beginScope(cmd, scope);
+    runPass(recorder, cmd, "", Stage(*this, 0, 0), light);
+    for (std::uint32_t level = 0; level < depth; ++level) {
+        runPass(recorder, cmd, "", Stage(*this, 1, level), light);
+        runPass(recorder, cmd, "", Stage(*this, 2, level), light);
+    }
+    runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_KEPT), light);
+    runPass(recorder, cmd, "", Stage(*this, 3, 0), light);
+    recorder.endScope(cmd);
+}
+
+PassAccesses DcsClusterPasses::Stage::accesses(std::size_t) const {
+    const DcsClusterPasses& p = *m_passes;
+    const WedgeClusters& c = *p.m_clusters;
     PassAccesses accesses;
-    accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
-        .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
-        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE))
-        .use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
+    if (m_stage == 1) {
+        accesses.use(c.listCounts, ResourceUse::storageRead(COMPUTE))
+            .use(c.dispatch, ResourceUse::storageReadWrite(COMPUTE));
+        return accesses;
+    }
+    accesses.use(c.listCounts, ResourceUse::storageReadWrite(COMPUTE))
+        .use(c.pairs, ResourceUse::storageReadWrite(COMPUTE))
+        .use(c.blocks, ResourceUse::storageReadWrite(COMPUTE))
+        .use(p.m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
+    if (m_stage != 0) accesses.use(c.dispatch, ResourceUse::indirectRead());
+    if (m_stage != 2)
+        accesses.use(p.m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+            .use(p.m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE));
+    if (m_stage == 3)
+        accesses.use(p.m_deferred->count, ResourceUse::storageReadWrite(COMPUTE))
+            .use(p.m_deferred->fragments, ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 
-void DcsClusterPass::record(VkCommandBuffer cmd, std::size_t light) const {
-    m_pipeline.bind(cmd);
-    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
-    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    // dcs_clusters.comp works on 16 × 16 tiles.
-    dispatchPerPixel(cmd, m_width, m_height);
+void DcsClusterPasses::Stage::record(VkCommandBuffer cmd, std::size_t light) const {
+    const DcsClusterPasses& p = *m_passes;
+    p.m_pipelines[m_stage].bind(cmd);
+    p.m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    p.m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, m_step});
+    if (m_stage == 0)
+        vkCmdDispatch(cmd, (p.m_blocksAcross + 7) / 8, (p.m_blocksDown + 7) / 8, 1);
+    else if (m_stage == 1)
+        vkCmdDispatch(cmd, 1, 1, 1);
+    else
+        vkCmdDispatchIndirect(cmd, p.m_clusters->dispatch.handle(), 0);
 }
 
 } // namespace stsv

@@ -1,15 +1,17 @@
 // DCS through the cluster tree on Vulkan (DESIGN §4.5): each light's potential silhouettes,
 // their tree and their carriers' bounds, built on the CPU when the renderer starts
-// (wedges/silhouette_edges.h, the tables the CPU mirror walks) and uploaded as texel buffers; and
-// the compute pass that walks them per screen tile and adds each silhouette edge's crossings to
-// the light's counters (shaders/wedges/dcs_clusters.comp). It takes the place of the wedge hulls,
-// their draw and the listed fragments' samples.
+// (wedges/silhouette_edges.h, the tables the CPU mirror walks) and uploaded as texel buffers; the
+// lists of the walk; and its passes (shaders/wedges/dcs_clusters.comp), which list the (pixel,
+// edge) pairs that add to the light's counters for wedge_samples.comp. They take the place of the
+// wedge hulls and their draw.
 #pragma once
 
 #include "gpu/buffer.h"
 #include "gpu/descriptors.h"
+#include "gpu/pass_recorder.h"
 #include "gpu/pipeline.h"
 #include "render/options.h"
+#include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_pass.h"
 #include "scene/scene.h"
@@ -19,25 +21,28 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace stsv {
 
 class Device;
 
-/// Whether a frame's opaque occluders take the cluster pass: DCS with the extrusion stage left to
+/// Whether a frame's opaque occluders take the cluster passes: DCS with the extrusion stage left to
 /// the renderer (--extrusion auto). PW sums float coverage and keeps its wedge draw.
 bool usesWedgeClusters(const RenderOptions& options);
 
-/// Per light, the tables of dcs_clusters.comp (gpu_wedges_dh.h GPU_BINDING_CLUSTER_*); 1-texel
-/// stand-ins for a light without potential silhouettes, or for every light when not `build`.
-class WedgeClusterTables {
+/// Per light, the tables of dcs_clusters.comp (gpu_wedges_dh.h GPU_BINDING_CLUSTER_*), and the
+/// frame's lists of its walk; 1-element stand-ins for a light without potential silhouettes, or
+/// for everything when not `build`.
+class WedgeClusters {
   public:
-    WedgeClusterTables(const Device& device, const Scene& scene, const EdgeAdjacency& adjacency,
-                       const std::vector<std::uint32_t>& carriers, bool build);
+    WedgeClusters(const Device& device, const Scene& scene, const RenderOptions& options,
+                  const EdgeAdjacency& adjacency, const std::vector<std::uint32_t>& carriers, bool build);
 
     static std::vector<DescriptorBinding> bindings();
-    /// Light `light`'s tables into its set (a set past the lights gets the stand-ins).
+    /// Light `light`'s tables and the lists into its set (a set past the lights gets the
+    /// stand-in tables).
     void writeDescriptors(DescriptorSet& set, std::size_t light) const;
 
     /// What one light's tables hold.
@@ -47,37 +52,71 @@ class WedgeClusterTables {
         std::size_t leaves = 0;
         std::size_t nodes = 0;
         std::size_t carriers = 0; ///< bounds
-        std::size_t depth = 0;    ///< of the tree (a lone root: 1)
+        std::size_t depth = 0;    ///< levels of the tree (a lone root: 1; none: 0)
     };
     /// Per light; empty when not built.
     const std::vector<Counts>& counts() const { return m_counts; }
+
+    /// After a frame whose lists needed `needed` pairs (the most of any light's, 0 when every
+    /// list held its pairs): grows them to that (a quarter more) and returns true, and the
+    /// caller renders the frame again (the descriptors must be written again).
+    bool growFor(std::uint64_t needed);
+    std::uint64_t capacity() const { return m_capacity; }
+
+    Buffer listCounts; ///< GPU_CLUSTER_COUNT_SLOTS uints
+    Buffer pairs;      ///< GPU_CLUSTER_LISTS lists of capacity() uvec2 each
+    Buffer blocks;     ///< vec4 per 4 × 4 block of the frame
+    Buffer dispatch;   ///< the indirect dispatch of the next pass (3 uints)
 
   private:
     struct Tables {
         Buffer nodes, items, bounds;
         BufferView nodeTexels, itemTexels, boundTexels;
     };
+    void resize(std::uint64_t capacity);
+
+    const Device* m_device;
     Tables m_empty; ///< the stand-ins
     std::vector<Tables> m_lights;
     std::vector<Counts> m_counts;
+    std::uint64_t m_capacity = 0;
 };
 
-/// DCS's silhouette edges per screen tile through the cluster tree (dcs_clusters.comp), into the
-/// light's counters; wedge_fold.comp adds D(r) after it.
-class DcsClusterPass final : public GpuPass {
+/// DCS's silhouette edges per 4 × 4 block of pixels through the cluster tree (dcs_clusters.comp):
+/// the blocks' balls, a dispatch per level of the walk, then the pixels of the kept (block, edge)
+/// pairs, which list the (pixel, edge) pairs for wedge_samples.comp.
+class DcsClusterPasses {
   public:
-    DcsClusterPass(const Device& device, const RenderOptions& options, FrameResources& frame,
-                   const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+    DcsClusterPasses(const Device& device, const RenderOptions& options, FrameResources& frame,
+                     DeferredFragments& deferred, WedgeClusters& clusters,
+                     const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
 
-    PassAccesses accesses(std::size_t light) const override;
-    void record(VkCommandBuffer cmd, std::size_t light) const override;
+    /// Light `light`'s passes inside the timer scope `scope`; the lists' counts must be cleared.
+    void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light,
+                const std::string& scope) const;
 
   private:
+    /// One dispatch of a stage (DCS_CLUSTER_STAGE) at a step (GpuPush::step).
+    class Stage final : public GpuPass {
+      public:
+        Stage(const DcsClusterPasses& passes, std::uint32_t stage, std::uint32_t step)
+            : m_passes(&passes), m_stage(stage), m_step(step) {}
+        PassAccesses accesses(std::size_t light) const override;
+        void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+      private:
+        const DcsClusterPasses* m_passes;
+        std::uint32_t m_stage;
+        std::uint32_t m_step;
+    };
+
     FrameResources* m_frame;
+    DeferredFragments* m_deferred;
+    WedgeClusters* m_clusters;
     const FamilyDescriptors* m_descriptors;
-    Pipeline m_pipeline;
-    std::uint32_t m_width;
-    std::uint32_t m_height;
+    Pipeline m_pipelines[4]; ///< per stage
+    std::uint32_t m_blocksAcross;
+    std::uint32_t m_blocksDown;
 };
 
 } // namespace stsv

@@ -24,16 +24,36 @@ DH_CONST uint GPU_BINDING_CENTER =
 /// A light's potential silhouettes for the cluster pass (dcs_clusters.comp; render/vulkan/
 /// gpu_wedge_clusters.cpp uploads them per light, wedges/silhouette_edges.h): the cluster tree's
 /// nodes, GPU_CLUSTER_NODE_TEXELS rgba32ui each (ball, cone, (first, count, inverseNormal,
-/// faceReach)); its items, one texel each (adjacency edge, carrier, 0, 0); the carriers' bounds,
-/// GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1, light planes), the
-/// two volumes' planes, the light planes).
+/// faceReach)); its items, each edge as a cluster of its own (edge_clusters.h edgeCluster),
+/// GPU_CLUSTER_ITEM_TEXELS each (ball, cone, (adjacency edge, carrier, inverseNormal, faceReach));
+/// the carriers' bounds, GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1,
+/// light planes), the two volumes' planes, the light planes).
 DH_CONST uint GPU_BINDING_CLUSTER_NODES = GPU_BINDING_EDGES + 6u;
 DH_CONST uint GPU_BINDING_CLUSTER_ITEMS = GPU_BINDING_EDGES + 7u;
 DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 8u;
 DH_CONST uint GPU_CLUSTER_NODE_TEXELS = 3u;
+DH_CONST uint GPU_CLUSTER_ITEM_TEXELS = 3u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
-/// The cluster pass's walk keeps its stack of nodes in shared memory: a tree at most this deep.
-DH_CONST uint GPU_CLUSTER_STACK = 64u;
+
+/// The cluster passes' lists (render/vulkan/gpu_wedge_clusters.h ClusterLists): the pairs
+/// (block, node) of each level of the walk, in two lists that alternate, and the (block, item)
+/// pairs it keeps, GPU_CLUSTER_LISTS lists of the same capacity one after the other in one
+/// buffer; their counts (per level, then the kept pairs'); each 4 × 4 block's ball of visible
+/// points; the indirect dispatch of the next pass.
+DH_CONST uint GPU_BINDING_CLUSTER_COUNTS = GPU_BINDING_EDGES + 9u;
+DH_CONST uint GPU_BINDING_CLUSTER_PAIRS = GPU_BINDING_EDGES + 10u;
+DH_CONST uint GPU_BINDING_CLUSTER_BLOCKS = GPU_BINDING_EDGES + 11u;
+DH_CONST uint GPU_BINDING_CLUSTER_DISPATCH = GPU_BINDING_EDGES + 12u;
+DH_CONST uint GPU_CLUSTER_LISTS = 3u;
+/// Levels of a tree the walk takes at most (the counts' slots before the kept pairs').
+DH_CONST uint GPU_CLUSTER_MAX_DEPTH = 64u;
+DH_CONST uint GPU_CLUSTER_KEPT = GPU_CLUSTER_MAX_DEPTH; ///< the counts' slot of the kept pairs
+DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 1u;
+/// Entries an invocation of a cluster pass takes at most (its workgroups are sized so): lavapipe
+/// ends a shader's loops after 65535 iterations in all, so no invocation may loop without bound.
+DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
+/// The args pass sizes the walk of a level (step < GPU_CLUSTER_KEPT: its list) or the pixel
+/// pass (step = GPU_CLUSTER_KEPT: 16 invocations a kept pair).
 
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
 
@@ -46,8 +66,8 @@ struct GpuWedgeStats {
     uint centerFragments;  ///< counting-volume fragments that passed the (biased) depth test
     uint centerCounted;    ///< of those, faces behind the visible point: they add ±w to D(r)
     uint clusterTests;     ///< cluster pass: (tile, node) tests of the walk
-    uint clustersRejected; ///< of those, nodes no point of the tile can have an edge of (clusterMayAdd)
-    uint pad0;
+    uint clustersRejected; ///< of those, nodes no point of the block can have an edge of (clusterMayAdd)
+    uint pairsNeeded;      ///< the most pairs a cluster list needed, when more than it held (else 0)
 };
 
 /// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a

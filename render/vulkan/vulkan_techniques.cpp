@@ -145,8 +145,8 @@ class StsvTechnique final : public VulkanTechnique {
 
 /// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the counting volume at the
 /// light centre; for DCS with the auto extrusion the cluster pass (dcs_clusters.comp), else the
-/// wedge bounds (hulls, mesh-shader hulls or wedge.geom prisms) drawn, with for DCS the listed
-/// silhouette fragments' samples; DCS then folds D(r) into its counters; PW folds (line 11)
+/// wedge bounds (hulls, mesh-shader hulls or wedge.geom prisms) drawn; for DCS the samples of the
+/// (pixel, edge) pairs either listed; DCS then folds D(r) into its counters; PW folds (line 11)
 /// after the other techniques of the row.
 class WedgeTechnique final : public VulkanTechnique {
   public:
@@ -156,18 +156,20 @@ class WedgeTechnique final : public VulkanTechnique {
           m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
           m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls->draw}),
           m_clearDeferredCount({}, {&c.deferred->count}),
+          m_clearClusterCounts({}, {&m_opaque.clusters().listCounts}),
           m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
-        if (usesWedgeClusters(c.options)) {
-            m_clusters.emplace(c.device, c.options, c.resources, m_family, c.defines);
-            return;
-        }
-        m_wedges.emplace(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry,
-                         *c.hulls, *c.deferred);
         if (!m_pw) {
             c.deferred->use(false);
             m_samples.emplace(c.device, c.resources, *c.deferred, m_family, c.defines);
         }
+        if (usesWedgeClusters(c.options)) {
+            m_clusters.emplace(c.device, c.options, c.resources, *c.deferred, m_opaque.clusters(), m_family,
+                               c.defines);
+            return;
+        }
+        m_wedges.emplace(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry,
+                         *c.hulls, *c.deferred);
         if (c.geometry == VolumeGeometry::ComputeHull && m_opaque.carrierCount() > 0)
             m_hullPass.emplace(c.device, "wedges/wedge_hull.comp", layoutDefines(c.resources.tables.layout),
                                static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u, *c.hulls, m_family);
@@ -195,8 +197,11 @@ class WedgeTechnique final : public VulkanTechnique {
             runPass(recorder, cmd, "", m_clearHullDraw, light);
             runPass(recorder, cmd, technique + "wedge_hulls", *m_hullPass, light);
         }
-        if (m_clusters) runPass(recorder, cmd, technique + "clusters", *m_clusters, light);
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
+        if (m_clusters) {
+            runPass(recorder, cmd, "", m_clearClusterCounts, light);
+            m_clusters->record(recorder, cmd, light, technique + "clusters");
+        }
         if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
         if (m_samples) runPass(recorder, cmd, technique + "wedge_samples", *m_samples, light);
         // DCS's count is clamped at 0 before another technique adds its layers (dcs+stsv), as
@@ -215,9 +220,14 @@ class WedgeTechnique final : public VulkanTechnique {
 
     std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
 
+    bool growLists() override {
+        std::uint64_t needed = 0;
+        for (const GpuWedgeStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.pairsNeeded);
+        return m_clusters && m_opaque.clusters().growFor(needed);
+    }
+
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {
-        // wedge_samples.comp (DCS) tests every sample of a silhouette fragment; so does the
-        // cluster pass, where a sample outside the edge's crossing region is a test that fails.
+        // wedge_samples.comp (DCS) tests every sample of a listed silhouette fragment.
         const std::uint64_t n = std::uint64_t(m_c.options.samples);
         nlohmann::json wedges = nlohmann::json::array();
         for (std::size_t l = 0; l < m_counts.size(); ++l) {
@@ -226,11 +236,12 @@ class WedgeTechnique final : public VulkanTechnique {
             if (m_clusters) {
                 // The tree's tables and the walk, as the CPU mirror counts them (its blocks aside);
                 // "fragments": the bound tests of the (pixel, edge) pairs that reach them.
-                const WedgeClusterTables::Counts& t = m_opaque.clusters().counts()[l];
+                const WedgeClusters::Counts& t = m_opaque.clusters().counts()[l];
                 wedge["path"] = "clusters";
                 wedge["potential_silhouettes"] = t.potentialSilhouettes;
                 wedge["clusters"] = t.leaves;
                 wedge["cluster_depth"] = t.depth;
+                wedge["list_capacity"] = m_opaque.clusters().capacity();
                 wedge["bounds"] = t.carriers; // the carriers' bounds uploaded
                 wedge["cluster_tests"] = s.clusterTests;
                 wedge["clusters_rejected"] = s.clustersRejected;
@@ -241,7 +252,7 @@ class WedgeTechnique final : public VulkanTechnique {
                 m_c.hulls->reportCounts(m_c.geometry, l, "wedge", s.hull, wedge);
             }
             if (!m_pw) {
-                if (m_samples) wedge["listed_fragments"] = s.listed;
+                wedge["listed_fragments"] = s.listed;
                 wedge["samples_tested"] = n * s.inside;
             }
             // The counting volume at the light centre (dcs_center.frag): its fragments and the faces
@@ -259,13 +270,14 @@ class WedgeTechnique final : public VulkanTechnique {
     ClearPass m_clearCenter;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferredCount;
+    ClearPass m_clearClusterCounts;
     CenterCountPass m_center;
     FoldPass m_fold;
-    std::optional<DcsClusterPass> m_clusters;  ///< DCS with the auto extrusion
-    std::optional<WedgePass> m_wedges;         ///< else the wedge bounds drawn
-    std::optional<WedgeSamplesPass> m_samples; ///< DCS: the listed silhouette fragments
-    std::optional<HullPass> m_hullPass;        ///< with hulls, when the scene has carriers
-    std::vector<GpuWedgeStats> m_counts;       ///< per light, after the frame
+    std::optional<DcsClusterPasses> m_clusters; ///< DCS with the auto extrusion: lists the pairs
+    std::optional<WedgePass> m_wedges;          ///< else the wedge bounds drawn
+    std::optional<WedgeSamplesPass> m_samples;  ///< DCS: the listed (pixel, edge) pairs
+    std::optional<HullPass> m_hullPass;         ///< with hulls, when the scene has carriers
+    std::vector<GpuWedgeStats> m_counts;        ///< per light, after the frame
 };
 
 /// The filter pass's step for a row's filter.

@@ -1,248 +1,206 @@
 #version 450
 // DCS's silhouette edges through the light's cluster tree (DESIGN §4.5; the CPU mirror's walk,
-// render/cpu/cpu_wedges.cpp forEachPixel and forEachSilhouette, with the same dh tests): a
-// workgroup per 16 × 16 screen tile bounds the visible points of its pixels, walks the tree of
-// the light's potential silhouettes (wedges/silhouette_edges.h) with that region and keeps the
-// leaves that may add to it (edge_cluster_dh.h clusterMayAdd); then each pixel tests those leaves'
-// with the region of its 4 × 4 block of pixels (as the mirror's blocks), and each pixel tests its
-// block's leaves' balls with its own point, and each edge of a kept leaf that is a silhouette seen from p,
-// clipped non-empty between p and the light, with p inside its carrier's bound, adds
-// k_e·[r → x crosses the edge] to each light sample x's 16-bit counter (Forest, Barthe & Paulin
-// 2008) — what the wedge draw and wedge_samples.comp add, without a volume, a fragment or a list.
-// The tests are conservative, so the culling changes no counter; wedge_fold.comp adds D(r).
+// render/cpu/cpu_wedges.cpp forEachPixel and forEachSilhouette, with the same dh tests), level by
+// level over lists of pairs so that no invocation loops without bound (lavapipe ends a shader's
+// loops after 65535 iterations in all):
+//   DCS_CLUSTER_STAGE 0 (blocks): each 4 × 4 block of pixels gets the ball of its visible points,
+//     and the pair (block, root) for level 0;
+//   1 (args): the indirect dispatch of the next pass, from the count of the list it reads;
+//   2 (walk): each (block, node) pair of a level whose node may add to the block (edge_cluster_dh.h
+//     clusterMayAdd) gives its children to the next level, or, a leaf, those of its edges, each a
+//     cluster of its own, that may add to it, as (block, item) pairs;
+//   3 (pixels): 16 invocations a kept pair, one a pixel of the block: an edge that is a silhouette
+//     seen from the pixel's p, clipped non-empty between p and the light, with p inside its
+//     carrier's bound, is listed for wedge_samples.comp, which adds k_e·[r → x crosses the edge]
+//     to each light sample x's counter.
+// The pairs are those the wedge draw lists, without a volume or a fragment; the tests are
+// conservative, so the culling changes no counter. A list too short drops what it has no room
+// for and records what it needed; the host grows the lists and renders the frame again.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
+#ifndef DCS_CLUSTER_STAGE
+#define DCS_CLUSTER_STAGE 2
+#endif
 #include "wedges/wedge_term.glsl"
 #include "wedges/edge_cluster_dh.h"
+#include "common/deferred_list.glsl"
 
-// Leaves a walk step keeps before the pixels test them (the walk resumes from its stack after).
-#define CLUSTER_LIST 1024u
-
-// 256 invocations a tile, the 16 of each 4 × 4 block of it consecutive: a SIMD batch of them
-// shares its block's leaves.
-layout(local_size_x = 256) in;
+#if DCS_CLUSTER_STAGE == 0
+layout(local_size_x = 8, local_size_y = 8) in;
+#elif DCS_CLUSTER_STAGE == 1
+layout(local_size_x = 1) in;
+#else
+layout(local_size_x = 64) in;
+#endif
 
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
-layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_NODES) uniform usamplerBuffer clusterNodes;
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_ITEMS) uniform usamplerBuffer clusterItems;
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BOUNDS) uniform usamplerBuffer clusterBounds;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_COUNTS) buffer Counts { uint counts[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_PAIRS) buffer Pairs { uvec2 pairs[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BLOCKS) buffer Blocks { vec4 blockBalls[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_DISPATCH) buffer Dispatch { uint dispatchArgs[]; };
 
-shared vec3 tileLo[256];
-shared vec3 tileHi[256];
-shared uint stack[GPU_CLUSTER_STACK];
-shared uint stackSize;
-shared uint leaves[CLUSTER_LIST];
-shared uint leafCount;
-shared vec4 blockRegion[16];
-shared uint blockLeaves[16][CLUSTER_LIST / 32u]; // bit i: the block keeps leaves[i]
-shared uint boundTests;
-shared uint visits;
-shared uint nodeTests;
-shared uint nodesRejected;
+uint blocksAcross() { return (frame.width + 3u) / 4u; }
+uint listCapacity() { return uint(pairs.length()) / GPU_CLUSTER_LISTS; }
+/// The list whose count is slot `slot`: the levels alternate between lists 0 and 1, the kept
+/// pairs are list 2.
+uint listBase(uint slot) { return (slot == GPU_CLUSTER_KEPT ? 2u : slot % 2u) * listCapacity(); }
 
-/// Node `index`: its ball, cone and texel 2 (first, count, inverseNormal, faceReach).
-vec4 nodeBall(uint index) { return uintBitsToFloat(texelFetch(clusterNodes, int(index * GPU_CLUSTER_NODE_TEXELS))); }
-vec4 nodeCone(uint index) {
-    return uintBitsToFloat(texelFetch(clusterNodes, int(index * GPU_CLUSTER_NODE_TEXELS + 1u)));
+/// Appends `pair` to the list of count slot `slot`; past its end it is dropped, and the count
+/// still grows, which the stats record for the host.
+void appendPair(uint slot, uvec2 pair) {
+    uint at = atomicAdd(counts[slot], 1u);
+    if (at < listCapacity())
+        pairs[listBase(slot) + at] = pair;
+    else
+        atomicMax(stats[pc.light].pairsNeeded, at + 1u);
 }
-uvec4 nodeRange(uint index) { return texelFetch(clusterNodes, int(index * GPU_CLUSTER_NODE_TEXELS + 2u)); }
+/// The pairs a pass reads from slot `slot`'s list: those appended, at most its capacity.
+uint listEntries(uint slot) { return min(counts[slot], listCapacity()); }
+
+/// Cluster `index` of a table (nodes or items, three texels each): ball, cone, and texel 2.
+vec4 clusterBall(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * 3u))); }
+vec4 clusterCone(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * 3u + 1u))); }
+uvec4 clusterData(usamplerBuffer table, uint index) { return texelFetch(table, int(index * 3u + 2u)); }
+/// clusterMayAdd of cluster `index` of a table against a region.
+bool tableMayAdd(usamplerBuffer table, uint index, vec4 region, LightHull hull) {
+    uvec4 data = clusterData(table, index);
+    return clusterMayAdd(clusterBall(table, index), clusterCone(table, index), uintBitsToFloat(data.z),
+                         uintBitsToFloat(data.w), region, hull);
+}
 
 /// Whether p lies in carrier c's bound: in one of its volumes and in its light planes
 /// (wedges/silhouette_edges.h FaceBound::contains).
 bool insideBound(uint c, vec3 p) {
     uint base = c * GPU_CLUSTER_BOUND_TEXELS;
-    uvec4 counts = texelFetch(clusterBounds, int(base));
+    uvec4 sizes = texelFetch(clusterBounds, int(base));
     bool inside = false;
-    for (uint v = 0u; v < counts.x && !inside; ++v) {
+    for (uint v = 0u; v < 2u; ++v) {
         StsvVolume vol;
-        vol.planeCount = v == 0u ? counts.y : counts.z;
+        vol.planeCount = v == 0u ? sizes.y : sizes.z;
         for (uint i = 0u; i < STSV_VOLUME_MAX_PLANES; ++i)
             vol.planes[i] = uintBitsToFloat(texelFetch(clusterBounds, int(base + 1u + v * STSV_VOLUME_MAX_PLANES + i)));
-        inside = stsvPointInVolume(vol, p);
+        inside = inside || (v < sizes.x && stsvPointInVolume(vol, p));
     }
     if (!inside) return false;
     StsvLightPlanes lp;
-    lp.count = counts.w;
+    lp.count = sizes.w;
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i)
         lp.planes[i] = uintBitsToFloat(texelFetch(clusterBounds, int(base + 1u + 2u * STSV_VOLUME_MAX_PLANES + i)));
     return stsvPointInLightPlanes(lp, p);
 }
 
+/// Pixel `lane` (0 … 15, row by row) of block `block`.
+ivec2 blockPixel(uint block, uint lane) {
+    uint across = blocksAcross();
+    return ivec2(4u * (block % across) + lane % 4u, 4u * (block / across) + lane / 4u);
+}
+
 void main() {
-    uint local = gl_LocalInvocationIndex;
-    uint block = local / 16u;
-    ivec2 pixel = ivec2(gl_WorkGroupID.xy * 16u + uvec2(4u * (block % 4u) + local % 4u, 4u * (block / 4u) + (local / 4u) % 4u));
-    bool inside = pixel.x < int(frame.width) && pixel.y < int(frame.height);
-    uint receiver = inside ? imageLoad(gTriangle, pixel).x : GPU_NO_TRIANGLE;
-    bool covered = receiver != GPU_NO_TRIANGLE;
-    vec3 p = covered ? vec3(imageLoad(gPosition, pixel)) : vec3(0.0);
-
-    // The box of the tile's visible points.
-    tileLo[local] = covered ? p : vec3(3.0e38);
-    tileHi[local] = covered ? p : vec3(-3.0e38);
-    if (local == 0u) {
-        boundTests = 0u;
-        visits = 0u;
-        nodeTests = 0u;
-        nodesRejected = 0u;
+#if DCS_CLUSTER_STAGE == 0
+    uvec2 b = gl_GlobalInvocationID.xy;
+    if (b.x >= blocksAcross() || 4u * b.y >= frame.height) return;
+    uint block = b.y * blocksAcross() + b.x;
+    vec3 lo = vec3(3.0e38);
+    vec3 hi = vec3(-3.0e38);
+    for (uint lane = 0u; lane < 16u; ++lane) {
+        ivec2 pixel = blockPixel(block, lane);
+        if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
+        if (imageLoad(gTriangle, pixel).x == GPU_NO_TRIANGLE) continue;
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        lo = min(lo, p);
+        hi = max(hi, p);
     }
-    barrier();
-    // Each block's box (its 16 invocations), then the tile's.
-    for (uint stride = 8u; stride > 0u; stride >>= 1u) {
-        if (local % 16u < stride) {
-            tileLo[local] = min(tileLo[local], tileLo[local + stride]);
-            tileHi[local] = max(tileHi[local], tileHi[local + stride]);
-        }
-        barrier();
-    }
-    if (local % 16u == 0u)
-        blockRegion[block] = tileLo[local].x <= tileHi[local].x ? boxBall(tileLo[local], tileHi[local]) : vec4(0.0, 0.0, 0.0, -1.0);
-    barrier();
-    for (uint stride = 128u; stride >= 16u; stride >>= 1u) {
-        if (local < stride && local % 16u == 0u) {
-            tileLo[local] = min(tileLo[local], tileLo[local + stride]);
-            tileHi[local] = max(tileHi[local], tileHi[local + stride]);
-        }
-        barrier();
-    }
-    vec3 lo = tileLo[0];
-    vec3 hi = tileHi[0];
-    if (!(lo.x <= hi.x)) return; // no visible point: uniform over the workgroup
+    bool covered = lo.x <= hi.x;
+    blockBalls[block] = covered ? boxBall(lo, hi) : vec4(0.0, 0.0, 0.0, -1.0);
+    if (covered && uint(textureSize(clusterNodes)) >= GPU_CLUSTER_NODE_TEXELS) appendPair(0u, uvec2(block, 0u));
+#elif DCS_CLUSTER_STAGE == 1
+    // pc.step: the count slot of the list the next pass reads; the pixel pass takes 16
+    // invocations a pair.
+    uint invocations = listEntries(pc.step) * (pc.step == GPU_CLUSTER_KEPT ? 16u : 1u);
+    uint perGroup = 64u * GPU_CLUSTER_ENTRIES_PER_INVOCATION;
+    dispatchArgs[0] = clamp((invocations + perGroup - 1u) / perGroup, 1u, 65535u);
+    dispatchArgs[1] = 1u;
+    dispatchArgs[2] = 1u;
+#elif DCS_CLUSTER_STAGE == 2
+    // pc.step: the level.
+    uint entries = listEntries(pc.step);
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     vec4 lightBall = lights[pc.light].sphere;
-    vec4 region = boxBall(lo, hi);
-    LightHull regionHull = lightHull(region, lightBall);
-    bool hasTree = uint(textureSize(clusterNodes)) >= GPU_CLUSTER_NODE_TEXELS;
-    if (local == 0u) {
-        stackSize = hasTree ? 1u : 0u;
-        stack[0] = 0u;
+    uint tests = 0u;
+    uint rejected = 0u;
+    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
+        uvec2 pair = pairs[listBase(pc.step) + e];
+        vec4 region = blockBalls[pair.x];
+        LightHull hull = lightHull(region, lightBall);
+        ++tests;
+        if (!tableMayAdd(clusterNodes, pair.y, region, hull)) {
+            ++rejected;
+            continue;
+        }
+        uvec4 range = clusterData(clusterNodes, pair.y);
+        if (range.y == 0u) {
+            appendPair(pc.step + 1u, uvec2(pair.x, range.x));
+            appendPair(pc.step + 1u, uvec2(pair.x, range.x + 1u));
+            continue;
+        }
+        for (uint k = range.x; k < range.x + range.y; ++k) {
+            ++tests;
+            if (tableMayAdd(clusterItems, k, region, hull))
+                appendPair(GPU_CLUSTER_KEPT, uvec2(pair.x, k));
+            else
+                ++rejected;
+        }
     }
-
-    // The pixel's light frame and its point's light hull.
+    tests = subgroupAdd(tests);
+    rejected = subgroupAdd(rejected);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].clusterTests, tests);
+        atomicAdd(stats[pc.light].clustersRejected, rejected);
+    }
+#else
+    uint entries = 16u * listEntries(GPU_CLUSTER_KEPT);
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    vec4 lightBall = lights[pc.light].sphere;
     Light light = lights[pc.light].light;
-    LightFrame lf = lightFrame(light, p, frame.farDistance);
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
-    DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
-    bool shading = covered && px.valid != 0.0;
-    LightHull pointHull = lightHull(vec4(p, 0.0), lightBall);
-    uint pixelIndex = lsPixelIndex(uvec2(pixel), frame.width);
-    uint counterWord = lsPixelCounterWord(pixelIndex, uint(SAMPLE_COUNT));
-    uint base = interleaveSet(samplePixelOf(uvec2(pixel)), frame.interleave) * uint(SAMPLE_COUNT);
-    uvec2 offset = decorrelationOffset(samplePixelOf(uvec2(pixel)), frame.seed);
-    bool decorrelate = frame.decorrelate != 0u;
-    // The pixel's samples, made when its first edge needs them, and its counters' addends
-    // (indexed by the loop's sample: one vector access for a SIMD batch of pixels on lavapipe).
-    vec2 ab[SAMPLE_COUNT];
-    bool sampled = false;
-    uint counts[SAMPLE_COUNT / 2];
-    for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) counts[j] = 0u;
-    uint myTests = 0u;
-    uint myVisits = 0u;
-    uint walkTests = 0u;
-    uint walkRejected = 0u;
-    uint blockTests = 0u;
-    uint blockRejected = 0u;
-    barrier();
-
-    for (;;) {
-        // One invocation walks until the list is full or the stack empty.
-        if (local == 0u) {
-            uint count = 0u;
-            uint size = stackSize;
-            while (size > 0u && count < CLUSTER_LIST) {
-                uint index = stack[--size];
-                uvec4 range = nodeRange(index);
-                ++walkTests;
-                if (!clusterMayAdd(nodeBall(index), nodeCone(index), uintBitsToFloat(range.z),
-                                   uintBitsToFloat(range.w), region, regionHull)) {
-                    ++walkRejected;
-                } else if (range.y > 0u) {
-                    leaves[count++] = index;
-                } else {
-                    stack[size++] = range.x + 1u;
-                    stack[size++] = range.x;
-                }
-            }
-            stackSize = size;
-            leafCount = count;
-        }
-        for (uint w = local; w < 16u * (CLUSTER_LIST / 32u); w += 256u) blockLeaves[w / (CLUSTER_LIST / 32u)][w % (CLUSTER_LIST / 32u)] = 0u;
-        barrier();
-        uint count = leafCount;
-        bool more = stackSize > 0u;
-        // Invocation t tests leaves t % 16, t % 16 + 16, … with block t / 16's region.
-        {
-            vec4 blockBall = blockRegion[block];
-            if (blockBall.w >= 0.0) {
-                LightHull blockHull = lightHull(blockBall, lightBall);
-                for (uint i = local % 16u; i < count; i += 16u) {
-                    uint index = leaves[i];
-                    uvec4 range = nodeRange(index);
-                    ++blockTests;
-                    if (clusterMayAdd(nodeBall(index), nodeCone(index), uintBitsToFloat(range.z),
-                                      uintBitsToFloat(range.w), blockBall, blockHull))
-                        atomicOr(blockLeaves[block][i / 32u], 1u << (i % 32u));
-                    else
-                        ++blockRejected;
-                }
-            }
-        }
-        barrier();
-        for (uint i = 0u; i < count && shading; ++i) {
-            if ((blockLeaves[block][i / 32u] & (1u << (i % 32u))) == 0u) continue;
-            uint index = leaves[i];
-            if (!ballMeetsLightHull(nodeBall(index), pointHull)) continue;
-            uvec4 range = nodeRange(index);
-            for (uint k = range.x; k < range.x + range.y; ++k) {
-                uvec4 item = texelFetch(clusterItems, int(k));
-                WedgeEdge edge = wedgeEdgeAt(item.x);
-                WedgeFaces faces = wedgeFacesOf(edge);
-                if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) == 0) continue;
-                if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), pointHull)) continue;
-                vec3 l;
-                vec3 h0;
-                vec3 h1;
-                int kE;
-                if (!wedgeEdgeTerm(px, edge.v0, edge.v1, faces, receiver, l, h0, h1, kE)) continue;
-                ++myTests;
-                if (!insideBound(item.y, p)) continue;
-                ++myVisits;
-                // Only the samples in the edge's crossing region can cross it (dcsSampleRegion).
-                vec2 regionLo;
-                vec2 regionHi;
-                if (!dcsSampleRegion(l, h0, h1, vec2(-1.0), vec2(1.0), regionLo, regionHi)) continue;
-                if (!sampled) {
-                    for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s)
-                        ab[s] = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);
-                    sampled = true;
-                }
-                for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
-                    if (any(lessThan(ab[s], regionLo)) || any(greaterThan(ab[s], regionHi))) continue;
-                    // Modular, as the counters: a negative addend wraps across the word's two
-                    // 16-bit halves, which wedge_fold.comp undoes.
-                    counts[lsCounterWord(s)] += uint(kE * dcsSampleCrossing(l, h0, h1, ab[s])) << lsCounterShift(s);
-                }
-            }
-        }
-        barrier();
-        if (!more) break;
+    uint boundTests = 0u;
+    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
+        uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e / 16u];
+        ivec2 pixel = blockPixel(pair.x, e % 16u);
+        if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
+        uint receiver = imageLoad(gTriangle, pixel).x;
+        if (receiver == GPU_NO_TRIANGLE) continue;
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        uvec4 item = clusterData(clusterItems, pair.y);
+        WedgeEdge edge = wedgeEdgeAt(item.x);
+        WedgeFaces faces = wedgeFacesOf(edge);
+        // The mirror's order: the silhouette test from p, the edge's ball, the edge term, the
+        // bound (forEachSilhouette; its leaf test with p is implied by the edge's ball).
+        if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) == 0) continue;
+        if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lightBall))) continue;
+        LightFrame lf = lightFrame(light, p, frame.farDistance);
+        DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
+        if (px.valid == 0.0) continue;
+        vec3 l;
+        vec3 h0;
+        vec3 h1;
+        int kE;
+        if (!wedgeEdgeTerm(px, edge.v0, edge.v1, faces, receiver, l, h0, h1, kE)) continue;
+        ++boundTests;
+        if (!insideBound(item.y, p)) continue;
+        // Past the list's end the entry is dropped; the host sees the count and renders again.
+        deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), item.x);
     }
-    // The pixel's words are this invocation's alone.
-    if (sampled)
-        for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) counters[counterWord + j] += counts[j];
-    atomicAdd(boundTests, myTests);
-    atomicAdd(visits, myVisits);
-    atomicAdd(nodeTests, blockTests);
-    atomicAdd(nodesRejected, blockRejected);
-    barrier();
-    if (local == 0u) {
-        atomicAdd(stats[pc.light].fragments, boundTests);
-        atomicAdd(stats[pc.light].inside, visits);
-        atomicAdd(stats[pc.light].clusterTests, walkTests + nodeTests);
-        atomicAdd(stats[pc.light].clustersRejected, walkRejected + nodesRejected);
-    }
+    boundTests = subgroupAdd(boundTests);
+    if (subgroupElect()) atomicAdd(stats[pc.light].fragments, boundTests);
+#endif
 }

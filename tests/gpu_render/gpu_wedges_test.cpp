@@ -312,7 +312,7 @@ TEST_F(GpuWedges, PwMatchesMirrorOnConvexMeshAndFence) {
 }
 
 TEST_F(GpuWedges, HullsAndPrismsGiveTheSameCountersCoverageAndSilhouettes) {
-    // The wedge hulls (auto) against the carriers' prisms (geometry shader): both enclose every
+    // The wedge hulls (--extrusion hull) against the carriers' prisms (geometry shader): both enclose every
     // point a wedge fragment accepts, so DCS counters and PW coverage are identical and so are the
     // silhouette fragments; the hulls rasterise far fewer fragments. The torus knot under its
     // rectangle light (light planes) and a sphere mesh under a sphere light (none).
@@ -348,6 +348,47 @@ TEST_F(GpuWedges, HullsAndPrismsGiveTheSameCountersCoverageAndSilhouettes) {
                 << what;
             EXPECT_GT(h["hull_volumes"].get<std::size_t>(), 0u) << what;
         }
+}
+
+TEST_F(GpuWedges, TheClusterWalkListsThePairsTheWedgeDrawAccepts) {
+    // DCS with the auto extrusion walks the light's cluster tree per 4 × 4 block (dcs_clusters.comp)
+    // instead of drawing the wedge hulls: its culling is conservative and its per-pixel tests are
+    // the wedge fragment's, so the counters and the silhouette pairs are the hull draw's. It lists
+    // only those pairs (the draw lists every fragment whose edge is a silhouette seen from p). The
+    // torus knot needs more pairs than the lists start with (16 a block): they grow, and the frame
+    // is rendered again, identical in the next frame.
+    Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
+    Scene sphere = makeMeshScene(test::makeSphereMesh(32, 16), "sphere");
+    sphere.lights[0] = makeSphereLight(sphere.lights[0].position, 0.3f, sphere.lights[0].radiance);
+    for (const auto& [name, scene] :
+         {std::pair<const char*, const Scene*>{"knot", &knot}, {"sphere light", &sphere}}) {
+        const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+        VulkanRenderer renderer(*scene, o, {&device()});
+        const Frame walk = renderer.render();
+        const Frame again = renderer.render();
+        const Frame hull = renderGpu(*scene, o, ExtrusionStage::Hull);
+        EXPECT_EQ(walk.lightSamples[0].counters(), hull.lightSamples[0].counters()) << name;
+        EXPECT_EQ(again.lightSamples[0].counters(), walk.lightSamples[0].counters()) << name;
+        const nlohmann::json& w = walk.stats["wedges"][0];
+        const nlohmann::json& h = hull.stats["wedges"][0];
+        std::cout << name << ": " << w.dump() << "\n";
+        EXPECT_EQ(w["path"], "clusters") << name;
+        EXPECT_EQ(h["path"], "volumes") << name;
+        EXPECT_EQ(w["silhouette_fragments"], h["silhouette_fragments"]) << name;
+        EXPECT_GT(w["silhouette_fragments"].get<std::size_t>(), 0u) << name;
+        EXPECT_EQ(w["listed_fragments"], w["silhouette_fragments"]) << name;
+        EXPECT_GE(w["fragments"].get<std::size_t>(), w["silhouette_fragments"].get<std::size_t>()) << name;
+        EXPECT_GT(w["clusters_rejected"].get<std::size_t>(), 0u) << name;
+        EXPECT_LT(w["clusters_rejected"].get<std::size_t>(), w["cluster_tests"].get<std::size_t>()) << name;
+        EXPECT_EQ(again.stats["wedges"][0], w) << name;
+        EXPECT_EQ(walk.stats["passes"].contains("light0/dcs_clusters"), true) << name;
+        EXPECT_EQ(walk.stats["passes"].contains("light0/dcs_wedges"), false) << name;
+    }
+    // The knot's lists grew past their start (16 pairs a block, 4096 at least).
+    VulkanRenderer renderer(knot, wedgeOptions(Method::Dcs, 96, 72, 32), {&device()});
+    const Frame frame = renderer.render();
+    EXPECT_GT(frame.stats["wedges"][0]["list_capacity"].get<std::uint64_t>(), std::uint64_t(24 * 18 * 16));
+    EXPECT_EQ(renderer.device().validationMessageCount(), 0u);
 }
 
 TEST_F(GpuWedges, AShortSilhouetteListGrowsAndTheFrameIsRenderedAgain) {
@@ -475,10 +516,11 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                 if (method.opaque == OpaqueTechnique::None) continue;
                 const std::string technique = method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_";
                 expected.push_back(light + technique + "center");
-                // Auto extrusion: DCS walks the cluster tree (the edge terms and samples in one
-                // pass); PW builds the wedge hulls and draws them.
+                // Auto extrusion: DCS walks the cluster tree and lists the (pixel, edge) pairs for
+                // their samples; PW builds the wedge hulls and draws them.
                 if (method.opaque == OpaqueTechnique::Dcs) {
                     expected.push_back(light + "dcs_clusters");
+                    expected.push_back(light + "dcs_wedge_samples");
                 } else {
                     expected.push_back(light + "pw_wedge_hulls");
                     expected.push_back(light + "pw_wedges");
