@@ -167,7 +167,7 @@ DcsClusterPasses::DcsClusterPasses(const Device& device, const RenderOptions& op
       m_blocksAcross(static_cast<std::uint32_t>((options.width + 3) / 4)),
       m_blocksDown(static_cast<std::uint32_t>((options.height + 3) / 4)) {
     const ShaderCompiler compiler;
-    for (std::uint32_t stage = 0; stage < 4; ++stage) {
+    for (std::uint32_t stage = 0; stage < 5; ++stage) {
         std::vector<ShaderDefine> stageDefines = defines;
         stageDefines.push_back({"DCS_CLUSTER_STAGE", std::to_string(stage)});
         m_pipelines[stage] =
@@ -187,6 +187,8 @@ void DcsClusterPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::
     }
     runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_KEPT), light);
     runPass(recorder, cmd, "", Stage(*this, 3, 0), light);
+    runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_CANDIDATES), light);
+    runPass(recorder, cmd, "", Stage(*this, 4, 0), light);
     recorder.endScope(cmd);
 }
 
@@ -207,7 +209,7 @@ PassAccesses DcsClusterPasses::Stage::accesses(std::size_t) const {
     if (m_stage != 2)
         accesses.use(p.m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
             .use(p.m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE));
-    if (m_stage == 3)
+    if (m_stage == 4)
         accesses.use(p.m_deferred->count, ResourceUse::storageReadWrite(COMPUTE))
             .use(p.m_deferred->fragments, ResourceUse::storageReadWrite(COMPUTE));
     return accesses;

@@ -83,8 +83,9 @@ class WedgeClusters {
 };
 
 /// DCS's silhouette edges per 4 × 4 block of pixels through the cluster tree (dcs_clusters.comp):
-/// the blocks' balls, a dispatch per level of the walk, then the pixels of the kept (block, edge)
-/// pairs, which list the (pixel, edge) pairs for wedge_samples.comp.
+/// the blocks' balls, a dispatch per level of the walk, the pixels of the kept (block, edge)
+/// pairs, then the candidates among them, which list the (pixel, edge) pairs for
+/// wedge_samples.comp.
 class DcsClusterPasses {
   public:
     DcsClusterPasses(const Device& device, const RenderOptions& options, FrameResources& frame,
@@ -114,7 +115,7 @@ class DcsClusterPasses {
     DeferredFragments* m_deferred;
     WedgeClusters* m_clusters;
     const FamilyDescriptors* m_descriptors;
-    Pipeline m_pipelines[4]; ///< per stage
+    Pipeline m_pipelines[5]; ///< per stage
     std::uint32_t m_blocksAcross;
     std::uint32_t m_blocksDown;
 };

@@ -35,25 +35,28 @@ DH_CONST uint GPU_CLUSTER_NODE_TEXELS = 3u;
 DH_CONST uint GPU_CLUSTER_ITEM_TEXELS = 3u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
 
-/// The cluster passes' lists (render/vulkan/gpu_wedge_clusters.h ClusterLists): the pairs
-/// (block, node) of each level of the walk, in two lists that alternate, and the (block, item)
-/// pairs it keeps, GPU_CLUSTER_LISTS lists of the same capacity one after the other in one
-/// buffer; their counts (per level, then the kept pairs'); each 4 × 4 block's ball of visible
-/// points; the indirect dispatch of the next pass.
+/// The cluster passes' lists (render/vulkan/gpu_wedge_clusters.h WedgeClusters): the pairs
+/// (block, node) of each level of the walk, in two lists that alternate; the (block, item) pairs
+/// it keeps; the (pixel, item) pairs whose edge is a silhouette seen from the pixel's point
+/// (candidates for the remaining tests) — GPU_CLUSTER_LISTS lists of the same capacity one after
+/// the other in one buffer; their counts (per level, then the kept pairs', the candidates'); each
+/// 4 × 4 block's ball of visible points; the indirect dispatch of the next pass.
 DH_CONST uint GPU_BINDING_CLUSTER_COUNTS = GPU_BINDING_EDGES + 9u;
 DH_CONST uint GPU_BINDING_CLUSTER_PAIRS = GPU_BINDING_EDGES + 10u;
 DH_CONST uint GPU_BINDING_CLUSTER_BLOCKS = GPU_BINDING_EDGES + 11u;
 DH_CONST uint GPU_BINDING_CLUSTER_DISPATCH = GPU_BINDING_EDGES + 12u;
-DH_CONST uint GPU_CLUSTER_LISTS = 3u;
+DH_CONST uint GPU_CLUSTER_LISTS = 4u;
 /// Levels of a tree the walk takes at most (the counts' slots before the kept pairs').
 DH_CONST uint GPU_CLUSTER_MAX_DEPTH = 64u;
-DH_CONST uint GPU_CLUSTER_KEPT = GPU_CLUSTER_MAX_DEPTH; ///< the counts' slot of the kept pairs
-DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 1u;
+DH_CONST uint GPU_CLUSTER_KEPT = GPU_CLUSTER_MAX_DEPTH;            ///< the counts' slot of the kept pairs
+DH_CONST uint GPU_CLUSTER_CANDIDATES = GPU_CLUSTER_MAX_DEPTH + 1u; ///< and of the candidates
+DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 2u;
 /// Entries an invocation of a cluster pass takes at most (its workgroups are sized so): lavapipe
 /// ends a shader's loops after 65535 iterations in all, so no invocation may loop without bound.
 DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
-/// The args pass sizes the walk of a level (step < GPU_CLUSTER_KEPT: its list) or the pixel
-/// pass (step = GPU_CLUSTER_KEPT: 16 invocations a kept pair).
+/// The args pass sizes the walk of a level (step < GPU_CLUSTER_KEPT: its list), the pixel pass
+/// (step = GPU_CLUSTER_KEPT: 16 invocations a kept pair) or the candidates' pass (step =
+/// GPU_CLUSTER_CANDIDATES).
 
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
 

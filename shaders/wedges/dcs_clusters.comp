@@ -9,10 +9,13 @@
 //   2 (walk): each (block, node) pair of a level whose node may add to the block (edge_cluster_dh.h
 //     clusterMayAdd) gives its children to the next level, or, a leaf, those of its edges, each a
 //     cluster of its own, that may add to it, as (block, item) pairs;
-//   3 (pixels): 16 invocations a kept pair, one a pixel of the block: an edge that is a silhouette
-//     seen from the pixel's p, clipped non-empty between p and the light, with p inside its
-//     carrier's bound, is listed for wedge_samples.comp, which adds k_e·[r → x crosses the edge]
-//     to each light sample x's counter.
+//   3 (pixels): 16 invocations a kept pair, one a pixel of the block: an edge that is a
+//     silhouette seen from the pixel's p (most are not) makes a (pixel, item) candidate;
+//   4 (candidates): a candidate whose edge's ball meets the segments from p to the light, whose
+//     edge clipped between p and the light is not empty and whose carrier's bound holds p is
+//     listed for wedge_samples.comp, which adds k_e·[r → x crosses the edge] to each light sample
+//     x's counter. (Lavapipe runs a batch's instructions for all its lanes: the candidates'
+//     tests run in full batches.)
 // The pairs are those the wedge draw lists, without a volume or a fragment; the tests are
 // conservative, so the culling changes no counter. A list too short drops what it has no room
 // for and records what it needed; the host grows the lists and renders the frame again.
@@ -51,8 +54,11 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_DISPATCH) buf
 uint blocksAcross() { return (frame.width + 3u) / 4u; }
 uint listCapacity() { return uint(pairs.length()) / GPU_CLUSTER_LISTS; }
 /// The list whose count is slot `slot`: the levels alternate between lists 0 and 1, the kept
-/// pairs are list 2.
-uint listBase(uint slot) { return (slot == GPU_CLUSTER_KEPT ? 2u : slot % 2u) * listCapacity(); }
+/// pairs are list 2, the candidates list 3.
+uint listBase(uint slot) {
+    uint list = slot == GPU_CLUSTER_KEPT ? 2u : (slot == GPU_CLUSTER_CANDIDATES ? 3u : slot % 2u);
+    return list * listCapacity();
+}
 
 /// Appends `pair` to the list of count slot `slot`; past its end it is dropped, and the count
 /// still grows, which the stats record for the host.
@@ -166,13 +172,9 @@ void main() {
         atomicAdd(stats[pc.light].clusterTests, tests);
         atomicAdd(stats[pc.light].clustersRejected, rejected);
     }
-#else
+#elif DCS_CLUSTER_STAGE == 3
     uint entries = 16u * listEntries(GPU_CLUSTER_KEPT);
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    vec4 lightBall = lights[pc.light].sphere;
-    Light light = lights[pc.light].light;
-    float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
-    uint boundTests = 0u;
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e / 16u];
         ivec2 pixel = blockPixel(pair.x, e % 16u);
@@ -180,12 +182,27 @@ void main() {
         uint receiver = imageLoad(gTriangle, pixel).x;
         if (receiver == GPU_NO_TRIANGLE) continue;
         vec3 p = vec3(imageLoad(gPosition, pixel));
-        uvec4 item = clusterData(clusterItems, pair.y);
+        WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
+        // The mirror's first test (forEachSilhouette): the edge is a silhouette seen from p.
+        if (wedgeWorldWeight(p, edge.v0, edge.v1, wedgeFacesOf(edge), receiver) != 0)
+            appendPair(GPU_CLUSTER_CANDIDATES, uvec2(lsPixelIndex(uvec2(pixel), frame.width), pair.y));
+    }
+#else
+    uint entries = listEntries(GPU_CLUSTER_CANDIDATES);
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    vec4 lightBall = lights[pc.light].sphere;
+    Light light = lights[pc.light].light;
+    float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
+    uint boundTests = 0u;
+    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
+        uvec2 candidate = pairs[listBase(GPU_CLUSTER_CANDIDATES) + e];
+        ivec2 pixel = ivec2(candidate.x % frame.width, candidate.x / frame.width);
+        uint receiver = imageLoad(gTriangle, pixel).x;
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        uvec4 item = clusterData(clusterItems, candidate.y);
         WedgeEdge edge = wedgeEdgeAt(item.x);
-        WedgeFaces faces = wedgeFacesOf(edge);
-        // The mirror's order: the silhouette test from p, the edge's ball, the edge term, the
-        // bound (forEachSilhouette; its leaf test with p is implied by the edge's ball).
-        if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) == 0) continue;
+        // The mirror's order after the silhouette test: the edge's ball, the edge term, the bound
+        // (its leaf test with p is implied by the edge's ball).
         if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lightBall))) continue;
         LightFrame lf = lightFrame(light, p, frame.farDistance);
         DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
@@ -194,11 +211,11 @@ void main() {
         vec3 h0;
         vec3 h1;
         int kE;
-        if (!wedgeEdgeTerm(px, edge.v0, edge.v1, faces, receiver, l, h0, h1, kE)) continue;
+        if (!wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, kE)) continue;
         ++boundTests;
         if (!insideBound(item.y, p)) continue;
         // Past the list's end the entry is dropped; the host sees the count and renders again.
-        deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), item.x);
+        deferredAppend(candidate.x, item.x);
     }
     boundTests = subgroupAdd(boundTests);
     if (subgroupElect()) atomicAdd(stats[pc.light].fragments, boundTests);
