@@ -69,7 +69,7 @@ struct PackedEdge {
 /// The potential silhouettes of one light with a carrier, in (carrier, edge) order — the order
 /// the CPU's pixels visit them in (PW sums in it) — the tree of clusters over them, and their
 /// carriers' bounds, each built when first asked for: most carriers never hold a pixel's
-/// silhouette edge that crosses its light. `scene` and `adjacency` must outlive it.
+/// silhouette edge that crosses its light. `scene` must outlive it.
 class SilhouetteEdges {
   public:
     SilhouetteEdges(const Scene& scene, const EdgeAdjacency& adjacency,

@@ -108,7 +108,8 @@ struct GpuLight {
 /// Push constants of every pass.
 struct GpuPush {
     uint light;      ///< index into GpuLight[]; ≥ lightCount: none (resolve only initialises)
-    uint initialize; ///< resolve: 1 = write ambient/background first (the first light)
+    uint initialize; ///< resolve: 1 = write ambient/background first (the first light); DCS's
+                     ///< cluster blocks pass: the end of its part of the blocks
     uint flags;      ///< GPU_PUSH_* bits
     uint step;       ///< DCS's cluster passes: the walk's level, or the list an args pass sizes
 };

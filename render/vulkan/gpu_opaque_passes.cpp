@@ -91,7 +91,8 @@ std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
 }
 
 OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Scene& scene,
-                                                 const RenderOptions& options) {
+                                                 const RenderOptions& options,
+                                                 std::uint64_t clusterListLimit) {
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
     m_carriers = edgeCarriers(m_adjacency, scene);
@@ -112,7 +113,8 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
-    m_clusters.emplace(device, scene, options, m_adjacency, m_carriers, usesWedgeClusters(options));
+    m_clusters.emplace(device, scene, options, m_adjacency, m_carriers, usesWedgeClusters(options),
+                       clusterListLimit);
 }
 
 void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t light) const {

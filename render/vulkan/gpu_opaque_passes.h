@@ -49,7 +49,9 @@ GpuEdgeTables buildGpuEdgeTables(const EdgeAdjacency& adjacency, const std::vect
 /// centre-count image. Only a frame with the wedge technique has them.
 class OpaqueOccluderResources {
   public:
-    OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options);
+    /// `clusterListLimit`: VulkanRendererConfig::clusterListLimit.
+    OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options,
+                            std::uint64_t clusterListLimit = 0);
 
     /// The bindings these resources add to the wedge family's set (gpu_wedges_dh.h).
     static std::vector<DescriptorBinding> bindings();

@@ -77,8 +77,9 @@ class VulkanFrame {
   public:
     /// `deferredCapacity`: the fragments the STSV hull draw and the DCS wedge draw may list for
     /// their sample passes at first (the list grows when a frame needs more).
+    /// `clusterListLimit`: VulkanRendererConfig::clusterListLimit.
     VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
-                VolumeGeometry geometry, std::uint64_t deferredCapacity);
+                VolumeGeometry geometry, std::uint64_t deferredCapacity, std::uint64_t clusterListLimit);
     Frame render(double startupMs);
 
   private:
@@ -110,7 +111,8 @@ class VulkanFrame {
 };
 
 VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
-                         VolumeGeometry geometry, std::uint64_t deferredCapacity)
+                         VolumeGeometry geometry, std::uint64_t deferredCapacity,
+                         std::uint64_t clusterListLimit)
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
       m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
       m_hulls(hullResourcesFor(device, m_method)),
@@ -125,7 +127,8 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                 m_descriptors,
                 m_hulls ? &*m_hulls : nullptr,
                 m_deferred ? &*m_deferred : nullptr,
-                sampleDefines(options, m_resources.tables.layout)},
+                sampleDefines(options, m_resources.tables.layout),
+                clusterListLimit},
       m_techniques(makeVulkanTechniques(m_context)),
       m_techniquesWriteMasks(std::any_of(m_techniques.begin(), m_techniques.end(),
                                          [](const auto& t) { return t->writesSampleMasks(); })),
@@ -299,7 +302,8 @@ struct VulkanRenderer::Impl {
                 ? config.deferredCapacity
                 : std::min<std::uint64_t>(2ull * std::uint64_t(options.width) * std::uint64_t(options.height),
                                           kMaxDeferredFragments);
-        frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred);
+        frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred,
+                                              config.clusterListLimit);
         startupMs = startup.milliseconds();
     }
 };

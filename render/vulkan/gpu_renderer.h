@@ -23,6 +23,10 @@ struct VulkanRendererConfig {
     /// at first (0: two a pixel); a frame that needs more grows the list and renders again.
     /// Tests make it small.
     std::uint64_t deferredCapacity = 0;
+    /// The pairs one list of the DCS cluster walk may hold at most (0: what a storage buffer
+    /// binding of the device addresses); past it the walk takes the blocks in parts. Tests make
+    /// it small.
+    std::uint64_t clusterListLimit = 0;
 };
 
 /// Payload bytes of one light's sample buffer for `options` without rendering: N·W·H/8 for

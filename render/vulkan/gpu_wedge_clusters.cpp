@@ -2,6 +2,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
+#include "gpu/device.h"
 #include "gpu/shader_compiler.h"
 #include "render/methods.h"
 #include "render/vulkan/gpu_deferred.h"
@@ -40,19 +41,25 @@ bool usesWedgeClusters(const RenderOptions& options) {
 }
 
 WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const RenderOptions& options,
-                             const EdgeAdjacency& adj, const std::vector<std::uint32_t>& carriers, bool build)
+                             const EdgeAdjacency& adj, const std::vector<std::uint32_t>& carriers, bool build,
+                             std::uint64_t listLimit)
     : m_device(&device) {
     const VkBufferUsageFlags usage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
     listCounts = Buffer(device, GPU_CLUSTER_COUNT_SLOTS * sizeof(uint), storage, MemoryUsage::DeviceLocal);
     dispatch = Buffer(device, 4 * sizeof(uint), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                       MemoryUsage::DeviceLocal);
-    const std::uint64_t blockCount =
-        build ? std::uint64_t((options.width + 3) / 4) * std::uint64_t((options.height + 3) / 4) : 1;
+    m_blockCount = static_cast<std::uint32_t>(((options.width + 3) / 4) * ((options.height + 3) / 4));
+    const std::uint64_t blockCount = build ? m_blockCount : 1;
     blocks = Buffer(device, blockCount * sizeof(vec4), storage, MemoryUsage::DeviceLocal);
+    // One buffer holds the lists: each at most what a storage buffer binding may address.
+    m_maxCapacity =
+        std::min<std::uint64_t>(kMaxDeferredFragments, device.limits().maxStorageBufferRange /
+                                                           (GPU_CLUSTER_LISTS * 2 * sizeof(uint)));
+    if (listLimit > 0) m_maxCapacity = std::min(m_maxCapacity, listLimit);
     // Room for a few of the walk's pairs per block to start with; a frame that needs more
-    // grows the lists.
-    resize(build ? std::max<std::uint64_t>(blockCount * 16, 4096) : 1);
+    // grows the lists, or walks the blocks in parts.
+    resize(build ? std::min(std::max<std::uint64_t>(blockCount * 16, 4096), m_maxCapacity) : 1);
     const auto upload = [&](std::vector<uvec4> texels, Buffer& buffer, BufferView& view) {
         if (texels.empty()) texels.push_back(uvec4(0u)); // fewer texels than a node: no tree
         buffer = createBuffer(device, std::span<const uvec4>(texels), usage);
@@ -129,10 +136,21 @@ void WedgeClusters::resize(std::uint64_t capacity) {
 
 bool WedgeClusters::growFor(std::uint64_t needed) {
     if (needed <= m_capacity) return false;
-    if (needed > kMaxDeferredFragments)
-        throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list, more than " +
-                    std::to_string(kMaxDeferredFragments) + "; use --extrusion hull");
-    resize(std::min<std::uint64_t>(needed + needed / 4, kMaxDeferredFragments));
+    if (needed <= m_maxCapacity) {
+        resize(std::min(needed + needed / 4, m_maxCapacity));
+        return true;
+    }
+    // More than a list can hold: the walk takes the blocks in more parts, each with the lists
+    // to itself.
+    if (m_parts >= m_blockCount)
+        throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list for one 4x4 " +
+                    "block, more than the " + std::to_string(m_maxCapacity) +
+                    " a storage buffer holds; use --extrusion hull");
+    // The worst part's list shrinks about as its share of the blocks (a quarter more room).
+    const std::uint64_t wanted = std::uint64_t(m_parts) * (needed + needed / 4) / m_maxCapacity + 1;
+    m_parts = static_cast<std::uint32_t>(
+        std::min<std::uint64_t>(m_blockCount, std::max<std::uint64_t>(wanted, m_parts + 1)));
+    if (m_capacity < m_maxCapacity) resize(m_maxCapacity);
     return true;
 }
 
@@ -179,16 +197,26 @@ DcsClusterPasses::DcsClusterPasses(const Device& device, const RenderOptions& op
 void DcsClusterPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light,
                               const std::string& scope) const {
     const std::size_t depth = light < m_clusters->counts().size() ? m_clusters->counts()[light].depth : 0;
+    const ClearPass clearCounts({}, {&m_clusters->listCounts});
+    const std::uint32_t parts = m_clusters->parts();
+    const std::uint32_t blocks = m_blocksAcross * m_blocksDown;
     recorder.beginScope(cmd, scope);
-    runPass(recorder, cmd, "", Stage(*this, 0, 0), light);
-    for (std::uint32_t level = 0; level < depth; ++level) {
-        runPass(recorder, cmd, "", Stage(*this, 1, level), light);
-        runPass(recorder, cmd, "", Stage(*this, 2, level), light);
+    for (std::uint32_t part = 0; part < parts; ++part) {
+        // Blocks [first, end), row by row, with the lists to themselves.
+        const auto first = static_cast<std::uint32_t>(std::uint64_t(blocks) * part / parts);
+        const auto end = static_cast<std::uint32_t>(std::uint64_t(blocks) * (part + 1) / parts);
+        if (first == end) continue;
+        runPass(recorder, cmd, "", clearCounts, light);
+        runPass(recorder, cmd, "", Stage(*this, 0, first, end), light);
+        for (std::uint32_t level = 0; level < depth; ++level) {
+            runPass(recorder, cmd, "", Stage(*this, 1, level), light);
+            runPass(recorder, cmd, "", Stage(*this, 2, level), light);
+        }
+        runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_KEPT), light);
+        runPass(recorder, cmd, "", Stage(*this, 3, 0), light);
+        runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_CANDIDATES), light);
+        runPass(recorder, cmd, "", Stage(*this, 4, 0), light);
     }
-    runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_KEPT), light);
-    runPass(recorder, cmd, "", Stage(*this, 3, 0), light);
-    runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_CANDIDATES), light);
-    runPass(recorder, cmd, "", Stage(*this, 4, 0), light);
     recorder.endScope(cmd);
 }
 
@@ -219,9 +247,9 @@ void DcsClusterPasses::Stage::record(VkCommandBuffer cmd, std::size_t light) con
     const DcsClusterPasses& p = *m_passes;
     p.m_pipelines[m_stage].bind(cmd);
     p.m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
-    p.m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, m_step});
+    p.m_descriptors->push(cmd, GpuPush{uint(light), m_end, 0u, m_step});
     if (m_stage == 0)
-        vkCmdDispatch(cmd, (p.m_blocksAcross + 7) / 8, (p.m_blocksDown + 7) / 8, 1);
+        vkCmdDispatch(cmd, (m_end - m_step + 63) / 64, 1, 1);
     else if (m_stage == 1)
         vkCmdDispatch(cmd, 1, 1, 1);
     else

@@ -37,8 +37,10 @@ bool usesWedgeClusters(const RenderOptions& options);
 /// for everything when not `build`.
 class WedgeClusters {
   public:
+    /// `listLimit`: the pairs a list holds at most (0: what a storage buffer binding addresses).
     WedgeClusters(const Device& device, const Scene& scene, const RenderOptions& options,
-                  const EdgeAdjacency& adjacency, const std::vector<std::uint32_t>& carriers, bool build);
+                  const EdgeAdjacency& adjacency, const std::vector<std::uint32_t>& carriers, bool build,
+                  std::uint64_t listLimit = 0);
 
     static std::vector<DescriptorBinding> bindings();
     /// Light `light`'s tables and the lists into its set (a set past the lights gets the
@@ -57,11 +59,16 @@ class WedgeClusters {
     /// Per light; empty when not built.
     const std::vector<Counts>& counts() const { return m_counts; }
 
-    /// After a frame whose lists needed `needed` pairs (the most of any light's, 0 when every
-    /// list held its pairs): grows them to that (a quarter more) and returns true, and the
-    /// caller renders the frame again (the descriptors must be written again).
+    /// After a frame whose lists needed `needed` pairs (the most of any light's and band's, 0
+    /// when every list held its pairs): grows them to that (a quarter more), or past what a
+    /// storage buffer holds takes the blocks in more parts, and returns true, and the caller
+    /// renders the frame again (the descriptors must be written again). An Error when one block
+    /// needs more than a list holds.
     bool growFor(std::uint64_t needed);
     std::uint64_t capacity() const { return m_capacity; }
+    /// Parts of the frame's 4 × 4 blocks (row by row) the walk takes one after the other (1
+    /// unless a list needed more than a storage buffer holds).
+    std::uint32_t parts() const { return m_parts; }
 
     Buffer listCounts; ///< GPU_CLUSTER_COUNT_SLOTS uints
     Buffer pairs;      ///< GPU_CLUSTER_LISTS lists of capacity() uvec2 each
@@ -80,6 +87,9 @@ class WedgeClusters {
     std::vector<Tables> m_lights;
     std::vector<Counts> m_counts;
     std::uint64_t m_capacity = 0;
+    std::uint64_t m_maxCapacity = 0; ///< what a storage buffer binding of the lists may address
+    std::uint32_t m_blockCount = 1;
+    std::uint32_t m_parts = 1;
 };
 
 /// DCS's silhouette edges per 4 × 4 block of pixels through the cluster tree (dcs_clusters.comp):
@@ -97,11 +107,12 @@ class DcsClusterPasses {
                 const std::string& scope) const;
 
   private:
-    /// One dispatch of a stage (DCS_CLUSTER_STAGE) at a step (GpuPush::step).
+    /// One dispatch of a stage (DCS_CLUSTER_STAGE) at a step (GpuPush::step; the blocks stage:
+    /// the part's first block, `end` its end).
     class Stage final : public GpuPass {
       public:
-        Stage(const DcsClusterPasses& passes, std::uint32_t stage, std::uint32_t step)
-            : m_passes(&passes), m_stage(stage), m_step(step) {}
+        Stage(const DcsClusterPasses& passes, std::uint32_t stage, std::uint32_t step, std::uint32_t end = 0)
+            : m_passes(&passes), m_stage(stage), m_step(step), m_end(end) {}
         PassAccesses accesses(std::size_t light) const override;
         void record(VkCommandBuffer cmd, std::size_t light) const override;
 
@@ -109,6 +120,7 @@ class DcsClusterPasses {
         const DcsClusterPasses* m_passes;
         std::uint32_t m_stage;
         std::uint32_t m_step;
+        std::uint32_t m_end;
     };
 
     FrameResources* m_frame;

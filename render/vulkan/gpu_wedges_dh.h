@@ -51,12 +51,12 @@ DH_CONST uint GPU_CLUSTER_MAX_DEPTH = 64u;
 DH_CONST uint GPU_CLUSTER_KEPT = GPU_CLUSTER_MAX_DEPTH;            ///< the counts' slot of the kept pairs
 DH_CONST uint GPU_CLUSTER_CANDIDATES = GPU_CLUSTER_MAX_DEPTH + 1u; ///< and of the candidates
 DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 2u;
-/// Entries an invocation of a cluster pass takes at most (its workgroups are sized so): lavapipe
-/// ends a shader's loops after 65535 iterations in all, so no invocation may loop without bound.
+/// Entries an invocation of a cluster pass takes (its workgroups are sized so, up to 65 535 of
+/// them; past 2^28 entries in a list, more): lavapipe ends a shader's loops after 65 535
+/// iterations in all, so no invocation may loop without bound. The args pass sizes the walk of
+/// a level (GpuPush::step < GPU_CLUSTER_KEPT: its list), the pixel pass (step = GPU_CLUSTER_KEPT:
+/// 16 invocations a kept pair) or the candidates' pass (step = GPU_CLUSTER_CANDIDATES).
 DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
-/// The args pass sizes the walk of a level (step < GPU_CLUSTER_KEPT: its list), the pixel pass
-/// (step = GPU_CLUSTER_KEPT: 16 invocations a kept pair) or the candidates' pass (step =
-/// GPU_CLUSTER_CANDIDATES).
 
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
 

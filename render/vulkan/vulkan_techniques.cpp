@@ -153,10 +153,9 @@ class WedgeTechnique final : public VulkanTechnique {
     explicit WedgeTechnique(const VulkanTechniqueContext& c)
         : VulkanTechnique(c, volumeFamilyBindings(OpaqueOccluderResources::bindings()),
                           sizeof(GpuWedgeStats)),
-          m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
-          m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls->draw}),
-          m_clearDeferredCount({}, {&c.deferred->count}),
-          m_clearClusterCounts({}, {&m_opaque.clusters().listCounts}),
+          m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw),
+          m_opaque(c.device, c.scene, c.options, c.clusterListLimit), m_clearCenter({&m_opaque.center}, {}),
+          m_clearHullDraw({}, {&c.hulls->draw}), m_clearDeferredCount({}, {&c.deferred->count}),
           m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
@@ -199,7 +198,6 @@ class WedgeTechnique final : public VulkanTechnique {
         }
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
         if (m_clusters) {
-            runPass(recorder, cmd, "", m_clearClusterCounts, light);
             m_clusters->record(recorder, cmd, light, technique + "clusters");
         }
         if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
@@ -234,14 +232,16 @@ class WedgeTechnique final : public VulkanTechnique {
             const GpuWedgeStats& s = m_counts[l];
             nlohmann::json wedge = {{"edges", m_opaque.edgeCount()}, {"silhouette_fragments", s.inside}};
             if (m_clusters) {
-                // The tree's tables and the walk, as the CPU mirror counts them (its blocks aside);
-                // "fragments": the bound tests of the (pixel, edge) pairs that reach them.
+                // The tree's tables and the walk's (block, node) and (block, edge) tests;
+                // "fragments": the bound tests of the (pixel, edge) pairs that reach them, as on
+                // the CPU.
                 const WedgeClusters::Counts& t = m_opaque.clusters().counts()[l];
                 wedge["path"] = "clusters";
                 wedge["potential_silhouettes"] = t.potentialSilhouettes;
                 wedge["clusters"] = t.leaves;
                 wedge["cluster_depth"] = t.depth;
                 wedge["list_capacity"] = m_opaque.clusters().capacity();
+                wedge["parts"] = m_opaque.clusters().parts();
                 wedge["bounds"] = t.carriers; // the carriers' bounds uploaded
                 wedge["cluster_tests"] = s.clusterTests;
                 wedge["clusters_rejected"] = s.clustersRejected;
@@ -270,7 +270,6 @@ class WedgeTechnique final : public VulkanTechnique {
     ClearPass m_clearCenter;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferredCount;
-    ClearPass m_clearClusterCounts;
     CenterCountPass m_center;
     FoldPass m_fold;
     std::optional<DcsClusterPasses> m_clusters; ///< DCS with the auto extrusion: lists the pairs

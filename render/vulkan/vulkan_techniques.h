@@ -35,9 +35,10 @@ struct VulkanTechniqueContext {
     VolumeGeometry geometry;
     FrameResources& resources;
     const FrameDescriptors& descriptors;
-    HullResources* hulls;              ///< the volume families' (STSV, wedges); null in a frame without them
-    DeferredFragments* deferred;       ///< the volume families'; null in a frame without them
-    std::vector<ShaderDefine> defines; ///< sampleDefines of the frame
+    HullResources* hulls;               ///< the volume families' (STSV, wedges); null in a frame without them
+    DeferredFragments* deferred;        ///< the volume families'; null in a frame without them
+    std::vector<ShaderDefine> defines;  ///< sampleDefines of the frame
+    std::uint64_t clusterListLimit = 0; ///< VulkanRendererConfig::clusterListLimit
 };
 
 class VulkanTechnique {

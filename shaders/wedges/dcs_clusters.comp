@@ -3,8 +3,9 @@
 // render/cpu/cpu_wedges.cpp forEachPixel and forEachSilhouette, with the same dh tests), level by
 // level over lists of pairs so that no invocation loops without bound (lavapipe ends a shader's
 // loops after 65535 iterations in all):
-//   DCS_CLUSTER_STAGE 0 (blocks): each 4 × 4 block of pixels gets the ball of its visible points,
-//     and the pair (block, root) for level 0;
+//   DCS_CLUSTER_STAGE 0 (blocks): each 4 × 4 block of pixels of a part of them (all of them
+//     unless the lists needed more than a buffer holds: the passes run once per part) gets the
+//     ball of its visible points, and the pair (block, root) for level 0;
 //   1 (args): the indirect dispatch of the next pass, from the count of the list it reads;
 //   2 (walk): each (block, node) pair of a level whose node may add to the block (edge_cluster_dh.h
 //     clusterMayAdd) gives its children to the next level, or, a leaf, those of its edges, each a
@@ -16,8 +17,8 @@
 //     listed for wedge_samples.comp, which adds k_e·[r → x crosses the edge] to each light sample
 //     x's counter. (Lavapipe runs a batch's instructions for all its lanes: the candidates'
 //     tests run in full batches.)
-// The pairs are those the wedge draw lists, without a volume or a fragment; the tests are
-// conservative, so the culling changes no counter. A list too short drops what it has no room
+// The pairs listed are those of the wedge draw's fragments that pass every test, without a volume
+// or a fragment; the culling tests are conservative, so they change no counter. A list too short drops what it has no room
 // for and records what it needed; the host grows the lists and renders the frame again.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
@@ -32,9 +33,7 @@
 #include "wedges/edge_cluster_dh.h"
 #include "common/deferred_list.glsl"
 
-#if DCS_CLUSTER_STAGE == 0
-layout(local_size_x = 8, local_size_y = 8) in;
-#elif DCS_CLUSTER_STAGE == 1
+#if DCS_CLUSTER_STAGE == 1
 layout(local_size_x = 1) in;
 #else
 layout(local_size_x = 64) in;
@@ -112,9 +111,9 @@ ivec2 blockPixel(uint block, uint lane) {
 
 void main() {
 #if DCS_CLUSTER_STAGE == 0
-    uvec2 b = gl_GlobalInvocationID.xy;
-    if (b.x >= blocksAcross() || 4u * b.y >= frame.height) return;
-    uint block = b.y * blocksAcross() + b.x;
+    // The part's blocks: pc.step to pc.initialize.
+    uint block = pc.step + gl_GlobalInvocationID.x;
+    if (block >= pc.initialize) return;
     vec3 lo = vec3(3.0e38);
     vec3 hi = vec3(-3.0e38);
     for (uint lane = 0u; lane < 16u; ++lane) {

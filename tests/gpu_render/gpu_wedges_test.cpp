@@ -388,7 +388,36 @@ TEST_F(GpuWedges, TheClusterWalkListsThePairsTheWedgeDrawAccepts) {
     VulkanRenderer renderer(knot, wedgeOptions(Method::Dcs, 96, 72, 32), {&device()});
     const Frame frame = renderer.render();
     EXPECT_GT(frame.stats["wedges"][0]["list_capacity"].get<std::uint64_t>(), std::uint64_t(24 * 18 * 16));
+    EXPECT_EQ(frame.stats["wedges"][0]["parts"], 1);
     EXPECT_EQ(renderer.device().validationMessageCount(), 0u);
+}
+
+TEST_F(GpuWedges, AClusterWalkWhoseListsCannotHoldItTakesTheBlocksInParts) {
+    // Lists limited to 3000 pairs where the torus knot's walk needs about 25 000 in one list (as
+    // a storage buffer's range limits them on a large frame): the walk takes the blocks in parts,
+    // each with the lists to itself, and the counters are those of the hull draw, with two lights.
+    Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
+    knot.lights.push_back(
+        makeSphereLight(knot.lights[0].position + vec3(0.5f, 0.0f, 0.3f), 0.2f, knot.lights[0].radiance));
+    const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+    VulkanRendererConfig config{&device()};
+    config.clusterListLimit = 3000;
+    VulkanRenderer limited(knot, o, config);
+    const Frame parts = limited.render();
+    const Frame again = limited.render();
+    const Frame hull = renderGpu(knot, o, ExtrusionStage::Hull);
+    ASSERT_EQ(parts.lightSamples.size(), 2u);
+    for (std::size_t l = 0; l < 2; ++l) {
+        const nlohmann::json& w = parts.stats["wedges"][l];
+        std::cout << "light " << l << ": " << w.dump() << "\n";
+        EXPECT_EQ(parts.lightSamples[l].counters(), hull.lightSamples[l].counters()) << "light " << l;
+        EXPECT_EQ(again.lightSamples[l].counters(), hull.lightSamples[l].counters()) << "light " << l;
+        EXPECT_EQ(w["silhouette_fragments"], hull.stats["wedges"][l]["silhouette_fragments"])
+            << "light " << l;
+        EXPECT_GT(w["parts"].get<std::uint32_t>(), 1u) << "light " << l;
+        EXPECT_LE(w["list_capacity"].get<std::uint64_t>(), 3000u) << "light " << l;
+    }
+    EXPECT_EQ(limited.device().validationMessageCount(), 0u);
 }
 
 TEST_F(GpuWedges, AShortSilhouetteListGrowsAndTheFrameIsRenderedAgain) {
