@@ -57,9 +57,11 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Ren
         std::min<std::uint64_t>(kMaxDeferredFragments, device.limits().maxStorageBufferRange /
                                                            (GPU_CLUSTER_LISTS * 2 * sizeof(uint)));
     if (listLimit > 0) m_maxCapacity = std::min(m_maxCapacity, listLimit);
-    // Room for a few of the walk's pairs per block to start with; a frame that needs more
-    // grows the lists, or walks the blocks in parts.
-    resize(build ? std::min(std::max<std::uint64_t>(blockCount * 16, 4096), m_maxCapacity) : 1);
+    // Room for 64 pairs a block to start with (the 184 k-triangle knot needs 840 candidates a
+    // block at 256², the 11.5 k one 75); a frame that needs more grows the lists, or walks the
+    // blocks in parts. Each growth renders the frame again, and a short list shortens the ones
+    // after it, so the lists grow to twice what the frame asked for.
+    resize(build ? std::min(std::max<std::uint64_t>(blockCount * 64, 4096), m_maxCapacity) : 1);
     const auto upload = [&](std::vector<uvec4> texels, Buffer& buffer, BufferView& view) {
         if (texels.empty()) texels.push_back(uvec4(0u)); // fewer texels than a node: no tree
         buffer = createBuffer(device, std::span<const uvec4>(texels), usage);
@@ -137,7 +139,7 @@ void WedgeClusters::resize(std::uint64_t capacity) {
 bool WedgeClusters::growFor(std::uint64_t needed) {
     if (needed <= m_capacity) return false;
     if (needed <= m_maxCapacity) {
-        resize(std::min(needed + needed / 4, m_maxCapacity));
+        resize(std::min(2 * needed, m_maxCapacity));
         return true;
     }
     // More than a list can hold: the walk takes the blocks in more parts, each with the lists
@@ -146,8 +148,8 @@ bool WedgeClusters::growFor(std::uint64_t needed) {
         throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list for one 4x4 " +
                     "block, more than the " + std::to_string(m_maxCapacity) +
                     " a storage buffer holds; use --extrusion hull");
-    // The worst part's list shrinks about as its share of the blocks (a quarter more room).
-    const std::uint64_t wanted = std::uint64_t(m_parts) * (needed + needed / 4) / m_maxCapacity + 1;
+    // The worst part's list shrinks about as its share of the blocks (twice the room).
+    const std::uint64_t wanted = std::uint64_t(m_parts) * 2 * needed / m_maxCapacity + 1;
     m_parts = static_cast<std::uint32_t>(
         std::min<std::uint64_t>(m_blockCount, std::max<std::uint64_t>(wanted, m_parts + 1)));
     if (m_capacity < m_maxCapacity) resize(m_maxCapacity);

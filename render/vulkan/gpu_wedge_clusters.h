@@ -60,7 +60,7 @@ class WedgeClusters {
     const std::vector<Counts>& counts() const { return m_counts; }
 
     /// After a frame whose lists needed `needed` pairs (the most of any light's and band's, 0
-    /// when every list held its pairs): grows them to that (a quarter more), or past what a
+    /// when every list held its pairs): grows them to twice that, or past what a
     /// storage buffer holds takes the blocks in more parts, and returns true, and the caller
     /// renders the frame again (the descriptors must be written again). An Error when one block
     /// needs more than a list holds.
