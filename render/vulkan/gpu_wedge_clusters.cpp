@@ -77,9 +77,7 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Ren
         const EdgeClusterTree& tree = sil.tree();
         Counts counts;
         counts.potentialSilhouettes = sil.potentialCount();
-        counts.edges = tree.items.size();
         counts.leaves = tree.leaves;
-        counts.nodes = tree.nodes.size();
         counts.carriers = sil.carrierCount();
         counts.depth = tree.nodes.empty() ? 0 : treeDepth(tree, 0);
         if (counts.depth >= GPU_CLUSTER_MAX_DEPTH)
@@ -87,19 +85,19 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Ren
                              " levels deep, more than the cluster passes take (" +
                              std::to_string(GPU_CLUSTER_MAX_DEPTH - 1) + "); use --extrusion hull");
         std::vector<uvec4> nodes;
-        nodes.reserve(tree.nodes.size() * GPU_CLUSTER_NODE_TEXELS);
+        nodes.reserve(tree.nodes.size() * GPU_CLUSTER_TEXELS);
         for (const EdgeClusterNode& node : tree.nodes) {
             nodes.push_back(bitsOf(node.ball));
             nodes.push_back(bitsOf(node.cone));
             nodes.push_back(uvec4(node.first, node.count, std::bit_cast<uint>(node.inverseNormal),
                                   std::bit_cast<uint>(node.faceReach)));
         }
-        std::vector<uvec4> items(tree.items.size() * GPU_CLUSTER_ITEM_TEXELS);
+        std::vector<uvec4> items(tree.items.size() * GPU_CLUSTER_TEXELS);
         parallelForChunks(tree.items.size(), [&](std::size_t begin, std::size_t end) {
             for (std::size_t k = begin; k < end; ++k) {
                 const std::uint32_t item = tree.items[k];
                 const EdgeClusterNode own = edgeCluster(adj, sil.edge(item), sil.carrierNormal(item));
-                uvec4* t = items.data() + k * GPU_CLUSTER_ITEM_TEXELS;
+                uvec4* t = items.data() + k * GPU_CLUSTER_TEXELS;
                 t[0] = bitsOf(own.ball);
                 t[1] = bitsOf(own.cone);
                 t[2] = uvec4(sil.edge(item), sil.carrier(item), std::bit_cast<uint>(own.inverseNormal),

@@ -50,9 +50,7 @@ class WedgeClusters {
     /// What one light's tables hold.
     struct Counts {
         std::size_t potentialSilhouettes = 0; ///< potential silhouette edges of the light
-        std::size_t edges = 0;                ///< of those, with a carrier: the tree's items
         std::size_t leaves = 0;
-        std::size_t nodes = 0;
         std::size_t carriers = 0; ///< bounds
         std::size_t depth = 0;    ///< levels of the tree (a lone root: 1; none: 0)
     };

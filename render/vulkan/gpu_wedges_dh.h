@@ -23,16 +23,15 @@ DH_CONST uint GPU_BINDING_CENTER =
 
 /// A light's potential silhouettes for the cluster pass (dcs_clusters.comp; render/vulkan/
 /// gpu_wedge_clusters.cpp uploads them per light, wedges/silhouette_edges.h): the cluster tree's
-/// nodes, GPU_CLUSTER_NODE_TEXELS rgba32ui each (ball, cone, (first, count, inverseNormal,
+/// nodes, GPU_CLUSTER_TEXELS rgba32ui each (ball, cone, (first, count, inverseNormal,
 /// faceReach)); its items, each edge as a cluster of its own (edge_clusters.h edgeCluster),
-/// GPU_CLUSTER_ITEM_TEXELS each (ball, cone, (adjacency edge, carrier, inverseNormal, faceReach));
+/// GPU_CLUSTER_TEXELS each too (ball, cone, (adjacency edge, carrier, inverseNormal, faceReach));
 /// the carriers' bounds, GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1,
 /// light planes), the two volumes' planes, the light planes).
 DH_CONST uint GPU_BINDING_CLUSTER_NODES = GPU_BINDING_EDGES + 6u;
 DH_CONST uint GPU_BINDING_CLUSTER_ITEMS = GPU_BINDING_EDGES + 7u;
 DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 8u;
-DH_CONST uint GPU_CLUSTER_NODE_TEXELS = 3u;
-DH_CONST uint GPU_CLUSTER_ITEM_TEXELS = 3u;
+DH_CONST uint GPU_CLUSTER_TEXELS = 3u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
 
 /// The cluster passes' lists (render/vulkan/gpu_wedge_clusters.h WedgeClusters): the pairs

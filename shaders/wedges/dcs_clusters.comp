@@ -71,10 +71,10 @@ void appendPair(uint slot, uvec2 pair) {
 /// The pairs a pass reads from slot `slot`'s list: those appended, at most its capacity.
 uint listEntries(uint slot) { return min(counts[slot], listCapacity()); }
 
-/// Cluster `index` of a table (nodes or items, three texels each): ball, cone, and texel 2.
-vec4 clusterBall(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * 3u))); }
-vec4 clusterCone(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * 3u + 1u))); }
-uvec4 clusterData(usamplerBuffer table, uint index) { return texelFetch(table, int(index * 3u + 2u)); }
+/// Cluster `index` of a table (nodes or items, GPU_CLUSTER_TEXELS each): ball, cone, texel 2.
+vec4 clusterBall(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * GPU_CLUSTER_TEXELS))); }
+vec4 clusterCone(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * GPU_CLUSTER_TEXELS + 1u))); }
+uvec4 clusterData(usamplerBuffer table, uint index) { return texelFetch(table, int(index * GPU_CLUSTER_TEXELS + 2u)); }
 /// clusterMayAdd of cluster `index` of a table against a region.
 bool tableMayAdd(usamplerBuffer table, uint index, vec4 region, LightHull hull) {
     uvec4 data = clusterData(table, index);
@@ -126,7 +126,7 @@ void main() {
     }
     bool covered = lo.x <= hi.x;
     blockBalls[block] = covered ? boxBall(lo, hi) : vec4(0.0, 0.0, 0.0, -1.0);
-    if (covered && uint(textureSize(clusterNodes)) >= GPU_CLUSTER_NODE_TEXELS) appendPair(0u, uvec2(block, 0u));
+    if (covered && uint(textureSize(clusterNodes)) >= GPU_CLUSTER_TEXELS) appendPair(0u, uvec2(block, 0u));
 #elif DCS_CLUSTER_STAGE == 1
     // pc.step: the count slot of the list the next pass reads; the pixel pass takes 16
     // invocations a pair.
