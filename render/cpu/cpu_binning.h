@@ -7,6 +7,7 @@
 #include "core/parallel.h"
 #include "sampling/ls_buffer_dh.h"
 #include "scene/scene.h"
+#include "volumes/ball_tree.h"
 #include "volumes/extrusion_dh.h"
 #include "volumes/light_hull_dh.h"
 
@@ -31,23 +32,6 @@ constexpr int CPU_BLOCKS = CPU_TILE / CPU_BLOCK;
 
 /// Block (bx, by) of `tile`, clipped to it: empty (x0 ≥ x1 or y0 ≥ y1) past the image's edge.
 PixelTile tileBlock(const PixelTile& tile, int bx, int by);
-
-/// A binary tree over balls (centre, radius; world units): median splits of their centres along
-/// the widest axis, leaves of BALL_TREE_LEAF at most, every node's ball holding its children's.
-/// The STSV pass's hierarchy over its triangles: a screen tile walks it with the ball of its
-/// visible points and keeps the leaves whose ball meets the segments from there to the light.
-struct BallTree {
-    static constexpr std::uint32_t LEAF = 16;
-    struct Node {
-        vec4 ball;
-        std::uint32_t first = 0; ///< leaf: into items; inner: its first child (the second follows)
-        std::uint32_t count = 0; ///< leaf: items; inner: 0
-    };
-    std::vector<Node> nodes;          ///< nodes[0] is the root when there is any ball
-    std::vector<std::uint32_t> items; ///< indices of the balls, leaf after leaf
-};
-
-BallTree buildBallTree(const std::vector<vec4>& balls);
 
 /// A pixel's light samples in a CELLS × CELLS grid over the frame square [−1, 1]²: per cell the
 /// mask words (sampling/ls_buffer_dh.h) of the samples in it, so that a per-sample test bounded

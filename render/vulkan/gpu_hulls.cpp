@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <utility>
 
 namespace stsv {
 
@@ -213,9 +214,10 @@ void HullResources::recordDraw(VkCommandBuffer cmd) const {
 
 HullPass::HullPass(const Device& device, const std::string& shader, const std::vector<ShaderDefine>& defines,
                    std::uint32_t items, std::uint32_t pushFlags, HullResources& hulls,
-                   const FamilyDescriptors& descriptors)
-    : m_hulls(&hulls), m_descriptors(&descriptors), m_items(items), m_pushFlags(pushFlags),
-      m_threadsPerGroup(hullThreadsPerGroup(device)), m_itemsPerThread(hullItemsPerThread(device)) {
+                   const FamilyDescriptors& descriptors, std::vector<const Buffer*> writes)
+    : m_hulls(&hulls), m_descriptors(&descriptors), m_writes(std::move(writes)), m_items(items),
+      m_pushFlags(pushFlags), m_threadsPerGroup(hullThreadsPerGroup(device)),
+      m_itemsPerThread(hullItemsPerThread(device)) {
     std::vector<ShaderDefine> withThreads = defines;
     withThreads.push_back({"CLIP_SHARED_INVOCATIONS", std::to_string(m_threadsPerGroup)});
     withThreads.push_back({"HULL_ITEMS_PER_THREAD", std::to_string(m_itemsPerThread)});
@@ -230,6 +232,7 @@ PassAccesses HullPass::accesses(std::size_t) const {
         .use(m_hulls->records, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_hulls->vertices, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
+    for (const Buffer* buffer : m_writes) accesses.use(*buffer, ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 

@@ -87,12 +87,13 @@ class HullResources {
 /// sides of `items` (triangles, carrier faces), side 0 of every item first, HULL_ITEMS_PER_THREAD
 /// sides a thread (a workgroup queues those with a volume, then clips them), counting them in the
 /// GpuHullCounts that begin its family's stats. The HullResources' draw arguments must be zeroed
-/// before (HullResources::draw).
+/// before (HullResources::draw). `writes`: the family's buffers it writes besides (the STSV
+/// walk's item table).
 class HullPass final : public GpuPass {
   public:
     HullPass(const Device& device, const std::string& shader, const std::vector<ShaderDefine>& defines,
              std::uint32_t items, std::uint32_t pushFlags, HullResources& hulls,
-             const FamilyDescriptors& descriptors);
+             const FamilyDescriptors& descriptors, std::vector<const Buffer*> writes = {});
     /// The family whose stats the pass counts in.
     const FamilyDescriptors& family() const { return *m_descriptors; }
 
@@ -102,6 +103,7 @@ class HullPass final : public GpuPass {
   private:
     HullResources* m_hulls;
     const FamilyDescriptors* m_descriptors;
+    std::vector<const Buffer*> m_writes;
     std::uint32_t m_items;
     std::uint32_t m_pushFlags;
     std::uint32_t m_threadsPerGroup;

@@ -91,8 +91,7 @@ std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
 }
 
 OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Scene& scene,
-                                                 const RenderOptions& options,
-                                                 std::uint64_t clusterListLimit) {
+                                                 const RenderOptions& options) {
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
     m_carriers = edgeCarriers(m_adjacency, scene);
@@ -113,18 +112,18 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
-    m_clusters.emplace(device, scene, options, m_adjacency, m_carriers, usesWedgeClusters(options),
-                       clusterListLimit);
+    m_clusters.emplace(device, scene, m_adjacency, m_carriers, usesWedgeClusters(options));
 }
 
-void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t light) const {
+void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t light,
+                                               const ClusterLists& lists) const {
     set.writeBuffer(GPU_BINDING_EDGES, edges);
     set.writeBuffer(GPU_BINDING_EDGE_FACES, faces);
     set.writeTexelBuffer(GPU_BINDING_CARRIER_TEXELS, carrierTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_EDGE_TEXELS, edgeTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_EDGE_FACE_TEXELS, faceTexels.handle());
     set.writeStorageImage(GPU_BINDING_CENTER, center);
-    m_clusters->writeDescriptors(set, light);
+    m_clusters->writeDescriptors(set, light, lists);
 }
 
 CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,

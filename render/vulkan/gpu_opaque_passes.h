@@ -49,14 +49,12 @@ GpuEdgeTables buildGpuEdgeTables(const EdgeAdjacency& adjacency, const std::vect
 /// centre-count image. Only a frame with the wedge technique has them.
 class OpaqueOccluderResources {
   public:
-    /// `clusterListLimit`: VulkanRendererConfig::clusterListLimit.
-    OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options,
-                            std::uint64_t clusterListLimit = 0);
+    OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options);
 
     /// The bindings these resources add to the wedge family's set (gpu_wedges_dh.h).
     static std::vector<DescriptorBinding> bindings();
-    /// Into light `light`'s set.
-    void writeDescriptors(DescriptorSet& set, std::size_t light) const;
+    /// Into light `light`'s set, with the frame's cluster lists.
+    void writeDescriptors(DescriptorSet& set, std::size_t light, const ClusterLists& lists) const;
 
     std::size_t edgeCount() const { return m_edgeCount; }
     WedgeClusters& clusters() { return *m_clusters; }

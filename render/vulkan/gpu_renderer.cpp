@@ -60,6 +60,12 @@ std::optional<HullResources> hullResourcesFor(const Device& device, const Method
     return std::optional<HullResources>(std::in_place, device);
 }
 
+std::optional<ClusterLists> clusterListsFor(const Device& device, const RenderOptions& options,
+                                            std::uint64_t listLimit) {
+    if (!drawsVolumes(methodInfo(options.method))) return std::nullopt;
+    return std::optional<ClusterLists>(std::in_place, device, options, listLimit);
+}
+
 std::optional<DeferredFragments> deferredFragmentsFor(const Device& device, const RenderOptions& options,
                                                       std::uint64_t capacity) {
     if (!drawsVolumes(methodInfo(options.method))) return std::nullopt;
@@ -92,6 +98,7 @@ class VulkanFrame {
     FrameResources m_resources;
     std::optional<HullResources> m_hulls;        ///< with a volume family
     std::optional<DeferredFragments> m_deferred; ///< with a volume family
+    std::optional<ClusterLists> m_clusterLists;  ///< with a volume family
     FrameDescriptors m_descriptors;
     VulkanTechniqueContext m_context;
     std::vector<std::unique_ptr<VulkanTechnique>> m_techniques;
@@ -117,6 +124,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
       m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
       m_hulls(hullResourcesFor(device, m_method)),
       m_deferred(deferredFragmentsFor(device, options, deferredCapacity)),
+      m_clusterLists(clusterListsFor(device, options, clusterListLimit)),
       m_descriptors(device, m_resources.bindings(), std::max<std::size_t>(scene.lights.size(), 1)),
       m_context{device,
                 scene,
@@ -127,8 +135,8 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
                 m_descriptors,
                 m_hulls ? &*m_hulls : nullptr,
                 m_deferred ? &*m_deferred : nullptr,
-                sampleDefines(options, m_resources.tables.layout),
-                clusterListLimit},
+                m_clusterLists ? &*m_clusterLists : nullptr,
+                sampleDefines(options, m_resources.tables.layout)},
       m_techniques(makeVulkanTechniques(m_context)),
       m_techniquesWriteMasks(std::any_of(m_techniques.begin(), m_techniques.end(),
                                          [](const auto& t) { return t->writesSampleMasks(); })),

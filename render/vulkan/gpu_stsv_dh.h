@@ -12,14 +12,19 @@ DH_BEGIN
 
 /// stsv_samples.comp's mask words of the listed fragments, pixel-major (SSBO; bitmask frames).
 DH_CONST uint GPU_BINDING_STSV_MASK_WORDS = GPU_BINDING_VOLUME_FAMILY_FIRST;
+/// The cluster walk's volumes (stsv_hull.comp with STSV_HULL_RECORDS_ONLY): per item (a side of
+/// a triangle: every side 0, then every side 1) its record + 1, 0 without a volume (SSBO).
+DH_CONST uint GPU_BINDING_STSV_ITEM_RECORDS = GPU_BINDING_VOLUME_FAMILY_FIRST + 1u;
 
 /// What the STSV passes count per light (atomic counters in the shaders).
 struct GpuStsvStats {
-    GpuHullCounts hull; ///< stsv_hull.comp or stsv.mesh
-    uint fragments;     ///< fragments that passed the depth test (volume behind the visible point)
-    uint inside;        ///< of those, p inside the volume and on its side: they run the sample loop
-    uint listed;        ///< hull-draw fragments listed for stsv_samples.comp, past the end too
-    uint deferred;      ///< listed fragments whose samples stsv_samples.comp tested
+    GpuHullCounts hull;    ///< stsv_hull.comp or stsv.mesh
+    GpuClusterCounts walk; ///< stsv_clusters.comp
+    uint fragments;        ///< fragments that passed the depth test (volume behind the visible point); the
+                           ///< walk: (pixel, volume) plane tests
+    uint inside;           ///< of those, p inside the volume and on its side: they run the sample loop
+    uint listed;           ///< hull-draw fragments listed for stsv_samples.comp, past the end too
+    uint deferred;         ///< listed fragments whose samples stsv_samples.comp tested
 };
 
 /// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of
@@ -42,8 +47,9 @@ DH_CONST uint GPU_STSV_RECORD_PLANES = 6u;
 DH_CONST uint GPU_STSV_RECORD_LIGHT_PLANES = 11u;
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(GpuStsvStats) == 32);
+DH_STATIC_ASSERT(sizeof(GpuStsvStats) == 48);
 DH_STATIC_ASSERT(offsetof(GpuStsvStats, hull) == 0);
+DH_STATIC_ASSERT(offsetof(GpuStsvStats, walk) == 16);
 DH_STATIC_ASSERT(sizeof(GpuStsvRecord) == 16 * GPU_HULL_RECORD_TEXELS);
 DH_STATIC_ASSERT(offsetof(GpuStsvRecord, ids) == 16 * GPU_STSV_RECORD_IDS);
 DH_STATIC_ASSERT(offsetof(GpuStsvRecord, planes) == 16 * GPU_STSV_RECORD_PLANES);

@@ -1,6 +1,6 @@
 // The GPU interface the volume families share (DESIGN §4.2, §5): the hull buffers and the list of
-// deferred fragments, which the STSV technique (gpu_stsv_dh.h) and the wedge technique
-// (gpu_wedges_dh.h) both bind in their set GPU_SET_FAMILY (render/vulkan/gpu_hulls.h,
+// deferred fragments and the cluster walk's lists, which the STSV technique (gpu_stsv_dh.h) and the wedge
+// technique (gpu_wedges_dh.h) both bind in their set GPU_SET_FAMILY (render/vulkan/gpu_hulls.h,
 // gpu_deferred.h), one pass after the other; the counts every volume family keeps first in its
 // stats.
 #ifndef STSV_RENDER_GPU_VOLUMES_DH_H
@@ -19,8 +19,38 @@ DH_CONST uint GPU_BINDING_HULL_RECORD_TEXELS = 4u; ///< the records as rgba32ui 
 DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 5u; ///< the hull vertices as rgba32ui texels
 DH_CONST uint GPU_BINDING_DEFERRED_COUNT = 6u;     ///< uvec4, x: fragments deferred (SSBO)
 DH_CONST uint GPU_BINDING_DEFERRED = 7u;           ///< uvec2 per deferred fragment: pixel, item (SSBO)
+/// The cluster walk (render/vulkan/gpu_cluster_walk.h, shaders/common/cluster_walk.glsl): a tree
+/// over a family's occluders — its nodes, GPU_CLUSTER_TEXELS rgba32ui each (ball, normal cone
+/// (w < 0: none), (first, count, and two family words)), and its items, GPU_CLUSTER_TEXELS each
+/// too — walked per 4 × 4 block of pixels, level by level, over lists of pairs: the pairs
+/// (block, node) of each level, in two lists that alternate; the (block, item) pairs it keeps;
+/// a family's candidates for its remaining tests — GPU_CLUSTER_LISTS lists of the same capacity
+/// one after the other in one buffer; their counts (per level, then the kept pairs', the
+/// candidates'); each block's box of visible points (lo, hi); the indirect dispatch of the next
+/// pass.
+DH_CONST uint GPU_BINDING_CLUSTER_COUNTS = 8u;
+DH_CONST uint GPU_BINDING_CLUSTER_PAIRS = 9u;
+DH_CONST uint GPU_BINDING_CLUSTER_BLOCKS = 10u;
+DH_CONST uint GPU_BINDING_CLUSTER_DISPATCH = 11u;
+DH_CONST uint GPU_BINDING_CLUSTER_NODES = 12u;
+DH_CONST uint GPU_BINDING_CLUSTER_ITEMS = 13u;
 /// The first binding a volume family declares for itself.
-DH_CONST uint GPU_BINDING_VOLUME_FAMILY_FIRST = 8u;
+DH_CONST uint GPU_BINDING_VOLUME_FAMILY_FIRST = 14u;
+
+DH_CONST uint GPU_CLUSTER_TEXELS = 3u;
+DH_CONST uint GPU_CLUSTER_LISTS = 4u;
+/// Levels of a tree the walk takes at most (the counts' slots before the kept pairs').
+DH_CONST uint GPU_CLUSTER_MAX_DEPTH = 64u;
+DH_CONST uint GPU_CLUSTER_KEPT = GPU_CLUSTER_MAX_DEPTH;            ///< the counts' slot of the kept pairs
+DH_CONST uint GPU_CLUSTER_CANDIDATES = GPU_CLUSTER_MAX_DEPTH + 1u; ///< and of the candidates
+DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 2u;
+/// Entries an invocation of a cluster pass takes (its workgroups are sized so, up to 65 535 of
+/// them; past 2^28 entries in a list, more): lavapipe ends a shader's loops after 65 535
+/// iterations in all, so no invocation may loop without bound. The args pass sizes the walk of
+/// a level (GpuPush::step < GPU_CLUSTER_KEPT: its list), the pixel pass (step = GPU_CLUSTER_KEPT:
+/// each kept pair's 16 pixels in a loop of its invocation) or the candidates' pass (step =
+/// GPU_CLUSTER_CANDIDATES).
+DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
 
 /// What a hull pass counts per light: the first member of its family's stats (GpuStsvStats,
 /// GpuWedgeStats), where render/vulkan/gpu_hulls.cpp reads it to size the hull buffers.
@@ -28,6 +58,14 @@ struct GpuHullCounts {
     uint volumes;   ///< volumes the hull pass (stsv_hull.comp, wedge_hull.comp) or mesh shader built
     uint triangles; ///< triangles of their hulls drawn (those facing away from the eye)
     uint overflow;  ///< mesh shader: volumes whose hull outgrew a mesh workgroup's outputs (none drawn)
+    uint pad;
+};
+
+/// What a cluster walk counts per light: the second member of its family's stats.
+struct GpuClusterCounts {
+    uint tests;       ///< (block, node) and (block, item) tests of the walk
+    uint rejected;    ///< of those, the clusters no point of the block can be shadowed by
+    uint pairsNeeded; ///< the most pairs a cluster list needed, when more than it held (else 0)
     uint pad;
 };
 
@@ -56,6 +94,7 @@ struct GpuHullDraw {
 
 #ifdef __cplusplus
 DH_STATIC_ASSERT(sizeof(GpuHullCounts) == 16);
+DH_STATIC_ASSERT(sizeof(GpuClusterCounts) == 16);
 DH_STATIC_ASSERT(sizeof(GpuHullDraw) == 32);
 #endif
 

@@ -19,8 +19,6 @@ namespace stsv {
 
 namespace {
 
-constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-
 uvec4 bitsOf(vec4 v) {
     return uvec4(std::bit_cast<uint>(v.x), std::bit_cast<uint>(v.y), std::bit_cast<uint>(v.z),
                  std::bit_cast<uint>(v.w));
@@ -40,36 +38,9 @@ bool usesWedgeClusters(const RenderOptions& options) {
            options.extrusion == ExtrusionStage::Auto;
 }
 
-WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const RenderOptions& options,
-                             const EdgeAdjacency& adj, const std::vector<std::uint32_t>& carriers, bool build,
-                             std::uint64_t listLimit)
-    : m_device(&device) {
-    const VkBufferUsageFlags usage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-    const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
-    listCounts = Buffer(device, GPU_CLUSTER_COUNT_SLOTS * sizeof(uint), storage, MemoryUsage::DeviceLocal);
-    dispatch = Buffer(device, 4 * sizeof(uint), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
-                      MemoryUsage::DeviceLocal);
-    m_blockCount = static_cast<std::uint32_t>(((options.width + 3) / 4) * ((options.height + 3) / 4));
-    const std::uint64_t blockCount = build ? m_blockCount : 1;
-    blocks = Buffer(device, blockCount * sizeof(vec4), storage, MemoryUsage::DeviceLocal);
-    // One buffer holds the lists: each at most what a storage buffer binding may address.
-    m_maxCapacity =
-        std::min<std::uint64_t>(kMaxDeferredFragments, device.limits().maxStorageBufferRange /
-                                                           (GPU_CLUSTER_LISTS * 2 * sizeof(uint)));
-    if (listLimit > 0) m_maxCapacity = std::min(m_maxCapacity, listLimit);
-    // Room for 64 pairs a block to start with (the 184 k-triangle knot needs 840 candidates a
-    // block at 256², the 11.5 k one 75); a frame that needs more grows the lists, or walks the
-    // blocks in parts. Each growth renders the frame again, and a short list shortens the ones
-    // after it, so the lists grow to twice what the frame asked for.
-    resize(build ? std::min(std::max<std::uint64_t>(blockCount * 64, 4096), m_maxCapacity) : 1);
-    const auto upload = [&](std::vector<uvec4> texels, Buffer& buffer, BufferView& view) {
-        if (texels.empty()) texels.push_back(uvec4(0u)); // fewer texels than a node: no tree
-        buffer = createBuffer(device, std::span<const uvec4>(texels), usage);
-        view = BufferView(device, buffer, VK_FORMAT_R32G32B32A32_UINT, 16);
-    };
-    upload({}, m_empty.nodes, m_empty.nodeTexels);
-    upload({}, m_empty.items, m_empty.itemTexels);
-    upload({}, m_empty.bounds, m_empty.boundTexels);
+WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const EdgeAdjacency& adj,
+                             const std::vector<std::uint32_t>& carriers, bool build) {
+    uploadTexels(device, {}, m_empty.bounds, m_empty.boundTexels);
     if (!build) return;
     const float farDistance = farDistanceFor(scene.bounds());
     for (const Light& light : scene.lights) {
@@ -80,10 +51,6 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Ren
         counts.leaves = tree.leaves;
         counts.carriers = sil.carrierCount();
         counts.depth = tree.nodes.empty() ? 0 : treeDepth(tree, 0);
-        if (counts.depth >= GPU_CLUSTER_MAX_DEPTH)
-            throw UsageError("the cluster tree of " + scene.source + " is " + std::to_string(counts.depth) +
-                             " levels deep, more than the cluster passes take (" +
-                             std::to_string(GPU_CLUSTER_MAX_DEPTH - 1) + "); use --extrusion hull");
         std::vector<uvec4> nodes;
         nodes.reserve(tree.nodes.size() * GPU_CLUSTER_TEXELS);
         for (const EdgeClusterNode& node : tree.nodes) {
@@ -120,140 +87,22 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Ren
             }
         });
         Tables tables;
-        upload(std::move(nodes), tables.nodes, tables.nodeTexels);
-        upload(std::move(items), tables.items, tables.itemTexels);
-        upload(std::move(bounds), tables.bounds, tables.boundTexels);
+        tables.tree =
+            uploadClusterTables(device, std::move(nodes), std::move(items), counts.depth, scene.source);
+        uploadTexels(device, std::move(bounds), tables.bounds, tables.boundTexels);
         m_lights.push_back(std::move(tables));
         m_counts.push_back(counts);
     }
 }
 
-void WedgeClusters::resize(std::uint64_t capacity) {
-    m_capacity = capacity;
-    pairs = Buffer(*m_device, GPU_CLUSTER_LISTS * capacity * 2 * sizeof(uint),
-                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::DeviceLocal);
-}
-
-bool WedgeClusters::growFor(std::uint64_t needed) {
-    if (needed <= m_capacity) return false;
-    if (needed <= m_maxCapacity) {
-        resize(std::min(2 * needed, m_maxCapacity));
-        return true;
-    }
-    // More than a list can hold: the walk takes the blocks in more parts, each with the lists
-    // to itself.
-    if (m_parts >= m_blockCount)
-        throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list for one 4x4 " +
-                    "block, more than the " + std::to_string(m_maxCapacity) +
-                    " a storage buffer holds; use --extrusion hull");
-    // The worst part's list shrinks about as its share of the blocks (twice the room).
-    const std::uint64_t wanted = std::uint64_t(m_parts) * 2 * needed / m_maxCapacity + 1;
-    m_parts = static_cast<std::uint32_t>(
-        std::min<std::uint64_t>(m_blockCount, std::max<std::uint64_t>(wanted, m_parts + 1)));
-    if (m_capacity < m_maxCapacity) resize(m_maxCapacity);
-    return true;
-}
-
 std::vector<DescriptorBinding> WedgeClusters::bindings() {
-    const VkDescriptorType texels = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-    const VkDescriptorType storage = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    return {{GPU_BINDING_CLUSTER_NODES, texels, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_ITEMS, texels, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_BOUNDS, texels, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_COUNTS, storage, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_PAIRS, storage, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_BLOCKS, storage, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_CLUSTER_DISPATCH, storage, VK_SHADER_STAGE_ALL, 1}};
+    return {{GPU_BINDING_CLUSTER_BOUNDS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1}};
 }
 
-void WedgeClusters::writeDescriptors(DescriptorSet& set, std::size_t light) const {
+void WedgeClusters::writeDescriptors(DescriptorSet& set, std::size_t light, const ClusterLists& lists) const {
     const Tables& t = light < m_lights.size() ? m_lights[light] : m_empty;
-    set.writeTexelBuffer(GPU_BINDING_CLUSTER_NODES, t.nodeTexels.handle());
-    set.writeTexelBuffer(GPU_BINDING_CLUSTER_ITEMS, t.itemTexels.handle());
+    lists.writeDescriptors(set, light < m_lights.size() ? &t.tree : nullptr);
     set.writeTexelBuffer(GPU_BINDING_CLUSTER_BOUNDS, t.boundTexels.handle());
-    set.writeBuffer(GPU_BINDING_CLUSTER_COUNTS, listCounts);
-    set.writeBuffer(GPU_BINDING_CLUSTER_PAIRS, pairs);
-    set.writeBuffer(GPU_BINDING_CLUSTER_BLOCKS, blocks);
-    set.writeBuffer(GPU_BINDING_CLUSTER_DISPATCH, dispatch);
-}
-
-DcsClusterPasses::DcsClusterPasses(const Device& device, const RenderOptions& options, FrameResources& frame,
-                                   DeferredFragments& deferred, WedgeClusters& clusters,
-                                   const FamilyDescriptors& descriptors,
-                                   const std::vector<ShaderDefine>& defines)
-    : m_frame(&frame), m_deferred(&deferred), m_clusters(&clusters), m_descriptors(&descriptors),
-      m_blocksAcross(static_cast<std::uint32_t>((options.width + 3) / 4)),
-      m_blocksDown(static_cast<std::uint32_t>((options.height + 3) / 4)) {
-    const ShaderCompiler compiler;
-    for (std::uint32_t stage = 0; stage < 5; ++stage) {
-        std::vector<ShaderDefine> stageDefines = defines;
-        stageDefines.push_back({"DCS_CLUSTER_STAGE", std::to_string(stage)});
-        m_pipelines[stage] =
-            createComputePipeline(device, descriptors.pipelineLayout(),
-                                  compiler.compileFile("wedges/dcs_clusters.comp", stageDefines));
-    }
-}
-
-void DcsClusterPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light,
-                              const std::string& scope) const {
-    const std::size_t depth = light < m_clusters->counts().size() ? m_clusters->counts()[light].depth : 0;
-    const ClearPass clearCounts({}, {&m_clusters->listCounts});
-    const std::uint32_t parts = m_clusters->parts();
-    const std::uint32_t blocks = m_blocksAcross * m_blocksDown;
-    recorder.beginScope(cmd, scope);
-    for (std::uint32_t part = 0; part < parts; ++part) {
-        // Blocks [first, end), row by row, with the lists to themselves.
-        const auto first = static_cast<std::uint32_t>(std::uint64_t(blocks) * part / parts);
-        const auto end = static_cast<std::uint32_t>(std::uint64_t(blocks) * (part + 1) / parts);
-        if (first == end) continue;
-        runPass(recorder, cmd, "", clearCounts, light);
-        runPass(recorder, cmd, "", Stage(*this, 0, first, end), light);
-        for (std::uint32_t level = 0; level < depth; ++level) {
-            runPass(recorder, cmd, "", Stage(*this, 1, level), light);
-            runPass(recorder, cmd, "", Stage(*this, 2, level), light);
-        }
-        runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_KEPT), light);
-        runPass(recorder, cmd, "", Stage(*this, 3, 0), light);
-        runPass(recorder, cmd, "", Stage(*this, 1, GPU_CLUSTER_CANDIDATES), light);
-        runPass(recorder, cmd, "", Stage(*this, 4, 0), light);
-    }
-    recorder.endScope(cmd);
-}
-
-PassAccesses DcsClusterPasses::Stage::accesses(std::size_t) const {
-    const DcsClusterPasses& p = *m_passes;
-    const WedgeClusters& c = *p.m_clusters;
-    PassAccesses accesses;
-    if (m_stage == 1) {
-        accesses.use(c.listCounts, ResourceUse::storageRead(COMPUTE))
-            .use(c.dispatch, ResourceUse::storageReadWrite(COMPUTE));
-        return accesses;
-    }
-    accesses.use(c.listCounts, ResourceUse::storageReadWrite(COMPUTE))
-        .use(c.pairs, ResourceUse::storageReadWrite(COMPUTE))
-        .use(c.blocks, ResourceUse::storageReadWrite(COMPUTE))
-        .use(p.m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
-    if (m_stage != 0) accesses.use(c.dispatch, ResourceUse::indirectRead());
-    if (m_stage != 2)
-        accesses.use(p.m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
-            .use(p.m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE));
-    if (m_stage == 4)
-        accesses.use(p.m_deferred->count, ResourceUse::storageReadWrite(COMPUTE))
-            .use(p.m_deferred->fragments, ResourceUse::storageReadWrite(COMPUTE));
-    return accesses;
-}
-
-void DcsClusterPasses::Stage::record(VkCommandBuffer cmd, std::size_t light) const {
-    const DcsClusterPasses& p = *m_passes;
-    p.m_pipelines[m_stage].bind(cmd);
-    p.m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
-    p.m_descriptors->push(cmd, GpuPush{uint(light), m_end, 0u, m_step});
-    if (m_stage == 0)
-        vkCmdDispatch(cmd, (m_end - m_step + 63) / 64, 1, 1);
-    else if (m_stage == 1)
-        vkCmdDispatch(cmd, 1, 1, 1);
-    else
-        vkCmdDispatchIndirect(cmd, p.m_clusters->dispatch.handle(), 0);
 }
 
 } // namespace stsv

@@ -21,55 +21,30 @@ DH_CONST uint GPU_BINDING_EDGE_FACE_TEXELS = GPU_BINDING_EDGES + 4u; ///< GpuEdg
 DH_CONST uint GPU_BINDING_CENTER =
     GPU_BINDING_EDGES + 5u; ///< r32i storage image: z-fail layer count at the light centre
 
-/// A light's potential silhouettes for the cluster pass (dcs_clusters.comp; render/vulkan/
-/// gpu_wedge_clusters.cpp uploads them per light, wedges/silhouette_edges.h): the cluster tree's
-/// nodes, GPU_CLUSTER_TEXELS rgba32ui each (ball, cone, (first, count, inverseNormal,
-/// faceReach)); its items, each edge as a cluster of its own (edge_clusters.h edgeCluster),
-/// GPU_CLUSTER_TEXELS each too (ball, cone, (adjacency edge, carrier, inverseNormal, faceReach));
-/// the carriers' bounds, GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1,
-/// light planes), the two volumes' planes, the light planes).
-DH_CONST uint GPU_BINDING_CLUSTER_NODES = GPU_BINDING_EDGES + 6u;
-DH_CONST uint GPU_BINDING_CLUSTER_ITEMS = GPU_BINDING_EDGES + 7u;
-DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 8u;
-DH_CONST uint GPU_CLUSTER_TEXELS = 3u;
+/// A light's potential silhouettes for the cluster walk (dcs_clusters.comp; render/vulkan/
+/// gpu_wedge_clusters.cpp uploads them per light, wedges/silhouette_edges.h): the tree's nodes
+/// (data: first, count, inverseNormal, faceReach) and its items, each edge as a cluster of its
+/// own (edge_clusters.h edgeCluster; data: adjacency edge, carrier, inverseNormal, faceReach),
+/// bound at the shared GPU_BINDING_CLUSTER_NODES and _ITEMS (gpu_volumes_dh.h); the carriers'
+/// bounds, GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1, light
+/// planes), the two volumes' planes, the light planes).
+DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 6u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
-
-/// The cluster passes' lists (render/vulkan/gpu_wedge_clusters.h WedgeClusters): the pairs
-/// (block, node) of each level of the walk, in two lists that alternate; the (block, item) pairs
-/// it keeps; the (pixel, item) pairs whose edge is a silhouette seen from the pixel's point
-/// (candidates for the remaining tests) — GPU_CLUSTER_LISTS lists of the same capacity one after
-/// the other in one buffer; their counts (per level, then the kept pairs', the candidates'); each
-/// 4 × 4 block's ball of visible points; the indirect dispatch of the next pass.
-DH_CONST uint GPU_BINDING_CLUSTER_COUNTS = GPU_BINDING_EDGES + 9u;
-DH_CONST uint GPU_BINDING_CLUSTER_PAIRS = GPU_BINDING_EDGES + 10u;
-DH_CONST uint GPU_BINDING_CLUSTER_BLOCKS = GPU_BINDING_EDGES + 11u;
-DH_CONST uint GPU_BINDING_CLUSTER_DISPATCH = GPU_BINDING_EDGES + 12u;
-DH_CONST uint GPU_CLUSTER_LISTS = 4u;
-/// Levels of a tree the walk takes at most (the counts' slots before the kept pairs').
-DH_CONST uint GPU_CLUSTER_MAX_DEPTH = 64u;
-DH_CONST uint GPU_CLUSTER_KEPT = GPU_CLUSTER_MAX_DEPTH;            ///< the counts' slot of the kept pairs
-DH_CONST uint GPU_CLUSTER_CANDIDATES = GPU_CLUSTER_MAX_DEPTH + 1u; ///< and of the candidates
-DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 2u;
-/// Entries an invocation of a cluster pass takes (its workgroups are sized so, up to 65 535 of
-/// them; past 2^28 entries in a list, more): lavapipe ends a shader's loops after 65 535
-/// iterations in all, so no invocation may loop without bound. The args pass sizes the walk of
-/// a level (GpuPush::step < GPU_CLUSTER_KEPT: its list), the pixel pass (step = GPU_CLUSTER_KEPT:
-/// 16 invocations a kept pair) or the candidates' pass (step = GPU_CLUSTER_CANDIDATES).
-DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
 
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
 
 /// What the wedge passes count per light (atomic counters in the shaders).
 struct GpuWedgeStats {
     GpuHullCounts hull;    ///< wedge_hull.comp or wedge.mesh
+    GpuClusterCounts walk; ///< dcs_clusters.comp
     uint fragments;        ///< wedge-pass fragments that passed the depth test
     uint inside;           ///< of those, p inside the bound with the edge a silhouette seen from p
     uint listed;           ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
     uint centerFragments;  ///< counting-volume fragments that passed the (biased) depth test
     uint centerCounted;    ///< of those, faces behind the visible point: they add ±w to D(r)
-    uint clusterTests;     ///< cluster pass: (tile, node) tests of the walk
-    uint clustersRejected; ///< of those, nodes no point of the block can have an edge of (clusterMayAdd)
-    uint pairsNeeded;      ///< the most pairs a cluster list needed, when more than it held (else 0)
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 /// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a
@@ -114,8 +89,9 @@ struct GpuEdgeFace {
 DH_CONST uint GPU_EDGE_FACE_TEXELS = 2u;
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(GpuWedgeStats) == 48);
+DH_STATIC_ASSERT(sizeof(GpuWedgeStats) == 64);
 DH_STATIC_ASSERT(offsetof(GpuWedgeStats, hull) == 0);
+DH_STATIC_ASSERT(offsetof(GpuWedgeStats, walk) == 16);
 DH_STATIC_ASSERT(sizeof(GpuWedgeRecord) == 16 * GPU_HULL_RECORD_TEXELS);
 DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planes) == 16 * GPU_WEDGE_RECORD_PLANES);
 DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planesSide0) == 16 * GPU_WEDGE_RECORD_PLANES_SIDE0);

@@ -5,6 +5,7 @@
 
 #include "render/vulkan/gpu_opaque_passes.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
+#include "render/vulkan/gpu_stsv_clusters.h"
 #include "shadowmaps/filtered_map.h"
 
 #include <algorithm>
@@ -25,6 +26,7 @@ std::string passName(std::size_t light, const std::string& name) {
 std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBinding> own) {
     std::vector<DescriptorBinding> bindings = HullResources::bindings();
     for (const DescriptorBinding& b : DeferredFragments::bindings()) bindings.push_back(b);
+    for (const DescriptorBinding& b : ClusterLists::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : own) bindings.push_back(b);
     return bindings;
 }
@@ -53,31 +55,57 @@ bool drawsStsv(StsvTriangles which, const Scene& scene) {
     return false;
 }
 
-/// STSV over the row's triangles (Algorithm 2 lines 8–10): the volumes' hulls built by a compute
-/// pass and drawn, their listed fragments' samples and, for bits, the merge into the masks; or
-/// the prisms of the geometry shader or the hulls of the mesh shader. Without S-triangles in the scene it
-/// records nothing, and the frame clears the masks (every sample lit).
+/// STSV over the row's triangles (Algorithm 2 lines 8–10): with the auto extrusion the volumes'
+/// records built by a compute pass and the cluster walk over the triangles' tree
+/// (stsv_clusters.comp), else the volumes' hulls built by a compute pass and drawn; their listed
+/// fragments' samples and, for bits, the merge into the masks; or the prisms of the geometry
+/// shader or the hulls of the mesh shader, whose fragments test the samples. Without S-triangles
+/// in the scene it records nothing, and the frame clears the masks (every sample lit).
 class StsvTechnique final : public VulkanTechnique {
   public:
     explicit StsvTechnique(const VulkanTechniqueContext& c)
         : VulkanTechnique(c,
                           volumeFamilyBindings({{GPU_BINDING_STSV_MASK_WORDS,
-                                                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}}),
+                                                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+                                                StsvClusters::bindings()[0]}),
                           sizeof(GpuStsvStats)),
           m_c(c), m_clearHullDraw({}, {&c.hulls->draw}),
-          m_clearDeferred({}, {&c.deferred->count, &c.deferred->maskWords}) {
+          m_clearDeferred({}, {&c.deferred->count, &c.deferred->maskWords}),
+          m_itemRecordsStandIn(c.device, sizeof(uint), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                               MemoryUsage::DeviceLocal) {
         if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
         const bool bitmask = c.options.buffer != BufferKind::Counters; // occlusion bits
-        if (c.geometry == VolumeGeometry::ComputeHull) c.deferred->use(bitmask);
-        m_stsv.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family,
-                       c.geometry);
-        if (c.geometry != VolumeGeometry::ComputeHull) return;
+        const bool walks = usesStsvClusters(c.options);
+        const std::uint32_t pushFlags =
+            c.method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u;
+        const auto triangles = static_cast<std::uint32_t>(c.scene.triangleCount());
+        std::vector<ShaderDefine> hullDefines = layoutDefines(c.resources.tables.layout);
+        if (walks) {
+            c.deferred->use(bitmask);
+            c.clusterLists->use();
+            m_clusters.emplace(c.device, c.scene, c.method.stsv);
+            m_clearItemRecords.emplace(std::vector<Image*>{},
+                                       std::vector<const Buffer*>{&m_clusters->itemRecords});
+            hullDefines.push_back({"STSV_HULL_RECORDS_ONLY", "1"});
+            m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", hullDefines, triangles, pushFlags, *c.hulls,
+                               m_family, std::vector<const Buffer*>{&m_clusters->itemRecords});
+            m_walk.emplace(
+                c.device, c.options, "stsv/stsv_clusters.comp", 4, c.resources, *c.deferred, *c.clusterLists,
+                m_family, c.defines,
+                std::vector<std::pair<const Buffer*, ResourceUse>>{
+                    {&c.hulls->records, ResourceUse::sampledRead(VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT)},
+                    {&m_clusters->itemRecords,
+                     ResourceUse::storageRead(VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT)}});
+        } else {
+            if (c.geometry == VolumeGeometry::ComputeHull) c.deferred->use(bitmask);
+            m_stsv.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family,
+                           c.geometry);
+            if (c.geometry != VolumeGeometry::ComputeHull) return;
+            m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", hullDefines, triangles, pushFlags, *c.hulls,
+                               m_family);
+        }
         m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family);
         if (bitmask) m_merge.emplace(c.device, c.options, c.resources, *c.deferred, m_family);
-        m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", layoutDefines(c.resources.tables.layout),
-                           static_cast<std::uint32_t>(c.scene.triangleCount()),
-                           c.method.stsv == StsvTriangles::Perforated ? GPU_PUSH_PERFORATED_ONLY : 0u,
-                           *c.hulls, m_family);
     }
 
     void writeDescriptors() override {
@@ -86,9 +114,17 @@ class StsvTechnique final : public VulkanTechnique {
             m_c.hulls->writeDescriptors(set);
             m_c.deferred->writeDescriptors(set);
             set.writeBuffer(GPU_BINDING_STSV_MASK_WORDS, m_c.deferred->maskWords);
+            if (m_clusters) {
+                m_clusters->writeDescriptors(set, *m_c.clusterLists);
+            } else {
+                m_c.clusterLists->writeDescriptors(set, nullptr);
+                set.writeBuffer(GPU_BINDING_STSV_ITEM_RECORDS, m_itemRecordsStandIn);
+            }
         }
     }
 
+    /// The volumes' draw sets the masks whole (its attachments are cleared as it begins); the
+    /// walk's merge ORs its bits into masks the frame cleared.
     bool writesSampleMasks() const override { return m_stsv.has_value(); }
     std::uint32_t timedPassesPerLight() const override { return 4; }
     std::vector<const HullPass*> hullPasses() const override {
@@ -97,13 +133,17 @@ class StsvTechnique final : public VulkanTechnique {
     }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
-        if (!m_stsv) return;
+        if (!m_stsv && !m_walk) return;
         if (m_hullPass) {
             runPass(recorder, cmd, "", m_clearHullDraw, light);
-            runPass(recorder, cmd, passName(light, "stsv_hulls"), *m_hullPass, light);
+            if (m_clearItemRecords) runPass(recorder, cmd, "", *m_clearItemRecords, light);
+            runPass(recorder, cmd, passName(light, m_walk ? "stsv_volumes" : "stsv_hulls"), *m_hullPass,
+                    light);
         }
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferred, light);
-        runPass(recorder, cmd, passName(light, "stsv"), *m_stsv, light);
+        if (m_walk)
+            m_walk->record(recorder, cmd, light, m_clusters->depth(), passName(light, "stsv_clusters"));
+        if (m_stsv) runPass(recorder, cmd, passName(light, "stsv"), *m_stsv, light);
         if (m_samples) runPass(recorder, cmd, passName(light, "stsv_samples"), *m_samples, light);
         if (m_merge) runPass(recorder, cmd, passName(light, "stsv_merge"), *m_merge, light);
     }
@@ -114,6 +154,12 @@ class StsvTechnique final : public VulkanTechnique {
 
     std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
 
+    bool growLists() override {
+        std::uint64_t needed = 0;
+        for (const GpuStsvStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.walk.pairsNeeded);
+        return m_walk && m_c.clusterLists->growFor(needed);
+    }
+
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {
         // stsv.frag and stsv_samples.comp test every sample of a fragment inside its volume.
         const std::uint64_t n = std::uint64_t(m_c.options.samples);
@@ -122,8 +168,23 @@ class StsvTechnique final : public VulkanTechnique {
             const GpuStsvStats& s = m_counts[l];
             nlohmann::json light = {
                 {"fragments", s.fragments}, {"inside_fragments", s.inside}, {"samples_tested", n * s.inside}};
-            m_c.hulls->reportCounts(m_c.geometry, l, "STSV", s.hull, light);
-            if (m_hullPass) {
+            if (m_walk) {
+                // The walk's (block, node) and (block, triangle) tests; "fragments": the
+                // (pixel, volume) plane tests of the kept pairs, as the CPU's pixel tests.
+                m_c.hulls->checkCapacity(l, "STSV", s.hull.volumes, 0);
+                light["path"] = "clusters";
+                light["volumes"] = s.hull.volumes;
+                light["clusters"] = m_clusters->leaves();
+                light["cluster_depth"] = m_clusters->depth();
+                light["cluster_tests"] = s.walk.tests;
+                light["clusters_rejected"] = s.walk.rejected;
+                light["list_capacity"] = m_c.clusterLists->capacity();
+                light["parts"] = m_c.clusterLists->parts();
+            } else {
+                light["path"] = "volumes";
+                m_c.hulls->reportCounts(m_c.geometry, l, "STSV", s.hull, light);
+            }
+            if (m_samples) {
                 light["listed_fragments"] = s.listed;
                 light["deferred_fragments"] = s.deferred;
             }
@@ -136,11 +197,15 @@ class StsvTechnique final : public VulkanTechnique {
     const VulkanTechniqueContext& m_c;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferred;
-    std::optional<HullPass> m_hullPass;       ///< with hulls
-    std::optional<StsvPass> m_stsv;           ///< when the scene has S-triangles
-    std::optional<StsvSamplesPass> m_samples; ///< with hulls: the listed fragments
-    std::optional<StsvMergePass> m_merge;     ///< with m_samples in a bitmask frame
-    std::vector<GpuStsvStats> m_counts;       ///< per light, after the frame
+    Buffer m_itemRecordsStandIn;                 ///< the item table's binding without the walk
+    std::optional<StsvClusters> m_clusters;      ///< with the walk
+    std::optional<ClearPass> m_clearItemRecords; ///< with the walk
+    std::optional<HullPass> m_hullPass;          ///< with the walk (records only) or the hulls
+    std::optional<ClusterWalkPasses> m_walk;     ///< with the auto extrusion
+    std::optional<StsvPass> m_stsv;              ///< the volumes drawn
+    std::optional<StsvSamplesPass> m_samples;    ///< with the walk or the hulls: the listed fragments
+    std::optional<StsvMergePass> m_merge;        ///< with m_samples in a bitmask frame
+    std::vector<GpuStsvStats> m_counts;          ///< per light, after the frame
 };
 
 /// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the counting volume at the
@@ -153,9 +218,9 @@ class WedgeTechnique final : public VulkanTechnique {
     explicit WedgeTechnique(const VulkanTechniqueContext& c)
         : VulkanTechnique(c, volumeFamilyBindings(OpaqueOccluderResources::bindings()),
                           sizeof(GpuWedgeStats)),
-          m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw),
-          m_opaque(c.device, c.scene, c.options, c.clusterListLimit), m_clearCenter({&m_opaque.center}, {}),
-          m_clearHullDraw({}, {&c.hulls->draw}), m_clearDeferredCount({}, {&c.deferred->count}),
+          m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
+          m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls->draw}),
+          m_clearDeferredCount({}, {&c.deferred->count}),
           m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
@@ -163,8 +228,9 @@ class WedgeTechnique final : public VulkanTechnique {
             m_samples.emplace(c.device, c.resources, *c.deferred, m_family, c.defines);
         }
         if (usesWedgeClusters(c.options)) {
-            m_clusters.emplace(c.device, c.options, c.resources, *c.deferred, m_opaque.clusters(), m_family,
-                               c.defines);
+            c.clusterLists->use();
+            m_clusters.emplace(c.device, c.options, "wedges/dcs_clusters.comp", 5, c.resources, *c.deferred,
+                               *c.clusterLists, m_family, c.defines);
             return;
         }
         m_wedges.emplace(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry,
@@ -179,7 +245,7 @@ class WedgeTechnique final : public VulkanTechnique {
             DescriptorSet& set = m_family.set(l);
             m_c.hulls->writeDescriptors(set);
             m_c.deferred->writeDescriptors(set);
-            m_opaque.writeDescriptors(set, l);
+            m_opaque.writeDescriptors(set, l, *m_c.clusterLists);
         }
     }
     std::uint32_t timedPassesPerLight() const override { return 5; }
@@ -198,7 +264,9 @@ class WedgeTechnique final : public VulkanTechnique {
         }
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
         if (m_clusters) {
-            m_clusters->record(recorder, cmd, light, technique + "clusters");
+            const auto& counts = m_opaque.clusters().counts();
+            m_clusters->record(recorder, cmd, light, light < counts.size() ? counts[light].depth : 0,
+                               technique + "clusters");
         }
         if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
         if (m_samples) runPass(recorder, cmd, technique + "wedge_samples", *m_samples, light);
@@ -220,8 +288,8 @@ class WedgeTechnique final : public VulkanTechnique {
 
     bool growLists() override {
         std::uint64_t needed = 0;
-        for (const GpuWedgeStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.pairsNeeded);
-        return m_clusters && m_opaque.clusters().growFor(needed);
+        for (const GpuWedgeStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.walk.pairsNeeded);
+        return m_clusters && m_c.clusterLists->growFor(needed);
     }
 
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {
@@ -240,11 +308,11 @@ class WedgeTechnique final : public VulkanTechnique {
                 wedge["potential_silhouettes"] = t.potentialSilhouettes;
                 wedge["clusters"] = t.leaves;
                 wedge["cluster_depth"] = t.depth;
-                wedge["list_capacity"] = m_opaque.clusters().capacity();
-                wedge["parts"] = m_opaque.clusters().parts();
+                wedge["list_capacity"] = m_c.clusterLists->capacity();
+                wedge["parts"] = m_c.clusterLists->parts();
                 wedge["bounds"] = t.carriers; // the carriers' bounds uploaded
-                wedge["cluster_tests"] = s.clusterTests;
-                wedge["clusters_rejected"] = s.clustersRejected;
+                wedge["cluster_tests"] = s.walk.tests;
+                wedge["clusters_rejected"] = s.walk.rejected;
                 wedge["fragments"] = s.fragments;
             } else {
                 wedge["path"] = "volumes";
@@ -272,11 +340,11 @@ class WedgeTechnique final : public VulkanTechnique {
     ClearPass m_clearDeferredCount;
     CenterCountPass m_center;
     FoldPass m_fold;
-    std::optional<DcsClusterPasses> m_clusters; ///< DCS with the auto extrusion: lists the pairs
-    std::optional<WedgePass> m_wedges;          ///< else the wedge bounds drawn
-    std::optional<WedgeSamplesPass> m_samples;  ///< DCS: the listed (pixel, edge) pairs
-    std::optional<HullPass> m_hullPass;         ///< with hulls, when the scene has carriers
-    std::vector<GpuWedgeStats> m_counts;        ///< per light, after the frame
+    std::optional<ClusterWalkPasses> m_clusters; ///< DCS with the auto extrusion: lists the pairs
+    std::optional<WedgePass> m_wedges;           ///< else the wedge bounds drawn
+    std::optional<WedgeSamplesPass> m_samples;   ///< DCS: the listed (pixel, edge) pairs
+    std::optional<HullPass> m_hullPass;          ///< with hulls, when the scene has carriers
+    std::vector<GpuWedgeStats> m_counts;         ///< per light, after the frame
 };
 
 /// The filter pass's step for a row's filter.

@@ -9,6 +9,7 @@
 #include "gpu/pass_recorder.h"
 #include "render/frame.h"
 #include "render/methods.h"
+#include "render/vulkan/gpu_cluster_walk.h"
 #include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_hulls.h"
@@ -35,10 +36,10 @@ struct VulkanTechniqueContext {
     VolumeGeometry geometry;
     FrameResources& resources;
     const FrameDescriptors& descriptors;
-    HullResources* hulls;               ///< the volume families' (STSV, wedges); null in a frame without them
-    DeferredFragments* deferred;        ///< the volume families'; null in a frame without them
-    std::vector<ShaderDefine> defines;  ///< sampleDefines of the frame
-    std::uint64_t clusterListLimit = 0; ///< VulkanRendererConfig::clusterListLimit
+    HullResources* hulls;              ///< the volume families' (STSV, wedges); null in a frame without them
+    DeferredFragments* deferred;       ///< the volume families'; null in a frame without them
+    ClusterLists* clusterLists;        ///< the volume families'; null in a frame without them
+    std::vector<ShaderDefine> defines; ///< sampleDefines of the frame
 };
 
 class VulkanTechnique {
@@ -49,7 +50,8 @@ class VulkanTechnique {
     /// Its family sets written for every light: what it owns and the shared buffers it binds
     /// (written again whenever the frame replaces those).
     virtual void writeDescriptors() = 0;
-    /// Whether its passes write the light's sample masks (else the frame clears them: all lit).
+    /// Whether its passes set the light's sample masks whole (else the frame clears them first:
+    /// all lit, and passes that OR bits into them see cleared masks).
     virtual bool writesSampleMasks() const { return false; }
     /// The timed passes it records per light, at most (the frame sizes its timestamp pool).
     virtual std::uint32_t timedPassesPerLight() const = 0;

@@ -6,6 +6,8 @@
 // triangles and the volume's record (GpuStsvRecord) for the indirect draw of hull.vert +
 // stsv.frag. Where the ten-vertex prism of stsv.geom reaches far beyond the accepted region (a
 // large light, a leaf edge-on), the hull costs no fragment that only rejects.
+// With STSV_HULL_RECORDS_ONLY (the cluster walk, stsv_clusters.comp) it builds the volumes'
+// records only, no hull, and notes each item's record in the item table.
 #extension GL_GOOGLE_include_directive : require
 // Threads per workgroup, set by render/vulkan/gpu_hulls.cpp to what shared memory holds: the clipping
 // keeps its polyhedron there (clip_box_dh.h).
@@ -20,17 +22,33 @@ layout(local_size_x = CLIP_SHARED_INVOCATIONS) in;
 
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuStsvStats stats[]; };
 
-/// The volume of side `side` of triangle `tri`: its hull appended, its record written.
+#ifndef STSV_HULL_RECORDS_ONLY
+#define STSV_HULL_RECORDS_ONLY 0
+#endif
+#if STSV_HULL_RECORDS_ONLY
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_STSV_ITEM_RECORDS) writeonly buffer ItemRecords { uint itemRecords[]; };
+#endif
+
+/// The volume of side `side` of triangle `tri`: its hull appended, its record written (records
+/// only: its record written and noted in the item table).
 void buildHull(uint tri, uint side) {
     StsvHullSetup h;
     GpuStsvRecord r;
     if (!hullVolume(tri, side, h, r)) return;
+#if STSV_HULL_RECORDS_ONLY
+    // Every point the hull would enclose passes the volume's planes: the walk tests those.
+    uint record = atomicAdd(draw.records, 1u);
+    atomicAdd(stats[pc.light].hull.volumes, 1u);
+    if ((record + 1u) * GPU_HULL_RECORD_TEXELS > uint(hullRecords.length())) return;
+    itemRecords[side * uint(triangles.length()) + tri] = record + 1u;
+#else
     uint drawn;
     uint record = appendHull(h, drawn);
     if (drawn == 0u) return;
     atomicAdd(stats[pc.light].hull.volumes, 1u);
     atomicAdd(stats[pc.light].hull.triangles, drawn);
     if (record == HULL_NO_RECORD) return;
+#endif
     uint base = record * GPU_HULL_RECORD_TEXELS;
     hullRecords[base] = floatBitsToUint(r.m0);
     hullRecords[base + 1u] = floatBitsToUint(r.m1);

@@ -8,6 +8,7 @@
 #include "scene/camera.h"
 #include "scene/geometry.h"
 #include "scene/load.h"
+#include "tests/scene/scene_test_util.h"
 
 #include <cstdlib>
 #include <gtest/gtest.h>
@@ -310,7 +311,7 @@ TEST_F(GpuRenderer, LightSampleBufferMemoryIsNWHBits) {
     EXPECT_EQ(frame.lightSamples[0].memoryBytes(), std::size_t(64 * 40 * 128 / 8));
     EXPECT_GT(frame.stats["frame_ms"].get<double>(), 0.0);
     EXPECT_TRUE(frame.stats["passes"].contains("gbuffer"));
-    EXPECT_TRUE(frame.stats["passes"].contains("light0/stsv"));
+    EXPECT_TRUE(frame.stats["passes"].contains("light0/stsv_clusters"));
     EXPECT_TRUE(frame.stats["passes"].contains("light0/resolve"));
     EXPECT_GT(frame.stats["stsv"][0]["fragments"].get<std::size_t>(), 0u);
     EXPECT_LE(frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>(),
@@ -344,7 +345,7 @@ TEST_F(GpuRenderer, MakeRendererChoosesVulkanForStsv) {
 }
 
 TEST_F(GpuRenderer, HullsAndPrismsGiveTheSameBitsCountersAndInsideFragments) {
-    // The hull pass (auto) against the paper's prism (geometry shader): both enclose every point
+    // The hull pass (--extrusion hull) against the paper's prism (geometry shader): both enclose every point
     // the fragment accepts, so the buffers are identical and so are the fragments that reach the
     // sample loop; and the hulls rasterise far fewer fragments. Foliage: large light, leaves
     // edge-on; fence: two big perforated triangles; the knot's scene with a disk light (a light
@@ -368,7 +369,8 @@ TEST_F(GpuRenderer, HullsAndPrismsGiveTheSameBitsCountersAndInsideFragments) {
     cases.push_back({"fence, sphere light", std::move(sphere), 1.0});
     for (const Case& c : cases)
         for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
-            const RenderOptions o = gpuOptions(96, 72, 64, kind);
+            RenderOptions o = gpuOptions(96, 72, 64, kind);
+            o.extrusion = ExtrusionStage::Hull;
             // Room for 16 deferred fragments a pixel: more than any case defers (the foliage at
             // 96 × 72 defers 2.0 a pixel, past the default of 2).
             VulkanRenderer hullRenderer(c.scene, o, {&device(), 16 * 96 * 72});
@@ -392,6 +394,100 @@ TEST_F(GpuRenderer, HullsAndPrismsGiveTheSameBitsCountersAndInsideFragments) {
             EXPECT_EQ(hull.stats["gpu"]["extrusion"], "hull (compute)");
             EXPECT_EQ(prism.stats["gpu"]["extrusion"], "geometry shader");
         }
+}
+
+TEST_F(GpuRenderer, TheClusterWalkListsTheFragmentsTheHullDrawAccepts) {
+    // STSV with the auto extrusion walks the tree of its triangles' balls per 4 × 4 block
+    // (stsv_clusters.comp) instead of drawing the volumes' hulls: its per-pixel test is the hull
+    // fragment's, and its culling drops only pairs whose triangle meets no segment from the
+    // block's points to the light, so it lists the draw's (pixel, volume) pairs less some that
+    // occlude no sample (a volume, larger than the region its triangle shadows, can hold such a
+    // point: the fence under the sphere light, whose volumes have no light planes), and the
+    // buffers are the draw's. Foliage with its rectangle light and a disk
+    // light, the fence under a sphere light (no light planes), the two-light example scene, and
+    // the fence with opaque posts (dcs+stsv: perforated triangles only); a second frame is the
+    // same.
+    struct Case {
+        const char* name;
+        Scene scene;
+        Method method;
+    };
+    Scene disk = loadScene("foliage");
+    disk.lights[0] =
+        makeDiskLight(disk.lights[0].position, disk.lights[0].normal, 2.0f, disk.lights[0].radiance);
+    Scene sphere = loadScene("fence");
+    sphere.lights[0] = makeSphereLight(sphere.lights[0].position, 0.5f, sphere.lights[0].radiance);
+    std::vector<Case> cases;
+    cases.push_back({"foliage", loadScene("foliage"), Method::Stsv});
+    cases.push_back({"foliage, disk light", std::move(disk), Method::Stsv});
+    cases.push_back({"fence, sphere light", std::move(sphere), Method::Stsv});
+    cases.push_back({"example", loadScene(dataPath("example.json")), Method::Stsv});
+    cases.push_back({"fence, dcs+stsv", loadScene("fence"), Method::DcsStsv});
+    for (const Case& c : cases)
+        for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
+            RenderOptions o = gpuOptions(96, 72, 64, kind);
+            o.method = c.method;
+            VulkanRenderer walker(c.scene, o, {&device()});
+            const Frame walk = walker.render();
+            const Frame again = walker.render();
+            RenderOptions ho = o;
+            ho.extrusion = ExtrusionStage::Hull;
+            const Frame hull = renderGpu(c.scene, ho);
+            const std::string what = std::string(c.name) + " " + toString(kind);
+            ASSERT_EQ(walk.lightSamples.size(), c.scene.lights.size()) << what;
+            for (std::size_t l = 0; l < c.scene.lights.size(); ++l) {
+                const std::string light = what + " light " + std::to_string(l);
+                EXPECT_EQ(walk.lightSamples[l].words(), hull.lightSamples[l].words()) << light;
+                EXPECT_EQ(walk.lightSamples[l].counters(), hull.lightSamples[l].counters()) << light;
+                EXPECT_EQ(again.lightSamples[l].words(), walk.lightSamples[l].words()) << light;
+                EXPECT_EQ(again.lightSamples[l].counters(), walk.lightSamples[l].counters()) << light;
+                const nlohmann::json& w = walk.stats["stsv"][l];
+                const nlohmann::json& h = hull.stats["stsv"][l];
+                EXPECT_EQ(w["path"], "clusters") << light;
+                EXPECT_EQ(h["path"], "volumes") << light;
+                EXPECT_LE(w["listed_fragments"].get<std::size_t>(), h["listed_fragments"].get<std::size_t>())
+                    << light << ": " << w.dump();
+                EXPECT_LE(w["inside_fragments"].get<std::size_t>(), h["inside_fragments"].get<std::size_t>())
+                    << light;
+                EXPECT_GT(w["inside_fragments"].get<std::size_t>(), 0u) << light;
+                // The walk builds a record for every volume, the draw for those whose hull has a
+                // face to draw.
+                EXPECT_GE(w["volumes"].get<std::size_t>(), h["hull_volumes"].get<std::size_t>()) << light;
+                EXPECT_GT(w["clusters_rejected"].get<std::size_t>(), 0u) << light;
+                EXPECT_LT(w["clusters_rejected"].get<std::size_t>(), w["cluster_tests"].get<std::size_t>())
+                    << light;
+                // Its pixel tests reach the listed pairs and more.
+                EXPECT_GE(w["fragments"].get<std::size_t>(), w["listed_fragments"].get<std::size_t>())
+                    << light;
+                EXPECT_EQ(again.stats["stsv"][l], w) << light;
+            }
+            EXPECT_TRUE(walk.stats["passes"].contains("light0/stsv_clusters")) << what;
+            EXPECT_FALSE(walk.stats["passes"].contains("light0/stsv")) << what;
+            EXPECT_EQ(walker.device().validationMessageCount(), 0u) << what;
+        }
+}
+
+TEST_F(GpuRenderer, AnStsvWalkWhoseListsCannotHoldItTakesTheBlocksInParts) {
+    // Lists limited to 500 pairs (as a storage buffer's range limits them on a large frame): the
+    // walk over the foliage takes the blocks in parts, each with the lists to itself, and the
+    // bits are those of the hull draw.
+    const Scene scene = loadScene("foliage");
+    const RenderOptions o = gpuOptions(96, 72, 64);
+    VulkanRendererConfig config{&device()};
+    config.clusterListLimit = 500;
+    VulkanRenderer limited(scene, o, config);
+    const Frame parts = limited.render();
+    const nlohmann::json limitless = renderGpu(scene, o).stats;
+    RenderOptions ho = o;
+    ho.extrusion = ExtrusionStage::Hull;
+    const Frame hull = renderGpu(scene, ho);
+    EXPECT_EQ(parts.lightSamples[0].words(), hull.lightSamples[0].words());
+    const nlohmann::json& w = parts.stats["stsv"][0];
+    std::cout << w.dump() << "\n";
+    EXPECT_GT(w["parts"].get<std::uint32_t>(), 1u);
+    EXPECT_LE(w["list_capacity"].get<std::uint64_t>(), 500u);
+    EXPECT_EQ(w["listed_fragments"], limitless["stsv"][0]["listed_fragments"]);
+    EXPECT_EQ(limited.device().validationMessageCount(), 0u);
 }
 
 TEST_F(GpuRenderer, AShortFragmentListGrowsAndTheFrameIsRenderedAgain) {

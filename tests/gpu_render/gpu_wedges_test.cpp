@@ -514,10 +514,11 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
             for (const std::string light : {"light0/", "light1/"}) {
                 expected.push_back(light + "resolve");
                 if (method.stsv != StsvTriangles::None) {
-                    expected.push_back(light + "stsv");
-                    // Auto extrusion: the hull pass, the deferred samples, for bitmasks their merge
-                    // (DCS writes counters whichever kind is asked for)
-                    expected.push_back(light + "stsv_hulls");
+                    // Auto extrusion: the volumes' records, the walk of the triangles' tree, the
+                    // deferred samples, for bitmasks their merge (DCS writes counters whichever
+                    // kind is asked for).
+                    expected.push_back(light + "stsv_volumes");
+                    expected.push_back(light + "stsv_clusters");
                     expected.push_back(light + "stsv_samples");
                     if (method.bufferKind(kind) == BufferKind::Bitmask)
                         expected.push_back(light + "stsv_merge");

@@ -1,8 +1,8 @@
-// The tree of balls the CPU STSV pass walks per tile (render/cpu/cpu_binning.h): every ball once
+// The tree of balls the STSV passes walk (volumes/ball_tree.h): every ball once
 // in leaves of at most LEAF, every node's ball holding its children's and its leaves' balls, so
 // that a tile that drops a node (volumes/light_hull_dh.h is monotone in the ball) drops nothing
 // a leaf below would have kept.
-#include "render/cpu/cpu_binning.h"
+#include "volumes/ball_tree.h"
 #include "volumes/light_hull_dh.h"
 
 #include <gtest/gtest.h>

@@ -1,0 +1,152 @@
+// The cluster walk of a volume family (render/vulkan/gpu_cluster_walk.h; DESIGN §4.5): a tree
+// over the family's occluders, walked per 4 × 4 block of pixels level by level over lists of
+// pairs, so that no invocation loops without bound (lavapipe ends a shader's loops after 65 535
+// iterations in all). The family's shader (dcs_clusters.comp, stsv_clusters.comp) declares its
+// stats buffer `stats` (GpuClusterCounts `walk` second), defines clusterKeep — what becomes of a
+// leaf's item that may add to a block — and its own pixel stages, and calls these:
+//   clusterBlocksStage (CLUSTER_STAGE 0): each block of a part of them (all of them unless the
+//     lists needed more than a buffer holds: the passes run once per part) gets the box of its
+//     visible points, and the pair (block, root) for level 0;
+//   clusterArgsStage (1): the indirect dispatch of the next pass, from the count of the list it
+//     reads;
+//   clusterWalkStage (2): each (block, node) pair of a level whose node may add to the block
+//     (edge_cluster_dh.h clusterMayAdd: the ball meets the segments from the block's ball to
+//     the light, and for a node with a normal cone, an edge of it can be a silhouette) gives its
+//     children to the next level, or, a leaf, hands the items that may add to clusterKeep.
+// A list too short drops what it has no room for and records what it needed; the host grows
+// the lists and renders the frame again.
+#ifndef STSV_SHADERS_CLUSTER_WALK_GLSL
+#define STSV_SHADERS_CLUSTER_WALK_GLSL
+
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "common/frame_bindings.glsl"
+#include "render/vulkan/gpu_volumes_dh.h"
+#include "wedges/edge_cluster_dh.h"
+
+#ifndef CLUSTER_STAGE
+#define CLUSTER_STAGE 2
+#endif
+#if CLUSTER_STAGE == 1
+layout(local_size_x = 1) in;
+#else
+layout(local_size_x = 64) in;
+#endif
+
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_NODES) uniform usamplerBuffer clusterNodes;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_ITEMS) uniform usamplerBuffer clusterItems;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_COUNTS) buffer Counts { uint counts[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_PAIRS) buffer Pairs { uvec2 pairs[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BLOCKS) buffer Blocks { vec4 blockBoxes[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_DISPATCH) buffer Dispatch { uint dispatchArgs[]; };
+
+uint blocksAcross() { return (frame.width + 3u) / 4u; }
+uint listCapacity() { return uint(pairs.length()) / GPU_CLUSTER_LISTS; }
+/// The list whose count is slot `slot`: the levels alternate between lists 0 and 1, the kept
+/// pairs are list 2, the candidates list 3.
+uint listBase(uint slot) {
+    uint list = slot == GPU_CLUSTER_KEPT ? 2u : (slot == GPU_CLUSTER_CANDIDATES ? 3u : slot % 2u);
+    return list * listCapacity();
+}
+
+/// Appends `pair` to the list of count slot `slot`; past its end it is dropped, and the count
+/// still grows, which the stats record for the host.
+void appendPair(uint slot, uvec2 pair) {
+    uint at = atomicAdd(counts[slot], 1u);
+    if (at < listCapacity())
+        pairs[listBase(slot) + at] = pair;
+    else
+        atomicMax(stats[pc.light].walk.pairsNeeded, at + 1u);
+}
+/// The pairs a pass reads from slot `slot`'s list: those appended, at most its capacity.
+uint listEntries(uint slot) { return min(counts[slot], listCapacity()); }
+
+/// Cluster `index` of a table (nodes or items, GPU_CLUSTER_TEXELS each): ball, cone, texel 2.
+vec4 clusterBall(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * GPU_CLUSTER_TEXELS))); }
+vec4 clusterCone(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * GPU_CLUSTER_TEXELS + 1u))); }
+uvec4 clusterData(usamplerBuffer table, uint index) { return texelFetch(table, int(index * GPU_CLUSTER_TEXELS + 2u)); }
+/// clusterMayAdd of cluster `index` of a table against a region (a cluster without a cone: the
+/// light-hull test of its ball alone).
+bool tableMayAdd(usamplerBuffer table, uint index, vec4 region, LightHull hull) {
+    uvec4 data = clusterData(table, index);
+    return clusterMayAdd(clusterBall(table, index), clusterCone(table, index), uintBitsToFloat(data.z),
+                         uintBitsToFloat(data.w), region, hull);
+}
+
+/// Pixel `lane` (0 … 15, row by row) of block `block`.
+ivec2 blockPixel(uint block, uint lane) {
+    uint across = blocksAcross();
+    return ivec2(4u * (block % across) + lane % 4u, 4u * (block / across) + lane / 4u);
+}
+/// Block `block`'s box of visible points (lo.x > hi.x: it sees none) and its ball.
+vec3 blockLo(uint block) { return vec3(blockBoxes[2u * block]); }
+vec3 blockHi(uint block) { return vec3(blockBoxes[2u * block + 1u]); }
+
+/// What the family does with item `item` of a leaf that may add to block `block` (region: the
+/// block's ball, hull: its lightHull): appends (block, …) pairs to GPU_CLUSTER_KEPT, counting its
+/// own tests.
+void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected);
+
+void clusterBlocksStage() {
+    // The part's blocks: pc.step to pc.initialize.
+    uint block = pc.step + gl_GlobalInvocationID.x;
+    if (block >= pc.initialize) return;
+    vec3 lo = vec3(3.0e38);
+    vec3 hi = vec3(-3.0e38);
+    for (uint lane = 0u; lane < 16u; ++lane) {
+        ivec2 pixel = blockPixel(block, lane);
+        if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
+        if (imageLoad(gTriangle, pixel).x == GPU_NO_TRIANGLE) continue;
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    blockBoxes[2u * block] = vec4(lo, 0.0);
+    blockBoxes[2u * block + 1u] = vec4(hi, 0.0);
+    if (lo.x <= hi.x && uint(textureSize(clusterNodes)) >= GPU_CLUSTER_TEXELS) appendPair(0u, uvec2(block, 0u));
+}
+
+void clusterArgsStage() {
+    // pc.step: the count slot of the list the next pass reads.
+    uint invocations = listEntries(pc.step);
+    uint perGroup = 64u * GPU_CLUSTER_ENTRIES_PER_INVOCATION;
+    dispatchArgs[0] = clamp((invocations + perGroup - 1u) / perGroup, 1u, 65535u);
+    dispatchArgs[1] = 1u;
+    dispatchArgs[2] = 1u;
+}
+
+void clusterWalkStage() {
+    // pc.step: the level.
+    uint entries = listEntries(pc.step);
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    vec4 lightBall = lights[pc.light].sphere;
+    uint tests = 0u;
+    uint rejected = 0u;
+    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
+        uvec2 pair = pairs[listBase(pc.step) + e];
+        vec4 region = boxBall(blockLo(pair.x), blockHi(pair.x));
+        LightHull hull = lightHull(region, lightBall);
+        ++tests;
+        if (!tableMayAdd(clusterNodes, pair.y, region, hull)) {
+            ++rejected;
+            continue;
+        }
+        uvec4 range = clusterData(clusterNodes, pair.y);
+        if (range.y == 0u) {
+            appendPair(pc.step + 1u, uvec2(pair.x, range.x));
+            appendPair(pc.step + 1u, uvec2(pair.x, range.x + 1u));
+            continue;
+        }
+        for (uint k = range.x; k < range.x + range.y; ++k) clusterKeep(pair.x, k, region, hull, tests, rejected);
+    }
+    tests = subgroupAdd(tests);
+    rejected = subgroupAdd(rejected);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].walk.tests, tests);
+        atomicAdd(stats[pc.light].walk.rejected, rejected);
+    }
+}
+
+#endif
