@@ -124,12 +124,12 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
         ->add_option(
             "--extrusion", a.extrusion,
             "Vulkan stage that builds the STSV volumes and wedge bounds: auto | hull | geometry | mesh "
-            "(auto: hull, the scene box clipped by each volume's and the light's planes in a compute "
-            "pass and drawn indirect, except for dcs's opaque triangles, which draw no volume: compute "
-            "passes walk the light's tree of silhouette clusters; mesh: the same hulls culled by a task "
-            "shader and clipped and "
-            "emitted by a mesh shader, where the device has VK_EXT_mesh_shader; geometry: the "
-            "paper's ten-vertex prism)")
+            "(auto: no volume drawn for STSV and dcs's opaque triangles: compute passes walk a tree "
+            "of the S-triangles' balls, or of the light's silhouette clusters, per screen tile and "
+            "block; pw's wedge bounds as hull; hull: the scene box clipped by each volume's and the "
+            "light's planes in a compute pass and drawn indirect; mesh: the same hulls culled by a "
+            "task shader and clipped and emitted by a mesh shader, where the device has "
+            "VK_EXT_mesh_shader; geometry: the paper's ten-vertex prism)")
         ->capture_default_str();
     command->add_option("--max-memory", a.maxMemory,
                         "memory the scene and the frame may hold, e.g. 8G or 512M (default: half of this "

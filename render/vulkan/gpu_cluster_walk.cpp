@@ -24,10 +24,11 @@ void uploadTexels(const Device& device, std::vector<uvec4> texels, Buffer& buffe
 
 ClusterTables uploadClusterTables(const Device& device, std::vector<uvec4> nodes, std::vector<uvec4> items,
                                   std::size_t depth, const std::string& source) {
-    if (depth >= GPU_CLUSTER_MAX_DEPTH)
+    // The walk takes a level more than the tree has: the tiles' leaves go to their blocks.
+    if (depth + 1 >= GPU_CLUSTER_MAX_DEPTH)
         throw UsageError("the cluster tree of " + source + " is " + std::to_string(depth) +
                          " levels deep, more than the cluster passes take (" +
-                         std::to_string(GPU_CLUSTER_MAX_DEPTH - 1) + "); use --extrusion hull");
+                         std::to_string(GPU_CLUSTER_MAX_DEPTH - 2) + "); use --extrusion hull");
     ClusterTables tables;
     uploadTexels(device, std::move(nodes), tables.nodes, tables.nodeTexels);
     uploadTexels(device, std::move(items), tables.items, tables.itemTexels);
@@ -42,6 +43,7 @@ ClusterLists::ClusterLists(const Device& device, const RenderOptions& options, s
     dispatch = Buffer(device, 4 * sizeof(uint), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                       MemoryUsage::DeviceLocal);
     m_blockCount = static_cast<std::uint32_t>(((options.width + 3) / 4) * ((options.height + 3) / 4));
+    m_tileCount = static_cast<std::uint32_t>(((options.width + 15) / 16) * ((options.height + 15) / 16));
     blocks = Buffer(device, 2 * sizeof(vec4), storage, MemoryUsage::DeviceLocal);
     // One buffer holds the lists: each at most what a storage buffer binding may address.
     m_maxCapacity =
@@ -56,19 +58,19 @@ ClusterLists::ClusterLists(const Device& device, const RenderOptions& options, s
 void ClusterLists::use() {
     if (m_used) return;
     m_used = true;
-    blocks = Buffer(*m_device, std::uint64_t(m_blockCount) * 2 * sizeof(vec4), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                    MemoryUsage::DeviceLocal);
+    blocks = Buffer(*m_device, std::uint64_t(m_blockCount + m_tileCount) * 2 * sizeof(vec4),
+                    VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::DeviceLocal);
     // Room for 64 pairs a block to start with (the 184 k-triangle knot needs 840 DCS candidates
     // a block at 256², the 11.5 k one 75); a frame that needs more grows the lists, or walks the
-    // blocks in parts. Each growth renders the frame again, and a short list shortens the ones
+    // tiles in parts. Each growth renders the frame again, and a short list shortens the ones
     // after it, so the lists grow to twice what the frame asked for.
     resize(std::min(std::max<std::uint64_t>(std::uint64_t(m_blockCount) * 64, 4096), m_maxCapacity));
 }
 
 void ClusterLists::resize(std::uint64_t capacity) {
     m_capacity = capacity;
-    pairs = Buffer(*m_device, GPU_CLUSTER_LISTS * capacity * 2 * sizeof(uint), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                   MemoryUsage::DeviceLocal);
+    pairs = Buffer(*m_device, GPU_CLUSTER_LISTS * capacity * 2 * sizeof(uint),
+                   VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::DeviceLocal);
 }
 
 bool ClusterLists::growFor(std::uint64_t needed) {
@@ -77,16 +79,16 @@ bool ClusterLists::growFor(std::uint64_t needed) {
         resize(std::min(2 * needed, m_maxCapacity));
         return true;
     }
-    // More than a list can hold: the walk takes the blocks in more parts, each with the lists
+    // More than a list can hold: the walk takes the tiles in more parts, each with the lists
     // to itself.
-    if (m_parts >= m_blockCount)
-        throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list for one 4x4 " +
-                    "block, more than the " + std::to_string(m_maxCapacity) +
+    if (m_parts >= m_tileCount)
+        throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list for one 16x16 " +
+                    "tile, more than the " + std::to_string(m_maxCapacity) +
                     " a storage buffer holds; use --extrusion hull");
-    // The worst part's list shrinks about as its share of the blocks (twice the room).
+    // The worst part's list shrinks about as its share of the tiles (twice the room).
     const std::uint64_t wanted = std::uint64_t(m_parts) * 2 * needed / m_maxCapacity + 1;
     m_parts = static_cast<std::uint32_t>(
-        std::min<std::uint64_t>(m_blockCount, std::max<std::uint64_t>(wanted, m_parts + 1)));
+        std::min<std::uint64_t>(m_tileCount, std::max<std::uint64_t>(wanted, m_parts + 1)));
     if (m_capacity < m_maxCapacity) resize(m_maxCapacity);
     return true;
 }
@@ -119,8 +121,8 @@ ClusterWalkPasses::ClusterWalkPasses(const Device& device, const RenderOptions& 
                                      const std::vector<ShaderDefine>& defines,
                                      std::vector<std::pair<const Buffer*, ResourceUse>> reads)
     : m_frame(&frame), m_deferred(&deferred), m_lists(&lists), m_descriptors(&descriptors),
-      m_reads(std::move(reads)), m_blocksAcross(static_cast<std::uint32_t>((options.width + 3) / 4)),
-      m_blocksDown(static_cast<std::uint32_t>((options.height + 3) / 4)) {
+      m_reads(std::move(reads)),
+      m_tiles(static_cast<std::uint32_t>(((options.width + 15) / 16) * ((options.height + 15) / 16))) {
     const ShaderCompiler compiler;
     for (std::uint32_t stage = 0; stage < stages; ++stage) {
         std::vector<ShaderDefine> stageDefines = defines;
@@ -130,27 +132,28 @@ ClusterWalkPasses::ClusterWalkPasses(const Device& device, const RenderOptions& 
     }
 }
 
-void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light, std::size_t depth,
-                               const std::string& scope) const {
+void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light,
+                               std::size_t depth, const std::string& scope) const {
     const ClearPass clearCounts({}, {&m_lists->listCounts});
     const std::uint32_t parts = m_lists->parts();
-    const std::uint32_t blocks = m_blocksAcross * m_blocksDown;
     const auto stages = static_cast<std::uint32_t>(m_pipelines.size());
     recorder.beginScope(cmd, scope);
     for (std::uint32_t part = 0; part < parts; ++part) {
-        // Blocks [first, end), row by row, with the lists to themselves.
-        const auto first = static_cast<std::uint32_t>(std::uint64_t(blocks) * part / parts);
-        const auto end = static_cast<std::uint32_t>(std::uint64_t(blocks) * (part + 1) / parts);
+        // Tiles [first, end), row by row, with the lists to themselves.
+        const auto first = static_cast<std::uint32_t>(std::uint64_t(m_tiles) * part / parts);
+        const auto end = static_cast<std::uint32_t>(std::uint64_t(m_tiles) * (part + 1) / parts);
         if (first == end) continue;
         runPass(recorder, cmd, "", clearCounts, light);
         runPass(recorder, cmd, "", Stage(*this, 0, first, end), light);
-        for (std::uint32_t level = 0; level < depth; ++level) {
+        // A level more than the tree has: the tiles' leaves go to their blocks.
+        for (std::uint32_t level = 0; level < (depth > 0 ? depth + 1 : 0); ++level) {
             runPass(recorder, cmd, "", Stage(*this, 1, level), light);
             runPass(recorder, cmd, "", Stage(*this, 2, level), light);
         }
         // The pixel stages: the kept pairs' pixels (3), then the candidates (4).
         for (std::uint32_t stage = 3; stage < stages; ++stage) {
-            runPass(recorder, cmd, "", Stage(*this, 1, stage == 3 ? GPU_CLUSTER_KEPT : GPU_CLUSTER_CANDIDATES), light);
+            runPass(recorder, cmd, "",
+                    Stage(*this, 1, stage == 3 ? GPU_CLUSTER_KEPT : GPU_CLUSTER_CANDIDATES), light);
             runPass(recorder, cmd, "", Stage(*this, stage, 0), light);
         }
     }

@@ -1,6 +1,7 @@
 // The cluster walk of the volume families on Vulkan (DESIGN §4.5; shaders/common/cluster_walk.glsl):
 // a tree over a family's occluders, built on the CPU and uploaded as texel tables, walked per
-// 4 × 4 block of pixels level by level over lists of pairs; the family's pixel stages then list
+// 16 × 16 tile of pixels down to the leaves, then per 4 × 4 block, level by level over lists of
+// pairs; the family's pixel stages then list
 // the (pixel, item) pairs its sample pass reads, in place of drawing volumes. DCS walks each
 // light's potential silhouettes (gpu_wedge_clusters.h), STSV the balls of its triangles
 // (gpu_stsv_clusters.h); both share the frame's lists, one pass after the other.
@@ -64,13 +65,13 @@ class ClusterLists {
     /// list holds.
     bool growFor(std::uint64_t needed);
     std::uint64_t capacity() const { return m_capacity; }
-    /// Parts of the frame's 4 × 4 blocks (row by row) the walk takes one after the other (1
+    /// Parts of the frame's 16 × 16 tiles (row by row) the walk takes one after the other (1
     /// unless a list needed more than a storage buffer holds).
     std::uint32_t parts() const { return m_parts; }
 
     Buffer listCounts; ///< GPU_CLUSTER_COUNT_SLOTS uints
     Buffer pairs;      ///< GPU_CLUSTER_LISTS lists of capacity() uvec2 each
-    Buffer blocks;     ///< two vec4 (lo, hi) per 4 × 4 block of the frame
+    Buffer blocks;     ///< two vec4 (lo, hi) per 4 × 4 block of the frame, then per 16 × 16 tile
     Buffer dispatch;   ///< the indirect dispatch of the next pass (3 uints)
 
   private:
@@ -81,12 +82,13 @@ class ClusterLists {
     std::uint64_t m_capacity = 0;
     std::uint64_t m_maxCapacity = 0; ///< what a storage buffer binding of the lists may address
     std::uint32_t m_blockCount = 1;
+    std::uint32_t m_tileCount = 1;
     std::uint32_t m_parts = 1;
     bool m_used = false;
 };
 
 /// A family's walk (its shader's CLUSTER_STAGE 0 … stages − 1; common/cluster_walk.glsl): the
-/// blocks' boxes, a dispatch per level of the walk, then the family's pixel stages (3, and 4
+/// tiles' and blocks' boxes, a dispatch per level of the walk, then the family's pixel stages (3, and 4
 /// where it has one), each sized from its list by the args stage. The last stage lists (pixel,
 /// item) pairs in the deferred list.
 class ClusterWalkPasses {
@@ -104,8 +106,8 @@ class ClusterWalkPasses {
                 const std::string& scope) const;
 
   private:
-    /// One dispatch of a stage (CLUSTER_STAGE) at a step (GpuPush::step; the blocks stage: the
-    /// part's first block, `end` its end).
+    /// One dispatch of a stage (CLUSTER_STAGE) at a step (GpuPush::step; the boxes' stage: the
+    /// part's first tile, `end` its end).
     class Stage final : public GpuPass {
       public:
         Stage(const ClusterWalkPasses& passes, std::uint32_t stage, std::uint32_t step, std::uint32_t end = 0)
@@ -126,8 +128,7 @@ class ClusterWalkPasses {
     const FamilyDescriptors* m_descriptors;
     std::vector<std::pair<const Buffer*, ResourceUse>> m_reads;
     std::vector<Pipeline> m_pipelines; ///< per stage
-    std::uint32_t m_blocksAcross;
-    std::uint32_t m_blocksDown;
+    std::uint32_t m_tiles;             ///< 16 × 16 tiles of the frame
 };
 
 } // namespace stsv

@@ -24,7 +24,7 @@ struct VulkanRendererConfig {
     /// Tests make it small.
     std::uint64_t deferredCapacity = 0;
     /// The pairs one list of the DCS cluster walk may hold at most (0: what a storage buffer
-    /// binding of the device addresses); past it the walk takes the blocks in parts. Tests make
+    /// binding of the device addresses); past it the walk takes the tiles in parts. Tests make
     /// it small.
     std::uint64_t clusterListLimit = 0;
 };

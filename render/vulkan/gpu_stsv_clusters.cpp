@@ -27,7 +27,9 @@ std::size_t treeDepth(const BallTree& tree, std::uint32_t index) {
 
 } // namespace
 
-bool usesStsvClusters(const RenderOptions& options) { return options.extrusion == ExtrusionStage::Auto; }
+bool usesStsvClusters(const RenderOptions& options) {
+    return options.extrusion == ExtrusionStage::Auto;
+}
 
 StsvClusters::StsvClusters(const Device& device, const Scene& scene, StsvTriangles which) {
     // The balls of the triangles STSV takes, as the CPU pass's (render/cpu/cpu_stsv.cpp).

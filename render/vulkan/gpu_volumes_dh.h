@@ -22,12 +22,12 @@ DH_CONST uint GPU_BINDING_DEFERRED = 7u;           ///< uvec2 per deferred fragm
 /// The cluster walk (render/vulkan/gpu_cluster_walk.h, shaders/common/cluster_walk.glsl): a tree
 /// over a family's occluders — its nodes, GPU_CLUSTER_TEXELS rgba32ui each (ball, normal cone
 /// (w < 0: none), (first, count, and two family words)), and its items, GPU_CLUSTER_TEXELS each
-/// too — walked per 4 × 4 block of pixels, level by level, over lists of pairs: the pairs
-/// (block, node) of each level, in two lists that alternate; the (block, item) pairs it keeps;
-/// a family's candidates for its remaining tests — GPU_CLUSTER_LISTS lists of the same capacity
-/// one after the other in one buffer; their counts (per level, then the kept pairs', the
-/// candidates'); each block's box of visible points (lo, hi); the indirect dispatch of the next
-/// pass.
+/// too — walked per 16 × 16 tile of pixels to the leaves, then per 4 × 4 block, level by level,
+/// over lists of pairs: the pairs (tile or block, node) of each level, in two lists that
+/// alternate; the (block, item) pairs it keeps; a family's candidates for its remaining tests —
+/// GPU_CLUSTER_LISTS lists of the same capacity one after the other in one buffer; their counts
+/// (per level, then the kept pairs', the candidates'); each block's and each tile's box of
+/// visible points (lo, hi); the indirect dispatch of the next pass.
 DH_CONST uint GPU_BINDING_CLUSTER_COUNTS = 8u;
 DH_CONST uint GPU_BINDING_CLUSTER_PAIRS = 9u;
 DH_CONST uint GPU_BINDING_CLUSTER_BLOCKS = 10u;

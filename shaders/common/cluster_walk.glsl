@@ -1,18 +1,21 @@
 // The cluster walk of a volume family (render/vulkan/gpu_cluster_walk.h; DESIGN §4.5): a tree
-// over the family's occluders, walked per 4 × 4 block of pixels level by level over lists of
-// pairs, so that no invocation loops without bound (lavapipe ends a shader's loops after 65 535
-// iterations in all). The family's shader (dcs_clusters.comp, stsv_clusters.comp) declares its
+// over the family's occluders, walked per 16 × 16 tile of pixels down to the leaves, then per
+// 4 × 4 block of the tile, level by level over lists of pairs, so that no invocation loops
+// without bound (lavapipe ends a shader's loops after 65 535 iterations in all). The family's shader (dcs_clusters.comp, stsv_clusters.comp) declares its
 // stats buffer `stats` (GpuClusterCounts `walk` second), defines clusterKeep — what becomes of a
 // leaf's item that may add to a block — and its own pixel stages, and calls these:
-//   clusterBlocksStage (CLUSTER_STAGE 0): each block of a part of them (all of them unless the
-//     lists needed more than a buffer holds: the passes run once per part) gets the box of its
-//     visible points, and the pair (block, root) for level 0;
+//   clusterBlocksStage (CLUSTER_STAGE 0): each tile of a part of them (all of them unless the
+//     lists needed more than a buffer holds: the passes run once per part) and each of its
+//     blocks get the box of their visible points, and the tile the pair (tile, root) for level 0;
 //   clusterArgsStage (1): the indirect dispatch of the next pass, from the count of the list it
 //     reads;
-//   clusterWalkStage (2): each (block, node) pair of a level whose node may add to the block
-//     (edge_cluster_dh.h clusterMayAdd: the ball meets the segments from the block's ball to
-//     the light, and for a node with a normal cone, an edge of it can be a silhouette) gives its
-//     children to the next level, or, a leaf, hands the items that may add to clusterKeep.
+//   clusterWalkStage (2): each (region, node) pair of a level whose node may add to the region, a
+//     tile or a block (edge_cluster_dh.h clusterMayAdd: the ball meets the segments from the
+//     region's ball to the light, and for a node with a normal cone, an edge of it can be a
+//     silhouette), gives its children to the next level; a leaf, for a tile, gives the pairs
+//     (block, leaf) of the tile's covered blocks to the next level, and for a block hands the
+//     items that may add to it to clusterKeep. The tests are monotone in the region, so a block
+//     that only tests the leaves its tile kept drops nothing it would have kept.
 // A list too short drops what it has no room for and records what it needed; the host grows
 // the lists and renders the frame again.
 #ifndef STSV_SHADERS_CLUSTER_WALK_GLSL
@@ -43,6 +46,10 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BLOCKS) buffe
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_DISPATCH) buffer Dispatch { uint dispatchArgs[]; };
 
 uint blocksAcross() { return (frame.width + 3u) / 4u; }
+uint blocksDown() { return (frame.height + 3u) / 4u; }
+uint tilesAcross() { return (frame.width + 15u) / 16u; }
+/// A pair's region is a tile when this bit is set (the tile's index below it), else a block.
+const uint CLUSTER_TILE = 0x80000000u;
 uint listCapacity() { return uint(pairs.length()) / GPU_CLUSTER_LISTS; }
 /// The list whose count is slot `slot`: the levels alternate between lists 0 and 1, the kept
 /// pairs are list 2, the candidates list 3.
@@ -80,9 +87,22 @@ ivec2 blockPixel(uint block, uint lane) {
     uint across = blocksAcross();
     return ivec2(4u * (block % across) + lane % 4u, 4u * (block / across) + lane / 4u);
 }
-/// Block `block`'s box of visible points (lo.x > hi.x: it sees none) and its ball.
-vec3 blockLo(uint block) { return vec3(blockBoxes[2u * block]); }
-vec3 blockHi(uint block) { return vec3(blockBoxes[2u * block + 1u]); }
+/// The box of visible points (lo.x > hi.x: it sees none) of a block, or of a tile
+/// (region = CLUSTER_TILE | tile): the tiles' boxes follow the blocks'.
+uint regionBox(uint region) {
+    return 2u * ((region & CLUSTER_TILE) != 0u ? blocksAcross() * blocksDown() + (region & ~CLUSTER_TILE) : region);
+}
+vec3 regionLo(uint region) { return vec3(blockBoxes[regionBox(region)]); }
+vec3 regionHi(uint region) { return vec3(blockBoxes[regionBox(region) + 1u]); }
+vec3 blockLo(uint block) { return regionLo(block); }
+vec3 blockHi(uint block) { return regionHi(block); }
+/// Block k (0 … 15, row by row) of tile `tile`; false past the frame's edge.
+bool tileBlock(uint tile, uint k, out uint block) {
+    uint bx = 4u * (tile % tilesAcross()) + k % 4u;
+    uint by = 4u * (tile / tilesAcross()) + k / 4u;
+    block = by * blocksAcross() + bx;
+    return bx < blocksAcross() && by < blocksDown();
+}
 
 /// What the family does with item `item` of a leaf that may add to block `block` (region: the
 /// block's ball, hull: its lightHull): appends (block, …) pairs to GPU_CLUSTER_KEPT, counting its
@@ -90,22 +110,33 @@ vec3 blockHi(uint block) { return vec3(blockBoxes[2u * block + 1u]); }
 void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected);
 
 void clusterBlocksStage() {
-    // The part's blocks: pc.step to pc.initialize.
-    uint block = pc.step + gl_GlobalInvocationID.x;
-    if (block >= pc.initialize) return;
-    vec3 lo = vec3(3.0e38);
-    vec3 hi = vec3(-3.0e38);
-    for (uint lane = 0u; lane < 16u; ++lane) {
-        ivec2 pixel = blockPixel(block, lane);
-        if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
-        if (imageLoad(gTriangle, pixel).x == GPU_NO_TRIANGLE) continue;
-        vec3 p = vec3(imageLoad(gPosition, pixel));
-        lo = min(lo, p);
-        hi = max(hi, p);
+    // The part's tiles: pc.step to pc.initialize.
+    uint tile = pc.step + gl_GlobalInvocationID.x;
+    if (tile >= pc.initialize) return;
+    vec3 tileLo = vec3(3.0e38);
+    vec3 tileHi = vec3(-3.0e38);
+    for (uint k = 0u; k < 16u; ++k) {
+        uint block;
+        if (!tileBlock(tile, k, block)) continue;
+        vec3 lo = vec3(3.0e38);
+        vec3 hi = vec3(-3.0e38);
+        for (uint lane = 0u; lane < 16u; ++lane) {
+            ivec2 pixel = blockPixel(block, lane);
+            if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
+            if (imageLoad(gTriangle, pixel).x == GPU_NO_TRIANGLE) continue;
+            vec3 p = vec3(imageLoad(gPosition, pixel));
+            lo = min(lo, p);
+            hi = max(hi, p);
+        }
+        blockBoxes[regionBox(block)] = vec4(lo, 0.0);
+        blockBoxes[regionBox(block) + 1u] = vec4(hi, 0.0);
+        tileLo = min(tileLo, lo);
+        tileHi = max(tileHi, hi);
     }
-    blockBoxes[2u * block] = vec4(lo, 0.0);
-    blockBoxes[2u * block + 1u] = vec4(hi, 0.0);
-    if (lo.x <= hi.x && uint(textureSize(clusterNodes)) >= GPU_CLUSTER_TEXELS) appendPair(0u, uvec2(block, 0u));
+    uint region = CLUSTER_TILE | tile;
+    blockBoxes[regionBox(region)] = vec4(tileLo, 0.0);
+    blockBoxes[regionBox(region) + 1u] = vec4(tileHi, 0.0);
+    if (tileLo.x <= tileHi.x && uint(textureSize(clusterNodes)) >= GPU_CLUSTER_TEXELS) appendPair(0u, uvec2(region, 0u));
 }
 
 void clusterArgsStage() {
@@ -126,7 +157,7 @@ void clusterWalkStage() {
     uint rejected = 0u;
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 pair = pairs[listBase(pc.step) + e];
-        vec4 region = boxBall(blockLo(pair.x), blockHi(pair.x));
+        vec4 region = boxBall(regionLo(pair.x), regionHi(pair.x));
         LightHull hull = lightHull(region, lightBall);
         ++tests;
         if (!tableMayAdd(clusterNodes, pair.y, region, hull)) {
@@ -137,9 +168,15 @@ void clusterWalkStage() {
         if (range.y == 0u) {
             appendPair(pc.step + 1u, uvec2(pair.x, range.x));
             appendPair(pc.step + 1u, uvec2(pair.x, range.x + 1u));
-            continue;
+        } else if ((pair.x & CLUSTER_TILE) != 0u) {
+            for (uint k = 0u; k < 16u; ++k) {
+                uint block;
+                if (tileBlock(pair.x & ~CLUSTER_TILE, k, block) && blockLo(block).x <= blockHi(block).x)
+                    appendPair(pc.step + 1u, uvec2(block, pair.y));
+            }
+        } else {
+            for (uint k = range.x; k < range.x + range.y; ++k) clusterKeep(pair.x, k, region, hull, tests, rejected);
         }
-        for (uint k = range.x; k < range.x + range.y; ++k) clusterKeep(pair.x, k, region, hull, tests, rejected);
     }
     tests = subgroupAdd(tests);
     rejected = subgroupAdd(rejected);
