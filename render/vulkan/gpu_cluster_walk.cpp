@@ -43,7 +43,8 @@ ClusterLists::ClusterLists(const Device& device, const RenderOptions& options, s
     dispatch = Buffer(device, 4 * sizeof(uint), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                       MemoryUsage::DeviceLocal);
     m_blockCount = static_cast<std::uint32_t>(((options.width + 3) / 4) * ((options.height + 3) / 4));
-    m_tileCount = static_cast<std::uint32_t>(((options.width + 15) / 16) * ((options.height + 15) / 16));
+    m_blocksAcross = static_cast<std::uint32_t>((options.width + 3) / 4);
+    m_blocksDown = static_cast<std::uint32_t>((options.height + 3) / 4);
     blocks = Buffer(device, 2 * sizeof(vec4), storage, MemoryUsage::DeviceLocal);
     // One buffer holds the lists: each at most what a storage buffer binding may address.
     m_maxCapacity =
@@ -58,7 +59,8 @@ ClusterLists::ClusterLists(const Device& device, const RenderOptions& options, s
 void ClusterLists::use() {
     if (m_used) return;
     m_used = true;
-    blocks = Buffer(*m_device, std::uint64_t(m_blockCount + m_tileCount) * 2 * sizeof(vec4),
+    // The blocks' boxes, then the tiles' (at most one a block).
+    blocks = Buffer(*m_device, std::uint64_t(m_blockCount) * 4 * sizeof(vec4),
                     VK_BUFFER_USAGE_STORAGE_BUFFER_BIT, MemoryUsage::DeviceLocal);
     // Room for 64 pairs a block to start with (the 184 k-triangle knot needs 840 DCS candidates
     // a block at 256², the 11.5 k one 75); a frame that needs more grows the lists, or walks the
@@ -80,15 +82,18 @@ bool ClusterLists::growFor(std::uint64_t needed) {
         return true;
     }
     // More than a list can hold: the walk takes the tiles in more parts, each with the lists
-    // to itself.
-    if (m_parts >= m_tileCount)
-        throw Error("the cluster walk needs " + std::to_string(needed) + " pairs in one list for one 16x16 " +
-                    "tile, more than the " + std::to_string(m_maxCapacity) +
-                    " a storage buffer holds; use --extrusion hull");
+    // to itself, and past one 16 × 16 tile a part, 4 × 4 tiles (a block each).
+    if (m_parts >= tileCount()) {
+        if (m_tileBlocks == 1)
+            throw Error("the cluster walk needs " + std::to_string(needed) +
+                        " pairs in one list for one 4x4 " + "block, more than the " +
+                        std::to_string(m_maxCapacity) + " a storage buffer holds; use --extrusion hull");
+        m_tileBlocks = 1; // the same parts, each now a row of blocks as long as its tiles were
+    }
     // The worst part's list shrinks about as its share of the tiles (twice the room).
     const std::uint64_t wanted = std::uint64_t(m_parts) * 2 * needed / m_maxCapacity + 1;
     m_parts = static_cast<std::uint32_t>(
-        std::min<std::uint64_t>(m_tileCount, std::max<std::uint64_t>(wanted, m_parts + 1)));
+        std::min<std::uint64_t>(tileCount(), std::max<std::uint64_t>(wanted, m_parts + 1)));
     if (m_capacity < m_maxCapacity) resize(m_maxCapacity);
     return true;
 }
@@ -114,15 +119,13 @@ void ClusterLists::writeDescriptors(DescriptorSet& set, const ClusterTables* tab
     set.writeTexelBuffer(GPU_BINDING_CLUSTER_ITEMS, t.itemTexels.handle());
 }
 
-ClusterWalkPasses::ClusterWalkPasses(const Device& device, const RenderOptions& options,
-                                     const std::string& shader, std::uint32_t stages, FrameResources& frame,
-                                     DeferredFragments& deferred, ClusterLists& lists,
+ClusterWalkPasses::ClusterWalkPasses(const Device& device, const std::string& shader, std::uint32_t stages,
+                                     FrameResources& frame, DeferredFragments& deferred, ClusterLists& lists,
                                      const FamilyDescriptors& descriptors,
                                      const std::vector<ShaderDefine>& defines,
                                      std::vector<std::pair<const Buffer*, ResourceUse>> reads)
     : m_frame(&frame), m_deferred(&deferred), m_lists(&lists), m_descriptors(&descriptors),
-      m_reads(std::move(reads)),
-      m_tiles(static_cast<std::uint32_t>(((options.width + 15) / 16) * ((options.height + 15) / 16))) {
+      m_reads(std::move(reads)) {
     const ShaderCompiler compiler;
     for (std::uint32_t stage = 0; stage < stages; ++stage) {
         std::vector<ShaderDefine> stageDefines = defines;
@@ -138,10 +141,11 @@ void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std:
     const std::uint32_t parts = m_lists->parts();
     const auto stages = static_cast<std::uint32_t>(m_pipelines.size());
     recorder.beginScope(cmd, scope);
+    const std::uint32_t tiles = m_lists->tileCount();
     for (std::uint32_t part = 0; part < parts; ++part) {
         // Tiles [first, end), row by row, with the lists to themselves.
-        const auto first = static_cast<std::uint32_t>(std::uint64_t(m_tiles) * part / parts);
-        const auto end = static_cast<std::uint32_t>(std::uint64_t(m_tiles) * (part + 1) / parts);
+        const auto first = static_cast<std::uint32_t>(std::uint64_t(tiles) * part / parts);
+        const auto end = static_cast<std::uint32_t>(std::uint64_t(tiles) * (part + 1) / parts);
         if (first == end) continue;
         runPass(recorder, cmd, "", clearCounts, light);
         runPass(recorder, cmd, "", Stage(*this, 0, first, end), light);
@@ -190,7 +194,7 @@ void ClusterWalkPasses::Stage::record(VkCommandBuffer cmd, std::size_t light) co
     const ClusterWalkPasses& p = *m_passes;
     p.m_pipelines[m_stage].bind(cmd);
     p.m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
-    p.m_descriptors->push(cmd, GpuPush{uint(light), m_end, 0u, m_step});
+    p.m_descriptors->push(cmd, GpuPush{uint(light), m_end, p.m_lists->tileBlocks(), m_step});
     if (m_stage == 0)
         vkCmdDispatch(cmd, (m_end - m_step + 63) / 64, 1, 1);
     else if (m_stage == 1)

@@ -68,6 +68,13 @@ class ClusterLists {
     /// Parts of the frame's 16 × 16 tiles (row by row) the walk takes one after the other (1
     /// unless a list needed more than a storage buffer holds).
     std::uint32_t parts() const { return m_parts; }
+    /// A tile's side in 4 × 4 blocks: 4, or 1 once a 16 × 16 tile needed more pairs than a list
+    /// holds.
+    std::uint32_t tileBlocks() const { return m_tileBlocks; }
+    std::uint32_t tileCount() const {
+        return ((m_blocksAcross + m_tileBlocks - 1) / m_tileBlocks) *
+               ((m_blocksDown + m_tileBlocks - 1) / m_tileBlocks);
+    }
 
     Buffer listCounts; ///< GPU_CLUSTER_COUNT_SLOTS uints
     Buffer pairs;      ///< GPU_CLUSTER_LISTS lists of capacity() uvec2 each
@@ -82,7 +89,9 @@ class ClusterLists {
     std::uint64_t m_capacity = 0;
     std::uint64_t m_maxCapacity = 0; ///< what a storage buffer binding of the lists may address
     std::uint32_t m_blockCount = 1;
-    std::uint32_t m_tileCount = 1;
+    std::uint32_t m_blocksAcross = 1;
+    std::uint32_t m_blocksDown = 1;
+    std::uint32_t m_tileBlocks = 4;
     std::uint32_t m_parts = 1;
     bool m_used = false;
 };
@@ -95,10 +104,9 @@ class ClusterWalkPasses {
   public:
     /// `reads`: the family's buffers its stages after the blocks' read (texels or storage),
     /// which earlier passes of the frame write.
-    ClusterWalkPasses(const Device& device, const RenderOptions& options, const std::string& shader,
-                      std::uint32_t stages, FrameResources& frame, DeferredFragments& deferred,
-                      ClusterLists& lists, const FamilyDescriptors& descriptors,
-                      const std::vector<ShaderDefine>& defines,
+    ClusterWalkPasses(const Device& device, const std::string& shader, std::uint32_t stages,
+                      FrameResources& frame, DeferredFragments& deferred, ClusterLists& lists,
+                      const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines,
                       std::vector<std::pair<const Buffer*, ResourceUse>> reads = {});
 
     /// Light `light`'s passes over a tree `depth` levels deep, inside the timer scope `scope`.
@@ -128,7 +136,6 @@ class ClusterWalkPasses {
     const FamilyDescriptors* m_descriptors;
     std::vector<std::pair<const Buffer*, ResourceUse>> m_reads;
     std::vector<Pipeline> m_pipelines; ///< per stage
-    std::uint32_t m_tiles;             ///< 16 × 16 tiles of the frame
 };
 
 } // namespace stsv

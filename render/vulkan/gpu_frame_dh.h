@@ -108,10 +108,10 @@ struct GpuLight {
 /// Push constants of every pass.
 struct GpuPush {
     uint light;      ///< index into GpuLight[]; ≥ lightCount: none (resolve only initialises)
-    uint initialize; ///< resolve: 1 = write ambient/background first (the first light); DCS's
-                     ///< cluster blocks pass: the end of its part of the blocks
-    uint flags;      ///< GPU_PUSH_* bits
-    uint step;       ///< DCS's cluster passes: the walk's level, or the list an args pass sizes
+    uint initialize; ///< resolve: 1 = write ambient/background first (the first light); the
+                     ///< cluster walk's boxes pass: the end of its part of the tiles
+    uint flags;      ///< GPU_PUSH_* bits; the cluster walk: a tile's side in 4 × 4 blocks (4 or 1)
+    uint step;       ///< the cluster walk: the level, the list an args pass sizes, or the part's first tile
 };
 
 /// GpuPush::flags: the STSV pass takes the perforated triangles only (pw+stsv, dcs+stsv).

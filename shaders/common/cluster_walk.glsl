@@ -1,6 +1,6 @@
 // The cluster walk of a volume family (render/vulkan/gpu_cluster_walk.h; DESIGN §4.5): a tree
-// over the family's occluders, walked per 16 × 16 tile of pixels down to the leaves, then per
-// 4 × 4 block of the tile, level by level over lists of pairs, so that no invocation loops
+// over the family's occluders, walked per 16 × 16 tile of pixels (4 × 4 where a tile needs more
+// pairs than a list holds) down to the leaves, then per 4 × 4 block of the tile, level by level over lists of pairs, so that no invocation loops
 // without bound (lavapipe ends a shader's loops after 65 535 iterations in all). The family's shader (dcs_clusters.comp, stsv_clusters.comp) declares its
 // stats buffer `stats` (GpuClusterCounts `walk` second), defines clusterKeep — what becomes of a
 // leaf's item that may add to a block — and its own pixel stages, and calls these:
@@ -47,7 +47,10 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_DISPATCH) buf
 
 uint blocksAcross() { return (frame.width + 3u) / 4u; }
 uint blocksDown() { return (frame.height + 3u) / 4u; }
-uint tilesAcross() { return (frame.width + 15u) / 16u; }
+/// A tile's side in blocks: 4 (16 × 16 pixels), or 1 where a 16 × 16 tile needs more pairs than a
+/// list holds (GpuPush::flags).
+uint tileBlocks() { return pc.flags; }
+uint tilesAcross() { return (blocksAcross() + tileBlocks() - 1u) / tileBlocks(); }
 /// A pair's region is a tile when this bit is set (the tile's index below it), else a block.
 const uint CLUSTER_TILE = 0x80000000u;
 uint listCapacity() { return uint(pairs.length()) / GPU_CLUSTER_LISTS; }
@@ -96,10 +99,10 @@ vec3 regionLo(uint region) { return vec3(blockBoxes[regionBox(region)]); }
 vec3 regionHi(uint region) { return vec3(blockBoxes[regionBox(region) + 1u]); }
 vec3 blockLo(uint block) { return regionLo(block); }
 vec3 blockHi(uint block) { return regionHi(block); }
-/// Block k (0 … 15, row by row) of tile `tile`; false past the frame's edge.
+/// Block k (0 … tileBlocks()² − 1, row by row) of tile `tile`; false past the frame's edge.
 bool tileBlock(uint tile, uint k, out uint block) {
-    uint bx = 4u * (tile % tilesAcross()) + k % 4u;
-    uint by = 4u * (tile / tilesAcross()) + k / 4u;
+    uint bx = tileBlocks() * (tile % tilesAcross()) + k % tileBlocks();
+    uint by = tileBlocks() * (tile / tilesAcross()) + k / tileBlocks();
     block = by * blocksAcross() + bx;
     return bx < blocksAcross() && by < blocksDown();
 }
@@ -115,7 +118,7 @@ void clusterBlocksStage() {
     if (tile >= pc.initialize) return;
     vec3 tileLo = vec3(3.0e38);
     vec3 tileHi = vec3(-3.0e38);
-    for (uint k = 0u; k < 16u; ++k) {
+    for (uint k = 0u; k < tileBlocks() * tileBlocks(); ++k) {
         uint block;
         if (!tileBlock(tile, k, block)) continue;
         vec3 lo = vec3(3.0e38);
@@ -169,7 +172,7 @@ void clusterWalkStage() {
             appendPair(pc.step + 1u, uvec2(pair.x, range.x));
             appendPair(pc.step + 1u, uvec2(pair.x, range.x + 1u));
         } else if ((pair.x & CLUSTER_TILE) != 0u) {
-            for (uint k = 0u; k < 16u; ++k) {
+            for (uint k = 0u; k < tileBlocks() * tileBlocks(); ++k) {
                 uint block;
                 if (tileBlock(pair.x & ~CLUSTER_TILE, k, block) && blockLo(block).x <= blockHi(block).x)
                     appendPair(pc.step + 1u, uvec2(block, pair.y));
