@@ -5,6 +5,7 @@
 #include "gpu/shader_compiler.h"
 
 #include <algorithm>
+#include <bit>
 #include <span>
 #include <string>
 
@@ -20,6 +21,11 @@ void uploadTexels(const Device& device, std::vector<uvec4> texels, Buffer& buffe
     if (texels.empty()) texels.push_back(uvec4(0u));
     buffer = createBuffer(device, std::span<const uvec4>(texels), VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
     view = BufferView(device, buffer, VK_FORMAT_R32G32B32A32_UINT, 16);
+}
+
+uvec4 texelBits(vec4 v) {
+    return uvec4(std::bit_cast<uint>(v.x), std::bit_cast<uint>(v.y), std::bit_cast<uint>(v.z),
+                 std::bit_cast<uint>(v.w));
 }
 
 ClusterTables uploadClusterTables(const Device& device, std::vector<uvec4> nodes, std::vector<uvec4> items,

@@ -19,6 +19,7 @@
 
 #include "gpu/vulkan.h"
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -43,6 +44,15 @@ ClusterTables uploadClusterTables(const Device& device, std::vector<uvec4> nodes
                                   std::size_t depth, const std::string& source);
 /// An rgba32ui texel buffer of `texels` (one zero texel when empty).
 void uploadTexels(const Device& device, std::vector<uvec4> texels, Buffer& buffer, BufferView& view);
+/// A vec4's bits as a texel of a table.
+uvec4 texelBits(vec4 v);
+/// Levels of the subtree at `index` of a tree whose nodes are leaves (`count` > 0) or have their
+/// children at `first` and first + 1.
+template <class Node> std::size_t treeDepth(const std::vector<Node>& nodes, std::uint32_t index) {
+    const Node& node = nodes[index];
+    if (node.count > 0) return 1;
+    return 1 + std::max(treeDepth(nodes, node.first), treeDepth(nodes, node.first + 1));
+}
 
 /// The frame's lists of the walk (GPU_BINDING_CLUSTER_COUNTS, _PAIRS, _BLOCKS, _DISPATCH): 1-element
 /// stand-ins until a family uses them.
@@ -60,13 +70,13 @@ class ClusterLists {
 
     /// After a frame whose lists needed `needed` pairs (the most of any light's and part's, 0
     /// when every list held its pairs): grows them to twice that, or past what a storage buffer
-    /// holds takes the blocks in more parts, and returns true, and the caller renders the frame
-    /// again (the descriptors must be written again). An Error when one block needs more than a
-    /// list holds.
+    /// holds takes the tiles in more parts (past one 16 × 16 tile a part, tiles of one 4 × 4
+    /// block), and returns true, and the caller renders the frame again (the descriptors must be
+    /// written again). An Error when one block needs more than a list holds.
     bool growFor(std::uint64_t needed);
     std::uint64_t capacity() const { return m_capacity; }
-    /// Parts of the frame's 16 × 16 tiles (row by row) the walk takes one after the other (1
-    /// unless a list needed more than a storage buffer holds).
+    /// Parts of the frame's tiles (row by row) the walk takes one after the other (1 unless a list
+    /// needed more than a storage buffer holds).
     std::uint32_t parts() const { return m_parts; }
     /// A tile's side in 4 × 4 blocks: 4, or 1 once a 16 × 16 tile needed more pairs than a list
     /// holds.

@@ -13,7 +13,9 @@
 #include "render/vulkan/gpu_readback.h"
 #include "render/vulkan/gpu_resolve_pass.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
+#include "render/vulkan/gpu_stsv_clusters.h"
 #include "render/vulkan/gpu_stsv_pass.h"
+#include "render/vulkan/gpu_wedge_clusters.h"
 #include "render/vulkan/vulkan_techniques.h"
 #include "scene/camera.h"
 
@@ -70,6 +72,17 @@ std::optional<DeferredFragments> deferredFragmentsFor(const Device& device, cons
                                                       std::uint64_t capacity) {
     if (!drawsVolumes(methodInfo(options.method))) return std::nullopt;
     return std::optional<DeferredFragments>(std::in_place, device, options, capacity);
+}
+
+/// What builds the frame's volumes, for its stats: the cluster walk where the auto extrusion takes
+/// it (STSV, DCS), the volume stage for what still draws (PW, or every family with another
+/// extrusion).
+std::string extrusionLabel(const RenderOptions& options, const MethodInfo& method, VolumeGeometry geometry) {
+    const bool stsvWalks = method.stsv != StsvTriangles::None && usesStsvClusters(options);
+    const bool dcsWalks = usesWedgeClusters(options);
+    if (!stsvWalks && !dcsWalks) return toString(geometry);
+    const bool draws = method.opaque == OpaqueTechnique::Pw;
+    return draws ? std::string("cluster walk, pw: ") + toString(geometry) : std::string("cluster walk");
 }
 
 /// Timed passes of a frame besides the lights': the G-buffer, the ambient of a frame without
@@ -215,6 +228,10 @@ Frame VulkanFrame::render(double startupMs) {
         std::uint64_t listed = 0;
         for (const auto& technique : m_techniques) listed = std::max(listed, technique->listedFragments());
         bool grown = m_deferred && m_deferred->growFor(listed);
+        // The cluster lists are shared: they grow once, for the most any walk needed.
+        std::uint64_t pairs = 0;
+        for (const auto& technique : m_techniques) pairs = std::max(pairs, technique->clusterPairsNeeded());
+        grown = (m_clusterLists && m_clusterLists->growFor(pairs)) || grown;
         for (const auto& technique : m_techniques) grown = technique->growLists() || grown;
         if (!grown) break;
         writeDescriptors();
@@ -235,7 +252,7 @@ Frame VulkanFrame::render(double startupMs) {
     frame.stats["light_sample_buffer_bytes"] = lightSampleBufferBytes(m_options);
     frame.stats["gpu"] = {{"device", m_device.info().name},
                           {"driver", m_device.info().driverName + " (" + m_device.info().driverInfo + ")"},
-                          {"extrusion", toString(m_geometry)},
+                          {"extrusion", extrusionLabel(m_options, m_method, m_geometry)},
                           {"fragment_counts", "atomic counters in the volume passes' shaders"}};
     return frame;
 }

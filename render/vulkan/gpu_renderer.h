@@ -23,7 +23,7 @@ struct VulkanRendererConfig {
     /// at first (0: two a pixel); a frame that needs more grows the list and renders again.
     /// Tests make it small.
     std::uint64_t deferredCapacity = 0;
-    /// The pairs one list of the DCS cluster walk may hold at most (0: what a storage buffer
+    /// The pairs one list of the cluster walk (STSV's and DCS's) may hold at most (0: what a storage buffer
     /// binding of the device addresses); past it the walk takes the tiles in parts. Tests make
     /// it small.
     std::uint64_t clusterListLimit = 0;
@@ -50,16 +50,18 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 /// Start-up in the constructor: device, shader compilation, pipelines, scene uploads, images.
 /// render() records, submits and reads back one frame. `scene` must outlive the renderer.
 /// Stats: "frame_ms" (wall time of render(), readback included), "gpu_ms" (submit to fence),
-/// "passes" (GPU timestamps: gbuffer, light<i>/stsv, light<i>/{dcs_,pw_}center and wedges,
-/// light<i>/fold, light<i>/resolve, ambient without lights, copy = all outputs into one
-/// host-visible buffer; host: readback = unpacking it into the Frame),
-/// "stsv"[i] {"fragments", "inside_fragments", "samples_tested"} counted by atomics in
-/// stsv.frag (with hulls also "listed_fragments", those it listed for stsv_samples.comp, and
-/// "deferred_fragments", those of them inside); for methods with an opaque technique "wedges"[i] {"edges",
-/// "fragments", "silhouette_fragments", DCS: "listed_fragments" (those wedge.frag listed for
+/// "passes" (GPU timestamps: gbuffer, light<i>/stsv_clusters or stsv, light<i>/{dcs_,pw_}center,
+/// clusters or wedges, light<i>/fold, light<i>/resolve, ambient without lights, copy = all
+/// outputs into one host-visible buffer; host: readback = unpacking it into the Frame),
+/// "stsv"[i] {"path", "fragments", "inside_fragments", "samples_tested"} counted by atomics in
+/// the shaders (the walk's or the draw's: docs/methods.md; with the walk or hulls also
+/// "listed_fragments", those listed for stsv_samples.comp, and "deferred_fragments", those of
+/// them inside); for methods with an opaque technique "wedges"[i] {"edges", "path",
+/// "fragments", "silhouette_fragments", DCS: "listed_fragments" (those listed for
 /// wedge_samples.comp), "samples_tested", "center" {"fragments", "counted_fragments"}
 /// (dcs_center.frag)};
-/// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion}.
+/// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion: "cluster walk" where
+/// the families walk, else the volume stage}.
 class VulkanRenderer final : public FrameRenderer {
   public:
     VulkanRenderer(const Scene& scene, const RenderOptions& options, const VulkanRendererConfig& config = {});

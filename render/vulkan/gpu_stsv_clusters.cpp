@@ -6,26 +6,9 @@
 #include "volumes/light_hull_dh.h"
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 
 namespace stsv {
-
-namespace {
-
-uvec4 bitsOf(vec4 v) {
-    return uvec4(std::bit_cast<uint>(v.x), std::bit_cast<uint>(v.y), std::bit_cast<uint>(v.z),
-                 std::bit_cast<uint>(v.w));
-}
-
-/// Levels of the subtree at `index`.
-std::size_t treeDepth(const BallTree& tree, std::uint32_t index) {
-    const BallTree::Node& node = tree.nodes[index];
-    if (node.count > 0) return 1;
-    return 1 + std::max(treeDepth(tree, node.first), treeDepth(tree, node.first + 1));
-}
-
-} // namespace
 
 bool usesStsvClusters(const RenderOptions& options) {
     return options.extrusion == ExtrusionStage::Auto;
@@ -50,21 +33,21 @@ StsvClusters::StsvClusters(const Device& device, const Scene& scene, StsvTriangl
     std::vector<uvec4> nodes;
     nodes.reserve(tree.nodes.size() * GPU_CLUSTER_TEXELS);
     for (const BallTree::Node& node : tree.nodes) {
-        nodes.push_back(bitsOf(node.ball));
-        nodes.push_back(bitsOf(noCone));
+        nodes.push_back(texelBits(node.ball));
+        nodes.push_back(texelBits(noCone));
         nodes.push_back(uvec4(node.first, node.count, 0u, 0u));
         if (node.count > 0) ++m_leaves;
     }
     std::vector<uvec4> items;
     items.reserve(tree.items.size() * GPU_CLUSTER_TEXELS);
     for (const std::uint32_t b : tree.items) {
-        items.push_back(bitsOf(balls[b]));
-        items.push_back(bitsOf(noCone));
+        items.push_back(texelBits(balls[b]));
+        items.push_back(texelBits(noCone));
         items.push_back(uvec4(triangleOf[b], 0u, 0u, 0u));
     }
     m_triangles = balls.size();
     m_tables = uploadClusterTables(device, std::move(nodes), std::move(items),
-                                   tree.nodes.empty() ? 0 : treeDepth(tree, 0), scene.source);
+                                   tree.nodes.empty() ? 0 : treeDepth(tree.nodes, 0), scene.source);
     itemRecords = Buffer(device, std::max<std::size_t>(2 * scene.triangleCount(), 1) * sizeof(uint),
                          VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                          MemoryUsage::DeviceLocal);

@@ -63,7 +63,7 @@ struct GpuHullCounts {
 
 /// What a cluster walk counts per light: the second member of its family's stats.
 struct GpuClusterCounts {
-    uint tests;       ///< (block, node) and (block, item) tests of the walk
+    uint tests;       ///< (tile or block, node) and (block, item) tests of the walk
     uint rejected;    ///< of those, the clusters no point of the block can be shadowed by
     uint pairsNeeded; ///< the most pairs a cluster list needed, when more than it held (else 0)
     uint pad;

@@ -1,37 +1,15 @@
 #include "render/vulkan/gpu_wedge_clusters.h"
 
-#include "core/error.h"
 #include "core/parallel.h"
 #include "gpu/device.h"
-#include "gpu/shader_compiler.h"
 #include "render/methods.h"
-#include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_wedges_dh.h"
 #include "sampling/light_bounds.h"
 #include "wedges/silhouette_edges.h"
 
-#include <algorithm>
 #include <bit>
-#include <span>
-#include <string>
 
 namespace stsv {
-
-namespace {
-
-uvec4 bitsOf(vec4 v) {
-    return uvec4(std::bit_cast<uint>(v.x), std::bit_cast<uint>(v.y), std::bit_cast<uint>(v.z),
-                 std::bit_cast<uint>(v.w));
-}
-
-/// Levels of the subtree at `index` (nodes' children at first and first + 1).
-std::size_t treeDepth(const EdgeClusterTree& tree, std::uint32_t index) {
-    const EdgeClusterNode& node = tree.nodes[index];
-    if (node.count > 0) return 1;
-    return 1 + std::max(treeDepth(tree, node.first), treeDepth(tree, node.first + 1));
-}
-
-} // namespace
 
 bool usesWedgeClusters(const RenderOptions& options) {
     return methodInfo(options.method).opaque == OpaqueTechnique::Dcs &&
@@ -50,12 +28,12 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Edg
         counts.potentialSilhouettes = sil.potentialCount();
         counts.leaves = tree.leaves;
         counts.carriers = sil.carrierCount();
-        counts.depth = tree.nodes.empty() ? 0 : treeDepth(tree, 0);
+        counts.depth = tree.nodes.empty() ? 0 : treeDepth(tree.nodes, 0);
         std::vector<uvec4> nodes;
         nodes.reserve(tree.nodes.size() * GPU_CLUSTER_TEXELS);
         for (const EdgeClusterNode& node : tree.nodes) {
-            nodes.push_back(bitsOf(node.ball));
-            nodes.push_back(bitsOf(node.cone));
+            nodes.push_back(texelBits(node.ball));
+            nodes.push_back(texelBits(node.cone));
             nodes.push_back(uvec4(node.first, node.count, std::bit_cast<uint>(node.inverseNormal),
                                   std::bit_cast<uint>(node.faceReach)));
         }
@@ -65,8 +43,8 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Edg
                 const std::uint32_t item = tree.items[k];
                 const EdgeClusterNode own = edgeCluster(adj, sil.edge(item), sil.carrierNormal(item));
                 uvec4* t = items.data() + k * GPU_CLUSTER_TEXELS;
-                t[0] = bitsOf(own.ball);
-                t[1] = bitsOf(own.cone);
+                t[0] = texelBits(own.ball);
+                t[1] = texelBits(own.cone);
                 t[2] = uvec4(sil.edge(item), sil.carrier(item), std::bit_cast<uint>(own.inverseNormal),
                              std::bit_cast<uint>(own.faceReach));
             }
@@ -81,9 +59,9 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Edg
                 for (uint v = 0; v < 2; ++v)
                     for (uint i = 0; i < STSV_VOLUME_MAX_PLANES; ++i)
                         t[1 + v * STSV_VOLUME_MAX_PLANES + i] =
-                            v < b.volumeCount ? bitsOf(b.volumes[v].planes[i]) : uvec4(0u);
+                            v < b.volumeCount ? texelBits(b.volumes[v].planes[i]) : uvec4(0u);
                 for (uint i = 0; i < STSV_LIGHT_PLANES_MAX; ++i)
-                    t[1 + 2 * STSV_VOLUME_MAX_PLANES + i] = bitsOf(b.lightPlanes.planes[i]);
+                    t[1 + 2 * STSV_VOLUME_MAX_PLANES + i] = texelBits(b.lightPlanes.planes[i]);
             }
         });
         Tables tables;

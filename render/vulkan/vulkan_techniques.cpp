@@ -154,10 +154,10 @@ class StsvTechnique final : public VulkanTechnique {
 
     std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
 
-    bool growLists() override {
+    std::uint64_t clusterPairsNeeded() const override {
         std::uint64_t needed = 0;
         for (const GpuStsvStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.walk.pairsNeeded);
-        return m_walk && m_c.clusterLists->growFor(needed);
+        return needed;
     }
 
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {
@@ -286,10 +286,10 @@ class WedgeTechnique final : public VulkanTechnique {
 
     std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
 
-    bool growLists() override {
+    std::uint64_t clusterPairsNeeded() const override {
         std::uint64_t needed = 0;
         for (const GpuWedgeStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.walk.pairsNeeded);
-        return m_clusters && m_c.clusterLists->growFor(needed);
+        return needed;
     }
 
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {

@@ -66,6 +66,9 @@ class VulkanTechnique {
     /// The most fragments its draws listed for their sample passes (DeferredFragments) for one
     /// light, past the end too, as the last takeStats says.
     virtual std::uint64_t listedFragments() const { return 0; }
+    /// After takeStats: the most pairs one of the frame's cluster lists (ClusterLists, shared by
+    /// the walking families) needed in its walk, when more than it held (else 0).
+    virtual std::uint64_t clusterPairsNeeded() const { return 0; }
     /// After takeStats: when lists of its own had too little room for the frame (fragments were
     /// lost), it grows them and returns true; the frame then writes the descriptors again and
     /// runs again.

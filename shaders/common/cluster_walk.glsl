@@ -14,8 +14,8 @@
 //     region's ball to the light, and for a node with a normal cone, an edge of it can be a
 //     silhouette), gives its children to the next level; a leaf, for a tile, gives the pairs
 //     (block, leaf) of the tile's covered blocks to the next level, and for a block hands the
-//     items that may add to it to clusterKeep. The tests are monotone in the region, so a block
-//     that only tests the leaves its tile kept drops nothing it would have kept.
+//     items that may add to it to clusterKeep. A node a tile drops holds nothing that adds to
+//     a point of the tile (each test is conservative), so neither to one of its blocks.
 // A list too short drops what it has no room for and records what it needed; the host grows
 // the lists and renders the frame again.
 #ifndef STSV_SHADERS_CLUSTER_WALK_GLSL

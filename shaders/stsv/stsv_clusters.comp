@@ -9,7 +9,9 @@
 //     volume and its triangle's light planes, on another triangle (the self-shadowing rule), is
 //     listed for stsv_samples.comp — the test of stsv.frag, for the pixels whose point the
 //     volume holds, without a hull or a fragment.
-// The culling tests are conservative, so the pairs listed are those the hull draw lists.
+// The culling tests are conservative, so the bits are the hull draw's; the pairs listed are the
+// draw's less some whose triangle meets no segment from the block's points to the light (a
+// volume is larger than what its triangle shadows), which set no bit.
 #extension GL_GOOGLE_include_directive : require
 #include "stsv/stsv_samples.glsl"
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuStsvStats stats[]; };

@@ -338,8 +338,8 @@ TEST_F(GpuRenderer, MakeRendererChoosesVulkanForStsv) {
     const std::unique_ptr<FrameRenderer> renderer = makeRenderer(scene, o);
     ASSERT_NE(dynamic_cast<VulkanRenderer*>(renderer.get()), nullptr);
     const Frame frame = renderer->render();
-    // Auto extrusion: the hulls, on every device (a compute pass and a vertex shader).
-    EXPECT_EQ(frame.stats["gpu"]["extrusion"].get<std::string>(), "hull (compute)");
+    // Auto extrusion: the cluster walk, on every device (compute passes, no volume drawn).
+    EXPECT_EQ(frame.stats["gpu"]["extrusion"].get<std::string>(), "cluster walk");
     EXPECT_FALSE(static_cast<VulkanRenderer*>(renderer.get())->usesMeshShader());
     EXPECT_EQ(static_cast<VulkanRenderer*>(renderer.get())->device().validationMessageCount(), 0u);
 }
