@@ -45,7 +45,6 @@ StsvClusters::StsvClusters(const Device& device, const Scene& scene, StsvTriangl
         items.push_back(texelBits(noCone));
         items.push_back(uvec4(triangleOf[b], 0u, 0u, 0u));
     }
-    m_triangles = balls.size();
     m_tables = uploadClusterTables(device, std::move(nodes), std::move(items),
                                    tree.nodes.empty() ? 0 : treeDepth(tree.nodes, 0), scene.source);
     itemRecords = Buffer(device, std::max<std::size_t>(2 * scene.triangleCount(), 1) * sizeof(uint),

@@ -37,7 +37,6 @@ class StsvClusters {
 
     std::size_t depth() const { return m_tables.depth; }
     std::size_t leaves() const { return m_leaves; }
-    std::size_t triangles() const { return m_triangles; }
 
     /// Per item (a side of a triangle: every side 0, then every side 1) its record + 1, 0 without
     /// a volume; cleared before each light's records.
@@ -46,7 +45,6 @@ class StsvClusters {
   private:
     ClusterTables m_tables;
     std::size_t m_leaves = 0;
-    std::size_t m_triangles = 0; ///< in the tree
 };
 
 } // namespace stsv
