@@ -190,7 +190,9 @@ PassAccesses ClusterWalkPasses::Stage::accesses(std::size_t) const {
     if (m_stage != 2)
         accesses.use(p.m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
             .use(p.m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE));
-    if (m_stage + 1 == p.m_pipelines.size())
+    // Every stage that appends can write the deferred list (common/cluster_walk.glsl groupFlush),
+    // though only the last one does.
+    if (m_stage >= 2)
         accesses.use(p.m_deferred->count, ResourceUse::storageReadWrite(COMPUTE))
             .use(p.m_deferred->fragments, ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
@@ -201,7 +203,7 @@ void ClusterWalkPasses::Stage::record(VkCommandBuffer cmd, std::size_t light) co
     p.m_pipelines[m_stage].bind(cmd);
     p.m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     p.m_descriptors->push(cmd, GpuPush{uint(light), m_end, p.m_lists->tileBlocks(), m_step});
-    if (m_stage == 0)
+    if (m_stage == 0) // 64 tiles a workgroup, whatever its size
         vkCmdDispatch(cmd, (m_end - m_step + 63) / 64, 1, 1);
     else if (m_stage == 1)
         vkCmdDispatch(cmd, 1, 1, 1);

@@ -10,6 +10,11 @@
 
 namespace stsv {
 
+// A walk's invocation appends up to a leaf's items, or 16 blocks or pixels, between two flushes
+// of its workgroup's shared list (common/cluster_walk.glsl groupAppend).
+static_assert(BallTree::LEAF * GPU_STSV_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES &&
+              16 * GPU_STSV_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES);
+
 bool usesStsvClusters(const RenderOptions& options) {
     return options.extrusion == ExtrusionStage::Auto;
 }

@@ -51,6 +51,14 @@ DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 2u;
 /// each kept pair's 16 pixels in a loop of its invocation) or the candidates' pass (step =
 /// GPU_CLUSTER_CANDIDATES).
 DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
+/// Entries a workgroup of a cluster pass gathers in shared memory before it writes them to their
+/// lists (common/cluster_walk.glsl groupAppend): its invocations × the most one appends for an
+/// entry it reads (a tile's 16 blocks, a leaf's items, a block's 16 pixels).
+DH_CONST uint GPU_CLUSTER_GROUP_ENTRIES = 1024u;
+/// Invocations of a workgroup of the STSV walk (leaves of BallTree::LEAF = 16 triangles) and of
+/// the DCS walk (EDGE_CLUSTER_LEAF = 32 edges).
+DH_CONST uint GPU_STSV_CLUSTER_GROUP = 64u;
+DH_CONST uint GPU_DCS_CLUSTER_GROUP = 32u;
 
 /// What a hull pass counts per light: the first member of its family's stats (GpuStsvStats,
 /// GpuWedgeStats), where render/vulkan/gpu_hulls.cpp reads it to size the hull buffers.

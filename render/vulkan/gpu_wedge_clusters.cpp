@@ -11,6 +11,11 @@
 
 namespace stsv {
 
+// A walk's invocation appends up to a leaf's items, or 16 blocks or pixels, between two flushes
+// of its workgroup's shared list (common/cluster_walk.glsl groupAppend).
+static_assert(EDGE_CLUSTER_LEAF * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES &&
+              16 * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES);
+
 bool usesWedgeClusters(const RenderOptions& options) {
     return methodInfo(options.method).opaque == OpaqueTechnique::Dcs &&
            options.extrusion == ExtrusionStage::Auto;

@@ -90,7 +90,7 @@ class StsvTechnique final : public VulkanTechnique {
             m_hullPass.emplace(c.device, "stsv/stsv_hull.comp", hullDefines, triangles, pushFlags, *c.hulls,
                                m_family, std::vector<const Buffer*>{&m_clusters->itemRecords});
             m_walk.emplace(
-                c.device, "stsv/stsv_clusters.comp", 4, c.resources, *c.deferred, *c.clusterLists, m_family,
+                c.device, "stsv/stsv_clusters.comp", 5, c.resources, *c.deferred, *c.clusterLists, m_family,
                 c.defines,
                 std::vector<std::pair<const Buffer*, ResourceUse>>{
                     {&c.hulls->records, ResourceUse::sampledRead(VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT)},

@@ -3,7 +3,8 @@
 // pairs than a list holds) down to the leaves, then per 4 × 4 block of the tile, level by level over lists of pairs, so that no invocation loops
 // without bound (lavapipe ends a shader's loops after 65 535 iterations in all). The family's shader (dcs_clusters.comp, stsv_clusters.comp) declares its
 // stats buffer `stats` (GpuClusterCounts `walk` second), defines clusterKeep — what becomes of a
-// leaf's item that may add to a block — and its own pixel stages, and calls these:
+// leaf's item that may add to a block, with groupAppend — and its own pixel stages, which
+// append with groupAppend/groupReserve between groupFlush calls too, and calls these:
 //   clusterBlocksStage (CLUSTER_STAGE 0): each tile of a part of them (all of them unless the
 //     lists needed more than a buffer holds: the passes run once per part) and each of its
 //     blocks get the box of their visible points, and the tile the pair (tile, root) for level 0;
@@ -26,14 +27,17 @@
 #include "common/frame_bindings.glsl"
 #include "render/vulkan/gpu_volumes_dh.h"
 #include "wedges/edge_cluster_dh.h"
+#include "common/deferred_list.glsl"
 
 #ifndef CLUSTER_STAGE
 #define CLUSTER_STAGE 2
 #endif
+/// Invocations of a workgroup (stage 1: one): the family's shader defines it
+/// (GPU_STSV_CLUSTER_GROUP, GPU_DCS_CLUSTER_GROUP; see groupAppend).
 #if CLUSTER_STAGE == 1
 layout(local_size_x = 1) in;
 #else
-layout(local_size_x = 64) in;
+layout(local_size_x = CLUSTER_GROUP_SIZE) in;
 #endif
 
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
@@ -72,6 +76,93 @@ void appendPair(uint slot, uvec2 pair) {
 }
 /// The pairs a pass reads from slot `slot`'s list: those appended, at most its capacity.
 uint listEntries(uint slot) { return min(counts[slot], listCapacity()); }
+
+// Appends gathered per workgroup. Lavapipe runs an atomic one lane at a time and its two cores
+// contend for a list's counter, so the stages append to shared memory (groupAppend) and, at
+// each step of their loops (groupFlush), a workgroup takes its places in each list with one
+// atomic and copies its entries there. An invocation appends at most
+// GPU_CLUSTER_GROUP_ENTRIES / CLUSTER_GROUP_SIZE entries between two flushes (a tile's 16
+// blocks, a leaf's 16 triangles or 32 edges, a block's 16 pixels: the host checks the leaves),
+// so the shared list never overflows (12 KiB of the 16 KiB any device has). The lists' order varies from run to run as with one
+// atomic an entry; no pass's result depends on it.
+const uint GROUP_CAPACITY = GPU_CLUSTER_GROUP_ENTRIES;
+const uint GROUP_TARGETS = 4u;
+const uint GROUP_NEXT_LEVEL = 0u; ///< the list of the walk's next level (slot pc.step + 1)
+const uint GROUP_KEPT = 1u;       ///< GPU_CLUSTER_KEPT
+const uint GROUP_CANDIDATES = 2u; ///< GPU_CLUSTER_CANDIDATES
+const uint GROUP_DEFERRED = 3u;   ///< the deferred fragments (deferred_list.glsl)
+shared uint groupCount;
+shared uint groupTargetCount[GROUP_TARGETS];
+shared uint groupTargetBase[GROUP_TARGETS];
+shared uvec2 groupEntries[GROUP_CAPACITY];
+shared uint groupPlaces[GROUP_CAPACITY]; ///< target << 24 | index among the target's entries
+
+/// Room for `n` appends to target list `target` at the workgroup's next groupFlush: x the first
+/// entry, y the first index among the target's; groupPut fills them. (Lavapipe runs even a
+/// shared-memory atomic lane by lane: an invocation with several entries reserves them at once.)
+uvec2 groupReserve(uint target, uint n) {
+    return uvec2(atomicAdd(groupCount, n), atomicAdd(groupTargetCount[target], n));
+}
+void groupPut(uint target, uvec2 room, uint i, uvec2 entry) {
+    groupEntries[room.x + i] = entry;
+    groupPlaces[room.x + i] = (target << 24u) | (room.y + i);
+}
+/// Appends `entry` to target list `target` at the workgroup's next groupFlush.
+void groupAppend(uint target, uvec2 entry) {
+    groupPut(target, groupReserve(target, 1u), 0u, entry);
+}
+
+void groupBegin() {
+    if (gl_LocalInvocationIndex == 0u) {
+        groupCount = 0u;
+        for (uint t = 0u; t < GROUP_TARGETS; ++t) groupTargetCount[t] = 0u;
+    }
+    barrier();
+}
+
+uint groupSlot(uint target) {
+    return target == GROUP_NEXT_LEVEL ? pc.step + 1u : (target == GROUP_KEPT ? GPU_CLUSTER_KEPT : GPU_CLUSTER_CANDIDATES);
+}
+
+/// Writes the workgroup's appends to their lists (in uniform control flow). A pair list drops
+/// what is past its capacity and records what it needed (appendPair); the deferred list drops
+/// it, and its count tells the host.
+void groupFlush() {
+    memoryBarrierShared();
+    barrier();
+    uint local = gl_LocalInvocationIndex;
+    if (local < GROUP_TARGETS && groupTargetCount[local] > 0u) {
+        uint n = groupTargetCount[local];
+        uint base = local == GROUP_DEFERRED ? atomicAdd(deferredCount.x, n) : atomicAdd(counts[groupSlot(local)], n);
+        if (local != GROUP_DEFERRED && base + n > listCapacity()) atomicMax(stats[pc.light].walk.pairsNeeded, base + n);
+        groupTargetBase[local] = base;
+    }
+    memoryBarrierShared();
+    barrier();
+    uint total = groupCount;
+    for (uint i = local; i < total; i += gl_WorkGroupSize.x) {
+        uint target = groupPlaces[i] >> 24u;
+        uint at = groupTargetBase[target] + (groupPlaces[i] & 0xffffffu);
+        if (target == GROUP_DEFERRED) {
+            if (at < uint(deferred.length())) deferred[at] = groupEntries[i];
+        } else if (at < listCapacity()) {
+            pairs[listBase(groupSlot(target)) + at] = groupEntries[i];
+        }
+    }
+    barrier();
+    if (local == 0u) {
+        groupCount = 0u;
+        for (uint t = 0u; t < GROUP_TARGETS; ++t) groupTargetCount[t] = 0u;
+    }
+    barrier();
+}
+
+/// The entries of a stage's list, a workgroup's step at a time: `first` is the same for the
+/// whole workgroup, so the loop's barriers (groupFlush) are in uniform control flow; entry
+/// first + gl_LocalInvocationID.x is this invocation's, if below `entries`.
+#define CLUSTER_FOR_EACH_STEP(first, entries) \
+    for (uint first = gl_WorkGroupID.x * gl_WorkGroupSize.x; first < (entries); \
+         first += gl_NumWorkGroups.x * gl_WorkGroupSize.x)
 
 /// Cluster `index` of a table (nodes or items, GPU_CLUSTER_TEXELS each): ball, cone, texel 2.
 vec4 clusterBall(usamplerBuffer table, uint index) { return uintBitsToFloat(texelFetch(table, int(index * GPU_CLUSTER_TEXELS))); }
@@ -112,9 +203,7 @@ bool tileBlock(uint tile, uint k, out uint block) {
 /// own tests.
 void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected);
 
-void clusterBlocksStage() {
-    // The part's tiles: pc.step to pc.initialize.
-    uint tile = pc.step + gl_GlobalInvocationID.x;
+void clusterTileBoxes(uint tile) {
     if (tile >= pc.initialize) return;
     vec3 tileLo = vec3(3.0e38);
     vec3 tileHi = vec3(-3.0e38);
@@ -142,10 +231,15 @@ void clusterBlocksStage() {
     if (tileLo.x <= tileHi.x && uint(textureSize(clusterNodes)) >= GPU_CLUSTER_TEXELS) appendPair(0u, uvec2(region, 0u));
 }
 
+void clusterBlocksStage() {
+    // The part's tiles: pc.step to pc.initialize, 64 a workgroup.
+    for (uint i = gl_LocalInvocationID.x; i < 64u; i += gl_WorkGroupSize.x) clusterTileBoxes(pc.step + 64u * gl_WorkGroupID.x + i);
+}
+
 void clusterArgsStage() {
     // pc.step: the count slot of the list the next pass reads.
     uint invocations = listEntries(pc.step);
-    uint perGroup = 64u * GPU_CLUSTER_ENTRIES_PER_INVOCATION;
+    uint perGroup = uint(CLUSTER_GROUP_SIZE) * GPU_CLUSTER_ENTRIES_PER_INVOCATION;
     dispatchArgs[0] = clamp((invocations + perGroup - 1u) / perGroup, 1u, 65535u);
     dispatchArgs[1] = 1u;
     dispatchArgs[2] = 1u;
@@ -154,32 +248,36 @@ void clusterArgsStage() {
 void clusterWalkStage() {
     // pc.step: the level.
     uint entries = listEntries(pc.step);
-    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     vec4 lightBall = lights[pc.light].sphere;
     uint tests = 0u;
     uint rejected = 0u;
-    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
-        uvec2 pair = pairs[listBase(pc.step) + e];
-        vec4 region = boxBall(regionLo(pair.x), regionHi(pair.x));
-        LightHull hull = lightHull(region, lightBall);
-        ++tests;
-        if (!tableMayAdd(clusterNodes, pair.y, region, hull)) {
-            ++rejected;
-            continue;
-        }
-        uvec4 range = clusterData(clusterNodes, pair.y);
-        if (range.y == 0u) {
-            appendPair(pc.step + 1u, uvec2(pair.x, range.x));
-            appendPair(pc.step + 1u, uvec2(pair.x, range.x + 1u));
-        } else if ((pair.x & CLUSTER_TILE) != 0u) {
-            for (uint k = 0u; k < tileBlocks() * tileBlocks(); ++k) {
-                uint block;
-                if (tileBlock(pair.x & ~CLUSTER_TILE, k, block) && blockLo(block).x <= blockHi(block).x)
-                    appendPair(pc.step + 1u, uvec2(block, pair.y));
+    groupBegin();
+    CLUSTER_FOR_EACH_STEP(first, entries) {
+        uint e = first + gl_LocalInvocationID.x;
+        if (e < entries) {
+            uvec2 pair = pairs[listBase(pc.step) + e];
+            vec4 region = boxBall(regionLo(pair.x), regionHi(pair.x));
+            LightHull hull = lightHull(region, lightBall);
+            ++tests;
+            if (!tableMayAdd(clusterNodes, pair.y, region, hull)) {
+                ++rejected;
+            } else {
+                uvec4 range = clusterData(clusterNodes, pair.y);
+                if (range.y == 0u) {
+                    groupAppend(GROUP_NEXT_LEVEL, uvec2(pair.x, range.x));
+                    groupAppend(GROUP_NEXT_LEVEL, uvec2(pair.x, range.x + 1u));
+                } else if ((pair.x & CLUSTER_TILE) != 0u) {
+                    for (uint k = 0u; k < tileBlocks() * tileBlocks(); ++k) {
+                        uint block;
+                        if (tileBlock(pair.x & ~CLUSTER_TILE, k, block) && blockLo(block).x <= blockHi(block).x)
+                            groupAppend(GROUP_NEXT_LEVEL, uvec2(block, pair.y));
+                    }
+                } else {
+                    for (uint k = range.x; k < range.x + range.y; ++k) clusterKeep(pair.x, k, region, hull, tests, rejected);
+                }
             }
-        } else {
-            for (uint k = range.x; k < range.x + range.y; ++k) clusterKeep(pair.x, k, region, hull, tests, rejected);
         }
+        groupFlush();
     }
     tests = subgroupAdd(tests);
     rejected = subgroupAdd(rejected);

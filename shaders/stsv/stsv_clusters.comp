@@ -2,10 +2,13 @@
 // STSV through the tree of the S-triangles' balls (DESIGN §4.5; the CPU mirror's walk,
 // render/cpu/cpu_stsv.cpp, with the same tests), over the lists of common/cluster_walk.glsl:
 //   CLUSTER_STAGE 0, 1, 2: the blocks, the indirect dispatches, the walk of a level; a leaf's
-//     triangle whose ball meets the segments from the block's points to the light keeps, as
-//     (block, record) pairs, its volumes (the records stsv_hull.comp built with
-//     STSV_HULL_RECORDS_ONLY) that do not leave the block's box outside one of their planes;
-//   3 (pixels): an invocation a kept pair, for the block's 16 pixels: a visible point inside the
+//     triangle whose ball meets the segments from the block's points to the light is kept as a
+//     (block, triangle) pair;
+//   3 (volumes): an invocation a kept pair: the triangle's volumes (a side each: the records
+//     stsv_hull.comp built with STSV_HULL_RECORDS_ONLY) that do not leave the block's box outside
+//     one of their planes become (block, record) candidates (a list of their own, so that the
+//     box tests run in full SIMD batches, not in the lanes of the walk that kept the triangle);
+//   4 (pixels): an invocation a candidate, for the block's 16 pixels: a visible point inside the
 //     volume and its triangle's light planes, on another triangle (the self-shadowing rule), is
 //     listed for stsv_samples.comp — the test of stsv.frag, for the pixels whose point the
 //     volume holds, without a hull or a fragment.
@@ -15,6 +18,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "stsv/stsv_samples.glsl"
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuStsvStats stats[]; };
+#define CLUSTER_GROUP_SIZE GPU_STSV_CLUSTER_GROUP
 #include "common/cluster_walk.glsl"
 
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_STSV_ITEM_RECORDS) readonly buffer ItemRecords { uint itemRecords[]; };
@@ -27,29 +31,15 @@ void recordPlanes(uint record, uvec4 ids, out StsvVolume vol, out StsvLightPlane
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = stsvRecordVec4(record, GPU_STSV_RECORD_LIGHT_PLANES + i);
 }
 
-/// A leaf's item is a triangle (data.x) with its ball: its volumes (a side each), unless the
-/// block's box lies outside one of their planes.
+/// A leaf's item is a triangle (data.x) with its ball: kept as (block, triangle) for stage 3
+/// when its ball meets the segments from the block's points to the light. (Its volumes' box
+/// tests run there, over a list of the survivors: in this loop most lanes would idle through them.)
 void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected) {
     ++tests;
-    if (!tableMayAdd(clusterItems, item, region, hull)) {
+    if (tableMayAdd(clusterItems, item, region, hull))
+        groupAppend(GROUP_KEPT, uvec2(block, clusterData(clusterItems, item).x));
+    else
         ++rejected;
-        return;
-    }
-    uint tri = clusterData(clusterItems, item).x;
-    uint triangleCount = uint(triangles.length());
-    for (uint side = 0u; side < 2u; ++side) {
-        uint entry = itemRecords[side * triangleCount + tri];
-        if (entry == 0u) continue;
-        uint record = entry - 1u;
-        uvec4 ids = stsvRecordTexel(record, GPU_STSV_RECORD_IDS);
-        StsvVolume vol;
-        StsvLightPlanes lp;
-        recordPlanes(record, ids, vol, lp);
-        if (stsvVolumeMissesBox(vol, blockLo(block), blockHi(block)) ||
-            stsvLightPlanesMissBox(lp, blockLo(block), blockHi(block)))
-            continue;
-        appendPair(GPU_CLUSTER_KEPT, uvec2(block, record));
-    }
 }
 
 void main() {
@@ -59,29 +49,68 @@ void main() {
     clusterArgsStage();
 #elif CLUSTER_STAGE == 2
     clusterWalkStage();
-#else
+#elif CLUSTER_STAGE == 3
+    // The kept triangles' volumes (a side each), unless the block's box lies outside one of their
+    // planes: (block, record) candidates.
     uint entries = listEntries(GPU_CLUSTER_KEPT);
-    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    uint tested = 0u;
-    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
-        uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
-        // The volume once for the block's 16 pixels.
-        uvec4 ids = stsvRecordTexel(pair.y, GPU_STSV_RECORD_IDS);
-        StsvVolume vol;
-        StsvLightPlanes lp;
-        recordPlanes(pair.y, ids, vol, lp);
-        for (uint lane = 0u; lane < 16u; ++lane) {
-            ivec2 pixel = blockPixel(pair.x, lane);
-            if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
-            uint receiver = imageLoad(gTriangle, pixel).x;
-            if (receiver == GPU_NO_TRIANGLE) continue;
-            vec3 p = vec3(imageLoad(gPosition, pixel));
-            ++tested;
-            // stsv.frag's test; past the list's end the entry is dropped, the host sees the
-            // count and renders again.
-            if (stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && receiver != ids.z)
-                deferredAppend(lsPixelIndex(uvec2(pixel), frame.width), pair.y);
+    uint triangleCount = uint(triangles.length());
+    groupBegin();
+    CLUSTER_FOR_EACH_STEP(first, entries) {
+        uint e = first + gl_LocalInvocationID.x;
+        if (e < entries) {
+            uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
+            vec3 lo = blockLo(pair.x);
+            vec3 hi = blockHi(pair.x);
+            for (uint side = 0u; side < 2u; ++side) {
+                uint entry = itemRecords[side * triangleCount + pair.y];
+                if (entry == 0u) continue;
+                uint record = entry - 1u;
+                StsvVolume vol;
+                StsvLightPlanes lp;
+                recordPlanes(record, stsvRecordTexel(record, GPU_STSV_RECORD_IDS), vol, lp);
+                if (!stsvVolumeMissesBox(vol, lo, hi) && !stsvLightPlanesMissBox(lp, lo, hi))
+                    groupAppend(GROUP_CANDIDATES, uvec2(pair.x, record));
+            }
         }
+        groupFlush();
+    }
+#else
+    uint entries = listEntries(GPU_CLUSTER_CANDIDATES);
+    uint tested = 0u;
+    groupBegin();
+    CLUSTER_FOR_EACH_STEP(first, entries) {
+        uint e = first + gl_LocalInvocationID.x;
+        if (e < entries) {
+            uvec2 pair = pairs[listBase(GPU_CLUSTER_CANDIDATES) + e];
+            // The volume once for the block's 16 pixels.
+            uvec4 ids = stsvRecordTexel(pair.y, GPU_STSV_RECORD_IDS);
+            StsvVolume vol;
+            StsvLightPlanes lp;
+            recordPlanes(pair.y, ids, vol, lp);
+            uint inside = 0u;
+            for (uint lane = 0u; lane < 16u; ++lane) {
+                ivec2 pixel = blockPixel(pair.x, lane);
+                if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
+                uint receiver = imageLoad(gTriangle, pixel).x;
+                if (receiver == GPU_NO_TRIANGLE) continue;
+                vec3 p = vec3(imageLoad(gPosition, pixel));
+                ++tested;
+                // stsv.frag's test.
+                if (stsvPointInVolume(vol, p) && stsvPointInLightPlanes(lp, p) && receiver != ids.z)
+                    inside |= 1u << lane;
+            }
+            // Listed for stsv_samples.comp; past the list's end an entry is dropped, the host
+            // sees the count and renders again.
+            if (inside != 0u) {
+                uvec2 room = groupReserve(GROUP_DEFERRED, uint(bitCount(inside)));
+                for (uint i = 0u; inside != 0u; ++i) {
+                    uint lane = uint(findLSB(inside));
+                    inside &= inside - 1u;
+                    groupPut(GROUP_DEFERRED, room, i, uvec2(lsPixelIndex(uvec2(blockPixel(pair.x, lane)), frame.width), pair.y));
+                }
+            }
+        }
+        groupFlush();
     }
     tested = subgroupAdd(tested);
     if (subgroupElect()) atomicAdd(stats[pc.light].fragments, tested);

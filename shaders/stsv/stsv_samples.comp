@@ -8,6 +8,8 @@
 // counters straight to the counters, a translucent triangle's optical depths straight to the
 // light's depth sums (transmittance frames).
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #include "common/frame_bindings.glsl"
 #include "stsv/stsv_samples.glsl"
 
@@ -24,6 +26,7 @@ void main() {
     if (gl_GlobalInvocationID.x == 0u) stats[pc.light].listed = deferredCount.x;
     uint count = deferredEntries();
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    uint inside = 0u;
     for (uint e = gl_GlobalInvocationID.x; e < count; e += stride) {
         uvec2 entry = deferred[e];
         uvec2 pixel = uvec2(entry.x % frame.width, entry.x / frame.width);
@@ -35,8 +38,7 @@ void main() {
         ivec2 size;
         // The side-ownership rule of stsvFragmentPixel.
         if (!stsvPixelSetup(pixel, p, t, ids.w & 255u, px, src, size)) continue;
-        atomicAdd(stats[pc.light].inside, 1u);
-        atomicAdd(stats[pc.light].deferred, 1u);
+        ++inside;
 #if LS_COUNTERS
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
 #endif
@@ -48,5 +50,11 @@ void main() {
             if (bits != 0u) atomicOr(maskWords[entry.x * uint(WORD_COUNT) + w], bits);
 #endif
         }
+    }
+    // One atomic per subgroup: lavapipe runs atomics one lane at a time.
+    inside = subgroupAdd(inside);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].inside, inside);
+        atomicAdd(stats[pc.light].deferred, inside);
     }
 }

@@ -20,8 +20,10 @@
 #endif
 #include "wedges/wedge_term.glsl"
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
+// A leaf holds up to EDGE_CLUSTER_LEAF (32) edges, which one invocation may keep for a block
+// between two flushes of its workgroup's appends.
+#define CLUSTER_GROUP_SIZE GPU_DCS_CLUSTER_GROUP
 #include "common/cluster_walk.glsl"
-#include "common/deferred_list.glsl"
 
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BOUNDS) uniform usamplerBuffer clusterBounds;
 
@@ -29,7 +31,7 @@ layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BOUNDS) uniform usamp
 void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected) {
     ++tests;
     if (tableMayAdd(clusterItems, item, region, hull))
-        appendPair(GPU_CLUSTER_KEPT, uvec2(block, item));
+        groupAppend(GROUP_KEPT, uvec2(block, item));
     else
         ++rejected;
 }
@@ -55,6 +57,29 @@ bool insideBound(uint c, vec3 p) {
     return stsvPointInLightPlanes(lp, p);
 }
 
+/// Whether a (pixel, item) candidate goes to wedge_samples.comp: its edge's ball meets the
+/// segments from p to the light, its edge clipped between p and the light is not empty, and its
+/// carrier's bound holds p (the mirror's order after the silhouette test; the leaf test with p
+/// is implied by the edge's ball). Counts the bound tests in `boundTests`.
+bool dcsCandidateListed(uvec2 candidate, Light light, vec4 lightBall, float sceneDiameter, inout uint boundTests) {
+    ivec2 pixel = ivec2(candidate.x % frame.width, candidate.x / frame.width);
+    uint receiver = imageLoad(gTriangle, pixel).x;
+    vec3 p = vec3(imageLoad(gPosition, pixel));
+    uvec4 item = clusterData(clusterItems, candidate.y);
+    WedgeEdge edge = wedgeEdgeAt(item.x);
+    if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lightBall))) return false;
+    LightFrame lf = lightFrame(light, p, frame.farDistance);
+    DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
+    if (px.valid == 0.0) return false;
+    vec3 l;
+    vec3 h0;
+    vec3 h1;
+    int kE;
+    if (!wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, kE)) return false;
+    ++boundTests;
+    return insideBound(item.y, p);
+}
+
 void main() {
 #if CLUSTER_STAGE == 0
     clusterBlocksStage();
@@ -64,52 +89,58 @@ void main() {
     clusterWalkStage();
 #elif CLUSTER_STAGE == 3
     uint entries = listEntries(GPU_CLUSTER_KEPT);
-    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
-        uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
-        // The edge once for the block's 16 pixels.
-        WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
-        WedgeFaces faces = wedgeFacesOf(edge);
-        for (uint lane = 0u; lane < 16u; ++lane) {
-            ivec2 pixel = blockPixel(pair.x, lane);
-            if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
-            uint receiver = imageLoad(gTriangle, pixel).x;
-            if (receiver == GPU_NO_TRIANGLE) continue;
-            vec3 p = vec3(imageLoad(gPosition, pixel));
-            // The mirror's first test (forEachSilhouette): the edge is a silhouette seen from p.
-            if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) != 0)
-                appendPair(GPU_CLUSTER_CANDIDATES, uvec2(lsPixelIndex(uvec2(pixel), frame.width), pair.y));
+    groupBegin();
+    CLUSTER_FOR_EACH_STEP(first, entries) {
+        uint e = first + gl_LocalInvocationID.x;
+        if (e < entries) {
+            uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
+            // The edge once for the block's 16 pixels.
+            WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
+            WedgeFaces faces = wedgeFacesOf(edge);
+            // A manifold edge's two faces (most edges) loaded once, not for each pixel:
+            // wedgeWorldWeight's sum, term by term.
+            bool manifold = faces.count == 2u;
+            uint t0 = wedgeFaceTriangle(faces, faces.first);
+            uint t1 = wedgeFaceTriangle(faces, faces.first + 1u);
+            vec3 o0 = wedgeFaceOpposite(faces, faces.first);
+            vec3 o1 = wedgeFaceOpposite(faces, faces.first + 1u);
+            uint silhouette = 0u;
+            for (uint lane = 0u; lane < 16u; ++lane) {
+                ivec2 pixel = blockPixel(pair.x, lane);
+                if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
+                uint receiver = imageLoad(gTriangle, pixel).x;
+                if (receiver == GPU_NO_TRIANGLE) continue;
+                vec3 p = vec3(imageLoad(gPosition, pixel));
+                // The mirror's first test (forEachSilhouette): the edge is a silhouette seen from p.
+                int k = manifold ? (t0 != receiver ? dcsWorldSide(p, edge.v0, edge.v1, o0) : 0) +
+                                       (t1 != receiver ? dcsWorldSide(p, edge.v0, edge.v1, o1) : 0)
+                                 : wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver);
+                if (k != 0) silhouette |= 1u << lane;
+            }
+            if (silhouette != 0u) {
+                uvec2 room = groupReserve(GROUP_CANDIDATES, uint(bitCount(silhouette)));
+                for (uint i = 0u; silhouette != 0u; ++i) {
+                    uint lane = uint(findLSB(silhouette));
+                    silhouette &= silhouette - 1u;
+                    groupPut(GROUP_CANDIDATES, room, i, uvec2(lsPixelIndex(uvec2(blockPixel(pair.x, lane)), frame.width), pair.y));
+                }
+            }
         }
+        groupFlush();
     }
 #else
     uint entries = listEntries(GPU_CLUSTER_CANDIDATES);
-    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     vec4 lightBall = lights[pc.light].sphere;
     Light light = lights[pc.light].light;
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     uint boundTests = 0u;
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 candidate = pairs[listBase(GPU_CLUSTER_CANDIDATES) + e];
-        ivec2 pixel = ivec2(candidate.x % frame.width, candidate.x / frame.width);
-        uint receiver = imageLoad(gTriangle, pixel).x;
-        vec3 p = vec3(imageLoad(gPosition, pixel));
-        uvec4 item = clusterData(clusterItems, candidate.y);
-        WedgeEdge edge = wedgeEdgeAt(item.x);
-        // The mirror's order after the silhouette test: the edge's ball, the edge term, the bound
-        // (its leaf test with p is implied by the edge's ball).
-        if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lightBall))) continue;
-        LightFrame lf = lightFrame(light, p, frame.farDistance);
-        DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
-        if (px.valid == 0.0) continue;
-        vec3 l;
-        vec3 h0;
-        vec3 h1;
-        int kE;
-        if (!wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, kE)) continue;
-        ++boundTests;
-        if (!insideBound(item.y, p)) continue;
         // Past the list's end the entry is dropped; the host sees the count and renders again.
-        deferredAppend(candidate.x, item.x);
+        // (Few candidates are listed: one atomic each costs less than the barriers of groupFlush.)
+        if (dcsCandidateListed(candidate, light, lightBall, sceneDiameter, boundTests))
+            deferredAppend(candidate.x, clusterData(clusterItems, candidate.y).x);
     }
     boundTests = subgroupAdd(boundTests);
     if (subgroupElect()) atomicAdd(stats[pc.light].fragments, boundTests);
