@@ -160,7 +160,8 @@ void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std:
             runPass(recorder, cmd, "", Stage(*this, 1, level), light);
             runPass(recorder, cmd, "", Stage(*this, 2, level), light);
         }
-        // The pixel stages: the kept pairs' pixels (3), then the candidates (4).
+        // The family's stages over the kept pairs (3: STSV's volume tests, DCS's pixels), then
+        // over the candidates (4: STSV's pixels, DCS's other tests).
         for (std::uint32_t stage = 3; stage < stages; ++stage) {
             runPass(recorder, cmd, "",
                     Stage(*this, 1, stage == 3 ? GPU_CLUSTER_KEPT : GPU_CLUSTER_CANDIDATES), light);

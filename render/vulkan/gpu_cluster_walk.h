@@ -107,9 +107,9 @@ class ClusterLists {
 };
 
 /// A family's walk (its shader's CLUSTER_STAGE 0 … stages − 1; common/cluster_walk.glsl): the
-/// tiles' and blocks' boxes, a dispatch per level of the walk, then the family's pixel stages (3, and 4
-/// where it has one), each sized from its list by the args stage. The last stage lists (pixel,
-/// item) pairs in the deferred list.
+/// tiles' and blocks' boxes, a dispatch per level of the walk, then the family's stages over the
+/// kept pairs (3) and over the candidates (4, where it has one), each sized from its list by the
+/// args stage. The last stage lists (pixel, item) pairs in the deferred list.
 class ClusterWalkPasses {
   public:
     /// `reads`: the family's buffers its stages after the blocks' read (texels or storage),

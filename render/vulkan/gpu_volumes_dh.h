@@ -45,11 +45,10 @@ DH_CONST uint GPU_CLUSTER_KEPT = GPU_CLUSTER_MAX_DEPTH;            ///< the coun
 DH_CONST uint GPU_CLUSTER_CANDIDATES = GPU_CLUSTER_MAX_DEPTH + 1u; ///< and of the candidates
 DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 2u;
 /// Entries an invocation of a cluster pass takes (its workgroups are sized so, up to 65 535 of
-/// them; past 2^28 entries in a list, more): lavapipe ends a shader's loops after 65 535
+/// them; past 2^27 entries in a list, more): lavapipe ends a shader's loops after 65 535
 /// iterations in all, so no invocation may loop without bound. The args pass sizes the walk of
-/// a level (GpuPush::step < GPU_CLUSTER_KEPT: its list), the pixel pass (step = GPU_CLUSTER_KEPT:
-/// each kept pair's 16 pixels in a loop of its invocation) or the candidates' pass (step =
-/// GPU_CLUSTER_CANDIDATES).
+/// a level (GpuPush::step < GPU_CLUSTER_KEPT: its list), the pass over the kept pairs (step =
+/// GPU_CLUSTER_KEPT) or the one over the candidates (step = GPU_CLUSTER_CANDIDATES).
 DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
 /// Entries a workgroup of a cluster pass gathers in shared memory before it writes them to their
 /// lists (common/cluster_walk.glsl groupAppend): its invocations × the most one appends for an

@@ -170,7 +170,8 @@ class StsvTechnique final : public VulkanTechnique {
                 {"fragments", s.fragments}, {"inside_fragments", s.inside}, {"samples_tested", n * s.inside}};
             if (m_walk) {
                 // The walk's (block, node) and (block, triangle) tests; "fragments": the
-                // (pixel, volume) plane tests of the kept pairs, as the CPU's pixel tests.
+                // (pixel, volume) plane tests of the candidates (the (block, volume) pairs whose
+                // volume the block's box does not miss), as the CPU's pixel tests.
                 m_c.hulls->checkCapacity(l, "STSV", s.hull.volumes, 0);
                 light["path"] = "clusters";
                 light["volumes"] = s.hull.volumes;

@@ -99,11 +99,13 @@ void main() {
             WedgeFaces faces = wedgeFacesOf(edge);
             // A manifold edge's two faces (most edges) loaded once, not for each pixel:
             // wedgeWorldWeight's sum, term by term.
+            // (An edge of one face reads that face twice: no fetch past the edge's faces.)
             bool manifold = faces.count == 2u;
+            uint second = faces.first + min(faces.count, 2u) - 1u;
             uint t0 = wedgeFaceTriangle(faces, faces.first);
-            uint t1 = wedgeFaceTriangle(faces, faces.first + 1u);
+            uint t1 = wedgeFaceTriangle(faces, second);
             vec3 o0 = wedgeFaceOpposite(faces, faces.first);
-            vec3 o1 = wedgeFaceOpposite(faces, faces.first + 1u);
+            vec3 o1 = wedgeFaceOpposite(faces, second);
             uint silhouette = 0u;
             for (uint lane = 0u; lane < 16u; ++lane) {
                 ivec2 pixel = blockPixel(pair.x, lane);
