@@ -181,6 +181,17 @@ ivec2 blockPixel(uint block, uint lane) {
     uint across = blocksAcross();
     return ivec2(4u * (block % across) + lane % 4u, 4u * (block / across) + lane / 4u);
 }
+/// Appends (pixel index, item) to target list `target` for each pixel of block `block` whose bit
+/// is set in `lanes` (bit i: blockPixel(block, i)), with one reservation.
+void groupAppendPixels(uint target, uint block, uint lanes, uint item) {
+    if (lanes == 0u) return;
+    uvec2 room = groupReserve(target, uint(bitCount(lanes)));
+    for (uint i = 0u; lanes != 0u; ++i) {
+        uint lane = uint(findLSB(lanes));
+        lanes &= lanes - 1u;
+        groupPut(target, room, i, uvec2(lsPixelIndex(uvec2(blockPixel(block, lane)), frame.width), item));
+    }
+}
 /// The box of visible points (lo.x > hi.x: it sees none) of a block, or of a tile
 /// (region = CLUSTER_TILE | tile): the tiles' boxes follow the blocks'.
 uint regionBox(uint region) {

@@ -101,14 +101,7 @@ void main() {
             }
             // Listed for stsv_samples.comp; past the list's end an entry is dropped, the host
             // sees the count and renders again.
-            if (inside != 0u) {
-                uvec2 room = groupReserve(GROUP_DEFERRED, uint(bitCount(inside)));
-                for (uint i = 0u; inside != 0u; ++i) {
-                    uint lane = uint(findLSB(inside));
-                    inside &= inside - 1u;
-                    groupPut(GROUP_DEFERRED, room, i, uvec2(lsPixelIndex(uvec2(blockPixel(pair.x, lane)), frame.width), pair.y));
-                }
-            }
+            groupAppendPixels(GROUP_DEFERRED, pair.x, inside, pair.y);
         }
         groupFlush();
     }

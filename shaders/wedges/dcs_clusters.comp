@@ -57,29 +57,6 @@ bool insideBound(uint c, vec3 p) {
     return stsvPointInLightPlanes(lp, p);
 }
 
-/// Whether a (pixel, item) candidate goes to wedge_samples.comp: its edge's ball meets the
-/// segments from p to the light, its edge clipped between p and the light is not empty, and its
-/// carrier's bound holds p (the mirror's order after the silhouette test; the leaf test with p
-/// is implied by the edge's ball). Counts the bound tests in `boundTests`.
-bool dcsCandidateListed(uvec2 candidate, Light light, vec4 lightBall, float sceneDiameter, inout uint boundTests) {
-    ivec2 pixel = ivec2(candidate.x % frame.width, candidate.x / frame.width);
-    uint receiver = imageLoad(gTriangle, pixel).x;
-    vec3 p = vec3(imageLoad(gPosition, pixel));
-    uvec4 item = clusterData(clusterItems, candidate.y);
-    WedgeEdge edge = wedgeEdgeAt(item.x);
-    if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lightBall))) return false;
-    LightFrame lf = lightFrame(light, p, frame.farDistance);
-    DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
-    if (px.valid == 0.0) return false;
-    vec3 l;
-    vec3 h0;
-    vec3 h1;
-    int kE;
-    if (!wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, kE)) return false;
-    ++boundTests;
-    return insideBound(item.y, p);
-}
-
 void main() {
 #if CLUSTER_STAGE == 0
     clusterBlocksStage();
@@ -97,15 +74,6 @@ void main() {
             // The edge once for the block's 16 pixels.
             WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
             WedgeFaces faces = wedgeFacesOf(edge);
-            // A manifold edge's two faces (most edges) loaded once, not for each pixel:
-            // wedgeWorldWeight's sum, term by term.
-            // (An edge of one face reads that face twice: no fetch past the edge's faces.)
-            bool manifold = faces.count == 2u;
-            uint second = faces.first + min(faces.count, 2u) - 1u;
-            uint t0 = wedgeFaceTriangle(faces, faces.first);
-            uint t1 = wedgeFaceTriangle(faces, second);
-            vec3 o0 = wedgeFaceOpposite(faces, faces.first);
-            vec3 o1 = wedgeFaceOpposite(faces, second);
             uint silhouette = 0u;
             for (uint lane = 0u; lane < 16u; ++lane) {
                 ivec2 pixel = blockPixel(pair.x, lane);
@@ -114,35 +82,42 @@ void main() {
                 if (receiver == GPU_NO_TRIANGLE) continue;
                 vec3 p = vec3(imageLoad(gPosition, pixel));
                 // The mirror's first test (forEachSilhouette): the edge is a silhouette seen from p.
-                int k = manifold ? (t0 != receiver ? dcsWorldSide(p, edge.v0, edge.v1, o0) : 0) +
-                                       (t1 != receiver ? dcsWorldSide(p, edge.v0, edge.v1, o1) : 0)
-                                 : wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver);
-                if (k != 0) silhouette |= 1u << lane;
+                if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) != 0) silhouette |= 1u << lane;
             }
-            if (silhouette != 0u) {
-                uvec2 room = groupReserve(GROUP_CANDIDATES, uint(bitCount(silhouette)));
-                for (uint i = 0u; silhouette != 0u; ++i) {
-                    uint lane = uint(findLSB(silhouette));
-                    silhouette &= silhouette - 1u;
-                    groupPut(GROUP_CANDIDATES, room, i, uvec2(lsPixelIndex(uvec2(blockPixel(pair.x, lane)), frame.width), pair.y));
-                }
-            }
+            groupAppendPixels(GROUP_CANDIDATES, pair.x, silhouette, pair.y);
         }
         groupFlush();
     }
 #else
     uint entries = listEntries(GPU_CLUSTER_CANDIDATES);
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     vec4 lightBall = lights[pc.light].sphere;
     Light light = lights[pc.light].light;
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     uint boundTests = 0u;
-    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 candidate = pairs[listBase(GPU_CLUSTER_CANDIDATES) + e];
+        ivec2 pixel = ivec2(candidate.x % frame.width, candidate.x / frame.width);
+        uint receiver = imageLoad(gTriangle, pixel).x;
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        uvec4 item = clusterData(clusterItems, candidate.y);
+        WedgeEdge edge = wedgeEdgeAt(item.x);
+        // The mirror's order after the silhouette test: the edge's ball, the edge term, the bound
+        // (its leaf test with p is implied by the edge's ball).
+        if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lightBall))) continue;
+        LightFrame lf = lightFrame(light, p, frame.farDistance);
+        DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
+        if (px.valid == 0.0) continue;
+        vec3 l;
+        vec3 h0;
+        vec3 h1;
+        int kE;
+        if (!wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, kE)) continue;
+        ++boundTests;
+        if (!insideBound(item.y, p)) continue;
         // Past the list's end the entry is dropped; the host sees the count and renders again.
         // (Few candidates are listed: one atomic each costs less than the barriers of groupFlush.)
-        if (dcsCandidateListed(candidate, light, lightBall, sceneDiameter, boundTests))
-            deferredAppend(candidate.x, clusterData(clusterItems, candidate.y).x);
+        deferredAppend(candidate.x, item.x);
     }
     boundTests = subgroupAdd(boundTests);
     if (subgroupElect()) atomicAdd(stats[pc.light].fragments, boundTests);
