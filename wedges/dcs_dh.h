@@ -88,14 +88,43 @@ DH_FUNC int dcsFaceSide(vec3 l, vec3 ho) {
     return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
 }
 
+/// The normal n = (v1 − v0) × (o − v0) of the face with edge v0 → v1 and third vertex o, from the
+/// face's own short differences (dcsWorldSide's plane).
+DH_FUNC vec3 dcsFaceNormal(vec3 v0, vec3 v1, vec3 o) {
+    return cross(v1 - v0, o - v0);
+}
+
+/// sign(n·(v0 − p)): dcsWorldSide with its face normal n (dcsFaceNormal) computed once for many p.
+DH_FUNC int dcsPlaneSide(vec3 n, vec3 v0, vec3 p) {
+    float s = dot(n, v0 - p);
+    return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
+}
+
 /// Side of a face's third vertex o relative to the plane through p and the edge (v0, v1), in world
 /// space: sign(det[v0 − p, v1 − p, o − p]). H is linear in q − p, so this is dcsFaceSide's sign
 /// times sign(det H), the same for every face of the pixel: the world-space sum is zero exactly
 /// when the projected one is. A cheap test of "is the edge a silhouette seen from p" before the
 /// per-pixel projection is built.
+///
+/// Subtracting the first column from the others, det = n·(v0 − p) with n = dcsFaceNormal: the
+/// face's plane evaluated at p. Computed so, the rounding scales with the face's size and p's
+/// distance, not with the cube of the distance (the triple product of differences from p): the
+/// sign is exact unless p lies within dcsSideRounding of the plane, which on a finely tessellated
+/// mesh is what lets whole blocks of pixels be proven off every silhouette (edge_cluster_dh.h).
 DH_FUNC int dcsWorldSide(vec3 p, vec3 v0, vec3 v1, vec3 o) {
-    float s = dot(cross(v0 - p, v1 - p), o - p);
-    return s > 0.0f ? 1 : (s < 0.0f ? -1 : 0);
+    return dcsPlaneSide(dcsFaceNormal(v0, v1, o), v0, p);
+}
+
+/// How far from a face's plane (world units) dcsWorldSide's computed sign may differ from the
+/// exact one, for a point up to `distance` from v0 and the face's conditioning
+/// κ = |v1 − v0|·|o − v0| / |n| (≥ 1; large for a sliver). With unit roundoff u = 2⁻²⁴ and
+/// γ₄ = 4u/(1 − 4u), the rounded differences and cross product put n off by at most
+/// γ₄·√3·|v1 − v0|·|o − v0|, and the rounded difference and dot product the result by at most
+/// γ₄·|n|·|v0 − p| more: γ₄·(√3·κ + 1)·|v0 − p| in distance from the plane. Twice that — a
+/// normal rounded elsewhere (a cluster's cone, another compiler's contraction) is off by as much
+/// again — is below 10⁻⁶·(κ + 1)·distance.
+DH_FUNC float dcsSideRounding(float distance, float conditioning) {
+    return 1e-6f * (conditioning + 1.0f) * distance;
 }
 
 /// Light-side culling of a manifold edge q0 q1 whose faces have third vertices o0 and o1: false

@@ -13,6 +13,7 @@
 
 #include "core/dh.h"
 #include "volumes/light_hull_dh.h"
+#include "wedges/dcs_dh.h"
 
 DH_BEGIN
 
@@ -44,19 +45,17 @@ DH_FUNC bool clusterMayHaveSilhouette(vec4 cluster, vec4 cone, vec4 region, floa
     return true;
 }
 
-/// A cluster (ball, cone, and the rounding allowance of wedges/edge_clusters.h EdgeClusterNode:
-/// inverseNormal, faceReach) against a region of receiver points (its ball, and `hull`, the
-/// lightHull of it): false when no edge of the cluster can add to any point of the region — no
-/// segment from it to the light meets the ball, or no edge can be a silhouette from it. The cone
-/// test's margin grows by the rounding of the per-point orientation test (dcsWorldSide): its
-/// determinant, of differences up to M long, is off by at most about 16·2⁻²⁴·M³ (10⁻⁶·M³), the
-/// margin twice that over |n| in distance from a face's plane.
-DH_FUNC bool clusterMayAdd(vec4 ball, vec4 cone, float inverseNormal, float faceReach, vec4 region,
-                           LightHull hull) {
+/// A cluster (ball, cone, and the conditioning of its faces, wedges/edge_clusters.h
+/// EdgeClusterNode) against a region of receiver points (its ball, and `hull`, the lightHull of
+/// it): false when no edge of the cluster can add to any point of the region — no segment from it
+/// to the light meets the ball, or no edge can be a silhouette from it. The cone test's margin
+/// grows by the rounding of the per-point orientation test (dcs_dh.h dcsSideRounding) for points
+/// as far from an edge's first vertex as the region reaches.
+DH_FUNC bool clusterMayAdd(vec4 ball, vec4 cone, float conditioning, vec4 region, LightHull hull) {
     if (!ballMeetsLightHull(ball, hull)) return false;
     if (cone.w < 0.0f) return true;
-    float m = length(vec3(region) - vec3(ball)) + region.w + faceReach;
-    return clusterMayHaveSilhouette(ball, cone, region, 2e-6f * m * m * m * inverseNormal);
+    float reach = length(vec3(region) - vec3(ball)) + region.w + ball.w;
+    return clusterMayHaveSilhouette(ball, cone, region, dcsSideRounding(reach, conditioning));
 }
 
 DH_END

@@ -1,5 +1,6 @@
 #include "wedges/edge_clusters.h"
 
+#include "wedges/dcs_dh.h"
 #include "wedges/edge_cluster_dh.h"
 
 #include <algorithm>
@@ -31,16 +32,21 @@ struct Builder {
     EdgeClusterTree tree;
     float positionWeight;
 
-    /// The unit deciding normals of item i (n_0/|n_0| and −n_1/|n_1|, turned), or none (false).
-    bool normals(std::uint32_t i, std::array<vec3, 2>& out, float& smallest) const {
+    /// The unit deciding normals of item i (n_0/|n_0| and −n_1/|n_1|, turned), or none (false),
+    /// and the largest conditioning of its faces (dcs_dh.h dcsSideRounding; infinite for a
+    /// degenerate face).
+    bool normals(std::uint32_t i, std::array<vec3, 2>& out, float& conditioning) const {
         const MeshEdge& edge = adj.edges[edges[i]];
         const vec3 q0 = adj.positions[edge.v0], q1 = adj.positions[edge.v1];
-        smallest = std::numeric_limits<float>::max();
+        conditioning = 0.f;
         bool ok = edge.faceCount == 2;
         for (std::uint32_t f = 0; f < edge.faceCount; ++f) {
-            const vec3 n = cross(q1 - q0, adj.positions[adj.faces[edge.firstFace + f].opposite] - q0);
+            const vec3 o = adj.positions[adj.faces[edge.firstFace + f].opposite];
+            const vec3 n = dcsFaceNormal(q0, q1, o);
             const float length = stsv::length(n);
-            smallest = std::min(smallest, length);
+            const float spans = stsv::length(q1 - q0) * stsv::length(o - q0);
+            conditioning = std::max(conditioning,
+                                    length > 0.f ? spans / length : std::numeric_limits<float>::infinity());
             if (!(length > 0.f)) ok = false;
             if (f < 2 && length > 0.f) out[f] = (f == 0 ? 1.f : -1.f) * n / length;
         }
@@ -111,7 +117,7 @@ struct Builder {
         vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
         vec3 sum(0.f);
         bool coned = true;
-        float smallestNormal = std::numeric_limits<float>::max();
+        float conditioning = 0.f;
         std::vector<vec3> normalList;
         for (std::uint32_t k = first; k < first + count; ++k) {
             const std::uint32_t item = tree.items[k];
@@ -119,15 +125,15 @@ struct Builder {
             lo = min(lo, min(adj.positions[edge.v0], adj.positions[edge.v1]));
             hi = max(hi, max(adj.positions[edge.v0], adj.positions[edge.v1]));
             std::array<vec3, 2> n{vec3(0.f), vec3(0.f)};
-            float smallest = 0.f;
-            if (normals(item, n, smallest)) {
+            float own = 0.f;
+            if (normals(item, n, own)) {
                 normalList.push_back(n[0]);
                 normalList.push_back(n[1]);
                 sum += n[0] + n[1];
             } else {
                 coned = false;
             }
-            smallestNormal = std::min(smallestNormal, smallest);
+            conditioning = std::max(conditioning, own);
         }
         // The ball holds every edge's own ball (edgeBall), which the per-point test uses.
         const vec3 centre = 0.5f * (lo + hi);
@@ -138,18 +144,11 @@ struct Builder {
             radius = std::max(radius, stsv::length(vec3(ball) - centre) + ball.w);
         }
         node.ball = vec4(centre, radius * (1.f + 1e-5f));
-        float reach = node.ball.w;
-        for (std::uint32_t k = first; k < first + count; ++k) {
-            const MeshEdge& edge = adj.edges[edges[tree.items[k]]];
-            for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f)
-                reach = std::max(reach, stsv::length(adj.positions[adj.faces[f].opposite] - centre));
-        }
-        node.faceReach = reach * (1.f + 1e-5f);
-        node.inverseNormal =
-            smallestNormal > 0.f ? 1.f / smallestNormal : std::numeric_limits<float>::infinity();
+        // Rounded up: the allowance only widens.
+        node.conditioning = conditioning * (1.f + 1e-5f);
         node.cone = vec4(0.f, 0.f, 1.f, -1.f);
         const float sumLength = stsv::length(sum);
-        if (coned && sumLength > 0.f && std::isfinite(node.inverseNormal)) {
+        if (coned && sumLength > 0.f && std::isfinite(node.conditioning)) {
             const vec3 axis = sum / sumLength;
             float cosHalf = 1.f;
             for (const vec3& n : normalList) cosHalf = std::min(cosHalf, dot(n, axis));
@@ -173,10 +172,7 @@ struct Builder {
         const EdgeClusterNode &na = tree.nodes[a], &nb = tree.nodes[b];
         node.ball = ballAround(na.ball, nb.ball);
         const vec3 centre(node.ball);
-        node.faceReach = std::max(na.faceReach + stsv::length(vec3(na.ball) - centre),
-                                  nb.faceReach + stsv::length(vec3(nb.ball) - centre)) *
-                         (1.f + 1e-5f);
-        node.inverseNormal = std::max(na.inverseNormal, nb.inverseNormal);
+        node.conditioning = std::max(na.conditioning, nb.conditioning);
         node.cone = vec4(0.f, 0.f, 1.f, -1.f);
         node.halfAngle = -1.f;
         if (na.cone.w < 0.f || nb.cone.w < 0.f) return;
@@ -212,8 +208,8 @@ EdgeClusterTree buildEdgeClusters(const EdgeAdjacency& adj, const std::vector<st
                           for (std::uint32_t i = range.begin(); i < range.end(); ++i) {
                               const MeshEdge& edge = adj.edges[edges[i]];
                               std::array<vec3, 2> n{vec3(0.f), vec3(0.f)};
-                              float smallest = 0.f;
-                              const bool coned = b.normals(i, n, smallest);
+                              float conditioning = 0.f;
+                              const bool coned = b.normals(i, n, conditioning);
                               const vec3 mean = n[0] + n[1];
                               const float length = stsv::length(mean);
                               b.points[i] = {0.5f * (adj.positions[edge.v0] + adj.positions[edge.v1]),

@@ -25,10 +25,10 @@ struct EdgeClusterNode {
     /// cone (an edge without two faces or with a degenerate face below, or a cone too wide).
     vec4 cone;
     float halfAngle = -1.f; ///< radians (the cone's, for merging); < 0: no cone
-    /// The rounding allowance of the cone test: 1 / the smallest |n_f| of the faces below, and the
-    /// largest distance from the ball's centre to a vertex of those faces.
-    float inverseNormal = 0.f;
-    float faceReach = 0.f;
+    /// The largest conditioning κ = |v1 − v0|·|o − v0| / |n| of the faces below, which scales
+    /// the rounding allowance of the cone test (dcs_dh.h dcsSideRounding); infinite with a
+    /// degenerate face (then there is no cone).
+    float conditioning = 0.f;
     std::uint32_t first = 0; ///< leaf: into EdgeClusterTree::items; inner: the first child node
     std::uint32_t count = 0; ///< leaf: number of items; inner: 0 (two children, first and first + 1)
 };

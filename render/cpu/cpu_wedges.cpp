@@ -125,7 +125,7 @@ struct Region {
 
 /// A node of the tree against a region (edge_cluster_dh.h clusterMayAdd).
 bool nodeMayAdd(const EdgeClusterNode& node, const Region& region) {
-    return clusterMayAdd(node.ball, node.cone, node.inverseNormal, node.faceReach, region.ball, region.hull);
+    return clusterMayAdd(node.ball, node.cone, node.conditioning, region.ball, region.hull);
 }
 
 /// An edge of a block's leaves, where the visit order matters.

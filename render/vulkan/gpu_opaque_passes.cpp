@@ -85,7 +85,8 @@ std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
         {GPU_BINDING_CARRIER_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_EDGE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
-        {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1}};
+        {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_CENTER_EDGES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1}};
     for (const DescriptorBinding& b : WedgeClusters::bindings()) bindings.push_back(b);
     return bindings;
 }
@@ -112,6 +113,17 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
+    // The counting volume draws the quads of the edges the light's centre may weigh, not of
+    // every edge: on a smooth mesh a few thousand of hundreds of thousands.
+    for (std::size_t light = 0; light < std::max<std::size_t>(scene.lights.size(), 1); ++light) {
+        std::vector<std::uint32_t> list;
+        if (light < scene.lights.size())
+            list = centerSilhouetteEdges(m_adjacency, scene, scene.lights[light]);
+        m_centerEdgeCounts.push_back(static_cast<std::uint32_t>(list.size()));
+        if (list.empty()) list.push_back(0u);
+        centerEdges.push_back(createBuffer(device, std::span<const std::uint32_t>(list), texels));
+        centerEdgeTexels.emplace_back(device, centerEdges.back(), VK_FORMAT_R32_UINT, 4);
+    }
     m_clusters.emplace(device, scene, m_adjacency, m_carriers, usesWedgeClusters(options));
 }
 
@@ -123,6 +135,8 @@ void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t l
     set.writeTexelBuffer(GPU_BINDING_EDGE_TEXELS, edgeTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_EDGE_FACE_TEXELS, faceTexels.handle());
     set.writeStorageImage(GPU_BINDING_CENTER, center);
+    set.writeTexelBuffer(GPU_BINDING_CENTER_EDGES,
+                         centerEdgeTexels[std::min(light, centerEdgeTexels.size() - 1)].handle());
     m_clusters->writeDescriptors(set, light, lists);
 }
 
@@ -130,7 +144,7 @@ CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, Opaqu
                                  FrameResources& frame, const FamilyDescriptors& descriptors,
                                  const std::vector<ShaderDefine>& defines)
     : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
-      m_pointCount(static_cast<uint32_t>(scene.triangleCount() + opaque.edgeCount())) {
+      m_triangleCount(static_cast<uint32_t>(scene.triangleCount())) {
     const ShaderCompiler compiler;
     // Both facings, no writes but the atomics.
     GraphicsPipelineDesc desc = volumePipelineDesc(
@@ -156,7 +170,7 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    vkCmdDraw(cmd, m_pointCount, 1, 0, 0);
+    vkCmdDraw(cmd, m_triangleCount + m_opaque->centerEdgeCount(light), 1, 0, 0);
     endRendering(cmd);
 }
 

@@ -57,6 +57,10 @@ class OpaqueOccluderResources {
     void writeDescriptors(DescriptorSet& set, std::size_t light, const ClusterLists& lists) const;
 
     std::size_t edgeCount() const { return m_edgeCount; }
+    /// The edges whose counting-volume quads light `light`'s centre may weigh (centerEdges).
+    std::uint32_t centerEdgeCount(std::size_t light) const {
+        return light < m_centerEdgeCounts.size() ? m_centerEdgeCounts[light] : 0u;
+    }
     WedgeClusters& clusters() { return *m_clusters; }
     const WedgeClusters& clusters() const { return *m_clusters; }
     std::size_t carrierCount() const { return m_carrierCount; }
@@ -68,10 +72,14 @@ class OpaqueOccluderResources {
     BufferView faceTexels;
     BufferView carrierTexels;
     Image center; ///< r32i z-fail layer count D(r) at the light centre
+    /// Per light, the edges whose counting-volume quads may have a weight (r32ui texels).
+    std::vector<Buffer> centerEdges;
+    std::vector<BufferView> centerEdgeTexels;
 
   private:
     std::size_t m_edgeCount = 0;
     std::size_t m_carrierCount = 0;
+    std::vector<std::uint32_t> m_centerEdgeCounts;
     EdgeAdjacency m_adjacency;
     std::vector<std::uint32_t> m_carriers;
     std::optional<WedgeClusters> m_clusters;
@@ -93,7 +101,7 @@ class CenterCountPass final : public GpuPass {
     FrameResources* m_frame;
     const FamilyDescriptors* m_descriptors;
     std::uint32_t
-        m_pointCount; ///< primitives of dcs_center.geom: the triangles (caps), then the edges (quads)
+        m_triangleCount; ///< dcs_center.geom's primitives: the triangles (caps), then the edges (quads)
     Pipeline m_pipeline;
 };
 

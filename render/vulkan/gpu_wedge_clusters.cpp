@@ -39,8 +39,7 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Edg
         for (const EdgeClusterNode& node : tree.nodes) {
             nodes.push_back(texelBits(node.ball));
             nodes.push_back(texelBits(node.cone));
-            nodes.push_back(uvec4(node.first, node.count, std::bit_cast<uint>(node.inverseNormal),
-                                  std::bit_cast<uint>(node.faceReach)));
+            nodes.push_back(uvec4(node.first, node.count, std::bit_cast<uint>(node.conditioning), 0u));
         }
         std::vector<uvec4> items(tree.items.size() * GPU_CLUSTER_TEXELS);
         parallelForChunks(tree.items.size(), [&](std::size_t begin, std::size_t end) {
@@ -50,8 +49,7 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Edg
                 uvec4* t = items.data() + k * GPU_CLUSTER_TEXELS;
                 t[0] = texelBits(own.ball);
                 t[1] = texelBits(own.cone);
-                t[2] = uvec4(sil.edge(item), sil.carrier(item), std::bit_cast<uint>(own.inverseNormal),
-                             std::bit_cast<uint>(own.faceReach));
+                t[2] = uvec4(sil.edge(item), sil.carrier(item), std::bit_cast<uint>(own.conditioning), 0u);
             }
         });
         std::vector<uvec4> bounds(sil.carrierCount() * GPU_CLUSTER_BOUND_TEXELS);

@@ -23,12 +23,15 @@ DH_CONST uint GPU_BINDING_CENTER =
 
 /// A light's potential silhouettes for the cluster walk (dcs_clusters.comp; render/vulkan/
 /// gpu_wedge_clusters.cpp uploads them per light, wedges/silhouette_edges.h): the tree's nodes
-/// (data: first, count, inverseNormal, faceReach) and its items, each edge as a cluster of its
-/// own (edge_clusters.h edgeCluster; data: adjacency edge, carrier, inverseNormal, faceReach),
+/// (data: first, count, conditioning, 0) and its items, each edge as a cluster of its
+/// own (edge_clusters.h edgeCluster; data: adjacency edge, carrier, conditioning, 0),
 /// bound at the shared GPU_BINDING_CLUSTER_NODES and _ITEMS (gpu_volumes_dh.h); the carriers'
 /// bounds, GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1, light
 /// planes), the two volumes' planes, the light planes).
 DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 6u;
+/// r32ui texels: the edges whose counting-volume quads dcs_center.geom draws for the set's light
+/// (wedges/adjacency.h centerSilhouetteEdges).
+DH_CONST uint GPU_BINDING_CENTER_EDGES = GPU_BINDING_EDGES + 7u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
 
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges

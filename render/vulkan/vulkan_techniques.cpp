@@ -324,9 +324,12 @@ class WedgeTechnique final : public VulkanTechnique {
                 wedge["listed_fragments"] = s.listed;
                 wedge["samples_tested"] = n * s.inside;
             }
-            // The counting volume at the light centre (dcs_center.frag): its fragments and the faces
-            // behind p that added to D(r). The CPU casts rays for D(r): it has no fragments.
-            wedge["center"] = {{"fragments", s.centerFragments}, {"counted_fragments", s.centerCounted}};
+            // The counting volume at the light centre (dcs_center.geom, .frag): the edges whose
+            // quads it draws, its fragments and the faces behind p that added to D(r). The CPU
+            // casts rays for D(r): it has none of these.
+            wedge["center"] = {{"edges", m_opaque.centerEdgeCount(l)},
+                               {"fragments", s.centerFragments},
+                               {"counted_fragments", s.centerCounted}};
             wedges.push_back(wedge);
         }
         stats["wedges"] = wedges;

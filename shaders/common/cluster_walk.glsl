@@ -172,8 +172,7 @@ uvec4 clusterData(usamplerBuffer table, uint index) { return texelFetch(table, i
 /// light-hull test of its ball alone).
 bool tableMayAdd(usamplerBuffer table, uint index, vec4 region, LightHull hull) {
     uvec4 data = clusterData(table, index);
-    return clusterMayAdd(clusterBall(table, index), clusterCone(table, index), uintBitsToFloat(data.z),
-                         uintBitsToFloat(data.w), region, hull);
+    return clusterMayAdd(clusterBall(table, index), clusterCone(table, index), uintBitsToFloat(data.z), region, hull);
 }
 
 /// Pixel `lane` (0 … 15, row by row) of block `block`.

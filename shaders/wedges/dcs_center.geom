@@ -8,12 +8,15 @@
 // is emitted with its outward normal counter-clockwise, so dcs_center.frag adds ±w by facing.
 //
 // Primitive ids (a point list, no vertex inputs): [0, T) scene triangles (caps; non-opaque ones
-// emit nothing), [T, T + E) welded edges (quads).
+// emit nothing), [T, T + E) the welded edges whose quads may have a weight (centerEdges: the
+// host's list of the silhouettes seen from r and near-ties; any other edge's quads cancel).
 #extension GL_GOOGLE_include_directive : require
 #include "wedges/wedge_bindings.glsl"
 
 layout(points) in;
 layout(triangle_strip, max_vertices = 6) out;
+
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CENTER_EDGES) uniform usamplerBuffer centerEdges;
 
 layout(location = 0) flat out int outWeight;       ///< added as +w on back faces, −w on front faces
 layout(location = 1) flat out uint outSkipTriangle; ///< near cap of this triangle: not for its own points
@@ -86,7 +89,8 @@ void main() {
         }
         return;
     }
-    uint e = id - triangleCount;
+    if (id - triangleCount >= uint(textureSize(centerEdges))) return;
+    uint e = texelFetch(centerEdges, int(id - triangleCount)).x;
     if (e >= uint(edges.length())) return;
     GpuEdge edge = edges[e];
     // m = u × (v1 − v0), u the extrusion direction: the normal of the plane through r and the

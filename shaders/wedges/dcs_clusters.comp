@@ -57,6 +57,19 @@ bool insideBound(uint c, vec3 p) {
     return stsvPointInLightPlanes(lp, p);
 }
 
+/// The visible point p and its triangle of pixel `lane` of block `block`; false where the pixel
+/// lies outside the frame or sees no surface.
+bool blockPoint(uint block, uint lane, out vec3 p, out uint receiver) {
+    ivec2 pixel = blockPixel(block, lane);
+    p = vec3(0.0);
+    receiver = GPU_NO_TRIANGLE;
+    if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) return false;
+    receiver = imageLoad(gTriangle, pixel).x;
+    if (receiver == GPU_NO_TRIANGLE) return false;
+    p = vec3(imageLoad(gPosition, pixel));
+    return true;
+}
+
 void main() {
 #if CLUSTER_STAGE == 0
     clusterBlocksStage();
@@ -75,14 +88,28 @@ void main() {
             WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
             WedgeFaces faces = wedgeFacesOf(edge);
             uint silhouette = 0u;
-            for (uint lane = 0u; lane < 16u; ++lane) {
-                ivec2 pixel = blockPixel(pair.x, lane);
-                if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
-                uint receiver = imageLoad(gTriangle, pixel).x;
-                if (receiver == GPU_NO_TRIANGLE) continue;
-                vec3 p = vec3(imageLoad(gPosition, pixel));
-                // The mirror's first test (forEachSilhouette): the edge is a silhouette seen from p.
-                if (wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) != 0) silhouette |= 1u << lane;
+            vec3 p;
+            uint receiver;
+            if (faces.count <= 2u) {
+                // The faces' normals once for the 16 pixels: wedgeWorldWeight's terms bit for bit
+                // (dcsWorldSide is dcsPlaneSide of dcsFaceNormal; a missing second face, normal
+                // 0, adds 0).
+                uint t0 = wedgeFaceTriangle(faces, faces.first);
+                vec3 n0 = dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first));
+                bool second = faces.count == 2u;
+                uint t1 = second ? wedgeFaceTriangle(faces, faces.first + 1u) : GPU_NO_TRIANGLE;
+                vec3 n1 = second ? dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first + 1u)) : vec3(0.0);
+                for (uint lane = 0u; lane < 16u; ++lane) {
+                    if (!blockPoint(pair.x, lane, p, receiver)) continue;
+                    // The mirror's first test (forEachSilhouette): the edge is a silhouette seen from p.
+                    int k = (t0 != receiver ? dcsPlaneSide(n0, edge.v0, p) : 0) +
+                            (t1 != receiver ? dcsPlaneSide(n1, edge.v0, p) : 0);
+                    if (k != 0) silhouette |= 1u << lane;
+                }
+            } else {
+                for (uint lane = 0u; lane < 16u; ++lane)
+                    if (blockPoint(pair.x, lane, p, receiver) && wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) != 0)
+                        silhouette |= 1u << lane;
             }
             groupAppendPixels(GROUP_CANDIDATES, pair.x, silhouette, pair.y);
         }

@@ -231,9 +231,9 @@ TEST(EdgeClusterTests, ALeafTheSilhouetteTestRejectsHoldsNoSilhouetteFromAnyPoin
         for (const EdgeClusterNode& node : b.tree.nodes) {
             if (node.count == 0) continue;
             // The rounding allowance the mirror passes (render/cpu/cpu_wedges.cpp nodeMayAdd).
-            const float m = length(vec3(region) - vec3(node.ball)) + region.w + node.faceReach;
+            const float reach = length(vec3(region) - vec3(node.ball)) + region.w + node.ball.w;
             if (clusterMayHaveSilhouette(node.ball, node.cone, region,
-                                         2e-6f * m * m * m * node.inverseNormal))
+                                         dcsSideRounding(reach, node.conditioning)))
                 continue;
             ++rejections;
             for (int i = 0; i < 8; ++i) {
