@@ -180,6 +180,22 @@ ivec2 blockPixel(uint block, uint lane) {
     uint across = blocksAcross();
     return ivec2(4u * (block % across) + lane % 4u, 4u * (block / across) + lane / 4u);
 }
+/// Appends (pixel index, item) to the list of count slot `slot` for each pixel of block `block`
+/// whose bit is set in `lanes` (bit i: blockPixel(block, i)), with one atomic, as appendPair does
+/// one: for a pass whose invocations append to one list and seldom (DCS's pixels), where the
+/// barriers of groupFlush at every step cost more than the atomics.
+void appendPixels(uint slot, uint block, uint lanes, uint item) {
+    if (lanes == 0u) return;
+    uint n = uint(bitCount(lanes));
+    uint at = atomicAdd(counts[slot], n);
+    if (at + n > listCapacity()) atomicMax(stats[pc.light].walk.pairsNeeded, at + n);
+    for (uint i = 0u; lanes != 0u; ++i) {
+        uint lane = uint(findLSB(lanes));
+        lanes &= lanes - 1u;
+        if (at + i < listCapacity())
+            pairs[listBase(slot) + at + i] = uvec2(lsPixelIndex(uvec2(blockPixel(block, lane)), frame.width), item);
+    }
+}
 /// Appends (pixel index, item) to target list `target` for each pixel of block `block` whose bit
 /// is set in `lanes` (bit i: blockPixel(block, i)), with one reservation.
 void groupAppendPixels(uint target, uint block, uint lanes, uint item) {

@@ -6,12 +6,12 @@
 //     edges are tested as clusters of their own, and those that may add to the block are kept
 //     as (block, item) pairs;
 //   3 (pixels): an invocation a kept pair, for the block's 16 pixels: an edge that is a
-//     silhouette seen from the pixel's p (most are not) makes a (pixel, item) candidate;
-//   4 (candidates): a candidate whose edge's ball meets the segments from p to the light, whose
-//     edge clipped between p and the light is not empty and whose carrier's bound holds p is
-//     listed for wedge_samples.comp, which adds k_e·[r → x crosses the edge] to each light sample
-//     x's counter. (Lavapipe runs a batch's instructions for all its lanes: the candidates'
-//     tests run in full batches.)
+//     silhouette seen from the pixel's p (most are not) and whose ball meets the segments from p
+//     to the light makes a (pixel, item) candidate, appended with one atomic a pair;
+//   4 (candidates): a candidate whose edge clipped between p and the light is not empty and
+//     whose carrier's bound holds p is listed for wedge_samples.comp, which adds
+//     k_e·[r → x crosses the edge] to each light sample x's counter. (Lavapipe runs a batch's
+//     instructions for all its lanes: the candidates' tests run in full batches.)
 // The pairs listed are those of the wedge draw's fragments that pass every test, without a volume
 // or a fragment; the culling tests are conservative, so they change no counter.
 #extension GL_GOOGLE_include_directive : require
@@ -79,46 +79,45 @@ void main() {
     clusterWalkStage();
 #elif CLUSTER_STAGE == 3
     uint entries = listEntries(GPU_CLUSTER_KEPT);
-    groupBegin();
-    CLUSTER_FOR_EACH_STEP(first, entries) {
-        uint e = first + gl_LocalInvocationID.x;
-        if (e < entries) {
-            uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
-            // The edge once for the block's 16 pixels.
-            WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
-            WedgeFaces faces = wedgeFacesOf(edge);
-            uint silhouette = 0u;
-            vec3 p;
-            uint receiver;
-            if (faces.count <= 2u) {
-                // The faces' normals once for the 16 pixels: wedgeWorldWeight's terms bit for bit
-                // (dcsWorldSide is dcsPlaneSide of dcsFaceNormal; a missing second face, normal
-                // 0, adds 0).
-                uint t0 = wedgeFaceTriangle(faces, faces.first);
-                vec3 n0 = dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first));
-                bool second = faces.count == 2u;
-                uint t1 = second ? wedgeFaceTriangle(faces, faces.first + 1u) : GPU_NO_TRIANGLE;
-                vec3 n1 = second ? dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first + 1u)) : vec3(0.0);
-                for (uint lane = 0u; lane < 16u; ++lane) {
-                    if (!blockPoint(pair.x, lane, p, receiver)) continue;
-                    // The mirror's first test (forEachSilhouette): the edge is a silhouette seen from p.
-                    int k = (t0 != receiver ? dcsPlaneSide(n0, edge.v0, p) : 0) +
-                            (t1 != receiver ? dcsPlaneSide(n1, edge.v0, p) : 0);
-                    if (k != 0) silhouette |= 1u << lane;
-                }
-            } else {
-                for (uint lane = 0u; lane < 16u; ++lane)
-                    if (blockPoint(pair.x, lane, p, receiver) && wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) != 0)
-                        silhouette |= 1u << lane;
+    uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
+        uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
+        // The edge once for the block's 16 pixels.
+        WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
+        WedgeFaces faces = wedgeFacesOf(edge);
+        uint silhouette = 0u;
+        vec3 p;
+        uint receiver;
+        // The mirror's first two tests (forEachSilhouette): the edge is a silhouette seen from p,
+        // its ball meets the segments from p to the light.
+        vec4 ball = edgeBall(edge.v0, edge.v1);
+        vec4 lightBall = lights[pc.light].sphere;
+        if (faces.count <= 2u) {
+            // The faces' normals once for the 16 pixels: wedgeWorldWeight's terms bit for bit
+            // (dcsWorldSide is dcsPlaneSide of dcsFaceNormal; a missing second face, normal
+            // 0, adds 0).
+            uint t0 = wedgeFaceTriangle(faces, faces.first);
+            vec3 n0 = dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first));
+            bool second = faces.count == 2u;
+            uint t1 = second ? wedgeFaceTriangle(faces, faces.first + 1u) : GPU_NO_TRIANGLE;
+            vec3 n1 = second ? dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first + 1u)) : vec3(0.0);
+            for (uint lane = 0u; lane < 16u; ++lane) {
+                if (!blockPoint(pair.x, lane, p, receiver)) continue;
+                int k = (t0 != receiver ? dcsPlaneSide(n0, edge.v0, p) : 0) +
+                        (t1 != receiver ? dcsPlaneSide(n1, edge.v0, p) : 0);
+                if (k != 0 && ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall))) silhouette |= 1u << lane;
             }
-            groupAppendPixels(GROUP_CANDIDATES, pair.x, silhouette, pair.y);
+        } else {
+            for (uint lane = 0u; lane < 16u; ++lane)
+                if (blockPoint(pair.x, lane, p, receiver) && wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) != 0 &&
+                    ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall)))
+                    silhouette |= 1u << lane;
         }
-        groupFlush();
+        appendPixels(GPU_CLUSTER_CANDIDATES, pair.x, silhouette, pair.y);
     }
 #else
     uint entries = listEntries(GPU_CLUSTER_CANDIDATES);
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    vec4 lightBall = lights[pc.light].sphere;
     Light light = lights[pc.light].light;
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     uint boundTests = 0u;
@@ -129,9 +128,8 @@ void main() {
         vec3 p = vec3(imageLoad(gPosition, pixel));
         uvec4 item = clusterData(clusterItems, candidate.y);
         WedgeEdge edge = wedgeEdgeAt(item.x);
-        // The mirror's order after the silhouette test: the edge's ball, the edge term, the bound
-        // (its leaf test with p is implied by the edge's ball).
-        if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lightBall))) continue;
+        // The mirror's order after the silhouette test and the edge's ball (stage 3): the edge
+        // term, the bound (its leaf test with p is implied by the edge's ball).
         LightFrame lf = lightFrame(light, p, frame.farDistance);
         DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, shadowTMin(p, lf.center, sceneDiameter));
         if (px.valid == 0.0) continue;

@@ -354,9 +354,9 @@ TEST_F(GpuWedges, TheClusterWalkListsThePairsTheWedgeDrawAccepts) {
     // DCS with the auto extrusion walks the light's cluster tree per 4 × 4 block (dcs_clusters.comp)
     // instead of drawing the wedge hulls: its culling is conservative and its per-pixel tests are
     // the wedge fragment's, so the counters and the silhouette pairs are the hull draw's. It lists
-    // only those pairs (the draw lists every fragment whose edge is a silhouette seen from p). The
-    // torus knot needs more pairs than the lists start with (64 a block): they grow, and the frame
-    // is rendered again, identical in the next frame.
+    // only those pairs (the draw lists every fragment whose edge is a silhouette seen from p),
+    // identical in the next frame. A finer knot needs more pairs than the lists start with (64 a
+    // block): they grow, and the frame is rendered again.
     Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
     Scene sphere = makeMeshScene(test::makeSphereMesh(32, 16), "sphere");
     sphere.lights[0] = makeSphereLight(sphere.lights[0].position, 0.3f, sphere.lights[0].radiance);
@@ -384,8 +384,9 @@ TEST_F(GpuWedges, TheClusterWalkListsThePairsTheWedgeDrawAccepts) {
         EXPECT_EQ(walk.stats["passes"].contains("light0/dcs_clusters"), true) << name;
         EXPECT_EQ(walk.stats["passes"].contains("light0/dcs_wedges"), false) << name;
     }
-    // The knot's lists grew past their start (64 pairs a block).
-    VulkanRenderer renderer(knot, wedgeOptions(Method::Dcs, 96, 72, 32), {&device()});
+    // A finer knot's lists grow past their start (64 pairs a block).
+    const Scene fine = makeMeshScene(test::makeTorusKnotMesh(1024, 16, 0.12f), "fine torus knot");
+    VulkanRenderer renderer(fine, wedgeOptions(Method::Dcs, 96, 72, 32), {&device()});
     const Frame frame = renderer.render();
     EXPECT_GT(frame.stats["wedges"][0]["list_capacity"].get<std::uint64_t>(), std::uint64_t(24 * 18 * 64));
     EXPECT_EQ(frame.stats["wedges"][0]["parts"], 1);
