@@ -53,8 +53,9 @@ SilhouetteEdges::SilhouetteEdges(const Scene& scene, const EdgeAdjacency& adj,
             for (uint f = 0; f < 2; ++f) {
                 const bool has = f < edge.faceCount;
                 const EdgeFace& face = adj.faces[edge.firstFace + (has ? f : 0)];
-                e.faces[f] = {has ? adj.positions[face.opposite] : vec3(0.f),
-                              has ? face.triangle : NO_TRIANGLE};
+                const vec3 opposite = has ? adj.positions[face.opposite] : vec3(0.f);
+                e.faces[f] = {opposite, has ? face.triangle : NO_TRIANGLE,
+                              has ? dcsFaceNormal(e.v0, e.v1, opposite) : vec3(0.f)};
             }
         }
     });
