@@ -131,7 +131,8 @@ std::vector<std::uint32_t> centerSilhouetteEdges(const EdgeAdjacency& adj, const
                          std::abs(e1.x * e2.y) + std::abs(e1.y * e2.x));
         const float scale = dot(spans, abs(away));
         facing[f] = std::int8_t(value > 0.f ? 1 : (value < 0.f ? -1 : 0));
-        tie[f] = !(std::abs(value) > 1e-5f * scale);
+        // (A device that flushes subnormals to zero could make a tiny value 0: a tie too.)
+        tie[f] = !(std::abs(value) > std::max(1e-5f * scale, 1e-30f));
     }
     std::vector<std::uint32_t> out;
     for (std::uint32_t e = 0; e < adj.edges.size(); ++e) {

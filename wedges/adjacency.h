@@ -1,7 +1,9 @@
 // Edge adjacency of opaque meshes for silhouette extraction (DESIGN §4.5): vertices welded by
 // exact position, then every undirected edge with all the triangles that use it — one (open
-// edge), two (manifold) or more (non-manifold). Winding is not needed downstream: the DCS and
-// PW math uses the side of each face's third vertex, so inconsistently oriented input works.
+// edge), two (manifold) or more (non-manifold). The DCS and PW math uses the side of each face's
+// third vertex, so inconsistently oriented input works; the counting volume at the light centre
+// (centerSilhouetteEdges) uses each face's winding with the direction it runs the edge
+// (EdgeFace::forward), which cancel out the same way.
 #pragma once
 
 #include "core/dh.h"

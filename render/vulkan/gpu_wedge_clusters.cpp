@@ -11,8 +11,9 @@
 
 namespace stsv {
 
-// A walk's invocation appends up to a leaf's items, or 16 blocks or pixels, between two flushes
-// of its workgroup's shared list (common/cluster_walk.glsl groupAppend).
+// A walk's invocation appends up to a leaf's items or a tile's 16 blocks between two flushes of
+// its workgroup's shared list (common/cluster_walk.glsl groupAppend; the pixel stage appends
+// without it).
 static_assert(EDGE_CLUSTER_LEAF * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES &&
               16 * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES);
 

@@ -4,7 +4,8 @@
 // without bound (lavapipe ends a shader's loops after 65 535 iterations in all). The family's shader (dcs_clusters.comp, stsv_clusters.comp) declares its
 // stats buffer `stats` (GpuClusterCounts `walk` second), defines clusterKeep — what becomes of a
 // leaf's item that may add to a block, with groupAppend — and its own pixel stages, which
-// append with groupAppend/groupReserve between groupFlush calls too, and calls these:
+// append with groupAppend/groupReserve between groupFlush calls too, or with appendPixels (one
+// atomic an input), and calls these:
 //   clusterBlocksStage (CLUSTER_STAGE 0): each tile of a part of them (all of them unless the
 //     lists needed more than a buffer holds: the passes run once per part) and each of its
 //     blocks get the box of their visible points, and the tile the pair (tile, root) for level 0;

@@ -93,9 +93,9 @@ void main() {
         vec4 ball = edgeBall(edge.v0, edge.v1);
         vec4 lightBall = lights[pc.light].sphere;
         if (faces.count <= 2u) {
-            // The faces' normals once for the 16 pixels: wedgeWorldWeight's terms bit for bit
-            // (dcsWorldSide is dcsPlaneSide of dcsFaceNormal; a missing second face, normal
-            // 0, adds 0).
+            // The faces' normals once for the 16 pixels: wedgeWorldWeight's terms in the same
+            // expressions (dcsWorldSide is dcsPlaneSide of dcsFaceNormal; a missing second face,
+            // normal 0, adds 0).
             uint t0 = wedgeFaceTriangle(faces, faces.first);
             vec3 n0 = dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first));
             bool second = faces.count == 2u;

@@ -384,12 +384,16 @@ TEST_F(GpuWedges, TheClusterWalkListsThePairsTheWedgeDrawAccepts) {
         EXPECT_EQ(walk.stats["passes"].contains("light0/dcs_clusters"), true) << name;
         EXPECT_EQ(walk.stats["passes"].contains("light0/dcs_wedges"), false) << name;
     }
-    // A finer knot's lists grow past their start (64 pairs a block).
+    // A finer knot's lists grow past their start (64 pairs a block); the frame rendered again
+    // has the hull draw's counters.
     const Scene fine = makeMeshScene(test::makeTorusKnotMesh(1024, 16, 0.12f), "fine torus knot");
-    VulkanRenderer renderer(fine, wedgeOptions(Method::Dcs, 96, 72, 32), {&device()});
+    const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+    VulkanRenderer renderer(fine, o, {&device()});
     const Frame frame = renderer.render();
     EXPECT_GT(frame.stats["wedges"][0]["list_capacity"].get<std::uint64_t>(), std::uint64_t(24 * 18 * 64));
     EXPECT_EQ(frame.stats["wedges"][0]["parts"], 1);
+    EXPECT_EQ(frame.lightSamples[0].counters(),
+              renderGpu(fine, o, ExtrusionStage::Hull).lightSamples[0].counters());
     EXPECT_EQ(renderer.device().validationMessageCount(), 0u);
 }
 
