@@ -115,6 +115,13 @@ DH_FUNC int dcsWorldSide(vec3 p, vec3 v0, vec3 v1, vec3 o) {
     return dcsPlaneSide(dcsFaceNormal(v0, v1, o), v0, p);
 }
 
+/// The world weight of an edge of one or two faces (wedge_fragment_dh.h wedgeWorldWeight, term
+/// for term) from their normals n0, n1 (dcsFaceNormal, computed once for many p; a missing second
+/// face has normal 0) and scene triangles t0, t1, the receiver's own face left out.
+DH_FUNC int dcsTwoFaceWeight(vec3 p, vec3 v0, vec3 n0, uint t0, vec3 n1, uint t1, uint receiver) {
+    return (t0 != receiver ? dcsPlaneSide(n0, v0, p) : 0) + (t1 != receiver ? dcsPlaneSide(n1, v0, p) : 0);
+}
+
 /// How far from a face's plane (world units) dcsWorldSide's computed sign may differ from the
 /// exact one, for a point up to `distance` from v0 and the face's conditioning
 /// κ = |v1 − v0|·|o − v0| / |n| (≥ 1; large for a sliver). With unit roundoff u = 2⁻²⁴ and

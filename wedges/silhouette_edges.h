@@ -24,7 +24,7 @@ namespace stsv {
 struct PackedFace {
     vec3 opposite; ///< the face's vertex opposite the edge
     uint triangle; ///< scene triangle
-    vec3 normal;   ///< dcsFaceNormal(v0, v1, opposite): the plane of the per-point test
+    vec3 normal;   ///< dcsFaceNormal(v0, v1, opposite) (0 for an unused face): the per-point test's plane
 };
 
 /// The data access of wedges/wedge_fragment_dh.h on the CPU: the edge's faces copied next to it
@@ -61,15 +61,6 @@ struct PackedEdge {
     std::uint32_t faceCount;
     std::uint32_t firstFace; ///< into the adjacency's faces
     PackedFace faces[2];     ///< the first two (unused ones: NO_TRIANGLE)
-
-    /// For an edge of one or two faces, wedgeWorldWeight (wedges/wedge_fragment_dh.h) of the edge
-    /// seen from p, bit for bit, with the faces' normals computed once.
-    int worldWeight(vec3 p, uint receiver) const {
-        int k = 0;
-        for (uint f = 0; f < faceCount; ++f)
-            if (faces[f].triangle != receiver) k += dcsPlaneSide(faces[f].normal, v0, p);
-        return k;
-    }
 
     WedgeFaces wedgeFaces(const EdgeAdjacency& adj) const {
         return faceCount <= 2 ? WedgeFaces{&adj, faces, 0u, faceCount}

@@ -169,8 +169,10 @@ void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, B
         const PackedEdge& edge = sil.packed(position);
         const WedgeFaces faces = edge.wedgeFaces(adj);
         const vec3 v0 = edge.v0, v1 = edge.v1;
-        const int weight = edge.faceCount <= 2 ? edge.worldWeight(px.p, receiver)
-                                               : wedgeWorldWeight(px.p, v0, v1, faces, receiver);
+        const int weight = edge.faceCount <= 2
+                               ? dcsTwoFaceWeight(px.p, v0, edge.faces[0].normal, edge.faces[0].triangle,
+                                                  edge.faces[1].normal, edge.faces[1].triangle, receiver)
+                               : wedgeWorldWeight(px.p, v0, v1, faces, receiver);
         if (weight == 0) return;
         if (!ballMeetsLightHull(edgeBall(v0, v1), point.hull)) return;
         vec3 l, h0, h1;

@@ -181,6 +181,8 @@ ivec2 blockPixel(uint block, uint lane) {
     uint across = blocksAcross();
     return ivec2(4u * (block % across) + lane % 4u, 4u * (block / across) + lane / 4u);
 }
+/// The light-sample buffer's index of pixel `lane` of block `block`.
+uint blockPixelIndex(uint block, uint lane) { return lsPixelIndex(uvec2(blockPixel(block, lane)), frame.width); }
 /// Appends (pixel index, item) to the list of count slot `slot` for each pixel of block `block`
 /// whose bit is set in `lanes` (bit i: blockPixel(block, i)), with one atomic, as appendPair does
 /// one: for a pass whose invocations append to one list and seldom (DCS's pixels), where the
@@ -194,7 +196,7 @@ void appendPixels(uint slot, uint block, uint lanes, uint item) {
         uint lane = uint(findLSB(lanes));
         lanes &= lanes - 1u;
         if (at + i < listCapacity())
-            pairs[listBase(slot) + at + i] = uvec2(lsPixelIndex(uvec2(blockPixel(block, lane)), frame.width), item);
+            pairs[listBase(slot) + at + i] = uvec2(blockPixelIndex(block, lane), item);
     }
 }
 /// Appends (pixel index, item) to target list `target` for each pixel of block `block` whose bit
@@ -205,7 +207,7 @@ void groupAppendPixels(uint target, uint block, uint lanes, uint item) {
     for (uint i = 0u; lanes != 0u; ++i) {
         uint lane = uint(findLSB(lanes));
         lanes &= lanes - 1u;
-        groupPut(target, room, i, uvec2(lsPixelIndex(uvec2(blockPixel(block, lane)), frame.width), item));
+        groupPut(target, room, i, uvec2(blockPixelIndex(block, lane), item));
     }
 }
 /// The box of visible points (lo.x > hi.x: it sees none) of a block, or of a tile

@@ -93,9 +93,7 @@ void main() {
         vec4 ball = edgeBall(edge.v0, edge.v1);
         vec4 lightBall = lights[pc.light].sphere;
         if (faces.count <= 2u) {
-            // The faces' normals once for the 16 pixels: wedgeWorldWeight's terms in the same
-            // expressions (dcsWorldSide is dcsPlaneSide of dcsFaceNormal; a missing second face,
-            // normal 0, adds 0).
+            // The faces' normals once for the 16 pixels (dcsTwoFaceWeight).
             uint t0 = wedgeFaceTriangle(faces, faces.first);
             vec3 n0 = dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first));
             bool second = faces.count == 2u;
@@ -103,9 +101,7 @@ void main() {
             vec3 n1 = second ? dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first + 1u)) : vec3(0.0);
             for (uint lane = 0u; lane < 16u; ++lane) {
                 if (!blockPoint(pair.x, lane, p, receiver)) continue;
-                int k = (t0 != receiver ? dcsPlaneSide(n0, edge.v0, p) : 0) +
-                        (t1 != receiver ? dcsPlaneSide(n1, edge.v0, p) : 0);
-                if (k != 0 && ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall))) silhouette |= 1u << lane;
+                if (dcsTwoFaceWeight(p, edge.v0, n0, t0, n1, t1, receiver) != 0 && ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall))) silhouette |= 1u << lane;
             }
         } else {
             for (uint lane = 0u; lane < 16u; ++lane)
