@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -26,8 +27,8 @@ struct EdgePoint {
 
 struct Builder {
     const EdgeAdjacency& adj;
-    const std::vector<std::uint32_t>& edges;
-    const std::vector<vec3>& turn;
+    std::span<const std::uint32_t> edges;
+    std::span<const vec3> turn;
     std::vector<EdgePoint> points;
     EdgeClusterTree tree;
     float positionWeight;
@@ -111,6 +112,12 @@ struct Builder {
     }
 
     void makeLeaf(std::uint32_t index, std::uint32_t first, std::uint32_t count) {
+        tree.nodes[index] = leaf(tree.items, first, count);
+    }
+
+    /// The leaf over items[first … first + count − 1] (count ≤ EDGE_CLUSTER_LEAF).
+    EdgeClusterNode leaf(std::span<const std::uint32_t> items, std::uint32_t first,
+                         std::uint32_t count) const {
         EdgeClusterNode node;
         node.first = first;
         node.count = count;
@@ -118,17 +125,18 @@ struct Builder {
         vec3 sum(0.f);
         bool coned = true;
         float conditioning = 0.f;
-        std::vector<vec3> normalList;
+        std::array<vec3, 2 * EDGE_CLUSTER_LEAF> normalList;
+        std::size_t normalCount = 0;
         for (std::uint32_t k = first; k < first + count; ++k) {
-            const std::uint32_t item = tree.items[k];
+            const std::uint32_t item = items[k];
             const MeshEdge& edge = adj.edges[edges[item]];
             lo = min(lo, min(adj.positions[edge.v0], adj.positions[edge.v1]));
             hi = max(hi, max(adj.positions[edge.v0], adj.positions[edge.v1]));
             std::array<vec3, 2> n{vec3(0.f), vec3(0.f)};
             float own = 0.f;
             if (normals(item, n, own)) {
-                normalList.push_back(n[0]);
-                normalList.push_back(n[1]);
+                normalList[normalCount++] = n[0];
+                normalList[normalCount++] = n[1];
                 sum += n[0] + n[1];
             } else {
                 coned = false;
@@ -139,7 +147,7 @@ struct Builder {
         const vec3 centre = 0.5f * (lo + hi);
         float radius = 0.f;
         for (std::uint32_t k = first; k < first + count; ++k) {
-            const MeshEdge& edge = adj.edges[edges[tree.items[k]]];
+            const MeshEdge& edge = adj.edges[edges[items[k]]];
             const vec4 ball = edgeBall(adj.positions[edge.v0], adj.positions[edge.v1]);
             radius = std::max(radius, stsv::length(vec3(ball) - centre) + ball.w);
         }
@@ -151,10 +159,11 @@ struct Builder {
         if (coned && sumLength > 0.f && std::isfinite(node.conditioning)) {
             const vec3 axis = sum / sumLength;
             float cosHalf = 1.f;
-            for (const vec3& n : normalList) cosHalf = std::min(cosHalf, dot(n, axis));
+            for (std::size_t i = 0; i < normalCount; ++i)
+                cosHalf = std::min(cosHalf, dot(normalList[i], axis));
             setCone(node, axis, std::acos(std::clamp(cosHalf, -1.f, 1.f)));
         }
-        tree.nodes[index] = node;
+        return node;
     }
 
     /// The cone (axis, half-angle + a rounding allowance), unless it is near a half-space, where it
@@ -190,13 +199,9 @@ struct Builder {
 } // namespace
 
 EdgeClusterNode edgeCluster(const EdgeAdjacency& adj, std::uint32_t edge, vec3 turn) {
-    const std::vector<std::uint32_t> edges = {edge};
-    const std::vector<vec3> turns = {turn};
-    Builder b{adj, edges, turns, {}, {}, 1.f};
-    b.tree.items = {0};
-    b.tree.nodes.resize(1);
-    b.makeLeaf(0, 0, 1);
-    return b.tree.nodes[0];
+    const std::uint32_t item = 0;
+    const Builder b{adj, std::span(&edge, 1), std::span(&turn, 1), {}, {}, 1.f};
+    return b.leaf(std::span(&item, 1), 0, 1);
 }
 
 EdgeClusterTree buildEdgeClusters(const EdgeAdjacency& adj, const std::vector<std::uint32_t>& edges,

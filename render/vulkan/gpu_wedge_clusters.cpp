@@ -11,11 +11,10 @@
 
 namespace stsv {
 
-// A walk's invocation appends up to a leaf's items or a tile's 16 blocks between two flushes of
+// A walk's invocation appends up to a tile's 16 blocks (or one kept leaf) between two flushes of
 // its workgroup's shared list (common/cluster_walk.glsl groupAppend; the pixel stage appends
-// without it).
-static_assert(EDGE_CLUSTER_LEAF * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES &&
-              16 * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES);
+// without it), and the pixel stage keeps a leaf's edges as the bits of one word.
+static_assert(16 * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES && EDGE_CLUSTER_LEAF <= 32);
 
 bool usesWedgeClusters(const RenderOptions& options) {
     return methodInfo(options.method).opaque == OpaqueTechnique::Dcs &&

@@ -3,7 +3,7 @@
 // pairs than a list holds) down to the leaves, then per 4 × 4 block of the tile, level by level over lists of pairs, so that no invocation loops
 // without bound (lavapipe ends a shader's loops after 65 535 iterations in all). The family's shader (dcs_clusters.comp, stsv_clusters.comp) declares its
 // stats buffer `stats` (GpuClusterCounts `walk` second), defines clusterKeep — what becomes of a
-// leaf's item that may add to a block, with groupAppend — and its own pixel stages, which
+// leaf that may add to a block, with groupAppend — and its own pixel stages, which
 // append with groupAppend/groupReserve between groupFlush calls too, or with appendPixels (one
 // atomic an input), and calls these:
 //   clusterBlocksStage (CLUSTER_STAGE 0): each tile of a part of them (all of them unless the
@@ -16,7 +16,7 @@
 //     region's ball to the light, and for a node with a normal cone, an edge of it can be a
 //     silhouette), gives its children to the next level; a leaf, for a tile, gives the pairs
 //     (block, leaf) of the tile's covered blocks to the next level, and for a block hands the
-//     items that may add to it to clusterKeep. A node a tile drops holds nothing that adds to
+//     leaf to clusterKeep. A node a tile drops holds nothing that adds to
 //     a point of the tile (each test is conservative), so neither to one of its blocks.
 // A list too short drops what it has no room for and records what it needed; the host grows
 // the lists and renders the frame again.
@@ -227,10 +227,10 @@ bool tileBlock(uint tile, uint k, out uint block) {
     return bx < blocksAcross() && by < blocksDown();
 }
 
-/// What the family does with item `item` of a leaf that may add to block `block` (region: the
-/// block's ball, hull: its lightHull): appends (block, …) pairs to GPU_CLUSTER_KEPT, counting its
-/// own tests.
-void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected);
+/// What the family does with leaf `leaf` (its items range.x … range.x + range.y − 1) that may add
+/// to block `block` (region: the block's ball, hull: its lightHull): appends (block, …) pairs to
+/// GPU_CLUSTER_KEPT with groupAppend, counting its own tests.
+void clusterKeep(uint block, uint leaf, uvec4 range, vec4 region, LightHull hull, inout uint tests, inout uint rejected);
 
 void clusterTileBoxes(uint tile) {
     if (tile >= pc.initialize) return;
@@ -265,10 +265,17 @@ void clusterBlocksStage() {
     for (uint i = gl_LocalInvocationID.x; i < 64u; i += gl_WorkGroupSize.x) clusterTileBoxes(pc.step + 64u * gl_WorkGroupID.x + i);
 }
 
+/// Entries an invocation of the pass over the kept pairs takes: GPU_CLUSTER_ENTRIES_PER_INVOCATION,
+/// or fewer where the family's shader loops longer an entry (lavapipe's loop limit).
+#ifndef CLUSTER_KEPT_ENTRIES_PER_INVOCATION
+#define CLUSTER_KEPT_ENTRIES_PER_INVOCATION GPU_CLUSTER_ENTRIES_PER_INVOCATION
+#endif
+
 void clusterArgsStage() {
     // pc.step: the count slot of the list the next pass reads.
     uint invocations = listEntries(pc.step);
-    uint perGroup = uint(CLUSTER_GROUP_SIZE) * GPU_CLUSTER_ENTRIES_PER_INVOCATION;
+    uint perInvocation = pc.step == GPU_CLUSTER_KEPT ? uint(CLUSTER_KEPT_ENTRIES_PER_INVOCATION) : GPU_CLUSTER_ENTRIES_PER_INVOCATION;
+    uint perGroup = uint(CLUSTER_GROUP_SIZE) * perInvocation;
     dispatchArgs[0] = clamp((invocations + perGroup - 1u) / perGroup, 1u, 65535u);
     dispatchArgs[1] = 1u;
     dispatchArgs[2] = 1u;
@@ -302,7 +309,7 @@ void clusterWalkStage() {
                             groupAppend(GROUP_NEXT_LEVEL, uvec2(block, pair.y));
                     }
                 } else {
-                    for (uint k = range.x; k < range.x + range.y; ++k) clusterKeep(pair.x, k, region, hull, tests, rejected);
+                    clusterKeep(pair.x, pair.y, range, region, hull, tests, rejected);
                 }
             }
         }

@@ -31,15 +31,18 @@ void recordPlanes(uint record, uvec4 ids, out StsvVolume vol, out StsvLightPlane
     for (uint i = 0u; i < STSV_LIGHT_PLANES_MAX; ++i) lp.planes[i] = stsvRecordVec4(record, GPU_STSV_RECORD_LIGHT_PLANES + i);
 }
 
-/// A leaf's item is a triangle (data.x) with its ball: kept as (block, triangle) for stage 3
-/// when its ball meets the segments from the block's points to the light. (Its volumes' box
-/// tests run there, over a list of the survivors: in this loop most lanes would idle through them.)
-void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected) {
-    ++tests;
-    if (tableMayAdd(clusterItems, item, region, hull))
-        groupAppend(GROUP_KEPT, uvec2(block, clusterData(clusterItems, item).x));
-    else
-        ++rejected;
+/// A leaf's items are triangles (data.x) with their balls: each kept as (block, triangle) for
+/// stage 3 when its ball meets the segments from the block's points to the light. (Its volumes'
+/// box tests run there, over a list of the survivors: in this loop most lanes would idle through
+/// them.)
+void clusterKeep(uint block, uint leaf, uvec4 range, vec4 region, LightHull hull, inout uint tests, inout uint rejected) {
+    for (uint item = range.x; item < range.x + range.y; ++item) {
+        ++tests;
+        if (tableMayAdd(clusterItems, item, region, hull))
+            groupAppend(GROUP_KEPT, uvec2(block, clusterData(clusterItems, item).x));
+        else
+            ++rejected;
+    }
 }
 
 void main() {

@@ -2,12 +2,13 @@
 // DCS's silhouette edges through the light's cluster tree (DESIGN §4.5; the CPU mirror's walk,
 // render/cpu/cpu_wedges.cpp forEachPixel and forEachSilhouette, with the same dh tests), over
 // the lists of common/cluster_walk.glsl:
-//   CLUSTER_STAGE 0, 1, 2: the blocks, the indirect dispatches, the walk of a level; a leaf's
-//     edges are tested as clusters of their own, and those that may add to the block are kept
-//     as (block, item) pairs;
-//   3 (pixels): an invocation a kept pair, for the block's 16 pixels: an edge that is a
-//     silhouette seen from the pixel's p (most are not) and whose ball meets the segments from p
-//     to the light makes a (pixel, item) candidate, appended with one atomic a pair;
+//   CLUSTER_STAGE 0, 1, 2: the blocks, the indirect dispatches, the walk of a level; a leaf
+//     that may add to a block is kept as a (block, leaf) pair;
+//   3 (pixels): an invocation a kept pair: the leaf's edges are tested as clusters of their own
+//     with the block, the leaf's ball with each of the block's 16 pixels, and for each edge and
+//     pixel left, an edge that is a silhouette seen from the pixel's p (most are not) and whose
+//     ball meets the segments from p to the light makes a (pixel, item) candidate, appended with
+//     one atomic an edge;
 //   4 (candidates): a candidate whose edge clipped between p and the light is not empty and
 //     whose carrier's bound holds p is listed for wedge_samples.comp, which adds
 //     k_e·[r → x crosses the edge] to each light sample x's counter. (Lavapipe runs a batch's
@@ -20,20 +21,19 @@
 #endif
 #include "wedges/wedge_term.glsl"
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
-// A leaf holds up to EDGE_CLUSTER_LEAF (32) edges, which one invocation may keep for a block
-// between two flushes of its workgroup's appends.
 #define CLUSTER_GROUP_SIZE GPU_DCS_CLUSTER_GROUP
+// A kept pair loops up to 1 + 32 + 16 + 32·(1 + 16 + 16) times in stage 3 (a leaf's edges, the
+// block's pixels, each edge's pixels and appends): 16 of them stay far below lavapipe's limit of
+// 65 535 iterations an invocation.
+#define CLUSTER_KEPT_ENTRIES_PER_INVOCATION 16u
 #include "common/cluster_walk.glsl"
 
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BOUNDS) uniform usamplerBuffer clusterBounds;
 
-/// A leaf's edge is a cluster of its own (ball and cone of its two faces).
-void clusterKeep(uint block, uint item, vec4 region, LightHull hull, inout uint tests, inout uint rejected) {
-    ++tests;
-    if (tableMayAdd(clusterItems, item, region, hull))
-        groupAppend(GROUP_KEPT, uvec2(block, item));
-    else
-        ++rejected;
+/// A leaf that may add to a block is kept as (block, leaf): stage 3 tests its edges, each a
+/// cluster of its own (ball and cone of its two faces), and the block's pixels.
+void clusterKeep(uint block, uint leaf, uvec4 range, vec4 region, LightHull hull, inout uint tests, inout uint rejected) {
+    groupAppend(GROUP_KEPT, uvec2(block, leaf));
 }
 
 /// Whether p lies in carrier c's bound: in one of its volumes and in its light planes
@@ -80,36 +80,64 @@ void main() {
 #elif CLUSTER_STAGE == 3
     uint entries = listEntries(GPU_CLUSTER_KEPT);
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
+    vec4 lightBall = lights[pc.light].sphere;
+    uint tests = 0u;
+    uint rejected = 0u;
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
-        // The edge once for the block's 16 pixels.
-        WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, pair.y).x);
-        WedgeFaces faces = wedgeFacesOf(edge);
-        uint silhouette = 0u;
+        uvec4 range = clusterData(clusterNodes, pair.y);
+        // The leaf's edges that may add to the block, each as a cluster of its own.
+        vec4 region = boxBall(blockLo(pair.x), blockHi(pair.x));
+        LightHull hull = lightHull(region, lightBall);
+        uint kept = 0u;
+        for (uint k = 0u; k < range.y; ++k) {
+            ++tests;
+            if (tableMayAdd(clusterItems, range.x + k, region, hull))
+                kept |= 1u << k;
+            else
+                ++rejected;
+        }
+        if (kept == 0u) continue;
+        // The block's pixels whose segments to the light meet the leaf's ball (the mirror's
+        // per-point leaf test: the ball holds each edge's, and a ball inside one that fails fails).
+        vec4 leafBall = clusterBall(clusterNodes, pair.y);
         vec3 p;
         uint receiver;
-        // The mirror's first two tests (forEachSilhouette): the edge is a silhouette seen from p,
-        // its ball meets the segments from p to the light.
-        vec4 ball = edgeBall(edge.v0, edge.v1);
-        vec4 lightBall = lights[pc.light].sphere;
-        if (faces.count <= 2u) {
-            // The faces' normals once for the 16 pixels (dcsTwoFaceWeight).
-            uint t0 = wedgeFaceTriangle(faces, faces.first);
-            vec3 n0 = dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first));
+        uint lanes = 0u;
+        for (uint lane = 0u; lane < 16u; ++lane)
+            if (blockPoint(pair.x, lane, p, receiver) && ballMeetsLightHull(leafBall, lightHull(vec4(p, 0.0), lightBall)))
+                lanes |= 1u << lane;
+        if (lanes == 0u) continue;
+        for (; kept != 0u; kept &= kept - 1u) {
+            uint item = range.x + uint(findLSB(kept));
+            WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, item).x);
+            WedgeFaces faces = wedgeFacesOf(edge);
+            // The mirror's first two tests (forEachSilhouette): the edge is a silhouette seen
+            // from p, its ball meets the segments from p to the light.
+            vec4 ball = edgeBall(edge.v0, edge.v1);
+            // The faces' normals once for the block's pixels (dcsTwoFaceWeight).
+            bool two = faces.count <= 2u;
+            uint t0 = two ? wedgeFaceTriangle(faces, faces.first) : GPU_NO_TRIANGLE;
+            vec3 n0 = two ? dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first)) : vec3(0.0);
             bool second = faces.count == 2u;
             uint t1 = second ? wedgeFaceTriangle(faces, faces.first + 1u) : GPU_NO_TRIANGLE;
             vec3 n1 = second ? dcsFaceNormal(edge.v0, edge.v1, wedgeFaceOpposite(faces, faces.first + 1u)) : vec3(0.0);
-            for (uint lane = 0u; lane < 16u; ++lane) {
-                if (!blockPoint(pair.x, lane, p, receiver)) continue;
-                if (dcsTwoFaceWeight(p, edge.v0, n0, t0, n1, t1, receiver) != 0 && ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall))) silhouette |= 1u << lane;
+            uint silhouette = 0u;
+            for (uint l = lanes; l != 0u; l &= l - 1u) {
+                uint lane = uint(findLSB(l));
+                blockPoint(pair.x, lane, p, receiver);
+                int weight = two ? dcsTwoFaceWeight(p, edge.v0, n0, t0, n1, t1, receiver)
+                                 : wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver);
+                if (weight != 0 && ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall))) silhouette |= 1u << lane;
             }
-        } else {
-            for (uint lane = 0u; lane < 16u; ++lane)
-                if (blockPoint(pair.x, lane, p, receiver) && wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver) != 0 &&
-                    ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall)))
-                    silhouette |= 1u << lane;
+            appendPixels(GPU_CLUSTER_CANDIDATES, pair.x, silhouette, item);
         }
-        appendPixels(GPU_CLUSTER_CANDIDATES, pair.x, silhouette, pair.y);
+    }
+    tests = subgroupAdd(tests);
+    rejected = subgroupAdd(rejected);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].walk.tests, tests);
+        atomicAdd(stats[pc.light].walk.rejected, rejected);
     }
 #else
     uint entries = listEntries(GPU_CLUSTER_CANDIDATES);
