@@ -258,13 +258,18 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     endRendering(cmd);
 }
 
-WedgeSamplesPass::WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
-                                   const FamilyDescriptors& descriptors,
+WedgeSamplesPass::WedgeSamplesPass(const Device& device, const Scene& scene, FrameResources& frame,
+                                   DeferredFragments& deferred, const FamilyDescriptors& descriptors,
                                    const std::vector<ShaderDefine>& defines)
-    : m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
+    : m_scene(&scene), m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
       m_groups(deferredSampleGroups(device)) {
-    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
-                                       ShaderCompiler().compileFile("wedges/wedge_samples.comp", defines));
+    const ShaderCompiler compiler;
+    const std::array<bool, 4> used = lightTypesIn(scene);
+    for (uint type = 0; type < used.size(); ++type)
+        if (used[type])
+            m_pipelines[type] = createComputePipeline(
+                device, descriptors.pipelineLayout(),
+                compiler.compileFile("wedges/wedge_samples.comp", lightTypeDefines(defines, type)));
 }
 
 PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
@@ -279,7 +284,7 @@ PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
 }
 
 void WedgeSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
-    m_pipeline.bind(cmd);
+    m_pipelines.at(m_scene->lights.at(light).type).bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
     vkCmdDispatch(cmd, m_groups, 1, 1);

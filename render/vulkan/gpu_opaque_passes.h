@@ -20,6 +20,7 @@
 
 #include "gpu/vulkan.h"
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -137,18 +138,22 @@ class WedgePass final : public GpuPass {
 /// draw tried to list (GpuWedgeStats::listed), so that the host can grow a list that was short.
 class WedgeSamplesPass final : public GpuPass {
   public:
-    WedgeSamplesPass(const Device& device, FrameResources& frame, DeferredFragments& deferred,
-                     const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
+    /// One pipeline per light type of the scene (FIXED_LIGHT_TYPE): the sample loop's domain map
+    /// folds at compile time.
+    WedgeSamplesPass(const Device& device, const Scene& scene, FrameResources& frame,
+                     DeferredFragments& deferred, const FamilyDescriptors& descriptors,
+                     const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
+    const Scene* m_scene;
     FrameResources* m_frame;
     DeferredFragments* m_deferred;
     const FamilyDescriptors* m_descriptors;
     std::uint32_t m_groups;
-    Pipeline m_pipeline;
+    std::array<Pipeline, 4> m_pipelines; ///< per light type
 };
 
 /// D(r) plus the wedge terms: DCS counters D(x) = D(r) + Σ crossings (+ STSV increments), or

@@ -226,7 +226,7 @@ class WedgeTechnique final : public VulkanTechnique {
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
             c.deferred->use(false);
-            m_samples.emplace(c.device, c.resources, *c.deferred, m_family, c.defines);
+            m_samples.emplace(c.device, c.scene, c.resources, *c.deferred, m_family, c.defines);
         }
         if (usesWedgeClusters(c.options)) {
             c.clusterLists->use();

@@ -4,8 +4,8 @@
 // the lists of common/cluster_walk.glsl:
 //   CLUSTER_STAGE 0, 1, 2: the blocks, the indirect dispatches, the walk of a level; a leaf
 //     that may add to a block is kept as a (block, leaf) pair;
-//   3 (pixels): an invocation a kept pair: the leaf's edges are tested as clusters of their own
-//     with the block, the leaf's ball with each of the block's 16 pixels, and for each edge and
+//   3 (pixels): an invocation a kept pair: the leaf's ball is tested with each of the block's 16
+//     pixels, the leaf's edges as clusters of their own with the block, and for each edge and
 //     pixel left, an edge that is a silhouette seen from the pixel's p (most are not) and whose
 //     ball meets the segments from p to the light makes a (pixel, item) candidate, appended with
 //     one atomic an edge;
@@ -86,6 +86,20 @@ void main() {
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
         uvec4 range = clusterData(clusterNodes, pair.y);
+        // The block's pixels whose segments to the light meet the leaf's ball (the mirror's
+        // per-point leaf test: the ball holds each edge's, and a ball inside one that fails fails),
+        // their points kept for the edges (two image loads a pixel cost more than the array).
+        vec4 leafBall = clusterBall(clusterNodes, pair.y);
+        vec3 p;
+        uint receiver;
+        uint lanes = 0u;
+        vec4 points[16];
+        for (uint lane = 0u; lane < 16u; ++lane) {
+            if (blockPoint(pair.x, lane, p, receiver) && ballMeetsLightHull(leafBall, lightHull(vec4(p, 0.0), lightBall)))
+                lanes |= 1u << lane;
+            points[lane] = vec4(p, uintBitsToFloat(receiver));
+        }
+        if (lanes == 0u) continue;
         // The leaf's edges that may add to the block, each as a cluster of its own.
         vec4 region = boxBall(blockLo(pair.x), blockHi(pair.x));
         LightHull hull = lightHull(region, lightBall);
@@ -98,16 +112,6 @@ void main() {
                 ++rejected;
         }
         if (kept == 0u) continue;
-        // The block's pixels whose segments to the light meet the leaf's ball (the mirror's
-        // per-point leaf test: the ball holds each edge's, and a ball inside one that fails fails).
-        vec4 leafBall = clusterBall(clusterNodes, pair.y);
-        vec3 p;
-        uint receiver;
-        uint lanes = 0u;
-        for (uint lane = 0u; lane < 16u; ++lane)
-            if (blockPoint(pair.x, lane, p, receiver) && ballMeetsLightHull(leafBall, lightHull(vec4(p, 0.0), lightBall)))
-                lanes |= 1u << lane;
-        if (lanes == 0u) continue;
         for (; kept != 0u; kept &= kept - 1u) {
             uint item = range.x + uint(findLSB(kept));
             WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, item).x);
@@ -125,7 +129,8 @@ void main() {
             uint silhouette = 0u;
             for (uint l = lanes; l != 0u; l &= l - 1u) {
                 uint lane = uint(findLSB(l));
-                blockPoint(pair.x, lane, p, receiver);
+                p = points[lane].xyz;
+                receiver = floatBitsToUint(points[lane].w);
                 int weight = two ? dcsTwoFaceWeight(p, edge.v0, n0, t0, n1, t1, receiver)
                                  : wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver);
                 if (weight != 0 && ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall))) silhouette |= 1u << lane;
