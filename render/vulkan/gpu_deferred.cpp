@@ -41,8 +41,12 @@ bool DeferredFragments::growFor(std::uint64_t listed) {
     return true;
 }
 
-std::uint32_t deferredSampleGroups(const Device& device) {
-    return device.info().type == VK_PHYSICAL_DEVICE_TYPE_CPU ? 256 : 8192;
+std::uint32_t deferredSampleGroups(const Device& device, std::uint64_t capacity, int samples) {
+    if (device.info().type != VK_PHYSICAL_DEVICE_TYPE_CPU) return 8192;
+    const std::uint64_t perThread =
+        std::max<std::uint64_t>(kSampleLoopBudget / (2 * std::uint64_t(samples) + 16), 1);
+    const std::uint64_t groups = (capacity + 64 * perThread - 1) / (64 * perThread);
+    return static_cast<std::uint32_t>(std::clamp<std::uint64_t>(groups, 256, 65535));
 }
 
 void DeferredFragments::resize(std::uint64_t capacity) {

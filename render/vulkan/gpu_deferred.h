@@ -52,10 +52,18 @@ class DeferredFragments {
     bool m_maskWords = false;
 };
 
-/// Workgroups of the compute passes over a list (64 threads; thread i takes the fragments i,
-/// i + groups · 64, ...): on a CPU device every group is a task with its own start-up, and a few
-/// hundred keep its cores busy (foliage 1000 plants at 512² on lavapipe: 4096 groups took
-/// 200-240 ms where 256 took 130-180); a GPU needs some 10⁵ threads in flight.
-std::uint32_t deferredSampleGroups(const Device& device);
+/// Workgroups of the compute passes over a list of up to `capacity` fragments of `samples`
+/// samples each (64 threads; thread i takes the fragments i, i + groups · 64, ...): on a CPU
+/// device every group is a task with its own start-up, and a few hundred keep its cores busy
+/// (foliage 1000 plants at 512² on lavapipe: 4096 groups took 200-240 ms where 256 took
+/// 130-180), but lavapipe also ends an invocation's loops after 65 535 iterations in all, so
+/// there are enough groups that no thread takes more than kSampleLoopBudget / (2·samples + 16)
+/// fragments (a fragment loops up to about twice a sample: STSV's counters add a word's bits one
+/// by one); a GPU needs some 10⁵ threads in flight.
+std::uint32_t deferredSampleGroups(const Device& device, std::uint64_t capacity, int samples);
+
+/// The loop iterations a thread of a pass over the deferred fragments may spend on them: half of
+/// lavapipe's limit, the rest left to the shader's other loops.
+inline constexpr std::uint64_t kSampleLoopBudget = 32768;
 
 } // namespace stsv

@@ -258,11 +258,12 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     endRendering(cmd);
 }
 
-WedgeSamplesPass::WedgeSamplesPass(const Device& device, const Scene& scene, FrameResources& frame,
-                                   DeferredFragments& deferred, const FamilyDescriptors& descriptors,
+WedgeSamplesPass::WedgeSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
+                                   FrameResources& frame, DeferredFragments& deferred,
+                                   const FamilyDescriptors& descriptors,
                                    const std::vector<ShaderDefine>& defines)
-    : m_scene(&scene), m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
-      m_groups(deferredSampleGroups(device)) {
+    : m_device(&device), m_scene(&scene), m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
+      m_samples(options.samples) {
     const ShaderCompiler compiler;
     const std::array<bool, 4> used = lightTypesIn(scene);
     for (uint type = 0; type < used.size(); ++type)
@@ -287,7 +288,7 @@ void WedgeSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipelines.at(m_scene->lights.at(light).type).bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    vkCmdDispatch(cmd, m_groups, 1, 1);
+    vkCmdDispatch(cmd, deferredSampleGroups(*m_device, m_deferred->capacity(), m_samples), 1, 1);
 }
 
 FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,

@@ -140,19 +140,20 @@ class WedgeSamplesPass final : public GpuPass {
   public:
     /// One pipeline per light type of the scene (FIXED_LIGHT_TYPE): the sample loop's domain map
     /// folds at compile time.
-    WedgeSamplesPass(const Device& device, const Scene& scene, FrameResources& frame,
-                     DeferredFragments& deferred, const FamilyDescriptors& descriptors,
+    WedgeSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
+                     FrameResources& frame, DeferredFragments& deferred, const FamilyDescriptors& descriptors,
                      const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
+    const Device* m_device;
     const Scene* m_scene;
     FrameResources* m_frame;
     DeferredFragments* m_deferred;
     const FamilyDescriptors* m_descriptors;
-    std::uint32_t m_groups;
+    int m_samples;
     std::array<Pipeline, 4> m_pipelines; ///< per light type
 };
 

@@ -22,7 +22,8 @@ StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const
                                  const FamilyDescriptors& descriptors)
     : m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_counters(options.buffer == BufferKind::Counters),
-      m_transmittance(options.buffer == BufferKind::Transmittance), m_groups(deferredSampleGroups(device)) {
+      m_transmittance(options.buffer == BufferKind::Transmittance), m_device(&device),
+      m_samples(options.samples) {
     const ShaderCompiler compiler;
     const std::vector<ShaderDefine> defines = sampleDefines(options, resources.tables.layout);
     const std::array<bool, 4> used = lightTypesIn(scene);
@@ -53,7 +54,7 @@ void StsvSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipelines.at(m_scene->lights[light].type).bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    vkCmdDispatch(cmd, m_groups, 1, 1);
+    vkCmdDispatch(cmd, deferredSampleGroups(*m_device, m_deferred->capacity(), m_samples), 1, 1);
 }
 
 StsvMergePass::StsvMergePass(const Device& device, const RenderOptions& options, FrameResources& resources,

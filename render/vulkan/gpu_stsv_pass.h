@@ -36,8 +36,9 @@ class StsvSamplesPass final : public GpuPass {
     DeferredFragments* m_deferred;
     const FamilyDescriptors* m_descriptors;
     bool m_counters;
-    bool m_transmittance;                ///< translucent triangles add optical depths
-    std::uint32_t m_groups;              ///< workgroups dispatched
+    bool m_transmittance; ///< translucent triangles add optical depths
+    const Device* m_device;
+    int m_samples;
     std::array<Pipeline, 4> m_pipelines; ///< per light type (LIGHT_*) the scene has
 };
 

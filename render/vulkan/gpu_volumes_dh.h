@@ -54,8 +54,8 @@ DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
 /// lists (common/cluster_walk.glsl groupAppend): its invocations × the most one appends for an
 /// entry it reads (a tile's 16 blocks, a leaf's items, a block's 16 pixels).
 DH_CONST uint GPU_CLUSTER_GROUP_ENTRIES = 1024u;
-/// Invocations of a workgroup of the STSV walk (leaves of BallTree::LEAF = 16 triangles) and of
-/// the DCS walk (EDGE_CLUSTER_LEAF = 32 edges).
+/// Invocations of a workgroup of the STSV walk (leaves of BallTree::LEAF = 16 triangles, kept
+/// one pair each) and of the DCS walk (a leaf kept as one pair; 32 measured no slower than 64).
 DH_CONST uint GPU_STSV_CLUSTER_GROUP = 64u;
 DH_CONST uint GPU_DCS_CLUSTER_GROUP = 32u;
 
@@ -70,7 +70,8 @@ struct GpuHullCounts {
 
 /// What a cluster walk counts per light: the second member of its family's stats.
 struct GpuClusterCounts {
-    uint tests;       ///< (tile or block, node) and (block, item) tests of the walk
+    uint tests;       ///< (tile or block, node) and (block, item) tests of the walk (DCS tests a
+                      ///< leaf's items only for a block with a pixel whose rays meet its ball)
     uint rejected;    ///< of those, the clusters no point of the block can be shadowed by
     uint pairsNeeded; ///< the most pairs a cluster list needed, when more than it held (else 0)
     uint pad;

@@ -1,5 +1,6 @@
 #include "render/vulkan/gpu_wedge_clusters.h"
 
+#include "core/error.h"
 #include "core/parallel.h"
 #include "gpu/device.h"
 #include "render/methods.h"
@@ -7,6 +8,7 @@
 #include "sampling/light_bounds.h"
 #include "wedges/silhouette_edges.h"
 
+#include <algorithm>
 #include <bit>
 
 namespace stsv {
@@ -15,6 +17,15 @@ namespace stsv {
 // its workgroup's shared list (common/cluster_walk.glsl groupAppend; the pixel stage appends
 // without it), and the pixel stage keeps a leaf's edges as the bits of one word.
 static_assert(16 * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES && EDGE_CLUSTER_LEAF <= 32);
+
+std::uint32_t dcsKeptPairsPerInvocation(std::uint32_t mostFaces, const std::string& source) {
+    const std::uint32_t pairLoops = 1105 + 512 * std::max(mostFaces, 1u);
+    if (mostFaces > 125)
+        throw InputError(
+            source, "an edge shared by " + std::to_string(mostFaces) +
+                        " opaque triangles: the DCS cluster walk takes at most 125 (use --extrusion hull)");
+    return std::clamp<std::uint32_t>(32768 / pairLoops, 1, 16);
+}
 
 bool usesWedgeClusters(const RenderOptions& options) {
     return methodInfo(options.method).opaque == OpaqueTechnique::Dcs &&
@@ -25,6 +36,9 @@ WedgeClusters::WedgeClusters(const Device& device, const Scene& scene, const Edg
                              const std::vector<std::uint32_t>& carriers, bool build) {
     uploadTexels(device, {}, m_empty.bounds, m_empty.boundTexels);
     if (!build) return;
+    std::uint32_t mostFaces = 1;
+    for (const MeshEdge& edge : adj.edges) mostFaces = std::max(mostFaces, edge.faceCount);
+    m_keptPairsPerInvocation = dcsKeptPairsPerInvocation(mostFaces, scene.source);
     const float farDistance = farDistanceFor(scene.bounds());
     for (const Light& light : scene.lights) {
         const SilhouetteEdges sil(scene, adj, carriers, light, farDistance);

@@ -15,6 +15,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace stsv {
@@ -47,6 +48,9 @@ class WedgeClusters {
     };
     /// Per light; empty when not built.
     const std::vector<Counts>& counts() const { return m_counts; }
+    /// Kept (block, leaf) pairs an invocation of dcs_clusters.comp's pixel stage takes
+    /// (CLUSTER_KEPT_ENTRIES_PER_INVOCATION): dcsKeptPairsPerInvocation of the scene's edges.
+    std::uint32_t keptPairsPerInvocation() const { return m_keptPairsPerInvocation; }
 
   private:
     struct Tables {
@@ -57,6 +61,15 @@ class WedgeClusters {
     Tables m_empty; ///< the stand-ins' bounds
     std::vector<Tables> m_lights;
     std::vector<Counts> m_counts;
+    std::uint32_t m_keptPairsPerInvocation = 1;
 };
+
+/// Kept pairs an invocation of DCS's pixel stage may take when no edge has more than `mostFaces`
+/// faces: a pair loops up to 1105 + 512·max(F, 1) times (a leaf's 32 edges and the block's 16
+/// pixels, then for each edge its pixels, each with wedgeWorldWeight's loop over the faces, and
+/// its appends; lavapipe runs a loop once even where every lane skips it), and an invocation
+/// stays within half of lavapipe's limit of 65 535 iterations: 15 for a closed mesh, 1 from 63
+/// faces. An Error (naming `source`) past 125 faces an edge, where one pair alone could exceed it.
+std::uint32_t dcsKeptPairsPerInvocation(std::uint32_t mostFaces, const std::string& source);
 
 } // namespace stsv

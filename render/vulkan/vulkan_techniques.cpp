@@ -226,12 +226,15 @@ class WedgeTechnique final : public VulkanTechnique {
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
             c.deferred->use(false);
-            m_samples.emplace(c.device, c.scene, c.resources, *c.deferred, m_family, c.defines);
+            m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.deferred, m_family, c.defines);
         }
         if (usesWedgeClusters(c.options)) {
             c.clusterLists->use();
+            std::vector<ShaderDefine> defines = c.defines;
+            defines.push_back({"CLUSTER_KEPT_ENTRIES_PER_INVOCATION",
+                               std::to_string(m_opaque.clusters().keptPairsPerInvocation()) + "u"});
             m_clusters.emplace(c.device, "wedges/dcs_clusters.comp", 5, c.resources, *c.deferred,
-                               *c.clusterLists, m_family, c.defines);
+                               *c.clusterLists, m_family, defines);
             return;
         }
         m_wedges.emplace(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry,

@@ -83,7 +83,7 @@ uint listEntries(uint slot) { return min(counts[slot], listCapacity()); }
 // each step of their loops (groupFlush), a workgroup takes its places in each list with one
 // atomic and copies its entries there. An invocation appends at most
 // GPU_CLUSTER_GROUP_ENTRIES / CLUSTER_GROUP_SIZE entries between two flushes (a tile's 16
-// blocks, a leaf's 16 triangles or 32 edges, a block's 16 pixels: the host asserts the leaf sizes),
+// blocks, a leaf's 16 triangles or one kept leaf, a block's 16 pixels: the host asserts the leaf sizes),
 // so the shared list never overflows (12 KiB of the 16 KiB any device has). The lists' order varies from run to run as with one
 // atomic an entry; no pass's result depends on it.
 const uint GROUP_CAPACITY = GPU_CLUSTER_GROUP_ENTRIES;

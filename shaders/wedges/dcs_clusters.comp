@@ -22,10 +22,11 @@
 #include "wedges/wedge_term.glsl"
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
 #define CLUSTER_GROUP_SIZE GPU_DCS_CLUSTER_GROUP
-// A kept pair loops up to 1 + 32 + 16 + 32·(1 + 16 + 16) times in stage 3 (a leaf's edges, the
-// block's pixels, each edge's pixels and appends): 16 of them stay far below lavapipe's limit of
-// 65 535 iterations an invocation.
-#define CLUSTER_KEPT_ENTRIES_PER_INVOCATION 16u
+// The kept pairs an invocation of stage 3 takes: the host's define bounds its loops for the
+// scene's edges (render/vulkan/gpu_wedge_clusters.h dcsKeptPairsPerInvocation).
+#ifndef CLUSTER_KEPT_ENTRIES_PER_INVOCATION
+#define CLUSTER_KEPT_ENTRIES_PER_INVOCATION 1u
+#endif
 #include "common/cluster_walk.glsl"
 
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BOUNDS) uniform usamplerBuffer clusterBounds;

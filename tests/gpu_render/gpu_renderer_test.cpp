@@ -5,6 +5,7 @@
 #include "gpu_render_helpers.h"
 
 #include "core/error.h"
+#include "render/vulkan/gpu_deferred.h"
 #include "scene/camera.h"
 #include "scene/geometry.h"
 #include "scene/load.h"
@@ -319,6 +320,34 @@ TEST_F(GpuRenderer, LightSampleBufferMemoryIsNWHBits) {
     // stsv.frag tests every sample of a fragment inside its volume.
     EXPECT_EQ(frame.stats["stsv"][0]["samples_tested"].get<std::size_t>(),
               128u * frame.stats["stsv"][0]["inside_fragments"].get<std::size_t>());
+}
+
+TEST_F(GpuRenderer, TheSamplePassesGiveNoThreadMoreFragmentsThanLavapipesLoopsAllow) {
+    // lavapipe ends an invocation's loops after 65 535 iterations in all and skips the rest
+    // silently: a sample pass over the deferred fragments must spread a full list over enough
+    // threads (64 a workgroup, at most 65 535 workgroups) that none takes more than
+    // kSampleLoopBudget / (2N + 16) fragments of N samples. A fixed 256 workgroups lost samples
+    // of fence-mesh at 128×96 (15 M fragments listed at 64 samples; one 4×4 block's bits varied
+    // from run to run).
+    if (device().info().type != VK_PHYSICAL_DEVICE_TYPE_CPU) {
+        // A GPU has no such limit; it needs threads in flight.
+        EXPECT_EQ(deferredSampleGroups(device(), std::uint64_t(1) << 24, 64), 8192u);
+        return;
+    }
+    for (const int samples : {16, 32, 64, 128, 256})
+        for (const std::uint64_t capacity :
+             {std::uint64_t(1), std::uint64_t(1) << 20, std::uint64_t(15'000'000), std::uint64_t(1) << 24,
+              kMaxDeferredFragments}) {
+            const std::uint64_t groups = deferredSampleGroups(device(), capacity, samples);
+            const std::uint64_t perThread = (capacity + 64 * groups - 1) / (64 * groups);
+            EXPECT_LE(perThread * std::uint64_t(2 * samples + 16), kSampleLoopBudget)
+                << samples << " " << capacity;
+            EXPECT_LE(groups, 65535u);
+            // A short list keeps the few hundred workgroups that keep the cores busy.
+            if (capacity <= (std::uint64_t(1) << 20) && samples <= 64) {
+                EXPECT_EQ(groups, 256u) << samples << " " << capacity;
+            }
+        }
 }
 
 TEST_F(GpuRenderer, RepeatedFramesAreIdentical) {

@@ -2,8 +2,10 @@
 // GPU's own G-buffer, and DCS against Embree: fence and foliage with their perforated triangles
 // (dcs+stsv, pw+stsv), closed meshes, open and non-manifold soups, every light shape.
 // Validation on (GpuRenderTest fails on any message).
+#include "core/error.h"
 #include "gpu_render_helpers.h"
 #include "render/cpu/cpu_wedges.h"
+#include "render/vulkan/gpu_wedge_clusters.h"
 #include "scene/geometry.h"
 #include "scene/load.h"
 #include "scene/mesh_fence.h"
@@ -395,6 +397,26 @@ TEST_F(GpuWedges, TheClusterWalkListsThePairsTheWedgeDrawAccepts) {
     EXPECT_EQ(frame.lightSamples[0].counters(),
               renderGpu(fine, o, ExtrusionStage::Hull).lightSamples[0].counters());
     EXPECT_EQ(renderer.device().validationMessageCount(), 0u);
+}
+
+TEST(DcsPixelStage, KeepsAnInvocationsLoopsWithinHalfOfLavapipesLimit) {
+    // A kept (block, leaf) pair loops up to 1105 + 512·max(F, 1) times in dcs_clusters.comp's
+    // pixel stage for edges of at most F faces; an invocation's pairs must stay within 32 768
+    // iterations (half of lavapipe's 65 535), and an edge of more faces than one pair can take is
+    // refused with the scene's name rather than drawn with samples lost.
+    for (std::uint32_t faces = 0; faces <= 125; ++faces) {
+        const std::uint32_t pairs = dcsKeptPairsPerInvocation(faces, "mesh.obj");
+        EXPECT_GE(pairs, 1u) << faces;
+        EXPECT_LE(pairs * (1105u + 512u * std::max(faces, 1u)), 32768u + (pairs == 1 ? 32768u : 0u)) << faces;
+    }
+    EXPECT_EQ(dcsKeptPairsPerInvocation(2, "mesh.obj"), 15u);
+    try {
+        dcsKeptPairsPerInvocation(126, "mesh.obj");
+        ADD_FAILURE() << "an edge of 126 faces was accepted";
+    } catch (const InputError& e) {
+        EXPECT_NE(std::string(e.what()).find("mesh.obj"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("126"), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(GpuWedges, AClusterWalkWhoseListsCannotHoldItTakesTheTilesInParts) {
