@@ -263,15 +263,9 @@ WedgeSamplesPass::WedgeSamplesPass(const Device& device, const Scene& scene, con
                                    const FamilyDescriptors& descriptors,
                                    const std::vector<ShaderDefine>& defines)
     : m_device(&device), m_scene(&scene), m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
-      m_samples(options.samples) {
-    const ShaderCompiler compiler;
-    const std::array<bool, 4> used = lightTypesIn(scene);
-    for (uint type = 0; type < used.size(); ++type)
-        if (used[type])
-            m_pipelines[type] = createComputePipeline(
-                device, descriptors.pipelineLayout(),
-                compiler.compileFile("wedges/wedge_samples.comp", lightTypeDefines(defines, type)));
-}
+      m_samples(options.samples),
+      m_pipelines(lightTypeComputePipelines(device, descriptors.pipelineLayout(), lightTypesIn(scene),
+                                            "wedges/wedge_samples.comp", defines)) {}
 
 PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
     PassAccesses accesses;

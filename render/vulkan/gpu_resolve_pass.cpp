@@ -1,7 +1,5 @@
 #include "render/vulkan/gpu_resolve_pass.h"
 
-#include "gpu/shader_compiler.h"
-
 namespace stsv {
 
 ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderOptions& options,
@@ -12,17 +10,14 @@ ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderO
       m_vcoef(methodInfo(options.method).output == MethodOutput::Visibility),
       m_depths(options.buffer == BufferKind::Transmittance && !m_vcoef),
       m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
-    const ShaderCompiler compiler;
     std::vector<ShaderDefine> defines =
         withPatternDefine(sampleDefines(options, resources.tables.layout), plan);
     defines.push_back({"RESOLVE_VCOEF", m_vcoef ? "1" : "0"});
+    // The ambient-only pass of a scene without lights binds the first type's.
     std::array<bool, 4> used = lightTypesIn(scene);
     if (scene.lights.empty()) used[0] = true;
-    for (uint type = 0; type < used.size(); ++type)
-        if (used[type])
-            m_pipelines[type] = createComputePipeline(
-                device, descriptors.pipelineLayout(),
-                compiler.compileFile("common/resolve.comp", lightTypeDefines(defines, type)));
+    m_pipelines =
+        lightTypeComputePipelines(device, descriptors.pipelineLayout(), used, "common/resolve.comp", defines);
 }
 
 PassAccesses ResolvePass::accesses(std::size_t light) const {

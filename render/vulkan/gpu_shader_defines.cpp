@@ -65,4 +65,16 @@ std::array<bool, 4> lightTypesIn(const Scene& scene) {
     return used;
 }
 
+std::array<Pipeline, 4> lightTypeComputePipelines(const Device& device, const PipelineLayout& layout,
+                                                  const std::array<bool, 4>& types, const std::string& shader,
+                                                  const std::vector<ShaderDefine>& defines) {
+    const ShaderCompiler compiler;
+    std::array<Pipeline, 4> pipelines;
+    for (uint type = 0; type < types.size(); ++type)
+        if (types[type])
+            pipelines[type] = createComputePipeline(
+                device, layout, compiler.compileFile(shader, lightTypeDefines(defines, type)));
+    return pipelines;
+}
+
 } // namespace stsv

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "core/dh.h"
+#include "gpu/pipeline.h"
 #include "gpu/shader_compiler.h"
 #include "render/options.h"
 #include "sampling/pattern.h"
@@ -11,6 +12,7 @@
 
 #include <array>
 #include <cstddef>
+#include <string>
 #include <vector>
 
 namespace stsv {
@@ -60,5 +62,11 @@ std::vector<ShaderDefine> lightTypeDefines(std::vector<ShaderDefine> defines, ui
 /// The light types (LIGHT_*) among the scene's lights: the passes that specialise per type build
 /// a pipeline for each of these.
 std::array<bool, 4> lightTypesIn(const Scene& scene);
+
+/// The compute pipelines of `shader` with `defines`, one per light type marked in `types`
+/// (lightTypeDefines), indexed by LIGHT_*.
+std::array<Pipeline, 4> lightTypeComputePipelines(const Device& device, const PipelineLayout& layout,
+                                                  const std::array<bool, 4>& types, const std::string& shader,
+                                                  const std::vector<ShaderDefine>& defines);
 
 } // namespace stsv

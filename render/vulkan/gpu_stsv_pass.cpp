@@ -23,16 +23,10 @@ StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const
     : m_scene(&scene), m_resources(&resources), m_hulls(&hulls), m_deferred(&deferred),
       m_descriptors(&descriptors), m_counters(options.buffer == BufferKind::Counters),
       m_transmittance(options.buffer == BufferKind::Transmittance), m_device(&device),
-      m_samples(options.samples) {
-    const ShaderCompiler compiler;
-    const std::vector<ShaderDefine> defines = sampleDefines(options, resources.tables.layout);
-    const std::array<bool, 4> used = lightTypesIn(scene);
-    for (uint type = 0; type < used.size(); ++type)
-        if (used[type])
-            m_pipelines[type] = createComputePipeline(
-                device, descriptors.pipelineLayout(),
-                compiler.compileFile("stsv/stsv_samples.comp", lightTypeDefines(defines, type)));
-}
+      m_samples(options.samples),
+      m_pipelines(lightTypeComputePipelines(device, descriptors.pipelineLayout(), lightTypesIn(scene),
+                                            "stsv/stsv_samples.comp",
+                                            sampleDefines(options, resources.tables.layout))) {}
 
 PassAccesses StsvSamplesPass::accesses(std::size_t light) const {
     PassAccesses accesses;

@@ -112,7 +112,6 @@ void main() {
             else
                 ++rejected;
         }
-        if (kept == 0u) continue;
         for (; kept != 0u; kept &= kept - 1u) {
             uint item = range.x + uint(findLSB(kept));
             WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, item).x);
