@@ -6,11 +6,13 @@
 #include "gpu/rendering.h"
 #include "gpu/shader_compiler.h"
 #include "render/options.h"
+#include "render/vulkan/gpu_deferred.h"
 #include "shadowmaps/filtered_lookup.h"
 #include "shadowmaps/filtered_map.h"
 #include "shadowmaps/shadow_fit.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 
 #include <cstring>
@@ -319,15 +321,38 @@ void DepthGridPass::record(VkCommandBuffer cmd, std::size_t light) const {
     }
 }
 
+std::uint32_t peelMarchLanes(int samples, int steps, int bins) {
+    const std::uint64_t perSample =
+        std::uint64_t(std::max(steps, 1)) * std::uint64_t(std::max(bins, 0) + 1) + 1;
+    const std::uint64_t perLane = std::max<std::uint64_t>(kSampleLoopBudget / perSample, 1);
+    const std::uint64_t lanes = (std::uint64_t(std::max(samples, 1)) + perLane - 1) / perLane;
+    return static_cast<std::uint32_t>(std::bit_ceil(lanes));
+}
+
 PeelMarchPass::PeelMarchPass(const Device& device, const RenderOptions& options, ShadowMapResources& maps,
                              FrameResources& frame, const FamilyDescriptors& descriptors,
                              const std::vector<ShaderDefine>& defines)
     : m_maps(&maps), m_frame(&frame), m_descriptors(&descriptors),
       m_counters(options.buffer == BufferKind::Counters), m_width(static_cast<uint32_t>(options.width)),
       m_height(static_cast<uint32_t>(options.height)) {
+    const ShadowMapSettings settings = shadowMapSettings(options);
+    const std::uint32_t lanes = peelMarchLanes(options.samples, settings.peelSteps, settings.peelBins);
+    const std::uint32_t group = std::max<std::uint32_t>(lanes, 64);
+    if (group > device.limits().maxComputeWorkGroupInvocations ||
+        group > device.limits().maxComputeWorkGroupSize[0])
+        throw UsageError("peel's march needs " + std::to_string(group) + " invocations a workgroup at " +
+                         std::to_string(options.samples) + " samples, peel_steps " +
+                         std::to_string(settings.peelSteps) + " and peel_bins " +
+                         std::to_string(settings.peelBins) + "; Vulkan device " + device.info().name +
+                         " allows " + std::to_string(device.limits().maxComputeWorkGroupInvocations) +
+                         ": lower peel_steps, peel_bins or --samples");
+    m_pixelsPerGroup = group / lanes;
+    std::vector<ShaderDefine> marchDefines = defines;
+    marchDefines.push_back({"PEEL_LANES", std::to_string(lanes)});
+    marchDefines.push_back({"PEEL_GROUP", std::to_string(group)});
     const ShaderCompiler compiler;
     m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
-                                       compiler.compileFile("shadowmaps/peel_march.comp", defines));
+                                       compiler.compileFile("shadowmaps/peel_march.comp", marchDefines));
 }
 
 PassAccesses PeelMarchPass::accesses(std::size_t light) const {
@@ -349,7 +374,7 @@ void PeelMarchPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    dispatchPerPixel(cmd, m_width, m_height);
+    vkCmdDispatch(cmd, (m_width + m_pixelsPerGroup - 1) / m_pixelsPerGroup, m_height, 1);
 }
 
 AvsmListPass::AvsmListPass(const Device& device, const Scene& scene, ShadowMapResources& maps,

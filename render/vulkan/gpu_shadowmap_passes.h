@@ -136,8 +136,14 @@ class DepthGridPass final : public GpuPass {
     Pipeline m_bins;
 };
 
+/// Invocations of peel_march.comp that share a pixel, a power of two: enough that none marches
+/// more samples than kSampleLoopBudget allows at up to peel_steps·(peel_bins + 1) + 1 loop
+/// iterations a sample (lavapipe ends an invocation's loops after 65 535; one sample's march
+/// stays under that at every peel_steps and peel_bins the parameters accept).
+std::uint32_t peelMarchLanes(int samples, int steps, int bins);
+
 /// `peel`'s march (peel_march.comp): every covered pixel's light-sample rays through the light's
-/// grid into its bitmask images (or counters).
+/// grid into its bitmask images (or counters), peelMarchLanes invocations a pixel.
 class PeelMarchPass final : public GpuPass {
   public:
     PeelMarchPass(const Device& device, const RenderOptions& options, ShadowMapResources& maps,
@@ -153,6 +159,7 @@ class PeelMarchPass final : public GpuPass {
     const FamilyDescriptors* m_descriptors;
     bool m_counters;
     uint32_t m_width, m_height;
+    uint32_t m_pixelsPerGroup; ///< a workgroup's pixels, of one row
     Pipeline m_pipeline;
 };
 

@@ -1,8 +1,11 @@
 #version 450
-// `peel`'s march (shadowmaps/depth_grid_dh.h), one thread a pixel: every light sample's ray from
-// the visible point through the light's depth grid, the samples it finds occluded set in the
-// light's bitmask images (lsMaskAttachment: image i holds words 2i and 2i + 1), or one layer
-// added to their counters — the same function the CPU backend runs.
+// `peel`'s march (shadowmaps/depth_grid_dh.h): every light sample's ray from the visible point
+// through the light's depth grid, the samples it finds occluded set in the light's bitmask images
+// (lsMaskAttachment: image i holds words 2i and 2i + 1), or one layer added to their counters —
+// the same function the CPU backend runs. PEEL_LANES invocations share a pixel, lane j marching
+// samples j, j + PEEL_LANES, …: one sample's march loops up to peel_steps·(peel_bins + 1) times,
+// and the host (peelMarchLanes) gives each invocation few enough samples to stay under
+// lavapipe's loop limit. The lanes' bits meet in shared memory, and lane 0 stores the pixel's.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
@@ -16,7 +19,16 @@
 #include "common/frame_bindings.glsl"
 #include "shadowmaps/shadow_bindings.glsl"
 
-layout(local_size_x = 16, local_size_y = 16) in;
+#ifndef PEEL_LANES
+#define PEEL_LANES 1
+#endif
+#ifndef PEEL_GROUP
+#define PEEL_GROUP 64
+#endif
+#define PEEL_PIXELS (PEEL_GROUP / PEEL_LANES)
+
+// A workgroup takes PEEL_PIXELS pixels of one row.
+layout(local_size_x = PEEL_GROUP) in;
 
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
@@ -37,37 +49,54 @@ uint peelGridWord(PeelGridSource s, uint index) {
 #define PEEL_GRID_SOURCE
 #include "shadowmaps/depth_grid_dh.h"
 
-void main() {
-    uvec2 pixel = gl_GlobalInvocationID.xy;
-    if (pixel.x >= frame.width || pixel.y >= frame.height) return;
-    if (imageLoad(gTriangle, ivec2(pixel)).x == GPU_NO_TRIANGLE) return;
-    vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
-    LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
-    uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
-    uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
-    bool decorrelate = frame.decorrelate != 0u;
-    ShadowMapView v = shadowViews[pc.light];
-    PeelGridSource src;
-    src.address = packUint2x32(uvec2(v.representationLow, v.representationHigh));
-    uint bins = shadowParams.peelBins, steps = shadowParams.peelSteps;
-#if LS_COUNTERS
-    uint counterWord = lsPixelCounterWord(lsPixelIndex(pixel, frame.width), uint(SAMPLE_COUNT));
+#if !LS_COUNTERS
+shared uint groupWords[PEEL_PIXELS][WORD_COUNT];
 #endif
+
+void main() {
+    uint lane = gl_LocalInvocationID.x % uint(PEEL_LANES);
+    uint slot = gl_LocalInvocationID.x / uint(PEEL_LANES);
+    uvec2 pixel = uvec2(gl_WorkGroupID.x * uint(PEEL_PIXELS) + slot, gl_WorkGroupID.y);
+    // No early return: the barriers below need every invocation.
+    bool covered = pixel.x < frame.width && pixel.y < frame.height &&
+                   imageLoad(gTriangle, ivec2(pixel)).x != GPU_NO_TRIANGLE;
     uint words[WORD_COUNT];
     for (uint w = 0u; w < uint(WORD_COUNT); ++w) words[w] = 0u;
-    for (uint k = 0u; k < uint(SAMPLE_COUNT); ++k) {
-        vec3 s = lightSamplePosition(lf, pixelSamplePoint(base, k, offset, decorrelate, lf.domain));
-        if (!peelRayOccluded(src, v, bins, steps, p, s)) continue;
+    if (covered) {
+        vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
+        LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
+        uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
+        uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
+        bool decorrelate = frame.decorrelate != 0u;
+        ShadowMapView v = shadowViews[pc.light];
+        PeelGridSource src;
+        src.address = packUint2x32(uvec2(v.representationLow, v.representationHigh));
+        uint bins = shadowParams.peelBins, steps = shadowParams.peelSteps;
 #if LS_COUNTERS
-        atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
-#else
-        words[lsMaskWord(k)] |= lsMaskBit(k);
+        uint counterWord = lsPixelCounterWord(lsPixelIndex(pixel, frame.width), uint(SAMPLE_COUNT));
 #endif
+        for (uint k = lane; k < uint(SAMPLE_COUNT); k += uint(PEEL_LANES)) {
+            vec3 s = lightSamplePosition(lf, pixelSamplePoint(base, k, offset, decorrelate, lf.domain));
+            if (!peelRayOccluded(src, v, bins, steps, p, s)) continue;
+#if LS_COUNTERS
+            atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
+#else
+            words[lsMaskWord(k)] |= lsMaskBit(k);
+#endif
+        }
     }
 #if !LS_COUNTERS
-    for (uint i = 0u; 2u * i < uint(WORD_COUNT); ++i) {
-        uvec2 pair = uvec2(words[2u * i], 2u * i + 1u < uint(WORD_COUNT) ? words[2u * i + 1u] : 0u);
-        imageStore(masks[i], ivec2(pixel), uvec4(pair, 0u, 0u)); // the frame cleared them
-    }
+    if (lane == 0u)
+        for (uint w = 0u; w < uint(WORD_COUNT); ++w) groupWords[slot][w] = 0u;
+    barrier();
+    for (uint w = 0u; w < uint(WORD_COUNT); ++w)
+        if (words[w] != 0u) atomicOr(groupWords[slot][w], words[w]);
+    barrier();
+    if (covered && lane == 0u)
+        for (uint i = 0u; 2u * i < uint(WORD_COUNT); ++i) {
+            uvec2 pair = uvec2(groupWords[slot][2u * i],
+                               2u * i + 1u < uint(WORD_COUNT) ? groupWords[slot][2u * i + 1u] : 0u);
+            imageStore(masks[i], ivec2(pixel), uvec4(pair, 0u, 0u)); // the frame cleared them
+        }
 #endif
 }
