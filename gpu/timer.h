@@ -39,6 +39,8 @@ class GpuTimer {
     void end(VkCommandBuffer cmd);
     /// Scopes in begin() order. Blocks until the timestamps are available.
     std::vector<GpuTiming> results() const;
+    /// The scopes a frame may open.
+    uint32_t maxScopes() const { return m_maxScopes; }
 
   private:
     const Device* m_device = nullptr;

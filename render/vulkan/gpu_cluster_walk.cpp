@@ -88,20 +88,33 @@ bool ClusterLists::growFor(std::uint64_t needed) {
         return true;
     }
     // More than a list can hold: the walk takes the tiles in more parts, each with the lists
-    // to itself, and past one 16 × 16 tile a part, 4 × 4 tiles (a block each).
+    // to itself.
+    split(needed, m_maxCapacity,
+          "pairs in one list, more than the " + std::to_string(m_maxCapacity) + " a storage buffer holds",
+          "use --extrusion hull");
+    if (m_capacity < m_maxCapacity) resize(m_maxCapacity);
+    return true;
+}
+
+void ClusterLists::splitFor(std::uint64_t listed, std::uint64_t limit) {
+    split(listed, limit,
+          "fragments for the sample passes, more than the " + std::to_string(limit) + " their list holds",
+          "render a smaller --size");
+}
+
+void ClusterLists::split(std::uint64_t needed, std::uint64_t limit, const std::string& what,
+                         const std::string& advice) {
+    // Past one 16 × 16 tile a part, 4 × 4 tiles (a block each).
     if (m_parts >= tileCount()) {
         if (m_tileBlocks == 1)
-            throw Error("the cluster walk needs " + std::to_string(needed) +
-                        " pairs in one list for one 4x4 " + "block, more than the " +
-                        std::to_string(m_maxCapacity) + " a storage buffer holds; use --extrusion hull");
+            throw Error("the cluster walk lists " + std::to_string(needed) + " " + what +
+                        ", for one 4x4 block; " + advice);
         m_tileBlocks = 1; // the same parts, each now a row of blocks as long as its tiles were
     }
     // The worst part's list shrinks about as its share of the tiles (twice the room).
-    const std::uint64_t wanted = std::uint64_t(m_parts) * 2 * needed / m_maxCapacity + 1;
+    const std::uint64_t wanted = std::uint64_t(m_parts) * 2 * needed / limit + 1;
     m_parts = static_cast<std::uint32_t>(
         std::min<std::uint64_t>(tileCount(), std::max<std::uint64_t>(wanted, m_parts + 1)));
-    if (m_capacity < m_maxCapacity) resize(m_maxCapacity);
-    return true;
 }
 
 std::vector<DescriptorBinding> ClusterLists::bindings() {
@@ -142,17 +155,18 @@ ClusterWalkPasses::ClusterWalkPasses(const Device& device, const std::string& sh
 }
 
 void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light,
-                               std::size_t depth, const std::string& scope) const {
+                               std::size_t depth, const std::string& scope,
+                               const std::function<void(bool last)>& afterPart) const {
     const ClearPass clearCounts({}, {&m_lists->listCounts});
     const std::uint32_t parts = m_lists->parts();
     const auto stages = static_cast<std::uint32_t>(m_pipelines.size());
-    recorder.beginScope(cmd, scope);
     const std::uint32_t tiles = m_lists->tileCount();
     for (std::uint32_t part = 0; part < parts; ++part) {
         // Tiles [first, end), row by row, with the lists to themselves.
         const auto first = static_cast<std::uint32_t>(std::uint64_t(tiles) * part / parts);
         const auto end = static_cast<std::uint32_t>(std::uint64_t(tiles) * (part + 1) / parts);
         if (first == end) continue;
+        recorder.beginScope(cmd, scope);
         runPass(recorder, cmd, "", clearCounts, light);
         runPass(recorder, cmd, "", Stage(*this, 0, first, end), light);
         // A level more than the tree has: the tiles' leaves go to their blocks.
@@ -167,8 +181,9 @@ void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std:
                     Stage(*this, 1, stage == 3 ? GPU_CLUSTER_KEPT : GPU_CLUSTER_CANDIDATES), light);
             runPass(recorder, cmd, "", Stage(*this, stage, 0), light);
         }
+        recorder.endScope(cmd);
+        afterPart(part + 1 == parts);
     }
-    recorder.endScope(cmd);
 }
 
 PassAccesses ClusterWalkPasses::Stage::accesses(std::size_t) const {

@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -74,6 +75,13 @@ class ClusterLists {
     /// block), and returns true, and the caller renders the frame again (the descriptors must be
     /// written again). An Error when one block needs more than a list holds.
     bool growFor(std::uint64_t needed);
+    /// After a frame whose walk listed `listed` (pixel, item) pairs for the sample passes in its
+    /// worst part, more than the `limit` the deferred list holds: takes the tiles in more parts
+    /// (each part's pairs are sampled before the next part lists its own), and the caller renders
+    /// the frame again. An Error when one 4 × 4 block lists more.
+    void splitFor(std::uint64_t listed, std::uint64_t limit);
+    /// Whether a family walks in this frame.
+    bool used() const { return m_used; }
     std::uint64_t capacity() const { return m_capacity; }
     /// Parts of the frame's tiles (row by row) the walk takes one after the other (1 unless a list
     /// needed more than a storage buffer holds).
@@ -93,6 +101,10 @@ class ClusterLists {
 
   private:
     void resize(std::uint64_t capacity);
+    /// More parts, so that the worst one's `needed` entries of a list holding `limit` shrink
+    /// about as its share of the tiles, with twice the room; `what` names the list for the
+    /// error, with `advice`, when the parts are single blocks already.
+    void split(std::uint64_t needed, std::uint64_t limit, const std::string& what, const std::string& advice);
 
     const Device* m_device;
     ClusterTables m_empty; ///< the stand-ins
@@ -119,9 +131,11 @@ class ClusterWalkPasses {
                       const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines,
                       std::vector<std::pair<const Buffer*, ResourceUse>> reads = {});
 
-    /// Light `light`'s passes over a tree `depth` levels deep, inside the timer scope `scope`.
+    /// Light `light`'s passes over a tree `depth` levels deep, part by part, each part's inside
+    /// the timer scope `scope` (the scopes of a name add up) and followed by `afterPart(last)`:
+    /// the family's passes over the pairs the part listed.
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light, std::size_t depth,
-                const std::string& scope) const;
+                const std::string& scope, const std::function<void(bool last)>& afterPart) const;
 
   private:
     /// One dispatch of a stage (CLUSTER_STAGE) at a step (GpuPush::step; the boxes' stage: the

@@ -14,8 +14,9 @@ constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 }
 
 DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& options,
-                                     std::uint64_t initialCapacity)
-    : m_device(&device), m_initialCapacity(initialCapacity),
+                                     std::uint64_t initialCapacity, std::uint64_t maxCapacity)
+    : m_device(&device), m_maxCapacity(maxCapacity > 0 ? maxCapacity : kMaxDeferredFragments),
+      m_initialCapacity(std::min(initialCapacity, m_maxCapacity)),
       m_maskWordCount(std::uint64_t(options.width) * std::uint64_t(options.height) *
                       lsMaskWordCount(uint(options.samples))) {
     count = Buffer(device, 16, STORAGE, MemoryUsage::DeviceLocal);
@@ -33,11 +34,11 @@ void DeferredFragments::use(bool withMaskWords) {
 
 bool DeferredFragments::growFor(std::uint64_t listed) {
     if (listed <= m_capacity) return false;
-    if (listed > kMaxDeferredFragments)
+    if (listed > m_maxCapacity)
         throw Error("a volume pass lists " + std::to_string(listed) +
-                    " fragments for one light, more than the " + std::to_string(kMaxDeferredFragments) +
+                    " fragments for one light, more than the " + std::to_string(m_maxCapacity) +
                     " its list may hold; render a smaller --size");
-    resize(std::min(listed + listed / 4, kMaxDeferredFragments));
+    resize(std::min(listed + listed / 4, m_maxCapacity));
     return true;
 }
 

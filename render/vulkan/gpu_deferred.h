@@ -23,8 +23,10 @@ inline constexpr std::uint64_t kMaxDeferredFragments = std::uint64_t(1) << 26;
 /// uses it, one-element stand-ins for the descriptors.
 class DeferredFragments {
   public:
-    /// `initialCapacity`: the fragments the list holds once a technique uses it.
-    DeferredFragments(const Device& device, const RenderOptions& options, std::uint64_t initialCapacity);
+    /// `initialCapacity`: the fragments the list holds once a technique uses it; `maxCapacity`
+    /// the most it may grow to (0: kMaxDeferredFragments).
+    DeferredFragments(const Device& device, const RenderOptions& options, std::uint64_t initialCapacity,
+                      std::uint64_t maxCapacity = 0);
     /// The bindings of the list in a volume family's set (gpu_volumes_dh.h); the mask words are
     /// the STSV family's (gpu_stsv_dh.h).
     static std::vector<DescriptorBinding> bindings();
@@ -33,10 +35,12 @@ class DeferredFragments {
     /// the STSV samples' mask words of a bitmask frame. The descriptors must be written after.
     void use(bool maskWords);
     std::uint64_t capacity() const { return m_capacity; }
+    std::uint64_t maxCapacity() const { return m_maxCapacity; }
     /// After a frame whose draws listed `listed` fragments (for one light, at most): when that
     /// is more than the list held, some were lost, so the list grows to what the frame needed
     /// (a quarter more) and the caller renders the frame again (true; the descriptors must be
-    /// written again). An Error past kMaxDeferredFragments.
+    /// written again). An Error past maxCapacity() (a walk takes its tiles in more parts
+    /// instead: ClusterLists::splitFor).
     bool growFor(std::uint64_t listed);
     Buffer count;     ///< uvec4, x: fragments appended (past the end too)
     Buffer fragments; ///< uvec2 per fragment: pixel index, item (record or edge)
@@ -46,6 +50,7 @@ class DeferredFragments {
     /// Room for `capacity` fragments, the old entries dropped.
     void resize(std::uint64_t capacity);
     const Device* m_device;
+    std::uint64_t m_maxCapacity;
     std::uint64_t m_initialCapacity;
     std::uint64_t m_maskWordCount; ///< lsMaskWordCount(N) words per pixel of the frame
     std::uint64_t m_capacity = 0;

@@ -69,9 +69,9 @@ std::optional<ClusterLists> clusterListsFor(const Device& device, const RenderOp
 }
 
 std::optional<DeferredFragments> deferredFragmentsFor(const Device& device, const RenderOptions& options,
-                                                      std::uint64_t capacity) {
+                                                      std::uint64_t capacity, std::uint64_t limit) {
     if (!drawsVolumes(methodInfo(options.method))) return std::nullopt;
-    return std::optional<DeferredFragments>(std::in_place, device, options, capacity);
+    return std::optional<DeferredFragments>(std::in_place, device, options, capacity, limit);
 }
 
 /// What builds the frame's volumes, for its stats: the cluster walk where the auto extrusion takes
@@ -96,9 +96,10 @@ class VulkanFrame {
   public:
     /// `deferredCapacity`: the fragments the STSV hull draw and the DCS wedge draw may list for
     /// their sample passes at first (the list grows when a frame needs more).
-    /// `clusterListLimit`: VulkanRendererConfig::clusterListLimit.
+    /// `clusterListLimit`, `deferredLimit`: VulkanRendererConfig's.
     VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
-                VolumeGeometry geometry, std::uint64_t deferredCapacity, std::uint64_t clusterListLimit);
+                VolumeGeometry geometry, std::uint64_t deferredCapacity, std::uint64_t clusterListLimit,
+                std::uint64_t deferredLimit);
     Frame render(double startupMs);
 
   private:
@@ -132,11 +133,11 @@ class VulkanFrame {
 
 VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderOptions& options,
                          VolumeGeometry geometry, std::uint64_t deferredCapacity,
-                         std::uint64_t clusterListLimit)
+                         std::uint64_t clusterListLimit, std::uint64_t deferredLimit)
     : m_device(device), m_scene(scene), m_options(options), m_method(methodInfo(options.method)),
       m_geometry(geometry), m_plan(samplePlanOf(options)), m_resources(device, scene, options, m_plan),
       m_hulls(hullResourcesFor(device, m_method)),
-      m_deferred(deferredFragmentsFor(device, options, deferredCapacity)),
+      m_deferred(deferredFragmentsFor(device, options, deferredCapacity, deferredLimit)),
       m_clusterLists(clusterListsFor(device, options, clusterListLimit)),
       m_descriptors(device, m_resources.bindings(), std::max<std::size_t>(scene.lights.size(), 1)),
       m_context{device,
@@ -219,7 +220,9 @@ Frame VulkanFrame::render(double startupMs) {
         m_commands.submitAndWait();
         gpuMs = gpu.milliseconds();
         passes = nlohmann::json::object();
-        for (const GpuTiming& t : m_timer.results()) passes[t.name] = t.milliseconds;
+        // A pass timed once a part of the walk adds up.
+        for (const GpuTiming& t : m_timer.results())
+            passes[t.name] = passes.value(t.name, 0.0) + t.milliseconds;
         readback = Timer();
         m_readback.unpack(frame);
         for (std::size_t i = 0; i < m_techniques.size(); ++i)
@@ -227,7 +230,17 @@ Frame VulkanFrame::render(double startupMs) {
         // A fragment a list had no room for is lost: the list grows and the frame runs again.
         std::uint64_t listed = 0;
         for (const auto& technique : m_techniques) listed = std::max(listed, technique->listedFragments());
-        bool grown = m_deferred && m_deferred->growFor(listed);
+        // Past what the list holds, a walk takes its tiles in more parts, each part's fragments
+        // sampled before the next lists its own (the walks list every deferred fragment when one
+        // does: the auto extrusion).
+        bool grown = false;
+        if (m_deferred && listed > m_deferred->maxCapacity() && m_clusterLists && m_clusterLists->used()) {
+            m_clusterLists->splitFor(listed, m_deferred->maxCapacity());
+            m_deferred->growFor(m_deferred->maxCapacity());
+            grown = true;
+        } else {
+            grown = m_deferred && m_deferred->growFor(listed);
+        }
         // The cluster lists are shared: they grow once, for the most any walk needed.
         std::uint64_t pairs = 0;
         for (const auto& technique : m_techniques) pairs = std::max(pairs, technique->clusterPairsNeeded());
@@ -235,6 +248,8 @@ Frame VulkanFrame::render(double startupMs) {
         for (const auto& technique : m_techniques) grown = technique->growLists() || grown;
         if (!grown) break;
         writeDescriptors();
+        // More parts time more passes.
+        if (timedPasses() > m_timer.maxScopes()) m_timer = GpuTimer(m_device, timedPasses());
     }
     for (const auto& technique : m_techniques) technique->readBack(frame);
     passes["readback"] = readback.milliseconds();
@@ -328,7 +343,7 @@ struct VulkanRenderer::Impl {
                 : std::min<std::uint64_t>(2ull * std::uint64_t(options.width) * std::uint64_t(options.height),
                                           kMaxDeferredFragments);
         frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred,
-                                              config.clusterListLimit);
+                                              config.clusterListLimit, config.deferredLimit);
         startupMs = startup.milliseconds();
     }
 };

@@ -27,6 +27,10 @@ struct VulkanRendererConfig {
     /// binding of the device addresses); past it the walk takes the tiles in parts. Tests make
     /// it small.
     std::uint64_t clusterListLimit = 0;
+    /// The fragments the list for the sample passes may hold at most (0: kMaxDeferredFragments);
+    /// past it the walk takes the tiles in parts (the hull and geometry paths stop with an
+    /// error). Tests make it small.
+    std::uint64_t deferredLimit = 0;
 };
 
 /// Payload bytes of one light's sample buffer for `options` without rendering: N·W·H/8 for

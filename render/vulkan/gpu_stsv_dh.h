@@ -23,8 +23,12 @@ struct GpuStsvStats {
     uint fragments;        ///< fragments that passed the depth test (volume behind the visible point); the
                            ///< walk: (pixel, volume) plane tests
     uint inside;           ///< of those, p inside the volume and on its side: they run the sample loop
-    uint listed;           ///< hull-draw fragments listed for stsv_samples.comp, past the end too
-    uint deferred;         ///< listed fragments whose samples stsv_samples.comp tested
+    uint listed;     ///< fragments listed for stsv_samples.comp, past the end too (the walk: all parts')
+    uint deferred;   ///< listed fragments whose samples stsv_samples.comp tested
+    uint listedPart; ///< the most one list held (past the end too): the walk's worst part's
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 /// What an STSV fragment needs about its volume (STSV paper §3): the triangle constants of
@@ -47,7 +51,7 @@ DH_CONST uint GPU_STSV_RECORD_PLANES = 6u;
 DH_CONST uint GPU_STSV_RECORD_LIGHT_PLANES = 11u;
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(GpuStsvStats) == 48);
+DH_STATIC_ASSERT(sizeof(GpuStsvStats) == 64);
 DH_STATIC_ASSERT(offsetof(GpuStsvStats, hull) == 0);
 DH_STATIC_ASSERT(offsetof(GpuStsvStats, walk) == 16);
 DH_STATIC_ASSERT(sizeof(GpuStsvRecord) == 16 * GPU_HULL_RECORD_TEXELS);

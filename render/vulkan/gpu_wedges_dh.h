@@ -42,10 +42,10 @@ struct GpuWedgeStats {
     GpuClusterCounts walk; ///< dcs_clusters.comp
     uint fragments;        ///< wedge-pass fragments that passed the depth test
     uint inside;           ///< of those, p inside the bound with the edge a silhouette seen from p
-    uint listed;           ///< DCS wedge-draw fragments listed for wedge_samples.comp, past the end too
-    uint centerFragments;  ///< counting-volume fragments that passed the (biased) depth test
-    uint centerCounted;    ///< of those, faces behind the visible point: they add ±w to D(r)
-    uint pad0;
+    uint listed; ///< DCS fragments listed for wedge_samples.comp, past the end too (the walk: all parts')
+    uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
+    uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
+    uint listedPart;      ///< the most one list held (past the end too): the walk's worst part's
     uint pad1;
     uint pad2;
 };

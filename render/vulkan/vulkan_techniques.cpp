@@ -31,10 +31,11 @@ std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBindin
     return bindings;
 }
 
-/// The most fragments one light's draws listed for their sample pass (a volume family's stats).
+/// The most fragments one list held for a sample pass: one light's draw, or one part of its walk
+/// (a volume family's stats).
 template <class Stats> std::uint64_t mostListed(const std::vector<Stats>& counts) {
     std::uint64_t listed = 0;
-    for (const Stats& s : counts) listed = std::max<std::uint64_t>(listed, s.listed);
+    for (const Stats& s : counts) listed = std::max<std::uint64_t>(listed, s.listedPart);
     return listed;
 }
 
@@ -71,6 +72,7 @@ class StsvTechnique final : public VulkanTechnique {
                           sizeof(GpuStsvStats)),
           m_c(c), m_clearHullDraw({}, {&c.hulls->draw}),
           m_clearDeferred({}, {&c.deferred->count, &c.deferred->maskWords}),
+          m_clearDeferredCount({}, {&c.deferred->count}),
           m_itemRecordsStandIn(c.device, sizeof(uint), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                MemoryUsage::DeviceLocal) {
         if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
@@ -126,7 +128,8 @@ class StsvTechnique final : public VulkanTechnique {
     /// The volumes' draw sets the masks whole (its attachments are cleared as it begins); the
     /// walk's merge ORs its bits into masks the frame cleared.
     bool writesSampleMasks() const override { return m_stsv.has_value(); }
-    std::uint32_t timedPassesPerLight() const override { return 4; }
+    /// The walk and the samples time each part.
+    std::uint32_t timedPassesPerLight() const override { return 4 + 2 * (m_c.clusterLists->parts() - 1); }
     std::vector<const HullPass*> hullPasses() const override {
         if (!m_hullPass) return {};
         return {&*m_hullPass};
@@ -141,10 +144,17 @@ class StsvTechnique final : public VulkanTechnique {
                     light);
         }
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferred, light);
+        const std::string samples = passName(light, "stsv_samples");
         if (m_walk)
-            m_walk->record(recorder, cmd, light, m_clusters->depth(), passName(light, "stsv_clusters"));
+            // Each part's pairs sampled before the next part lists its own; the mask words add up
+            // over the parts until the merge.
+            m_walk->record(recorder, cmd, light, m_clusters->depth(), passName(light, "stsv_clusters"),
+                           [&](bool last) {
+                               runPass(recorder, cmd, samples, *m_samples, light);
+                               if (!last) runPass(recorder, cmd, "", m_clearDeferredCount, light);
+                           });
         if (m_stsv) runPass(recorder, cmd, passName(light, "stsv"), *m_stsv, light);
-        if (m_samples) runPass(recorder, cmd, passName(light, "stsv_samples"), *m_samples, light);
+        if (m_samples && !m_walk) runPass(recorder, cmd, samples, *m_samples, light);
         if (m_merge) runPass(recorder, cmd, passName(light, "stsv_merge"), *m_merge, light);
     }
 
@@ -198,6 +208,7 @@ class StsvTechnique final : public VulkanTechnique {
     const VulkanTechniqueContext& m_c;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferred;
+    ClearPass m_clearDeferredCount;              ///< between the walk's parts
     Buffer m_itemRecordsStandIn;                 ///< the item table's binding without the walk
     std::optional<StsvClusters> m_clusters;      ///< with the walk
     std::optional<ClearPass> m_clearItemRecords; ///< with the walk
@@ -252,7 +263,8 @@ class WedgeTechnique final : public VulkanTechnique {
             m_opaque.writeDescriptors(set, l, *m_c.clusterLists);
         }
     }
-    std::uint32_t timedPassesPerLight() const override { return 5; }
+    /// The walk and the samples time each part.
+    std::uint32_t timedPassesPerLight() const override { return 5 + 2 * (m_c.clusterLists->parts() - 1); }
     std::vector<const HullPass*> hullPasses() const override {
         if (!m_hullPass) return {};
         return {&*m_hullPass};
@@ -267,13 +279,18 @@ class WedgeTechnique final : public VulkanTechnique {
             runPass(recorder, cmd, technique + "wedge_hulls", *m_hullPass, light);
         }
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
+        const std::string samples = technique + "wedge_samples";
         if (m_clusters) {
+            // Each part's pairs sampled before the next part lists its own.
             const auto& counts = m_opaque.clusters().counts();
             m_clusters->record(recorder, cmd, light, light < counts.size() ? counts[light].depth : 0,
-                               technique + "clusters");
+                               technique + "clusters", [&](bool last) {
+                                   runPass(recorder, cmd, samples, *m_samples, light);
+                                   if (!last) runPass(recorder, cmd, "", m_clearDeferredCount, light);
+                               });
         }
         if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
-        if (m_samples) runPass(recorder, cmd, technique + "wedge_samples", *m_samples, light);
+        if (m_samples && !m_clusters) runPass(recorder, cmd, samples, *m_samples, light);
         // DCS's count is clamped at 0 before another technique adds its layers (dcs+stsv), as
         // on the CPU (render/cpu/cpu_wedges.cpp dcsCpuSamples).
         if (!m_pw) runPass(recorder, cmd, passName(light, "fold"), m_fold, light);

@@ -19,8 +19,12 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer 
 layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
 
 void main() {
-    // Everything the draw tried to list, past the end too: the host grows a short list.
-    if (gl_GlobalInvocationID.x == 0u) stats[pc.light].listed = deferredCount.x;
+    // Everything the draw or this part of the walk tried to list, past the end too: the host
+    // grows a short list, or walks in more parts.
+    if (gl_GlobalInvocationID.x == 0u) {
+        atomicAdd(stats[pc.light].listed, deferredCount.x);
+        atomicMax(stats[pc.light].listedPart, deferredCount.x);
+    }
     uint count = deferredEntries();
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     bool decorrelate = frame.decorrelate != 0u;

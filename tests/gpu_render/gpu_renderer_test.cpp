@@ -524,6 +524,41 @@ TEST_F(GpuRenderer, AnStsvWalkWhoseListsCannotHoldItTakesTheTilesInParts) {
     EXPECT_EQ(limited.device().validationMessageCount(), 0u);
 }
 
+TEST_F(GpuRenderer, AnStsvWalkListingMoreThanTheSampleListHoldsSamplesItPartByPart) {
+    // The sample list limited to 2000 fragments, fewer than the foliage's walk lists for the
+    // frame: the walk takes the tiles in parts, each part's fragments sampled before the next
+    // part lists its own (the mask words add up until the merge), and the bits and counters are
+    // the hull draw's, in this frame and the next.
+    const Scene scene = loadScene("foliage");
+    for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters}) {
+        const RenderOptions o = gpuOptions(96, 72, 64, kind);
+        const std::string what = toString(kind);
+        VulkanRendererConfig config{&device()};
+        config.deferredLimit = 2000;
+        VulkanRenderer limited(scene, o, config);
+        const Frame parts = limited.render();
+        const Frame again = limited.render();
+        const Frame whole = renderGpu(scene, o);
+        RenderOptions ho = o;
+        ho.extrusion = ExtrusionStage::Hull;
+        const Frame hull = renderGpu(scene, ho);
+        for (const Frame* frame : {&parts, &again}) {
+            if (kind == BufferKind::Bitmask)
+                EXPECT_EQ(frame->lightSamples[0].words(), hull.lightSamples[0].words()) << what;
+            else
+                EXPECT_EQ(frame->lightSamples[0].counters(), hull.lightSamples[0].counters()) << what;
+        }
+        const nlohmann::json& w = parts.stats["stsv"][0];
+        std::cout << what << ": " << w.dump() << "\n";
+        EXPECT_GT(whole.stats["stsv"][0]["listed_fragments"].get<std::uint64_t>(), 3 * config.deferredLimit)
+            << what;
+        EXPECT_GT(w["parts"].get<std::uint32_t>(), 1u) << what;
+        EXPECT_EQ(w["listed_fragments"], whole.stats["stsv"][0]["listed_fragments"]) << what;
+        EXPECT_EQ(w["deferred_fragments"], whole.stats["stsv"][0]["deferred_fragments"]) << what;
+        EXPECT_EQ(limited.device().validationMessageCount(), 0u) << what;
+    }
+}
+
 TEST_F(GpuRenderer, AShortFragmentListGrowsAndTheFrameIsRenderedAgain) {
     // A list with room for 50 fragments: the hull draw lists far more, drops those past the end,
     // and the renderer grows the list and renders the frame again; the buffers are those of the

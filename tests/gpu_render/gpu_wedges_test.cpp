@@ -447,6 +447,40 @@ TEST_F(GpuWedges, AClusterWalkWhoseListsCannotHoldItTakesTheTilesInParts) {
     EXPECT_EQ(limited.device().validationMessageCount(), 0u);
 }
 
+TEST_F(GpuWedges, AWalkListingMoreThanTheSampleListHoldsSamplesItPartByPart) {
+    // The sample list limited to 200 fragments, fewer than the knot's walk lists for the frame
+    // (as 2²⁶ are fewer than the 75 M of fence-mesh at 256²): the walk takes the tiles in parts,
+    // each part's fragments sampled before the next part lists its own, and the counters are the
+    // hull draw's, with two lights, in this frame and the next.
+    Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
+    knot.lights.push_back(
+        makeSphereLight(knot.lights[0].position + vec3(0.5f, 0.0f, 0.3f), 0.2f, knot.lights[0].radiance));
+    const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+    VulkanRendererConfig config{&device()};
+    config.deferredLimit = 200;
+    VulkanRenderer limited(knot, o, config);
+    const Frame parts = limited.render();
+    const Frame again = limited.render();
+    const Frame whole = renderGpu(knot, o);
+    const Frame hull = renderGpu(knot, o, ExtrusionStage::Hull);
+    ASSERT_EQ(parts.lightSamples.size(), 2u);
+    for (std::size_t l = 0; l < 2; ++l) {
+        const nlohmann::json& w = parts.stats["wedges"][l];
+        std::cout << "light " << l << ": " << w.dump() << "\n";
+        EXPECT_GT(whole.stats["wedges"][l]["listed_fragments"].get<std::uint64_t>(), config.deferredLimit)
+            << "light " << l;
+        EXPECT_EQ(parts.lightSamples[l].counters(), hull.lightSamples[l].counters()) << "light " << l;
+        EXPECT_EQ(again.lightSamples[l].counters(), hull.lightSamples[l].counters()) << "light " << l;
+        EXPECT_GT(w["parts"].get<std::uint32_t>(), 1u) << "light " << l;
+        // Every part's fragments, listed and sampled once.
+        EXPECT_EQ(w["listed_fragments"], whole.stats["wedges"][l]["listed_fragments"]) << "light " << l;
+        EXPECT_EQ(w["silhouette_fragments"], whole.stats["wedges"][l]["silhouette_fragments"])
+            << "light " << l;
+    }
+    EXPECT_TRUE(parts.stats["passes"].contains("light1/dcs_wedge_samples"));
+    EXPECT_EQ(limited.device().validationMessageCount(), 0u);
+}
+
 TEST_F(GpuWedges, AShortSilhouetteListGrowsAndTheFrameIsRenderedAgain) {
     // A list with room for 50 fragments: the DCS wedge draw lists far more, drops those past the
     // end, and the renderer grows the list and renders the frame again; the counters and counts
