@@ -4,6 +4,13 @@
 // +1 per volume that contains it. The near cap of the visible triangle itself is skipped
 // (self-shadowing rule); wedge_fold.comp accounts for the rest of that triangle's volume.
 //
+// Front or back is the rasteriser's facing (gl_FrontFacing), not the world plane's: the
+// rasteriser covers a pixel with the triangles of a closed surface a consistent number of times
+// only counted with its own orientations. A thin quad (a 1 mm edge extruded to the far distance)
+// whose snapped corners fold one of its triangles over the other covers some pixels twice; with
+// the facing of the plane both count alike (fence-mesh lost the light at 360 of 12 288 pixels at
+// 128×96), with the rasteriser's the folded one cancels the other.
+//
 // "Behind p" is decided in world space, not by the depth buffer: the face is behind p when p
 // and the eye lie on the same side of the face's plane (the view ray through the pixel centre
 // meets the face, so it meets it beyond p). A near cap starts SHADOW_T_MIN·distance behind its
@@ -36,9 +43,10 @@ void main() {
         vec3 p = vec3(imageLoad(gPosition, pixel));
         float eyeSide = dot(inPlane.xyz, vec3(frame.eye)) + inPlane.w;
         float pointSide = dot(inPlane.xyz, p) + inPlane.w;
-        // The eye outside the face (eyeSide > 0): the ray enters the volume there.
+        // Behind p: p and the eye on one side of the face's plane.
         counted = eyeSide > 0.0 ? pointSide > 0.0 : pointSide < 0.0;
-        if (counted) imageAtomicAdd(centerCount, pixel, eyeSide > 0.0 ? -inWeight : inWeight);
+        // A front face (the outward side towards the eye): the ray enters the volume there.
+        if (counted) imageAtomicAdd(centerCount, pixel, gl_FrontFacing ? -inWeight : inWeight);
     }
     uint fragments = subgroupAdd(1u);
     uint countedCount = subgroupAdd(counted ? 1u : 0u);
