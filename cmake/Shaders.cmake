@@ -176,7 +176,7 @@ stsv_check_shader(${S}/shadowmaps/shadow_filter.comp vpcss_blocker SHADOW_FILTER
 stsv_check_shader(${S}/shadowmaps/shadow_filter.comp vpcss_filter_ubo SHADOW_FILTER_STEP=6 ${UBO})
 # peel's march with lanes sharing a pixel (PEEL_LANES, PEEL_GROUP: render/vulkan/gpu_shadowmap_passes.cpp).
 stsv_check_shader(${S}/shadowmaps/peel_march.comp s256_lanes4 SAMPLE_COUNT=256 PEEL_LANES=4 PEEL_GROUP=64)
-stsv_check_shader(${S}/shadowmaps/peel_march.comp s16_counters_lanes256 SAMPLE_COUNT=16 LS_COUNTERS=1 PEEL_LANES=256 PEEL_GROUP=256)
+stsv_check_shader(${S}/shadowmaps/peel_march.comp s256_counters_lanes256 SAMPLE_COUNT=256 LS_COUNTERS=1 PEEL_LANES=256 PEEL_GROUP=256)
 
 file(MAKE_DIRECTORY ${PROJECT_BINARY_DIR}/shaders)
 add_custom_target(stsv_shaders ALL DEPENDS ${STSV_SHADER_OUTPUTS})

@@ -99,7 +99,7 @@ bool ClusterLists::growFor(std::uint64_t needed) {
 void ClusterLists::splitFor(std::uint64_t listed, std::uint64_t limit) {
     split(listed, limit,
           "fragments for the sample passes, more than the " + std::to_string(limit) + " their list holds",
-          "render a smaller --size");
+          "the scene is too dense for the walk's sample list");
 }
 
 void ClusterLists::split(std::uint64_t needed, std::uint64_t limit, const std::string& what,

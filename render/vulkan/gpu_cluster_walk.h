@@ -84,10 +84,10 @@ class ClusterLists {
     bool used() const { return m_used; }
     std::uint64_t capacity() const { return m_capacity; }
     /// Parts of the frame's tiles (row by row) the walk takes one after the other (1 unless a list
-    /// needed more than a storage buffer holds).
+    /// needed more than a storage buffer holds, or the sample list more than it holds).
     std::uint32_t parts() const { return m_parts; }
-    /// A tile's side in 4 × 4 blocks: 4, or 1 once a 16 × 16 tile needed more pairs than a list
-    /// holds.
+    /// A tile's side in 4 × 4 blocks: 4, or 1 once one 16 × 16 tile a part was still too much for
+    /// a list.
     std::uint32_t tileBlocks() const { return m_tileBlocks; }
     std::uint32_t tileCount() const {
         return ((m_blocksAcross + m_tileBlocks - 1) / m_tileBlocks) *

@@ -15,7 +15,10 @@ constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& options,
                                      std::uint64_t initialCapacity, std::uint64_t maxCapacity)
-    : m_device(&device), m_maxCapacity(maxCapacity > 0 ? maxCapacity : kMaxDeferredFragments),
+    : m_device(&device),
+      // No more than one storage buffer binding addresses (128 MiB, 16.8 M pairs, on lavapipe).
+      m_maxCapacity(std::min<std::uint64_t>(maxCapacity > 0 ? maxCapacity : kMaxDeferredFragments,
+                                            device.limits().maxStorageBufferRange / 8)),
       m_initialCapacity(std::min(initialCapacity, m_maxCapacity)),
       m_maskWordCount(std::uint64_t(options.width) * std::uint64_t(options.height) *
                       lsMaskWordCount(uint(options.samples))) {

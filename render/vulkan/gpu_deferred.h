@@ -24,7 +24,8 @@ inline constexpr std::uint64_t kMaxDeferredFragments = std::uint64_t(1) << 26;
 class DeferredFragments {
   public:
     /// `initialCapacity`: the fragments the list holds once a technique uses it; `maxCapacity`
-    /// the most it may grow to (0: kMaxDeferredFragments).
+    /// the most it may grow to (0: kMaxDeferredFragments), never more than a storage buffer
+    /// binding of the device addresses.
     DeferredFragments(const Device& device, const RenderOptions& options, std::uint64_t initialCapacity,
                       std::uint64_t maxCapacity = 0);
     /// The bindings of the list in a volume family's set (gpu_volumes_dh.h); the mask words are

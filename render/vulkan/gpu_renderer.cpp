@@ -233,18 +233,19 @@ Frame VulkanFrame::render(double startupMs) {
         // Past what the list holds, a walk takes its tiles in more parts, each part's fragments
         // sampled before the next lists its own (the walks list every deferred fragment when one
         // does: the auto extrusion).
-        bool grown = false;
+        bool grown = false, split = false;
         if (m_deferred && listed > m_deferred->maxCapacity() && m_clusterLists && m_clusterLists->used()) {
             m_clusterLists->splitFor(listed, m_deferred->maxCapacity());
             m_deferred->growFor(m_deferred->maxCapacity());
-            grown = true;
+            grown = split = true;
         } else {
             grown = m_deferred && m_deferred->growFor(listed);
         }
-        // The cluster lists are shared: they grow once, for the most any walk needed.
+        // The cluster lists are shared: they grow once, for the most any walk needed (after a
+        // split, the next frame's parts tell anew).
         std::uint64_t pairs = 0;
         for (const auto& technique : m_techniques) pairs = std::max(pairs, technique->clusterPairsNeeded());
-        grown = (m_clusterLists && m_clusterLists->growFor(pairs)) || grown;
+        grown = (!split && m_clusterLists && m_clusterLists->growFor(pairs)) || grown;
         for (const auto& technique : m_techniques) grown = technique->growLists() || grown;
         if (!grown) break;
         writeDescriptors();

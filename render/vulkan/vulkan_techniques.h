@@ -53,7 +53,8 @@ class VulkanTechnique {
     /// Whether its passes set the light's sample masks whole (else the frame clears them first:
     /// all lit, and passes that OR bits into them see cleared masks).
     virtual bool writesSampleMasks() const { return false; }
-    /// The timed passes it records per light, at most (the frame sizes its timestamp pool).
+    /// The timed passes it records per light, at most (the frame sizes its timestamp pool, and
+    /// sizes it again when the walk takes more parts: the walk and its sample pass time each).
     virtual std::uint32_t timedPassesPerLight() const = 0;
     /// Its hull passes, which HullResources::size runs once at start-up.
     virtual std::vector<const HullPass*> hullPasses() const { return {}; }
@@ -63,8 +64,8 @@ class VulkanTechnique {
     virtual void recordCombine(PassRecorder&, VkCommandBuffer, std::size_t /*light*/) {}
     /// After the frame's fence: its stats buffer as the frame left it (family().stats()'s bytes).
     virtual void takeStats(const std::byte* staged) = 0;
-    /// The most fragments its draws listed for their sample passes (DeferredFragments) for one
-    /// light, past the end too, as the last takeStats says.
+    /// The most fragments one list for its sample passes (DeferredFragments) held: one light's
+    /// draw, or one part of its walk, past the end too, as the last takeStats says.
     virtual std::uint64_t listedFragments() const { return 0; }
     /// After takeStats: the most pairs one of the frame's cluster lists (ClusterLists, shared by
     /// the walking families) needed in its walk, when more than it held (else 0).

@@ -518,6 +518,16 @@ TEST_F(GpuWedges, AWalkListingMoreThanTheSampleListHoldsSamplesItPartByPart) {
     }
     EXPECT_TRUE(parts.stats["passes"].contains("light1/dcs_wedge_samples"));
     EXPECT_EQ(limited.device().validationMessageCount(), 0u);
+    // A list of one pair: one 4 × 4 block lists more, and no part is smaller than a block.
+    VulkanRendererConfig single{&device()};
+    single.deferredLimit = 1;
+    try {
+        VulkanRenderer(knot, o, single).render();
+        ADD_FAILURE() << "a walk listing more than one pair a block rendered into a list of one";
+    } catch (const Error& e) {
+        EXPECT_NE(std::string(e.what()).find("4x4 block"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find("sample list"), std::string::npos) << e.what();
+    }
 }
 
 TEST_F(GpuWedges, AShortSilhouetteListGrowsAndTheFrameIsRenderedAgain) {
