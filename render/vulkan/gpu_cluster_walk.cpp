@@ -155,9 +155,10 @@ ClusterWalkPasses::ClusterWalkPasses(const Device& device, const std::string& sh
 }
 
 void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light,
-                               std::size_t depth, const std::string& scope,
-                               const std::function<void(bool last)>& afterPart) const {
+                               std::size_t depth, const std::string& scope, const GpuPass& samples,
+                               const std::string& samplesScope) const {
     const ClearPass clearCounts({}, {&m_lists->listCounts});
+    const ClearPass clearListed({}, {&m_deferred->count});
     const std::uint32_t parts = m_lists->parts();
     const auto stages = static_cast<std::uint32_t>(m_pipelines.size());
     const std::uint32_t tiles = m_lists->tileCount();
@@ -166,6 +167,8 @@ void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std:
         const auto first = static_cast<std::uint32_t>(std::uint64_t(tiles) * part / parts);
         const auto end = static_cast<std::uint32_t>(std::uint64_t(tiles) * (part + 1) / parts);
         if (first == end) continue;
+        // Each part's pairs are sampled before the next part lists its own.
+        if (part > 0) runPass(recorder, cmd, "", clearListed, light);
         recorder.beginScope(cmd, scope);
         runPass(recorder, cmd, "", clearCounts, light);
         runPass(recorder, cmd, "", Stage(*this, 0, first, end), light);
@@ -182,7 +185,7 @@ void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std:
             runPass(recorder, cmd, "", Stage(*this, stage, 0), light);
         }
         recorder.endScope(cmd);
-        afterPart(part + 1 == parts);
+        runPass(recorder, cmd, samplesScope, samples, light);
     }
 }
 

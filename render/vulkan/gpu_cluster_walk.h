@@ -22,7 +22,6 @@
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -132,10 +131,11 @@ class ClusterWalkPasses {
                       std::vector<std::pair<const Buffer*, ResourceUse>> reads = {});
 
     /// Light `light`'s passes over a tree `depth` levels deep, part by part, each part's inside
-    /// the timer scope `scope` (the scopes of a name add up) and followed by `afterPart(last)`:
-    /// the family's passes over the pairs the part listed.
+    /// the timer scope `scope`, then `samples` over the pairs the part listed, in the scope
+    /// `samplesScope` (the scopes of a name add up); the deferred list's count is cleared between
+    /// parts (the caller clears it before the first).
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light, std::size_t depth,
-                const std::string& scope, const std::function<void(bool last)>& afterPart) const;
+                const std::string& scope, const GpuPass& samples, const std::string& samplesScope) const;
 
   private:
     /// One dispatch of a stage (CLUSTER_STAGE) at a step (GpuPush::step; the boxes' stage: the

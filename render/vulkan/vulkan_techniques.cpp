@@ -72,7 +72,6 @@ class StsvTechnique final : public VulkanTechnique {
                           sizeof(GpuStsvStats)),
           m_c(c), m_clearHullDraw({}, {&c.hulls->draw}),
           m_clearDeferred({}, {&c.deferred->count, &c.deferred->maskWords}),
-          m_clearDeferredCount({}, {&c.deferred->count}),
           m_itemRecordsStandIn(c.device, sizeof(uint), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                                MemoryUsage::DeviceLocal) {
         if (c.scene.lights.empty() || !drawsStsv(c.method.stsv, c.scene)) return;
@@ -145,14 +144,9 @@ class StsvTechnique final : public VulkanTechnique {
         }
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferred, light);
         const std::string samples = passName(light, "stsv_samples");
-        if (m_walk)
-            // Each part's pairs sampled before the next part lists its own; the mask words add up
-            // over the parts until the merge.
+        if (m_walk) // the mask words add up over the walk's parts until the merge
             m_walk->record(recorder, cmd, light, m_clusters->depth(), passName(light, "stsv_clusters"),
-                           [&](bool last) {
-                               runPass(recorder, cmd, samples, *m_samples, light);
-                               if (!last) runPass(recorder, cmd, "", m_clearDeferredCount, light);
-                           });
+                           *m_samples, samples);
         if (m_stsv) runPass(recorder, cmd, passName(light, "stsv"), *m_stsv, light);
         if (m_samples && !m_walk) runPass(recorder, cmd, samples, *m_samples, light);
         if (m_merge) runPass(recorder, cmd, passName(light, "stsv_merge"), *m_merge, light);
@@ -208,7 +202,6 @@ class StsvTechnique final : public VulkanTechnique {
     const VulkanTechniqueContext& m_c;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferred;
-    ClearPass m_clearDeferredCount;              ///< between the walk's parts
     Buffer m_itemRecordsStandIn;                 ///< the item table's binding without the walk
     std::optional<StsvClusters> m_clusters;      ///< with the walk
     std::optional<ClearPass> m_clearItemRecords; ///< with the walk
@@ -281,13 +274,9 @@ class WedgeTechnique final : public VulkanTechnique {
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
         const std::string samples = technique + "wedge_samples";
         if (m_clusters) {
-            // Each part's pairs sampled before the next part lists its own.
             const auto& counts = m_opaque.clusters().counts();
             m_clusters->record(recorder, cmd, light, light < counts.size() ? counts[light].depth : 0,
-                               technique + "clusters", [&](bool last) {
-                                   runPass(recorder, cmd, samples, *m_samples, light);
-                                   if (!last) runPass(recorder, cmd, "", m_clearDeferredCount, light);
-                               });
+                               technique + "clusters", *m_samples, samples);
         }
         if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
         if (m_samples && !m_clusters) runPass(recorder, cmd, samples, *m_samples, light);

@@ -458,13 +458,19 @@ TEST(DcsPixelStage, KeepsAnInvocationsLoopsWithinHalfOfLavapipesLimit) {
     }
 }
 
+/// The torus knot with a second, spherical light beside its own.
+Scene twoLightKnot() {
+    Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
+    knot.lights.push_back(
+        makeSphereLight(knot.lights[0].position + vec3(0.5f, 0.0f, 0.3f), 0.2f, knot.lights[0].radiance));
+    return knot;
+}
+
 TEST_F(GpuWedges, AClusterWalkWhoseListsCannotHoldItTakesTheTilesInParts) {
     // Lists limited to 6 000 pairs, fewer than the torus knot's walk needs in one list (as
     // a storage buffer's range limits them on a large frame): the walk takes the tiles in parts,
     // each with the lists to itself, and the counters are those of the hull draw, with two lights.
-    Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
-    knot.lights.push_back(
-        makeSphereLight(knot.lights[0].position + vec3(0.5f, 0.0f, 0.3f), 0.2f, knot.lights[0].radiance));
+    const Scene knot = twoLightKnot();
     const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
     VulkanRendererConfig config{&device()};
     config.clusterListLimit = 6000;
@@ -491,9 +497,7 @@ TEST_F(GpuWedges, AWalkListingMoreThanTheSampleListHoldsSamplesItPartByPart) {
     // (as 2²⁶ are fewer than the 75 M of fence-mesh at 256²): the walk takes the tiles in parts,
     // each part's fragments sampled before the next part lists its own, and the counters are the
     // hull draw's, with two lights, in this frame and the next.
-    Scene knot = makeMeshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "torus knot");
-    knot.lights.push_back(
-        makeSphereLight(knot.lights[0].position + vec3(0.5f, 0.0f, 0.3f), 0.2f, knot.lights[0].radiance));
+    const Scene knot = twoLightKnot();
     const RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
     VulkanRendererConfig config{&device()};
     config.deferredLimit = 200;
