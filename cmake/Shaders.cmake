@@ -106,7 +106,7 @@ stsv_pattern_q(128 STSV_Q128)
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
 set(S ${PROJECT_SOURCE_DIR}/shaders) # shader folder, for the lines below
 foreach(source stsv/stsv.vert stsv/stsv.geom stsv/stsv.task stsv/stsv.mesh common/gbuffer.vert common/gbuffer.frag
-               wedges/dcs_center.geom wedges/dcs_center.frag wedges/wedge.geom common/hull.vert stsv/stsv_hull.comp
+               wedges/dcs_center.comp wedges/wedge.geom common/hull.vert stsv/stsv_hull.comp
                wedges/wedge_hull.comp wedges/wedge.task wedges/wedge.mesh)
   stsv_check_shader(${S}/${source} ubo ${UBO})
 endforeach()

@@ -114,40 +114,6 @@ std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adj, ve
     return out;
 }
 
-std::vector<std::uint32_t> centerSilhouetteEdges(const EdgeAdjacency& adj, const Scene& scene,
-                                                 const Light& light) {
-    // Per face: its facing (+1, −1, 0) as the shader computes it, and whether it is near a tie.
-    std::vector<std::int8_t> facing(adj.faces.size());
-    std::vector<char> tie(adj.faces.size());
-    for (std::size_t f = 0; f < adj.faces.size(); ++f) {
-        const uvec3 t = scene.triangles[adj.faces[f].triangle];
-        const vec3 v0 = scene.positions[t.x], e1 = scene.positions[t.y] - v0, e2 = scene.positions[t.z] - v0;
-        const vec3 n = cross(e1, e2);
-        const vec3 away = light.type == LIGHT_DIRECTIONAL ? -light.normal : v0 - light.position;
-        const float value = -dot(n, away);
-        // The sum of the magnitudes the products and differences round at.
-        const vec3 spans(std::abs(e1.y * e2.z) + std::abs(e1.z * e2.y),
-                         std::abs(e1.z * e2.x) + std::abs(e1.x * e2.z),
-                         std::abs(e1.x * e2.y) + std::abs(e1.y * e2.x));
-        const float scale = dot(spans, abs(away));
-        facing[f] = std::int8_t(value > 0.f ? 1 : (value < 0.f ? -1 : 0));
-        // (A device that flushes subnormals to zero could make a tiny value 0: a tie too.)
-        tie[f] = !(std::abs(value) > std::max(1e-5f * scale, 1e-30f));
-    }
-    std::vector<std::uint32_t> out;
-    for (std::uint32_t e = 0; e < adj.edges.size(); ++e) {
-        const MeshEdge& edge = adj.edges[e];
-        int weight = 0;
-        bool nearTie = false;
-        for (std::uint32_t f = edge.firstFace; f < edge.firstFace + edge.faceCount; ++f) {
-            weight += adj.faces[f].forward ? facing[f] : -facing[f];
-            nearTie = nearTie || tie[f];
-        }
-        if (weight != 0 || nearTie) out.push_back(e);
-    }
-    return out;
-}
-
 std::vector<std::uint32_t> edgeCarriers(const EdgeAdjacency& adj, const Scene& scene) {
     std::vector<std::uint32_t> carriers(adj.edges.size(), NO_CARRIER);
     for (std::size_t e = 0; e < adj.edges.size(); ++e) {

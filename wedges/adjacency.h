@@ -1,9 +1,8 @@
 // Edge adjacency of opaque meshes for silhouette extraction (DESIGN §4.5): vertices welded by
 // exact position, then every undirected edge with all the triangles that use it — one (open
 // edge), two (manifold) or more (non-manifold). The DCS and PW math uses the side of each face's
-// third vertex, so inconsistently oriented input works; the counting volume at the light centre
-// (centerSilhouetteEdges) uses each face's winding with the direction it runs the edge
-// (EdgeFace::forward), which cancel out the same way.
+// third vertex, so inconsistently oriented input works (EdgeFace::forward, each face's winding
+// along the edge, only counts the inconsistent edges).
 #pragma once
 
 #include "core/dh.h"
@@ -55,16 +54,6 @@ EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(st
 /// sphere lies strictly on the same side (front or back) of both its faces' planes
 /// (dcsPotentialSilhouette of wedges/dcs_dh.h, the test shaders/wedges/wedge.geom runs).
 std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adjacency, vec4 lightSphere);
-
-/// Indices of the edges whose counting-volume quad (shaders/wedges/dcs_center.geom) may have a
-/// weight for the centre of `light`: the silhouettes seen from the centre, open and non-manifold
-/// edges whose faces do not cancel, by the facing test the shader runs in float (a face's winding
-/// normal against the direction away from the centre); and, since a device may round that test
-/// otherwise, every edge with a face within 10⁻⁵ of the test's magnitude of a tie (far beyond its
-/// rounding). An edge left out has weight 0 on the device, so its quad adds nothing.
-/// `scene` is the one the adjacency was built from.
-std::vector<std::uint32_t> centerSilhouetteEdges(const EdgeAdjacency& adjacency, const Scene& scene,
-                                                 const Light& light);
 
 /// EdgeCarriers' value for an edge without a carrier.
 inline constexpr std::uint32_t NO_CARRIER = 0xffffffffu;

@@ -1,5 +1,7 @@
 #include "render/vulkan/gpu_opaque_passes.h"
 
+#include "wedges/layer_bvh.h"
+
 #include "core/error.h"
 #include "gpu/device.h"
 #include "gpu/rendering.h"
@@ -50,8 +52,7 @@ GpuEdgeTables buildGpuEdgeTables(const EdgeAdjacency& adj, const std::vector<std
     GpuEdgeTables tables;
     std::unordered_map<std::uint32_t, std::uint32_t> carrierOf; // triangle → its index in tables.carriers
     tables.faces.reserve(adj.faces.size());
-    for (const EdgeFace& f : adj.faces)
-        tables.faces.push_back({adj.positions[f.opposite], f.triangle, f.forward ? 1u : 0u, 0u, 0u, 0u});
+    for (const EdgeFace& f : adj.faces) tables.faces.push_back({adj.positions[f.opposite], f.triangle});
     tables.edges.reserve(adj.edges.size());
     for (const MeshEdge& e : adj.edges) {
         GpuEdge g{};
@@ -86,7 +87,8 @@ std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
         {GPU_BINDING_EDGE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1},
-        {GPU_BINDING_CENTER_EDGES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+        {GPU_BINDING_LAYER_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_LAYER_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1}};
     for (const DescriptorBinding& b : WedgeClusters::bindings()) bindings.push_back(b);
     return bindings;
 }
@@ -113,17 +115,15 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
-    // The counting volume draws the quads of the edges the light's centre may weigh, not of
-    // every edge: on a smooth mesh a few thousand of hundreds of thousands.
-    for (std::size_t light = 0; light < std::max<std::size_t>(scene.lights.size(), 1); ++light) {
-        std::vector<std::uint32_t> list;
-        if (light < scene.lights.size())
-            list = centerSilhouetteEdges(m_adjacency, scene, scene.lights[light]);
-        m_centerEdgeCounts.push_back(static_cast<std::uint32_t>(list.size()));
-        if (list.empty()) list.push_back(0u);
-        centerEdges.push_back(createBuffer(device, std::span<const std::uint32_t>(list), texels));
-        centerEdgeTexels.emplace_back(device, centerEdges.back(), VK_FORMAT_R32_UINT, 4);
-    }
+    // The tree D(r) is counted through, one for every light.
+    LayerBvhTables layers = buildLayerBvh(scene);
+    m_layerNodeCount = layers.nodeCount();
+    if (layers.nodes.empty()) layers.nodes.push_back(uvec4(0u));
+    if (layers.triangles.empty()) layers.triangles.push_back(uvec4(0u));
+    layerNodes = createBuffer(device, std::span<const uvec4>(layers.nodes), texels);
+    layerTriangles = createBuffer(device, std::span<const uvec4>(layers.triangles), texels);
+    layerNodeTexels = BufferView(device, layerNodes, VK_FORMAT_R32G32B32A32_UINT, 16);
+    layerTriangleTexels = BufferView(device, layerTriangles, VK_FORMAT_R32G32B32A32_UINT, 16);
     m_clusters.emplace(device, scene, m_adjacency, m_carriers, usesWedgeClusters(options));
 }
 
@@ -135,43 +135,35 @@ void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t l
     set.writeTexelBuffer(GPU_BINDING_EDGE_TEXELS, edgeTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_EDGE_FACE_TEXELS, faceTexels.handle());
     set.writeStorageImage(GPU_BINDING_CENTER, center);
-    set.writeTexelBuffer(GPU_BINDING_CENTER_EDGES,
-                         centerEdgeTexels[std::min(light, centerEdgeTexels.size() - 1)].handle());
+    set.writeTexelBuffer(GPU_BINDING_LAYER_NODES, layerNodeTexels.handle());
+    set.writeTexelBuffer(GPU_BINDING_LAYER_TRIANGLES, layerTriangleTexels.handle());
     m_clusters->writeDescriptors(set, light, lists);
 }
 
-CenterCountPass::CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,
-                                 FrameResources& frame, const FamilyDescriptors& descriptors,
-                                 const std::vector<ShaderDefine>& defines)
-    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
-      m_triangleCount(static_cast<uint32_t>(scene.triangleCount())) {
+CenterCountPass::CenterCountPass(const Device& device, OpaqueOccluderResources& opaque, FrameResources& frame,
+                                 const FamilyDescriptors& descriptors,
+                                 const std::vector<ShaderDefine>& defines, std::uint32_t width,
+                                 std::uint32_t height)
+    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_width(width), m_height(height) {
     const ShaderCompiler compiler;
-    // Both facings, no writes but the atomics.
-    GraphicsPipelineDesc desc = volumePipelineDesc(
-        {{VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("stsv/stsv.vert", defines)},
-         {VK_SHADER_STAGE_GEOMETRY_BIT, compiler.compileFile("wedges/dcs_center.geom", defines)},
-         {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("wedges/dcs_center.frag", defines)}});
-    desc.cullMode = VK_CULL_MODE_NONE;
-    m_pipeline = createGraphicsPipeline(device, descriptors.pipelineLayout(), desc);
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       compiler.compileFile("wedges/dcs_center.comp", defines));
 }
 
 PassAccesses CenterCountPass::accesses(std::size_t) const {
     PassAccesses accesses;
-    accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(FRAGMENT))
-        .use(m_frame->gbuffer.position, ResourceUse::storageRead(FRAGMENT))
-        .use(m_frame->gbuffer.depth, ResourceUse::depthTest())
-        .use(m_opaque->center, ResourceUse::storageReadWrite(FRAGMENT))
-        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(FRAGMENT));
+    accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+        .use(m_opaque->center, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 
 void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
-    beginRendering(cmd, {}, DepthTarget{&m_frame->gbuffer.depth, false, GPU_DEPTH_CLEAR, true});
     m_pipeline.bind(cmd);
-    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    vkCmdDraw(cmd, m_triangleCount + m_opaque->centerEdgeCount(light), 1, 0, 0);
-    endRendering(cmd);
+    vkCmdDispatch(cmd, (m_width + 7) / 8, (m_height + 7) / 8, 1);
 }
 
 WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,

@@ -1,5 +1,5 @@
 // The Vulkan passes of the opaque occluders (DESIGN §4.5, STSV paper Algorithm 2 lines 4–7 and
-// 11), per light: the z-fail counting shadow volume at the light centre (dcs_center.*), the wedge
+// 11), per light: the layer count at the light centre (dcs_center.comp), the wedge
 // pass over the potential silhouette edges (wedge.*; DCS counters or PW coverage) and, after the
 // STSV pass of the perforated triangles, the fold that combines them (wedge_fold.comp).
 #pragma once
@@ -58,10 +58,8 @@ class OpaqueOccluderResources {
     void writeDescriptors(DescriptorSet& set, std::size_t light, const ClusterLists& lists) const;
 
     std::size_t edgeCount() const { return m_edgeCount; }
-    /// The edges whose counting-volume quads light `light`'s centre may weigh (centerEdges).
-    std::uint32_t centerEdgeCount(std::size_t light) const {
-        return light < m_centerEdgeCounts.size() ? m_centerEdgeCounts[light] : 0u;
-    }
+    /// Nodes of the tree D(r) is counted through (0: no opaque triangle).
+    std::uint32_t layerNodeCount() const { return m_layerNodeCount; }
     WedgeClusters& clusters() { return *m_clusters; }
     const WedgeClusters& clusters() const { return *m_clusters; }
     std::size_t carrierCount() const { return m_carrierCount; }
@@ -72,27 +70,28 @@ class OpaqueOccluderResources {
     BufferView edgeTexels;
     BufferView faceTexels;
     BufferView carrierTexels;
-    Image center; ///< r32i z-fail layer count D(r) at the light centre
-    /// Per light, the edges whose counting-volume quads may have a weight (r32ui texels).
-    std::vector<Buffer> centerEdges;
-    std::vector<BufferView> centerEdgeTexels;
+    Image center;          ///< r32i layer count D(r) at the light centre
+    Buffer layerNodes;     ///< the tree's nodes (wedges/layer_bvh_dh.h), read as texels
+    Buffer layerTriangles; ///< its triangles, read as texels
+    BufferView layerNodeTexels;
+    BufferView layerTriangleTexels;
 
   private:
     std::size_t m_edgeCount = 0;
     std::size_t m_carrierCount = 0;
-    std::vector<std::uint32_t> m_centerEdgeCounts;
+    std::uint32_t m_layerNodeCount = 0;
     EdgeAdjacency m_adjacency;
     std::vector<std::uint32_t> m_carriers;
     std::optional<WedgeClusters> m_clusters;
 };
 
-/// D(r): every face of the counting volumes (the opaque triangles' caps and edge quads seen from
-/// the light centre) behind the visible point adds ±1 at the pixel. `center` must be cleared.
+/// D(r) into `center`: per pixel, the opaque triangles the segment from its visible point to the
+/// light centre crosses, counted through the tree of wedges/layer_bvh.h (dcs_center.comp).
 class CenterCountPass final : public GpuPass {
   public:
-    CenterCountPass(const Device& device, const Scene& scene, OpaqueOccluderResources& opaque,
-                    FrameResources& frame, const FamilyDescriptors& descriptors,
-                    const std::vector<ShaderDefine>& defines);
+    CenterCountPass(const Device& device, OpaqueOccluderResources& opaque, FrameResources& frame,
+                    const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines,
+                    std::uint32_t width, std::uint32_t height);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -101,8 +100,7 @@ class CenterCountPass final : public GpuPass {
     OpaqueOccluderResources* m_opaque;
     FrameResources* m_frame;
     const FamilyDescriptors* m_descriptors;
-    std::uint32_t
-        m_triangleCount; ///< dcs_center.geom's primitives: the triangles (caps), then the edges (quads)
+    std::uint32_t m_width, m_height;
     Pipeline m_pipeline;
 };
 

@@ -19,7 +19,7 @@ DH_CONST uint GPU_BINDING_EDGE_TEXELS =
     GPU_BINDING_EDGES + 3u; ///< GpuEdge[] as rgba32ui texels, GPU_EDGE_TEXELS each
 DH_CONST uint GPU_BINDING_EDGE_FACE_TEXELS = GPU_BINDING_EDGES + 4u; ///< GpuEdgeFace[] as rgba32ui texels
 DH_CONST uint GPU_BINDING_CENTER =
-    GPU_BINDING_EDGES + 5u; ///< r32i storage image: z-fail layer count at the light centre
+    GPU_BINDING_EDGES + 5u; ///< r32i storage image: the layer count D(r) at the light centre
 
 /// A light's potential silhouettes for the cluster walk (dcs_clusters.comp; render/vulkan/
 /// gpu_wedge_clusters.cpp uploads them per light, wedges/silhouette_edges.h): the tree's nodes
@@ -29,9 +29,10 @@ DH_CONST uint GPU_BINDING_CENTER =
 /// bounds, GPU_CLUSTER_BOUND_TEXELS each ((volumes, planes of volume 0, of volume 1, light
 /// planes), the two volumes' planes, the light planes).
 DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 6u;
-/// r32ui texels: the edges whose counting-volume quads dcs_center.geom draws for the set's light
-/// (wedges/adjacency.h centerSilhouetteEdges).
-DH_CONST uint GPU_BINDING_CENTER_EDGES = GPU_BINDING_EDGES + 7u;
+/// rgba32ui texels: the nodes and the triangles of the tree D(r) is counted through
+/// (wedges/layer_bvh_dh.h; dcs_center.comp).
+DH_CONST uint GPU_BINDING_LAYER_NODES = GPU_BINDING_EDGES + 7u;
+DH_CONST uint GPU_BINDING_LAYER_TRIANGLES = GPU_BINDING_EDGES + 8u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
 
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
@@ -43,11 +44,11 @@ struct GpuWedgeStats {
     uint fragments;        ///< wedge-pass fragments that passed the depth test
     uint inside;           ///< of those, p inside the bound with the edge a silhouette seen from p
     uint listed; ///< DCS fragments listed for wedge_samples.comp, past the end too (the walk: all parts')
-    uint centerFragments; ///< counting-volume fragments that passed the (biased) depth test
-    uint centerCounted;   ///< of those, faces behind the visible point: they add ±w to D(r)
-    uint listedPart;      ///< the most one list held (past the end too): the walk's worst part's
-    uint pad1;
-    uint pad2;
+    uint centerVisits;   ///< tree nodes the segments p → r visited (dcs_center.comp)
+    uint centerTests;    ///< triangles they were tested with
+    uint listedPart;     ///< the most one list held (past the end too): the walk's worst part's
+    uint centerCutShort; ///< segments whose count stopped at LAYER_BVH_MAX_VISITS
+    uint pad;
 };
 
 /// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a
@@ -78,18 +79,14 @@ struct GpuEdge {
 /// GpuEdge as 16-byte texels: (v0, firstFace), (v1, faceCount).
 DH_CONST uint GPU_EDGE_TEXELS = 2u;
 
-/// One triangle incident to an edge. std430: 2 × 16 bytes.
+/// One triangle incident to an edge. std430: 16 bytes.
 struct GpuEdgeFace {
     vec3 opposite; ///< world units; the triangle's third vertex
     uint triangle; ///< scene triangle index
-    uint forward;  ///< 1: the triangle's winding runs the edge v0 → v1, 0: v1 → v0
-    uint pad0;
-    uint pad1;
-    uint pad2;
 };
 
-/// GpuEdgeFace as 16-byte texels: (opposite, triangle), (forward, pads).
-DH_CONST uint GPU_EDGE_FACE_TEXELS = 2u;
+/// GpuEdgeFace as 16-byte texels: (opposite, triangle).
+DH_CONST uint GPU_EDGE_FACE_TEXELS = 1u;
 
 #ifdef __cplusplus
 DH_STATIC_ASSERT(sizeof(GpuWedgeStats) == 64);
@@ -100,7 +97,7 @@ DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planes) == 16 * GPU_WEDGE_RECORD_PLANE
 DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, planesSide0) == 16 * GPU_WEDGE_RECORD_PLANES_SIDE0);
 DH_STATIC_ASSERT(offsetof(GpuWedgeRecord, lightPlanes) == 16 * GPU_WEDGE_RECORD_LIGHT_PLANES);
 DH_STATIC_ASSERT(sizeof(GpuEdge) == 32);
-DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 32);
+DH_STATIC_ASSERT(sizeof(GpuEdgeFace) == 16);
 #endif
 
 DH_END

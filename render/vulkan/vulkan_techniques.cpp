@@ -2,6 +2,7 @@
 
 #include "shadowmaps/filtered_map.h"
 #include "wedges/adjacency.h"
+#include "wedges/layer_bvh_dh.h"
 
 #include "render/vulkan/gpu_opaque_passes.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
@@ -224,9 +225,9 @@ class WedgeTechnique final : public VulkanTechnique {
         : VulkanTechnique(c, volumeFamilyBindings(OpaqueOccluderResources::bindings()),
                           sizeof(GpuWedgeStats)),
           m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
-          m_clearCenter({&m_opaque.center}, {}), m_clearHullDraw({}, {&c.hulls->draw}),
-          m_clearDeferredCount({}, {&c.deferred->count}),
-          m_center(c.device, c.scene, m_opaque, c.resources, m_family, c.defines),
+          m_clearHullDraw({}, {&c.hulls->draw}), m_clearDeferredCount({}, {&c.deferred->count}),
+          m_center(c.device, m_opaque, c.resources, m_family, c.defines,
+                   static_cast<std::uint32_t>(c.options.width), static_cast<std::uint32_t>(c.options.height)),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
             c.deferred->use(false);
@@ -265,7 +266,6 @@ class WedgeTechnique final : public VulkanTechnique {
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
         const std::string technique = passName(light, m_pw ? "pw_" : "dcs_");
-        runPass(recorder, cmd, "", m_clearCenter, light);
         runPass(recorder, cmd, technique + "center", m_center, light);
         if (m_hullPass) {
             runPass(recorder, cmd, "", m_clearHullDraw, light);
@@ -292,6 +292,14 @@ class WedgeTechnique final : public VulkanTechnique {
 
     void takeStats(const std::byte* staged) override {
         m_counts = stagedStats<GpuWedgeStats>(staged, m_c.scene.lights.size());
+        // A segment whose count stopped short would leave D(r) too low: no picture then.
+        for (std::size_t l = 0; l < m_counts.size(); ++l)
+            if (m_counts[l].centerCutShort > 0)
+                throw Error(m_c.scene.source + ": light " + std::to_string(l) +
+                            ": the layer count at the light centre " + "stopped after " +
+                            std::to_string(LAYER_BVH_MAX_VISITS) + " tree nodes on " +
+                            std::to_string(m_counts[l].centerCutShort) +
+                            " pixels' segments (lavapipe's loop limit); render with --backend cpu");
     }
 
     std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
@@ -333,12 +341,11 @@ class WedgeTechnique final : public VulkanTechnique {
                 wedge["listed_fragments"] = s.listed;
                 wedge["samples_tested"] = n * s.inside;
             }
-            // The counting volume at the light centre (dcs_center.geom, .frag): the edges whose
-            // quads it draws, its fragments and the faces behind p that added to D(r). The CPU
-            // casts rays for D(r): it has none of these.
-            wedge["center"] = {{"edges", m_opaque.centerEdgeCount(l)},
-                               {"fragments", s.centerFragments},
-                               {"counted_fragments", s.centerCounted}};
+            // The layer count at the light centre (dcs_center.comp): the tree's nodes, the visits
+            // and triangle tests of its segments. The CPU counts with Embree: it has none of these.
+            wedge["center"] = {{"nodes", m_opaque.layerNodeCount()},
+                               {"node_visits", s.centerVisits},
+                               {"triangle_tests", s.centerTests}};
             wedges.push_back(wedge);
         }
         stats["wedges"] = wedges;
@@ -348,7 +355,6 @@ class WedgeTechnique final : public VulkanTechnique {
     const VulkanTechniqueContext& m_c;
     bool m_pw;
     OpaqueOccluderResources m_opaque;
-    ClearPass m_clearCenter;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferredCount;
     CenterCountPass m_center;

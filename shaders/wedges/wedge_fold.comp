@@ -1,8 +1,6 @@
 #version 450
 // After the centre and wedge passes of one light (DESIGN §4.5; STSV paper Algorithm 2):
-//   D(r) = the z-fail count of dcs_center.frag, minus the visible triangle's own volume when the
-//          eye and the light centre lie on the same side of it (its near cap was skipped, so the
-//          view ray entering that volume at p counted +1: the self-shadowing rule removes it);
+//   D(r) = the layer count of dcs_center.comp;
 //   DCS (WEDGE_PW 0): every sample counter becomes D(r) + its signed edge crossings, read as two
 //          signed 16-bit halves and clamped at 0 like the CPU mirror; it runs right after the
 //          wedge passes, so that STSV's layers (dcs+stsv) add to the clamped count, as on the CPU;
@@ -34,19 +32,6 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) readonly unifor
 #if WEDGE_STSV && LS_TRANSMITTANCE
 layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_DEPTHS) readonly buffer Depths { uint depths[]; };
 #endif
-
-/// D(r) at the pixel's visible point, on opaque or perforated triangle `tri`.
-int centerLayers(ivec2 pixel, uint tri) {
-    int count = imageLoad(centerCount, pixel).x;
-    GpuTriangle t = triangles[tri];
-    if (!gpuOpaqueOccluder(t.flags)) return count; // perforated or translucent: not among the volumes
-    vec3 v0 = vec3(t.v0);
-    vec3 n = cross(vec3(t.v1) - v0, vec3(t.v2) - v0);
-    int towardLight = triangleFacingLight(lights[pc.light].light, tri);
-    float towardEye = dot(n, vec3(frame.eye) - v0);
-    if ((towardLight > 0 && towardEye > 0.0) || (towardLight < 0 && towardEye < 0.0)) --count;
-    return count;
-}
 
 #if WEDGE_STSV
 /// Occluded fraction of the pixel's STSV samples (the perforated triangles, Algorithm 2 line 13);
@@ -86,7 +71,7 @@ void main() {
     if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) return;
     uint tri = imageLoad(gTriangle, pixel).x;
     if (tri == GPU_NO_TRIANGLE) return;
-    int d = centerLayers(pixel, tri);
+    int d = imageLoad(centerCount, pixel).x;
 #if WEDGE_PW
     float v = pwVisibility(pwCenterOcclusion(d) + imageLoad(vcoefImage, pixel).x);
 #if WEDGE_STSV

@@ -1,0 +1,212 @@
+#include "wedges/layer_bvh.h"
+
+#include "core/error.h"
+
+#include <algorithm>
+#include <bit>
+#include <cmath>
+#include <numeric>
+
+namespace stsv {
+
+struct LayerBvh {
+    const uvec4* nodes;
+    const uvec4* triangles;
+};
+inline uvec4 layerBvhNode(LayerBvh bvh, uint texel) {
+    return bvh.nodes[texel];
+}
+inline uvec4 layerBvhTriangle(LayerBvh bvh, uint texel) {
+    return bvh.triangles[texel];
+}
+
+} // namespace stsv
+
+#define LAYER_BVH
+#include "wedges/layer_bvh_dh.h"
+
+namespace stsv {
+
+namespace {
+
+struct Box {
+    vec3 lo{std::numeric_limits<float>::max()};
+    vec3 hi{-std::numeric_limits<float>::max()};
+
+    void add(vec3 p) {
+        lo = min(lo, p);
+        hi = max(hi, p);
+    }
+    void add(const Box& b) {
+        lo = min(lo, b.lo);
+        hi = max(hi, b.hi);
+    }
+};
+
+class Builder {
+  public:
+    Builder(const Scene& scene, LayerBvhTables& out) : m_scene(scene), m_out(out) {
+        for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+            if (!scene.opaqueOccluder(t)) continue;
+            const uvec3 tri = scene.triangles[t];
+            Box box;
+            for (int k = 0; k < 3; ++k) box.add(scene.positions[tri[k]]);
+            m_items.push_back(static_cast<std::uint32_t>(t));
+            m_boxes.push_back(box);
+            m_centers.push_back(0.5f * (box.lo + box.hi));
+        }
+        if (m_items.size() >= (std::size_t(1) << 28))
+            throw Error(scene.source + ": " + std::to_string(m_items.size()) +
+                        " opaque triangles, more than the layer count's tree addresses (2^28)");
+    }
+
+    void build() {
+        if (m_items.empty()) return;
+        m_out.nodes.resize(LAYER_BVH_NODE_TEXELS);
+        const std::uint32_t n = static_cast<std::uint32_t>(m_items.size());
+        if (n <= LAYER_BVH_LEAF_MAX) {
+            // A root with one leaf and an empty child.
+            writeNode(0, {boxOf(0, n), leaf(0, n)}, {Box{}, LAYER_BVH_EMPTY});
+            m_out.depth = 1;
+            return;
+        }
+        m_out.depth = split(0, 0, n, 1);
+    }
+
+  private:
+    struct Child {
+        Box box;
+        std::uint32_t ref;
+    };
+
+    Box boxOf(std::uint32_t first, std::uint32_t end) const {
+        Box box;
+        for (std::uint32_t i = first; i < end; ++i) box.add(m_boxes[i]);
+        return box;
+    }
+
+    /// Leaf of items [first, first + count): their triangles appended to the table.
+    std::uint32_t leaf(std::uint32_t first, std::uint32_t count) {
+        const auto at = static_cast<std::uint32_t>(m_out.triangles.size() / LAYER_BVH_TRIANGLE_TEXELS);
+        for (std::uint32_t i = first; i < first + count; ++i) {
+            const std::uint32_t t = m_items[i];
+            const uvec3 tri = m_scene.triangles[t];
+            for (int k = 0; k < 3; ++k) {
+                const vec3 v = m_scene.positions[tri[k]];
+                m_out.triangles.push_back(uvec4(floatBitsToUint(v), k == 0 ? t : 0u));
+            }
+        }
+        return LAYER_BVH_LEAF | (at << 3) | (count - 1);
+    }
+
+    /// Orders items [first, end) so that the first half has the smaller centres along the
+    /// longest axis of their centres' box; returns the middle.
+    std::uint32_t median(std::uint32_t first, std::uint32_t end) {
+        Box centers;
+        for (std::uint32_t i = first; i < end; ++i) centers.add(m_centers[i]);
+        const vec3 extent = centers.hi - centers.lo;
+        const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+        const std::uint32_t mid = first + (end - first) / 2;
+        std::vector<std::uint32_t> order(end - first);
+        std::iota(order.begin(), order.end(), first);
+        std::nth_element(order.begin(), order.begin() + (mid - first), order.end(),
+                         [&](std::uint32_t a, std::uint32_t b) {
+                             const float ca = m_centers[a][axis], cb = m_centers[b][axis];
+                             return ca != cb ? ca < cb : a < b;
+                         });
+        permute(first, order);
+        return mid;
+    }
+
+    void permute(std::uint32_t first, const std::vector<std::uint32_t>& order) {
+        std::vector<std::uint32_t> items(order.size());
+        std::vector<Box> boxes(order.size());
+        std::vector<vec3> centers(order.size());
+        for (std::size_t i = 0; i < order.size(); ++i) {
+            items[i] = m_items[order[i]];
+            boxes[i] = m_boxes[order[i]];
+            centers[i] = m_centers[order[i]];
+        }
+        std::copy(items.begin(), items.end(), m_items.begin() + first);
+        std::copy(boxes.begin(), boxes.end(), m_boxes.begin() + first);
+        std::copy(centers.begin(), centers.end(), m_centers.begin() + first);
+    }
+
+    /// Node `node` over items [first, end) (more than a leaf holds); returns the levels below
+    /// and including it.
+    std::uint32_t split(std::uint32_t node, std::uint32_t first, std::uint32_t end, std::uint32_t level) {
+        if (level > LAYER_BVH_STACK)
+            throw Error(m_scene.source + ": the layer count's tree is deeper than its traversal holds");
+        const std::uint32_t mid = median(first, end);
+        Child sides[2];
+        std::uint32_t depth = level;
+        const std::uint32_t ranges[2][2] = {{first, mid}, {mid, end}};
+        std::uint32_t inner[2] = {0, 0};
+        for (int s = 0; s < 2; ++s) {
+            const std::uint32_t a = ranges[s][0], b = ranges[s][1];
+            sides[s].box = boxOf(a, b);
+            if (b - a <= LAYER_BVH_LEAF_MAX) {
+                sides[s].ref = leaf(a, b - a);
+            } else {
+                inner[s] = allocate();
+                sides[s].ref = inner[s];
+            }
+        }
+        writeNode(node, sides[0], sides[1]);
+        for (int s = 0; s < 2; ++s)
+            if (inner[s] != 0)
+                depth = std::max(depth, split(inner[s], ranges[s][0], ranges[s][1], level + 1));
+        return depth;
+    }
+
+    std::uint32_t allocate() {
+        const auto node = static_cast<std::uint32_t>(m_out.nodes.size() / LAYER_BVH_NODE_TEXELS);
+        m_out.nodes.resize(m_out.nodes.size() + LAYER_BVH_NODE_TEXELS);
+        return node;
+    }
+
+    /// The box grown by 2^-20 of its extent and of its largest coordinate: the crossing test
+    /// accepts points up to an ulp of the edge products outside a triangle.
+    static Box grown(Box b) {
+        if (b.lo.x > b.hi.x) return b;
+        const vec3 reach = max(abs(b.lo), abs(b.hi));
+        const float margin = std::ldexp(std::max({reach.x, reach.y, reach.z}) +
+                                            std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z}),
+                                        -20);
+        b.lo -= vec3(margin);
+        b.hi += vec3(margin);
+        return b;
+    }
+
+    void writeNode(std::uint32_t node, const Child& c0, const Child& c1) {
+        const Box b0 = grown(c0.box), b1 = grown(c1.box);
+        const auto bits = [](float f) { return floatBitsToUint(f); };
+        uvec4* texels = &m_out.nodes[LAYER_BVH_NODE_TEXELS * node];
+        texels[0] = uvec4(bits(b0.lo.x), bits(b0.lo.y), bits(b0.lo.z), bits(b0.hi.x));
+        texels[1] = uvec4(bits(b0.hi.y), bits(b0.hi.z), bits(b1.lo.x), bits(b1.lo.y));
+        texels[2] = uvec4(bits(b1.lo.z), bits(b1.hi.x), bits(b1.hi.y), bits(b1.hi.z));
+        texels[3] = uvec4(c0.ref, c1.ref, 0u, 0u);
+    }
+
+    const Scene& m_scene;
+    LayerBvhTables& m_out;
+    std::vector<std::uint32_t> m_items; ///< scene triangles, in leaf order once built
+    std::vector<Box> m_boxes;
+    std::vector<vec3> m_centers;
+};
+
+} // namespace
+
+LayerBvhTables buildLayerBvh(const Scene& scene) {
+    LayerBvhTables tables;
+    Builder(scene, tables).build();
+    return tables;
+}
+
+std::uint32_t layerCount(const LayerBvhTables& tables, vec3 p, vec3 r, float tMin, std::uint32_t ignore,
+                         LayerCountWork& work) {
+    const LayerBvh bvh{tables.nodes.data(), tables.triangles.data()};
+    return layerCount(bvh, tables.nodeCount(), p, r, tMin, ignore, work);
+}
+
+} // namespace stsv

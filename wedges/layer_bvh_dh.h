@@ -1,0 +1,182 @@
+// D(r), the layer count at the light centre (DESIGN §4.5), as the count of the opaque triangles
+// the segment p → r crosses, through a bounding volume hierarchy over them (wedges/layer_bvh.h
+// builds it): one reference ray per receiver point, as Laine et al. (2005) and Hierarchical
+// Penumbra Casting (Lehtinen, Laine and Aila 2008) make the relative depth complexities of the
+// other light samples absolute. Its cost grows with the pixels and the logarithm of the
+// triangle count, where a counting shadow volume rasterises two caps per triangle.
+// Compiles as C++ and GLSL 4.50 (core/dh.h).
+//
+// The tables, as 16-byte texels (uvec4, floats by their bits):
+//   node n, LAYER_BVH_NODE_TEXELS from 4n: the boxes of its two children, (lo0.xyz, hi0.x),
+//     (hi0.yz, lo1.xy), (lo1.z, hi1.xyz), then (child0, child1, 0, 0). A child is a node index,
+//     or LAYER_BVH_LEAF | first triangle << 3 | (count − 1) for a leaf of 1 to LAYER_BVH_LEAF_MAX
+//     triangles, or LAYER_BVH_EMPTY (its box empty: lo > hi). Node 0 is the root.
+//   triangle i, LAYER_BVH_TRIANGLE_TEXELS from 3i: (v0, scene triangle), (v1, 0), (v2, 0).
+//
+// The crossing test is Embree's robust one (the Plücker edge products of the segment with the
+// triangle's edges, each edge's product from its two vertices alone): the CPU mirror counts
+// with Embree, and two triangles sharing an edge compute the same product with opposite signs,
+// so that a segment through the edge is never lost between them.
+#ifndef STSV_WEDGES_LAYER_BVH_DH_H
+#define STSV_WEDGES_LAYER_BVH_DH_H
+
+#include "core/dh.h"
+
+DH_BEGIN
+
+DH_CONST uint LAYER_BVH_NODE_TEXELS = 4u;
+DH_CONST uint LAYER_BVH_TRIANGLE_TEXELS = 3u;
+DH_CONST uint LAYER_BVH_LEAF = 0x80000000u;
+DH_CONST uint LAYER_BVH_EMPTY = 0xffffffffu;
+DH_CONST uint LAYER_BVH_LEAF_MAX = 4u;
+/// The deepest a tree may be: the traversal's stack holds one entry a level.
+DH_CONST uint LAYER_BVH_STACK = 40u;
+/// Node visits a segment may take (lavapipe ends an invocation's loops after 65 535 iterations):
+/// past them the count is cut short and the caller reports it.
+DH_CONST uint LAYER_BVH_MAX_VISITS = 60000u;
+
+/// What the counts cost: node visits, triangle tests, segments cut short.
+struct LayerCountWork {
+    uint visits;
+    uint tests;
+    uint cutShort;
+    uint pad;
+};
+
+/// The direction's reciprocal for the box tests, finite everywhere: a zero component becomes
+/// ±1e-30 (then 0 · its reciprocal is 0, never a NaN).
+DH_FUNC vec3 layerInverseDirection(vec3 d) {
+    vec3 safe = vec3(abs(d.x) > 1e-30f ? d.x : (d.x < 0.0f ? -1e-30f : 1e-30f),
+                     abs(d.y) > 1e-30f ? d.y : (d.y < 0.0f ? -1e-30f : 1e-30f),
+                     abs(d.z) > 1e-30f ? d.z : (d.z < 0.0f ? -1e-30f : 1e-30f));
+    return vec3(1.0f) / safe;
+}
+
+/// Whether o + t·d meets the box [lo, hi] for some t in [0, 1], conservatively: each slab
+/// parameter is within 2 ulp of its value (a rounded difference times a rounded reciprocal), so
+/// an overlap of [0, 1] that exists survives a slack of 1e-6.
+DH_FUNC bool layerSegmentMeetsBox(vec3 o, vec3 inverse, vec3 lo, vec3 hi) {
+    vec3 a = (lo - o) * inverse;
+    vec3 b = (hi - o) * inverse;
+    vec3 near = min(a, b);
+    vec3 far = max(a, b);
+    float t0 = max(max(near.x, near.y), max(near.z, 0.0f));
+    float t1 = min(min(far.x, far.y), min(far.z, 1.0f));
+    return t0 <= t1 + 1e-6f && lo.x <= hi.x;
+}
+
+/// Whether o + t·d crosses triangle (a, b, c) at t in [tMin, 1] (Embree's robust test: the
+/// three edge products within one ulp of their sum of one sign, then the plane's parameter).
+DH_FUNC bool layerSegmentCrosses(vec3 o, vec3 d, float tMin, vec3 a, vec3 b, vec3 c) {
+    vec3 v0 = a - o;
+    vec3 v1 = b - o;
+    vec3 v2 = c - o;
+    vec3 e0 = v2 - v0;
+    vec3 e1 = v0 - v1;
+    vec3 e2 = v1 - v2;
+    float u = dot(cross(e0, v2 + v0), d);
+    float v = dot(cross(e1, v0 + v1), d);
+    float w = dot(cross(e2, v1 + v2), d);
+    float eps = 1.1920929e-7f * abs(u + v + w);
+    if (!(min(u, min(v, w)) >= -eps || max(u, max(v, w)) <= eps)) return false;
+    vec3 n = cross(e1, e0);
+    float den = dot(n, d);
+    if (den == 0.0f) return false;
+    float t = dot(v0, n) / den;
+    return t >= tMin && t <= 1.0f;
+}
+
+DH_END
+
+#endif // STSV_WEDGES_LAYER_BVH_DH_H
+
+#if defined(LAYER_BVH) && !defined(STSV_WEDGES_LAYER_BVH_TRAVERSAL)
+#define STSV_WEDGES_LAYER_BVH_TRAVERSAL
+// The includer defines, before it includes this file (a value passed in, as WEDGE_FACES):
+//   struct LayerBvh { ... };                          the tables
+//   uvec4 layerBvhNode(LayerBvh bvh, uint texel)      texel of the nodes
+//   uvec4 layerBvhTriangle(LayerBvh bvh, uint texel)  texel of the triangles
+// and the macro LAYER_BVH.
+
+DH_BEGIN
+
+/// Leaf triangle i: 1 when o + t·d crosses it at t in [tMin, 1] and it is not `ignore`.
+DH_FUNC uint layerLeafTriangle(LayerBvh bvh, uint i, vec3 o, vec3 d, float tMin, uint ignore) {
+    uvec4 t0 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i);
+    if (t0.w == ignore) return 0u;
+    uvec4 t1 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 1u);
+    uvec4 t2 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 2u);
+    return layerSegmentCrosses(o, d, tMin, uintBitsToFloat(uvec3(t0)), uintBitsToFloat(uvec3(t1)),
+                               uintBitsToFloat(uvec3(t2)))
+               ? 1u
+               : 0u;
+}
+
+/// The triangles of leaf `child` o + t·d crosses at t in [tMin, 1], but `ignore` (unrolled:
+/// no loop iterations on lavapipe's budget).
+DH_FUNC uint layerLeaf(LayerBvh bvh, uint child, vec3 o, vec3 d, float tMin, uint ignore,
+                       DH_INOUT(LayerCountWork) work) {
+    uint first = (child & ~LAYER_BVH_LEAF) >> 3u;
+    uint count = (child & 7u) + 1u;
+    work.tests += count;
+    uint crossed = layerLeafTriangle(bvh, first, o, d, tMin, ignore);
+    if (count > 1u) crossed += layerLeafTriangle(bvh, first + 1u, o, d, tMin, ignore);
+    if (count > 2u) crossed += layerLeafTriangle(bvh, first + 2u, o, d, tMin, ignore);
+    if (count > 3u) crossed += layerLeafTriangle(bvh, first + 3u, o, d, tMin, ignore);
+    return crossed;
+}
+
+/// The number of triangles of the tree the segment p → r crosses at t in [tMin, 1] of r − p,
+/// `ignore` (the receiver's scene triangle: the self-shadowing rule) left out — Embree's
+/// countLayers on the same triangles. `nodes`: the tree's node count (0: empty).
+DH_FUNC uint layerCount(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, uint ignore,
+                        DH_INOUT(LayerCountWork) work) {
+    vec3 d = r - p;
+    vec3 inverse = layerInverseDirection(d);
+    uint crossed = 0u;
+    uint stack[LAYER_BVH_STACK];
+    uint top = 0u;
+    uint node = 0u;
+    bool more = nodes > 0u;
+    uint visits = 0u;
+    for (; more && visits < LAYER_BVH_MAX_VISITS; ++visits) {
+        uint base = LAYER_BVH_NODE_TEXELS * node;
+        vec4 a = uintBitsToFloat(layerBvhNode(bvh, base));
+        vec4 b = uintBitsToFloat(layerBvhNode(bvh, base + 1u));
+        vec4 c = uintBitsToFloat(layerBvhNode(bvh, base + 2u));
+        uvec4 children = layerBvhNode(bvh, base + 3u);
+        uint next = LAYER_BVH_EMPTY;
+        if (layerSegmentMeetsBox(p, inverse, vec3(a), vec3(a.w, b.x, b.y))) {
+            if ((children.x & LAYER_BVH_LEAF) != 0u)
+                crossed += layerLeaf(bvh, children.x, p, d, tMin, ignore, work);
+            else
+                next = children.x;
+        }
+        if (layerSegmentMeetsBox(p, inverse, vec3(b.z, b.w, c.x), vec3(c.y, c.z, c.w))) {
+            if ((children.y & LAYER_BVH_LEAF) != 0u) {
+                crossed += layerLeaf(bvh, children.y, p, d, tMin, ignore, work);
+            } else if (next == LAYER_BVH_EMPTY) {
+                next = children.y;
+            } else {
+                stack[top] = children.y;
+                ++top;
+            }
+        }
+        if (next == LAYER_BVH_EMPTY) {
+            if (top == 0u) {
+                more = false;
+            } else {
+                --top;
+                next = stack[top];
+            }
+        }
+        node = next;
+    }
+    work.visits += visits;
+    if (more) ++work.cutShort;
+    return crossed;
+}
+
+DH_END
+
+#endif // the traversal
