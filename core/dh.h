@@ -5,6 +5,8 @@
 //  - include guards, not #pragma once (GLSL has none);
 //  - open with DH_BEGIN and close with DH_END; mark functions DH_FUNC;
 //  - parameters: DH_OUT(T) name / DH_INOUT(T) name for outputs, plain T for inputs;
+//  - DH_PRECISE on a variable whose rounding must not depend on where the expression is inlined
+//    (GLSL's precise: no fused multiply-adds; C++ builds as ISO C++, which does not contract);
 //  - no swizzles (GLM has no .xyz members): truncate with constructors, vec3(v4), vec2(v3);
 //  - float literals with a trailing f (1.0f), unsigned with u; no templates, references,
 //    pointers, overloads on int/uint, recursion or C++-only library calls;
@@ -31,6 +33,7 @@ using uint = glm::uint;
 #define DH_INOUT(T) T&
 #define DH_CONST inline constexpr
 #define DH_STATIC_ASSERT(cond) static_assert(cond, #cond)
+#define DH_PRECISE
 #else
 #define DH_BEGIN
 #define DH_END
@@ -39,6 +42,7 @@ using uint = glm::uint;
 #define DH_INOUT(T) inout T
 #define DH_CONST const
 #define DH_STATIC_ASSERT(cond)
+#define DH_PRECISE precise
 #endif
 
 #endif // STSV_CORE_DH_H

@@ -52,7 +52,7 @@ enum class StsvTriangles { None, All, Perforated };
 /// How a method treats the opaque triangles besides STSV (DESIGN §4.5).
 enum class OpaqueTechnique {
     None,
-    Dcs, ///< z-fail count at the light centre plus signed silhouette crossings per sample
+    Dcs, ///< layer count at the light centre plus signed silhouette crossings per sample
     Pw,  ///< hard shadow at the light centre plus analytic wedge coverage per pixel
 };
 

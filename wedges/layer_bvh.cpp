@@ -3,11 +3,10 @@
 #include "core/error.h"
 
 #include <algorithm>
-#include <bit>
 #include <cmath>
-#include <numeric>
 
 namespace stsv {
+namespace {
 
 struct LayerBvh {
     const uvec4* nodes;
@@ -20,6 +19,7 @@ inline uvec4 layerBvhTriangle(LayerBvh bvh, uint texel) {
     return bvh.triangles[texel];
 }
 
+} // namespace
 } // namespace stsv
 
 #define LAYER_BVH
@@ -49,21 +49,27 @@ class Builder {
         for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
             if (!scene.opaqueOccluder(t)) continue;
             const uvec3 tri = scene.triangles[t];
-            Box box;
-            for (int k = 0; k < 3; ++k) box.add(scene.positions[tri[k]]);
-            m_items.push_back(static_cast<std::uint32_t>(t));
-            m_boxes.push_back(box);
-            m_centers.push_back(0.5f * (box.lo + box.hi));
+            Prim prim;
+            for (int k = 0; k < 3; ++k) prim.box.add(scene.positions[tri[k]]);
+            prim.center = 0.5f * (prim.box.lo + prim.box.hi);
+            prim.triangle = static_cast<std::uint32_t>(t);
+            m_prims.push_back(prim);
         }
-        if (m_items.size() >= (std::size_t(1) << 28))
-            throw Error(scene.source + ": " + std::to_string(m_items.size()) +
+        // The crossing test rounds the edge products of a segment from a point of the scene's
+        // bounds by about 2^-21 of its distance to the triangle: every box grows by 2^-18 of the
+        // scene's reach, so that a triangle whose test accepts a segment has a box it meets.
+        const Bounds bounds = scene.bounds();
+        const vec3 reach = max(abs(bounds.lo), abs(bounds.hi));
+        m_margin = std::ldexp(std::max({reach.x, reach.y, reach.z}) + bounds.diameter(), -18);
+        if (m_prims.size() >= (std::size_t(1) << 28))
+            throw Error(scene.source + ": " + std::to_string(m_prims.size()) +
                         " opaque triangles, more than the layer count's tree addresses (2^28)");
     }
 
     void build() {
-        if (m_items.empty()) return;
+        if (m_prims.empty()) return;
         m_out.nodes.resize(LAYER_BVH_NODE_TEXELS);
-        const std::uint32_t n = static_cast<std::uint32_t>(m_items.size());
+        const auto n = static_cast<std::uint32_t>(m_prims.size());
         if (n <= LAYER_BVH_LEAF_MAX) {
             // A root with one leaf and an empty child.
             writeNode(0, {boxOf(0, n), leaf(0, n)}, {Box{}, LAYER_BVH_EMPTY});
@@ -74,6 +80,11 @@ class Builder {
     }
 
   private:
+    struct Prim {
+        Box box;
+        vec3 center;
+        std::uint32_t triangle;
+    };
     struct Child {
         Box box;
         std::uint32_t ref;
@@ -81,66 +92,46 @@ class Builder {
 
     Box boxOf(std::uint32_t first, std::uint32_t end) const {
         Box box;
-        for (std::uint32_t i = first; i < end; ++i) box.add(m_boxes[i]);
+        for (std::uint32_t i = first; i < end; ++i) box.add(m_prims[i].box);
         return box;
     }
 
-    /// Leaf of items [first, first + count): their triangles appended to the table.
+    /// Leaf of prims [first, first + count): their triangles appended to the table.
     std::uint32_t leaf(std::uint32_t first, std::uint32_t count) {
         const auto at = static_cast<std::uint32_t>(m_out.triangles.size() / LAYER_BVH_TRIANGLE_TEXELS);
         for (std::uint32_t i = first; i < first + count; ++i) {
-            const std::uint32_t t = m_items[i];
+            const std::uint32_t t = m_prims[i].triangle;
             const uvec3 tri = m_scene.triangles[t];
-            for (int k = 0; k < 3; ++k) {
-                const vec3 v = m_scene.positions[tri[k]];
-                m_out.triangles.push_back(uvec4(floatBitsToUint(v), k == 0 ? t : 0u));
-            }
+            for (int k = 0; k < 3; ++k)
+                m_out.triangles.push_back(uvec4(floatBitsToUint(m_scene.positions[tri[k]]), k == 0 ? t : 0u));
         }
         return LAYER_BVH_LEAF | (at << 3) | (count - 1);
     }
 
-    /// Orders items [first, end) so that the first half has the smaller centres along the
-    /// longest axis of their centres' box; returns the middle.
+    /// Orders prims [first, end) so that the first half has the smaller centres along the
+    /// longest axis of their centres' box (ties by triangle: deterministic); returns the middle.
     std::uint32_t median(std::uint32_t first, std::uint32_t end) {
         Box centers;
-        for (std::uint32_t i = first; i < end; ++i) centers.add(m_centers[i]);
+        for (std::uint32_t i = first; i < end; ++i) centers.add(m_prims[i].center);
         const vec3 extent = centers.hi - centers.lo;
         const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
         const std::uint32_t mid = first + (end - first) / 2;
-        std::vector<std::uint32_t> order(end - first);
-        std::iota(order.begin(), order.end(), first);
-        std::nth_element(order.begin(), order.begin() + (mid - first), order.end(),
-                         [&](std::uint32_t a, std::uint32_t b) {
-                             const float ca = m_centers[a][axis], cb = m_centers[b][axis];
-                             return ca != cb ? ca < cb : a < b;
+        std::nth_element(m_prims.begin() + first, m_prims.begin() + mid, m_prims.begin() + end,
+                         [axis](const Prim& a, const Prim& b) {
+                             return a.center[axis] != b.center[axis] ? a.center[axis] < b.center[axis]
+                                                                     : a.triangle < b.triangle;
                          });
-        permute(first, order);
         return mid;
     }
 
-    void permute(std::uint32_t first, const std::vector<std::uint32_t>& order) {
-        std::vector<std::uint32_t> items(order.size());
-        std::vector<Box> boxes(order.size());
-        std::vector<vec3> centers(order.size());
-        for (std::size_t i = 0; i < order.size(); ++i) {
-            items[i] = m_items[order[i]];
-            boxes[i] = m_boxes[order[i]];
-            centers[i] = m_centers[order[i]];
-        }
-        std::copy(items.begin(), items.end(), m_items.begin() + first);
-        std::copy(boxes.begin(), boxes.end(), m_boxes.begin() + first);
-        std::copy(centers.begin(), centers.end(), m_centers.begin() + first);
-    }
-
-    /// Node `node` over items [first, end) (more than a leaf holds); returns the levels below
+    /// Node `node` over prims [first, end) (more than a leaf holds); returns the levels below
     /// and including it.
     std::uint32_t split(std::uint32_t node, std::uint32_t first, std::uint32_t end, std::uint32_t level) {
         if (level > LAYER_BVH_STACK)
             throw Error(m_scene.source + ": the layer count's tree is deeper than its traversal holds");
         const std::uint32_t mid = median(first, end);
-        Child sides[2];
-        std::uint32_t depth = level;
         const std::uint32_t ranges[2][2] = {{first, mid}, {mid, end}};
+        Child sides[2];
         std::uint32_t inner[2] = {0, 0};
         for (int s = 0; s < 2; ++s) {
             const std::uint32_t a = ranges[s][0], b = ranges[s][1];
@@ -153,6 +144,7 @@ class Builder {
             }
         }
         writeNode(node, sides[0], sides[1]);
+        std::uint32_t depth = level;
         for (int s = 0; s < 2; ++s)
             if (inner[s] != 0)
                 depth = std::max(depth, split(inner[s], ranges[s][0], ranges[s][1], level + 1));
@@ -165,16 +157,10 @@ class Builder {
         return node;
     }
 
-    /// The box grown by 2^-20 of its extent and of its largest coordinate: the crossing test
-    /// accepts points up to an ulp of the edge products outside a triangle.
-    static Box grown(Box b) {
-        if (b.lo.x > b.hi.x) return b;
-        const vec3 reach = max(abs(b.lo), abs(b.hi));
-        const float margin = std::ldexp(std::max({reach.x, reach.y, reach.z}) +
-                                            std::max({b.hi.x - b.lo.x, b.hi.y - b.lo.y, b.hi.z - b.lo.z}),
-                                        -20);
-        b.lo -= vec3(margin);
-        b.hi += vec3(margin);
+    Box grown(Box b) const {
+        if (b.lo.x > b.hi.x) return b; // empty: stays empty
+        b.lo -= vec3(m_margin);
+        b.hi += vec3(m_margin);
         return b;
     }
 
@@ -190,9 +176,8 @@ class Builder {
 
     const Scene& m_scene;
     LayerBvhTables& m_out;
-    std::vector<std::uint32_t> m_items; ///< scene triangles, in leaf order once built
-    std::vector<Box> m_boxes;
-    std::vector<vec3> m_centers;
+    std::vector<Prim> m_prims; ///< the opaque triangles, in leaf order once built
+    float m_margin = 0.0f;     ///< what every box grows by (world units)
 };
 
 } // namespace
@@ -204,9 +189,9 @@ LayerBvhTables buildLayerBvh(const Scene& scene) {
 }
 
 std::uint32_t layerCount(const LayerBvhTables& tables, vec3 p, vec3 r, float tMin, std::uint32_t ignore,
-                         LayerCountWork& work) {
+                         LayerCountWork& work, std::uint32_t maxVisits) {
     const LayerBvh bvh{tables.nodes.data(), tables.triangles.data()};
-    return layerCount(bvh, tables.nodeCount(), p, r, tMin, ignore, work);
+    return layerCount(bvh, tables.nodeCount(), p, r, tMin, ignore, maxVisits, work);
 }
 
 } // namespace stsv

@@ -13,10 +13,12 @@
 //     triangles, or LAYER_BVH_EMPTY (its box empty: lo > hi). Node 0 is the root.
 //   triangle i, LAYER_BVH_TRIANGLE_TEXELS from 3i: (v0, scene triangle), (v1, 0), (v2, 0).
 //
-// The crossing test is Embree's robust one (the Plücker edge products of the segment with the
-// triangle's edges, each edge's product from its two vertices alone): the CPU mirror counts
-// with Embree, and two triangles sharing an edge compute the same product with opposite signs,
-// so that a segment through the edge is never lost between them.
+// The CPU mirror counts D(r) with this function, Vulkan's dcs_center.comp with the same; the
+// Embree reference is the independent oracle. The crossing test takes the Plücker edge products
+// of Embree's robust test (each edge's product from its two vertices alone, `precise`): two
+// triangles sharing an edge compute the same product with opposite signs, and a product of
+// exactly 0 takes a sign that flips with the edge, so a segment through the edge crosses exactly
+// one of them.
 #ifndef STSV_WEDGES_LAYER_BVH_DH_H
 #define STSV_WEDGES_LAYER_BVH_DH_H
 
@@ -28,11 +30,11 @@ DH_CONST uint LAYER_BVH_NODE_TEXELS = 4u;
 DH_CONST uint LAYER_BVH_TRIANGLE_TEXELS = 3u;
 DH_CONST uint LAYER_BVH_LEAF = 0x80000000u;
 DH_CONST uint LAYER_BVH_EMPTY = 0xffffffffu;
-DH_CONST uint LAYER_BVH_LEAF_MAX = 4u;
+DH_CONST uint LAYER_BVH_LEAF_MAX = 4u; ///< layerLeaf tests up to four, unrolled
 /// The deepest a tree may be: the traversal's stack holds one entry a level.
 DH_CONST uint LAYER_BVH_STACK = 40u;
-/// Node visits a segment may take (lavapipe ends an invocation's loops after 65 535 iterations):
-/// past them the count is cut short and the caller reports it.
+/// Node visits a segment may take on the GPU (lavapipe ends an invocation's loops after 65 535
+/// iterations): past them the count is cut short and the caller reports it.
 DH_CONST uint LAYER_BVH_MAX_VISITS = 60000u;
 
 /// What the counts cost: node visits, triangle tests, segments cut short.
@@ -53,8 +55,8 @@ DH_FUNC vec3 layerInverseDirection(vec3 d) {
 }
 
 /// Whether o + t·d meets the box [lo, hi] for some t in [0, 1], conservatively: each slab
-/// parameter is within 2 ulp of its value (a rounded difference times a rounded reciprocal), so
-/// an overlap of [0, 1] that exists survives a slack of 1e-6.
+/// parameter is within 4 ulp of its value (a rounded difference times a reciprocal GLSL rounds
+/// to 2.5 ulp), so an overlap of [0, 1] that exists survives a slack of 1e-6.
 DH_FUNC bool layerSegmentMeetsBox(vec3 o, vec3 inverse, vec3 lo, vec3 hi) {
     vec3 a = (lo - o) * inverse;
     vec3 b = (hi - o) * inverse;
@@ -65,8 +67,26 @@ DH_FUNC bool layerSegmentMeetsBox(vec3 o, vec3 inverse, vec3 lo, vec3 hi) {
     return t0 <= t1 + 1e-6f && lo.x <= hi.x;
 }
 
-/// Whether o + t·d crosses triangle (a, b, c) at t in [tMin, 1] (Embree's robust test: the
-/// three edge products within one ulp of their sum of one sign, then the plane's parameter).
+/// The sign an edge product takes when it is exactly 0 (the segment through the edge's line): the
+/// sign it would take with the segment's start moved by (ε, ε², ε³), ε → 0+. The product of
+/// edge vector e, from layerSegmentCrosses, grows by −2·δ·(d × e) when the start moves by δ, so
+/// the sign is minus that of the first non-zero component of d × e. It flips with e exactly,
+/// so of two triangles sharing the edge (which run it in opposite directions) exactly one takes
+/// the segment. Through a vertex shared by several triangles only products that are exactly 0
+/// follow the one moved segment; products that round to either side of 0 there may let the fan
+/// take the segment more or less than once (as Embree's test may), where a rasteriser's
+/// fixed-point edge functions would not.
+DH_FUNC bool layerTiePositive(vec3 e, vec3 d) {
+    vec3 c = cross(d, e);
+    float first = c.x != 0.0f ? c.x : (c.y != 0.0f ? c.y : c.z);
+    return first < 0.0f;
+}
+
+/// Whether o + t·d crosses triangle (a, b, c) at t in [tMin, 1]: the Plücker products of the
+/// segment with the three edges (Embree's robust form, each from its edge's two vertices alone)
+/// of one sign, a product of exactly 0 taking the sign of layerTiePositive, then the plane's
+/// parameter. A segment through a shared edge or vertex crosses one triangle there, not two
+/// (Embree's test accepts products within an ulp of 0 on both sides, and may count two).
 DH_FUNC bool layerSegmentCrosses(vec3 o, vec3 d, float tMin, vec3 a, vec3 b, vec3 c) {
     vec3 v0 = a - o;
     vec3 v1 = b - o;
@@ -74,11 +94,13 @@ DH_FUNC bool layerSegmentCrosses(vec3 o, vec3 d, float tMin, vec3 a, vec3 b, vec
     vec3 e0 = v2 - v0;
     vec3 e1 = v0 - v1;
     vec3 e2 = v1 - v2;
-    float u = dot(cross(e0, v2 + v0), d);
-    float v = dot(cross(e1, v0 + v1), d);
-    float w = dot(cross(e2, v1 + v2), d);
-    float eps = 1.1920929e-7f * abs(u + v + w);
-    if (!(min(u, min(v, w)) >= -eps || max(u, max(v, w)) <= eps)) return false;
+    DH_PRECISE float u = dot(cross(e0, v2 + v0), d);
+    DH_PRECISE float v = dot(cross(e1, v0 + v1), d);
+    DH_PRECISE float w = dot(cross(e2, v1 + v2), d);
+    bool pu = u != 0.0f ? u > 0.0f : layerTiePositive(e0, d);
+    bool pv = v != 0.0f ? v > 0.0f : layerTiePositive(e1, d);
+    bool pw = w != 0.0f ? w > 0.0f : layerTiePositive(e2, d);
+    if (pu != pv || pv != pw) return false;
     vec3 n = cross(e1, e0);
     float den = dot(n, d);
     if (den == 0.0f) return false;
@@ -114,6 +136,9 @@ DH_FUNC uint layerLeafTriangle(LayerBvh bvh, uint i, vec3 o, vec3 d, float tMin,
 
 /// The triangles of leaf `child` o + t·d crosses at t in [tMin, 1], but `ignore` (unrolled:
 /// no loop iterations on lavapipe's budget).
+#ifdef __cplusplus
+DH_STATIC_ASSERT(LAYER_BVH_LEAF_MAX <= 4u);
+#endif
 DH_FUNC uint layerLeaf(LayerBvh bvh, uint child, vec3 o, vec3 d, float tMin, uint ignore,
                        DH_INOUT(LayerCountWork) work) {
     uint first = (child & ~LAYER_BVH_LEAF) >> 3u;
@@ -128,8 +153,9 @@ DH_FUNC uint layerLeaf(LayerBvh bvh, uint child, vec3 o, vec3 d, float tMin, uin
 
 /// The number of triangles of the tree the segment p → r crosses at t in [tMin, 1] of r − p,
 /// `ignore` (the receiver's scene triangle: the self-shadowing rule) left out — Embree's
-/// countLayers on the same triangles. `nodes`: the tree's node count (0: empty).
-DH_FUNC uint layerCount(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, uint ignore,
+/// countLayers on the same triangles. `nodes`: the tree's node count (0: empty); `maxVisits`:
+/// the node visits it may take before it stops (work.cutShort).
+DH_FUNC uint layerCount(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, uint ignore, uint maxVisits,
                         DH_INOUT(LayerCountWork) work) {
     vec3 d = r - p;
     vec3 inverse = layerInverseDirection(d);
@@ -139,7 +165,7 @@ DH_FUNC uint layerCount(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, ui
     uint node = 0u;
     bool more = nodes > 0u;
     uint visits = 0u;
-    for (; more && visits < LAYER_BVH_MAX_VISITS; ++visits) {
+    for (; more && visits < maxVisits; ++visits) {
         uint base = LAYER_BVH_NODE_TEXELS * node;
         vec4 a = uintBitsToFloat(layerBvhNode(bvh, base));
         vec4 b = uintBitsToFloat(layerBvhNode(bvh, base + 1u));

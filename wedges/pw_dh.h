@@ -118,7 +118,7 @@ DH_FUNC float pwEdgeCoverage(vec3 l, vec3 a, vec3 b, uint domain) {
 }
 
 /// PW's occlusion at a pixel starts from the hard shadow at the light centre: 1 when the
-/// counting volume found D(r) > 0 layers (Algorithm 2, line 5).
+/// segment to it crosses D(r) > 0 layers (Algorithm 2, line 5).
 DH_FUNC float pwCenterOcclusion(int centerLayers) {
     return centerLayers > 0 ? 1.0f : 0.0f;
 }

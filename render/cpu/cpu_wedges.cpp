@@ -70,21 +70,8 @@ nlohmann::json toJson(const WedgeCpuStats& s) {
     return j;
 }
 
-OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene) {
-    m_opaque.source = scene.source + " (opaque triangles)";
-    m_opaque.positions = scene.positions;
-    m_opaque.texcoords = scene.texcoords;
-    m_opaque.materials = scene.materials;
-    m_opaque.textures = scene.textures;
-    m_sceneToOpaque.assign(scene.triangleCount(), NO_TRIANGLE);
-    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
-        if (!scene.opaqueOccluder(t)) continue;
-        m_sceneToOpaque[t] = static_cast<std::uint32_t>(m_opaque.triangles.size());
-        m_opaqueToScene.push_back(static_cast<std::uint32_t>(t));
-        m_opaque.triangles.push_back(scene.triangles[t]);
-        m_opaque.triangleMaterial.push_back(scene.triangleMaterial[t]);
-    }
-    if (!m_opaqueToScene.empty()) m_embree = std::make_unique<EmbreeScene>(m_opaque);
+OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene), m_layers(buildLayerBvh(scene)) {
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) m_opaqueCount += scene.opaqueOccluder(t) ? 1 : 0;
     m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
     m_carriers = edgeCarriers(m_adjacency, scene);
 }
@@ -104,12 +91,10 @@ const SilhouetteEdges& OpaqueOccluders::silhouettes(const Light& light, float fa
     return *m_silhouettes.back();
 }
 
-std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
-                                           std::vector<std::uint32_t>& scratch) const {
-    if (!m_embree) return 0;
-    const std::uint32_t ignoreOpaque =
-        ignore < m_sceneToOpaque.size() ? m_sceneToOpaque[ignore] : NO_TRIANGLE;
-    return m_embree->countLayers(p, r, tMin, ignoreOpaque, scratch);
+std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const {
+    // No loop limit on the CPU: the count runs to its end.
+    LayerCountWork work{};
+    return layerCount(m_layers, p, r, tMin, ignore, work, 0xffffffffu);
 }
 
 namespace {
@@ -293,7 +278,6 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     std::atomic<std::size_t> tests{0}, visits{0}, negative{0}, samples{0};
     forEachPixel(
         gbuffer, sil, false, "dcs (cpu)", stats, [&](int x, int y, std::size_t i, BlockEdges& block) {
-            thread_local std::vector<std::uint32_t> scratch;
             thread_local std::vector<vec2> ab;
             thread_local std::vector<int> count;
             const vec3 p = gbuffer.position[i];
@@ -301,8 +285,7 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
             const float tMin = shadowTMin(p, frame.center, sceneDiameter);
             const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
             // D(r): the layer count at the light centre (DESIGN §4.5).
-            const int base =
-                static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch));
+            const int base = static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i]));
             count.assign(std::size_t(plan.count), base);
             ab.resize(std::size_t(plan.count));
             // The samples in a grid of cells, made when the first edge needs them: an edge tests
@@ -381,14 +364,12 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
     std::atomic<std::size_t> tests{0}, visits{0};
     forEachPixel(gbuffer, sil, true, "pw (cpu)", stats, [&](int x, int y, std::size_t i, BlockEdges& block) {
-        thread_local std::vector<std::uint32_t> scratch;
         const vec3 p = gbuffer.position[i];
         const LightFrame frame = lightFrame(light, p, farDistance);
         const float tMin = shadowTMin(p, frame.center, sceneDiameter);
         const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
         // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
-        float occlusion =
-            pwCenterOcclusion(int(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i], scratch)));
+        float occlusion = pwCenterOcclusion(int(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i])));
         std::size_t localTests = 0, localVisits = 0;
         if (px.valid != 0.0f)
             forEachSilhouette(occ, sil, block, true, px, gbuffer.triangle[i], localTests, localVisits,

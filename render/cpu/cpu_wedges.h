@@ -9,12 +9,12 @@
 
 #include "core/gbuffer.h"
 #include "core/image.h"
-#include "reference/embree_scene.h"
 #include "render/cpu/cpu_stsv.h"
 #include "sampling/ls_buffer.h"
 #include "sampling/pattern.h"
 #include "scene/scene.h"
 #include "wedges/adjacency.h"
+#include "wedges/layer_bvh.h"
 #include "wedges/silhouette_edges.h"
 
 #include <cstddef>
@@ -56,8 +56,8 @@ struct WedgeCpuStats {
 nlohmann::json toJson(const WedgeCpuStats& stats);
 
 /// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
-/// an Embree scene of them alone, which gives the layer count D(r) at the light centre (the CPU
-/// stand-in of the z-fail counting shadow volume). `scene` must outlive it.
+/// the tree that gives the layer count D(r) at the light centre (wedges/layer_bvh.h, the function
+/// Vulkan's dcs_center.comp runs). `scene` must outlive it.
 class OpaqueOccluders {
   public:
     explicit OpaqueOccluders(const Scene& scene);
@@ -67,25 +67,23 @@ class OpaqueOccluders {
     const EdgeAdjacency& adjacency() const { return m_adjacency; }
     /// Each edge's carrier face (edgeCarriers), whose volumes bound its wedge.
     const std::vector<std::uint32_t>& carriers() const { return m_carriers; }
-    std::size_t opaqueTriangles() const { return m_opaqueToScene.size(); }
+    std::size_t opaqueTriangles() const { return m_opaqueCount; }
 
-    /// Opaque triangles crossed by p → r (t ∈ (tMin, 1)), scene triangle `ignore` excluded.
-    std::uint32_t centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore,
-                              std::vector<std::uint32_t>& scratch) const;
+    /// Opaque triangles crossed by p → r (t ∈ [tMin, 1]), scene triangle `ignore` excluded
+    /// (layer_bvh_dh.h layerCount).
+    std::uint32_t centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const;
 
     /// The potential silhouettes of a light with their cluster tree and their carriers' bounds:
     /// they depend on the scene and the light alone, so the first frame that asks for a light
-    /// makes them and later frames reuse them (as the Embree scene is built once).
+    /// makes them and later frames reuse them (as the layer tree is built once).
     const SilhouetteEdges& silhouettes(const Light& light, float farDistance) const;
 
   private:
     const Scene& m_scene;
     mutable std::mutex m_silhouettesMutex;
     mutable std::vector<std::unique_ptr<SilhouetteEdges>> m_silhouettes;
-    Scene m_opaque; ///< the opaque triangles only (Embree holds a reference)
-    std::vector<std::uint32_t> m_opaqueToScene;
-    std::vector<std::uint32_t> m_sceneToOpaque;
-    std::unique_ptr<EmbreeScene> m_embree;
+    std::size_t m_opaqueCount = 0;
+    LayerBvhTables m_layers;
     EdgeAdjacency m_adjacency;
     std::vector<std::uint32_t> m_carriers;
 };

@@ -30,7 +30,7 @@ constexpr VkFormat DEPTH_FORMAT = VK_FORMAT_D32_SFLOAT;
 /// The G-buffer's depth where no surface is seen: reversed depth (gpuClipFromWorld) puts infinity at 0.
 constexpr float GPU_DEPTH_CLEAR = 0.0f;
 
-/// Depth state of the shadow-volume passes (STSV, wedges, counting volume): a face's fragment
+/// Depth state of the shadow-volume passes (STSV, wedges): a face's fragment
 /// runs only where the face lies behind the G-buffer's visible point p (LESS under reversed
 /// depth, early tests, no writes, depth clamp for faces in front of the near plane). Every volume
 /// pass decides in world space whether p is inside (a point-in-volume or plane test on p), so the

@@ -62,8 +62,8 @@ mat4 gpuClipFromWorld(const Scene& scene, int width, int height);
 /// "listed_fragments", those listed for stsv_samples.comp, and "deferred_fragments", those of
 /// them inside); for methods with an opaque technique "wedges"[i] {"edges", "path",
 /// "fragments", "silhouette_fragments", DCS: "listed_fragments" (those listed for
-/// wedge_samples.comp), "samples_tested", "center" {"edges" (whose quads dcs_center.geom draws),
-/// "fragments", "counted_fragments" (dcs_center.frag)};
+/// wedge_samples.comp), "samples_tested", "center" {"nodes" (of the tree D(r) is counted
+/// through), "node_visits", "triangle_tests" (dcs_center.comp)};
 /// "light_sample_buffer_bytes", "startup_ms", "gpu" {device, extrusion: "cluster walk" where
 /// the families walk, else the volume stage}.
 class VulkanRenderer final : public FrameRenderer {

@@ -214,8 +214,8 @@ class StsvTechnique final : public VulkanTechnique {
     std::vector<GpuStsvStats> m_counts;          ///< per light, after the frame
 };
 
-/// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the counting volume at the
-/// light centre; for DCS with the auto extrusion the cluster pass (dcs_clusters.comp), else the
+/// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the layer count at the light
+/// centre (dcs_center.comp); for DCS with the auto extrusion the cluster pass (dcs_clusters.comp), else the
 /// wedge bounds (hulls, mesh-shader hulls or wedge.geom prisms) drawn; for DCS the samples of the
 /// (pixel, edge) pairs either listed; DCS then folds D(r) into its counters; PW folds (line 11)
 /// after the other techniques of the row.
@@ -296,7 +296,7 @@ class WedgeTechnique final : public VulkanTechnique {
         for (std::size_t l = 0; l < m_counts.size(); ++l)
             if (m_counts[l].centerCutShort > 0)
                 throw Error(m_c.scene.source + ": light " + std::to_string(l) +
-                            ": the layer count at the light centre " + "stopped after " +
+                            ": the layer count at the light centre stopped after " +
                             std::to_string(LAYER_BVH_MAX_VISITS) + " tree nodes on " +
                             std::to_string(m_counts[l].centerCutShort) +
                             " pixels' segments (lavapipe's loop limit); render with --backend cpu");
@@ -342,7 +342,7 @@ class WedgeTechnique final : public VulkanTechnique {
                 wedge["samples_tested"] = n * s.inside;
             }
             // The layer count at the light centre (dcs_center.comp): the tree's nodes, the visits
-            // and triangle tests of its segments. The CPU counts with Embree: it has none of these.
+            // and triangle tests of its segments (the CPU mirror does not count them).
             wedge["center"] = {{"nodes", m_opaque.layerNodeCount()},
                                {"node_visits", s.centerVisits},
                                {"triangle_tests", s.centerTests}};

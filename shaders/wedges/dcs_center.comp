@@ -3,7 +3,7 @@
 // segment from the visible point p to r crosses beyond the segments' start gap (shadowTMin),
 // the visible triangle itself left out (the self-shadowing rule), counted through the tree of
 // wedges/layer_bvh_dh.h — one reference ray a pixel (Laine et al. 2005; Lehtinen, Laine and
-// Aila 2008), the count the CPU mirror takes from Embree. A pixel without a surface gets 0.
+// Aila 2008), as the CPU mirror counts it. A pixel without a surface gets 0.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -40,7 +40,8 @@ void main() {
         LayerBvh bvh = LayerBvh(0u);
         // A scene without opaque triangles binds a one-texel stand-in: no node.
         uint nodes = uint(textureSize(layerNodes)) / LAYER_BVH_NODE_TEXELS;
-        count = layerCount(bvh, nodes, p, lf.center, shadowTMin(p, lf.center, sceneDiameter), receiver, work);
+        count = layerCount(bvh, nodes, p, lf.center, shadowTMin(p, lf.center, sceneDiameter), receiver,
+                           LAYER_BVH_MAX_VISITS, work);
     }
     if (inside) imageStore(centerCount, pixel, ivec4(int(count)));
     uint visits = subgroupAdd(work.visits);

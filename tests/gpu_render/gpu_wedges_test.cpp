@@ -128,11 +128,8 @@ RenderOptions wedgeOptions(Method method, int width, int height, int samples) {
 }
 
 // fence's opaque occluder is its ground, two coplanar triangles: a visible point on one of them
-// lies in the plane of the other, whose counting-volume caps at the light centre then sit at the
-// point's own depth. The GPU decides that tie by its depth test, the mirror by the Embree segment
-// rule, and the pixel's DCS part may be −1 on the GPU where the mirror's is 0 (at 160×120: pixel
-// (100, 75), 0.0009 m from the ground's diagonal). Both clamp the DCS part at 0 before STSV adds
-// its layers, so the counts agree exactly all the same.
+// lies in the plane of the other. The DCS part is clamped at 0 on both backends before STSV adds
+// its layers; the counts must agree exactly.
 TEST_F(GpuWedges, DcsStsvOnFenceAndFoliageMatchesMirror) {
     for (const char* name : {"fence", "foliage"})
         for (int samples : {16, 64}) {
@@ -182,7 +179,7 @@ TEST_F(GpuWedges, DcsStsvIsDcsPlusTheStsvOfThePerforatedTriangles) {
 
 // Meshes with creases (the torus knot) and soups with intersecting triangles have visible points
 // that lie on, or within the segments' start gap of, another triangle: both backends count D(r)
-// there with the same segment test (Embree's robust one, wedges/layer_bvh_dh.h on Vulkan), so the
+// there with the same function (wedges/layer_bvh_dh.h layerCount), so the
 // counts agree exactly.
 TEST_F(GpuWedges, DcsOnClosedMeshesMatchesMirrorAndEmbree) {
     const struct {
@@ -201,9 +198,8 @@ TEST_F(GpuWedges, DcsOnClosedMeshesMatchesMirrorAndEmbree) {
 
 // fence-mesh's wires are closed boxes 0.5 mm deep about 5 m from the light centre, as thin as
 // the segments' start gap SHADOW_T_MIN·distance. On the box's far side from the light, D(r)
-// counts the near face at a crossing just beyond the gap (a counting volume's near cap there lay
-// about 0.1 mm from the visible point, once decided by the depth buffer, which missed the face
-// on whole wires). The counts must equal the mirror's on every (pixel, sample) pair.
+// counts the near face at a crossing just beyond the gap, about 0.1 mm from the visible point.
+// The counts must equal the mirror's on every (pixel, sample) pair.
 TEST_F(GpuWedges, DcsOnClosedBoxesAsThinAsTheStartGapMatchesMirror) {
     for (int repeat : {1, 2}) {
         FenceParams params;
@@ -235,11 +231,9 @@ TEST_F(GpuWedges, DcsOnClosedBoxesAsThinAsTheStartGapMatchesMirror) {
 }
 
 // fence-mesh with larger chain-link tiles: many wire edges a few millimetres long, whose
-// silhouettes from the light centre were once extruded as counting-volume quads a fraction of a
-// pixel wide on the ground behind the fence; where the rasteriser folded one of a quad's
-// triangles over the other, D(r) was off by 2 or 4 on lit ground. D(r) is now a segment count,
-// and the counts must equal the mirror's on every (pixel, sample) pair, PW's hard shadow with
-// them.
+// wedges are slivers a fraction of a pixel wide on the ground behind the fence. The DCS counts
+// must equal the mirror's on every (pixel, sample) pair, and no pixel of PW may tip (its hard
+// shadow at the light centre is the same D(r)).
 TEST_F(GpuWedges, DcsWithManyMillimetreEdgesMatchesMirror) {
     FenceParams params;
     params.repeat = 4;

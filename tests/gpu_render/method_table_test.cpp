@@ -143,9 +143,8 @@ TEST_F(MethodTableRender, EveryMethodRendersOnEveryBackendItClaims) {
 TEST_F(MethodTableRender, StatsNameTheSameFamiliesOnBothBackends) {
     // The families a frame reports are those its method runs, on either backend: "stsv" where
     // STSV runs, "wedges" where an opaque technique does, "shadow_maps" for image-based methods
-    // (with the same keys). Within "wedges", "center" only from Vulkan, whose centre pass
-    // rasterises and counts fragments (the CPU counts the centre's layers by ray casting and has no
-    // fragments to count).
+    // (with the same keys). Within "wedges", "center" only from Vulkan, whose centre pass walks
+    // the tree and counts its visits (the CPU mirror walks it without counting).
     const Scene scene = loadScene("fence");
     for (const MethodInfo& m : methodTable()) {
         if (!m.implementedOn(Backend::Cpu) || !m.implementedOn(Backend::Vulkan)) continue;

@@ -67,10 +67,8 @@ TEST(Combined, NoOpaqueTriangleAtAll) {
     const OpaqueOccluders occ(scene);
     EXPECT_EQ(occ.opaqueTriangles(), 0u);
     EXPECT_EQ(occ.adjacency().edges.size(), 0u);
-    std::vector<std::uint32_t> scratch;
-    EXPECT_EQ(
-        occ.centerCount(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), SHADOW_T_MIN, NO_TRIANGLE, scratch),
-        0u);
+    EXPECT_EQ(occ.centerCount(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), SHADOW_T_MIN, NO_TRIANGLE),
+              0u);
 }
 
 TEST(Combined, PwStsvWithOpaqueMeshMeasured) {

@@ -1,5 +1,5 @@
 // The tree D(r) is counted through (wedges/layer_bvh.h): its tables hold every opaque triangle
-// once inside its boxes, and its count along a segment is Embree's (the CPU mirror's D(r)) and
+// once inside its boxes, and its count along a segment (D(r) on both backends) is Embree's and
 // the double-precision count of the crossings.
 #include "reference/embree_scene.h"
 #include "scene/occlusion_rules_dh.h"
@@ -9,7 +9,6 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
-#include <map>
 
 namespace stsv {
 namespace {
@@ -95,7 +94,8 @@ TEST(LayerBvh, HoldsEveryOpaqueTriangleOnceInsideItsBoxes) {
         EXPECT_EQ(leaves, opaque) << n << " triangles";
         EXPECT_LE(t.depth, LAYER_BVH_STACK);
         // A median split: ⌈log2(n / leaf)⌉ + 1 levels at most.
-        EXPECT_LE(double(t.depth), std::ceil(std::log2(std::max(1.0, double(opaque.size()) / 2.0))) + 1.0);
+        EXPECT_LE(double(t.depth),
+                  std::ceil(std::log2(std::max(1.0, double(opaque.size()) / LAYER_BVH_LEAF_MAX))) + 1.0);
     }
     Scene empty;
     empty.materials.push_back(Material{});
@@ -127,6 +127,83 @@ TEST(LayerBvh, CountsAStackOfQuadsBetweenThePointAndTheLight) {
         const vec3 outside = p + vec3(2.5f, 0.0f, 0.0f);
         ASSERT_EQ(layerCount(t, outside, outside + vec3(0, 11, 0), SHADOW_T_MIN, NO_TRIANGLE, work), 0u);
     }
+}
+
+TEST(LayerBvh, CountsASegmentThroughASharedEdgeOrVertexOnce) {
+    // Three layers, each a 2 × 2 grid of quads split along alternating diagonals about a centre
+    // vertex shared by six triangles: segments exactly through the shared edges and diagonals,
+    // straight up and slanted, and straight up through the centre (its products exactly 0), cross
+    // each layer once. (Slanted through the vertex, the products round to either side of 0 and
+    // the fan may take the segment more or less than once: layer_bvh_dh.h.)
+    Scene scene;
+    scene.materials.push_back(Material{});
+    for (int k = 1; k <= 3; ++k) {
+        const float y = float(k);
+        for (int qx = 0; qx < 2; ++qx)
+            for (int qz = 0; qz < 2; ++qz) {
+                const float x0 = float(qx) - 1.0f, z0 = float(qz) - 1.0f;
+                const vec3 a(x0, y, z0), b(x0 + 1, y, z0), c(x0 + 1, y, z0 + 1), d(x0, y, z0 + 1);
+                if ((qx + qz) % 2 == 0) {
+                    addTri(scene, a, d, c);
+                    addTri(scene, a, c, b);
+                } else {
+                    addTri(scene, a, d, b);
+                    addTri(scene, b, d, c);
+                }
+            }
+    }
+    const LayerBvhTables t = buildLayerBvh(scene);
+    // Points of the interior: the centre, the shared edges, the diagonals.
+    const vec3 points[] = {vec3(0, 0, 0),         vec3(0.5f, 0, 0),     vec3(0, 0, -0.5f),
+                           vec3(0.25f, 0, 0.25f), vec3(-0.5f, 0, 0.5f), vec3(0.5f, 0, 0.5f)};
+    for (const vec3 p : points) {
+        LayerCountWork work{};
+        EXPECT_EQ(layerCount(t, p, p + vec3(0, 5, 0), SHADOW_T_MIN, NO_TRIANGLE, work), 3u)
+            << test::str(p) << " up";
+        if (p == vec3(0.0f)) continue;
+        // Slanted, through the same point of the middle layer (and interior points of the others).
+        const vec3 at = p + vec3(0, 2, 0), step(0.1f, 2.0f, 0.05f);
+        EXPECT_EQ(layerCount(t, at - step, at + step, SHADOW_T_MIN, NO_TRIANGLE, work), 3u)
+            << test::str(p) << " slanted";
+    }
+    // The outer corners: on the grid's border a segment through a corner vertex belongs to the
+    // one triangle there, or (moved off it) to none, never to two.
+    for (const vec3 p : {vec3(1, 0, 1), vec3(-1, 0, -1)}) {
+        LayerCountWork work{};
+        EXPECT_LE(layerCount(t, p, p + vec3(0, 5, 0), SHADOW_T_MIN, NO_TRIANGLE, work), 3u) << test::str(p);
+    }
+}
+
+TEST(LayerBvh, ASegmentPastTheVisitLimitIsCutShortAndSaysSo) {
+    // 240 000 small horizontal triangles stacked along the y axis, every box on the segment's
+    // way: a count would visit every node of the tree, past LAYER_BVH_MAX_VISITS.
+    Scene scene;
+    scene.materials.push_back(Material{});
+    const int n = 240000;
+    for (int k = 0; k < n; ++k) {
+        const float y = 1.0f + float(k) * 1e-5f;
+        addTri(scene, vec3(-0.1f, y, -0.1f), vec3(0.1f, y, -0.1f), vec3(0.0f, y, 0.1f));
+    }
+    const LayerBvhTables t = buildLayerBvh(scene);
+    ASSERT_GT(t.nodeCount(), LAYER_BVH_MAX_VISITS);
+    LayerCountWork work{};
+    const std::uint32_t count =
+        layerCount(t, vec3(0.0f), vec3(0.0f, 5.0f, 0.0f), SHADOW_T_MIN, NO_TRIANGLE, work);
+    EXPECT_EQ(work.cutShort, 1u);
+    EXPECT_EQ(work.visits, LAYER_BVH_MAX_VISITS);
+    EXPECT_LT(count, std::uint32_t(n));
+    // Without the limit (the CPU mirror's count) it crosses every triangle.
+    LayerCountWork whole{};
+    EXPECT_EQ(
+        layerCount(t, vec3(0.0f), vec3(0.0f, 5.0f, 0.0f), SHADOW_T_MIN, NO_TRIANGLE, whole, 0xffffffffu),
+        std::uint32_t(n));
+    EXPECT_EQ(whole.cutShort, 0u);
+    // A segment above the stack meets one box of the root's at most: no triangle, not cut.
+    LayerCountWork above{};
+    EXPECT_EQ(layerCount(t, vec3(0.0f, 3.5f, 0.0f), vec3(0.0f, 5.0f, 0.0f), SHADOW_T_MIN, NO_TRIANGLE, above),
+              0u);
+    EXPECT_EQ(above.cutShort, 0u);
+    EXPECT_LE(above.visits, 1u);
 }
 
 TEST(LayerBvh, CountsAsEmbreeAndAsDoublePrecisionOnAKnot) {
