@@ -163,7 +163,7 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    vkCmdDispatch(cmd, (m_width + 7) / 8, (m_height + 7) / 8, 1);
+    dispatchPerPixel(cmd, m_width, m_height);
 }
 
 WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,

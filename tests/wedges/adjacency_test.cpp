@@ -29,22 +29,12 @@ int edgeWeightFrom(const EdgeAdjacency& adj, std::uint32_t e, dvec3 p, std::uint
     return k;
 }
 
-Scene sceneOf(const MeshData& mesh) {
-    Scene scene;
-    appendMesh(scene, mesh, mat4(1.0f), "m");
-    return scene;
-}
-
 Scene emptyScene() {
     Scene scene;
     Material m;
     m.name = "opaque";
     scene.materials.push_back(m);
     return scene;
-}
-
-void addTri(Scene& s, vec3 a, vec3 b, vec3 c) {
-    s.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), 0);
 }
 
 /// The corners of the unit cube about the origin.
@@ -57,8 +47,8 @@ void addCube(Scene& s) {
     const int quads[6][4] = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
                              {2, 3, 7, 6}, {0, 4, 7, 3}, {1, 2, 6, 5}};
     for (const auto& q : quads) {
-        addTri(s, CUBE[q[0]], CUBE[q[1]], CUBE[q[2]]);
-        addTri(s, CUBE[q[0]], CUBE[q[2]], CUBE[q[3]]);
+        test::addTri(s, CUBE[q[0]], CUBE[q[1]], CUBE[q[2]]);
+        test::addTri(s, CUBE[q[0]], CUBE[q[2]], CUBE[q[3]]);
     }
 }
 
@@ -97,11 +87,11 @@ TEST(Adjacency, CubeWithSeamsWeldsClosed) {
 
 TEST(Adjacency, SignedZeroWeldsAndDistinctNearbyVerticesDoNot) {
     Scene s = emptyScene();
-    addTri(s, vec3(0.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f));
-    addTri(s, vec3(-0.0f, 0.0f, -0.0f), vec3(0.0f, 1.0f, 0.0f),
-           vec3(-1.0f, 0.0f, 0.0f)); // shares (0,0,0)–(0,1,0)
-    addTri(s, vec3(1.0f, 0.0f, 0.0f), vec3(1e-6f, 1.0f, 0.0f),
-           vec3(1.0f, 1.0f, 0.0f)); // 1e-6 away: not welded
+    test::addTri(s, vec3(0.0f, 0.0f, 0.0f), vec3(1.0f, 0.0f, 0.0f), vec3(0.0f, 1.0f, 0.0f));
+    test::addTri(s, vec3(-0.0f, 0.0f, -0.0f), vec3(0.0f, 1.0f, 0.0f),
+                 vec3(-1.0f, 0.0f, 0.0f)); // shares (0,0,0)–(0,1,0)
+    test::addTri(s, vec3(1.0f, 0.0f, 0.0f), vec3(1e-6f, 1.0f, 0.0f),
+                 vec3(1.0f, 1.0f, 0.0f)); // 1e-6 away: not welded
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
     EXPECT_EQ(adj.positions.size(), 6u);
     EXPECT_EQ(facesOn(adj, vec3(0.0f), vec3(0.0f, 1.0f, 0.0f)), 2u);
@@ -113,10 +103,10 @@ TEST(Adjacency, SignedZeroWeldsAndDistinctNearbyVerticesDoNot) {
 TEST(Adjacency, NonManifoldOpenAndDegenerate) {
     Scene s = emptyScene();
     const vec3 a(0.0f), b(0.0f, 1.0f, 0.0f);
-    addTri(s, a, b, vec3(1.0f, 0.0f, 0.0f));
-    addTri(s, b, a, vec3(-1.0f, 0.0f, 0.0f));
-    addTri(s, a, b, vec3(0.0f, 0.0f, 1.0f)); // third face on a–b: non-manifold
-    addTri(s, a, a, vec3(5.0f));             // repeated vertex: degenerate, skipped
+    test::addTri(s, a, b, vec3(1.0f, 0.0f, 0.0f));
+    test::addTri(s, b, a, vec3(-1.0f, 0.0f, 0.0f));
+    test::addTri(s, a, b, vec3(0.0f, 0.0f, 1.0f)); // third face on a–b: non-manifold
+    test::addTri(s, a, a, vec3(5.0f));             // repeated vertex: degenerate, skipped
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
     EXPECT_EQ(adj.degenerateSkipped, 1u);
     EXPECT_EQ(facesOn(adj, a, b), 3u);
@@ -138,8 +128,8 @@ TEST(EdgeCarriers, EveryEdgeWithALiveFaceIsCarriedByItsFirstLiveFace) {
     // non-degenerate face must have one, its first such face, and the others none.
     Scene s = emptyScene();
     addCube(s);
-    addTri(s, CUBE[0], CUBE[1], vec3(2.0f, -0.5f, -0.5f)); // collinear with the edge 0–1
-    addTri(s, CUBE[4], CUBE[5], vec3(0.0f, -2.0f, 0.5f));  // a third face on 4–5
+    test::addTri(s, CUBE[0], CUBE[1], vec3(2.0f, -0.5f, -0.5f)); // collinear with the edge 0–1
+    test::addTri(s, CUBE[4], CUBE[5], vec3(0.0f, -2.0f, 0.5f));  // a third face on 4–5
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
     const std::vector<std::uint32_t> carriers = edgeCarriers(adj, s);
     ASSERT_EQ(carriers.size(), adj.edges.size());
@@ -171,7 +161,7 @@ TEST(Silhouettes, FromPointMatchesFrontBackBruteForce) {
     test::Rng rng(11);
     for (const MeshData& mesh :
          {test::makeTorusMesh(24, 10, 1.0f, 0.4f), test::makeTorusKnotMesh(96, 8, 0.12f)}) {
-        const Scene s = sceneOf(mesh);
+        const Scene s = test::sceneOf(mesh);
         const EdgeAdjacency adj = buildEdgeAdjacency(s);
         ASSERT_EQ(adj.openEdges + adj.nonManifoldEdges, 0u);
         std::size_t silhouettes = 0, checked = 0;
@@ -202,7 +192,7 @@ TEST(Silhouettes, PotentialSetHoldsEverySilhouetteFromTheLight) {
     // Brute force: sample points of the light's bounding sphere; every edge that is a silhouette
     // from one of them must be in the potential set, and the set must be a real reduction.
     test::Rng rng(12);
-    const Scene s = sceneOf(test::makeTorusKnotMesh(128, 8, 0.15f));
+    const Scene s = test::sceneOf(test::makeTorusKnotMesh(128, 8, 0.15f));
     const EdgeAdjacency adj = buildEdgeAdjacency(s);
     for (const vec4 sphere :
          {vec4(0.5f, 3.0f, -0.4f, 0.5f), vec4(0.0f, 0.0f, 2.0f, 0.2f), vec4(0.0f, 0.1f, 0.0f, 0.05f)}) {

@@ -4,6 +4,7 @@
 // region, a ball inside a ball), and a node the silhouette test rejects for a region holds no edge
 // that is a silhouette from any point of it — checked against brute force on real meshes.
 #include "scene/geometry.h"
+#include "wedge_test_util.h"
 #include "wedges/adjacency.h"
 #include "wedges/dcs_dh.h"
 #include "wedges/edge_cluster_dh.h"
@@ -18,12 +19,6 @@
 namespace stsv {
 namespace {
 
-Scene sceneOf(const MeshData& mesh) {
-    Scene scene;
-    appendMesh(scene, mesh, mat4(1.0f), "m");
-    return scene;
-}
-
 struct Built {
     Scene scene;
     EdgeAdjacency adj;
@@ -34,7 +29,7 @@ struct Built {
 /// Every edge of the mesh, each cone turned to its first face's normal.
 Built buildAll(const MeshData& mesh) {
     Built b;
-    b.scene = sceneOf(mesh);
+    b.scene = test::sceneOf(mesh);
     b.adj = buildEdgeAdjacency(b.scene, [](std::size_t) { return true; });
     std::vector<vec3> turn;
     for (std::uint32_t e = 0; e < b.adj.edges.size(); ++e) {

@@ -13,16 +13,6 @@
 namespace stsv {
 namespace {
 
-Scene sceneOf(const MeshData& mesh) {
-    Scene scene;
-    appendMesh(scene, mesh, mat4(1.0f), "m");
-    return scene;
-}
-
-void addTri(Scene& s, vec3 a, vec3 b, vec3 c, std::uint32_t material = 0) {
-    s.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), material);
-}
-
 vec3 corner(const LayerBvhTables& t, std::uint32_t i, int k) {
     return uintBitsToFloat(uvec3(t.triangles[LAYER_BVH_TRIANGLE_TEXELS * i + std::uint32_t(k)]));
 }
@@ -72,19 +62,20 @@ std::vector<std::uint32_t> leafTriangles(const LayerBvhTables& t) {
 TEST(LayerBvh, HoldsEveryOpaqueTriangleOnceInsideItsBoxes) {
     // Soups of 1 to 1000 triangles (one leaf under the root, one level, many) and a knot.
     for (int n : {1, 4, 5, 17, 1000, 0}) {
-        Scene scene = n > 0 ? Scene{} : sceneOf(test::makeTorusKnotMesh(300, 8, 0.15f));
+        Scene scene = n > 0 ? Scene{} : test::sceneOf(test::makeTorusKnotMesh(300, 8, 0.15f));
         if (n > 0) scene.materials.push_back(Material{});
         test::Rng rng(std::uint64_t(n) + 1);
         for (int i = 0; i < n; ++i) {
             const vec3 a = rng.inBox(vec3(-5), vec3(5));
-            addTri(scene, a, a + rng.inBox(vec3(-1), vec3(1)), a + rng.inBox(vec3(-1), vec3(1)));
+            test::addTri(scene, a, a + rng.inBox(vec3(-1), vec3(1)), a + rng.inBox(vec3(-1), vec3(1)));
         }
         // A perforated triangle: not an occluder of the layer count.
         Material fence;
         fence.name = "fence";
         fence.alphaTexture = 0;
         scene.materials.push_back(fence);
-        addTri(scene, vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0), std::uint32_t(scene.materials.size() - 1));
+        test::addTri(scene, vec3(0, 0, 0), vec3(1, 0, 0), vec3(0, 1, 0),
+                     std::uint32_t(scene.materials.size() - 1));
         const LayerBvhTables t = buildLayerBvh(scene);
         std::vector<std::uint32_t> leaves = leafTriangles(t);
         std::sort(leaves.begin(), leaves.end());
@@ -111,8 +102,8 @@ TEST(LayerBvh, CountsAStackOfQuadsBetweenThePointAndTheLight) {
     scene.materials.push_back(Material{});
     for (int k = 1; k <= 10; ++k) {
         const float y = float(k);
-        addTri(scene, vec3(-1, y, -1), vec3(-1, y, 1), vec3(1, y, 1));
-        addTri(scene, vec3(-1, y, -1), vec3(1, y, 1), vec3(1, y, -1));
+        test::addTri(scene, vec3(-1, y, -1), vec3(-1, y, 1), vec3(1, y, 1));
+        test::addTri(scene, vec3(-1, y, -1), vec3(1, y, 1), vec3(1, y, -1));
     }
     const LayerBvhTables t = buildLayerBvh(scene);
     test::Rng rng(3);
@@ -144,11 +135,11 @@ TEST(LayerBvh, CountsASegmentThroughASharedEdgeOrVertexOnce) {
                 const float x0 = float(qx) - 1.0f, z0 = float(qz) - 1.0f;
                 const vec3 a(x0, y, z0), b(x0 + 1, y, z0), c(x0 + 1, y, z0 + 1), d(x0, y, z0 + 1);
                 if ((qx + qz) % 2 == 0) {
-                    addTri(scene, a, d, c);
-                    addTri(scene, a, c, b);
+                    test::addTri(scene, a, d, c);
+                    test::addTri(scene, a, c, b);
                 } else {
-                    addTri(scene, a, d, b);
-                    addTri(scene, b, d, c);
+                    test::addTri(scene, a, d, b);
+                    test::addTri(scene, b, d, c);
                 }
             }
     }
@@ -182,7 +173,7 @@ TEST(LayerBvh, ASegmentPastTheVisitLimitIsCutShortAndSaysSo) {
     const int n = 240000;
     for (int k = 0; k < n; ++k) {
         const float y = 1.0f + float(k) * 1e-5f;
-        addTri(scene, vec3(-0.1f, y, -0.1f), vec3(0.1f, y, -0.1f), vec3(0.0f, y, 0.1f));
+        test::addTri(scene, vec3(-0.1f, y, -0.1f), vec3(0.1f, y, -0.1f), vec3(0.0f, y, 0.1f));
     }
     const LayerBvhTables t = buildLayerBvh(scene);
     ASSERT_GT(t.nodeCount(), LAYER_BVH_MAX_VISITS);
@@ -210,9 +201,9 @@ TEST(LayerBvh, CountsAsEmbreeAndAsDoublePrecisionOnAKnot) {
     // Segments from points on the knot (their own triangle left out, the self-shadowing rule)
     // and in the air around it to a light centre near it and to one far away (a directional
     // light's), as the centre count casts them.
-    Scene scene = sceneOf(test::makeTorusKnotMesh(400, 12, 0.2f));
-    addTri(scene, vec3(-4, -2, -4), vec3(-4, -2, 4), vec3(4, -2, 4));
-    addTri(scene, vec3(-4, -2, -4), vec3(4, -2, 4), vec3(4, -2, -4));
+    Scene scene = test::sceneOf(test::makeTorusKnotMesh(400, 12, 0.2f));
+    test::addTri(scene, vec3(-4, -2, -4), vec3(-4, -2, 4), vec3(4, -2, 4));
+    test::addTri(scene, vec3(-4, -2, -4), vec3(4, -2, 4), vec3(4, -2, -4));
     const LayerBvhTables t = buildLayerBvh(scene);
     const EmbreeScene embree(scene);
     const float diameter = scene.bounds().diameter();

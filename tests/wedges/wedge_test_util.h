@@ -36,6 +36,18 @@ class Rng {
     std::mt19937_64 m_engine;
 };
 
+/// A scene of one mesh, untransformed.
+inline Scene sceneOf(const MeshData& mesh) {
+    Scene scene;
+    appendMesh(scene, mesh, mat4(1.0f), "m");
+    return scene;
+}
+
+/// Appends triangle (a, b, c) with material `material` (texture coordinates 0).
+inline void addTri(Scene& s, vec3 a, vec3 b, vec3 c, std::uint32_t material = 0) {
+    s.addTriangle(a, b, c, vec2(0.0f), vec2(0.0f), vec2(0.0f), material);
+}
+
 /// Number of triangles the segment p → s crosses at t ∈ (tMin, 1), `ignore` excluded, by
 /// double-precision Möller–Trumbore (the independent brute-force depth complexity).
 inline int countCrossings(const Scene& scene, vec3 pf, vec3 sf, double tMin,
