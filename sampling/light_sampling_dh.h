@@ -59,6 +59,11 @@ DH_FUNC void orthonormalBasis(vec3 n, DH_OUT(vec3) b1, DH_OUT(vec3) b2) {
     b2 = vec3(b, sgn + n.y * n.y * a, -n.y);
 }
 
+/// The domain of `light`'s frames, whatever the receiver: the rectangle's square, else a disk.
+DH_FUNC uint lightDomain(Light light) {
+    return SAMPLING_LIGHT_TYPE(light) == LIGHT_RECTANGLE ? DOMAIN_SQUARE : DOMAIN_DISK;
+}
+
 /// The frame of `light` seen from receiver point p (world units). Rectangle: its own axes,
 /// square domain. Disk: basis of its plane scaled by the radius. Sphere: the disk of `radius`
 /// through the centre, perpendicular to centre − p (its silhouette as seen from p, as in DCS).
@@ -68,9 +73,9 @@ DH_FUNC LightFrame lightFrame(Light light, vec3 p, float farDistance) {
     LightFrame f;
     f.pad0 = 0.0f;
     f.pad1 = 0.0f;
+    f.domain = lightDomain(light);
     if (SAMPLING_LIGHT_TYPE(light) == LIGHT_RECTANGLE) {
         f.center = light.position;
-        f.domain = DOMAIN_SQUARE;
         f.T = light.axisU;
         f.B = light.axisV;
         return f;
@@ -90,7 +95,6 @@ DH_FUNC LightFrame lightFrame(Light light, vec3 p, float farDistance) {
     vec3 b2;
     orthonormalBasis(axis, b1, b2);
     f.center = center;
-    f.domain = DOMAIN_DISK;
     f.T = b1 * extent;
     f.B = b2 * extent;
     return f;

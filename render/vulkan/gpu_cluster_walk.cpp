@@ -213,7 +213,8 @@ PassAccesses ClusterWalkPasses::Stage::accesses(std::size_t) const {
     // though only the last one does.
     if (m_stage >= 2)
         accesses.use(p.m_deferred->count, ResourceUse::storageReadWrite(COMPUTE))
-            .use(p.m_deferred->fragments, ResourceUse::storageReadWrite(COMPUTE));
+            .use(p.m_deferred->fragments, ResourceUse::storageReadWrite(COMPUTE))
+            .use(p.m_deferred->terms, ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
 

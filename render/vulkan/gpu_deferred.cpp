@@ -27,7 +27,15 @@ DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& 
     maskWords = Buffer(device, 4, STORAGE, MemoryUsage::DeviceLocal);
 }
 
-void DeferredFragments::use(bool withMaskWords) {
+void DeferredFragments::use(bool withMaskWords, bool withTerms) {
+    if (withTerms && !m_terms) {
+        m_terms = true;
+        const std::uint64_t termBytes = 16 * std::uint64_t(GPU_DEFERRED_TERM_TEXELS);
+        m_maxCapacity =
+            std::min<std::uint64_t>(m_maxCapacity, m_device->limits().maxStorageBufferRange / termBytes);
+        m_initialCapacity = std::min(m_initialCapacity, m_maxCapacity);
+        if (m_capacity > 0) resize(std::min(m_capacity, m_maxCapacity));
+    }
     if (m_capacity == 0) resize(m_initialCapacity);
     if (withMaskWords && !m_maskWords) {
         m_maskWords = true;
@@ -57,16 +65,21 @@ void DeferredFragments::resize(std::uint64_t capacity) {
     m_capacity = capacity;
     fragments =
         Buffer(*m_device, std::max<std::uint64_t>(capacity, 1) * 8, STORAGE, MemoryUsage::DeviceLocal);
+    const std::uint64_t termBytes = 16 * std::uint64_t(GPU_DEFERRED_TERM_TEXELS);
+    terms = Buffer(*m_device, m_terms ? std::max<std::uint64_t>(capacity, 1) * termBytes : termBytes, STORAGE,
+                   MemoryUsage::DeviceLocal);
 }
 
 std::vector<DescriptorBinding> DeferredFragments::bindings() {
     return {{GPU_BINDING_DEFERRED_COUNT, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
-            {GPU_BINDING_DEFERRED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+            {GPU_BINDING_DEFERRED, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
+            {GPU_BINDING_DEFERRED_TERMS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
 }
 
 void DeferredFragments::writeDescriptors(DescriptorSet& set) const {
     set.writeBuffer(GPU_BINDING_DEFERRED_COUNT, count);
     set.writeBuffer(GPU_BINDING_DEFERRED, fragments);
+    set.writeBuffer(GPU_BINDING_DEFERRED_TERMS, terms);
 }
 
 } // namespace stsv

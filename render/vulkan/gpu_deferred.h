@@ -32,9 +32,11 @@ class DeferredFragments {
     /// the STSV family's (gpu_stsv_dh.h).
     static std::vector<DescriptorBinding> bindings();
     void writeDescriptors(DescriptorSet& set) const;
-    /// A technique lists fragments: the list gets its initial capacity, and with `maskWords`
-    /// the STSV samples' mask words of a bitmask frame. The descriptors must be written after.
-    void use(bool maskWords);
+    /// A technique lists fragments: the list gets its initial capacity, with `maskWords` the
+    /// STSV samples' mask words of a bitmask frame, with `terms` a term record per fragment
+    /// (which lowers maxCapacity() to what one binding of the records addresses). The
+    /// descriptors must be written after.
+    void use(bool maskWords, bool terms = false);
     std::uint64_t capacity() const { return m_capacity; }
     std::uint64_t maxCapacity() const { return m_maxCapacity; }
     /// After a frame whose draws listed `listed` fragments (for one light, at most): when that
@@ -46,6 +48,7 @@ class DeferredFragments {
     Buffer count;     ///< uvec4, x: fragments appended (past the end too)
     Buffer fragments; ///< uvec2 per fragment: pixel index, item (record or edge)
     Buffer maskWords; ///< lsMaskWordCount(N) words per pixel; else a stand-in
+    Buffer terms;     ///< GPU_DEFERRED_TERM_TEXELS uvec4 per fragment when used; else a stand-in
 
   private:
     /// Room for `capacity` fragments, the old entries dropped.
@@ -56,6 +59,7 @@ class DeferredFragments {
     std::uint64_t m_maskWordCount; ///< lsMaskWordCount(N) words per pixel of the frame
     std::uint64_t m_capacity = 0;
     bool m_maskWords = false;
+    bool m_terms = false;
 };
 
 /// Workgroups of the compute passes over a list of up to `capacity` fragments of `samples`

@@ -263,6 +263,7 @@ PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
     PassAccesses accesses;
     accesses.use(m_deferred->count, ResourceUse::storageRead(COMPUTE))
         .use(m_deferred->fragments, ResourceUse::storageRead(COMPUTE))
+        .use(m_deferred->terms, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE))

@@ -230,8 +230,12 @@ class WedgeTechnique final : public VulkanTechnique {
                    static_cast<std::uint32_t>(c.options.width), static_cast<std::uint32_t>(c.options.height)),
           m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
         if (!m_pw) {
-            c.deferred->use(false);
-            m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.deferred, m_family, c.defines);
+            // The walk lists each pair with its edge term; the wedge draw lists the pair alone.
+            const bool walks = usesWedgeClusters(c.options);
+            c.deferred->use(false, walks);
+            std::vector<ShaderDefine> defines = c.patternDefines;
+            defines.push_back({"WEDGE_LISTED_TERMS", walks ? "1" : "0"});
+            m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.deferred, m_family, defines);
         }
         if (usesWedgeClusters(c.options)) {
             c.clusterLists->use();

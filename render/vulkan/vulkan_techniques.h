@@ -40,6 +40,9 @@ struct VulkanTechniqueContext {
     DeferredFragments* deferred;       ///< the volume families'; null in a frame without them
     ClusterLists* clusterLists;        ///< the volume families'; null in a frame without them
     std::vector<ShaderDefine> defines; ///< sampleDefines of the frame
+    /// defines with the frame's sample set baked in when it is one set of at most 128 points
+    /// (withPatternDefine): for the passes whose sample loops unroll.
+    std::vector<ShaderDefine> patternDefines;
 };
 
 class VulkanTechnique {

@@ -11,14 +11,22 @@
 
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DEFERRED_COUNT) buffer DeferredCount { uvec4 deferredCount; };
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DEFERRED) buffer Deferred { uvec2 deferred[]; };
+// Where the lister also computes what the sample loop needs: GPU_DEFERRED_TERM_TEXELS a fragment.
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DEFERRED_TERMS) buffer DeferredTerms { uvec4 deferredTerms[]; };
 
-/// Appends (pixelIndex, item); false when the list is full (the count still grows past its end,
-/// so the host knows how much room the frame needed).
-bool deferredAppend(uint pixelIndex, uint item) {
-    uint slot = atomicAdd(deferredCount.x, 1u);
+/// Appends (pixelIndex, item) at `slot`; false when the list is full (the count still grows past
+/// its end, so the host knows how much room the frame needed).
+bool deferredAppendAt(uint pixelIndex, uint item, out uint slot) {
+    slot = atomicAdd(deferredCount.x, 1u);
     if (slot >= uint(deferred.length())) return false;
     deferred[slot] = uvec2(pixelIndex, item);
     return true;
+}
+
+/// Appends (pixelIndex, item); false when the list is full.
+bool deferredAppend(uint pixelIndex, uint item) {
+    uint slot;
+    return deferredAppendAt(pixelIndex, item, slot);
 }
 
 /// The entries a compute pass reads: those appended, at most the list's length.

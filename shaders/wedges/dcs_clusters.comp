@@ -171,7 +171,12 @@ void main() {
         if (!insideBound(item.y, p)) continue;
         // Past the list's end the entry is dropped; the host sees the count and renders again.
         // (Few candidates are listed: one atomic each costs less than the barriers of groupFlush.)
-        deferredAppend(candidate.x, item.x);
+        // The edge term goes with it, so that wedge_samples.comp does not compute it again.
+        uint slot;
+        if (deferredAppendAt(candidate.x, item.x, slot)) {
+            deferredTerms[GPU_DEFERRED_TERM_TEXELS * slot] = uvec4(floatBitsToUint(l), uint(kE));
+            deferredTerms[GPU_DEFERRED_TERM_TEXELS * slot + 1u] = floatBitsToUint(vec4(h0.xy, h1.xy));
+        }
     }
     boundTests = subgroupAdd(boundTests);
     if (subgroupElect()) atomicAdd(stats[pc.light].fragments, boundTests);

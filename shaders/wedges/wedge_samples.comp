@@ -1,15 +1,27 @@
 #version 450
 // The DCS samples of the silhouette fragments the wedge draw listed (wedge.frag: every fragment
 // inside its edge's bound with the edge a silhouette seen from p): one thread a fragment, with the
-// pixel's light frame and edge term (wedge_term.glsl), then for each light sample x
+// pixel's light frame and edge term (wedge_term.glsl) — or, with WEDGE_LISTED_TERMS, the term the
+// walk listed with the pair (dcs_clusters.comp) — then for each light sample x
 // k_e·[r → x crosses the edge]·sign(ℓ·X) added to its 16-bit counter (Forest, Barthe & Paulin
 // 2008). The counters are modular: wedge_fold.comp adds D(r) and reads them as signed.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
+#ifndef WEDGE_LISTED_TERMS
+#define WEDGE_LISTED_TERMS 0
+#endif
 #include "wedges/wedge_term.glsl"
 #include "common/deferred_list.glsl"
+// With the frame's one sample set baked in (STSV_PATTERN_Q) the sample loop unrolls: each sample's
+// point, counter word and shift are constants, no load a sample.
+#ifdef STSV_PATTERN_Q
+#define SAMPLES_UNROLL [[unroll]]
+#else
+#define SAMPLES_UNROLL
+#endif
 
 layout(local_size_x = 64) in;
 
@@ -31,20 +43,34 @@ void main() {
     for (uint i = gl_GlobalInvocationID.x; i < count; i += stride) {
         uvec2 entry = deferred[i];
         uvec2 pixel = uvec2(entry.x % frame.width, entry.x / frame.width);
-        vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
-        uint receiver = imageLoad(gTriangle, ivec2(pixel)).x;
         vec3 l;
         vec3 h0;
         vec3 h1;
         int k;
+        uint domain;
+#if WEDGE_LISTED_TERMS
+        // The walk listed the pair with its term (dcs_clusters.comp stage 4): the clipped edge's
+        // frame points a → b need only x and y in dcsSampleCrossing.
+        uvec4 t0 = deferredTerms[GPU_DEFERRED_TERM_TEXELS * i];
+        vec4 t1 = uintBitsToFloat(deferredTerms[GPU_DEFERRED_TERM_TEXELS * i + 1u]);
+        l = uintBitsToFloat(t0.xyz);
+        k = int(t0.w);
+        h0 = vec3(t1.xy, 0.0);
+        h1 = vec3(t1.zw, 0.0);
+        domain = lightDomain(lights[pc.light].light);
+#else
+        vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
+        uint receiver = imageLoad(gTriangle, ivec2(pixel)).x;
         LightFrame lf;
         if (!wedgePixelTerm(p, wedgeEdgeAt(entry.y), receiver, l, h0, h1, k, lf)) continue;
+        domain = lf.domain;
+#endif
         atomicAdd(stats[pc.light].inside, 1u);
         uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
         uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
-        for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
-            vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, lf.domain);
+        SAMPLES_UNROLL for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
+            vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, domain);
             int crossing = dcsSampleCrossing(l, h0, h1, ab);
             // A negative addend wraps modulo 2^32 across the word's two 16-bit counters, which
             // wedge_fold.comp undoes.
