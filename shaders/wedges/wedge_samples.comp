@@ -7,6 +7,8 @@
 // 2008). The counters are modular: wedge_fold.comp adds D(r) and reads them as signed.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
 #ifndef SAMPLE_COUNT
 #define SAMPLE_COUNT 64
 #endif
@@ -40,6 +42,7 @@ void main() {
     uint count = deferredEntries();
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
     bool decorrelate = frame.decorrelate != 0u;
+    uint inside = 0u;
     for (uint i = gl_GlobalInvocationID.x; i < count; i += stride) {
         uvec2 entry = deferred[i];
         uvec2 pixel = uvec2(entry.x % frame.width, entry.x / frame.width);
@@ -65,7 +68,7 @@ void main() {
         if (!wedgePixelTerm(p, wedgeEdgeAt(entry.y), receiver, l, h0, h1, k, lf)) continue;
         domain = lf.domain;
 #endif
-        atomicAdd(stats[pc.light].inside, 1u);
+        ++inside;
         uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
         uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
@@ -78,4 +81,6 @@ void main() {
                 atomicAdd(counters[counterWord + lsCounterWord(s)], uint(k * crossing) << lsCounterShift(s));
         }
     }
+    inside = subgroupAdd(inside);
+    if (subgroupElect() && inside > 0u) atomicAdd(stats[pc.light].inside, inside);
 }
