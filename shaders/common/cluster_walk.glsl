@@ -227,6 +227,13 @@ bool tileBlock(uint tile, uint k, out uint block) {
     return bx < blocksAcross() && by < blocksDown();
 }
 
+/// A family whose clusterKeep appends one pair at most defines CLUSTER_KEEP_TILE_BLOCKS 1: the walk
+/// then tests a tile's leaf with each of its blocks where it meets the pair (a tile's blocks' pairs
+/// fit the workgroup's room), instead of listing the (block, leaf) pairs for the next level.
+#ifndef CLUSTER_KEEP_TILE_BLOCKS
+#define CLUSTER_KEEP_TILE_BLOCKS 0
+#endif
+
 /// What the family does with leaf `leaf` (its items range.x … range.x + range.y − 1) that may add
 /// to block `block` (region: the block's ball, hull: its lightHull): appends (block, …) pairs to
 /// GPU_CLUSTER_KEPT with groupAppend, counting its own tests.
@@ -305,8 +312,20 @@ void clusterWalkStage() {
                 } else if ((pair.x & CLUSTER_TILE) != 0u) {
                     for (uint k = 0u; k < tileBlocks() * tileBlocks(); ++k) {
                         uint block;
-                        if (tileBlock(pair.x & ~CLUSTER_TILE, k, block) && blockLo(block).x <= blockHi(block).x)
-                            groupAppend(GROUP_NEXT_LEVEL, uvec2(block, pair.y));
+                        if (!tileBlock(pair.x & ~CLUSTER_TILE, k, block) || blockLo(block).x > blockHi(block).x)
+                            continue;
+#if CLUSTER_KEEP_TILE_BLOCKS
+                        // The leaf with each block here, as the next level would test the pair.
+                        vec4 blockRegion = boxBall(blockLo(block), blockHi(block));
+                        LightHull blockHull = lightHull(blockRegion, lightBall);
+                        ++tests;
+                        if (tableMayAdd(clusterNodes, pair.y, blockRegion, blockHull))
+                            clusterKeep(block, pair.y, range, blockRegion, blockHull, tests, rejected);
+                        else
+                            ++rejected;
+#else
+                        groupAppend(GROUP_NEXT_LEVEL, uvec2(block, pair.y));
+#endif
                     }
                 } else {
                     clusterKeep(pair.x, pair.y, range, region, hull, tests, rejected);

@@ -22,6 +22,8 @@
 #include "wedges/wedge_term.glsl"
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
 #define CLUSTER_GROUP_SIZE GPU_DCS_CLUSTER_GROUP
+// A kept leaf is one (block, leaf) pair.
+#define CLUSTER_KEEP_TILE_BLOCKS 1
 // The kept pairs an invocation of stage 3 takes: the host's define bounds its loops for the
 // scene's edges (render/vulkan/gpu_wedge_clusters.h dcsKeptPairsPerInvocation).
 #ifndef CLUSTER_KEPT_ENTRIES_PER_INVOCATION
