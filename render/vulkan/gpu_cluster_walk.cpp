@@ -172,7 +172,8 @@ void ClusterWalkPasses::record(PassRecorder& recorder, VkCommandBuffer cmd, std:
         recorder.beginScope(cmd, scope);
         runPass(recorder, cmd, "", clearCounts, light);
         runPass(recorder, cmd, "", Stage(*this, 0, first, end), light);
-        // A level more than the tree has: the tiles' leaves go to their blocks.
+        // A level more than the tree has: the tiles' leaves go to their blocks (a family that
+        // tests a tile's leaf with its blocks at once, CLUSTER_KEEP_TILE_BLOCKS, lists none there).
         for (std::uint32_t level = 0; level < (depth > 0 ? depth + 1 : 0); ++level) {
             runPass(recorder, cmd, "", Stage(*this, 1, level), light);
             runPass(recorder, cmd, "", Stage(*this, 2, level), light);

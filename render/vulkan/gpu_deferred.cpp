@@ -11,7 +11,9 @@ namespace stsv {
 
 namespace {
 constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
-}
+/// A fragment's term record.
+constexpr std::uint64_t TERM_BYTES = 16 * std::uint64_t(GPU_DEFERRED_TERM_TEXELS);
+} // namespace
 
 DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& options,
                                      std::uint64_t initialCapacity, std::uint64_t maxCapacity)
@@ -30,9 +32,8 @@ DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& 
 void DeferredFragments::use(bool withMaskWords, bool withTerms) {
     if (withTerms && !m_terms) {
         m_terms = true;
-        const std::uint64_t termBytes = 16 * std::uint64_t(GPU_DEFERRED_TERM_TEXELS);
         m_maxCapacity =
-            std::min<std::uint64_t>(m_maxCapacity, m_device->limits().maxStorageBufferRange / termBytes);
+            std::min<std::uint64_t>(m_maxCapacity, m_device->limits().maxStorageBufferRange / TERM_BYTES);
         m_initialCapacity = std::min(m_initialCapacity, m_maxCapacity);
         if (m_capacity > 0) resize(std::min(m_capacity, m_maxCapacity));
     }
@@ -65,9 +66,8 @@ void DeferredFragments::resize(std::uint64_t capacity) {
     m_capacity = capacity;
     fragments =
         Buffer(*m_device, std::max<std::uint64_t>(capacity, 1) * 8, STORAGE, MemoryUsage::DeviceLocal);
-    const std::uint64_t termBytes = 16 * std::uint64_t(GPU_DEFERRED_TERM_TEXELS);
-    terms = Buffer(*m_device, m_terms ? std::max<std::uint64_t>(capacity, 1) * termBytes : termBytes, STORAGE,
-                   MemoryUsage::DeviceLocal);
+    terms = Buffer(*m_device, m_terms ? std::max<std::uint64_t>(capacity, 1) * TERM_BYTES : TERM_BYTES,
+                   STORAGE, MemoryUsage::DeviceLocal);
 }
 
 std::vector<DescriptorBinding> DeferredFragments::bindings() {

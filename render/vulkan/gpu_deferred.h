@@ -1,7 +1,8 @@
-// The list of deferred fragments (shaders/common/deferred_list.glsl): a volume draw lists the
-// fragments whose per-pixel set-up and sample loop a compute pass then runs, one thread a
-// fragment — the STSV draw of the hulls (stsv_samples.comp) and the DCS wedge draw
-// (wedge_samples.comp), one after the other for each light.
+// The list of deferred fragments (shaders/common/deferred_list.glsl): a volume draw or a cluster
+// walk lists the fragments whose per-pixel set-up and sample loop a compute pass then runs, one
+// thread a fragment — STSV's (stsv_samples.comp) and DCS's (wedge_samples.comp), one after the
+// other for each light; DCS's walk lists each with its edge term (`terms`), which the samples
+// pass then need not compute.
 #pragma once
 
 #include "gpu/buffer.h"

@@ -51,8 +51,9 @@ std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const Fram
 /// The resolve unrolls its sample loop with it (the constants need constant indices): 3x faster
 /// at 64 and 128 samples on lavapipe (fence 1024²), but at 256 samples llvmpipe's lazy compile
 /// of the unrolled shader made the first frame 4x slower, so not above 128 samples.
-/// Only for the resolve: in stsv.frag the unrolled loop (texel tests, early continues) measured
-/// 2-3x slower on lavapipe.
+/// Also for DCS's samples pass over the pairs the walk listed with their edge terms
+/// (wedge_samples.comp: a crossing test a sample). Not in stsv.frag: there the unrolled loop
+/// (texel tests, early continues) measured 2-3x slower on lavapipe.
 std::vector<ShaderDefine> withPatternDefine(std::vector<ShaderDefine> defines, const SamplePlan& plan);
 
 /// `defines` plus FIXED_LIGHT_TYPE (sampling/light_sampling_dh.h): one resolve and one STSV

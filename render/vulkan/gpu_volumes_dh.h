@@ -19,10 +19,6 @@ DH_CONST uint GPU_BINDING_HULL_RECORD_TEXELS = 4u; ///< the records as rgba32ui 
 DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 5u; ///< the hull vertices as rgba32ui texels
 DH_CONST uint GPU_BINDING_DEFERRED_COUNT = 6u;     ///< uvec4, x: fragments deferred (SSBO)
 DH_CONST uint GPU_BINDING_DEFERRED = 7u;           ///< uvec2 per deferred fragment: pixel, item (SSBO)
-/// GPU_DEFERRED_TERM_TEXELS uvec4 per deferred fragment, where the pass that lists a fragment also
-/// computes what its sample loop needs (DCS's walk: the edge term); else a stand-in (SSBO).
-DH_CONST uint GPU_BINDING_DEFERRED_TERMS = 14u;
-DH_CONST uint GPU_DEFERRED_TERM_TEXELS = 2u;
 /// The cluster walk (render/vulkan/gpu_cluster_walk.h, shaders/common/cluster_walk.glsl): a tree
 /// over a family's occluders — its nodes, GPU_CLUSTER_TEXELS rgba32ui each (ball, normal cone
 /// (w < 0: none), (first, count, and two family words)), and its items, GPU_CLUSTER_TEXELS each
@@ -38,6 +34,11 @@ DH_CONST uint GPU_BINDING_CLUSTER_BLOCKS = 10u;
 DH_CONST uint GPU_BINDING_CLUSTER_DISPATCH = 11u;
 DH_CONST uint GPU_BINDING_CLUSTER_NODES = 12u;
 DH_CONST uint GPU_BINDING_CLUSTER_ITEMS = 13u;
+/// GPU_DEFERRED_TERM_TEXELS uvec4 per deferred fragment, where the pass that lists a fragment also
+/// computes what its sample loop needs (DCS's walk: the edge term, shaders/wedges/wedge_term.glsl
+/// wedgeTermStore); else a stand-in (SSBO).
+DH_CONST uint GPU_BINDING_DEFERRED_TERMS = 14u;
+DH_CONST uint GPU_DEFERRED_TERM_TEXELS = 2u;
 /// The first binding a volume family declares for itself.
 DH_CONST uint GPU_BINDING_VOLUME_FAMILY_FIRST = 15u;
 

@@ -13,9 +13,10 @@
 
 namespace stsv {
 
-// A walk's invocation appends up to a tile's 16 blocks (or one kept leaf) between two flushes of
-// its workgroup's shared list (common/cluster_walk.glsl groupAppend; the pixel stage appends
-// without it), and the pixel stage keeps a leaf's edges as the bits of one word.
+// A walk's invocation appends up to a tile's 16 blocks (with CLUSTER_KEEP_TILE_BLOCKS the 16
+// (block, leaf) pairs it keeps, or one kept leaf) between two flushes of its workgroup's shared list
+// (common/cluster_walk.glsl groupAppend; the pixel stage appends without it), and the pixel stage keeps a
+// leaf's edges as the bits of one word.
 static_assert(16 * GPU_DCS_CLUSTER_GROUP <= GPU_CLUSTER_GROUP_ENTRIES && EDGE_CLUSTER_LEAF <= 32);
 
 std::uint32_t dcsKeptPairsPerInvocation(std::uint32_t mostFaces, const std::string& source) {

@@ -233,7 +233,8 @@ class WedgeTechnique final : public VulkanTechnique {
             // The walk lists each pair with its edge term; the wedge draw lists the pair alone.
             const bool walks = usesWedgeClusters(c.options);
             c.deferred->use(false, walks);
-            std::vector<ShaderDefine> defines = c.patternDefines;
+            // The sample loop over listed terms unrolls on the baked sample set (measured there).
+            std::vector<ShaderDefine> defines = walks ? c.patternDefines : c.defines;
             defines.push_back({"WEDGE_LISTED_TERMS", walks ? "1" : "0"});
             m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.deferred, m_family, defines);
         }

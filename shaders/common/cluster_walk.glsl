@@ -15,8 +15,8 @@
 //     tile or a block (edge_cluster_dh.h clusterMayAdd: the ball meets the segments from the
 //     region's ball to the light, and for a node with a normal cone, an edge of it can be a
 //     silhouette), gives its children to the next level; a leaf, for a tile, gives the pairs
-//     (block, leaf) of the tile's covered blocks to the next level, and for a block hands the
-//     leaf to clusterKeep. A node a tile drops holds nothing that adds to
+//     (block, leaf) of the tile's covered blocks to the next level (or, with
+//     CLUSTER_KEEP_TILE_BLOCKS, tests them there), and for a block hands the leaf to clusterKeep. A node a tile drops holds nothing that adds to
 //     a point of the tile (each test is conservative), so neither to one of its blocks.
 // A list too short drops what it has no room for and records what it needed; the host grows
 // the lists and renders the frame again.

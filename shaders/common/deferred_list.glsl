@@ -1,5 +1,6 @@
-// The list of deferred fragments (render/vulkan/gpu_deferred.h): a volume draw appends (pixel index,
-// item) for each fragment whose per-pixel set-up and sample loop a compute pass runs instead,
+// The list of deferred fragments (render/vulkan/gpu_deferred.h): a volume draw or a cluster walk
+// appends (pixel index, item) for each fragment whose per-pixel set-up and sample loop a compute
+// pass runs instead (DCS's walk with the pair's edge term: wedge_term.glsl wedgeTermStore),
 // one thread a fragment (stsv_samples.comp, wedge_samples.comp). On lavapipe a fragment batch
 // runs every instruction of the shader for its lanes, masked, and its loops as long as its
 // slowest lane; the compute pass's batches hold only fragments that need the work.

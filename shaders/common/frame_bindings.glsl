@@ -86,6 +86,11 @@ vec2 samplePointWithOffset(vec2 patternPoint, uvec2 offset, bool decorrelated, u
 /// point is a constant instead of a storage-buffer load per sample and pixel (on lavapipe those
 /// loads cost more than the rest of the resolve).
 const uvec2 patternQ[SAMPLE_COUNT] = STSV_PATTERN_Q;
+// A sample loop unrolls with it (GL_EXT_control_flow_attributes): each sample's point, counter
+// word and shift are constants.
+#define STSV_UNROLL [[unroll]]
+#else
+#define STSV_UNROLL
 #endif
 
 /// Sample k of the pixel's set starting at `base` (interleaveSet · N), in the light frame's

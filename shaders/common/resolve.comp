@@ -16,11 +16,6 @@
 #endif
 #include "common/frame_bindings.glsl"
 #include "sampling/light_sampling_dh.h"
-#ifdef STSV_PATTERN_Q
-#define STSV_UNROLL [[unroll]]
-#else
-#define STSV_UNROLL
-#endif
 
 #define WORD_COUNT ((SAMPLE_COUNT + 31) / 32)
 #define WORD_BITS (SAMPLE_COUNT < 32 ? SAMPLE_COUNT : 32)

@@ -175,10 +175,7 @@ void main() {
         // (Few candidates are listed: one atomic each costs less than the barriers of groupFlush.)
         // The edge term goes with it, so that wedge_samples.comp does not compute it again.
         uint slot;
-        if (deferredAppendAt(candidate.x, item.x, slot)) {
-            deferredTerms[GPU_DEFERRED_TERM_TEXELS * slot] = uvec4(floatBitsToUint(l), uint(kE));
-            deferredTerms[GPU_DEFERRED_TERM_TEXELS * slot + 1u] = floatBitsToUint(vec4(h0.xy, h1.xy));
-        }
+        if (deferredAppendAt(candidate.x, item.x, slot)) wedgeTermStore(slot, l, h0, h1, kE);
     }
     boundTests = subgroupAdd(boundTests);
     if (subgroupElect()) atomicAdd(stats[pc.light].fragments, boundTests);

@@ -16,14 +16,6 @@
 #define WEDGE_LISTED_TERMS 0
 #endif
 #include "wedges/wedge_term.glsl"
-#include "common/deferred_list.glsl"
-// With the frame's one sample set baked in (STSV_PATTERN_Q) the sample loop unrolls: each sample's
-// point, counter word and shift are constants, no load a sample.
-#ifdef STSV_PATTERN_Q
-#define SAMPLES_UNROLL [[unroll]]
-#else
-#define SAMPLES_UNROLL
-#endif
 
 layout(local_size_x = 64) in;
 
@@ -52,14 +44,8 @@ void main() {
         int k;
         uint domain;
 #if WEDGE_LISTED_TERMS
-        // The walk listed the pair with its term (dcs_clusters.comp stage 4): the clipped edge's
-        // frame points a → b need only x and y in dcsSampleCrossing.
-        uvec4 t0 = deferredTerms[GPU_DEFERRED_TERM_TEXELS * i];
-        vec4 t1 = uintBitsToFloat(deferredTerms[GPU_DEFERRED_TERM_TEXELS * i + 1u]);
-        l = uintBitsToFloat(t0.xyz);
-        k = int(t0.w);
-        h0 = vec3(t1.xy, 0.0);
-        h1 = vec3(t1.zw, 0.0);
+        // The walk listed the pair with its term (dcs_clusters.comp stage 4).
+        wedgeTermLoad(i, l, h0, h1, k);
         domain = lightDomain(lights[pc.light].light);
 #else
         vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
@@ -72,7 +58,7 @@ void main() {
         uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
         uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
-        SAMPLES_UNROLL for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
+        STSV_UNROLL for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
             vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, domain);
             int crossing = dcsSampleCrossing(l, h0, h1, ab);
             // A negative addend wraps modulo 2^32 across the word's two 16-bit counters, which
@@ -81,6 +67,7 @@ void main() {
                 atomicAdd(counters[counterWord + lsCounterWord(s)], uint(k * crossing) << lsCounterShift(s));
         }
     }
+    // One atomic a subgroup: an atomic runs lane by lane on lavapipe.
     inside = subgroupAdd(inside);
     if (subgroupElect() && inside > 0u) atomicAdd(stats[pc.light].inside, inside);
 }
