@@ -6,11 +6,13 @@
 
 #include "core/error.h"
 #include "render/vulkan/gpu_deferred.h"
+#include "render/vulkan/gpu_volumes_dh.h"
 #include "scene/camera.h"
 #include "scene/geometry.h"
 #include "scene/load.h"
 #include "tests/scene/scene_test_util.h"
 
+#include <algorithm>
 #include <cstdlib>
 #include <gtest/gtest.h>
 
@@ -348,6 +350,37 @@ TEST_F(GpuRenderer, TheSamplePassesGiveNoThreadMoreFragmentsThanLavapipesLoopsAl
                 EXPECT_EQ(groups, 256u) << samples << " " << capacity;
             }
         }
+}
+
+TEST_F(GpuRenderer, AListWithEdgeTermsHoldsNoMoreThanItsTermsBindingAddresses) {
+    // DCS's walk lists each pair with a 32-byte edge term beside the 8-byte pair: the list may
+    // then hold only what one binding of the terms addresses, whichever family used it first
+    // (STSV's mask words, then DCS's terms, as a dcs+stsv frame does), and a frame that lists
+    // more is an error the walk avoids by taking its tiles in parts.
+    const std::uint64_t range = device().limits().maxStorageBufferRange;
+    const std::uint64_t termBytes = 16 * std::uint64_t(GPU_DEFERRED_TERM_TEXELS);
+    ASSERT_EQ(termBytes, 32u);
+    const RenderOptions o = gpuOptions(64, 48, 64);
+    DeferredFragments list(device(), o, std::uint64_t(1) << 40);
+    EXPECT_EQ(list.maxCapacity(), std::min(kMaxDeferredFragments, range / 8));
+    list.use(true);
+    EXPECT_EQ(list.capacity(), list.maxCapacity());
+    EXPECT_EQ(list.terms.size(), termBytes); // a stand-in
+    list.use(false, true);
+    EXPECT_EQ(list.maxCapacity(), std::min(kMaxDeferredFragments, range / termBytes));
+    EXPECT_EQ(list.capacity(), list.maxCapacity());
+    EXPECT_EQ(list.fragments.size(), 8 * list.capacity());
+    EXPECT_EQ(list.terms.size(), termBytes * list.capacity());
+    EXPECT_LE(list.terms.size(), range);
+    EXPECT_THROW(list.growFor(list.maxCapacity() + 1), Error);
+    // A short list grows with its terms.
+    DeferredFragments small(device(), o, 100);
+    small.use(false, true);
+    EXPECT_EQ(small.capacity(), 100u);
+    EXPECT_TRUE(small.growFor(1000));
+    EXPECT_EQ(small.capacity(), 1250u);
+    EXPECT_EQ(small.terms.size(), termBytes * 1250u);
+    EXPECT_FALSE(small.growFor(1000));
 }
 
 TEST_F(GpuRenderer, RepeatedFramesAreIdentical) {
