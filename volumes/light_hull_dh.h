@@ -71,6 +71,61 @@ DH_FUNC bool ballMeetsLightHull(vec4 ball, LightHull h) {
     return length(d - h.axis * t) - (h.radius + t * h.slope) <= ball.w + margin;
 }
 
+/// The segments from one receiver point to the light's ball, bounded by the cone from the point
+/// that touches the ball: what a pixel's tests need of them (ballMeetsLightCone), computed once
+/// per point. The cone holds the hull of the point and the ball (LightHull with region radius 0),
+/// and is cheaper to test against: no square root or division per ball.
+struct LightCone {
+    vec3 apex;    ///< the receiver point
+    float margin; ///< the point's part of the test's margin, as lightHull's
+    vec3 axis;    ///< unit vector from the apex to the light's centre
+    float sine;   ///< of the half-angle: light radius / distance; 1 when the point lies in the light's ball
+    float cosine2;
+    float sine2;
+    float pad0;
+    float pad1;
+};
+
+DH_FUNC LightCone lightCone(vec3 p, vec4 light) {
+    LightCone c;
+    c.apex = p;
+    vec3 axis = vec3(light) - p;
+    float along = length(axis);
+    c.margin = 1e-4f * (along + light.w + abs(p.x) + abs(p.y) + abs(p.z));
+    c.axis = vec3(0.0f);
+    c.sine = 1.0f;
+    c.pad0 = 0.0f;
+    c.pad1 = 0.0f;
+    if (along > light.w) {
+        c.axis = axis / along;
+        c.sine = light.w / along;
+    }
+    c.sine2 = c.sine * c.sine;
+    c.cosine2 = 1.0f - c.sine2;
+    return c;
+}
+
+/// False when the ball `ball` (grown by the margin) misses the cone of `c`: then it misses the
+/// segments from the point to the light too, and holds nothing that occludes a light sample of
+/// the point (ballMeetsLightHull, of which this is the looser, cheaper form for one point; the
+/// margin is the same and no smaller than it there). In the plane of the axis and the ball's
+/// centre, at axial distance a and lateral distance ℓ from the apex, the distance to the cone is
+/// ℓ·cos θ − a·sin θ where the nearest point lies on its side (a·cos θ + ℓ·sin θ ≥ 0), else the
+/// distance to the apex; both are compared squared. ℓ² is the squared length of the lateral
+/// vector itself, not |d|² − a², whose cancellation near the axis would exceed the margin.
+/// A point inside the light's ball has the whole space as its cone.
+DH_FUNC bool ballMeetsLightCone(vec4 ball, LightCone c) {
+    if (c.sine >= 1.0f) return true;
+    vec3 d = vec3(ball) - c.apex;
+    float reach = ball.w + c.margin + 1e-4f * (abs(d.x) + abs(d.y) + abs(d.z) + 2.0f * ball.w);
+    float a = dot(d, c.axis);
+    vec3 lateral = d - c.axis * a;
+    float l2 = dot(lateral, lateral);
+    if (a < 0.0f && a * a * c.cosine2 >= l2 * c.sine2) return dot(d, d) <= reach * reach;
+    float x = a * c.sine + reach;
+    return x >= 0.0f && l2 * c.cosine2 <= x * x;
+}
+
 /// The ball around the points [lo, hi] (the box's circumscribed ball), grown by 1e-5 of its radius
 /// for rounding: the region ball of a box of receiver points, or a cluster's ball.
 DH_FUNC vec4 boxBall(vec3 lo, vec3 hi) {

@@ -59,6 +59,27 @@ SilhouetteEdges::SilhouetteEdges(const Scene& scene, const EdgeAdjacency& adj,
             }
         }
     });
+    EdgeSideLanes& lanes = m_sideLanes;
+    const std::size_t padded = m_packed.size() + EdgeSideLanes::LANES - 1;
+    for (int c = 0; c < 3; ++c) {
+        lanes.v0[c].assign(padded, 0.f);
+        lanes.n0[c].assign(padded, 0.f);
+        lanes.n1[c].assign(padded, 0.f);
+    }
+    lanes.t0.assign(padded, NO_TRIANGLE);
+    lanes.t1.assign(padded, NO_TRIANGLE);
+    lanes.many.assign(padded, 0u);
+    for (std::size_t k = 0; k < m_packed.size(); ++k) {
+        const PackedEdge& e = m_packed[k];
+        for (int c = 0; c < 3; ++c) {
+            lanes.v0[c][k] = e.v0[c];
+            lanes.n0[c][k] = e.faces[0].normal[c];
+            lanes.n1[c][k] = e.faces[1].normal[c];
+        }
+        lanes.t0[k] = e.faces[0].triangle;
+        lanes.t1[k] = e.faces[1].triangle;
+        lanes.many[k] = e.faceCount > 2 ? ~0u : 0u;
+    }
 }
 
 vec3 SilhouetteEdges::carrierNormal(std::uint32_t item) const {

@@ -15,6 +15,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
 #include <vector>
 
@@ -68,6 +69,58 @@ struct PackedEdge {
     }
 };
 
+/// What the per-point silhouette test of an edge of one or two faces reads (dcsTwoFaceWeight), as
+/// lanes: one array per component, in the tree's item order, so that a pixel tests LANES edges of
+/// a leaf at once. Each array is padded by LANES − 1 entries, so that LANES consecutive positions
+/// from any edge can be read. An edge of more than two faces has `many` set (its test is
+/// wedgeWorldWeight's, one at a time).
+struct EdgeSideLanes {
+    static constexpr std::size_t LANES = 4;
+    std::vector<float> v0[3];          ///< the edge's first vertex, x, y, z
+    std::vector<float> n0[3];          ///< its first face's normal (PackedFace::normal)
+    std::vector<float> n1[3];          ///< its second face's normal (0 when it has one face)
+    std::vector<std::uint32_t> t0, t1; ///< their scene triangles (NO_TRIANGLE for none)
+    std::vector<std::uint32_t> many;   ///< all bits set for an edge of more than two faces, else 0
+};
+
+namespace side_lanes {
+using FloatLanes = float __attribute__((vector_size(4 * EdgeSideLanes::LANES)));
+using IntLanes = std::int32_t __attribute__((vector_size(4 * EdgeSideLanes::LANES)));
+static_assert(EdgeSideLanes::LANES == 4, "silhouetteCandidates gathers four lanes' bits");
+
+template <class Lanes, class T> inline Lanes loadLanes(const std::vector<T>& array, std::uint32_t first) {
+    Lanes lanes;
+    std::memcpy(&lanes, array.data() + first, sizeof lanes);
+    return lanes;
+}
+
+/// dcsPlaneSide of four edges at once, in the same operations and order (the same result); 0
+/// where the face is the receiver's.
+inline IntLanes planeSides(const std::vector<float> (&n)[3], const std::vector<float> (&v0)[3],
+                           const std::vector<std::uint32_t>& triangle, std::uint32_t first, vec3 p,
+                           uint receiver) {
+    const FloatLanes s = loadLanes<FloatLanes>(n[0], first) * (loadLanes<FloatLanes>(v0[0], first) - p.x) +
+                         loadLanes<FloatLanes>(n[1], first) * (loadLanes<FloatLanes>(v0[1], first) - p.y) +
+                         loadLanes<FloatLanes>(n[2], first) * (loadLanes<FloatLanes>(v0[2], first) - p.z);
+    const IntLanes side = (s < 0.0f) - (s > 0.0f); // comparisons give −1 where true
+    return side & (loadLanes<IntLanes>(triangle, first) != std::int32_t(receiver));
+}
+
+} // namespace side_lanes
+
+/// Bit i set where edge first + i of `lanes` may be a silhouette from p: dcsTwoFaceWeight ≠ 0
+/// with `receiver`'s face left out, or more than two faces (then wedgeWorldWeight decides). The
+/// CPU mirror's first per-pixel test of a leaf's edges, four at a time and without a branch per
+/// edge; the weight of those it keeps is computed again, one at a time.
+inline std::uint32_t silhouetteCandidates(const EdgeSideLanes& lanes, std::uint32_t first, vec3 p,
+                                          uint receiver) {
+    using namespace side_lanes;
+    const IntLanes weight = planeSides(lanes.n0, lanes.v0, lanes.t0, first, p, receiver) +
+                            planeSides(lanes.n1, lanes.v0, lanes.t1, first, p, receiver);
+    const IntLanes keep = (weight != 0) | loadLanes<IntLanes>(lanes.many, first);
+    return std::uint32_t((keep[0] & 1) | (keep[1] & 2) | (keep[2] & 4) | (keep[3] & 8));
+}
+
 /// The potential silhouettes of one light with a carrier, in (carrier, edge) order — the order
 /// the CPU's pixels visit them in (PW sums in it) — the tree of clusters over them, and their
 /// carriers' bounds, each built when first asked for: most carriers never hold a pixel's
@@ -79,6 +132,8 @@ class SilhouetteEdges {
 
     /// Edge `position` of the tree's items (EdgeClusterTree::items order).
     const PackedEdge& packed(std::uint32_t position) const { return m_packed[position]; }
+    /// The silhouette tests' data of the edges, in the same order as packed().
+    const EdgeSideLanes& sideLanes() const { return m_sideLanes; }
     /// The adjacency index of item `item`'s edge.
     std::uint32_t edge(std::uint32_t item) const { return m_edges[item]; }
     /// The index of item `item`'s carrier among the carriers (0 … carrierCount() − 1).
@@ -121,6 +176,7 @@ class SilhouetteEdges {
     std::vector<std::uint32_t> m_carrierTriangle;
     EdgeClusterTree m_tree;
     std::vector<PackedEdge> m_packed;
+    EdgeSideLanes m_sideLanes;
     std::unique_ptr<FaceBound[]> m_bounds;
     std::unique_ptr<std::atomic<std::uint8_t>[]> m_state;
     mutable std::atomic<std::size_t> m_volumes{0};

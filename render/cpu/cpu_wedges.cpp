@@ -143,10 +143,10 @@ void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, B
                        std::size_t& visits, Visit&& visit) {
     const EdgeAdjacency& adj = occ.adjacency();
     const EdgeClusterTree& tree = sil.tree();
-    const Region point(vec4(px.p, 0.f), sil.light());
+    const LightCone cone = lightCone(px.p, sil.light());
     bool any = false;
     for (std::size_t s = 0; s < block.leaves.size(); ++s) {
-        block.leafKept[s] = ballMeetsLightHull(tree.nodes[block.leaves[s]].ball, point.hull);
+        block.leafKept[s] = ballMeetsLightCone(tree.nodes[block.leaves[s]].ball, cone);
         any = any || block.leafKept[s];
     }
     if (!any) return;
@@ -159,7 +159,7 @@ void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, B
                                                   edge.faces[1].normal, edge.faces[1].triangle, receiver)
                                : wedgeWorldWeight(px.p, v0, v1, faces, receiver);
         if (weight == 0) return;
-        if (!ballMeetsLightHull(edgeBall(v0, v1), point.hull)) return;
+        if (!ballMeetsLightCone(edgeBall(v0, v1), cone)) return;
         vec3 l, h0, h1;
         int k;
         if (!wedgeEdgeTerm(px, v0, v1, faces, receiver, l, h0, h1, k)) return;
@@ -173,10 +173,16 @@ void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, B
             if (block.leafKept[entry.slot]) edgeTerm(entry.position);
         return;
     }
+    const EdgeSideLanes& lanes = sil.sideLanes();
     for (std::size_t s = 0; s < block.leaves.size(); ++s) {
         if (!block.leafKept[s]) continue;
         const EdgeClusterNode& leaf = tree.nodes[block.leaves[s]];
-        for (std::uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k) edgeTerm(k);
+        const std::uint32_t end = leaf.first + leaf.count;
+        for (std::uint32_t k = leaf.first; k < end; k += EdgeSideLanes::LANES) {
+            std::uint32_t bits = silhouetteCandidates(lanes, k, px.p, receiver);
+            if (end - k < EdgeSideLanes::LANES) bits &= (1u << (end - k)) - 1u;
+            for (; bits != 0u; bits &= bits - 1u) edgeTerm(k + std::uint32_t(std::countr_zero(bits)));
+        }
     }
 }
 

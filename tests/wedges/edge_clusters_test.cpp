@@ -3,12 +3,15 @@
 // rejects a ball that a segment from the region to the light meets, it is monotone (a point of a
 // region, a ball inside a ball), and a node the silhouette test rejects for a region holds no edge
 // that is a silhouette from any point of it — checked against brute force on real meshes.
+#include "render/cpu/cpu_wedges.h"
+#include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "wedge_test_util.h"
 #include "wedges/adjacency.h"
 #include "wedges/dcs_dh.h"
 #include "wedges/edge_cluster_dh.h"
 #include "wedges/edge_clusters.h"
+#include "wedges/silhouette_edges.h"
 
 #include <gtest/gtest.h>
 
@@ -205,6 +208,98 @@ TEST(EdgeClusterTests, LightHullIsMonotoneInTheRegionAndTheBall) {
         }
     }
     EXPECT_GT(checked, 200);
+}
+
+/// The distance from c to the cone with apex p around the axis p → light centre, tangent to the
+/// light's ball, in double precision (0 inside it).
+double coneGap(vec3 c, vec3 p, vec4 light) {
+    const dvec3 d = dvec3(c) - dvec3(p), axis = normalize(dvec3(vec3(light)) - dvec3(p));
+    const double sine = double(light.w) / length(dvec3(vec3(light)) - dvec3(p));
+    const double cosine = std::sqrt(1.0 - sine * sine);
+    const double a = dot(d, axis), lateral = length(d - axis * a);
+    if (a * cosine + lateral * sine < 0.0) return length(d);
+    return std::max(0.0, lateral * cosine - a * sine);
+}
+
+TEST(EdgeClusterTests, LightConeKeepsEveryBallThePointsHullKeepsAndRejectsTheFarOnes) {
+    std::mt19937 rng(13);
+    std::uniform_real_distribution<float> u(-3.0f, 3.0f), r(0.0f, 1.0f), s(-1.0f, 1.0f);
+    int kept = 0, rejected = 0, looser = 0;
+    std::bernoulli_distribution often(0.5), sometimes(0.2);
+    for (int trial = 0; trial < 40000; ++trial) {
+        const vec3 p(u(rng), u(rng), u(rng));
+        // Lights from large to tiny (a near point light makes the cone a thin needle), and
+        // some with p inside them (the whole space).
+        const float lightRadius = sometimes(rng) ? 1e-5f * r(rng) : (sometimes(rng) ? 8.0f : r(rng));
+        const vec4 light(u(rng), 4.0f + u(rng), u(rng), lightRadius);
+        // Half the balls about a point of the axis (some on it, some behind p or past the light),
+        // small ones among them.
+        const float t = often(rng) ? 2.0f * s(rng) : r(rng);
+        const float spread = sometimes(rng) ? 0.0f : (often(rng) ? 1e-3f : 1.0f);
+        const vec3 near = p * (1.0f - t) + vec3(light) * t + spread * vec3(s(rng), s(rng), s(rng));
+        const vec4 ball(often(rng) ? near : vec3(u(rng), u(rng), u(rng)),
+                        (sometimes(rng) ? 1e-6f : 0.3f) * r(rng));
+        const bool cone = ballMeetsLightCone(ball, lightCone(p, light));
+        const bool hull = ballMeetsLightHull(ball, lightHull(vec4(p, 0.0f), light));
+        // Never tighter than the hull's test: the same margin about a larger set.
+        if (hull) {
+            EXPECT_TRUE(cone) << "trial " << trial << ": the hull keeps the ball, the cone rejects it";
+        }
+        if (hull != cone) ++looser;
+        if (length(p - vec3(light)) <= light.w) {
+            EXPECT_TRUE(cone) << "trial " << trial << ": p lies in the light";
+        } else {
+            const double gap = coneGap(vec3(ball), p, light) - double(ball.w);
+            if (gap < 0.0) {
+                EXPECT_TRUE(cone) << "trial " << trial << ": the ball meets the cone (gap " << gap << ")";
+            }
+            // Beyond the margin (1e-4 of magnitudes up to ~20 here, and rounding), rejected.
+            if (gap > 1e-2) {
+                EXPECT_FALSE(cone) << "trial " << trial << ": gap " << gap;
+            }
+        }
+        (cone ? kept : rejected) += 1;
+    }
+    EXPECT_GT(kept, 1000);
+    EXPECT_GT(rejected, 1000);
+    EXPECT_GT(looser, 0) << "the cone holds the hull's far side beyond the light";
+}
+
+TEST(EdgeClusterTests, SideLanesKeepExactlyTheEdgesWhoseWeightIsNotZero) {
+    const Scene scene = makeMeshScene(knot(), "knot");
+    const OpaqueOccluders occ(scene);
+    ASSERT_FALSE(scene.lights.empty());
+    const SilhouetteEdges& sil = occ.silhouettes(scene.lights[0], farDistanceFor(scene.bounds()));
+    const EdgeSideLanes& lanes = sil.sideLanes();
+    const std::uint32_t n = std::uint32_t(sil.tree().items.size());
+    ASSERT_GT(n, 1000u);
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u(-2.5f, 2.5f);
+    std::size_t candidates = 0, excluded = 0, tested = 0;
+    for (int trial = 0; trial < 40; ++trial) {
+        // Points in space, and on an edge's first vertex (every plane through it: side 0).
+        const std::uint32_t at = std::uint32_t(rng() % n);
+        const vec3 p = trial % 4 == 3 ? sil.packed(at).v0 : vec3(u(rng), u(rng), u(rng));
+        // No receiver, or the first face of an edge (left out of its weight).
+        const uint receiver =
+            trial % 2 ? sil.packed(std::uint32_t(rng() % n)).faces[0].triangle : NO_TRIANGLE;
+        for (std::uint32_t first = std::uint32_t(trial % 4); first < n; first += EdgeSideLanes::LANES) {
+            const std::uint32_t bits = silhouetteCandidates(lanes, first, p, receiver);
+            for (std::uint32_t i = 0; i < EdgeSideLanes::LANES && first + i < n; ++i) {
+                const PackedEdge& e = sil.packed(first + i);
+                const bool expected = e.faceCount > 2 ||
+                                      dcsTwoFaceWeight(p, e.v0, e.faces[0].normal, e.faces[0].triangle,
+                                                       e.faces[1].normal, e.faces[1].triangle, receiver) != 0;
+                ASSERT_EQ(((bits >> i) & 1u) != 0u, expected) << "trial " << trial << " edge " << first + i;
+                candidates += expected;
+                excluded += e.faces[0].triangle == receiver || e.faces[1].triangle == receiver;
+                ++tested;
+            }
+        }
+    }
+    EXPECT_GT(candidates, tested / 20);
+    EXPECT_LT(candidates, tested);
+    EXPECT_GT(excluded, 0u);
 }
 
 /// The DCS weight of an edge seen from p in float, as wedgeWorldWeight computes it (dcsWorldSide).
