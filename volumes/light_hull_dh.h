@@ -1,9 +1,9 @@
 // Which balls the segments from a region of receiver points to the light can meet: the test the
 // CPU passes cull their hierarchies with (render/cpu: the STSV pass's tree of triangles, the
-// wedges' tree of edge clusters), and that both backends apply to each wedge edge
-// (shaders/wedges/wedge_term.glsl). Conservative: a ball it rejects holds nothing that occludes
-// a light sample of the region, so culling with it changes no result. Compiles as C++ and GLSL
-// 4.50 (core/dh.h).
+// wedges' tree of edge clusters), and, for one receiver point, the cone both backends test a
+// pixel's leaves and wedge edges with (render/cpu/cpu_wedges.cpp, shaders/wedges). Both are
+// conservative: a ball they reject holds nothing that occludes a light sample of the region, so
+// culling with them changes no result. Compiles as C++ and GLSL 4.50 (core/dh.h).
 #ifndef STSV_VOLUMES_LIGHT_HULL_DH_H
 #define STSV_VOLUMES_LIGHT_HULL_DH_H
 
@@ -80,10 +80,6 @@ struct LightCone {
     float margin; ///< the point's part of the test's margin, as lightHull's
     vec3 axis;    ///< unit vector from the apex to the light's centre
     float sine;   ///< of the half-angle: light radius / distance; 1 when the point lies in the light's ball
-    float cosine2;
-    float sine2;
-    float pad0;
-    float pad1;
 };
 
 DH_FUNC LightCone lightCone(vec3 p, vec4 light) {
@@ -94,14 +90,10 @@ DH_FUNC LightCone lightCone(vec3 p, vec4 light) {
     c.margin = 1e-4f * (along + light.w + abs(p.x) + abs(p.y) + abs(p.z));
     c.axis = vec3(0.0f);
     c.sine = 1.0f;
-    c.pad0 = 0.0f;
-    c.pad1 = 0.0f;
     if (along > light.w) {
         c.axis = axis / along;
         c.sine = light.w / along;
     }
-    c.sine2 = c.sine * c.sine;
-    c.cosine2 = 1.0f - c.sine2;
     return c;
 }
 
@@ -121,9 +113,11 @@ DH_FUNC bool ballMeetsLightCone(vec4 ball, LightCone c) {
     float a = dot(d, c.axis);
     vec3 lateral = d - c.axis * a;
     float l2 = dot(lateral, lateral);
-    if (a < 0.0f && a * a * c.cosine2 >= l2 * c.sine2) return dot(d, d) <= reach * reach;
+    float sine2 = c.sine * c.sine;
+    float cosine2 = 1.0f - sine2;
+    if (a < 0.0f && a * a * cosine2 >= l2 * sine2) return dot(d, d) <= reach * reach;
     float x = a * c.sine + reach;
-    return x >= 0.0f && l2 * c.cosine2 <= x * x;
+    return x >= 0.0f && l2 * cosine2 <= x * x;
 }
 
 /// The ball around the points [lo, hi] (the box's circumscribed ball), grown by 1e-5 of its radius

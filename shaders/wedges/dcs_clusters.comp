@@ -96,11 +96,13 @@ void main() {
         vec3 p;
         uint receiver;
         uint lanes = 0u;
-        vec4 points[16];
+        LightCone cones[16];
+        uint receivers[16];
         for (uint lane = 0u; lane < 16u; ++lane) {
-            if (blockPoint(pair.x, lane, p, receiver) && ballMeetsLightHull(leafBall, lightHull(vec4(p, 0.0), lightBall)))
-                lanes |= 1u << lane;
-            points[lane] = vec4(p, uintBitsToFloat(receiver));
+            bool covered = blockPoint(pair.x, lane, p, receiver);
+            cones[lane] = lightCone(p, lightBall);
+            receivers[lane] = receiver;
+            if (covered && ballMeetsLightCone(leafBall, cones[lane])) lanes |= 1u << lane;
         }
         if (lanes == 0u) continue;
         // The leaf's edges that may add to the block, each as a cluster of its own.
@@ -131,11 +133,11 @@ void main() {
             uint silhouette = 0u;
             for (uint l = lanes; l != 0u; l &= l - 1u) {
                 uint lane = uint(findLSB(l));
-                p = points[lane].xyz;
-                receiver = floatBitsToUint(points[lane].w);
+                p = cones[lane].apex;
+                receiver = receivers[lane];
                 int weight = two ? dcsTwoFaceWeight(p, edge.v0, n0, t0, n1, t1, receiver)
                                  : wedgeWorldWeight(p, edge.v0, edge.v1, faces, receiver);
-                if (weight != 0 && ballMeetsLightHull(ball, lightHull(vec4(p, 0.0), lightBall))) silhouette |= 1u << lane;
+                if (weight != 0 && ballMeetsLightCone(ball, cones[lane])) silhouette |= 1u << lane;
             }
             appendPixels(GPU_CLUSTER_CANDIDATES, pair.x, silhouette, item);
         }

@@ -34,7 +34,7 @@ WedgeFaces wedgeFacesOf(WedgeEdge edge) {
 
 /// Edge `edge` seen from the visible point p of triangle `receiver`, light pc.light: the
 /// pixel's light frame lf, the edge projected onto it (h0, h1, l = h0 × h1) and its weight k;
-/// false when it adds nothing (no valid frame, the edge's ball meets no segment from p to the
+/// false when it adds nothing (no valid frame, the edge's ball misses the cone from p to the
 /// light's ball, k = 0, nothing between p and the light).
 bool wedgePixelTerm(vec3 p, WedgeEdge edge, uint receiver, out vec3 l, out vec3 h0, out vec3 h1, out int k,
                     out LightFrame lf) {
@@ -47,7 +47,7 @@ bool wedgePixelTerm(vec3 p, WedgeEdge edge, uint receiver, out vec3 l, out vec3 
     h1 = vec3(0.0);
     k = 0;
     if (px.valid == 0.0) return false;
-    if (!ballMeetsLightHull(edgeBall(edge.v0, edge.v1), lightHull(vec4(p, 0.0), lights[pc.light].sphere)))
+    if (!ballMeetsLightCone(edgeBall(edge.v0, edge.v1), lightCone(p, lights[pc.light].sphere)))
         return false;
     return wedgeEdgeTerm(px, edge.v0, edge.v1, wedgeFacesOf(edge), receiver, l, h0, h1, k);
 }

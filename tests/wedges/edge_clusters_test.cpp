@@ -258,6 +258,14 @@ TEST(EdgeClusterTests, LightConeKeepsEveryBallThePointsHullKeepsAndRejectsTheFar
                 EXPECT_FALSE(cone) << "trial " << trial << ": gap " << gap;
             }
         }
+        // Monotone in the ball: a ball inside one the cone rejects is rejected too.
+        const float innerRadius = ball.w * r(rng);
+        vec3 shift(s(rng), s(rng), s(rng));
+        if (length(shift) > 1.0f) shift /= length(shift);
+        const vec4 inner(vec3(ball) + shift * (ball.w - innerRadius), innerRadius);
+        if (ballMeetsLightCone(inner, lightCone(p, light))) {
+            EXPECT_TRUE(cone) << "trial " << trial << ": a ball inside it meets the cone";
+        }
         (cone ? kept : rejected) += 1;
     }
     EXPECT_GT(kept, 1000);
