@@ -131,12 +131,14 @@ struct BlockEdges {
 };
 
 /// The fragment work of one pixel: calls visit(l, a, b, k) for every edge of the block that is a
-/// silhouette from p (k ≠ 0, receiver face excluded), whose ball meets the segments from p to the
-/// light (edgeBall, ballMeetsLightHull), with a non-empty part between p and the light, and
-/// whose carrier's bound holds p: the pairs a GPU fragment counts (wedge_term.glsl). The block's
-/// leaves' balls are tested with p first; a leaf's ball holds its edges' balls, so a leaf p
-/// rejects holds no such edge (the silhouette test is exact per edge). `tests` counts the bound tests,
-/// `visits` the edges visited. `ordered`: in item order, else leaf by leaf.
+/// silhouette from p (k ≠ 0, receiver face excluded), whose ball meets the cone from p to the
+/// light's ball (edgeBall, ballMeetsLightCone: it holds the segments from p to the light), with a
+/// non-empty part between p and the light, and whose carrier's bound holds p: the pairs a GPU
+/// fragment counts (wedge_term.glsl). The block's leaves' balls are tested with p's cone first; a
+/// leaf's ball holds its edges' balls and the test is monotone, so a leaf p rejects holds no such
+/// edge (the silhouette test is exact per edge). `tests` counts the bound tests, `visits` the
+/// edges visited. `ordered`: in item order (PW, which sums floats), edge by edge; else leaf by
+/// leaf, the silhouette test four edges at a time (silhouetteCandidates).
 template <class Visit>
 void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, BlockEdges& block,
                        bool ordered, const DcsPixel& px, std::uint32_t receiver, std::size_t& tests,

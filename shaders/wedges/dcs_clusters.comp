@@ -89,9 +89,9 @@ void main() {
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
         uvec4 range = clusterData(clusterNodes, pair.y);
-        // The block's pixels whose segments to the light meet the leaf's ball (the mirror's
+        // The block's pixels whose cones to the light's ball meet the leaf's ball (the mirror's
         // per-point leaf test: the ball holds each edge's, and a ball inside one that fails fails),
-        // their points kept for the edges (two image loads a pixel cost more than the array).
+        // their cones kept for the edges (two image loads a pixel cost more than the array).
         vec4 leafBall = clusterBall(clusterNodes, pair.y);
         vec3 p;
         uint receiver;
@@ -121,7 +121,7 @@ void main() {
             WedgeEdge edge = wedgeEdgeAt(clusterData(clusterItems, item).x);
             WedgeFaces faces = wedgeFacesOf(edge);
             // The mirror's first two tests (forEachSilhouette): the edge is a silhouette seen
-            // from p, its ball meets the segments from p to the light.
+            // from p, its ball meets p's cone to the light's ball.
             vec4 ball = edgeBall(edge.v0, edge.v1);
             // The faces' normals once for the block's pixels (dcsTwoFaceWeight).
             bool two = faces.count <= 2u;

@@ -253,7 +253,8 @@ TEST(EdgeClusterTests, LightConeKeepsEveryBallThePointsHullKeepsAndRejectsTheFar
             if (gap < 0.0) {
                 EXPECT_TRUE(cone) << "trial " << trial << ": the ball meets the cone (gap " << gap << ")";
             }
-            // Beyond the margin (1e-4 of magnitudes up to ~20 here, and rounding), rejected.
+            // Beyond the margin, rejected: 1e-4 of the magnitudes it sums, here below 80 (the
+            // distance to the light, its radius and |p|₁ below 20, |d|₁ below 50), and rounding.
             if (gap > 1e-2) {
                 EXPECT_FALSE(cone) << "trial " << trial << ": gap " << gap;
             }
@@ -274,40 +275,58 @@ TEST(EdgeClusterTests, LightConeKeepsEveryBallThePointsHullKeepsAndRejectsTheFar
 }
 
 TEST(EdgeClusterTests, SideLanesKeepExactlyTheEdgesWhoseWeightIsNotZero) {
-    const Scene scene = makeMeshScene(knot(), "knot");
-    const OpaqueOccluders occ(scene);
-    ASSERT_FALSE(scene.lights.empty());
-    const SilhouetteEdges& sil = occ.silhouettes(scene.lights[0], farDistanceFor(scene.bounds()));
-    const EdgeSideLanes& lanes = sil.sideLanes();
-    const std::uint32_t n = std::uint32_t(sil.tree().items.size());
-    ASSERT_GT(n, 1000u);
-    std::mt19937 rng(17);
-    std::uniform_real_distribution<float> u(-2.5f, 2.5f);
-    std::size_t candidates = 0, excluded = 0, tested = 0;
-    for (int trial = 0; trial < 40; ++trial) {
-        // Points in space, and on an edge's first vertex (every plane through it: side 0).
-        const std::uint32_t at = std::uint32_t(rng() % n);
-        const vec3 p = trial % 4 == 3 ? sil.packed(at).v0 : vec3(u(rng), u(rng), u(rng));
-        // No receiver, or the first face of an edge (left out of its weight).
-        const uint receiver =
-            trial % 2 ? sil.packed(std::uint32_t(rng() % n)).faces[0].triangle : NO_TRIANGLE;
-        for (std::uint32_t first = std::uint32_t(trial % 4); first < n; first += EdgeSideLanes::LANES) {
-            const std::uint32_t bits = silhouetteCandidates(lanes, first, p, receiver);
-            for (std::uint32_t i = 0; i < EdgeSideLanes::LANES && first + i < n; ++i) {
-                const PackedEdge& e = sil.packed(first + i);
-                const bool expected = e.faceCount > 2 ||
-                                      dcsTwoFaceWeight(p, e.v0, e.faces[0].normal, e.faces[0].triangle,
-                                                       e.faces[1].normal, e.faces[1].triangle, receiver) != 0;
-                ASSERT_EQ(((bits >> i) & 1u) != 0u, expected) << "trial " << trial << " edge " << first + i;
-                candidates += expected;
-                excluded += e.faces[0].triangle == receiver || e.faces[1].triangle == receiver;
-                ++tested;
+    // The knot, and the knot with a fin on some of its edges (edges of three faces: `many`).
+    Scene finned = makeMeshScene(knot(), "knot");
+    const std::size_t knotTriangles = finned.triangleCount();
+    for (std::size_t t = 0; t < knotTriangles; t += 97) {
+        const uvec3 i = finned.triangles[t];
+        const vec3 a = finned.positions[i.x], b = finned.positions[i.y];
+        test::addTri(finned, b, a, 0.5f * (a + b) + vec3(0.0f, 0.05f, 0.0f));
+    }
+    for (const bool fins : {false, true}) {
+        const Scene plain = makeMeshScene(knot(), "knot");
+        const Scene& scene = fins ? finned : plain;
+        const OpaqueOccluders occ(scene);
+        ASSERT_FALSE(scene.lights.empty());
+        const SilhouetteEdges& sil = occ.silhouettes(scene.lights[0], farDistanceFor(scene.bounds()));
+        const EdgeSideLanes& lanes = sil.sideLanes();
+        const std::uint32_t n = std::uint32_t(sil.tree().items.size());
+        ASSERT_GT(n, 1000u);
+        std::mt19937 rng(17);
+        std::uniform_real_distribution<float> u(-2.5f, 2.5f);
+        std::size_t candidates = 0, excluded = 0, many = 0, tested = 0;
+        for (int trial = 0; trial < 40; ++trial) {
+            // Points in space, and on an edge's first vertex (every plane through it: side 0).
+            const std::uint32_t at = std::uint32_t(rng() % n);
+            const vec3 p = trial % 4 == 3 ? sil.packed(at).v0 : vec3(u(rng), u(rng), u(rng));
+            // No receiver, or the first face of an edge (left out of its weight).
+            const uint receiver =
+                trial % 2 ? sil.packed(std::uint32_t(rng() % n)).faces[0].triangle : NO_TRIANGLE;
+            for (std::uint32_t first = std::uint32_t(trial % 4); first < n; first += EdgeSideLanes::LANES) {
+                const std::uint32_t bits = silhouetteCandidates(lanes, first, p, receiver);
+                for (std::uint32_t i = 0; i < EdgeSideLanes::LANES && first + i < n; ++i) {
+                    const PackedEdge& e = sil.packed(first + i);
+                    const bool expected =
+                        e.faceCount > 2 ||
+                        dcsTwoFaceWeight(p, e.v0, e.faces[0].normal, e.faces[0].triangle, e.faces[1].normal,
+                                         e.faces[1].triangle, receiver) != 0;
+                    ASSERT_EQ(((bits >> i) & 1u) != 0u, expected)
+                        << (fins ? "finned " : "") << "trial " << trial << " edge " << first + i;
+                    candidates += expected;
+                    excluded += receiver != NO_TRIANGLE &&
+                                (e.faces[0].triangle == receiver || e.faces[1].triangle == receiver);
+                    many += e.faceCount > 2;
+                    ++tested;
+                }
             }
         }
+        EXPECT_GT(candidates, tested / 20);
+        EXPECT_LT(candidates, tested);
+        EXPECT_GT(excluded, 0u);
+        if (fins) {
+            EXPECT_GT(many, 0u) << "no edge of three faces among the potential silhouettes";
+        }
     }
-    EXPECT_GT(candidates, tested / 20);
-    EXPECT_LT(candidates, tested);
-    EXPECT_GT(excluded, 0u);
 }
 
 /// The DCS weight of an edge seen from p in float, as wedgeWorldWeight computes it (dcsWorldSide).
