@@ -134,6 +134,10 @@ struct Scene {
     Camera camera;
     std::vector<Light> lights;
     std::size_t skippedFaces = 0; ///< input faces the loaders dropped as degenerate (repeated vertex index)
+    /// What a user should know about how the scene was read, one line each, without the file's
+    /// name (the CLI prints them after loading): primitives skipped, precision lost far from the
+    /// origin. Loaders append; nothing here stops a render.
+    std::vector<std::string> warnings;
 
     std::size_t triangleCount() const { return triangles.size(); }
     const Material& materialOf(std::size_t tri) const { return materials[triangleMaterial[tri]]; }
