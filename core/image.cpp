@@ -17,57 +17,164 @@ extern "C" unsigned char* stbi_write_png_to_mem(const unsigned char* pixels, int
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <sstream>
 
 namespace stsv {
 
-Image8 readPngRgba(const std::string& path) {
-    // A PNG is at most a few hundred MiB on disk; its declared size is checked before decoding.
-    const std::string bytes = readFileBytes(path, "image file", std::size_t(1) << 30);
-    const auto* data = reinterpret_cast<const stbi_uc*>(bytes.data());
-    const int length = static_cast<int>(bytes.size());
-    int w = 0, h = 0, n = 0;
-    // Only PNG is read: stb would also try JPEG, BMP, GIF, PSD, PIC, PNM, HDR and TGA on anything
-    // else, and Debian's stb has faults in some of those decoders (fuzzing crashed its PNM reader).
-    // A PNG starting with the signature goes to stb's PNG decoder, which it tries first.
-    if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0)
-        throw InputError(path, "not a PNG file (it lacks the PNG signature); textures must be PNG");
-    if (bytes.size() < 24 || bytes.compare(12, 4, "IHDR") != 0)
-        throw InputError(path, "not a readable PNG (no IHDR chunk after the signature)");
-    // A PNG's size is read from its header first: stb refuses images over 1 GiB without saying why.
-    {
-        auto be32 = [&](std::size_t at) {
-            return std::uint64_t(std::uint8_t(bytes[at])) << 24 |
-                   std::uint64_t(std::uint8_t(bytes[at + 1])) << 16 |
-                   std::uint64_t(std::uint8_t(bytes[at + 2])) << 8 |
-                   std::uint64_t(std::uint8_t(bytes[at + 3]));
-        };
-        const std::uint64_t pw = be32(16), ph = be32(20);
-        if (pw > std::uint64_t(MAX_IMAGE_SIDE) || ph > std::uint64_t(MAX_IMAGE_SIDE))
-            throw InputError(path, "image of " + std::to_string(pw) + "x" + std::to_string(ph) +
-                                       " pixels is larger than the " + std::to_string(MAX_IMAGE_SIDE) +
-                                       " pixels a side accepted");
+namespace {
+
+constexpr char PNG_SIGNATURE[] = "\x89PNG\r\n\x1a\n";
+
+std::uint32_t bigEndian32(const std::uint8_t* p) {
+    return std::uint32_t(p[0]) << 24 | std::uint32_t(p[1]) << 16 | std::uint32_t(p[2]) << 8 |
+           std::uint32_t(p[3]);
+}
+
+std::string sidesText(std::uint64_t width, std::uint64_t height) {
+    return std::to_string(width) + "x" + std::to_string(height) + " pixels";
+}
+
+/// The bytes a PNG's image data inflates to when it holds the rows its IHDR (at `ihdr`, the
+/// chunk's data) declares: each row a filter byte and its packed samples (PNG §7.2), Adam7's seven
+/// passes each their own rows (PNG §8.2).
+std::uint64_t pngInflatedBytes(const std::uint8_t* ihdr) {
+    const std::uint64_t width = bigEndian32(ihdr), height = bigEndian32(ihdr + 4), depth = ihdr[8];
+    const std::uint64_t samples = ihdr[9] == 2 ? 3 : ihdr[9] == 4 ? 2 : ihdr[9] == 6 ? 4 : 1;
+    const auto rows = [&](std::uint64_t w, std::uint64_t h) {
+        return w == 0 ? 0 : h * (1 + (w * samples * depth + 7) / 8);
+    };
+    if (ihdr[12] != 1) return rows(width, height);
+    static const int pass[7][4] = {{0, 0, 8, 8}, {4, 0, 8, 8}, {0, 4, 4, 8}, {2, 0, 4, 4},
+                                   {0, 2, 2, 4}, {1, 0, 2, 2}, {0, 1, 1, 2}}; // x0, y0, dx, dy
+    std::uint64_t bytes = 0;
+    for (const auto& p : pass)
+        bytes += rows((width + std::uint64_t(p[2] - p[0] - 1)) / std::uint64_t(p[2]),
+                      (height + std::uint64_t(p[3] - p[1] - 1)) / std::uint64_t(p[3]));
+    return bytes;
+}
+
+/// stb inflates a PNG's image data into a buffer it doubles as long as the data goes on, whatever
+/// the header declares: a 300 KB file of 16x16 pixels took 299 MB (/usr/bin/time -v). A deflate
+/// stream grows at most 1032-fold, so a file whose IDAT chunks could not go past the limit that
+/// way is left alone; any other is inflated first into a buffer of the declared size, which stb's
+/// zlib reader does not grow, and refused when its data does not fit.
+void checkPngInflation(const std::string& name, const std::uint8_t* data, std::size_t size, double estimate) {
+    std::string compressed;
+    std::uint64_t idat = 0;
+    for (std::size_t at = 8; at + 12 <= size;) {
+        const std::uint64_t length = bigEndian32(data + at);
+        if (length > size - at - 12) break; // truncated: stb refuses it
+        if (std::memcmp(data + at + 4, "IDAT", 4) == 0) idat += length;
+        if (std::memcmp(data + at + 4, "IEND", 4) == 0) break;
+        at += 12 + std::size_t(length);
+    }
+    if (estimate + 2.0 * (1032.0 * double(idat) + 1024.0) <= double(memoryLimitBytes())) return;
+    const std::uint64_t declared = pngInflatedBytes(data + 16);
+    if (declared > std::uint64_t(std::numeric_limits<int>::max()))
+        throw InputError(name, "image of " + sidesText(bigEndian32(data + 16), bigEndian32(data + 20)) +
+                                   " holds more than the 2 GiB of samples stb decodes");
+    compressed.reserve(std::size_t(idat));
+    for (std::size_t at = 8; at + 12 <= size;) {
+        const std::size_t length = bigEndian32(data + at);
+        if (length > size - at - 12) break;
+        if (std::memcmp(data + at + 4, "IDAT", 4) == 0)
+            compressed.append(reinterpret_cast<const char*>(data + at + 8), length);
+        at += 12 + length;
+    }
+    std::vector<char> inflated(static_cast<std::size_t>(declared));
+    if (stbi_zlib_decode_buffer(inflated.data(), int(declared), compressed.data(), int(compressed.size())) <
+        0)
+        throw InputError(name, "not a readable PNG (its image data inflates past the " +
+                                   std::to_string(declared) + " bytes its header declares, or is corrupt)");
+}
+
+} // namespace
+
+double ImageHeader::peakBytes(std::size_t fileBytes) const {
+    const double perPixel =
+        jpeg         ? JPEG_PEAK_BYTES_PER_PIXEL
+        : sixteenBit ? (interlaced ? PNG16_INTERLACED_PEAK_BYTES_PER_PIXEL : PNG16_PEAK_BYTES_PER_PIXEL)
+                     : (interlaced ? PNG8_INTERLACED_PEAK_BYTES_PER_PIXEL : PNG8_PEAK_BYTES_PER_PIXEL);
+    return double(fileBytes) + perPixel * double(width) * double(height);
+}
+
+std::string ImageHeader::sizeText() const {
+    return "image of " + sidesText(std::uint64_t(width), std::uint64_t(height));
+}
+
+ImageHeader readImageHeader(const std::string& name, const std::uint8_t* data, std::size_t size,
+                            bool allowJpeg) {
+    ImageHeader header;
+    // Only PNG (and JPEG where allowed) is read: stb would also try BMP, GIF, PSD, PIC, PNM, HDR
+    // and TGA on anything else, and Debian's stb has faults in some of those decoders (fuzzing
+    // crashed its PNM reader). A PNG starting with the signature goes to stb's PNG decoder, a JPEG
+    // starting with SOI and a marker to its JPEG decoder, which stb tries first and second.
+    const bool png = size >= 8 && std::memcmp(data, PNG_SIGNATURE, 8) == 0;
+    header.jpeg = allowJpeg && size >= 3 && data[0] == 0xff && data[1] == 0xd8 && data[2] == 0xff;
+    if (!png && !header.jpeg)
+        throw InputError(name, allowJpeg
+                                   ? "not a PNG or JPEG file (it lacks their signatures)"
+                                   : "not a PNG file (it lacks the PNG signature); textures must be PNG");
+    if (png) {
+        // IHDR (PNG §11.2.2) follows the signature: width, height, bit depth, colour type,
+        // compression, filter, interlace. The size is read here first: stb refuses images over
+        // 1 GiB without saying why.
+        if (size < 16 || std::memcmp(data + 12, "IHDR", 4) != 0)
+            throw InputError(name, "not a readable PNG (no IHDR chunk after the signature)");
+        if (size < 33) throw InputError(name, "not a readable PNG (it ends inside its IHDR chunk)");
+        const std::uint64_t w = bigEndian32(data + 16), h = bigEndian32(data + 20);
+        if (w > std::uint64_t(MAX_IMAGE_SIDE) || h > std::uint64_t(MAX_IMAGE_SIDE))
+            throw InputError(name, "image of " + sidesText(w, h) + " is larger than the " +
+                                       std::to_string(MAX_IMAGE_SIDE) + " pixels a side accepted");
+        header.sixteenBit = data[24] == 16;
+        header.interlaced = data[28] == 1;
     }
     // stb's failure reason is not reset between calls (it may be null, or left over from a format
     // tried earlier), so the messages below do not quote it.
+    const int length =
+        static_cast<int>(std::min<std::size_t>(size, std::size_t(std::numeric_limits<int>::max())));
+    int w = 0, h = 0, n = 0;
     if (!stbi_info_from_memory(data, length, &w, &h, &n))
-        throw InputError(path, "not a readable PNG (its header is corrupt)");
-    if (w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE)
-        throw InputError(path, "image of " + std::to_string(w) + "x" + std::to_string(h) +
-                                   " pixels is larger than the " + std::to_string(MAX_IMAGE_SIDE) +
+        throw InputError(name, std::string("not a readable ") + (png ? "PNG" : "JPEG") +
+                                   " (its header is corrupt)");
+    if (w <= 0 || h <= 0 || w > MAX_IMAGE_SIDE || h > MAX_IMAGE_SIDE)
+        throw InputError(name, "image of " +
+                                   sidesText(std::uint64_t(std::max(w, 0)), std::uint64_t(std::max(h, 0))) +
+                                   " is empty or larger than the " + std::to_string(MAX_IMAGE_SIDE) +
                                    " pixels a side accepted");
-    checkMemory(path + ": image of " + std::to_string(w) + "x" + std::to_string(h) + " pixels",
-                4.0 * double(w) * double(h));
-    std::unique_ptr<stbi_uc, void (*)(void*)> pixels(stbi_load_from_memory(data, length, &w, &h, &n, 4),
-                                                     stbi_image_free);
-    if (!pixels) throw InputError(path, "not a readable image (its header reads, its pixel data is corrupt)");
+    header.width = w;
+    header.height = h;
+    return header;
+}
+
+Image8 decodeImageRgba(const std::string& name, const std::uint8_t* data, std::size_t size, bool allowJpeg,
+                       double heldBytes) {
+    const ImageHeader header = readImageHeader(name, data, size, allowJpeg);
+    if (size > std::size_t(std::numeric_limits<int>::max()))
+        throw InputError(name, "image file of more than 2 GiB");
+    checkMemory(name + ": " + header.sizeText() +
+                    (heldBytes > 0.0 ? " (with the textures read before it)" : ""),
+                heldBytes + header.peakBytes(size), "use a smaller image");
+    if (!header.jpeg) checkPngInflation(name, data, size, heldBytes + header.peakBytes(size));
+    int w = 0, h = 0, n = 0;
+    std::unique_ptr<stbi_uc, void (*)(void*)> pixels(
+        stbi_load_from_memory(data, static_cast<int>(size), &w, &h, &n, 4), stbi_image_free);
+    if (!pixels || w != header.width || h != header.height)
+        throw InputError(name, "not a readable image (its header reads, its pixel data is corrupt)");
     Image8 image;
     image.width = w;
     image.height = h;
     image.channels = 4;
-    image.pixels.assign(pixels.get(), pixels.get() + std::size_t(w) * h * 4);
+    image.pixels.assign(pixels.get(), pixels.get() + std::size_t(w) * std::size_t(h) * 4);
     return image;
+}
+
+Image8 readPngRgba(const std::string& path) {
+    // A PNG is at most a few hundred MiB on disk; its declared size is checked before decoding.
+    const std::string bytes = readFileBytes(path, "image file", std::size_t(1) << 30);
+    return decodeImageRgba(path, reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
 }
 
 void writePng(const std::string& path, const Image8& image) {

@@ -36,9 +36,52 @@ struct ImageF {
 /// The largest image side stsv reads (Vulkan's common maxImageDimension2D).
 constexpr int MAX_IMAGE_SIDE = 16384;
 
-/// Reads a PNG (any bit depth/colour type stb accepts) expanded to RGBA8.
+/// Bytes a pixel costs at the peak of decoding an image to RGBA8 and handing it on as a Texture
+/// (stb's buffers, the Image8, the caller's Texture), the encoded file's bytes not included.
+/// Measured with /usr/bin/time -v (maximum resident set size) on 8192x8192 images, a program
+/// reading the file, decoding it with stb, copying stb's pixels to an Image8 and that to a
+/// Texture, less the same run on a 16x16 image (2026-12, Debian 12's libstb):
+/// 8-bit PNG 7.97-8.05 bytes a pixel whatever the colour type (stb's inflated rows and its
+/// pixels, then its RGBA and the Image8), Adam7-interlaced 10.09 (a pass's pixels besides);
+/// 16-bit PNG 16.09, interlaced 20.18 (stb inflates and decodes 16 bits, then converts);
+/// JPEG 8.3-8.7 baseline and 4:2:0 progressive, 13.2 progressive 4:4:4 (its coefficients).
+constexpr double PNG8_PEAK_BYTES_PER_PIXEL = 8.0;
+constexpr double PNG8_INTERLACED_PEAK_BYTES_PER_PIXEL = 10.0;
+constexpr double PNG16_PEAK_BYTES_PER_PIXEL = 16.0;
+constexpr double PNG16_INTERLACED_PEAK_BYTES_PER_PIXEL = 20.0;
+constexpr double JPEG_PEAK_BYTES_PER_PIXEL = 14.0;
+
+/// What an encoded image's header says, read without decoding its pixels.
+struct ImageHeader {
+    int width = 0;
+    int height = 0;
+    bool jpeg = false;       ///< a JPEG, else a PNG
+    bool sixteenBit = false; ///< a PNG of 16 bits a channel
+    bool interlaced = false; ///< an Adam7-interlaced PNG
+
+    /// Bytes decodeImageRgba holds at its peak for this image from `fileBytes` encoded bytes:
+    /// the file's bytes plus the measured bytes a pixel above.
+    double peakBytes(std::size_t fileBytes) const;
+    /// "image of 4096x4096 pixels": how messages name the size.
+    std::string sizeText() const;
+};
+
+/// Reads the header of a PNG (or, when `allowJpeg`, a JPEG) held in memory. InputError naming
+/// `name` when the bytes are neither (stb's other decoders are never reached: Debian's stb has
+/// faults in some of them), the header is corrupt, or a side is 0 or above MAX_IMAGE_SIDE.
+ImageHeader readImageHeader(const std::string& name, const std::uint8_t* data, std::size_t size,
+                            bool allowJpeg = false);
+
+/// Decodes a PNG (or, when `allowJpeg`, a JPEG) held in memory to RGBA8: readImageHeader first,
+/// then checkMemory (core/memory_budget.h) with the header's peakBytes plus `heldBytes` (what the
+/// caller holds through the decode: the textures read before), naming `name`, its size and the
+/// limit, and only then the decoder. InputError naming `name` when the pixel data is corrupt.
+Image8 decodeImageRgba(const std::string& name, const std::uint8_t* data, std::size_t size,
+                       bool allowJpeg = false, double heldBytes = 0.0);
+
+/// Reads a PNG (any bit depth/colour type stb accepts) expanded to RGBA8 (decodeImageRgba).
 /// Throws InputError naming the file when it is missing, not a regular file, not a readable image,
-/// larger than MAX_IMAGE_SIDE a side, or too large for the memory limit (core/memory_budget.h).
+/// larger than MAX_IMAGE_SIDE a side, and UsageError when it is too large for the memory limit.
 Image8 readPngRgba(const std::string& path);
 
 /// Writes an 8-bit PNG; throws Error naming the file when any part of the write fails.

@@ -1,6 +1,8 @@
 #include "core/error.h"
 #include "core/image.h"
+#include "core/memory_budget.h"
 #include "core/parallel.h"
+#include "tests/support/zero_png.h"
 
 #include <gtest/gtest.h>
 
@@ -57,6 +59,78 @@ TEST(Image, OnlyPngIsDecoded) {
         EXPECT_NE(what.find(path), std::string::npos) << what;
         EXPECT_NE(what.find("not a PNG file"), std::string::npos) << what;
     }
+}
+
+void writeBytes(const std::string& path, const std::string& bytes) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    ASSERT_NE(f, nullptr);
+    ASSERT_EQ(std::fwrite(bytes.data(), 1, bytes.size(), f), bytes.size());
+    std::fclose(f);
+}
+
+TEST(Image, PngIsHeldToTheMemoryLimitAtTheDecodersPeak) {
+    // 4096² texels in 106 KB: 64 MiB as RGBA8, 128 MiB at the peak of decoding and handing the
+    // texels on (PNG8_PEAK_BYTES_PER_PIXEL, measured). A limit between the two refuses it, with
+    // the file, the image's size and the limit, before stb decodes anything.
+    const std::string path = tempPath("zeros_4096.png");
+    writeBytes(path, test::zeroPng(4096));
+    struct DefaultLimitAfter {
+        ~DefaultLimitAfter() { setMemoryLimit(0); }
+    } restore;
+    setMemoryLimit(std::uint64_t(100) << 20);
+    try {
+        readPngRgba(path);
+        FAIL() << "expected UsageError";
+    } catch (const UsageError& e) {
+        const std::string what = e.what();
+        for (const char* part :
+             {"zeros_4096.png", "image of 4096x4096 pixels", "128.1 MiB", "memory limit of 100.0 MiB"})
+            EXPECT_NE(what.find(part), std::string::npos) << what << "\nmissing: " << part;
+    }
+    // The estimate from the header alone, for each kind of file: its bytes plus the measured peak.
+    const std::string png = test::zeroPng(16);
+    const ImageHeader header =
+        readImageHeader("zeros", reinterpret_cast<const std::uint8_t*>(png.data()), png.size());
+    EXPECT_EQ(header.width, 16);
+    EXPECT_FALSE(header.jpeg || header.sixteenBit || header.interlaced);
+    EXPECT_EQ(header.peakBytes(1000), 1000.0 + 8.0 * 256.0);
+    // Under the default limit it decodes: grey 0 with alpha 255.
+    setMemoryLimit(0);
+    const Image8 image = readPngRgba(path);
+    ASSERT_EQ(image.width, 4096);
+    EXPECT_EQ(image.at(4095, 4095, 0), 0);
+    EXPECT_EQ(image.at(4095, 4095, 3), 255);
+}
+
+TEST(Image, PngDataInflatingPastItsHeaderIsRefusedNearTheLimit) {
+    // 16x16 pixels declared (16 rows of a filter byte and 16 samples: 272 bytes), 64 MiB of zeros
+    // in its data (426 KB of file): stb would grow its buffer to hold them all and decode the
+    // first 272 bytes. Where the limit leaves no room for that, the data is inflated first into
+    // the declared size and refused.
+    const std::string path = tempPath("inflates.png");
+    writeBytes(path, test::zeroPng(16, std::uint64_t(64) << 20));
+    struct DefaultLimitAfter {
+        ~DefaultLimitAfter() { setMemoryLimit(0); }
+    } restore;
+    setMemoryLimit(std::uint64_t(32) << 20);
+    try {
+        readPngRgba(path);
+        FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(
+            what.find(
+                "inflates.png: not a readable PNG (its image data inflates past the 272 bytes its header "
+                "declares"),
+            std::string::npos)
+            << what;
+    }
+    // A file that holds what it declares passes the same check: 4096² under a limit of 130 MiB,
+    // above its estimate of 128.1 MiB but below what its 106 KB could inflate to.
+    const std::string fair = tempPath("zeros_4096_fair.png");
+    writeBytes(fair, test::zeroPng(4096));
+    setMemoryLimit(std::uint64_t(130) << 20);
+    EXPECT_EQ(readPngRgba(fair).width, 4096);
 }
 
 TEST(Image, NpyHeaderIsAlignedAndRoundTrips) {
