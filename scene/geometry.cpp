@@ -105,6 +105,7 @@ std::size_t appendMesh(Scene& scene, const MeshData& mesh, const mat4& worldFrom
     }
     scene.meshes.push_back(placed);
     scene.skippedFaces += mesh.skippedFaces;
+    scene.warnings.insert(scene.warnings.end(), mesh.warnings.begin(), mesh.warnings.end());
     return scene.meshes.size() - 1;
 }
 

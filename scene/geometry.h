@@ -20,6 +20,7 @@ struct MeshData {
     std::vector<Material> materials;             ///< alphaTexture indexes `textures`
     std::vector<Texture> textures;
     std::size_t skippedFaces = 0; ///< input faces dropped as degenerate (repeated vertex index)
+    std::vector<std::string> warnings; ///< for Scene::warnings (appendMesh adds them)
 };
 
 /// Appends `mesh` to `scene` as one Mesh named `name`, positions mapped by `worldFromObject`.

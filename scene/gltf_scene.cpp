@@ -2,16 +2,22 @@
 
 #include "core/error.h"
 #include "core/files.h"
+#include "core/image.h"
 #include "core/memory_budget.h"
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <exception>
 #include <filesystem>
+#include <fstream>
 #include <map>
 
 namespace stsv {
@@ -19,31 +25,298 @@ namespace stsv {
 namespace {
 
 namespace fs = std::filesystem;
+using Json = nlohmann::json;
 
-/// glTF's component types and sampler wrap modes (glTF 2.0 §5.1.2, §5.26).
+/// glTF's component types, primitive modes and sampler wrap modes (glTF 2.0 §3.6.2.2, §3.7.2.1,
+/// §5.26).
 constexpr int GLTF_UNSIGNED_BYTE = 5121;
 constexpr int GLTF_UNSIGNED_SHORT = 5123;
 constexpr int GLTF_UNSIGNED_INT = 5125;
 constexpr int GLTF_FLOAT = 5126;
+constexpr int GLTF_LINE_STRIP = 3; ///< modes 0 to 3: points, lines, line loops, line strips
 constexpr int GLTF_TRIANGLES = 4;
+constexpr int GLTF_TRIANGLE_STRIP = 5;
+constexpr int GLTF_TRIANGLE_FAN = 6;
 constexpr int GLTF_REPEAT = 10497;
 constexpr int GLTF_CLAMP_TO_EDGE = 33071;
-/// Node hierarchies deeper than this are refused (glTF forbids cycles; this catches them).
+/// Node trees deeper than this are refused: the walk recurses once a level.
 constexpr int MAX_NODE_DEPTH = 256;
+/// Bytes a glTF vertex costs while loading: its position and texture coordinate (20 bytes) in
+/// the MeshData, and again in the Scene it is appended to. A mesh's vertices are copied once for
+/// each node that draws it, so the count is taken over the scene's instances.
+constexpr double GLTF_VERTEX_BYTES = 40.0;
+
+/// The extensions stsv implements, which a file may list in extensionsRequired. Those a file
+/// merely uses (extensionsUsed) are ignored, as glTF allows: the file is to load without them.
+const char* const SUPPORTED_EXTENSIONS[] = {"KHR_texture_transform"};
+
+/// Input quoted in a message, cut to `max` characters.
+std::string clipped(const std::string& text, std::size_t max) {
+    return text.size() <= max ? text : text.substr(0, max) + "...";
+}
+
+/// "major.minor" of asset.version and asset.minVersion; false when the text is not of that form.
+bool parseVersion(const std::string& text, int& major, int& minor) {
+    const auto dot = text.find('.');
+    if (dot == std::string::npos || dot == 0 || dot > 4 || dot + 1 == text.size() || text.size() - dot > 5)
+        return false;
+    for (std::size_t i = 0; i < text.size(); ++i)
+        if (i != dot && !(text[i] >= '0' && text[i] <= '9')) return false;
+    major = std::stoi(text.substr(0, dot));
+    minor = std::stoi(text.substr(dot + 1));
+    return true;
+}
+
+/// Empty when stsv reads a file of this asset version, minimum version and required extensions;
+/// else why not.
+std::string assetProblem(const std::string& version, const std::string& minVersion,
+                         const std::vector<std::string>& required) {
+    int major = 0, minor = 0;
+    if (version.empty()) return "asset.version is missing (glTF 2.0 files have \"2.0\")";
+    if (!parseVersion(version, major, minor))
+        return "asset.version \"" + clipped(version, 40) + "\" is not of the form major.minor";
+    if (major != 2) return "asset.version is " + version + ": stsv reads glTF 2.x only";
+    if (!minVersion.empty()) {
+        if (!parseVersion(minVersion, major, minor))
+            return "asset.minVersion \"" + clipped(minVersion, 40) + "\" is not of the form major.minor";
+        if (major != 2 || minor > 0)
+            return "asset.minVersion is " + minVersion + ", above the glTF 2.0 stsv reads";
+    }
+    std::string unsupported;
+    for (const std::string& name : required)
+        if (std::find(std::begin(SUPPORTED_EXTENSIONS), std::end(SUPPORTED_EXTENSIONS), name) ==
+            std::end(SUPPORTED_EXTENSIONS))
+            unsupported += (unsupported.empty() ? "" : ", ") + clipped(name, 80);
+    if (!unsupported.empty()) {
+        std::string supported;
+        for (const char* name : SUPPORTED_EXTENSIONS)
+            supported += (supported.empty() ? "" : ", ") + std::string(name);
+        return "extensionsRequired names " + unsupported + ", which stsv does not implement (it implements " +
+               supported + ")";
+    }
+    return {};
+}
+
+/// A URI as tinygltf turns it into a file name (its dlib urldecode: %XX escapes, '+' as a space).
+std::string decodeUri(const std::string& uri) {
+    const auto hex = [](char c) {
+        return c >= '0' && c <= '9'   ? c - '0'
+               : c >= 'a' && c <= 'f' ? c - 'a' + 10
+               : c >= 'A' && c <= 'F' ? c - 'A' + 10
+                                      : 0;
+    };
+    std::string out;
+    for (std::size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '+') {
+            out += ' ';
+        } else if (uri[i] == '%' && i + 2 < uri.size()) {
+            out += char(hex(uri[i + 1]) << 4 | hex(uri[i + 2]));
+            i += 2;
+        } else {
+            out += uri[i];
+        }
+    }
+    return out;
+}
+
+/// The folder tinygltf resolves a file's URIs against (its GetBaseDir): the path up to the last
+/// slash, empty when there is none.
+std::string baseDirOf(const std::string& path) {
+    const auto slash = path.find_last_of("/\\");
+    return slash == std::string::npos ? std::string() : path.substr(0, slash);
+}
+
+/// A URI resolved as tinygltf resolves it (its JoinPath).
+std::string resolveUri(const std::string& baseDir, const std::string& uri) {
+    if (baseDir.empty()) return decodeUri(uri);
+    return baseDir + (baseDir.back() == '/' ? "" : "/") + decodeUri(uri);
+}
+
+bool isDataUri(const std::string& uri) {
+    return uri.rfind("data:", 0) == 0;
+}
+
+/// What tinygltf reads through stsv's callbacks, and what they refused.
+struct LoadContext {
+    std::string path;           ///< the glTF file
+    std::string baseDir;        ///< baseDirOf(path)
+    double externalBytes = 0.0; ///< bytes of the buffer and image files read so far
+    std::string refusedPath;    ///< the last file refused, and why
+    std::string refusedReason;
+    std::exception_ptr error; ///< an error thrown inside a callback, thrown again after tinygltf returns
+};
+
+/// tinygltf looks for a URI's file beside the glTF file, then in the working directory; only the
+/// first is the file the glTF names (a missing texture must not be taken from wherever stsv
+/// runs). It counts as existing whatever it is, so that readWholeFile says why it cannot be read.
+bool fileExists(const std::string& absolute, void* user) {
+    const auto& context = *static_cast<const LoadContext*>(user);
+    return context.baseDir.empty() || absolute.rfind(context.baseDir, 0) == 0;
+}
+
+std::string expandFilePath(const std::string& path, void*) {
+    return path;
+}
+
+/// tinygltf's own reader opens a directory as an empty stream of "size" 2^63 − 1 and asks for
+/// that much memory (a buffer whose uri is "." ends in std::bad_alloc). This one refuses what is
+/// not a regular file, saying why (refusalCause, GltfReader::encodedImage), and holds the files'
+/// bytes to the memory limit.
+bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+    auto& context = *static_cast<LoadContext*>(user);
+    const auto refuse = [&](const std::string& reason) {
+        context.refusedPath = path;
+        context.refusedReason = reason;
+        if (err) *err += reason;
+        return false;
+    };
+    try {
+        if (const std::string reason = notAFileReason(path); !reason.empty()) return refuse(reason);
+        std::ifstream in(path, std::ios::binary | std::ios::ate);
+        const std::streamoff size = in.tellg();
+        if (!in || size < 0) return refuse("cannot be read");
+        if (path != context.path) {
+            // Each file is held twice for a moment (tinygltf's read, then the buffer or image).
+            context.externalBytes += double(size);
+            checkMemory(context.path + ": the buffer and image files it names (" + path + " the last)",
+                        2.0 * context.externalBytes, "use smaller files");
+        }
+        out->resize(std::size_t(size));
+        in.seekg(0);
+        if (!in.read(reinterpret_cast<char*>(out->data()), size)) return refuse("cannot be read");
+        return true;
+    } catch (...) {
+        if (!context.error) context.error = std::current_exception();
+        if (err) *err += "refused";
+        return false;
+    }
+}
+
+/// The image callback keeps each image's encoded bytes (tinygltf's `as_is`): images are decoded
+/// only where a material's alpha reads them, each after its header's size is held to the memory
+/// limit (GltfReader::textureOf). An image in a buffer view is left where it is: tinygltf hands
+/// over its bytes without checking that the view lies inside its buffer, so they are taken from
+/// the view later, checked.
+bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::string*, int, int,
+                      const unsigned char* bytes, int size, void*) {
+    if (image->bufferView >= 0) return true;
+    image->image.assign(bytes, bytes + std::max(size, 0));
+    image->as_is = true;
+    return true;
+}
+
+/// The file's JSON (a .glb's JSON chunk), read again only to explain a refusal whose cause
+/// tinygltf's message leaves out; null when it does not parse.
+Json jsonOf(const std::string& path, bool binary) {
+    std::string text;
+    try {
+        text = readFileBytes(path, "glTF file", std::size_t(1) << 32);
+    } catch (const Error&) {
+        return nullptr;
+    }
+    if (binary) {
+        // GLB (glTF 2.0 §4.4): a 12-byte header, then the JSON chunk's length, type and bytes.
+        if (text.size() < 20) return nullptr;
+        std::uint32_t length = 0;
+        std::memcpy(&length, text.data() + 12, 4);
+        if (text.compare(16, 4, "JSON") != 0 || length > text.size() - 20) return nullptr;
+        text = text.substr(20, length);
+    }
+    Json j = Json::parse(text, nullptr, false);
+    return j.is_discarded() ? Json(nullptr) : j;
+}
+
+std::string jsonString(const Json& j, const char* key) {
+    const auto it = j.is_object() ? j.find(key) : j.end();
+    return j.is_object() && it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
+}
+
+/// Why tinygltf refused the file, where its own message does not say: a glTF 1.0 file, a
+/// required extension (tinygltf stumbles over a Draco-compressed accessor first), or a buffer
+/// whose uri names no regular file (tinygltf stops at the first buffer it cannot read, before it
+/// reads any image). Empty when none of these is the cause.
+std::string refusalCause(const LoadContext& context, bool binary) {
+    const Json j = jsonOf(context.path, binary);
+    if (j.is_object()) {
+        const Json asset = j.value("asset", Json::object());
+        std::vector<std::string> required;
+        if (j.contains("extensionsRequired") && j["extensionsRequired"].is_array())
+            for (const Json& name : j["extensionsRequired"])
+                if (name.is_string()) required.push_back(name.get<std::string>());
+        if (asset.is_object() && asset.contains("version") && !asset["version"].is_string())
+            return "asset.version is " + clipped(asset["version"].dump(), 40) +
+                   ", not a string (glTF 1.0 files wrote a number): stsv reads glTF 2.x only";
+        if (!asset.is_object() || !asset.contains("version"))
+            return "has no asset.version (glTF 2.0 files say \"asset\": {\"version\": \"2.0\"}; a glTF 1.0 "
+                   "file need not)";
+        if (std::string problem =
+                assetProblem(jsonString(asset, "version"), jsonString(asset, "minVersion"), required);
+            !problem.empty())
+            return problem;
+        if (!context.refusedPath.empty() && j.contains("buffers") && j["buffers"].is_array())
+            for (std::size_t i = 0; i < j["buffers"].size(); ++i) {
+                const std::string uri = jsonString(j["buffers"][i], "uri");
+                if (!uri.empty() && !isDataUri(uri) &&
+                    resolveUri(context.baseDir, uri) == context.refusedPath)
+                    return "buffer " + std::to_string(i) + " uri \"" + clipped(uri, 200) + "\" " +
+                           context.refusedReason + " (" + context.refusedPath + ")";
+            }
+    }
+    return {};
+}
+
+/// KHR_texture_transform of a texture reference: uv' = T·R·S·uv, and the texture coordinate set
+/// it reads instead of the textureInfo's, −1 for that one.
+struct UvTransform {
+    double m[2][3] = {{1.0, 0.0, 0.0}, {0.0, 1.0, 0.0}}; ///< rows of the affine map
+    int texCoord = -1;
+
+    vec2 apply(vec2 uv) const {
+        return vec2(float(m[0][0] * uv.x + m[0][1] * uv.y + m[0][2]),
+                    float(m[1][0] * uv.x + m[1][1] * uv.y + m[1][2]));
+    }
+};
 
 class GltfReader {
   public:
     GltfReader(const std::string& path, const tinygltf::Model& model) : m_path(path), m_model(model) {}
 
     MeshData read(std::optional<Camera>* camera) {
+        if (const std::string problem =
+                assetProblem(m_model.asset.version, m_model.asset.minVersion, m_model.extensionsRequired);
+            !problem.empty())
+            fail(problem);
         if (m_model.scenes.empty()) fail("has no scene");
         const int sceneIndex = m_model.defaultScene >= 0 ? m_model.defaultScene : 0;
         if (sceneIndex >= int(m_model.scenes.size()))
             fail("default scene " + std::to_string(sceneIndex) + " does not exist");
         m_camera = camera;
         if (camera) camera->reset();
-        for (int node : m_model.scenes[std::size_t(sceneIndex)].nodes) walk(node, mat4(1.0f), 0);
-        if (m_mesh.triangles.empty()) fail("scene " + std::to_string(sceneIndex) + " has no triangles");
+        // The nodes form trees (checked first), walked once to place them, their instances
+        // counted against the memory limit before any vertex is read.
+        checkNodeTrees(sceneIndex);
+        m_world.assign(m_model.nodes.size(), std::nullopt);
+        for (int node : m_model.scenes[std::size_t(sceneIndex)].nodes) place(node, mat4(1.0f), 0);
+        checkSceneSize(sceneIndex);
+        for (int node : m_order) {
+            const tinygltf::Node& n = m_model.nodes[std::size_t(node)];
+            if (n.mesh >= 0) addMesh(node, n.mesh);
+        }
+        // The scene the MeshData is appended to gets a copy of its textures (appendMesh): both are
+        // held for a moment, the decoded images and the masks baked from them (16 bytes a texel
+        // for a MASK with a cutoff other than 0.5, measured with /usr/bin/time -v).
+        checkMemory(m_path + ": its textures, held twice while the scene is assembled", 2.0 * textureBytes(),
+                    "use smaller textures");
+        if (m_skippedPrimitives > 0)
+            m_mesh.warnings.push_back(
+                std::to_string(m_skippedPrimitives) +
+                " glTF primitives of points or lines (modes 0 to 3) skipped: they cast no "
+                "shadow");
+        if (m_mesh.triangles.empty())
+            fail("scene " + std::to_string(sceneIndex) + " has no triangles" +
+                 (m_skippedPrimitives > 0
+                      ? " (" + std::to_string(m_skippedPrimitives) + " primitives of points or lines skipped)"
+                      : ""));
         return std::move(m_mesh);
     }
 
@@ -54,6 +327,41 @@ class GltfReader {
         if (index < 0 || std::size_t(index) >= list.size())
             fail(std::string(what) + " " + std::to_string(index) + " does not exist");
         return list[std::size_t(index)];
+    }
+
+    // ------------------------------------------------------------------ nodes
+
+    /// glTF 2.0 §3.5.3: the nodes form disjoint strict trees, each node the child of at most one
+    /// other, a scene's nodes roots. A node reached twice (two parents, listed twice by one, in a
+    /// cycle) is refused by name: flattening a graph that shares nodes instances them once per
+    /// path, 2^40 instances from 40 nodes that each list the next twice.
+    void checkNodeTrees(int sceneIndex) const {
+        std::vector<int> parent(m_model.nodes.size(), -1);
+        for (std::size_t p = 0; p < m_model.nodes.size(); ++p)
+            for (int child : m_model.nodes[p].children) {
+                at(m_model.nodes, child, "node");
+                const std::string node = "node " + std::to_string(child);
+                int& known = parent[std::size_t(child)];
+                if (known == int(p))
+                    fail(node + " is listed twice among node " + std::to_string(p) +
+                         "'s children: glTF nodes form trees, each node with at most one parent");
+                if (known >= 0)
+                    fail(node + " has two parents, nodes " + std::to_string(known) + " and " +
+                         std::to_string(p) + ": glTF nodes form trees, each node with at most one parent");
+                known = int(p);
+            }
+        const std::vector<int>& roots = m_model.scenes[std::size_t(sceneIndex)].nodes;
+        for (std::size_t i = 0; i < roots.size(); ++i) {
+            at(m_model.nodes, roots[i], "node");
+            const std::string node = "node " + std::to_string(roots[i]);
+            if (std::find(roots.begin(), roots.begin() + std::ptrdiff_t(i), roots[i]) !=
+                roots.begin() + std::ptrdiff_t(i))
+                fail(node + " is listed twice among scene " + std::to_string(sceneIndex) + "'s nodes");
+            // A root with a parent is in a cycle or below another root: reached twice either way.
+            if (const int p = parent[std::size_t(roots[i])]; p >= 0)
+                fail(node + " is a root of scene " + std::to_string(sceneIndex) + " and a child of node " +
+                     std::to_string(p) + " (a cycle, or a node reached twice)");
+        }
     }
 
     static mat4 localMatrix(const tinygltf::Node& node) {
@@ -78,9 +386,10 @@ class GltfReader {
         return m;
     }
 
-    void walk(int index, const mat4& parent, int depth) {
-        if (depth > MAX_NODE_DEPTH)
-            fail("node hierarchy deeper than " + std::to_string(MAX_NODE_DEPTH) + " (a cycle?)");
+    /// Depth first: each node's world matrix and its place in m_order, the first perspective
+    /// camera met.
+    void place(int index, const mat4& parent, int depth) {
+        if (depth > MAX_NODE_DEPTH) fail("node hierarchy deeper than " + std::to_string(MAX_NODE_DEPTH));
         const tinygltf::Node& node = at(m_model.nodes, index, "node");
         const std::string where = "node " + std::to_string(index);
         for (double v : node.matrix)
@@ -89,7 +398,8 @@ class GltfReader {
             for (double v : *list)
                 if (!std::isfinite(v)) fail(where + " has a non-finite transform");
         const mat4 world = parent * localMatrix(node);
-        if (node.mesh >= 0) addMesh(at(m_model.meshes, node.mesh, "mesh"), node.mesh, world);
+        m_world[std::size_t(index)] = world;
+        m_order.push_back(index);
         if (node.camera >= 0 && m_camera && !m_camera->has_value()) {
             const tinygltf::Camera& c = at(m_model.cameras, node.camera, "camera");
             if (c.type == "perspective") {
@@ -104,8 +414,45 @@ class GltfReader {
                 *m_camera = camera;
             }
         }
-        for (int child : node.children) walk(child, world, depth + 1);
+        for (int child : node.children) place(child, world, depth + 1);
     }
+
+    static bool isTriangleMode(int mode) {
+        return mode == -1 || mode == GLTF_TRIANGLES || mode == GLTF_TRIANGLE_STRIP ||
+               mode == GLTF_TRIANGLE_FAN;
+    }
+
+    /// The triangles and vertices every instance in the scene will add, from the accessors'
+    /// counts alone, against the memory limit: the refusal comes before flattening.
+    void checkSceneSize(int sceneIndex) const {
+        double triangles = 0.0, vertices = 0.0, instances = 0.0;
+        for (int node : m_order) {
+            const int meshIndex = m_model.nodes[std::size_t(node)].mesh;
+            if (meshIndex < 0) continue;
+            instances += 1.0;
+            for (const tinygltf::Primitive& prim : at(m_model.meshes, meshIndex, "mesh").primitives) {
+                if (!isTriangleMode(prim.mode)) continue;
+                const auto pos = prim.attributes.find("POSITION");
+                const double count = pos == prim.attributes.end()
+                                         ? 0.0
+                                         : double(at(m_model.accessors, pos->second, "accessor").count);
+                const double corners =
+                    prim.indices >= 0 ? double(at(m_model.accessors, prim.indices, "accessor").count) : count;
+                triangles += prim.mode == GLTF_TRIANGLE_STRIP || prim.mode == GLTF_TRIANGLE_FAN
+                                 ? std::max(corners - 2.0, 0.0)
+                                 : std::floor(corners / 3.0);
+                vertices += count;
+            }
+        }
+        checkMemory(m_path + ": glTF scene " + std::to_string(sceneIndex) + " of " +
+                        std::to_string(std::llround(instances)) + " mesh instances, " +
+                        std::to_string(std::llround(triangles)) + " triangles and " +
+                        std::to_string(std::llround(vertices)) + " vertices",
+                    triangles * SCENE_BYTES_PER_TRIANGLE + vertices * GLTF_VERTEX_BYTES,
+                    "use a coarser mesh");
+    }
+
+    // ------------------------------------------------------------------ accessors
 
     /// The accessor's elements as bytes: each element's address, checked against its buffer.
     struct View {
@@ -115,6 +462,23 @@ class GltfReader {
         int componentType = 0;
         bool normalized = false;
     };
+
+    static std::size_t componentsOf(int type) {
+        switch (type) {
+        case TINYGLTF_TYPE_SCALAR:
+            return 1;
+        case TINYGLTF_TYPE_VEC2:
+            return 2;
+        case TINYGLTF_TYPE_VEC3:
+            return 3;
+        case TINYGLTF_TYPE_VEC4:
+            return 4;
+        case TINYGLTF_TYPE_MAT4:
+            return 16;
+        default:
+            return 0;
+        }
+    }
 
     View view(int accessorIndex, int type, const std::string& what) const {
         const tinygltf::Accessor& a = at(m_model.accessors, accessorIndex, "accessor");
@@ -139,8 +503,7 @@ class GltfReader {
         default:
             fail(where + " has an unsupported component type " + std::to_string(a.componentType));
         }
-        const std::size_t components = type == TINYGLTF_TYPE_SCALAR ? 1 : type == TINYGLTF_TYPE_VEC2 ? 2 : 3;
-        const std::size_t element = component * components;
+        const std::size_t element = component * componentsOf(type);
         const std::size_t stride = bv.byteStride ? bv.byteStride : element;
         if (stride < element)
             fail(where + ": byte stride " + std::to_string(stride) + " is below the element size");
@@ -154,6 +517,8 @@ class GltfReader {
         return {buffer.data.data() + start, stride, a.count, a.componentType, a.normalized};
     }
 
+    /// Component c of element i as a float: floats as they are, unsigned bytes and shorts
+    /// normalized to [0, 1].
     static float component(const View& v, std::size_t i, int c) {
         const unsigned char* p = v.data + i * v.stride;
         switch (v.componentType) {
@@ -174,63 +539,214 @@ class GltfReader {
         }
     }
 
-    static std::uint32_t index(const View& v, std::size_t i) {
+    /// Component c of element i of an unsigned integer accessor.
+    static std::uint32_t integer(const View& v, std::size_t i, int c = 0) {
         const unsigned char* p = v.data + i * v.stride;
-        if (v.componentType == GLTF_UNSIGNED_BYTE) return p[0];
+        if (v.componentType == GLTF_UNSIGNED_BYTE) return p[c];
         if (v.componentType == GLTF_UNSIGNED_SHORT) {
             std::uint16_t s;
-            std::memcpy(&s, p, 2);
+            std::memcpy(&s, p + 2 * c, 2);
             return s;
         }
         std::uint32_t u;
-        std::memcpy(&u, p, 4);
+        std::memcpy(&u, p + 4 * c, 4);
         return u;
     }
 
-    void addMesh(const tinygltf::Mesh& mesh, int meshIndex, const mat4& world) {
+    // ------------------------------------------------------------------ meshes
+
+    /// A skinned node's joint matrices (glTF 2.0 §3.7.3): each joint's world matrix times its
+    /// inverse bind matrix; the skinned node's own transform does not apply.
+    std::vector<mat4> jointMatrices(int nodeIndex, int skinIndex) const {
+        const tinygltf::Skin& skin = at(m_model.skins, skinIndex, "skin");
+        const std::string where =
+            "skin " + std::to_string(skinIndex) + " of node " + std::to_string(nodeIndex);
+        std::vector<mat4> joints;
+        std::optional<View> inverse;
+        if (skin.inverseBindMatrices >= 0) {
+            inverse = view(skin.inverseBindMatrices, TINYGLTF_TYPE_MAT4, where + " inverseBindMatrices");
+            if (inverse->componentType != GLTF_FLOAT || inverse->count < skin.joints.size())
+                fail(where + " inverseBindMatrices must be float, one for each joint");
+        }
+        for (std::size_t j = 0; j < skin.joints.size(); ++j) {
+            const int joint = skin.joints[j];
+            at(m_model.nodes, joint, "node");
+            if (!m_world[std::size_t(joint)])
+                fail(where + ": joint node " + std::to_string(joint) + " is not in the scene");
+            mat4 bind(1.0f);
+            if (inverse)
+                for (int k = 0; k < 16; ++k) {
+                    bind[k / 4][k % 4] = component(*inverse, j, k);
+                    if (!std::isfinite(bind[k / 4][k % 4]))
+                        fail(where + " has a non-finite inverse bind matrix");
+                }
+            joints.push_back(*m_world[std::size_t(joint)] * bind);
+        }
+        return joints;
+    }
+
+    /// The positions of a primitive in world space: morph targets at the node's (else the mesh's)
+    /// weights, then the skin or the node's transform.
+    std::vector<vec3> worldPositions(const tinygltf::Primitive& prim, const View& positions, int nodeIndex,
+                                     int meshIndex, const std::string& where) const {
+        const tinygltf::Node& node = m_model.nodes[std::size_t(nodeIndex)];
+        const tinygltf::Mesh& mesh = m_model.meshes[std::size_t(meshIndex)];
+        std::vector<vec3> p(positions.count);
+        for (std::size_t i = 0; i < positions.count; ++i)
+            p[i] = vec3(component(positions, i, 0), component(positions, i, 1), component(positions, i, 2));
+        // Morph targets (glTF 2.0 §3.7.2.2): p + Σ weight_t · target_t.
+        const std::vector<double>& weights = node.weights.empty() ? mesh.weights : node.weights;
+        if (!weights.empty() && weights.size() != prim.targets.size())
+            fail(where + " has " + std::to_string(prim.targets.size()) + " morph targets and " +
+                 std::to_string(weights.size()) + " weights");
+        for (std::size_t t = 0; t < prim.targets.size() && t < weights.size(); ++t) {
+            if (!std::isfinite(weights[t]))
+                fail(where + " morph weight " + std::to_string(t) + " is not finite");
+            const auto target = prim.targets[t].find("POSITION");
+            if (weights[t] == 0.0 || target == prim.targets[t].end()) continue;
+            const std::string what = where + " morph target " + std::to_string(t) + " POSITION";
+            const View d = view(target->second, TINYGLTF_TYPE_VEC3, what);
+            if (d.componentType != GLTF_FLOAT || d.count != positions.count)
+                fail(what + " must be float, one for each vertex");
+            for (std::size_t i = 0; i < p.size(); ++i)
+                p[i] += float(weights[t]) * vec3(component(d, i, 0), component(d, i, 1), component(d, i, 2));
+        }
+        if (node.skin < 0) {
+            const mat4& world = *m_world[std::size_t(nodeIndex)];
+            for (vec3& q : p) q = vec3(world * vec4(q, 1.0f));
+            return p;
+        }
+        // Skinning (glTF 2.0 §3.7.3.3): Σ weight · jointMatrix over the JOINTS_n / WEIGHTS_n sets,
+        // in the pose the nodes give (no animation is played).
+        const std::vector<mat4> joints = jointMatrices(nodeIndex, node.skin);
+        std::vector<mat4> skin(p.size(), mat4(0.0f));
+        std::vector<float> total(p.size(), 0.0f);
+        for (int set = 0;; ++set) {
+            const auto j = prim.attributes.find("JOINTS_" + std::to_string(set));
+            const auto w = prim.attributes.find("WEIGHTS_" + std::to_string(set));
+            if (j == prim.attributes.end() && w == prim.attributes.end()) {
+                if (set == 0)
+                    fail(where + " has no JOINTS_0 and WEIGHTS_0, though node " + std::to_string(nodeIndex) +
+                         " gives it skin " + std::to_string(node.skin));
+                break;
+            }
+            const std::string js = where + " JOINTS_" + std::to_string(set),
+                              ws = where + " WEIGHTS_" + std::to_string(set);
+            if (j == prim.attributes.end() || w == prim.attributes.end())
+                fail(where + " has only one of JOINTS_" + std::to_string(set) + " and WEIGHTS_" +
+                     std::to_string(set));
+            const View jv = view(j->second, TINYGLTF_TYPE_VEC4, js);
+            const View wv = view(w->second, TINYGLTF_TYPE_VEC4, ws);
+            if (jv.componentType != GLTF_UNSIGNED_BYTE && jv.componentType != GLTF_UNSIGNED_SHORT)
+                fail(js + " must be unsigned byte or short");
+            if (wv.componentType == GLTF_UNSIGNED_INT || (wv.componentType != GLTF_FLOAT && !wv.normalized))
+                fail(ws + " must be float or normalized unsigned byte or short");
+            if (jv.count != p.size() || wv.count != p.size())
+                fail(where + " has a different count of joints and vertices");
+            for (std::size_t i = 0; i < p.size(); ++i)
+                for (int c = 0; c < 4; ++c) {
+                    const float weight = component(wv, i, c);
+                    if (!std::isfinite(weight) || weight < 0.0f)
+                        fail(ws + " holds a negative or non-finite weight");
+                    if (weight == 0.0f) continue;
+                    const std::uint32_t joint = integer(jv, i, c);
+                    if (joint >= joints.size())
+                        fail(js + " names joint " + std::to_string(joint) + " of a skin of " +
+                             std::to_string(joints.size()));
+                    skin[i] += weight * joints[joint];
+                    total[i] += weight;
+                }
+        }
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            if (!(total[i] > 0.0f))
+                fail(where + " vertex " + std::to_string(i) + " of skinned node " +
+                     std::to_string(nodeIndex) + " has no joint weight");
+            // Weights are to sum to 1; exporters round them, so they are normalized here.
+            p[i] = vec3((skin[i] / total[i]) * vec4(p[i], 1.0f));
+        }
+        return p;
+    }
+
+    /// The corner indices of a triangle list, strip or fan as a list of triangles (glTF 2.0
+    /// §3.7.2.1): a strip's triangle i is (v_i, v_{i+1+i%2}, v_{i+2−i%2}), which keeps every
+    /// second one wound as the first; a fan's is (v_{i+1}, v_{i+2}, v_0).
+    std::vector<std::uint32_t> triangleCorners(int mode, const std::vector<std::uint32_t>& corners,
+                                               const std::string& where) const {
+        if (mode == GLTF_TRIANGLES || mode == -1) {
+            if (corners.size() % 3 != 0)
+                fail(where + " has " + std::to_string(corners.size()) + " indices, not a multiple of 3");
+            return corners;
+        }
+        if (corners.size() == 1 || corners.size() == 2)
+            fail(where + " has " + std::to_string(corners.size()) + " indices, fewer than the 3 of a " +
+                 (mode == GLTF_TRIANGLE_STRIP ? "strip" : "fan"));
+        std::vector<std::uint32_t> list;
+        for (std::size_t i = 0; i + 2 < corners.size(); ++i) {
+            if (mode == GLTF_TRIANGLE_STRIP)
+                list.insert(list.end(), {corners[i], corners[i + 1 + i % 2], corners[i + 2 - i % 2]});
+            else
+                list.insert(list.end(), {corners[i + 1], corners[i + 2], corners[0]});
+        }
+        return list;
+    }
+
+    void addMesh(int nodeIndex, int meshIndex) {
+        const tinygltf::Mesh& mesh = at(m_model.meshes, meshIndex, "mesh");
+        if (mesh.primitives.empty()) fail("mesh " + std::to_string(meshIndex) + " has no primitives");
         for (std::size_t pi = 0; pi < mesh.primitives.size(); ++pi) {
             const tinygltf::Primitive& prim = mesh.primitives[pi];
             const std::string where =
                 "mesh " + std::to_string(meshIndex) + " primitive " + std::to_string(pi);
-            if (prim.mode != GLTF_TRIANGLES && prim.mode != -1)
+            if (prim.mode >= 0 && prim.mode <= GLTF_LINE_STRIP) {
+                ++m_skippedPrimitives;
+                continue;
+            }
+            if (!isTriangleMode(prim.mode))
                 fail(where + " has mode " + std::to_string(prim.mode) +
-                     " (points, lines, strips or fans): only triangle lists (mode 4) are supported");
+                     ", which is no glTF primitive mode (0 to 6)");
             const auto pos = prim.attributes.find("POSITION");
             if (pos == prim.attributes.end()) fail(where + " has no POSITION");
             const View positions = view(pos->second, TINYGLTF_TYPE_VEC3, where + " POSITION");
             if (positions.componentType != GLTF_FLOAT) fail(where + " POSITION must be float");
             // The material first: it says which texture coordinate set the alpha reads.
-            int texCoord = 0;
-            const std::uint32_t material = materialOf(prim.material, texCoord);
+            const MaterialUse& material = materialOf(prim.material);
+            const std::string uvName = "TEXCOORD_" + std::to_string(material.texCoord);
             std::optional<View> uvs;
-            if (const auto uv = prim.attributes.find("TEXCOORD_" + std::to_string(texCoord));
-                uv != prim.attributes.end()) {
-                uvs = view(uv->second, TINYGLTF_TYPE_VEC2, where + " TEXCOORD_" + std::to_string(texCoord));
+            if (const auto uv = prim.attributes.find(uvName); uv != prim.attributes.end()) {
+                uvs = view(uv->second, TINYGLTF_TYPE_VEC2, where + " " + uvName);
                 if (uvs->componentType == GLTF_UNSIGNED_INT ||
                     (uvs->componentType != GLTF_FLOAT && !uvs->normalized))
-                    fail(where + " TEXCOORD must be float or normalized unsigned byte or short");
+                    fail(where + " " + uvName + " must be float or normalized unsigned byte or short");
                 if (uvs->count != positions.count)
-                    fail(where + " has a different count of TEXCOORD and POSITION");
+                    fail(where + " has a different count of " + uvName + " and POSITION");
+            } else if (material.readsTexture) {
+                fail(material.name + " reads its baseColorTexture's alpha through " + uvName + ", which " +
+                     where + " lacks");
             }
-            checkMemory(m_path + ": " + where, double(positions.count) * 2600.0, "use a coarser mesh");
+            const std::vector<vec3> world = worldPositions(prim, positions, nodeIndex, meshIndex, where);
             const auto base = static_cast<std::uint32_t>(m_mesh.positions.size());
-            for (std::size_t i = 0; i < positions.count; ++i) {
-                const vec3 p(component(positions, i, 0), component(positions, i, 1),
-                             component(positions, i, 2));
-                m_mesh.positions.push_back(vec3(world * vec4(p, 1.0f)));
-                m_mesh.texcoords.push_back(uvs ? vec2(component(*uvs, i, 0), component(*uvs, i, 1))
-                                               : vec2(0.0f));
+            for (std::size_t i = 0; i < world.size(); ++i) {
+                if (!withinSceneRange(world[i]))
+                    fail(where + " vertex " + std::to_string(i) + " of node " + std::to_string(nodeIndex) +
+                         " is non-finite or beyond ±" + sceneRangeText() + " in world space");
+                m_mesh.positions.push_back(world[i]);
+                vec2 uv(0.0f);
+                if (uvs) {
+                    uv = material.transform.apply(vec2(component(*uvs, i, 0), component(*uvs, i, 1)));
+                    if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+                        fail(where + " " + uvName + " " + std::to_string(i) + " is not finite");
+                }
+                m_mesh.texcoords.push_back(uv);
             }
             std::vector<std::uint32_t> corners;
             if (prim.indices >= 0) {
                 const View indices = view(prim.indices, TINYGLTF_TYPE_SCALAR, where + " indices");
                 if (indices.componentType == GLTF_FLOAT) fail(where + " indices must be unsigned integers");
-                for (std::size_t i = 0; i < indices.count; ++i) corners.push_back(index(indices, i));
+                for (std::size_t i = 0; i < indices.count; ++i) corners.push_back(integer(indices, i));
             } else {
                 for (std::size_t i = 0; i < positions.count; ++i) corners.push_back(std::uint32_t(i));
             }
-            if (corners.size() % 3 != 0)
-                fail(where + " has " + std::to_string(corners.size()) + " indices, not a multiple of 3");
+            corners = triangleCorners(prim.mode, corners, where);
             for (std::size_t c = 0; c < corners.size(); c += 3) {
                 const uvec3 t(corners[c], corners[c + 1], corners[c + 2]);
                 for (int k = 0; k < 3; ++k)
@@ -242,28 +758,79 @@ class GltfReader {
                     continue;
                 }
                 m_mesh.triangles.push_back(uvec3(base) + t);
-                m_mesh.triangleMaterial.push_back(material);
+                m_mesh.triangleMaterial.push_back(material.index);
             }
         }
     }
 
-    /// The MeshData material of glTF material `index` (−1: glTF's default material, opaque white),
-    /// and the texture coordinate set its baseColorTexture reads.
-    std::uint32_t materialOf(int index, int& texCoord) {
-        if (const auto it = m_materials.find(index); it != m_materials.end()) {
-            texCoord = it->second.second;
-            return it->second.first;
+    // ------------------------------------------------------------------ materials
+
+    /// A glTF material as the primitives that use it read it.
+    struct MaterialUse {
+        std::uint32_t index = 0;   ///< into MeshData::materials
+        std::string name;          ///< "material 1 'veil'", for messages
+        int texCoord = 0;          ///< the TEXCOORD_n its baseColorTexture reads
+        bool readsTexture = false; ///< its alpha reads the texture (MASK or BLEND with a texture)
+        UvTransform transform;     ///< KHR_texture_transform of its baseColorTexture
+    };
+
+    /// KHR_texture_transform on a texture reference (its README): offset, rotation, scale and a
+    /// texCoord that overrides the reference's. uv' = T·R·S·uv, with R turning the UVs by
+    /// `rotation` counter-clockwise as glTF's UV space shows them (u right, v down):
+    /// u' = cos·u + sin·v, v' = −sin·u + cos·v. This is the README's worked example (offset
+    /// [0, 1], rotation π/2 and scale 0.5 read the lower left quadrant) and what Babylon.js,
+    /// three.js and Blender do; the README's GLSL listing writes the rotation of a v-up space
+    /// instead, an error Khronos's glTF repository records and keeps for the example's sake.
+    UvTransform textureTransform(const tinygltf::TextureInfo& info, const std::string& where) const {
+        UvTransform result;
+        const auto it = info.extensions.find("KHR_texture_transform");
+        if (it == info.extensions.end()) return result;
+        const tinygltf::Value& ext = it->second;
+        const std::string w = where + " baseColorTexture KHR_texture_transform";
+        if (!ext.IsObject()) fail(w + " is not an object");
+        const auto number = [&](const tinygltf::Value& v, const std::string& what) {
+            if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+                fail(w + " " + what + " must be a finite number");
+            return v.GetNumberAsDouble();
+        };
+        const auto pair = [&](const char* key, double fallback) -> std::array<double, 2> {
+            if (!ext.Has(key)) return {fallback, fallback};
+            const tinygltf::Value& v = ext.Get(key);
+            if (!v.IsArray() || v.ArrayLen() != 2) fail(w + " " + key + " must be an array of 2 numbers");
+            return {number(v.Get(0), key), number(v.Get(1), key)};
+        };
+        const std::array<double, 2> offset = pair("offset", 0.0), scale = pair("scale", 1.0);
+        const double rotation = ext.Has("rotation") ? number(ext.Get("rotation"), "rotation") : 0.0;
+        const double c = std::cos(rotation), s = std::sin(rotation);
+        result.m[0][0] = c * scale[0];
+        result.m[0][1] = s * scale[1];
+        result.m[0][2] = offset[0];
+        result.m[1][0] = -s * scale[0];
+        result.m[1][1] = c * scale[1];
+        result.m[1][2] = offset[1];
+        if (ext.Has("texCoord")) {
+            const tinygltf::Value& t = ext.Get("texCoord");
+            if (!t.IsInt() || t.GetNumberAsInt() < 0) fail(w + " texCoord must be an integer ≥ 0");
+            result.texCoord = t.GetNumberAsInt();
         }
+        return result;
+    }
+
+    /// The use of glTF material `index` (−1: glTF's default material, opaque white).
+    const MaterialUse& materialOf(int index) {
+        if (const auto it = m_materials.find(index); it != m_materials.end()) return it->second;
+        MaterialUse use;
         Material m;
         m.name = "gltf default";
+        use.name = "the default material";
         AlphaMode mode = AlphaMode::Opaque;
         float factor = 1.0f, cutoff = 0.5f;
         int texture = -1;
-        texCoord = 0;
         if (index >= 0) {
             const tinygltf::Material& g = at(m_model.materials, index, "material");
             const std::string where = "material " + std::to_string(index);
             m.name = g.name.empty() ? where : g.name;
+            use.name = g.name.empty() ? where : where + " '" + clipped(g.name, 80) + "'";
             const std::vector<double>& f = g.pbrMetallicRoughness.baseColorFactor;
             if (f.size() != 4) fail(where + " baseColorFactor must have 4 components");
             m.albedo = vec3(float(f[0]), float(f[1]), float(f[2]));
@@ -279,24 +846,49 @@ class GltfReader {
             else if (g.alphaMode == "BLEND")
                 mode = AlphaMode::Blend;
             else if (g.alphaMode != "OPAQUE")
-                fail(where + " alphaMode \"" + g.alphaMode + "\" (expected OPAQUE, MASK or BLEND)");
+                fail(where + " alphaMode \"" + clipped(g.alphaMode, 40) +
+                     "\" (expected OPAQUE, MASK or BLEND)");
             m.doubleSided = g.doubleSided;
             const tinygltf::TextureInfo& info = g.pbrMetallicRoughness.baseColorTexture;
-            if (info.index >= 0 && mode != AlphaMode::Opaque) {
-                if (info.texCoord < 0 || info.texCoord > 7) fail(where + " texCoord must be in [0, 7]");
-                texCoord = info.texCoord;
-                texture = textureOf(info.index, m.wrap);
+            if (info.index >= 0) {
+                // The texture coordinates stored are the ones the base colour texture reads,
+                // transformed, whether or not its alpha is used.
+                if (info.texCoord < 0) fail(where + " baseColorTexture texCoord must be ≥ 0");
+                use.transform = textureTransform(info, use.name);
+                use.texCoord = use.transform.texCoord >= 0 ? use.transform.texCoord : info.texCoord;
+                if (mode != AlphaMode::Opaque) {
+                    use.readsTexture = true;
+                    texture = textureOf(info.index, m.wrap);
+                }
             }
         }
         setMaterialAlpha(m, m_mesh.textures, mode, texture, factor, cutoff);
         m_mesh.materials.push_back(m);
-        const auto result = static_cast<std::uint32_t>(m_mesh.materials.size() - 1);
-        m_materials[index] = {result, texCoord};
-        return result;
+        use.index = static_cast<std::uint32_t>(m_mesh.materials.size() - 1);
+        return m_materials.emplace(index, use).first->second;
     }
 
-    /// The MeshData texture of glTF texture `index` (its image's alpha, 255 without one), and
-    /// its sampler's wrap mode.
+    /// The encoded bytes of image `index`: from its buffer view (checked to lie in its buffer),
+    /// or as the image callback kept them; InputError saying why when there are none.
+    std::pair<const std::uint8_t*, std::size_t> encodedImage(int index, const std::string& label) const {
+        const tinygltf::Image& image = m_model.images[std::size_t(index)];
+        if (image.bufferView >= 0) {
+            const tinygltf::BufferView& bv = at(m_model.bufferViews, image.bufferView, "buffer view");
+            const tinygltf::Buffer& buffer = at(m_model.buffers, bv.buffer, "buffer");
+            if (bv.byteOffset > buffer.data.size() || bv.byteLength > buffer.data.size() - bv.byteOffset)
+                fail(label + ": buffer view " + std::to_string(image.bufferView) +
+                     " reaches outside its buffer");
+            return {buffer.data.data() + bv.byteOffset, bv.byteLength};
+        }
+        if (image.as_is && !image.image.empty()) return {image.image.data(), image.image.size()};
+        if (image.uri.empty()) fail(label + " has no data (a data URI that does not decode?)");
+        const std::string file = resolveUri(baseDirOf(m_path), image.uri);
+        const std::string reason = notAFileReason(file);
+        fail(label + ": '" + file + "' " + (reason.empty() ? std::string("cannot be read") : reason));
+    }
+
+    /// The MeshData texture of glTF texture `index` (its image decoded to RGBA8: the alpha, 255
+    /// without one), and its sampler's wrap mode.
     int textureOf(int index, WrapMode& wrap) {
         const tinygltf::Texture& t = at(m_model.textures, index, "texture");
         const std::string where = "texture " + std::to_string(index);
@@ -311,46 +903,51 @@ class GltfReader {
                      " is not supported (REPEAT 10497 and CLAMP_TO_EDGE 33071 are)");
             wrap = s.wrapS == GLTF_CLAMP_TO_EDGE ? WrapMode::Clamp : WrapMode::Repeat;
         }
+        if (t.source < 0) fail(where + " has no source image (only an extension's, such as KTX2 or WebP)");
         if (const auto it = m_textures.find(t.source); it != m_textures.end()) return it->second;
         const tinygltf::Image& image = at(m_model.images, t.source, "image");
-        const std::string name = image.uri.empty() ? where + " image " + std::to_string(t.source) : image.uri;
-        const std::size_t pixels =
-            std::size_t(std::max(image.width, 0)) * std::size_t(std::max(image.height, 0));
-        const std::size_t bytesPerChannel = image.bits == 16 ? 2 : 1;
-        if (image.width <= 0 || image.height <= 0 || image.component < 1 || image.component > 4 ||
-            (image.bits != 8 && image.bits != 16) ||
-            image.image.size() != pixels * std::size_t(image.component) * bytesPerChannel)
-            fail("image '" + name + "' was not decoded (missing, or not PNG or JPEG)");
+        const std::string name = !image.uri.empty()    ? clipped(image.uri, 200)
+                                 : !image.name.empty() ? clipped(image.name, 80)
+                                                       : std::string("embedded");
+        const std::string label = "image " + std::to_string(t.source) + " '" + name + "'";
+        const auto [data, size] = encodedImage(t.source, label);
+        // The header's size is held to the memory limit before decoding (decodeImageRgba), with
+        // the textures read before it.
+        Image8 decoded;
+        try {
+            decoded = decodeImageRgba(label, data, size, true, textureBytes());
+        } catch (const InputError& e) {
+            fail(e.what());
+        } catch (const UsageError& e) {
+            throw UsageError(m_path + ": " + e.what());
+        }
         Texture texture;
-        texture.name = name;
-        texture.width = image.width;
-        texture.height = image.height;
-        texture.rgba.assign(pixels * 4, 255);
-        for (std::size_t p = 0; p < pixels; ++p)
-            for (int c = 0; c < image.component; ++c) {
-                // 16-bit channels are little-endian in tinygltf's decoded image: the high byte.
-                const std::size_t at = (p * std::size_t(image.component) + std::size_t(c)) * bytesPerChannel;
-                const std::uint8_t value = image.image[at + bytesPerChannel - 1];
-                // Grey (+ alpha) images: channel 0 is grey, channel 1 (of 2) is alpha.
-                const int target = image.component == 2 && c == 1 ? 3 : image.component <= 2 ? -1 : c;
-                if (target < 0) {
-                    texture.rgba[4 * p] = texture.rgba[4 * p + 1] = texture.rgba[4 * p + 2] = value;
-                } else {
-                    texture.rgba[4 * p + std::size_t(target)] = value;
-                }
-            }
+        texture.name = image.uri.empty() ? m_path + " " + label : image.uri;
+        texture.width = decoded.width;
+        texture.height = decoded.height;
+        texture.rgba = std::move(decoded.pixels);
         m_mesh.textures.push_back(std::move(texture));
         const int result = int(m_mesh.textures.size() - 1);
         m_textures[t.source] = result;
         return result;
     }
 
+    /// Bytes of the textures read so far, the masks baked from them included.
+    double textureBytes() const {
+        double bytes = 0.0;
+        for (const Texture& t : m_mesh.textures) bytes += double(t.rgba.size());
+        return bytes;
+    }
+
     std::string m_path;
     const tinygltf::Model& m_model;
     MeshData m_mesh;
     std::optional<Camera>* m_camera = nullptr;
-    std::map<int, std::pair<std::uint32_t, int>> m_materials; ///< glTF material → (ours, texCoord)
-    std::map<int, int> m_textures;                            ///< glTF image → ours
+    std::vector<std::optional<mat4>> m_world; ///< per node: its world matrix, for the scene's nodes
+    std::vector<int> m_order;                 ///< the scene's nodes, depth first
+    std::size_t m_skippedPrimitives = 0;      ///< points and lines
+    std::map<int, MaterialUse> m_materials;   ///< glTF material → its use
+    std::map<int, int> m_textures;            ///< glTF image → ours
 };
 
 } // namespace
@@ -359,21 +956,40 @@ MeshData loadGltf(const std::string& path, std::optional<Camera>* camera) {
     if (const std::string reason = notAFileReason(path); !reason.empty())
         throw InputError(path, "glTF file " + reason);
     checkMemory(path, double(fs::file_size(path)) * 8.0, "use a smaller file");
+    const bool binary = lowerExtension(path) == ".glb";
+    if (binary) {
+        // GLB's header: magic "glTF", then the container's version; glTF 1.0's binary extension
+        // wrote 1 there.
+        char header[8] = {};
+        std::ifstream(path, std::ios::binary).read(header, 8);
+        std::uint32_t version = 0;
+        std::memcpy(&version, header + 4, 4);
+        if (std::memcmp(header, "glTF", 4) == 0 && version != 2)
+            throw InputError(path, "glTF: a binary glTF of container version " + std::to_string(version) +
+                                       " (glTF 1.0 wrote 1): stsv reads glTF 2.x only");
+    }
+    LoadContext context;
+    context.path = path;
+    context.baseDir = baseDirOf(path);
     tinygltf::TinyGLTF loader;
+    loader.SetFsCallbacks({&fileExists, &expandFilePath, &readWholeFile, nullptr, &context});
+    loader.SetImageLoader(&keepEncodedImage, nullptr);
     tinygltf::Model model;
     std::string error, warning;
-    std::string ext = fs::path(path).extension().string();
-    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     bool ok = false;
     try {
-        ok = ext == ".glb" ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
-                           : loader.LoadASCIIFromFile(&model, &error, &warning, path);
+        ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
+                    : loader.LoadASCIIFromFile(&model, &error, &warning, path);
     } catch (const std::exception& e) {
         throw InputError(path, std::string("glTF: ") + e.what());
     }
+    if (context.error) std::rethrow_exception(context.error);
     if (!ok) {
+        if (const std::string cause = refusalCause(context, binary); !cause.empty())
+            throw InputError(path, "glTF: " + cause);
         while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();
-        throw InputError(path, "glTF: " + (error.empty() ? std::string("cannot be read") : error));
+        throw InputError(path,
+                         "glTF: " + (error.empty() ? std::string("cannot be read") : clipped(error, 400)));
     }
     return GltfReader(path, model).read(camera);
 }
