@@ -36,40 +36,6 @@ std::string perLightPath(const std::string& path, std::size_t light) {
 
 namespace {
 
-/// A message as the terminal should show it: control bytes and bytes that are not valid UTF-8 (a
-/// garbage file's contents quoted by a loader) as \xNN escapes, and at most MAX_MESSAGE
-/// characters (a loader may quote a megabyte-long token).
-std::string printable(const std::string& message) {
-    constexpr std::size_t MAX_MESSAGE = 400;
-    std::string out;
-    auto escape = [&](unsigned char c) {
-        char escaped[8];
-        std::snprintf(escaped, sizeof escaped, "\\x%02x", c);
-        out += escaped;
-    };
-    for (std::size_t i = 0; i < message.size() && out.size() < MAX_MESSAGE;) {
-        const auto c = static_cast<unsigned char>(message[i]);
-        // The length of a UTF-8 sequence from its lead byte (0: not a lead byte).
-        const std::size_t length = c < 0x80           ? 1
-                                   : (c >> 5) == 0x6  ? 2
-                                   : (c >> 4) == 0xe  ? 3
-                                   : (c >> 3) == 0x1e ? 4
-                                                      : 0;
-        bool valid = length > 0 && i + length <= message.size();
-        for (std::size_t k = 1; valid && k < length; ++k)
-            valid = (static_cast<unsigned char>(message[i + k]) & 0xc0) == 0x80;
-        if (!valid || (length == 1 && (c < 0x20 || c == 0x7f))) {
-            escape(c);
-            ++i;
-        } else {
-            out.append(message, i, length);
-            i += length;
-        }
-    }
-    if (out.size() >= MAX_MESSAGE) out += "...";
-    return out;
-}
-
 /// "a .json scene, an .obj/.off mesh, or a built-in name (fence, foliage, ...)".
 std::string sceneHelp() {
     std::string names;
@@ -156,7 +122,7 @@ int runReportingErrors(const std::function<int()>& command) {
     try {
         return command();
     } catch (const Error& e) {
-        std::fprintf(stderr, "stsv: error: %s\n", printable(e.what()).c_str());
+        std::fprintf(stderr, "stsv: error: %s\n", printable(e.message()).c_str());
         return 1;
     } catch (const std::bad_alloc&) {
         std::fprintf(

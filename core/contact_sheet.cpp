@@ -11,7 +11,7 @@ namespace stsv {
 namespace {
 
 /// stb_easy_font indexes its glyph table by (c − 32) and reads c + 1: only ' ' … '~' are valid.
-std::string printable(const std::string& text) {
+std::string easyFontText(const std::string& text) {
     std::string out = text;
     for (char& c : out)
         if (c < ' ' || c > '~') c = '?';
@@ -27,7 +27,7 @@ void checkColourImage(const Image8& image, const char* what) {
 } // namespace
 
 int textWidth(const std::string& text, int scale) {
-    std::string line = printable(text);
+    std::string line = easyFontText(text);
     return scale * stb_easy_font_width(line.data());
 }
 
@@ -46,7 +46,7 @@ void fillRect(Image8& image, int x, int y, int width, int height, Rgb8 colour) {
 
 void drawText(Image8& image, int x, int y, const std::string& text, int scale, Rgb8 colour, int clipRight) {
     checkColourImage(image, "drawText");
-    std::string line = printable(text);
+    std::string line = easyFontText(text);
     line.erase(std::find(line.begin(), line.end(), '\n'), line.end());
     // stb_easy_font emits 4 vertices of 16 bytes (x, y, z floats, RGBA8) per quad, about 270 bytes
     // per character; the quads are axis-aligned with integer corners in font units.

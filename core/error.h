@@ -2,15 +2,26 @@
 #pragma once
 
 #include <cstddef>
+#include <memory>
 #include <stdexcept>
 #include <string>
 
 namespace stsv {
 
-/// Base of every error stsv throws; what() is one line a user can act on.
+/// Base of every error stsv throws; message() is one line a user can act on.
 class Error : public std::runtime_error {
   public:
-    using std::runtime_error::runtime_error;
+    explicit Error(const std::string& message)
+        : std::runtime_error(message), m_message(std::make_shared<const std::string>(message)) {}
+    explicit Error(const char* message) : Error(std::string(message)) {}
+
+    /// The whole message. A message may quote input that holds a NUL byte (a JSON string value
+    /// "\u0000", a file name read from a scene), where what(), a C string, would end: print this
+    /// one, through printable().
+    const std::string& message() const { return *m_message; }
+
+  private:
+    std::shared_ptr<const std::string> m_message; ///< shared: copying an exception cannot throw
 };
 
 /// Bad input: a file (and, where known, a line of it) and what is wrong with it.
@@ -32,5 +43,11 @@ class UsageError : public Error {
   public:
     using Error::Error;
 };
+
+/// Text as a terminal should show it: control bytes (NUL included) and bytes that are not valid
+/// UTF-8 (a garbage file's contents quoted by a loader) as \xNN escapes, at most `maxLength`
+/// characters and then "..." (a loader may quote a megabyte-long token). Everything stsv prints
+/// that holds input (messages, warnings, file names) goes through it.
+std::string printable(const std::string& text, std::size_t maxLength = 400);
 
 } // namespace stsv
