@@ -1,6 +1,6 @@
 // The rules every method and the reference share, so that they all answer the same question:
 // which texel of an alpha texture a point falls in and whether it blocks (the texel rule), and
-// where a shadow segment p → s starts (the start gap). The Embree reference, the G-buffer, the
+// where a shadow segment p → s starts and ends (the gaps at both ends). The Embree reference, the G-buffer, the
 // shadow maps, STSV and the wedges all use these. Compiles as C++ and as GLSL (see core/dh.h).
 #ifndef STSV_SCENE_OCCLUSION_RULES_DH_H
 #define STSV_SCENE_OCCLUSION_RULES_DH_H
@@ -24,21 +24,52 @@ DH_FUNC float shadowTMin(vec3 p, vec3 lightCenter, float sceneDiameter) {
     return centerDistance <= sceneDiameter ? SHADOW_T_MIN : SHADOW_T_MIN * (sceneDiameter / centerDistance);
 }
 
+/// End parameter of the segments p → s that start at tMin: they stop short of the light sample by
+/// the same gap, as production ray tracers trace a shadow ray to a point on a light (pbrt-v4's
+/// SpawnRayTo to t = 1 − ShadowEpsilon, ShadowEpsilon = 1e-4). A sample lying on a surface — a
+/// light flush with its ceiling, coplanar with a box's face, set into a recess — is not occluded
+/// by that surface, where ending exactly at s would leave the answer to round-off.
+DH_FUNC float shadowTMax(float tMin) {
+    return 1.0f - tMin;
+}
+
 /// Texture addressing, as Material::wrap.
 DH_CONST uint WRAP_REPEAT = 0u;
 DH_CONST uint WRAP_CLAMP = 1u;
 
+/// The largest texel index magnitude the rule resolves exactly: floats hold every integer below
+/// 2^24, and beyond it consecutive floats lie two or more texels apart, so uv·size no longer names
+/// one texel. Scene::validate refuses texture coordinates whose |uv|·size reaches it.
+DH_CONST float TEXEL_INDEX_LIMIT = 16777216.0f;
+
+/// One axis of the texel rule: floor(coord·size) wrapped or clamped into [0, size − 1]. Total:
+/// every float, finite or not, gives an index inside the texture, the same on every backend. The
+/// float product is correctly rounded everywhere (IEEE 754 and Vulkan's SPIR-V precision rules), so
+/// the float floor is the same; what follows runs on integers and bit patterns, where no compiler
+/// may reorder a NaN comparison. A NaN (from a NaN coordinate or ±inf·0) is index 0; an infinite
+/// product (a finite coordinate times the size may overflow) or any magnitude beyond
+/// TEXEL_INDEX_LIMIT is taken as ±TEXEL_INDEX_LIMIT by its sign: the edge under clamp, a fixed texel
+/// under repeat. Below the limit the result is the exact floor-and-wrap.
+DH_FUNC int texelIndex(float coord, int size, uint wrap) {
+    float index = floor(coord * float(size));
+    uint bits = floatBitsToUint(index);
+    uint magnitude = bits & 0x7fffffffu;
+    int i = 0;
+    if (magnitude < floatBitsToUint(TEXEL_INDEX_LIMIT)) {
+        i = int(index);
+    } else if (magnitude <= 0x7f800000u) { // beyond the limit, or infinite; NaN stays 0
+        i = (bits & 0x80000000u) != 0u ? -int(TEXEL_INDEX_LIMIT) : int(TEXEL_INDEX_LIMIT);
+    }
+    if (wrap == WRAP_CLAMP) return clamp(i, 0, size - 1);
+    // Repeat: a non-negative modulo, its operands kept non-negative (GLSL leaves % of a negative
+    // operand undefined): −1 wraps to size − 1.
+    return i >= 0 ? i % size : size - 1 - (-(i + 1)) % size;
+}
+
 /// The texel rule shared by GPU, CPU mirror and Embree: nearest texel of mip 0 at uv, with
-/// the material's wrap mode. Row 0 of the texture is v = 0.
+/// the material's wrap mode (texelIndex on each axis). Row 0 of the texture is v = 0.
 DH_FUNC ivec2 texelAt(vec2 uv, ivec2 size, uint wrap) {
-    // Index arithmetic in float, clamped before the conversion to int: beyond |uv·size| = 2^24
-    // texel/size rounds (the modulo could come out negative) and beyond 2^31 an int overflows.
-    // Below 2^24 every step is exact, so the result is the exact floor-and-wrap.
-    vec2 sizeF = vec2(size);
-    vec2 texel = floor(uv * sizeF);
-    // Repeat: a non-negative modulo.
-    if (wrap != WRAP_CLAMP) texel = texel - sizeF * floor(texel / sizeF);
-    return ivec2(clamp(texel, vec2(0.0f), sizeF - vec2(1.0f)));
+    return ivec2(texelIndex(uv.x, size.x, wrap), texelIndex(uv.y, size.y, wrap));
 }
 
 /// Binary transmittance: alpha below one half (alpha8 < 128) is a hole.

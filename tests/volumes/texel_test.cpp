@@ -1,10 +1,13 @@
 // The texel rule shared by every method (volumes/stsv_dh.h: texelAt, alphaBlocks): nearest texel
 // of mip 0, repeat or clamp, exact integer results.
+#include "tests/support/extreme_floats.h"
 #include "volume_test_util.h"
 #include "volumes/stsv_dh.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 
@@ -93,6 +96,48 @@ TEST(Texel, LargeCoordinatesStayInRange) {
     }
     EXPECT_EQ(texelAt(vec2(1e12f, -1e12f), ivec2(16, 16), WRAP_CLAMP), ivec2(15, 0));
     EXPECT_EQ(texelAt(vec2(3e38f, -3e38f), ivec2(16, 16), WRAP_CLAMP), ivec2(15, 0));
+}
+
+/// The rule as its comment states it, in double and 64-bit integers: floor of the float product
+/// coord·size; NaN → 0; beyond ±2^24 (infinity included) → ±2^24; then wrapped or clamped.
+std::int64_t statedIndex(float coord, int size, uint wrap) {
+    const double index = std::floor(double(coord * float(size)));
+    std::int64_t k = 0;
+    if (!std::isnan(index)) k = std::int64_t(std::clamp(index, -16777216.0, 16777216.0));
+    return wrap == WRAP_CLAMP ? clampIndex(k, size) : repeatIndex(k, size);
+}
+
+TEST(Texel, EveryFloatGivesATexelInsideTheTexture) {
+    // Totality: NaNs of either sign and any payload, infinities, finite coordinates whose product
+    // with the size overflows (1e38·256), subnormals and ±0, and random bit patterns; each axis is
+    // the stated rule, so both backends, which compute the same float product, agree.
+    std::vector<float> values = test::extremeFloats();
+    const std::vector<float> random = test::randomBitFloats(200000, 49);
+    values.insert(values.end(), random.begin(), random.end());
+    for (int s : {1, 2, 3, 7, 16, 256, 1000, 4096, 8192}) {
+        for (uint wrap : {WRAP_REPEAT, WRAP_CLAMP}) {
+            for (std::size_t i = 0; i < values.size(); ++i) {
+                const float u = values[i];
+                const float v = values[values.size() - 1 - i];
+                const ivec2 t = texelAt(vec2(u, v), ivec2(s, s + 1), wrap);
+                ASSERT_TRUE(t.x >= 0 && t.x < s && t.y >= 0 && t.y < s + 1)
+                    << "texel " << t.x << "," << t.y << " outside " << s << "x" << s + 1 << " for uv bits "
+                    << std::hex << std::bit_cast<std::uint32_t>(u) << "," << std::bit_cast<std::uint32_t>(v);
+                ASSERT_EQ(t.x, statedIndex(u, s, wrap))
+                    << "size " << s << " wrap " << wrap << " u bits " << std::hex << std::bit_cast<std::uint32_t>(u);
+                ASSERT_EQ(t.y, statedIndex(v, s + 1, wrap))
+                    << "size " << s + 1 << " wrap " << wrap << " v bits " << std::hex
+                    << std::bit_cast<std::uint32_t>(v);
+            }
+        }
+    }
+    // Hand-worked: the crash's input, uv = 1e38 on a 16-texel repeat texture (1.6e39 overflows to
+    // inf) is texel 2^24 mod 16 = 0; −1e38 likewise; NaN is 0; clamp puts ±inf on the edges.
+    EXPECT_EQ(texelAt(vec2(1e38f, -1e38f), ivec2(16, 16), WRAP_REPEAT), ivec2(0, 0));
+    EXPECT_EQ(texelAt(vec2(1e38f, -1e38f), ivec2(3, 3), WRAP_REPEAT), ivec2(1, 2)); // 2^24 = 3·5592405 + 1
+    EXPECT_EQ(texelAt(vec2(NAN, -NAN), ivec2(16, 16), WRAP_REPEAT), ivec2(0, 0));
+    EXPECT_EQ(texelAt(vec2(INFINITY, -INFINITY), ivec2(16, 16), WRAP_CLAMP), ivec2(15, 0));
+    EXPECT_EQ(texelAt(vec2(NAN, NAN), ivec2(16, 16), WRAP_CLAMP), ivec2(0, 0));
 }
 
 TEST(Texel, AlphaBelowOneHalfIsAHole) {
