@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "core/memory_budget.h"
+#include "render/cpu/cpu_renderer.h"
 #include "sampling/ls_buffer.h"
 #include "scene/load.h"
 
@@ -43,6 +44,22 @@ std::string write(const std::string& name, const char* data, std::size_t size) {
     return path;
 }
 
+/// A scene a loader accepted goes on to a small frame on the CPU: the reference (Embree's
+/// G-buffer and shadow rays, the texel rule in its filter), and DCS with STSV (the silhouettes,
+/// the layer tree, STSV's projective lookup and the same texel rule). A valid file with an extreme
+/// value crashes here, not in the loader.
+void renderSmallFrames(const Scene& scene) {
+    for (Method method : {Method::Reference, Method::DcsStsv}) {
+        RenderOptions options;
+        options.method = method;
+        options.backend = Backend::Cpu;
+        options.width = 8;
+        options.height = 6;
+        options.samples = 16;
+        (void)makeCpuRenderer(scene, options)->render();
+    }
+}
+
 } // namespace
 
 const std::vector<std::string>& targetNames() {
@@ -54,20 +71,20 @@ void runTarget(const std::string& target, const std::uint8_t* data, std::size_t 
     const auto* text = reinterpret_cast<const char*>(data);
     try {
         if (target == "json") {
-            (void)loadScene(write("input.json", text, size));
+            renderSmallFrames(loadScene(write("input.json", text, size)));
         } else if (target == "obj") {
             const std::string input(text, size);
             const std::size_t split = input.find("\n#MTL\n");
             const std::string obj = input.substr(0, split);
             const std::string mtl = split == std::string::npos ? std::string() : input.substr(split + 6);
             write("m.mtl", mtl.data(), mtl.size());
-            (void)loadScene(write("input.obj", obj.data(), obj.size()));
+            renderSmallFrames(loadScene(write("input.obj", obj.data(), obj.size())));
         } else if (target == "gltf") {
             // Binary glTF by its magic, else the JSON form; either may name grate.png beside it.
             const bool binary = size >= 4 && std::string(text, 4) == "glTF";
-            (void)loadScene(write(binary ? "input.glb" : "input.gltf", text, size));
+            renderSmallFrames(loadScene(write(binary ? "input.glb" : "input.gltf", text, size)));
         } else if (target == "off") {
-            (void)loadScene(write("input.off", text, size));
+            renderSmallFrames(loadScene(write("input.off", text, size)));
         } else if (target == "png") {
             (void)readPngRgba(write("input.png", text, size));
         } else if (target == "npy") {
