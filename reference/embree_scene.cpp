@@ -198,8 +198,9 @@ bool EmbreeScene::closestHit(vec3 o, vec3 d, float tNear, float tFar, Hit& hit, 
     return true;
 }
 
+/// The shadow segment p → s from tMin to shadowTMax(tMin) (scene/occlusion_rules_dh.h).
 static RTCRay shadowRay(vec3 p, vec3 s, float tMin) {
-    return rayHit(p, s - p, tMin, 1.0f).ray;
+    return rayHit(p, s - p, tMin, shadowTMax(tMin)).ray;
 }
 
 bool EmbreeScene::occluded(vec3 p, vec3 s, float tMin, std::uint32_t ignoreTriangle) const {

@@ -9,7 +9,8 @@
 //   W = [[e, 0, pu], [0, e, pv], [0, 0, 1]],  J = W·M            (Eq. 3: p is the projective centre)
 //   h = J·(s − p)                                                (Eq. 1 without S)
 // h.xy / h.z are the barycentrics (b1, b2) of the point where the line p→s meets the plane,
-// at parameter t = e / h.z along p→s. The segment crosses the plane iff t ∈ (tMin, 1); the
+// at parameter t = e / h.z along p→s. The segment crosses the plane iff t ∈ (tMin, tMax), the
+// gaps at its ends (scene/occlusion_rules_dh.h: tMin = shadowTMin, tMax = shadowTMax(tMin)); the
 // sample is blocked by the triangle's extent iff, with h' = h·sign(h.z),
 //   h'.x ≥ 0, h'.y ≥ 0, h'.x + h'.y ≤ h'.z                       (the paper's test, §2.4)
 // and the texel at uv = t0 + (t1−t0)·b1 + (t2−t0)·b2 (Eq. 4–5, the matrix S) is opaque.
@@ -131,15 +132,15 @@ DH_FUNC vec3 stsvSampleH(StsvPixel px, vec2 ab) {
     return px.h0 + ab.x * px.hT + ab.y * px.hB;
 }
 
-/// True iff the segment p→s (from t = tMin to 1) crosses the triangle's extent;
+/// True iff the segment p→s (from t = tMin to shadowTMax(tMin)) crosses the triangle's extent;
 /// `bary` gets (b1, b2) of the crossing. Texture not consulted.
 DH_FUNC bool stsvSegmentHitsTriangle(vec3 h, float e, float tMin, DH_OUT(vec2) bary) {
     float sgn = h.z < 0.0f ? -1.0f : 1.0f;
     vec3 hs = h * sgn;
     float es = e * sgn;
     bary = vec2(0.0f);
-    // t = es / hs.z must lie in (tMin, 1): crossing between p and s.
-    if (!(es > tMin * hs.z && es < hs.z)) return false;
+    // t = es / hs.z must lie in (tMin, tMax): crossing between p and s, past both gaps.
+    if (!(es > tMin * hs.z && es < shadowTMax(tMin) * hs.z)) return false;
     // Inside the triangle (the paper's three comparisons).
     if (hs.x < 0.0f || hs.y < 0.0f || hs.x + hs.y > hs.z) return false;
     bary = vec2(hs) / hs.z;
@@ -169,7 +170,7 @@ DH_FUNC bool stsvSampleCrosses(StsvTriangle t, StsvPixel px, vec2 ab, ivec2 text
 /// the rectangle clipped by the five half-planes of stsvSegmentHitsTriangle, which are linear in
 /// (a, b) because h = h0 + a·hT + b·hB (Eq. 1). With σ = sign(e), a crossing needs σ·h.z > σ·e > 0,
 /// so hs = σ·h and the test reads σh.x ≥ 0, σh.y ≥ 0, σ(h.z − h.x − h.y) ≥ 0 (inside the
-/// triangle), σ(h.z − e) ≥ 0 and σ(e − tMin·h.z) ≥ 0 (t in (tMin, 1)): the triangle projected from
+/// triangle), σ(tMax·h.z − e) ≥ 0 and σ(e − tMin·h.z) ≥ 0 (t in (tMin, tMax)): the triangle projected from
 /// p onto the light, cut to the segment. Every half-plane is widened by 1e-5 of the magnitudes
 /// of its terms, and the box by 1e-5 of the rectangle, far beyond the float rounding of the
 /// per-sample test and of the clipping, so a sample outside the returned box fails
@@ -189,14 +190,15 @@ DH_FUNC bool stsvSampleRegion(StsvPixel px, vec2 lo, vec2 hi, DH_OUT(vec2) regio
     planes[0] = hx;
     planes[1] = hy;
     planes[2] = hz - hx - hy;
-    planes[3] = hz - es;
+    float tMax = shadowTMax(px.tMin);
+    planes[3] = tMax * hz - es;
     planes[4] = es - px.tMin * hz;
     // The magnitudes the per-sample test rounds against: those of the terms before they cancel.
     vec3 mags[SAMPLE_REGION_MAX_PLANES];
     mags[0] = abs(hx);
     mags[1] = abs(hy);
     mags[2] = abs(hx) + abs(hy) + abs(hz);
-    mags[3] = abs(hz) + abs(es);
+    mags[3] = tMax * abs(hz) + abs(es);
     mags[4] = abs(es) + px.tMin * abs(hz);
     return sampleRegionOfHalfPlanes(planes, mags, 5u, lo, hi, regionLo, regionHi);
 }

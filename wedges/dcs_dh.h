@@ -7,7 +7,8 @@
 //   H(q) = (a·w, b·w, w),  w = n·(q − p) / n·(c − p)          (n ⟂ the plane, towards it from p)
 // which is linear in q − p (a 3×3 matrix per pixel). w is exactly the parameter t of the point
 // along segments p → s, so "the part of an edge between p and the light" is the part with
-// w ∈ [tMin, 1]: clipping there keeps every projected point finite and in front of p.
+// w ∈ [tMin, tMax] (the gaps at both ends, scene/occlusion_rules_dh.h): clipping there keeps every
+// projected point finite and in front of p.
 //
 // Identity (DESIGN §4.5). Let D(x) = number of triangles crossed by segment p → x. Sweeping x
 // from r along the segment r → x, D changes only when p → x passes an edge. For an edge with
@@ -25,6 +26,7 @@
 
 #include "core/dh.h"
 #include "sampling/sample_region_dh.h"
+#include "scene/occlusion_rules_dh.h"
 
 DH_BEGIN
 
@@ -156,11 +158,11 @@ DH_FUNC bool dcsPotentialSilhouette(vec3 q0, vec3 q1, vec3 o0, vec3 o1, vec4 sph
     return !((s0 > margin && s1 < -margin) || (s0 < -margin && s1 > margin));
 }
 
-/// Clips the projected edge h0 → h1 to w ∈ [tMin, 1] (the part between p and the light).
-/// False when nothing is left.
+/// Clips the projected edge h0 → h1 to w ∈ [tMin, shadowTMax(tMin)] (the part between p and the
+/// light, past the segments' gaps). False when nothing is left.
 DH_FUNC bool dcsClipEdge(float tMin, DH_INOUT(vec3) h0, DH_INOUT(vec3) h1) {
     float lo = tMin;
-    float hi = 1.0f;
+    float hi = shadowTMax(tMin);
     if (h0.z < lo && h1.z < lo) return false;
     if (h0.z > hi && h1.z > hi) return false;
     vec3 a = h0;

@@ -23,6 +23,7 @@
 #define STSV_WEDGES_LAYER_BVH_DH_H
 
 #include "core/dh.h"
+#include "scene/occlusion_rules_dh.h"
 
 DH_BEGIN
 
@@ -82,7 +83,7 @@ DH_FUNC bool layerTiePositive(vec3 e, vec3 d) {
     return first < 0.0f;
 }
 
-/// Whether o + t·d crosses triangle (a, b, c) at t in [tMin, 1]: the Plücker products of the
+/// Whether o + t·d crosses triangle (a, b, c) at t in [tMin, shadowTMax(tMin)]: the Plücker products of the
 /// segment with the three edges (Embree's robust form, each from its edge's two vertices alone)
 /// of one sign, a product of exactly 0 taking the sign of layerTiePositive, then the plane's
 /// parameter. A segment through a shared edge or vertex crosses one triangle there, not two
@@ -105,7 +106,7 @@ DH_FUNC bool layerSegmentCrosses(vec3 o, vec3 d, float tMin, vec3 a, vec3 b, vec
     float den = dot(n, d);
     if (den == 0.0f) return false;
     float t = dot(v0, n) / den;
-    return t >= tMin && t <= 1.0f;
+    return t >= tMin && t <= shadowTMax(tMin);
 }
 
 DH_END

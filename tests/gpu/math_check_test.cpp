@@ -9,12 +9,14 @@
 #include "gpu/pipeline.h"
 #include "gpu_fixture.h"
 #include "tests/gpu/shaders/math_check_dh.h"
+#include "tests/support/extreme_floats.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <random>
 #include <sstream>
@@ -119,7 +121,65 @@ std::string describeCase(const MathCheckCase& k, const MathCheckResult& cpu, con
     return out.str();
 }
 
+/// texelAt of each (u bits, v bits, width | height << 16, wrap) case on the device
+/// (tests/gpu/shaders/texel_check.comp).
+std::vector<ivec2> texelsOnGpu(Device& device, const std::vector<uvec4>& cases) {
+    const ShaderCompiler compiler(std::filesystem::path(STSV_SOURCE_DIR) / "shaders");
+    DescriptorSetLayout setLayout(
+        device,
+        {{MATH_CHECK_BINDING_CASES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
+         {MATH_CHECK_BINDING_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}});
+    PipelineLayout layout(device, {setLayout.handle()}, sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
+    Pipeline pipeline =
+        createComputePipeline(device, layout, compiler.compileFile("../tests/gpu/shaders/texel_check.comp"));
+    Buffer caseBuffer = createBuffer(device, std::span<const uvec4>(cases), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    Buffer resultBuffer(device, cases.size() * sizeof(ivec2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+                        MemoryUsage::DeviceLocal);
+    DescriptorSet set(device, setLayout);
+    set.writeBuffer(MATH_CHECK_BINDING_CASES, caseBuffer);
+    set.writeBuffer(MATH_CHECK_BINDING_RESULTS, resultBuffer);
+    const uint32_t count = uint32_t(cases.size());
+    submitOnce(device, [&](VkCommandBuffer cmd) {
+        pipeline.bind(cmd);
+        VkDescriptorSet handle = set.handle();
+        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout.handle(), 0, 1, &handle, 0,
+                                nullptr);
+        layout.push(cmd, &count, sizeof(count));
+        vkCmdDispatch(cmd, (count + MATH_CHECK_GROUP_SIZE - 1) / MATH_CHECK_GROUP_SIZE, 1, 1);
+    });
+    return resultBuffer.download<ivec2>(cases.size());
+}
+
 using MathCheckTest = GpuTest;
+
+TEST_F(MathCheckTest, GpuPicksTheCpusTexelForEveryFloat) {
+    // The texel rule is total and the same on both sides: NaNs of either sign and any payload,
+    // infinities, finite coordinates whose product with the size overflows, subnormals, ±0 and
+    // random bit patterns, on textures of 1 to 8192 texels, repeat and clamp. Exact: the float
+    // product is correctly rounded on both sides and the rest is integer arithmetic.
+    std::vector<float> values = extremeFloats();
+    const std::vector<float> random = randomBitFloats(20000, 5);
+    values.insert(values.end(), random.begin(), random.end());
+    std::vector<uvec4> cases;
+    for (uint32_t size : {1u, 3u, 16u, 100u, 256u, 1000u, 8192u})
+        for (uint32_t wrap : {WRAP_REPEAT, WRAP_CLAMP})
+            for (std::size_t i = 0; i < values.size(); ++i)
+                cases.push_back(uvec4(std::bit_cast<uint32_t>(values[i]),
+                                      std::bit_cast<uint32_t>(values[values.size() - 1 - i]),
+                                      size | (std::min(size + 1u, 8192u) << 16), wrap));
+    const std::vector<ivec2> gpu = texelsOnGpu(device(), cases);
+    std::size_t failures = 0;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const uvec4 k = cases[i];
+        const ivec2 size(int(k.z & 0xffffu), int(k.z >> 16));
+        const ivec2 cpu = texelAt(vec2(std::bit_cast<float>(k.x), std::bit_cast<float>(k.y)), size, k.w);
+        if (gpu[i] != cpu && ++failures <= 5)
+            ADD_FAILURE() << "uv bits " << std::hex << k.x << "," << k.y << std::dec << " size " << size.x << "x"
+                          << size.y << " wrap " << k.w << ": cpu (" << cpu.x << "," << cpu.y << ") gpu ("
+                          << gpu[i].x << "," << gpu[i].y << ")";
+    }
+    EXPECT_EQ(failures, 0u) << "of " << cases.size() << " cases";
+}
 
 TEST_F(MathCheckTest, GpuAgreesWithCpuOnStsvHeader) {
     const std::vector<MathCheckCase> cases = makeCases(kCaseCount, 20240611u);

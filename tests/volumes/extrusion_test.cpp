@@ -52,7 +52,7 @@ class EmbreeTriangle {
     EmbreeTriangle(const EmbreeTriangle&) = delete;
     EmbreeTriangle& operator=(const EmbreeTriangle&) = delete;
 
-    /// rtcOccluded1 from p along the unnormalised s − p, t ∈ [SHADOW_T_MIN, 1].
+    /// rtcOccluded1 from p along the unnormalised s − p, t ∈ [SHADOW_T_MIN, shadowTMax(SHADOW_T_MIN)].
     bool occluded(vec3 p, vec3 s) const {
         RTCIntersectContext context;
         rtcInitIntersectContext(&context);
@@ -65,7 +65,7 @@ class EmbreeTriangle {
         ray.dir_y = d.y;
         ray.dir_z = d.z;
         ray.tnear = SHADOW_T_MIN;
-        ray.tfar = 1.0f;
+        ray.tfar = shadowTMax(SHADOW_T_MIN);
         ray.mask = 0xFFFFFFFFu;
         ray.flags = 0;
         ray.time = 0.0f;

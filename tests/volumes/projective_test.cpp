@@ -102,7 +102,8 @@ Case makeCase(Rng& rng, int family) {
     return k;
 }
 
-/// Möller–Trumbore (1997) in double: crossing of segment p→s, t ∈ (SHADOW_T_MIN, 1), with the
+/// Möller–Trumbore (1997) in double: crossing of segment p→s, t ∈ (SHADOW_T_MIN, 1 − SHADOW_T_MIN)
+/// (the gaps at both ends, scene/occlusion_rules_dh.h), with the
 /// triangle, plus what is needed to tell ties.
 struct Reference {
     bool hit = false;
@@ -117,10 +118,10 @@ struct Reference {
 // Tie tolerances. A case is a tie when the exact decision is within τ of a boundary, measured so
 // that the float evaluation's rounding (≈ 1e-7 relative, amplified by the conditioning) cannot
 // cross it elsewhere:
-//  - t: the point of the line p→s at t = SHADOW_T_MIN, or s itself (t = 1), lies within τ_t·M of
+//  - t: the point of the line p→s at t = SHADOW_T_MIN, or at t = 1 − SHADOW_T_MIN, lies within τ_t·M of
 //    the triangle's plane, M = the largest coordinate magnitude involved (|p|, |s|, |v_i|): float
 //    plane distances carry an absolute error of a few ulp(M);
-//  - barycentrics, when t is inside (tMin, 1): min(u, v, 1 − u − v) < τ_b·κ with
+//  - barycentrics, when t is inside (tMin, tMax): min(u, v, 1 − u − v) < τ_b·κ with
 //    κ = (M·L/ℓ²) / sinθ, L = local length (max of |p − v0|, |s − v0|, |s − p|, edge lengths),
 //    ℓ² = |e1 × e2| (triangle size), θ the angle between segment and plane: J's rows scale as 1/ℓ,
 //    e and pu carry errors ∝ M, and dividing by h.z = n·(s − p) amplifies by 1/sinθ.
@@ -147,7 +148,8 @@ Reference mollerTrumbore(const Case& k) {
     const double M = std::max({length(p), length(s), length(v0), length(dvec3(k.v1)), length(dvec3(k.v2))});
     const double sinTheta = length(d) > 0 ? std::abs(es - ep) / length(d) : 0.0;
     r.kappa = (M * L / area2) / std::max(sinTheta, 1e-300);
-    r.tMargin = std::min(std::abs(ep + SHADOW_T_MIN * (es - ep)), std::abs(es)) / M;
+    const double tMax = 1.0 - double(SHADOW_T_MIN);
+    r.tMargin = std::min(std::abs(ep + SHADOW_T_MIN * (es - ep)), std::abs(ep + tMax * (es - ep))) / M;
     const bool tTie = r.tMargin < kTauT;
 
     const dvec3 pvec = cross(d, e2);
@@ -161,7 +163,7 @@ Reference mollerTrumbore(const Case& k) {
     const dvec3 qvec = cross(tvec, e1);
     r.v = dot(d, qvec) / det;
     r.t = dot(e2, qvec) / det;
-    const bool inT = r.t > SHADOW_T_MIN && r.t < 1.0;
+    const bool inT = r.t > SHADOW_T_MIN && r.t < tMax;
     const bool inside = r.u >= 0.0 && r.v >= 0.0 && r.u + r.v <= 1.0;
     r.hit = inT && inside;
     const double margin = std::min({std::abs(r.u), std::abs(r.v), std::abs(1.0 - r.u - r.v)});
