@@ -442,7 +442,8 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params) {
     ShadowMapSettings s;
     s.filter = filter;
-    for (const auto& [name, value] : params) {
+    for (const auto& [key, value] : params) {
+        const std::string& name = key; // a lambda may not capture a structured binding (clang 14)
         const auto& knobs = shadowMapKnobs();
         const auto knob = std::find_if(knobs.begin(), knobs.end(), [&](const ShadowMapKnob& k) {
             return k.readBy(filter) && name == k.name;
