@@ -12,6 +12,10 @@
 #include <memory>
 #include <sstream>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 namespace stsv {
 
 namespace fs = std::filesystem;
@@ -23,6 +27,14 @@ std::string notAFileReason(const std::string& path) {
     if (fs::is_directory(status)) return "is a directory, not a file";
     if (!fs::is_regular_file(status)) return "is a device, pipe or socket, not a regular file";
     return {};
+}
+
+std::string notAnOutputReason(const std::string& path) {
+    std::error_code ec;
+    const fs::file_status status = fs::status(path, ec);
+    if (ec || !fs::exists(status) || fs::is_regular_file(status)) return {};
+    if (fs::is_directory(status)) return "is a directory, not a file";
+    return "is a device, pipe or socket, not a regular file";
 }
 
 std::string lowerExtension(const std::string& path) {
@@ -50,8 +62,34 @@ std::string readFileBytes(const std::string& path, const char* what, std::size_t
 }
 
 void writeFileBytes(const std::string& path, const void* data, std::size_t size) {
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "wb"), std::fclose);
-    if (!file) throw Error(path + ": cannot open for writing (" + std::strerror(errno) + ")");
+    if (const std::string reason = notAnOutputReason(path); !reason.empty())
+        throw Error(path + ": cannot write: " + reason);
+    // Opened without blocking (a FIFO made since the check, without a reader, fails at once with
+    // ENXIO instead of waiting for one), not truncated before the opened file is known to be a
+    // regular one.
+    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_NONBLOCK | O_CLOEXEC, 0666);
+    if (fd < 0) {
+        const int error = errno;
+        if (error == ENXIO)
+            throw Error(path + ": cannot write: is a pipe without a reader, not a regular file");
+        throw Error(path + ": cannot open for writing (" + std::strerror(error) + ")");
+    }
+    struct stat opened {};
+    if (::fstat(fd, &opened) != 0 || !S_ISREG(opened.st_mode)) {
+        ::close(fd);
+        throw Error(path + ": cannot write: is a device, pipe or socket, not a regular file");
+    }
+    if (::ftruncate(fd, 0) != 0 || ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK) != 0) {
+        const int error = errno;
+        ::close(fd);
+        throw Error(path + ": cannot open for writing (" + std::strerror(error) + ")");
+    }
+    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(::fdopen(fd, "wb"), std::fclose);
+    if (!file) {
+        const int error = errno;
+        ::close(fd);
+        throw Error(path + ": cannot open for writing (" + std::strerror(error) + ")");
+    }
     if (size > 0 && std::fwrite(data, 1, size, file.get()) != size)
         throw Error(path + ": write failed (" + std::strerror(errno) + ")");
     if (std::fflush(file.get()) != 0) throw Error(path + ": write failed (" + std::strerror(errno) + ")");
