@@ -1,13 +1,80 @@
 #include "sampling/ls_buffer.h"
 
 #include "core/error.h"
+#include "core/files.h"
 #include "scene/occlusion_rules_dh.h"
+
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <filesystem>
 
 namespace stsv {
+
+namespace {
+
+/// The "format" value of a light-sample file's metadata.
+constexpr const char* kLightSampleFormat = "stsv light samples";
+
+/// The longest metadata file read: a few hundred bytes are written.
+constexpr std::size_t kMaxInfoBytes = 1 << 16;
+
+} // namespace
+
+std::string bufferKindName(BufferKind kind) {
+    return kind == BufferKind::Bitmask    ? "bitmask"
+           : kind == BufferKind::Counters ? "counters"
+                                          : "transmittance";
+}
+
+std::optional<BufferKind> bufferKindNamed(const std::string& name) {
+    for (BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters, BufferKind::Transmittance})
+        if (bufferKindName(kind) == name) return kind;
+    return std::nullopt;
+}
+
+std::string npyInfoPath(const std::string& npyPath) {
+    return npyPath + ".json";
+}
+
+std::optional<LightSampleFileInfo> readLightSampleInfo(const std::string& npyPath) {
+    const std::string path = npyInfoPath(npyPath);
+    std::error_code ec;
+    if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return std::nullopt;
+    nlohmann::json j;
+    try {
+        j = nlohmann::json::parse(readFileBytes(path, "light-sample metadata", kMaxInfoBytes));
+    } catch (const nlohmann::json::parse_error& e) {
+        throw InputError(path, std::string("the light-sample metadata is not valid JSON (") + e.what() + ")");
+    }
+    if (!j.is_object() || j.value("format", nlohmann::json()) != kLightSampleFormat)
+        throw InputError(path,
+                         std::string("is not light-sample metadata (a JSON object whose \"format\" is \"") +
+                             kLightSampleFormat + "\")");
+    auto integer = [&](const char* key, int lo, int hi) {
+        const nlohmann::json& v = j.contains(key) ? j[key] : nlohmann::json();
+        if (!v.is_number_integer() || v.get<std::int64_t>() < lo || v.get<std::int64_t>() > hi)
+            throw InputError(path, std::string("\"") + key + "\" must be an integer in [" +
+                                       std::to_string(lo) + ", " + std::to_string(hi) + "]");
+        return int(v.get<std::int64_t>());
+    };
+    LightSampleFileInfo info;
+    const nlohmann::json& kind = j.contains("kind") ? j["kind"] : nlohmann::json();
+    const std::optional<BufferKind> named =
+        kind.is_string() ? bufferKindNamed(kind.get<std::string>()) : std::nullopt;
+    if (!named) throw InputError(path, "\"kind\" must be \"bitmask\", \"counters\" or \"transmittance\"");
+    info.kind = *named;
+    info.samples = integer("samples", 1, 4096);
+    info.width = integer("width", 1, 1 << 16);
+    info.height = integer("height", 1, 1 << 16);
+    if (j.contains("method")) {
+        if (!j["method"].is_string()) throw InputError(path, "\"method\" must be a string");
+        info.method = j["method"].get<std::string>();
+    }
+    return info;
+}
 
 LightSampleBuffer::LightSampleBuffer(int width, int height, int samples, BufferKind kind)
     : m_width(width), m_height(height), m_samples(samples), m_kind(kind) {
@@ -122,7 +189,19 @@ std::size_t LightSampleBuffer::storageBytes(int width, int height, int samples, 
     return bits + pixels * std::size_t(samples) * 4;
 }
 
-void LightSampleBuffer::writeNpy(const std::string& path) const {
+void LightSampleBuffer::writeNpy(const std::string& path, const std::string& method) const {
+    writeArray(path);
+    nlohmann::json info = {{"format", kLightSampleFormat},
+                           {"kind", bufferKindName(m_kind)},
+                           {"samples", m_samples},
+                           {"width", m_width},
+                           {"height", m_height}};
+    if (!method.empty()) info["method"] = method;
+    const std::string text = info.dump(2) + "\n";
+    writeFileBytes(npyInfoPath(path), text.data(), text.size());
+}
+
+void LightSampleBuffer::writeArray(const std::string& path) const {
     const auto h = std::size_t(m_height);
     const auto w = std::size_t(m_width);
     const auto n = std::size_t(m_samples);
@@ -201,16 +280,48 @@ LightSampleBuffer readTransmittance(const std::string& path, const NpyArray& arr
 } // namespace
 
 LightSampleBuffer LightSampleBuffer::readNpy(const std::string& path, std::optional<BufferKind> kind) {
-    const NpyArray array = stsv::readNpy(path);
-    if (array.dtype == "<f2") return readTransmittance(path, array);
+    return fromNpy(path, stsv::readNpy(path), kind);
+}
+
+LightSampleBuffer LightSampleBuffer::fromNpy(const std::string& path, const NpyArray& array,
+                                             std::optional<BufferKind> kind) {
+    const std::optional<LightSampleFileInfo> info = readLightSampleInfo(path);
+    const std::string infoName = std::filesystem::path(npyInfoPath(path)).filename().string();
+    if (info && kind && *kind != info->kind)
+        throw InputError(path, "holds " + bufferKindName(info->kind) + " (" + infoName + " says so), not " +
+                                   bufferKindName(*kind));
+    const bool f16 = array.dtype == "<f2";
     const bool u8 = array.dtype == "|u1" || array.dtype == "<u1";
     const bool u16 = array.dtype == "<u2";
-    if (!u8 && !u16)
-        throw InputError(path, "light-sample buffer must be uint8 or uint16, not " + array.dtype);
+    if (!f16 && !u8 && !u16)
+        throw InputError(path, "light-sample buffer must be uint8, uint16 or float16, not " + array.dtype);
+    std::optional<BufferKind> k = info ? std::optional(info->kind) : kind;
+    if (!k && f16) k = BufferKind::Transmittance;
+    if (!k && u16) k = BufferKind::Counters;
+    if (!k)
+        throw InputError(path, "a uint8 light-sample array is a bitmask [H, W, N/8] or counters [H, W, N], "
+                               "and without " +
+                                   infoName + " beside it nothing says which");
+    if ((*k == BufferKind::Transmittance) != f16 || (*k == BufferKind::Bitmask && !u8))
+        throw InputError(path, "a " + array.dtype + " array is not a light-sample " + bufferKindName(*k) +
+                                   " (bitmask: uint8; counters: uint8 or uint16; transmittance: float16)");
+    LightSampleBuffer buffer = *k == BufferKind::Transmittance ? readTransmittance(path, array)
+                                                               : readOcclusion(path, array, *k, u16);
+    if (info && (buffer.width() != info->width || buffer.height() != info->height ||
+                 buffer.samples() != info->samples))
+        throw InputError(path, "holds " + std::to_string(buffer.width()) + "x" +
+                                   std::to_string(buffer.height()) + " pixels of " +
+                                   std::to_string(buffer.samples()) + " samples, where " + infoName +
+                                   " describes " + std::to_string(info->width) + "x" +
+                                   std::to_string(info->height) + " of " + std::to_string(info->samples) +
+                                   ": the metadata is another array's (remove it and give the kind)");
+    return buffer;
+}
+
+LightSampleBuffer LightSampleBuffer::readOcclusion(const std::string& path, const NpyArray& array,
+                                                   BufferKind k, bool u16) {
     if (array.shape.size() != 3 || array.shape[0] == 0 || array.shape[1] == 0 || array.shape[2] == 0)
         throw InputError(path, "light-sample buffer must have shape [H, W, N/8] or [H, W, N]");
-    const BufferKind k = kind ? *kind : (u16 ? BufferKind::Counters : BufferKind::Bitmask);
-    if (k == BufferKind::Bitmask && !u8) throw InputError(path, "a light-sample bitmask must be uint8");
     const std::size_t h = array.shape[0];
     const std::size_t w = array.shape[1];
     const std::size_t depth = array.shape[2];

@@ -19,6 +19,30 @@ namespace stsv {
 /// the optical depth of the translucent triangles crossed, scene/occlusion_rules_dh.h).
 enum class BufferKind { Bitmask, Counters, Transmittance };
 
+/// "bitmask", "counters", "transmittance": a kind as --buffer and the files' metadata name it.
+std::string bufferKindName(BufferKind kind);
+/// The kind of that name; nullopt for any other text.
+std::optional<BufferKind> bufferKindNamed(const std::string& name);
+
+/// What a light-sample .npy holds that its dtype and shape cannot say (a uint8 [H, W, 16] array is
+/// a bitmask of 128 samples or counters of 16), and how it was made. LightSampleBuffer::writeNpy
+/// writes it beside the array as JSON, in "<file>.json" (lightSampleInfoPath): NumPy's reader
+/// refuses a .npy header whose keys are other than descr, fortran_order and shape, so the header
+/// cannot carry it.
+struct LightSampleFileInfo {
+    BufferKind kind = BufferKind::Bitmask;
+    int samples = 0;    ///< N, the light samples per pixel
+    int width = 0;      ///< pixels
+    int height = 0;     ///< pixels
+    std::string method; ///< the method and backend that wrote it, "stsv/cpu" (empty: not said)
+};
+
+/// "<npyPath>.json": the metadata file beside a .npy (light samples, and the CLI's visibility).
+std::string npyInfoPath(const std::string& npyPath);
+/// The metadata beside a light-sample .npy, or nullopt when there is none (a file from an older
+/// stsv, or made by NumPy); InputError naming the metadata file when it is not such JSON.
+std::optional<LightSampleFileInfo> readLightSampleInfo(const std::string& npyPath);
+
 class LightSampleBuffer {
   public:
     LightSampleBuffer() = default;
@@ -86,15 +110,26 @@ class LightSampleBuffer {
     /// The `--dump-ls` format. Bitmask: uint8 [H, W, N/8], sample k in bit k%8 of
     /// byte k/8, 1 = occluded (UsageError if N is not a multiple of 8). Counters: uint8 if every
     /// count < 256, else uint16 (little endian), shape [H, W, N]. Transmittance: float16
-    /// [H, W, N], the transmittance of each sample. Row 0 = top image row.
-    void writeNpy(const std::string& path) const;
-    /// Inverse of writeNpy. The file does not say whether a uint8 array is a bitmask or
-    /// counters: `kind` decides; without it, uint8 means bitmask and uint16 means counters. A
-    /// float16 array is transmittance (its optical depth back from −ln T, to 2^−16 units).
-    /// InputError naming the file on any other dtype or shape.
+    /// [H, W, N], the transmittance of each sample. Row 0 = top image row. Beside it,
+    /// npyInfoPath(path) says the kind, N, the size and `method` (LightSampleFileInfo).
+    void writeNpy(const std::string& path, const std::string& method = {}) const;
+    /// Inverse of writeNpy. The kind is the metadata file's (readLightSampleInfo), which must
+    /// describe this array; without one, `kind`, else what the dtype alone says: uint16 counters,
+    /// float16 transmittance (its optical depth back from −ln T, to 2^−16 units). InputError naming
+    /// the file for a uint8 array of no known kind, a `kind` other than its metadata's, metadata
+    /// of another array, or any other dtype or shape.
     static LightSampleBuffer readNpy(const std::string& path, std::optional<BufferKind> kind = std::nullopt);
+    /// readNpy of an array already read from `path` (its metadata is read beside `path`).
+    static LightSampleBuffer fromNpy(const std::string& path, const NpyArray& array,
+                                     std::optional<BufferKind> kind = std::nullopt);
 
   private:
+    /// writeNpy's array alone.
+    void writeArray(const std::string& path) const;
+    /// readNpy of a bitmask or counters array (`u16`: little-endian uint16 elements, else uint8).
+    static LightSampleBuffer readOcclusion(const std::string& path, const NpyArray& array, BufferKind kind,
+                                           bool u16);
+
     std::size_t pixelIndex(int x, int y) const {
         return lsPixelIndex(uvec2(unsigned(x), unsigned(y)), uint(m_width));
     }

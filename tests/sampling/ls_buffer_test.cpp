@@ -27,6 +27,12 @@ std::vector<std::uint8_t> fileBytes(const std::string& path) {
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+/// Removes a .npy and the metadata beside it.
+void removeNpy(const std::string& path) {
+    std::remove(path.c_str());
+    std::remove(npyInfoPath(path).c_str());
+}
+
 /// The header dict and the data bytes of a version-1 .npy file.
 std::pair<std::string, std::vector<std::uint8_t>> splitNpy(const std::vector<std::uint8_t>& file) {
     EXPECT_GE(file.size(), 10u);
@@ -126,7 +132,7 @@ TEST(LightSampleBuffer, BitmaskNpyLayoutIsExact) {
     EXPECT_EQ(back.samples(), 16);
     EXPECT_EQ(back.words(), ls.words());
     EXPECT_EQ(compareLightSamples(ls, back).differingSamples, 0u);
-    std::remove(path.c_str());
+    removeNpy(path);
 }
 
 TEST(LightSampleBuffer, BitmaskNpyAcrossWordsRoundTrips) {
@@ -148,7 +154,7 @@ TEST(LightSampleBuffer, BitmaskNpyAcrossWordsRoundTrips) {
             }
     const LightSampleBuffer back = LightSampleBuffer::readNpy(path);
     EXPECT_EQ(back.words(), ls.words());
-    std::remove(path.c_str());
+    removeNpy(path);
     LightSampleBuffer odd(1, 1, 12, Kind::Bitmask);
     EXPECT_THROW(odd.writeNpy(path), UsageError);
 }
@@ -189,7 +195,7 @@ TEST(LightSampleBuffer, CounterNpyUsesUint8ThenUint16) {
         EXPECT_EQ(compareLightSamples(ls, back, 16, true).differingSamples, 0u);
         EXPECT_THROW(LightSampleBuffer::readNpy(path, Kind::Bitmask), InputError);
     }
-    std::remove(path.c_str());
+    removeNpy(path);
 }
 
 TEST(LightSampleBuffer, TransmittanceIsAnOpticalDepthSumWrittenAsFloat16) {
@@ -233,7 +239,7 @@ TEST(LightSampleBuffer, TransmittanceIsAnOpticalDepthSumWrittenAsFloat16) {
             EXPECT_EQ(halfBits(back.transmittance(x, 0, k)), halfBits(ls.transmittance(x, 0, k)))
                 << x << " " << k;
     EXPECT_THROW(ls.addCount(0, 0, 0, 1), UsageError);
-    std::remove(path.c_str());
+    removeNpy(path);
 }
 
 TEST(LightSampleBuffer, ReadNpyRejectsOtherArrays) {
@@ -244,7 +250,57 @@ TEST(LightSampleBuffer, ReadNpyRejectsOtherArrays) {
     const std::uint8_t b[4] = {0, 1, 2, 3};
     writeNpy(path, "|u1", {2, 2}, b, sizeof(b));
     EXPECT_THROW(LightSampleBuffer::readNpy(path), InputError);
-    std::remove(path.c_str());
+    removeNpy(path);
+}
+
+// A uint8 [H, W, 16] array is a bitmask of 128 samples or counters of 16: the metadata beside it
+// says which, and how it was made; NumPy's reader refuses other keys in the .npy header itself.
+TEST(LightSampleBuffer, NpyMetadataSaysTheKindTheArrayCannot) {
+    LightSampleBuffer counters(3, 2, 16, Kind::Counters);
+    counters.addCount(1, 1, 15, 7);
+    const std::string path = tempPath("meta.npy");
+    counters.writeNpy(path, "dcs/cpu");
+    const auto [header, data] = splitNpy(fileBytes(path));
+    EXPECT_NE(header.find("'shape': (2, 3, 16)"), std::string::npos) << header;
+    EXPECT_EQ(header.find("kind"), std::string::npos) << "NumPy refuses extra header keys: " << header;
+    const std::optional<LightSampleFileInfo> info = readLightSampleInfo(path);
+    ASSERT_TRUE(info.has_value());
+    EXPECT_EQ(info->kind, Kind::Counters);
+    EXPECT_EQ(info->samples, 16);
+    EXPECT_EQ(info->width, 3);
+    EXPECT_EQ(info->height, 2);
+    EXPECT_EQ(info->method, "dcs/cpu");
+    const LightSampleBuffer back = LightSampleBuffer::readNpy(path); // counters, not 128 bits
+    EXPECT_EQ(back.kind(), Kind::Counters);
+    EXPECT_EQ(back.samples(), 16);
+    EXPECT_EQ(back.count(1, 1, 15), 7);
+    EXPECT_THROW(LightSampleBuffer::readNpy(path, Kind::Bitmask), InputError) << "a kind its metadata denies";
+
+    // Without the metadata, a uint8 array's kind is not guessed: it must be given.
+    std::remove(npyInfoPath(path).c_str());
+    EXPECT_FALSE(readLightSampleInfo(path).has_value());
+    try {
+        (void)LightSampleBuffer::readNpy(path);
+        ADD_FAILURE() << "read a uint8 array of no known kind";
+    } catch (const InputError& e) {
+        EXPECT_NE(e.message().find("meta.npy.json"), std::string::npos) << e.message();
+    }
+    EXPECT_EQ(LightSampleBuffer::readNpy(path, Kind::Counters).samples(), 16);
+    EXPECT_EQ(LightSampleBuffer::readNpy(path, Kind::Bitmask).samples(), 128);
+
+    // Metadata of another array, or not metadata at all, is refused.
+    std::ofstream(npyInfoPath(path))
+        << R"({"format": "stsv light samples", "kind": "counters", "samples": 16, )"
+        << R"("width": 4, "height": 2})";
+    EXPECT_THROW((void)LightSampleBuffer::readNpy(path), InputError);
+    for (const char* text :
+         {"{", "[]", R"({"format": "other"})",
+          R"({"format": "stsv light samples", "kind": "bits", "samples": 16, "width": 3, "height": 2})",
+          R"({"format": "stsv light samples", "kind": "counters", "samples": 0, "width": 3, "height": 2})"}) {
+        std::ofstream(npyInfoPath(path)) << text;
+        EXPECT_THROW(readLightSampleInfo(path), InputError) << text;
+    }
+    removeNpy(path);
 }
 
 TEST(LightSampleBuffer, CompareCountsDifferingSamplesAndListsPixels) {
