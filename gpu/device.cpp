@@ -2,12 +2,17 @@
 
 #include "gpu/check.h"
 
+#include "core/files.h"
+
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cctype>
 #include <climits>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <sstream>
 
 namespace stsv {
@@ -63,12 +68,119 @@ VkDebugUtilsMessengerCreateInfoEXT messengerInfo(ValidationLog* log) {
     return info;
 }
 
-/// A Vulkan 1.3 instance without surface extensions; `log` non-null enables validation.
 /// What a user without a Vulkan driver reads, and can act on.
 constexpr const char* kNoDriver =
     "no Vulkan driver was found: install one (on Debian: apt install mesa-vulkan-drivers for lavapipe, "
     "the CPU driver; or your GPU vendor's driver), or render without Vulkan with --backend cpu";
 
+/// The variable that points the Vulkan loader at driver manifests instead of the system's
+/// (VK_DRIVER_FILES, or the older VK_ICD_FILENAMES it replaces) and its value; empty when neither
+/// is set.
+struct DriverFiles {
+    std::string variable;
+    std::string value;
+};
+
+DriverFiles driverFiles() {
+    for (const char* name : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES"})
+        if (const char* value = std::getenv(name); value != nullptr && *value != '\0') return {name, value};
+    return {};
+}
+
+/// What is wrong with the driver manifest `path` that the loader would trip over, or empty: it
+/// must be a JSON object with a "file_format_version" string and an "ICD" object whose
+/// "library_path" names a library (a path, relative to the manifest's folder, that exists; a bare
+/// name is the dynamic linker's to find).
+std::string manifestProblem(const std::string& path) {
+    std::string text;
+    try {
+        text = readFileBytes(path, "driver manifest", std::size_t(1) << 20);
+    } catch (const InputError&) {
+        const std::string reason = notAFileReason(path);
+        return reason.empty() ? "cannot be read" : reason;
+    }
+    nlohmann::json manifest;
+    try {
+        manifest = nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+        return "is not valid JSON (a syntax error at byte " + std::to_string(e.byte) + ")";
+    }
+    if (!manifest.is_object()) return "is not a JSON object";
+    if (!manifest.contains("file_format_version") || !manifest["file_format_version"].is_string())
+        return "lacks \"file_format_version\" (a string such as \"1.0.0\")";
+    if (!manifest.contains("ICD") || !manifest["ICD"].is_object())
+        return "lacks the \"ICD\" object (an ICD manifest has \"ICD\": {\"library_path\": ...})";
+    const nlohmann::json& icd = manifest["ICD"];
+    if (!icd.contains("library_path") || !icd["library_path"].is_string() ||
+        icd["library_path"].get<std::string>().empty())
+        return "lacks \"ICD\".\"library_path\", the driver library to load";
+    const std::filesystem::path library = icd["library_path"].get<std::string>();
+    if (library.has_parent_path()) {
+        const std::filesystem::path resolved =
+            (library.is_absolute() ? library : std::filesystem::path(path).parent_path() / library)
+                .lexically_normal();
+        if (const std::string reason = notAFileReason(resolved.string()); !reason.empty())
+            return "names the driver library " + resolved.string() + ", which " + reason;
+    }
+    return {};
+}
+
+/// When the loader reads the drivers of VK_DRIVER_FILES (or VK_ICD_FILENAMES) and one of the
+/// manifests named there has a problem: the first, as "<variable> names <what>, which <problem>".
+/// `missing` tells whether it is only that the file does not exist. Empty otherwise.
+std::string driverFilesProblem(bool& missing) {
+    const DriverFiles files = driverFiles();
+    missing = false;
+    std::size_t start = 0;
+    while (!files.value.empty() && start <= files.value.size()) {
+        const std::size_t end = std::min(files.value.find(':', start), files.value.size());
+        const std::string entry = files.value.substr(start, end - start);
+        start = end + 1;
+        if (entry.empty()) continue;
+        // An entry is a manifest, or a folder of them (its .json files).
+        std::vector<std::string> manifests;
+        std::error_code ec;
+        if (std::filesystem::is_directory(entry, ec)) {
+            for (const auto& e : std::filesystem::directory_iterator(entry, ec))
+                if (e.path().extension() == ".json") manifests.push_back(e.path().string());
+            std::sort(manifests.begin(), manifests.end());
+            if (manifests.empty())
+                return files.variable + " names the folder " + entry +
+                       ", which holds no driver manifest (.json)";
+        } else {
+            manifests.push_back(entry);
+        }
+        for (const std::string& manifest : manifests)
+            if (const std::string problem = manifestProblem(manifest); !problem.empty()) {
+                missing = problem == "does not exist";
+                return files.variable + " names the Vulkan driver manifest " + manifest + ", which " +
+                       problem;
+            }
+    }
+    return {};
+}
+
+/// The message of a failed loader call (vkCreateInstance, vkEnumeratePhysicalDevices) where
+/// VK_DRIVER_FILES or VK_ICD_FILENAMES chose the drivers: what is wrong with the manifests they
+/// name, or that the loader read only those. Empty when neither is set.
+std::string driverFilesMessage(const char* call, VkResult result) {
+    const DriverFiles files = driverFiles();
+    if (files.variable.empty()) return {};
+    const std::string failed = std::string(call) + ": " + toString(result);
+    bool missing = false;
+    const std::string problem = driverFilesProblem(missing);
+    if (missing) return std::string(kNoDriver) + " (" + problem + "; " + failed + ")";
+    if (!problem.empty())
+        return problem + ": fix it or unset " + files.variable +
+               " (the loader then reads the system's drivers), or render without Vulkan with --backend cpu "
+               "(" +
+               failed + ")";
+    return failed + " with " + files.variable + "=" + files.value +
+           " (the loader reads only the drivers those manifests name): check them or unset " +
+           files.variable + ", or render without Vulkan with --backend cpu";
+}
+
+/// A Vulkan 1.3 instance without surface extensions; `log` non-null enables validation.
 VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
     loadVulkan();
     VkApplicationInfo app{};
@@ -107,6 +219,11 @@ VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
     }
     VkInstance instance = VK_NULL_HANDLE;
     const VkResult result = vkCreateInstance(&info, nullptr, &instance);
+    // A manifest of VK_DRIVER_FILES the loader could not use fails here, as "no driver" or, for
+    // text that is not a manifest, as VK_ERROR_OUT_OF_HOST_MEMORY: the manifest is named instead.
+    if (result != VK_SUCCESS)
+        if (const std::string message = driverFilesMessage("vkCreateInstance", result); !message.empty())
+            throw Error(message);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
         throw Error(std::string(kNoDriver) + " (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER)");
     STSV_VK_CHECK(result);
@@ -115,6 +232,10 @@ VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
 
 std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
     uint32_t count = 0;
+    if (const VkResult result = vkEnumeratePhysicalDevices(instance, &count, nullptr); result != VK_SUCCESS)
+        if (const std::string message = driverFilesMessage("vkEnumeratePhysicalDevices", result);
+            !message.empty())
+            throw Error(message);
     STSV_VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, nullptr));
     std::vector<VkPhysicalDevice> devices(count);
     STSV_VK_CHECK(vkEnumeratePhysicalDevices(instance, &count, devices.data()));
@@ -244,7 +365,14 @@ std::size_t selectDevice(const std::vector<DeviceInfo>& infos, const std::string
             for (std::size_t i = 0; i < infos.size() && chosen == infos.size(); ++i)
                 if (infos[i].type == type && usable(infos[i])) chosen = i;
         }
-        if (infos.empty()) throw Error(std::string(kNoDriver) + " (the Vulkan loader lists no device)");
+        if (infos.empty()) {
+            const DriverFiles files = driverFiles();
+            throw Error(std::string(kNoDriver) + " (the Vulkan loader lists no device" +
+                        (files.variable.empty()
+                             ? std::string()
+                             : " of the drivers " + files.variable + "=" + files.value + " names") +
+                        ")");
+        }
         if (chosen == infos.size())
             throw Error("no Vulkan 1.3 device with dynamic rendering and synchronization2 (devices: " +
                         names() + ")");
