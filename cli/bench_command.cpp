@@ -6,6 +6,7 @@
 #include "cli/subcommands.h"
 
 #include "core/error.h"
+#include "core/files.h"
 #include "core/progress.h"
 #include "core/timer.h"
 #include "core/version.h"
@@ -16,6 +17,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -136,7 +138,7 @@ void runConfiguration(const Scene& scene, RenderOptions o, int warmup, int repea
         if (onFrame) onFrame(label, timed);
         if (i == 0)
             for (const std::string& warning : frameWarnings(frame.stats))
-                std::fprintf(stderr, "stsv: warning: %s: %s\n", label.c_str(), warning.c_str());
+                std::fprintf(stderr, "stsv: warning: %s: %s\n", label.c_str(), printable(warning).c_str());
         if (i == 0 && frame.stats.contains("startup_ms") && frame.stats["startup_ms"].is_number())
             result.startupMs = frame.stats["startup_ms"].get<double>();
         if (!timed) continue;
@@ -196,9 +198,7 @@ nlohmann::json loadBenchPresets(const std::string& file) {
     std::string text = benchPresetsJson;
     std::string source = "bench/presets.json (built in)";
     if (!file.empty()) {
-        std::ifstream in(file);
-        if (!in) throw InputError(file, "cannot open the presets file");
-        text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        text = readFileBytes(file, "presets file", std::size_t(1) << 24);
         source = file;
     }
     nlohmann::json presets;
@@ -282,8 +282,12 @@ int runBench(BenchArgs& args) {
     }
     if (args.scene.empty() && args.vary.rfind("scene=", 0) != 0)
         throw UsageError("bench needs a SCENE, --vary scene=A,B or --preset NAME (see --list-presets)");
-    if (args.repeat < 1 || args.repeat > 10000) throw UsageError("--repeat must lie in [1, 10000]");
-    if (args.warmup < 0 || args.warmup > 1000) throw UsageError("--warmup must lie in [0, 1000]");
+    if (args.repeat < kMinRepeat || args.repeat > kMaxRepeat)
+        throw UsageError("--repeat " + std::to_string(args.repeat) + " is out of range (" +
+                         std::to_string(kMinRepeat) + " to " + std::to_string(kMaxRepeat) + ")");
+    if (args.warmup < kMinWarmup || args.warmup > kMaxWarmup)
+        throw UsageError("--warmup " + std::to_string(args.warmup) + " is out of range (" +
+                         std::to_string(kMinWarmup) + " to " + std::to_string(kMaxWarmup) + ")");
 
     // --extrusion takes a list here: each Vulkan configuration runs through each stage, in one run.
     BenchArgs single = args;
@@ -311,7 +315,15 @@ int runBench(BenchArgs& args) {
         validate(probe);
     }
     const std::vector<Variant> variants = makeVariants(args, args.vary);
-    if (!args.json.empty()) checkWritableFile(args.json, "--json");
+    // The results file: a .json, none of the files the bench reads (checked again against each
+    // variant's textures once it is loaded).
+    std::vector<InputFile> inputs;
+    if (!args.presetsFile.empty()) inputs.push_back({"the presets file", args.presetsFile});
+    for (const Variant& v : variants)
+        if (std::error_code ec; std::filesystem::is_regular_file(v.scene, ec))
+            inputs.push_back({"a scene", v.scene});
+    const std::vector<OutputFile> outputs = {{"--json", args.json, {".json"}}};
+    checkOutputFiles(outputs, inputs);
 
     // Method × backend pairs. A pair the backend does not implement (the reference on vulkan)
     // is skipped with a note; a method left without any backend runs on its own first backend.
@@ -420,6 +432,8 @@ int runBench(BenchArgs& args) {
         Timer loadTimer;
         const Scene scene = loadScene(variants[v].scene, variants[v].sceneOptions);
         const double loadMs = loadTimer.milliseconds();
+        printSceneWarnings(scene, args.quiet);
+        checkOutputFiles(outputs, sceneInputFiles(variants[v].scene, scene));
         RenderOptions largest = base;
         largest.samples = *std::max_element(samples.begin(), samples.end());
         checkFrameMemory(largest, scene.lights.size());
@@ -427,8 +441,8 @@ int runBench(BenchArgs& args) {
         counts["load_ms"] = loadMs;
         if (!args.quiet)
             std::fprintf(stderr, "%s%s%s: %zu triangles (%zu perforated), %zu light(s), %dx%d\n",
-                         variants[v].scene.c_str(), variants[v].label.empty() ? "" : " ",
-                         variants[v].label.c_str(), counts["triangles"].get<std::size_t>(),
+                         printable(variants[v].scene).c_str(), variants[v].label.empty() ? "" : " ",
+                         printable(variants[v].label).c_str(), counts["triangles"].get<std::size_t>(),
                          counts["perforated_triangles"].get<std::size_t>(),
                          counts["lights"].get<std::size_t>(), base.width, base.height);
         for (int n : samples) {
@@ -449,7 +463,7 @@ int runBench(BenchArgs& args) {
                     } catch (const std::bad_alloc&) {
                         r.error = "out of memory";
                     } catch (const Error& e) {
-                        r.error = e.what();
+                        r.error = printable(e.message());
                     }
                     Progress::setEnabled(progressOn);
                     if (!args.quiet && !progressOn && r.error.empty()) // a log line where there is no bar
@@ -505,6 +519,7 @@ int runBench(BenchArgs& args) {
                         s["backend"].get<std::string>().c_str(), s["reason"].get<std::string>().c_str());
 
     writeResults(true);
+    if (!args.json.empty()) std::printf("wrote %s\n", printable(args.json).c_str());
     return failed ? 1 : 0;
 }
 

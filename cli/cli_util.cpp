@@ -130,22 +130,47 @@ std::string toString(const MethodBackend& mb) {
 
 void checkWritableFile(const std::string& path, const std::string& what) {
     if (path.empty()) throw UsageError(what + ": empty path");
+    const std::string shown = printable(path);
+    if (const std::string reason = notAnOutputReason(path); !reason.empty())
+        throw UsageError(what + " " + shown + ": " + reason + "; name a regular file");
     std::error_code ec;
-    if (fs::is_directory(path, ec)) throw UsageError(what + " " + path + ": is a directory, not a file");
     const fs::path parent =
         fs::path(path).parent_path().empty() ? fs::path(".") : fs::path(path).parent_path();
     if (!fs::exists(parent, ec))
-        throw UsageError(what + " " + path + ": directory " + parent.string() + " does not exist");
+        throw UsageError(what + " " + shown + ": directory " + printable(parent.string()) +
+                         " does not exist");
     if (!fs::is_directory(parent, ec))
-        throw UsageError(what + " " + path + ": " + parent.string() + " is not a directory");
+        throw UsageError(what + " " + shown + ": " + printable(parent.string()) + " is not a directory");
     if (::access(parent.c_str(), W_OK) != 0)
-        throw UsageError(what + " " + path + ": directory " + parent.string() + " is not writable");
+        throw UsageError(what + " " + shown + ": directory " + printable(parent.string()) +
+                         " is not writable");
     if (fs::exists(path, ec) && ::access(path.c_str(), W_OK) != 0)
-        throw UsageError(what + " " + path + ": file is not writable");
+        throw UsageError(what + " " + shown + ": file is not writable");
 }
 
-void checkOutputFiles(const std::vector<OutputFile>& outputs) {
-    std::vector<std::pair<fs::path, std::string>> seen;
+namespace {
+
+/// Whether two paths name one file: the same file where both exist (hard and symbolic links
+/// included), else the same absolute path once "." and ".." and the links of its existing part
+/// are resolved.
+bool sameFile(const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) {
+        const bool same = fs::equivalent(a, b, ec);
+        if (!ec) return same;
+    }
+    auto canonical = [](const std::string& path) {
+        std::error_code error;
+        fs::path p = fs::weakly_canonical(fs::absolute(path), error);
+        return error ? fs::absolute(path).lexically_normal() : p;
+    };
+    return canonical(a) == canonical(b);
+}
+
+} // namespace
+
+void checkOutputFiles(const std::vector<OutputFile>& outputs, const std::vector<InputFile>& inputs) {
+    std::vector<const OutputFile*> seen;
     for (const OutputFile& out : outputs) {
         if (out.path.empty()) continue;
         checkWritableFile(out.path, out.option);
@@ -153,28 +178,56 @@ void checkOutputFiles(const std::vector<OutputFile>& outputs) {
         if (std::find(out.extensions.begin(), out.extensions.end(), ext) == out.extensions.end()) {
             std::string accepted;
             for (const std::string& e : out.extensions) accepted += (accepted.empty() ? "" : " or ") + e;
-            throw UsageError(out.option + " " + out.path + ": the file's extension chooses its format, and " +
-                             out.option + " writes " + accepted + "; name a " + accepted + " file");
+            throw UsageError(out.option + " " + printable(out.path) +
+                             ": the file's extension chooses its format, and " + out.option + " writes " +
+                             accepted + "; name a " + accepted + " file");
         }
-        std::error_code ec;
-        fs::path canonical = fs::weakly_canonical(fs::absolute(out.path), ec);
-        if (ec) canonical = fs::absolute(out.path).lexically_normal();
-        for (const auto& [other, option] : seen)
-            if (other == canonical)
-                throw UsageError(out.option + " " + out.path + ": " + option +
+        for (const InputFile& in : inputs)
+            if (!in.path.empty() && sameFile(out.path, in.path))
+                throw UsageError(out.option + " " + printable(out.path) + ": is " + in.what + " (" +
+                                 printable(in.path) +
+                                 "), which this command reads; give the output another path");
+        for (const OutputFile* other : seen)
+            if (sameFile(out.path, other->path))
+                throw UsageError(out.option + " " + printable(out.path) + ": " + other->option +
                                  " names the same file; give each output its own path");
-        seen.emplace_back(canonical, out.option);
+        seen.push_back(&out);
     }
+}
+
+std::vector<InputFile> sceneInputFiles(const std::string& spec, const Scene& scene) {
+    std::vector<InputFile> files;
+    std::error_code ec;
+    if (fs::is_regular_file(spec, ec)) files.push_back({"the scene", spec});
+    // A texture's name is its file for the textures read from files (relative to the current
+    // directory, as the loaders resolved it), or a generator's name that names no file.
+    for (const Texture& t : scene.textures)
+        if (fs::is_regular_file(t.name, ec)) files.push_back({"a texture of the scene", t.name});
+    return files;
+}
+
+void printSceneWarnings(const Scene& scene, bool quiet) {
+    if (quiet) return;
+    for (const std::string& warning : scene.warnings)
+        std::fprintf(stderr, "stsv: warning: %s: %s\n", printable(scene.source).c_str(),
+                     printable(warning).c_str());
+}
+
+void reportWritten(const std::string& path, bool quiet) {
+    if (!quiet) std::fprintf(stderr, "wrote %s\n", printable(path).c_str());
 }
 
 void prepareOutputDirectory(const std::string& dir, const std::string& what) {
     if (dir.empty()) throw UsageError(what + ": empty path");
     std::error_code ec;
     if (fs::exists(dir, ec) && !fs::is_directory(dir, ec))
-        throw UsageError(what + " " + dir + ": exists and is not a directory");
+        throw UsageError(what + " " + printable(dir) + ": exists and is not a directory");
     fs::create_directories(dir, ec);
-    if (ec) throw UsageError(what + " " + dir + ": cannot create the directory (" + ec.message() + ")");
-    if (::access(dir.c_str(), W_OK) != 0) throw UsageError(what + " " + dir + ": directory is not writable");
+    if (ec)
+        throw UsageError(what + " " + printable(dir) + ": cannot create the directory (" + ec.message() +
+                         ")");
+    if (::access(dir.c_str(), W_OK) != 0)
+        throw UsageError(what + " " + printable(dir) + ": directory is not writable");
 }
 
 double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {

@@ -54,8 +54,8 @@ void checkBackendSupports(Method method, Backend backend);
 Backend defaultBackendFor(Method method, Backend preferred);
 
 /// Throws UsageError before any work when `path` cannot be written: its directory is
-/// missing, not a directory or not writable, or the path names a directory. `what` names
-/// the option ("-o", "--stats").
+/// missing, not a directory or not writable, or the path names a directory, a device, a pipe or
+/// a socket (core/files.h notAnOutputReason). `what` names the option ("-o", "--stats").
 void checkWritableFile(const std::string& path, const std::string& what);
 /// An output file of a command: the option that names it, its path (empty: not requested) and
 /// the extensions of the format it is written in.
@@ -64,10 +64,26 @@ struct OutputFile {
     std::string path;
     std::vector<std::string> extensions; ///< lower case, with the dot: ".png"
 };
+/// A file a command reads: what names it ("the scene", "texture of the scene", "A.npy") and its path.
+struct InputFile {
+    std::string what;
+    std::string path;
+};
 /// UsageError before any work when an output's extension is not one of its format's (the format
 /// follows the extension; nothing is written under another format's name), when it cannot be
-/// written (checkWritableFile), or when two outputs name the same file.
-void checkOutputFiles(const std::vector<OutputFile>& outputs);
+/// written (checkWritableFile), when two outputs name the same file, or when an output names a
+/// file the command reads (`inputs`: the same path, or another name of the same file).
+void checkOutputFiles(const std::vector<OutputFile>& outputs, const std::vector<InputFile>& inputs = {});
+
+/// The files a loaded scene was read from that still exist: its source file and its textures'.
+std::vector<InputFile> sceneInputFiles(const std::string& spec, const Scene& scene);
+
+/// Prints the scene's warnings (Scene::warnings), "stsv: warning: <scene source>: <text>" on
+/// stderr, unless `quiet`.
+void printSceneWarnings(const Scene& scene, bool quiet);
+
+/// "wrote <path>" on stderr, unless `quiet`: every file a command writes is named once.
+void reportWritten(const std::string& path, bool quiet);
 
 /// Creates `dir` (and parents) if needed; UsageError when that fails or it is not writable.
 void prepareOutputDirectory(const std::string& dir, const std::string& what);

@@ -8,9 +8,14 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <new>
 #include <regex>
 
@@ -50,18 +55,71 @@ std::string methodHelp() {
     return text;
 }
 
+/// What an option given an empty value ("", '') says: the value is never the option left out.
+constexpr const char* kEmptyValue = "the value is empty; give one, or leave the option out";
+
+/// The check every option that takes a value runs: an empty value is refused, naming the option.
+CLI::Validator nonEmpty(const std::string& message = kEmptyValue) {
+    return CLI::Validator([message](std::string& value) { return value.empty() ? message : std::string(); },
+                          "", "non-empty");
+}
+
+/// The check of an integer option: a decimal whole number in [lo, hi], else a message with the
+/// value and the accepted values (`accepted`; "lo to hi" when empty). The value is passed on in
+/// plain decimal, so that "010" is ten (CLI11 alone would read it as octal).
+CLI::Validator integerIn(long long lo, long long hi, const std::string& accepted = "") {
+    const std::string range = accepted.empty() ? std::to_string(lo) + " to " + std::to_string(hi) : accepted;
+    return CLI::Validator(
+        [lo, hi, range](std::string& value) -> std::string {
+            if (value.empty()) return kEmptyValue;
+            const std::size_t digits = value.find_first_not_of("+-") == 1 ? 1 : 0;
+            const bool whole = !value.empty() && value.size() > digits &&
+                               value.find_first_of("+-", digits) == std::string::npos &&
+                               value.find_first_not_of("0123456789", digits) == std::string::npos;
+            if (!whole) return "'" + value + "' is not a whole number (" + range + ")";
+            errno = 0;
+            const long long number = std::strtoll(value.c_str(), nullptr, 10);
+            if (errno == ERANGE || number < lo || number > hi)
+                return value + " is out of range (" + range + ")";
+            value = std::to_string(number);
+            return {};
+        },
+        "", "integer in range");
+}
+
+/// The check of a floating-point option: a finite decimal number; its range is the command's to check.
+CLI::Validator finiteNumber() {
+    return CLI::Validator(
+        [](std::string& value) -> std::string {
+            if (value.empty()) return kEmptyValue;
+            char* end = nullptr;
+            errno = 0;
+            const double number = std::strtod(value.c_str(), &end);
+            if (end != value.c_str() + value.size() || errno == ERANGE || !std::isfinite(number))
+                return "'" + value + "' is not a number";
+            return {};
+        },
+        "", "number");
+}
+
+/// The sample counts --samples takes (render/options.cpp validate checks each value).
+const char* const kSampleCounts = "16, 32, 64, 128, 256";
+
 /// Options shared by render, bench and compare.
 void addFrameOptions(CLI::App* command, FrameArgs& a) {
     command->add_option("--pattern", a.pattern, "uniform | stratified | poisson | lowdisc")
         ->capture_default_str();
     command->add_option("--seed", a.options.seed, "seed of the sample patterns and decorrelation")
+        ->transform(integerIn(0, std::numeric_limits<std::uint32_t>::max()))
         ->capture_default_str();
     command->add_option("--interleave", a.options.interleave, "K for K×K interleaved sample sets (1 to 8)")
+        ->transform(integerIn(1, 8))
         ->capture_default_str();
     command->add_flag("!--no-decorrelate", a.options.decorrelate, "same sample set for every pixel");
     command->add_option("--buffer", a.buffer, "light-sample buffer: bitmask | counters | transmittance")
         ->capture_default_str();
     command->add_option("--ambient", a.options.ambient, "ambient light, fraction of albedo")
+        ->check(finiteNumber())
         ->capture_default_str();
     command->add_option("--size", a.size, "image size WIDTHxHEIGHT")->capture_default_str();
     command
@@ -69,6 +127,7 @@ void addFrameOptions(CLI::App* command, FrameArgs& a) {
             "--supersample", a.options.supersample,
             "K: K×K visible points per pixel, each with the pixel's light samples, averaged (1 to 4; "
             "--dump-ls keeps every sub-pixel)")
+        ->transform(integerIn(1, 4))
         ->capture_default_str();
     command->add_option("--set", a.sets, "scene knob key=value (repeatable), e.g. --set count=256");
     command->add_option("--camera", a.camera,
@@ -116,6 +175,21 @@ std::vector<std::string> givenOptions(const CLI::App* command) {
     return names;
 }
 
+/// Every option of `app`'s commands that takes a value refuses an empty one (nonEmpty), the
+/// scene's with a message of its own.
+void refuseEmptyValues(CLI::App& app) {
+    for (CLI::App* command : app.get_subcommands({})) {
+        if (CLI::Option* scene = command->get_option_no_throw("scene"))
+            scene->check(nonEmpty(
+                "the scene name is empty; give a built-in name, a .json scene or an .obj/.off mesh"));
+        if (CLI::Option* inputs = command->get_option_no_throw("inputs"))
+            inputs->check(
+                nonEmpty("the scene or file name is empty; give a SCENE, or two .npy or .exr files"));
+        for (CLI::Option* option : command->get_options())
+            if (option->get_type_size() != 0) option->check(nonEmpty());
+    }
+}
+
 } // namespace
 
 int runReportingErrors(const std::function<int()>& command) {
@@ -155,6 +229,7 @@ int runCli(int argc, char** argv) {
                        "vulkan | cpu (default " + toString(defaultBackend()) +
                            ", or the method's own backend where it lacks that one)");
     render->add_option("--samples", r.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
+        ->transform(integerIn(16, 256, kSampleCounts))
         ->capture_default_str();
     addFrameOptions(render, r);
     render->add_option(
@@ -179,7 +254,9 @@ int runCli(int argc, char** argv) {
     info->add_option("scene", i.scene, sceneHelp());
     info->add_option("--method", i.method, "method whose frame memory is estimated")->capture_default_str();
     info->add_option("--backend", i.backend, "vulkan | cpu");
-    info->add_option("--samples", i.options.samples, "light samples per pixel")->capture_default_str();
+    info->add_option("--samples", i.options.samples, "light samples per pixel")
+        ->transform(integerIn(16, 256, kSampleCounts))
+        ->capture_default_str();
     addFrameOptions(info, i);
     info->add_flag("--methods", i.methodPairs,
                    "only the method/backend pairs, one 'method backend' per line");
@@ -200,8 +277,12 @@ int runCli(int argc, char** argv) {
     bench->add_option(
         "--vary", b.vary,
         "one scene per value of a knob, e.g. count=250,1000,4000, or per scene, e.g. scene=fence,fence-mesh");
-    bench->add_option("--repeat", b.repeat, "timed frames per configuration")->capture_default_str();
-    bench->add_option("--warmup", b.warmup, "untimed frames before them")->capture_default_str();
+    bench->add_option("--repeat", b.repeat, "timed frames per configuration")
+        ->transform(integerIn(kMinRepeat, kMaxRepeat))
+        ->capture_default_str();
+    bench->add_option("--warmup", b.warmup, "untimed frames before them")
+        ->transform(integerIn(kMinWarmup, kMaxWarmup))
+        ->capture_default_str();
     bench->add_flag("--check", b.check,
                     "compare each configuration's light-sample bits with the reference's");
     bench->add_option("--json", b.json, "write the results as JSON");
@@ -227,21 +308,32 @@ int runCli(int argc, char** argv) {
                         "backend of methods without one (default " + toString(defaultBackend()) + ")");
     compare->add_option("--against", c.against, "method[/backend] the others are compared with")
         ->capture_default_str();
-    compare->add_option("--samples", c.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
+    compare
+        ->add_option(
+            "--samples", c.options.samples,
+            "light samples per pixel: 16, 32, 64, 128, 256 (two .npy files: the count they must hold)")
+        ->transform(integerIn(16, 256, kSampleCounts))
         ->capture_default_str();
     compare->add_option("--out", c.out,
                         "directory for the images (visibility, |difference| heat map, lit image)");
     compare->add_option("--json", c.json, "write the error table as JSON");
     compare->add_option("--heat-scale", c.heatScale, "difference shown yellow in the heat maps")
+        ->check(finiteNumber())
         ->capture_default_str();
-    compare->add_option("--converged", c.converged,
-                        "K: also compare with the converged reference, the mean of K renders of --against "
-                        "with seeds SEED … SEED+K-1 (cached, see --no-cache)");
+    compare
+        ->add_option("--converged", c.converged,
+                     "K: also compare with the converged reference, the mean of K renders of --against "
+                     "with seeds SEED … SEED+K-1 (cached, see --no-cache)")
+        ->transform(integerIn(1, kMaxConvergedFrames));
+    compare->add_option("--kind", c.kind,
+                        "two .npy light-sample files without their .npy.json metadata (from an older stsv "
+                        "or NumPy): what they hold, bitmask | counters | transmittance");
     compare->add_flag("--no-cache", c.noCache, "render the converged reference even when the cache holds it");
     compare->add_option("--report", c.report,
                         "directory for index.html: options, error tables, lit/visibility/heat-map images");
     compare->add_option("--sheet", c.sheet, "contact sheet PNG: per method lit, visibility, heat map");
     addFrameOptions(compare, c);
+    refuseEmptyValues(app);
 
     return runReportingErrors([&]() -> int {
         try {
@@ -251,9 +343,11 @@ int runCli(int argc, char** argv) {
                 throw UsageError("unknown command '" + std::string(argv[1]) +
                                  "' (expected render, info, bench or compare)");
             app.parse(argc, argv);
-            setMemoryLimit(0); // the default, unless this command says otherwise
-            for (const FrameArgs* a : {static_cast<const FrameArgs*>(&r), static_cast<const FrameArgs*>(&b),
-                                       static_cast<const FrameArgs*>(&c)})
+            // The memory limit before anything is loaded: the default, unless the command says
+            // otherwise (info too: what it loads, it loads under the same limit as a render).
+            setMemoryLimit(0);
+            for (const FrameArgs* a : {static_cast<const FrameArgs*>(&r), static_cast<const FrameArgs*>(&i),
+                                       static_cast<const FrameArgs*>(&b), static_cast<const FrameArgs*>(&c)})
                 if (!a->maxMemory.empty()) setMemoryLimit(parseMemorySize(a->maxMemory));
             if (*render) {
                 r.argv.assign(argv, argv + argc);
@@ -267,6 +361,7 @@ int runCli(int argc, char** argv) {
             }
             if (*compare) {
                 c.argv.assign(argv, argv + argc);
+                c.samplesGiven = compare->get_option("--samples")->count() > 0;
                 return runCompare(c);
             }
         } catch (const CLI::ParseError& e) {

@@ -65,22 +65,25 @@ ImageF readVisibilityFile(const std::string& path) {
 
 /// Two visibility images (.exr, or float32 .npy [H, W]): RMSE, bias, max, SSIM, and the heat map.
 int compareVisibilityFiles(const CompareArgs& args) {
+    if (!args.kind.empty() || args.samplesGiven)
+        throw UsageError(std::string(args.kind.empty() ? "--samples" : "--kind") +
+                         " applies to .npy light-sample files; " + args.inputs[0] + " and " + args.inputs[1] +
+                         " are visibility images");
     const ImageF a = readVisibilityFile(args.inputs[0]), b = readVisibilityFile(args.inputs[1]);
     if (a.width != b.width || a.height != b.height)
         throw UsageError(args.inputs[0] + " is " + std::to_string(a.width) + "x" + std::to_string(a.height) +
                          ", " + args.inputs[1] + " is " + std::to_string(b.width) + "x" +
                          std::to_string(b.height));
-    if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
     const ImageError e = compareImages(a, b, 0.1f);
-    std::printf("%s vs %s: %dx%d visibility\n", args.inputs[0].c_str(), args.inputs[1].c_str(), a.width,
-                a.height);
+    std::printf("%s vs %s: %dx%d visibility\n", printable(args.inputs[0]).c_str(),
+                printable(args.inputs[1]).c_str(), a.width, a.height);
     std::printf(
         "RMSE %.6f, bias %+.6f, max |difference| %.6f, |dv| > 0.1 in %.4f %% of the pixels, SSIM %.6f\n",
         e.rmse, e.bias, e.maxAbs, 100.0 * e.fractionAbove, e.ssim);
     if (!args.out.empty()) {
         const std::string path = (fs::path(args.out) / "difference.png").string();
         writePng(path, heatMapWithLegend(e.absDifference, args.heatScale, kVisibilityCaption));
-        std::printf("wrote %s (|difference| per pixel, yellow at %.3g)\n", path.c_str(),
+        std::printf("wrote %s (|difference| per pixel, yellow at %.3g)\n", printable(path).c_str(),
                     double(args.heatScale));
     }
     return 0;
@@ -181,32 +184,68 @@ void writeImages(const std::string& dir, const MethodBackend& mb, const Frame& f
                                    heatScale, kSampleCaption));
 }
 
-int compareNpy(const CompareArgs& args) {
-    LightSampleBuffer a = LightSampleBuffer::readNpy(args.inputs[0]);
-    LightSampleBuffer b = LightSampleBuffer::readNpy(args.inputs[1]);
-    // A uint8 file is a bitmask [H, W, N/8] or counters below 256 [H, W, N]: when, read as
-    // bitmasks, one file has 8x the other's samples, it holds counters, and the two compare by
-    // occlusion (count > 0).
-    if (a.kind() == BufferKind::Bitmask && b.kind() == BufferKind::Bitmask && a.samples() == 8 * b.samples())
-        a = LightSampleBuffer::readNpy(args.inputs[0], BufferKind::Counters);
-    else if (a.kind() == BufferKind::Bitmask && b.kind() == BufferKind::Bitmask &&
-             b.samples() == 8 * a.samples())
-        b = LightSampleBuffer::readNpy(args.inputs[1], BufferKind::Counters);
-    if (a.width() != b.width() || a.height() != b.height() || a.samples() != b.samples())
-        throw UsageError(args.inputs[0] + " is " + std::to_string(a.width()) + "x" +
-                         std::to_string(a.height()) + " pixels with " + std::to_string(a.samples()) +
-                         " samples, " + args.inputs[1] + " is " + std::to_string(b.width()) + "x" +
-                         std::to_string(b.height()) + " with " + std::to_string(b.samples()));
-    if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
+/// "a bitmask of 128 samples", "counters of 16 samples".
+std::string describeSamples(const LightSampleBuffer& buffer) {
+    const std::string kind = toString(buffer.kind());
+    return (buffer.kind() == BufferKind::Bitmask ? "a " : "") + kind + " of " +
+           std::to_string(buffer.samples()) + " samples";
+}
+
+/// One of compare's two light-sample files, read with its kind from its metadata
+/// (LightSampleFileInfo), else from --kind, else from its dtype where that alone says it.
+LightSampleBuffer readSampleFile(const std::string& path, const NpyArray& array,
+                                 const std::optional<LightSampleFileInfo>& info,
+                                 const std::optional<BufferKind>& kind) {
+    const std::string infoName = fs::path(npyInfoPath(path)).filename().string();
+    if (info && kind && info->kind != *kind)
+        throw UsageError("--kind " + toString(*kind) + ": " + path + " holds " + toString(info->kind) + " (" +
+                         infoName + " says so); --kind is for files without that metadata");
+    if (!info && !kind && (array.dtype == "|u1" || array.dtype == "<u1"))
+        throw UsageError(path + " has no " + infoName +
+                         " beside it (an older stsv's --dump-ls, or an array from NumPy), and its uint8 "
+                         "array may be a bitmask or counters: give --kind bitmask or --kind counters (and "
+                         "--samples N to check the sample count)");
+    return LightSampleBuffer::fromNpy(path, array, info ? std::nullopt : kind);
+}
+
+int compareNpy(const CompareArgs& args, const NpyArray& arrayA, const NpyArray& arrayB) {
+    std::optional<BufferKind> kind;
+    if (!args.kind.empty()) {
+        kind = bufferKindNamed(args.kind);
+        if (!kind)
+            throw UsageError("--kind '" + args.kind + "' is not one of bitmask, counters, transmittance");
+    }
+    const std::string& pathA = args.inputs[0];
+    const std::string& pathB = args.inputs[1];
+    const std::optional<LightSampleFileInfo> infoA = readLightSampleInfo(pathA);
+    const std::optional<LightSampleFileInfo> infoB = readLightSampleInfo(pathB);
+    const LightSampleBuffer a = readSampleFile(pathA, arrayA, infoA, kind);
+    const LightSampleBuffer b = readSampleFile(pathB, arrayB, infoB, kind);
+    // Samples compare one to one only between buffers of one kind and N: a counters file read as
+    // bits would pair the wrong samples (16 counters fill the bytes of 128 bits).
+    auto madeBy = [](const std::optional<LightSampleFileInfo>& info) {
+        return info && !info->method.empty() ? " (" + info->method + ")" : std::string();
+    };
+    if (a.kind() != b.kind() || a.samples() != b.samples())
+        throw UsageError(pathA + " holds " + describeSamples(a) + madeBy(infoA) + ", " + pathB + " " +
+                         describeSamples(b) + madeBy(infoB) +
+                         ": compare pairs samples of one kind and count; render both with the same --buffer "
+                         "and --samples");
+    if (args.samplesGiven && a.samples() != args.options.samples)
+        throw UsageError("--samples " + std::to_string(args.options.samples) + ": " + pathA + " and " +
+                         pathB + " hold " + std::to_string(a.samples()) + " samples");
+    if (a.width() != b.width() || a.height() != b.height())
+        throw UsageError(pathA + " is " + std::to_string(a.width()) + "x" + std::to_string(a.height()) +
+                         " pixels, " + pathB + " is " + std::to_string(b.width()) + "x" +
+                         std::to_string(b.height()));
     const LightSampleDiff d = compareLightSamples(a, b, 8, transmittanceBoth(a, b));
     const double percent =
         d.comparedSamples ? 100.0 * double(d.differingSamples) / double(d.comparedSamples) : 0.0;
-    std::printf("%s vs %s: %dx%d pixels, %d samples\n", args.inputs[0].c_str(), args.inputs[1].c_str(),
-                a.width(), a.height(), a.samples());
-    if (a.kind() != b.kind())
-        std::printf("%s holds counters, %s bits: comparing occlusion (count > 0)\n",
-                    (a.kind() == BufferKind::Counters ? args.inputs[0] : args.inputs[1]).c_str(),
-                    (a.kind() == BufferKind::Counters ? args.inputs[1] : args.inputs[0]).c_str());
+    std::printf("%s vs %s: %dx%d pixels, %d samples, %s\n", printable(pathA).c_str(),
+                printable(pathB).c_str(), a.width(), a.height(), a.samples(), toString(a.kind()).c_str());
+    if (!madeBy(infoA).empty() || !madeBy(infoB).empty())
+        std::printf("written by %s and %s\n", infoA && !infoA->method.empty() ? infoA->method.c_str() : "?",
+                    infoB && !infoB->method.empty() ? infoB->method.c_str() : "?");
     std::printf("differing samples: %zu of %zu (%.6f %%), identical %.6f %%\n", d.differingSamples,
                 d.comparedSamples, percent, 100.0 - percent);
     std::printf("differing pixels:  %zu of %zu\n", d.differingPixels,
@@ -219,14 +258,11 @@ int compareNpy(const CompareArgs& args) {
     if (!args.out.empty()) {
         const std::string path = (fs::path(args.out) / "difference.png").string();
         writePng(path, heatMapWithLegend(sampleDisagreement(a, b), args.heatScale, kSampleCaption));
-        std::printf("wrote %s (fraction of differing samples per pixel, yellow at %.3g)\n", path.c_str(),
-                    double(args.heatScale));
+        std::printf("wrote %s (fraction of differing samples per pixel, yellow at %.3g)\n",
+                    printable(path).c_str(), double(args.heatScale));
     }
     return 0;
 }
-
-/// The most seeds --converged averages (a bound against typing mistakes, not a limit of the math).
-constexpr int kMaxConvergedFrames = 4096;
 
 std::string formatSigned(double value) {
     char text[64];
@@ -432,6 +468,46 @@ void writeSheet(const std::string& path, const std::vector<ImageSet>& sets, cons
     writePng(path, out);
 }
 
+/// Every file a compare of a SCENE writes, for checkOutputFiles: --json, --sheet, and the files
+/// of --out (writeImages and the converged images) and of --report (writeReport) for the rows
+/// of `rows` (--against first). A file named twice in a folder (a method listed twice) is one.
+std::vector<OutputFile> sceneCompareOutputs(const CompareArgs& args, const std::vector<MethodBackend>& rows) {
+    std::vector<OutputFile> outputs = {{"--json", args.json, {".json"}}, {"--sheet", args.sheet, {".png"}}};
+    const bool converged = args.converged.has_value();
+    auto inFolder = [&](const std::string& option, const std::string& dir,
+                        const std::vector<std::string>& names) {
+        std::vector<std::string> seen;
+        for (const std::string& name : names) {
+            if (std::find(seen.begin(), seen.end(), name) != seen.end()) continue;
+            seen.push_back(name);
+            outputs.push_back({option, (fs::path(dir) / name).string(), {lowerExtension(name)}});
+        }
+    };
+    if (!args.out.empty()) {
+        std::vector<std::string> names;
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+            const std::string stem = fileStem(rows[i]);
+            for (const char* suffix : {"_visibility.png", "_lit.png"}) names.push_back(stem + suffix);
+            if (i > 0)
+                for (const char* suffix : {"_diff.png", "_bitdiff.png"}) names.push_back(stem + suffix);
+            if (converged) names.push_back(stem + "_converged_diff.png");
+        }
+        if (converged)
+            for (const char* name : {"converged_visibility.png", "converged_lit.png"}) names.push_back(name);
+        inFolder("--out", args.out, names);
+    }
+    if (!args.report.empty()) {
+        std::vector<std::string> names = {"index.html", "heat_scale.png"};
+        for (std::size_t i = 0; i < rows.size(); ++i)
+            for (const char* suffix : {"_lit.png", "_visibility.png", "_error.png"})
+                names.push_back(fileStem(rows[i]) + suffix);
+        if (converged)
+            for (const char* name : {"converged_lit.png", "converged_visibility.png"}) names.push_back(name);
+        inFolder("--report", args.report, names);
+    }
+    return outputs;
+}
+
 } // namespace
 
 int runCompare(CompareArgs& args) {
@@ -449,14 +525,26 @@ int runCompare(CompareArgs& args) {
         if (!files)
             throw UsageError("compare takes one SCENE, two .npy light-sample files, or two visibility files "
                              "(.exr or float32 .npy)");
-        if (args.converged || !args.report.empty() || !args.sheet.empty())
+        if (args.converged || !args.report.empty() || !args.sheet.empty() || !args.json.empty())
             throw UsageError(std::string(args.converged         ? "--converged"
                                          : !args.report.empty() ? "--report"
-                                                                : "--sheet") +
-                             " compares renders of a SCENE, not two .npy light-sample files");
-        if (isExr(args.inputs[0]) || isExr(args.inputs[1]) || readNpy(args.inputs[0]).dtype == "<f4")
-            return compareVisibilityFiles(args);
-        return compareNpy(args);
+                                         : !args.sheet.empty()  ? "--sheet"
+                                                                : "--json") +
+                             " compares renders of a SCENE, not two files");
+        // The files are read once, before anything is written: --out's heat map must be neither.
+        std::vector<InputFile> inputs;
+        for (const std::string& input : args.inputs) {
+            inputs.push_back({"an input", input});
+            if (isNpy(input)) inputs.push_back({"an input's metadata", npyInfoPath(input)});
+        }
+        if (!args.out.empty()) {
+            prepareOutputDirectory(args.out, "--out");
+            checkOutputFiles({{"--out", (fs::path(args.out) / "difference.png").string(), {".png"}}}, inputs);
+        }
+        if (isExr(args.inputs[0]) || isExr(args.inputs[1])) return compareVisibilityFiles(args);
+        const NpyArray a = readNpy(args.inputs[0]);
+        if (a.dtype == "<f4") return compareVisibilityFiles(args);
+        return compareNpy(args, a, readNpy(args.inputs[1]));
     }
     if (args.inputs.size() != 1) throw UsageError("compare takes one SCENE, or two .npy light-sample files");
     if (isNpy(args.inputs[0])) throw UsageError("compare of light-sample files needs two .npy files");
@@ -471,18 +559,21 @@ int runCompare(CompareArgs& args) {
     std::vector<Method> all{against.method};
     for (const MethodBackend& mb : methods) all.push_back(mb.method);
     const std::vector<MethodParams> params = paramsForMethods(all, args.params);
+    if (!args.kind.empty()) throw UsageError("--kind applies to two .npy light-sample files, not a SCENE");
     if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
-    if (!args.json.empty()) checkWritableFile(args.json, "--json");
     if (!args.report.empty()) prepareOutputDirectory(args.report, "--report");
-    if (!args.sheet.empty()) {
-        if (fs::path(args.sheet).extension() != ".png")
-            throw UsageError("--sheet " + args.sheet +
-                             ": the contact sheet is written as PNG, name a .png file");
-        checkWritableFile(args.sheet, "--sheet");
-    }
+    std::vector<MethodBackend> rowMethods{against}; // the rows, in order (the methods' files)
+    for (const MethodBackend& mb : methods)
+        if (mb.method != against.method || mb.backend != against.backend) rowMethods.push_back(mb);
+    const std::vector<OutputFile> outputs = sceneCompareOutputs(args, rowMethods);
+    std::vector<InputFile> inputs;
+    if (std::error_code ec; fs::is_regular_file(spec, ec)) inputs.push_back({"the scene", spec});
+    checkOutputFiles(outputs, inputs);
 
     const SceneOptions sceneSets = sceneOptionsOf(args);
     const Scene scene = loadScene(spec, sceneSets);
+    printSceneWarnings(scene, args.quiet);
+    checkOutputFiles(outputs, sceneInputFiles(spec, scene));
     checkFrameMemory(base, scene.lights.size());
 
     auto optionsOf = [&](const MethodBackend& mb) {
@@ -500,7 +591,7 @@ int runCompare(CompareArgs& args) {
         Frame frame = renderFrame(scene, optionsOf(mb));
         frameMs = frameMsOf(frame, wall.milliseconds());
         for (const std::string& warning : frameWarnings(frame.stats))
-            std::fprintf(stderr, "stsv: warning: %s\n", warning.c_str());
+            std::fprintf(stderr, "stsv: warning: %s\n", printable(warning).c_str());
         return frame;
     };
     double againstMs = 0.0;
@@ -560,8 +651,8 @@ int runCompare(CompareArgs& args) {
                  toImage8(converged->images.color, true));
     }
 
-    std::printf("%s, %dx%d, %d samples (%s, seed %u), against %s\n", scene.source.c_str(), base.width,
-                base.height, base.samples, toString(base.pattern).c_str(), base.seed,
+    std::printf("%s, %dx%d, %d samples (%s, seed %u), against %s\n", printable(scene.source).c_str(),
+                base.width, base.height, base.samples, toString(base.pattern).c_str(), base.seed,
                 toString(against).c_str());
     std::printf("%-16s %12s %12s %10s %10s %10s %10s %10s %10s %11s\n", "method", "identical %", "diff. bits",
                 "vis RMSE", "vis max", "lit RMSE", "lit max", "lit SSIM", ">1/255 px", "frame ms");
@@ -580,11 +671,14 @@ int runCompare(CompareArgs& args) {
                         r.transmittanceRmse ? formatFixed(*r.transmittanceRmse, 5).c_str() : "n/a");
         std::printf("\n");
     }
+    // The n/a rows' methods, from the rows themselves: each method once, by its row in the table.
+    std::vector<Method> naMethods;
+    for (const Row& r : rows)
+        if (!r.perSample && methodInfo(r.mb.method).output == MethodOutput::Visibility &&
+            std::find(naMethods.begin(), naMethods.end(), r.mb.method) == naMethods.end())
+            naMethods.push_back(r.mb.method);
     std::string visibilityOnly;
-    for (const MethodBackend& mb : methods)
-        if (methodInfo(mb.method).output == MethodOutput::Visibility &&
-            visibilityOnly.find(toString(mb.method)) == std::string::npos)
-            visibilityOnly += (visibilityOnly.empty() ? "" : ", ") + toString(mb.method);
+    for (Method m : naMethods) visibilityOnly += (visibilityOnly.empty() ? "" : ", ") + toString(m);
     if (methodInfo(against.method).output == MethodOutput::Visibility)
         visibilityOnly = "every method: " + toString(against.method) + ", the method compared with,";
     const std::string equalNote =
@@ -630,7 +724,7 @@ int runCompare(CompareArgs& args) {
     } else {
         biasTable.note = "(" + std::string(kBiasNote) + ")";
     }
-    if (!args.out.empty()) std::printf("images in %s\n", args.out.c_str());
+    if (!args.out.empty()) std::printf("images in %s\n", printable(args.out).c_str());
 
     if (!args.report.empty() || !args.sheet.empty()) {
         const std::vector<ImageSet> sets =
@@ -645,12 +739,12 @@ int runCompare(CompareArgs& args) {
             const Report report = describeReport(args, scene, sceneSets, optionsOf(against), rows, tables,
                                                  converged ? convergedSummary : "not requested");
             writeReport(args.report, report, sets, "|visibility - " + heatAgainst + "|", args.heatScale);
-            std::printf("report in %s\n", (fs::path(args.report) / "index.html").string().c_str());
+            std::printf("report in %s\n", printable((fs::path(args.report) / "index.html").string()).c_str());
         }
         if (!args.sheet.empty()) {
             writeSheet(args.sheet, sets, "|dv| " + heatAgainst,
                        args.heatScale); // fits a 192-pixel tile at scale 2
-            std::printf("contact sheet in %s\n", args.sheet.c_str());
+            std::printf("contact sheet in %s\n", printable(args.sheet).c_str());
         }
     }
 
@@ -700,6 +794,7 @@ int runCompare(CompareArgs& args) {
             j["noise_floor"] = errorJson(rows.front().convergedVisibility, rows.front().convergedLit);
         }
         writeJson(args.json, j);
+        std::printf("wrote %s\n", printable(args.json).c_str());
     }
     return 0;
 }

@@ -15,6 +15,7 @@
 
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <iostream>
 #include <sstream>
 #include <thread>
@@ -28,6 +29,46 @@ std::vector<std::string> extrusionNames(const DeviceInfo& d) {
     std::vector<std::string> names;
     for (const ExtrusionStage stage : offeredExtrusions(d)) names.push_back(toString(stage));
     return names;
+}
+
+/// The light-sample buffers row `m` writes, from the table: for each kind --buffer may ask of it
+/// (transmittance only where MethodInfo::writesTransmittance), the kind the row's frame holds
+/// (MethodInfo::bufferKind), each once, in --buffer's order. None for a row that writes a
+/// visibility image only.
+std::vector<BufferKind> bufferKindsOf(const MethodInfo& m) {
+    std::vector<BufferKind> kinds;
+    if (m.output == MethodOutput::Visibility) return kinds;
+    for (BufferKind requested : {BufferKind::Bitmask, BufferKind::Counters, BufferKind::Transmittance}) {
+        if (requested == BufferKind::Transmittance && !m.writesTransmittance()) continue;
+        const BufferKind held = m.bufferKind(requested);
+        if (std::find(kinds.begin(), kinds.end(), held) == kinds.end()) kinds.push_back(held);
+    }
+    return kinds;
+}
+
+/// "a, b or c".
+std::string listText(const std::vector<BufferKind>& kinds, const char* conjunction) {
+    std::string text;
+    for (std::size_t i = 0; i < kinds.size(); ++i)
+        text += (i == 0                  ? ""
+                 : i + 1 == kinds.size() ? std::string(" ") + conjunction + " "
+                                         : ", ") +
+                toString(kinds[i]);
+    return text;
+}
+
+/// What row `m` writes per light: "per-sample bitmask, counters or transmittance (--buffer)",
+/// "per-sample counters", "visibility image", or for a visibility row that takes translucent
+/// triangles' transmittance (MethodInfo::writesTransmittance) "visibility image (fractional
+/// through translucent triangles with --buffer transmittance)".
+std::string writesText(const MethodInfo& m) {
+    const std::vector<BufferKind> kinds = bufferKindsOf(m);
+    if (kinds.empty())
+        return toString(m.output) + (m.writesTransmittance()
+                                         ? " (fractional through translucent triangles with "
+                                           "--buffer transmittance)"
+                                         : "");
+    return "per-sample " + listText(kinds, "or") + (kinds.size() > 1 ? " (--buffer)" : "");
 }
 
 std::string backendList(const MethodInfo& m) {
@@ -53,6 +94,22 @@ nlohmann::json vec(vec3 v) {
     return {v.x, v.y, v.z};
 }
 
+/// The texels the scene holds, RGBA8, and what each texture's record costs besides.
+double textureBytes(const Scene& scene) {
+    double bytes = 0.0;
+    for (const Texture& t : scene.textures) bytes += double(t.rgba.capacity()) + double(sizeof(Texture));
+    return bytes;
+}
+
+/// What the scene holds from loading to a frame: each triangle's share of every stage
+/// (SCENE_BYTES_PER_TRIANGLE: positions, meshes, adjacency, the ray tracer's BVH, GPU tables),
+/// its textures' texels, and its materials, meshes and lights.
+double sceneBytes(const Scene& scene) {
+    return double(scene.triangleCount()) * SCENE_BYTES_PER_TRIANGLE + textureBytes(scene) +
+           double(scene.materials.size() * sizeof(Material) + scene.meshes.size() * sizeof(Mesh) +
+                  scene.lights.size() * sizeof(Light));
+}
+
 /// What a scene holds and what a frame of `args`' options would hold, as JSON (printed as text
 /// or as it is with --json).
 nlohmann::json sceneInfo(const InfoArgs& args) {
@@ -63,6 +120,7 @@ nlohmann::json sceneInfo(const InfoArgs& args) {
         args.backend.empty() ? defaultBackendFor(o.method, defaultBackend()) : parseBackend(args.backend);
     checkBackendSupports(o.method, o.backend);
     const Scene scene = loadScene(args.scene, sceneOptionsOf(args));
+    printSceneWarnings(scene, args.quiet);
 
     nlohmann::json j = sceneStats(scene);
     j["opaque_triangles"] = scene.triangleCount() - j["perforated_triangles"].get<std::size_t>() -
@@ -110,9 +168,9 @@ nlohmann::json sceneInfo(const InfoArgs& args) {
                    {"target", vec(scene.camera.target)},
                    {"up", vec(scene.camera.up)},
                    {"fov_y_degrees", scene.camera.fovY}};
-    const double sceneBytes = double(scene.triangleCount()) * SCENE_BYTES_PER_TRIANGLE;
     const double frameBytes = estimateFrameBytes(o, scene.lights.size());
-    j["memory"] = {{"scene_bytes", sceneBytes},
+    j["memory"] = {{"scene_bytes", sceneBytes(scene)},
+                   {"texture_bytes", textureBytes(scene)},
                    {"frame_bytes", frameBytes},
                    {"limit_bytes", memoryLimitBytes()},
                    {"frame",
@@ -131,19 +189,19 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
         s << '(' << v[0].get<double>() << ", " << v[1].get<double>() << ", " << v[2].get<double>() << ')';
         return s.str();
     };
-    out << j["source"].get<std::string>() << '\n';
+    out << printable(j["source"].get<std::string>()) << '\n';
     out << "  triangles: " << j["triangles"] << " (" << j["opaque_triangles"] << " opaque, "
         << j["perforated_triangles"] << " perforated, " << j["translucent_triangles"]
         << " translucent); faces skipped as degenerate: " << j["skipped_faces"] << '\n';
     out << "  materials:\n";
     for (const nlohmann::json& m : j["materials"]) {
-        out << "    " << m["name"].get<std::string>() << ": albedo " << v3(m["albedo"])
+        out << "    " << printable(m["name"].get<std::string>()) << ": albedo " << v3(m["albedo"])
             << (m["double_sided"].get<bool>() ? ", double-sided" : "") << ", "
             << m["alpha_mode"].get<std::string>();
         if (m.contains("alpha_factor")) out << " (alpha factor " << m["alpha_factor"].get<double>() << ")";
         if (m.contains("alpha_texture")) {
             const nlohmann::json& t = m["alpha_texture"];
-            out << ", alpha texture " << t["name"].get<std::string>() << " (" << t["width"] << "x"
+            out << ", alpha texture " << printable(t["name"].get<std::string>()) << " (" << t["width"] << "x"
                 << t["height"] << ", " << t["wrap"].get<std::string>() << ")";
         }
         out << '\n';
@@ -167,11 +225,11 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
         << ", fovY " << c["fov_y_degrees"].get<double>() << " degrees\n";
     const nlohmann::json& m = j["memory"];
     const nlohmann::json& f = m["frame"];
-    out << "  memory: scene about " << formatBytes(m["scene_bytes"].get<double>()) << "; a " << f["width"]
-        << "x" << f["height"] << " frame of " << f["method"].get<std::string>() << " on "
-        << f["backend"].get<std::string>() << " with " << f["samples"] << " samples ("
-        << f["buffer"].get<std::string>() << ") about " << formatBytes(m["frame_bytes"].get<double>())
-        << "; limit " << describeMemoryLimit() << '\n';
+    out << "  memory: scene about " << formatBytes(m["scene_bytes"].get<double>()) << " (textures "
+        << formatBytes(m["texture_bytes"].get<double>()) << "); a " << f["width"] << "x" << f["height"]
+        << " frame of " << f["method"].get<std::string>() << " on " << f["backend"].get<std::string>()
+        << " with " << f["samples"] << " samples (" << f["buffer"].get<std::string>() << ") about "
+        << formatBytes(m["frame_bytes"].get<double>()) << "; limit " << describeMemoryLimit() << '\n';
 }
 
 } // namespace
@@ -242,7 +300,7 @@ int runInfo(const InfoArgs& args) {
     out << "methods:\n";
     for (const MethodInfo& m : methodTable()) {
         out << "  " << m.name << ": " << m.description << '\n';
-        out << "      " << toString(m.family) << "; writes " << toString(m.output) << "; runs on "
+        out << "      " << toString(m.family) << "; writes " << writesText(m) << "; runs on "
             << backendList(m) << '\n';
         for (const MethodKnob& k : m.knobs)
             out << "      --param " << k.name << '=' << k.defaultValue << "  " << k.help << " (" << k.min
@@ -250,7 +308,13 @@ int runInfo(const InfoArgs& args) {
     }
     out << "backends:  vulkan, cpu (default: " << toString(defaultBackend()) << ")\n";
     out << "patterns:  uniform, stratified, poisson, lowdisc; samples 16, 32, 64, 128, 256\n";
-    out << "buffers:   bitmask, counters\n";
+    std::vector<BufferKind> buffers; // every kind some row writes
+    for (const MethodInfo& m : methodTable())
+        for (BufferKind kind : bufferKindsOf(m))
+            if (std::find(buffers.begin(), buffers.end(), kind) == buffers.end()) buffers.push_back(kind);
+    std::sort(buffers.begin(), buffers.end());
+    out << "buffers:   " << listText(buffers, "and") << " (--buffer; default "
+        << toString(BufferKind::Bitmask) << ")\n";
     out << "built-in scenes:\n";
     for (const std::string& name : builtinSceneNames()) {
         out << "  " << name << ": " << describeBuiltinScene(name) << '\n';

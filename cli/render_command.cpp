@@ -13,6 +13,7 @@
 #include "scene/load.h"
 #include "shadowmaps/shadow_map_dh.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
@@ -67,6 +68,26 @@ RenderOptions resolveFrameOptions(const FrameArgs& args) {
 
 namespace {
 
+/// Every file a render writes, in the order it writes them: the options' files, each light's
+/// beyond the first (perLightPath) and the metadata beside each .npy of light samples or visibility.
+std::vector<OutputFile> outputFilesOf(const RenderArgs& args, std::size_t lights) {
+    std::vector<OutputFile> files = {{"-o", args.output, {".png", ".exr"}},
+                                     {"--visibility", args.visibility, {".png", ".npy", ".exr"}}};
+    if (lowerExtension(args.visibility) == ".npy")
+        files.push_back({"--visibility's metadata", npyInfoPath(args.visibility), {".json"}});
+    for (std::size_t l = 0; !args.dumpLs.empty() && l < std::max<std::size_t>(lights, 1); ++l) {
+        const std::string option = l == 0 ? "--dump-ls" : "--dump-ls (light " + std::to_string(l) + ")";
+        files.push_back({option, perLightPath(args.dumpLs, l), {".npy"}});
+        files.push_back({option + "'s metadata", npyInfoPath(perLightPath(args.dumpLs, l)), {".json"}});
+    }
+    for (std::size_t l = 0; !args.shadowMap.empty() && l < std::max<std::size_t>(lights, 1); ++l)
+        files.push_back({l == 0 ? "--shadow-map" : "--shadow-map (light " + std::to_string(l) + ")",
+                         perLightPath(args.shadowMap, l),
+                         {".npy"}});
+    files.push_back({"--stats", args.stats, {".json"}});
+    return files;
+}
+
 std::size_t bufferBytes(const Frame& frame) {
     std::size_t bytes = 0;
     for (const LightSampleBuffer& b : frame.lightSamples) bytes += b.memoryBytes();
@@ -106,12 +127,11 @@ int runRender(RenderArgs& args) {
         throw UsageError("--shadow-map: method " + method.name +
                          " keeps transmittance functions, not a depth map (their nodes and memory are in "
                          "--stats)");
-    const std::vector<OutputFile> outputs = {{"-o", args.output, {".png", ".exr"}},
-                                             {"--visibility", args.visibility, {".png", ".npy", ".exr"}},
-                                             {"--dump-ls", args.dumpLs, {".npy"}},
-                                             {"--shadow-map", args.shadowMap, {".npy"}},
-                                             {"--stats", args.stats, {".json"}}};
-    checkOutputFiles(outputs);
+    // The scene file itself is checked now, its textures once it is loaded.
+    std::vector<InputFile> inputs;
+    if (std::error_code ec; std::filesystem::is_regular_file(args.scene, ec))
+        inputs.push_back({"the scene", args.scene});
+    checkOutputFiles(outputFilesOf(args, 1), inputs);
     if (!args.dumpLs.empty() && o.buffer == BufferKind::Bitmask && o.samples % 8 != 0)
         throw UsageError("--dump-ls of a bitmask needs a sample count that is a multiple of 8");
     if (!args.shadowMap.empty()) o.keepShadowMaps = true;
@@ -120,34 +140,54 @@ int runRender(RenderArgs& args) {
     Timer loadTimer;
     const Scene scene = loadScene(args.scene, sceneOptions);
     const double loadMs = loadTimer.milliseconds();
+    printSceneWarnings(scene, args.quiet);
     checkFrameMemory(o, scene.lights.size());
+    // Now that the lights are known: every file the frame will write, the other lights' and the
+    // .npy files' metadata included, against each other and against the files the scene was read from.
+    const std::vector<OutputFile> outputs = outputFilesOf(args, scene.lights.size());
+    checkOutputFiles(outputs, sceneInputFiles(args.scene, scene));
 
     Timer total;
     Frame frame = renderFrame(scene, o);
     const double renderMs = total.milliseconds();
     for (const std::string& warning : frameWarnings(frame.stats))
-        std::fprintf(stderr, "stsv: warning: %s\n", warning.c_str());
+        std::fprintf(stderr, "stsv: warning: %s\n", printable(warning).c_str());
 
+    const std::string madeBy = toString(o.method) + "/" + toString(o.backend);
+    std::vector<std::string> written; // every file, in the order written
     if (!args.output.empty()) {
         if (lowerExtension(args.output) == ".exr")
             writeExr(args.output, frame.color, true); // linear RGB, half floats: no clipped highlights
         else
             writePng(args.output, toImage8(frame.color, true));
+        written.push_back(args.output);
     }
     if (!args.visibility.empty()) {
         const std::string ext = lowerExtension(args.visibility);
-        if (ext == ".png")
+        if (ext == ".png") {
             writePng(args.visibility, toImage8(frame.visibility, false));
-        else if (ext == ".exr")
+        } else if (ext == ".exr") {
             writeExr(args.visibility, frame.visibility, false); // float32 Y: v_coef unquantised
-        else
+        } else {
             writeNpy(args.visibility, frame.visibility); // float32 v_coef, unquantised
+            writeJson(npyInfoPath(args.visibility), {{"format", "stsv visibility"},
+                                                     {"samples", o.samples},
+                                                     {"width", o.width},
+                                                     {"height", o.height},
+                                                     {"lights", scene.lights.size()},
+                                                     {"method", madeBy}});
+            written.push_back(args.visibility);
+            written.push_back(npyInfoPath(args.visibility));
+        }
+        if (ext != ".npy") written.push_back(args.visibility);
     }
     std::vector<std::string> npyFiles;
     if (!args.dumpLs.empty())
         for (std::size_t l = 0; l < frame.lightSamples.size(); ++l) {
             npyFiles.push_back(perLightPath(args.dumpLs, l));
-            frame.lightSamples[l].writeNpy(npyFiles.back());
+            frame.lightSamples[l].writeNpy(npyFiles.back(), madeBy);
+            written.push_back(npyFiles.back());
+            written.push_back(npyInfoPath(npyFiles.back()));
         }
 
     std::vector<std::string> mapFiles;
@@ -155,6 +195,7 @@ int runRender(RenderArgs& args) {
     for (std::size_t l = 0; l < frame.shadowMaps.size(); ++l) {
         mapFiles.push_back(perLightPath(args.shadowMap, l));
         writeShadowMapNpy(mapFiles.back(), frame.shadowMaps[l]);
+        written.push_back(mapFiles.back());
         mapViews.push_back(shadowMapViewJson(frame.shadowMaps[l].view));
     }
 
@@ -174,16 +215,20 @@ int runRender(RenderArgs& args) {
                         {"visibility", args.visibility},
                         {"light_samples", npyFiles},
                         {"shadow_maps", mapFiles}};
-    if (!args.stats.empty()) writeJson(args.stats, stats);
+    if (!args.stats.empty()) {
+        writeJson(args.stats, stats);
+        written.push_back(args.stats);
+    }
 
     if (!args.quiet) {
         const double frameMs = stats.contains("frame_ms") && stats["frame_ms"].is_number()
                                    ? stats["frame_ms"].get<double>()
                                    : renderMs;
         std::fprintf(stderr, "%s: %s on %s, %d samples, %dx%d: frame %.1f ms (start-up %.1f ms)\n",
-                     scene.source.c_str(), toString(o.method).c_str(), toString(o.backend).c_str(), o.samples,
-                     o.width, o.height, frameMs, stats.value("startup_ms", 0.0));
+                     printable(scene.source).c_str(), toString(o.method).c_str(), toString(o.backend).c_str(),
+                     o.samples, o.width, o.height, frameMs, stats.value("startup_ms", 0.0));
     }
+    for (const std::string& path : written) reportWritten(path, args.quiet);
     return 0;
 }
 

@@ -60,6 +60,12 @@ struct InfoArgs : FrameArgs {
 };
 int runInfo(const InfoArgs& args);
 
+/// The ranges of bench's --repeat (timed frames) and --warmup (untimed frames before them).
+constexpr int kMinRepeat = 1;
+constexpr int kMaxRepeat = 10000;
+constexpr int kMinWarmup = 0;
+constexpr int kMaxWarmup = 1000;
+
 /// Bench arguments; `given` lists the options given on the command line, which override a
 /// preset's values.
 struct BenchArgs : FrameArgs {
@@ -88,6 +94,10 @@ nlohmann::json loadBenchPresets(const std::string& file = "");
 /// known presets when there is no such preset, or naming an unknown key of the preset.
 void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std::string& name);
 
+/// The most seeds compare --converged averages (a bound against typing mistakes, not a limit of
+/// the math).
+constexpr int kMaxConvergedFrames = 4096;
+
 struct CompareArgs : FrameArgs {
     std::vector<std::string> inputs; ///< SCENE, or two .npy files
     std::string methods = "stsv";
@@ -100,6 +110,8 @@ struct CompareArgs : FrameArgs {
     bool noCache = false;          ///< render the converged reference even when the cache holds it
     std::string report;            ///< directory for index.html and its images (none when empty)
     std::string sheet;             ///< contact-sheet PNG (none when empty)
+    std::string kind;              ///< two .npy files without metadata: what they hold (--kind)
+    bool samplesGiven = false;     ///< --samples was given (two .npy files must hold that many)
     std::vector<std::string> argv; ///< the command line, shown in the report
 };
 int runCompare(CompareArgs& args);

@@ -384,3 +384,25 @@ TEST(StructuralSimilarity, EqualFlatAndInvertedImagesGiveTheClosedForms) {
 
 } // namespace
 } // namespace stsv
+
+namespace stsv {
+namespace {
+
+// What the loaders noted about a scene reaches the user once it is loaded, with the scene it is
+// about, escaped like every message; -q keeps it back.
+TEST(SceneWarnings, PrintedWithTheSceneUnlessQuiet) {
+    Scene scene;
+    scene.source = "models/tree.gltf";
+    scene.warnings = {"2 primitives of mode LINES skipped", std::string("name \0 with a NUL", 17)};
+    testing::internal::CaptureStderr();
+    printSceneWarnings(scene, false);
+    const std::string printed = testing::internal::GetCapturedStderr();
+    EXPECT_EQ(printed, "stsv: warning: models/tree.gltf: 2 primitives of mode LINES skipped\n"
+                       "stsv: warning: models/tree.gltf: name \\x00 with a NUL\n");
+    testing::internal::CaptureStderr();
+    printSceneWarnings(scene, true);
+    EXPECT_EQ(testing::internal::GetCapturedStderr(), "");
+}
+
+} // namespace
+} // namespace stsv

@@ -542,9 +542,9 @@ TEST(ConvergedCli, BadInputGivesOneLineAndNonZeroExit) {
         return args;
     };
     const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
-        {with({"compare", "fence", "--converged", "0"}), "--converged 0"},
-        {with({"compare", "fence", "--converged", "-2"}), "--converged -2"},
-        {with({"compare", "fence", "--converged", "5000"}), "--converged 5000"},
+        {with({"compare", "fence", "--converged", "0"}), "--converged: 0 is out of range (1 to 4096)"},
+        {with({"compare", "fence", "--converged", "-2"}), "--converged: -2 is out of range (1 to 4096)"},
+        {with({"compare", "fence", "--converged", "5000"}), "--converged: 5000 is out of range (1 to 4096)"},
         {with({"compare", "fence", "--converged", "two"}), "--converged"},
         {with({"compare", dir.file("a.npy"), dir.file("b.npy"), "--converged", "2"}),
          "--converged compares renders of a SCENE"},

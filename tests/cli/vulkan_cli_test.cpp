@@ -36,12 +36,12 @@ TEST(VulkanCli, SamplingOptionsReachBothBackendsAlike) {
         std::vector<std::string> args = {"render",       "fence",   "--backend",
                                          backend,        "--size",  "24x16",
                                          "--samples",    "16",      "--dump-ls",
-                                         dir.file(name), "--stats", dir.file(name + ".json"),
+                                         dir.file(name), "--stats", dir.file(name + ".stats.json"),
                                          "-q",           "-o",      dir.file(name + ".png")};
         args.insert(args.end(), extra.begin(), extra.end());
         const CliResult r = runStsv(args);
         EXPECT_EQ(r.code, 0) << describe(args, r);
-        return readJson(dir.file(name + ".json"));
+        return readJson(dir.file(name + ".stats.json"));
     };
     dump("default_cpu.npy", "cpu", {});
     const nlohmann::json base = dump("default_vulkan.npy", "vulkan", {});

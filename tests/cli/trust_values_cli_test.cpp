@@ -1,0 +1,257 @@
+// What the command line takes and says, as a user can rely on it: an empty value is refused, not
+// read as the option left out; a number out of range names the option, the value and the range;
+// `info` reads a scene under --max-memory and counts all it holds; its method list says what each
+// row writes, from the table; a Vulkan driver manifest that cannot be used is named; and text
+// quoted from input keeps its NUL bytes, escaped.
+#include "cli_test_util.h"
+
+#include "core/image.h"
+#include "render/methods.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace stsv::test {
+namespace {
+
+namespace fs = std::filesystem;
+
+void writeText(const std::string& path, const std::string& text) {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    ASSERT_TRUE(out.good()) << path;
+}
+
+/// The options of `command` that take a value, with their type as --help shows it ("--seed",
+/// "UINT"): every line of the help's option list that names a type after the option.
+std::vector<std::pair<std::string, std::string>> valueOptions(const std::string& command) {
+    const CliResult help = runStsv({command, "--help"});
+    EXPECT_EQ(help.code, 0) << help.err;
+    static const std::regex line(R"(^  (?:-\w,)?(--[\w-]+) (TEXT|INT|UINT|FLOAT)\b)");
+    std::vector<std::pair<std::string, std::string>> options;
+    std::istringstream text(help.out);
+    for (std::string l; std::getline(text, l);)
+        if (std::smatch m; std::regex_search(l, m, line)) options.emplace_back(m[1].str(), m[2].str());
+    return options;
+}
+
+const std::vector<std::string> kCommands = {"render", "info", "bench", "compare"};
+
+// `-o ""` wrote fence.png in the current directory, `--camera ''` and `--backend ""` were
+// ignored, and `stsv render ""` blamed -o: every option that takes a value refuses an empty one,
+// naming it, and an empty scene is named as such.
+TEST(TrustValues, EveryOptionRefusesAnEmptyValue) {
+    ScratchDir dir;
+    const fs::path before = fs::current_path();
+    fs::current_path(dir.path());
+    for (const std::string& command : kCommands) {
+        const std::vector<std::pair<std::string, std::string>> options = valueOptions(command);
+        EXPECT_GT(options.size(), 10u) << command << " --help lists no options";
+        for (const auto& [option, type] : options) {
+            const std::vector<std::string> args = {command, "fence", option, "", "-q"};
+            const CliResult r = runStsv(args);
+            EXPECT_EQ(r.code, 1) << describe(args, r);
+            EXPECT_NE(r.err.find(option + ": the value is empty"), std::string::npos) << describe(args, r);
+        }
+        if (command == "info") continue; // its scene is optional
+        const CliResult scene = runStsv({command, "", "-q"});
+        EXPECT_EQ(scene.code, 1) << scene.out;
+        EXPECT_NE(scene.err.find(command == "compare" ? "the scene or file name is empty"
+                                                      : "the scene name is empty"),
+                  std::string::npos)
+            << scene.err;
+    }
+    fs::current_path(before);
+    EXPECT_TRUE(fs::is_empty(dir.path())) << "a refused command wrote a file";
+}
+
+// `--seed 4294967296` said "Could not convert": every integer option names itself, the value and
+// the values it takes.
+TEST(TrustValues, AnIntegerOutOfRangeNamesTheOptionTheValueAndTheRange) {
+    const CliResult seed = runStsv({"render", "fence", "--seed", "4294967296", "-q"});
+    EXPECT_EQ(seed.code, 1);
+    EXPECT_NE(seed.err.find("--seed: 4294967296 is out of range (0 to 4294967295)"), std::string::npos)
+        << seed.err;
+    for (const std::string& command : kCommands)
+        for (const auto& [option, type] : valueOptions(command)) {
+            if (type != "INT" && type != "UINT") continue;
+            for (const std::string value : {"99999999999999999999", "-99999999999999999999", "1.5", "ten"}) {
+                const std::vector<std::string> args = {command, "fence", option, value, "-q"};
+                const CliResult r = runStsv(args);
+                EXPECT_EQ(r.code, 1) << describe(args, r);
+                EXPECT_NE(r.err.find(option + ": "), std::string::npos) << describe(args, r);
+                EXPECT_NE(r.err.find(value), std::string::npos) << describe(args, r);
+                EXPECT_TRUE(std::regex_search(r.err, std::regex(R"(\((-?\d+ to \d+|(\d+, )+\d+)\))")))
+                    << "no accepted range in\n"
+                    << describe(args, r);
+            }
+        }
+    // A leading zero is decimal, not octal: --interleave 08 is 8.
+    const CliResult eight = runStsv({"info", "fence", "--interleave", "08", "--json"});
+    EXPECT_EQ(eight.code, 0) << eight.err;
+}
+
+/// A one-quad JSON scene whose material's alpha texture is `texture` (a path in the scene's
+/// folder, as JSON text).
+std::string texturedScene(const std::string& texture) {
+    return R"({"materials": [{"name": "m", "alphaTexture": )" + texture +
+           R"(}], "meshes": [{"quad": {"size": [1, 1]}, "material": "m"}], "lights": [{"type": "rectangle", )"
+           R"("position": [0, 3, 0], "normal": [0, -1, 0], "size": [1, 1], "radiance": [1, 1, 1]}]})";
+}
+
+// `stsv info SCENE` ignored --max-memory, decoded everything, said "scene about 10.2 KiB" for a
+// scene holding a large texture and printed the default limit whatever --max-memory said.
+TEST(TrustValues, InfoReadsTheSceneUnderMaxMemoryAndCountsItsTextures) {
+    ScratchDir dir;
+    Image8 texture;
+    texture.width = 1024;
+    texture.height = 1024;
+    texture.channels = 4;
+    texture.pixels.assign(std::size_t(1024) * 1024 * 4, 255);
+    writePng(dir.file("big.png"), texture);
+    writeText(dir.file("scene.json"), texturedScene("\"big.png\""));
+    const CliResult refused = runStsv({"info", dir.file("scene.json"), "--max-memory", "2M"});
+    EXPECT_EQ(refused.code, 1) << refused.out;
+    EXPECT_NE(refused.err.find("memory limit of 2.0 MiB"), std::string::npos) << refused.err;
+    const CliResult j = runStsv({"info", dir.file("scene.json"), "--max-memory", "512M", "--json"});
+    ASSERT_EQ(j.code, 0) << j.err;
+    const nlohmann::json memory = nlohmann::json::parse(j.out)["memory"];
+    EXPECT_EQ(memory["limit_bytes"], 512u << 20) << memory.dump();
+    // The texels alone: 1024 × 1024 RGBA8.
+    EXPECT_GE(memory["texture_bytes"].get<double>(), 4.0 * 1024 * 1024) << memory.dump();
+    EXPECT_GE(memory["scene_bytes"].get<double>(), 4.0 * 1024 * 1024) << memory.dump();
+    const CliResult text = runStsv({"info", dir.file("scene.json"), "--max-memory", "512M"});
+    ASSERT_EQ(text.code, 0) << text.err;
+    EXPECT_NE(text.out.find("(textures 4.0 MiB)"), std::string::npos) << text.out;
+    EXPECT_NE(text.out.find("limit 512.0 MiB (--max-memory)"), std::string::npos) << text.out;
+}
+
+// `stsv info` said "buffers: bitmask, counters" and "(or counters)" for every method, never
+// transmittance: both come from the method table, so a new row is described as it is.
+TEST(TrustValues, InfoSaysWhatEachRowWritesFromTheTable) {
+    const CliResult r = runStsv({"info"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    const std::vector<BufferKind> every = {BufferKind::Bitmask, BufferKind::Counters,
+                                           BufferKind::Transmittance};
+    std::vector<bool> written(every.size(), false);
+    for (const MethodInfo& m : methodTable()) {
+        // What the row holds for each --buffer it takes (transmittance where it writes that), as
+        // its fields say.
+        std::vector<std::string> kinds;
+        for (std::size_t i = 0; i < every.size() && m.output != MethodOutput::Visibility; ++i) {
+            if (every[i] == BufferKind::Transmittance && !m.writesTransmittance()) continue;
+            const BufferKind held = m.bufferKind(every[i]);
+            written[std::size_t(held)] = true;
+            if (std::find(kinds.begin(), kinds.end(), toString(held)) == kinds.end())
+                kinds.push_back(toString(held));
+        }
+        std::string expected = "writes ";
+        if (kinds.empty()) expected += "visibility image";
+        for (std::size_t i = 0; i < kinds.size(); ++i)
+            expected += (i == 0 ? "per-sample " : i + 1 == kinds.size() ? " or " : ", ") + kinds[i];
+        const std::size_t row = r.out.find("  " + m.name + ": " + m.description + "\n");
+        ASSERT_NE(row, std::string::npos) << m.name;
+        const std::size_t next = r.out.find('\n', row + 3 + m.name.size() + m.description.size());
+        const std::string line = r.out.substr(next + 1, r.out.find('\n', next + 1) - next - 1);
+        EXPECT_NE(line.find(expected), std::string::npos)
+            << m.name << ": '" << line << "' lacks '" << expected << "'";
+        EXPECT_EQ(line.find("transmittance") != std::string::npos, m.writesTransmittance())
+            << m.name << ": " << line;
+    }
+    std::string buffers = "buffers:   ";
+    for (std::size_t i = 0, listed = 0, total = std::size_t(std::count(written.begin(), written.end(), true));
+         i < every.size(); ++i)
+        if (written[i]) {
+            buffers += std::string(listed == 0           ? ""
+                                   : listed + 1 == total ? " and "
+                                                         : ", ") +
+                       toString(every[i]);
+            ++listed;
+        }
+    EXPECT_NE(r.out.find(buffers + " (--buffer"), std::string::npos) << "lacks '" << buffers << "':\n"
+                                                                     << r.out;
+}
+
+// compare's footnote listed the n/a rows' methods by a substring test: after vpcss, pcss was
+// "already there". It names each n/a row's method.
+TEST(TrustValues, CompareFootnoteNamesEveryNotApplicableRow) {
+    const CliResult r = runStsv({"compare", "fence", "--methods", "vpcss/cpu,pcss/cpu,stsv/cpu", "--size",
+                                 "16x12", "--samples", "16", "-q"});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("n/a: vpcss, pcss give(s) a v_coef per pixel"), std::string::npos) << r.out;
+}
+
+class ScopedEnv {
+  public:
+    ScopedEnv(const char* name, const std::string& value) : m_name(name) {
+        if (const char* old = std::getenv(name)) m_old = old;
+        ::setenv(name, value.c_str(), 1);
+    }
+    ~ScopedEnv() {
+        if (m_old)
+            ::setenv(m_name.c_str(), m_old->c_str(), 1);
+        else
+            ::unsetenv(m_name.c_str());
+    }
+    ScopedEnv(const ScopedEnv&) = delete;
+    ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+  private:
+    std::string m_name;
+    std::optional<std::string> m_old;
+};
+
+// A malformed VK_DRIVER_FILES manifest gave "VK_ERROR_OUT_OF_HOST_MEMORY at gpu/device.cpp:112"
+// (garbage) or "no Vulkan driver was found" (a manifest without its keys): the message names the
+// variable, the manifest and what is wrong with it.
+TEST(TrustValues, AMalformedDriverManifestIsNamed) {
+    ScratchDir dir;
+    writeText(dir.file("garbage.json"), "garbage");
+    writeText(dir.file("empty.json"), "{}");
+    writeText(dir.file("no_icd.json"), R"({"file_format_version": "1.0.0"})");
+    writeText(dir.file("no_library.json"),
+              R"({"file_format_version": "1.0.0", "ICD": {"library_path": "./libvulkan_none.so"}})");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"garbage.json", "is not valid JSON"},
+        {"empty.json", "lacks \"file_format_version\""},
+        {"no_icd.json", "lacks the \"ICD\" object"},
+        {"no_library.json",
+         "names the driver library " + dir.file("libvulkan_none.so") + ", which does not exist"},
+    };
+    for (const auto& [file, problem] : cases) {
+        ScopedEnv drivers("VK_DRIVER_FILES", dir.file(file));
+        ScopedEnv icd("VK_ICD_FILENAMES", dir.file(file));
+        const std::vector<std::string> args = {"render", "fence", "--backend",       "vulkan", "--size",
+                                               "8x8",    "-o",    dir.file("v.png"), "-q"};
+        const CliResult r = runStsv(args);
+        EXPECT_EQ(r.code, 1) << describe(args, r);
+        const std::string expected =
+            "VK_DRIVER_FILES names the Vulkan driver manifest " + dir.file(file) + ", which " + problem;
+        EXPECT_NE(r.err.find(expected), std::string::npos) << "lacks '" << expected << "'\n"
+                                                           << describe(args, r);
+        EXPECT_NE(r.err.find("--backend cpu"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+    }
+}
+
+// Text quoted from input that holds a NUL byte (a JSON string "\u0000") was cut at the NUL, as
+// the user guide's \xNN escapes promise it is not: the whole message arrives, the NUL as \x00.
+TEST(TrustValues, ANulByteInQuotedInputIsEscapedNotTheEndOfTheMessage) {
+    ScratchDir dir;
+    writeText(dir.file("nul.json"), texturedScene(R"("a\u0000b.png")"));
+    const CliResult r = runStsv({"render", dir.file("nul.json"), "--backend", "cpu", "--size", "8x8", "-q"});
+    EXPECT_EQ(r.code, 1) << r.out;
+    EXPECT_NE(r.err.find("a\\x00b.png"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("does not exist"), std::string::npos) << r.err;
+    EXPECT_EQ(r.err.find('\0'), std::string::npos) << r.err;
+}
+
+} // namespace
+} // namespace stsv::test
