@@ -4,13 +4,30 @@
 #include "core/memory_budget.h"
 #include "scene/occlusion_rules_dh.h"
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
+#include <limits>
 
 namespace stsv {
 
 namespace {
 bool finite(vec3 v) {
     return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// The shortest text that reads back as the float `value` ("1e+38", "0.0625").
+std::string shortText(float value) {
+    char buffer[32];
+    const char* end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
+    return std::string(static_cast<const char*>(buffer), end);
+}
+
+/// The shortest text of `value` to 3 significant digits ("2.6e+40", "0.0022").
+std::string roundText(double value) {
+    char buffer[32];
+    const char* end = std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general, 3).ptr;
+    return std::string(static_cast<const char*>(buffer), end);
 }
 } // namespace
 
@@ -32,17 +49,48 @@ std::string albedoProblem(vec3 albedo) {
     return {};
 }
 
+std::string lightSizeRangeText() {
+    return "[" + shortText(MIN_LIGHT_SIZE) + ", " + shortText(MAX_LIGHT_SIZE) + "]";
+}
+
 std::string lightProblem(const Light& l) {
     if (l.type > LIGHT_DIRECTIONAL) return "has an unknown type";
     if (!(finite(l.position) && finite(l.normal) && finite(l.axisU) && finite(l.axisV) &&
-          finite(l.radiance) && std::isfinite(l.radius) && std::isfinite(l.angularRadius)))
+          finite(l.radiance) && std::isfinite(l.angularRadius)))
         return "has a non-finite parameter";
+    if (l.type != LIGHT_DIRECTIONAL) {
+        // Its sizes: a rectangle's full edges (in double: the square of a huge axis overflows a
+        // float), a disk's or sphere's radius.
+        const auto edge = [](vec3 axis) { return 2.0 * glm::length(glm::dvec3(axis)); };
+        const bool rectangle = l.type == LIGHT_RECTANGLE;
+        for (const double size :
+             {rectangle ? edge(l.axisU) : double(l.radius), rectangle ? edge(l.axisV) : double(l.radius)})
+            if (!(size >= double(MIN_LIGHT_SIZE) && size <= double(MAX_LIGHT_SIZE)))
+                return std::string("has ") + (rectangle ? "an edge" : "a radius") + " of " + roundText(size) +
+                       " world units, outside the accepted " + lightSizeRangeText() +
+                       " (the samplers need its area as a normal float)";
+    }
+    if (!std::isfinite(l.radius)) return "has a non-finite parameter";
     if (!withinSceneRange(l.position)) return "lies beyond ±" + sceneRangeText() + " world units";
     if (std::abs(length(l.normal) - 1.0f) > 1e-3f) return "has a non-unit normal";
     if (l.radiance.x < 0.0f || l.radiance.y < 0.0f || l.radiance.z < 0.0f) return "has a negative radiance";
     if (l.type != LIGHT_DIRECTIONAL && !(l.radius > 0.0f)) return "has no extent";
     if (l.type == LIGHT_DIRECTIONAL && !(l.angularRadius >= 0.0f && l.angularRadius < 1.5707963f))
         return "has an angular radius outside [0, 90) degrees";
+    return {};
+}
+
+std::string texcoordProblem(vec2 uv, const Texture& texture) {
+    const int size[2] = {texture.width, texture.height};
+    for (int k = 0; k < 2; ++k) {
+        const double texels = std::abs(double(uv[k])) * double(size[k]);
+        if (!(texels < MAX_TEXEL_COORDINATE))
+            return std::string(k == 0 ? "u" : "v") + " = " + shortText(uv[k]) + " is " + roundText(texels) +
+                   " texels of texture '" + texture.name + "' (" + std::to_string(size[k]) +
+                   (k == 0 ? " wide" : " high") +
+                   "), beyond the 2^24 texels where a float texel coordinate is exact (past it "
+                   "consecutive floats are two or more texels apart)";
+    }
     return {};
 }
 
@@ -85,7 +133,59 @@ void Scene::addTriangle(vec3 a, vec3 b, vec3 c, vec2 ta, vec2 tb, vec2 tc, std::
     triangleMaterial.push_back(material);
 }
 
-void Scene::validate() const {
+namespace {
+
+/// The spacing of floats just above |x|: how finely a coordinate of that size is resolved.
+double floatSpacing(float x) {
+    const float a = std::abs(x);
+    return double(std::nextafter(a, std::numeric_limits<float>::infinity())) - double(a);
+}
+
+/// Whether triangle t's vertices, as the floats the scene holds, span no area (coincide or lie on
+/// one line). In double: the differences of floats and their products are then exact enough
+/// that only a truly flat triangle gives zero.
+bool collapsed(const Scene& scene, std::size_t t) {
+    const glm::dvec3 a(scene.positions[scene.triangles[t].x]), b(scene.positions[scene.triangles[t].y]),
+        c(scene.positions[scene.triangles[t].z]);
+    const glm::dvec3 n = glm::cross(b - a, c - a);
+    return n.x == 0.0 && n.y == 0.0 && n.z == 0.0;
+}
+
+/// Scene::validate's last step: the float precision left where the scene lies.
+void checkPrecision(Scene& scene) {
+    // Float spacing at the largest |coordinate| against the bounding-box diagonal: far from the
+    // origin a float coordinate keeps only the bits its offset leaves (MIN_SCENE_PRECISION).
+    float largest = 0.0f;
+    for (const vec3& p : scene.positions)
+        largest = std::max({largest, std::abs(p.x), std::abs(p.y), std::abs(p.z)});
+    const Bounds box = scene.bounds();
+    const double diagonal = glm::length(glm::dvec3(box.hi) - glm::dvec3(box.lo));
+    const double spacing = floatSpacing(largest);
+    // (A scene of one point has no extent to lose: its triangles are degenerate wherever it is.)
+    if (!(diagonal > 0.0) || spacing <= MIN_SCENE_PRECISION * diagonal) return;
+    std::size_t flat = 0;
+    for (std::size_t t = 0; t < scene.triangles.size(); ++t) flat += collapsed(scene, t) ? 1 : 0;
+    const vec3 centre = box.center();
+    const std::string where = "the scene lies far from the origin (coordinates up to " + roundText(largest) +
+                              " world units), where floats are " + roundText(spacing) + " apart, " +
+                              roundText(spacing / diagonal) + " of its " + roundText(diagonal) +
+                              "-unit diagonal";
+    const auto shift = [](float c) { return roundText(0.0 - double(c)); }; // no "-0"
+    const std::string fix = "recentre the scene near the origin (translate it by [" + shift(centre.x) + ", " +
+                            shift(centre.y) + ", " + shift(centre.z) + "])";
+    if (flat > 0)
+        throw InputError(scene.source, where + ": " + std::to_string(flat) + " of its " +
+                                           std::to_string(scene.triangles.size()) +
+                                           " triangles have collapsed to lines or points; " + fix);
+    const std::string warning =
+        where + " (more than " + roundText(MIN_SCENE_PRECISION) + "): edges and shadows may shift; " + fix;
+    if (std::find(scene.warnings.begin(), scene.warnings.end(), warning) == scene.warnings.end())
+        scene.warnings.push_back(warning);
+}
+
+} // namespace
+
+void Scene::validate() {
     if (triangles.empty()) throw InputError(source, "scene has no triangles");
     if (texcoords.size() != positions.size())
         throw InputError(source, "internal: texcoord count differs from position count");
@@ -124,6 +224,21 @@ void Scene::validate() const {
     for (const Texture& t : textures)
         if (t.width <= 0 || t.height <= 0 || t.rgba.size() != std::size_t(t.width) * t.height * 4)
             throw InputError(source, "texture '" + t.name + "' is empty or has the wrong byte count");
+    // A textured triangle's texture coordinates must name texels (MAX_TEXEL_COORDINATE); an
+    // untextured one's only need to be finite (checked above).
+    for (std::size_t t = 0; t < triangles.size(); ++t) {
+        const Material& m = materialOf(t);
+        for (const int texture : {m.alphaTexture, m.blendTexture}) {
+            if (texture < 0) continue;
+            for (int k = 0; k < 3; ++k) {
+                const std::uint32_t v = triangles[t][k];
+                if (const std::string problem = texcoordProblem(texcoords[v], textures[std::size_t(texture)]);
+                    !problem.empty())
+                    throw InputError(source, "triangle " + std::to_string(t) + " vertex " +
+                                                 std::to_string(v) + " texture coordinate: " + problem);
+            }
+        }
+    }
     if (lights.empty()) throw InputError(source, "scene has no lights");
     if (lights.size() > MAX_SCENE_LIGHTS)
         throw InputError(source, "scene has " + std::to_string(lights.size()) + " lights, more than the " +
@@ -138,6 +253,7 @@ void Scene::validate() const {
           length(cross(forward, camera.up)) > 0.0f && camera.fovY > 0.0f && camera.fovY < 180.0f))
         throw InputError(source,
                          "camera is degenerate (eye = target, up along the view, or fovY outside (0, 180))");
+    checkPrecision(*this);
 }
 
 } // namespace stsv

@@ -1,5 +1,6 @@
 #include "core/error.h"
 #include "scene/geometry.h"
+#include "scene/json_scene.h"
 #include "scene/procedural.h"
 #include "scene/scene.h"
 
@@ -52,6 +53,85 @@ TEST(Validate, RejectsEachBrokenPart) {
         c.breakIt(scene);
         expectError<InputError>([&] { scene.validate(); }, {"unit.json", c.says});
     }
+}
+
+TEST(Validate, TexturedTrianglesTexcoordsMustNameTexels) {
+    // The fence's triangles 2 and 3 carry the 256-texel chain-link texture; 0 and 1 are the
+    // untextured ground.
+    Scene fence = validScene();
+    const Texture& chain = fence.textures[std::size_t(fence.materialOf(2).alphaTexture)];
+    ASSERT_EQ(chain.width, 256);
+    const std::uint32_t v = fence.triangles[2].y;
+    // 2^24 texels is 65536 repeats of 256 texels: one texel less is accepted, 2^24 is not.
+    fence.texcoords[v] = vec2((16777216.0f - 1.0f) / 256.0f, 0.5f);
+    EXPECT_NO_THROW(fence.validate());
+    fence.texcoords[v] = vec2(0.5f, -65536.0f);
+    expectError<InputError>([&] { fence.validate(); },
+                            {"unit.json", "triangle 2 vertex " + std::to_string(v), "v = -65536",
+                             "1.68e+07 texels of texture 'chainlink(256)' (256 high)", "2^24"});
+    fence.texcoords[v] = vec2(1e38f, 0.0f);
+    expectError<InputError>([&] { fence.validate(); }, {"u = 1e+38", "2.56e+40 texels", "2^24"});
+
+    // An untextured triangle's texture coordinates are never read: finite is enough.
+    Scene ground = validScene();
+    for (int k = 0; k < 3; ++k) ground.texcoords[ground.triangles[0][k]] = vec2(1e38f, -3e38f);
+    EXPECT_NO_THROW(ground.validate());
+}
+
+TEST(Validate, LightSizesOutsideTheirRangeAreNamed) {
+    Scene huge = validScene();
+    huge.lights[0].axisU = vec3(5e19f, 0.0f, 0.0f); // a 1e20 edge: its area overflows a float
+    expectError<InputError>([&] { huge.validate(); }, {"light 0 has an edge of 1e+20 world units",
+                                                       "outside the accepted [1e-09, 1e+09]"});
+    Scene tiny = validScene();
+    tiny.lights[0].axisV = normalize(tiny.lights[0].axisV) * 1e-12f; // an area below float's normals
+    expectError<InputError>([&] { tiny.validate(); }, {"light 0 has an edge of 2e-12", "[1e-09, 1e+09]"});
+}
+
+/// A fence-like scene (an 8 m ground, a 4 m x 2 m perforated quad standing on it, a light; an
+/// 11.5 m bounding-box diagonal) as JSON, translated
+/// by `offset` along x, camera included.
+std::string quadSceneJson(double offset) {
+    const std::string x = std::to_string(offset);
+    return R"({
+      "camera": {"eye": [)" +
+           std::to_string(offset + 2.0) + R"(, 3, 8], "target": [)" + x + R"(, 0.5, 0]},
+      "materials": [{"name": "ground"},
+                    {"name": "grate", "alphaTexture": {"generator": "chainlink", "size": 64}}],
+      "meshes": [
+        {"quad": {"size": [8, 8]}, "material": "ground",
+         "transform": {"translate": [)" +
+           x + R"(, 0, 0], "euler": [-90, 0, 0]}},
+        {"quad": {"size": [4, 2], "uvRepeat": [4, 2]}, "material": "grate",
+         "transform": {"translate": [)" +
+           x + R"(, 1, 0]}}],
+      "lights": [{"type": "rectangle", "position": [)" +
+           x + R"(, 5, -3], "normal": [0, -0.8, 0.6], "size": 1, "radiance": 100}]
+    })";
+}
+
+TEST(Validate, SceneFarFromTheOriginWarnsThenRefuses) {
+    test::TempDir dir;
+    // At the origin floats (4.8e-7 apart at 4 m) resolve 4e-8 of the diagonal: nothing to say.
+    EXPECT_TRUE(loadJsonScene(dir.write("origin.json", quadSceneJson(0.0))).warnings.empty());
+
+    // At 1e6 floats are 2^-4 = 0.0625 apart, 0.0054 of the diagonal: a warning with the fix.
+    Scene far = loadJsonScene(dir.write("far.json", quadSceneJson(1e6)));
+    ASSERT_EQ(far.warnings.size(), 1u);
+    for (const char* part : {"far from the origin", "coordinates up to 1e+06", "floats are 0.0625 apart",
+                             "0.00544 of its 11.5-unit diagonal", "recentre the scene near the origin",
+                             "translate it by [-1e+06, "})
+        EXPECT_NE(far.warnings[0].find(part), std::string::npos) << far.warnings[0] << "\nmissing: " << part;
+    far.validate(); // once, however often validate runs
+    EXPECT_EQ(far.warnings.size(), 1u);
+
+    // At 1e8 floats are 2^3 = 8 apart, and 1e8 ± 4 rounds to 1e8 (its even neighbour): every
+    // corner at x ± 2 or x ± 4 falls on x, every triangle is flat.
+    const std::string collapsed = dir.write("collapsed.json", quadSceneJson(1e8));
+    expectError<InputError>(
+        [&] { loadJsonScene(collapsed); },
+        {collapsed, "far from the origin", "floats are 8 apart, 0.97 of its 8.25-unit diagonal",
+         "4 of its 4 triangles have collapsed to lines or points", "recentre the scene near the origin"});
 }
 
 } // namespace
