@@ -25,40 +25,79 @@ struct Builtin {
     std::vector<SceneKnob> knobs;
 };
 
+std::string rangeText(const SceneKnob& knob) {
+    return stsv::rangeText(ParamRange{knob.lo, knob.hi});
+}
+
+/// A knob whose description ends with its range, declared once from the scene's ParamRange.
+SceneKnob knob(const char* name, const char* defaultValue, const std::string& text, SceneKnob::Kind kind,
+               const ParamRange& range) {
+    SceneKnob k{name, defaultValue, text, kind, range.lo, range.hi};
+    k.description += ", " + rangeText(k);
+    return k;
+}
+SceneKnob real(const char* name, const char* defaultValue, const std::string& text, const ParamRange& range) {
+    return knob(name, defaultValue, text, SceneKnob::Kind::Real, range);
+}
+SceneKnob integer(const char* name, const char* defaultValue, const std::string& text,
+                  const ParamRange& range) {
+    return knob(name, defaultValue, text, SceneKnob::Kind::Integer, range);
+}
+SceneKnob seed(const char* name, const std::string& text) {
+    return {name, "1", text + ", unsigned 64-bit integer", SceneKnob::Kind::Seed, 0.0, 0.0};
+}
+
+/// The knobs' ranges are the scenes' own (procedural.h, mesh_fence.h; the knot's here).
+constexpr ParamRange KNOT_SEGMENTS{3, 20000};
+constexpr ParamRange KNOT_SIDES{3, 200};
+
 const std::vector<Builtin>& builtins() {
     static const std::vector<Builtin> list = {
         {"fence",
          "a 4 m x 2 m chain-link fence (2 perforated triangles) on a ground plane under a square light",
-         {{"light_size", "1", "edge of the square light, metres, (0, 100]"},
-          {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
-          {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"},
-          {"fabric", "0", "opacity of a translucent fabric hung 0.3 m behind the fence; 0 = none, [0, 1]"}}},
+         {real("light_size", "1", "edge of the square light, metres", FENCE_LIGHT_SIZE),
+          integer("repeat", "16",
+                  "chain-link tiles across the fence width (height gets repeat/2; repeat x texture_size "
+                  "below 2^24)",
+                  FENCE_REPEAT),
+          integer("texture_size", "256", "texels per edge of the chain-link texture", GENERATED_TEXTURE_SIZE),
+          real("fabric", "0", "opacity of a translucent fabric hung 0.3 m behind the fence; 0 = none",
+               FENCE_FABRIC)}},
         {"foliage",
          "a square patch of plants (2 crossed leaf quads = 4 perforated triangles each) on a ground plane",
-         {{"count", "64", "number of plants (S-triangles = 4 x count), [1, 1000000]"},
-          {"seed", "1", "seed of placement, size and orientation, unsigned 64-bit integer"},
-          {"spacing", "0.75", "metres between neighbouring plants (the patch grows with count), (0, 100]"},
-          {"light_size", "0", "edge of the square light, metres; 0 = a quarter of the patch edge, [0, 1000]"},
-          {"texture_size", "128", "texels per edge of the leaf texture, [8, 8192]"}}},
+         {integer("count", "64", "number of plants (S-triangles = 4 x count)", FOLIAGE_COUNT),
+          seed("seed", "seed of placement, size and orientation"),
+          real("spacing", "0.75", "metres between neighbouring plants (the patch grows with count)",
+               FOLIAGE_SPACING),
+          real("light_size", "0",
+               "edge of the square light, metres; 0 = a quarter of the patch edge (a large light moves "
+               "back to clear the plants)",
+               FOLIAGE_LIGHT_SIZE),
+          integer("texture_size", "128", "texels per edge of the leaf texture", GENERATED_TEXTURE_SIZE)}},
         {"fence-mesh",
          "the fence scene with its chain-link quad turned into a closed opaque mesh (one box per run of "
          "opaque texels)",
-         {{"light_size", "1", "edge of the square light, metres, (0, 100]"},
-          {"repeat", "16", "chain-link tiles across the fence width (height gets repeat/2), [1, 4096]"},
-          {"texture_size", "256", "texels per edge of the chain-link texture, [8, 8192]"},
-          {"thickness", "0.0005", "depth of the wire boxes, metres, (0, 0.1]"}}},
+         {real("light_size", "1", "edge of the square light, metres", FENCE_MESH_LIGHT_SIZE),
+          integer("repeat", "16",
+                  "chain-link tiles across the fence width (height gets repeat/2; triangles grow as "
+                  "repeat^2)",
+                  FENCE_MESH_REPEAT),
+          integer("texture_size", "256", "texels per edge of the chain-link texture (triangles grow with it)",
+                  FENCE_MESH_TEXTURE_SIZE),
+          real("thickness", "0.0005", "depth of the wire boxes, metres", TEXEL_BOX_THICKNESS)}},
         {"particles",
          "light-facing translucent billboards of Gaussian alpha in a ball beside an opaque cube (Klein et "
          "al.'s "
          "particle scene; --buffer transmittance)",
-         {{"count", "1000", "billboards (2 translucent triangles each), [1, 1000000]"},
-          {"opacity", "0.5", "peak alpha at a particle's centre, (0, 1]"},
-          {"seed", "1", "seed of placement, unsigned 64-bit integer"}}},
+         {integer("count", "1000", "billboards (2 translucent triangles each)", PARTICLES_COUNT),
+          real("opacity", "0.5", "peak alpha at a particle's centre", PARTICLES_OPACITY),
+          seed("seed", "seed of placement")}},
         {"knot",
          "a closed (2, 3) torus-knot mesh on a ground plane under a square light (opaque occluders: dcs, "
          "pw)",
-         {{"segments", "480", "tube segments along the knot, [3, 20000]"},
-          {"sides", "12", "tube sides around the knot (triangles = 2 x segments x sides), [3, 200]"}}},
+         {integer("segments", "480", "tube segments along the knot", KNOT_SEGMENTS),
+          integer("sides", "12", "tube sides around the knot (triangles = 2 x segments x sides)",
+                  KNOT_SIDES)}},
     };
     return list;
 }
@@ -79,7 +118,7 @@ std::string joinNames(const std::vector<std::string>& names) {
 class Knobs {
   public:
     Knobs(const std::string& scene, const SceneOptions& options, const std::vector<SceneKnob>& accepted)
-        : m_scene(scene), m_options(options) {
+        : m_scene(scene), m_options(options), m_accepted(accepted) {
         std::vector<std::string> names;
         names.reserve(accepted.size());
         for (const SceneKnob& k : accepted) names.push_back(k.name);
@@ -94,19 +133,22 @@ class Knobs {
             }
     }
 
-    long long integer(const std::string& name, long long fallback, long long lo, long long hi) const {
+    /// An Integer knob's value, or `fallback` when not set.
+    long long integer(const std::string& name, long long fallback) const {
         const auto it = m_options.set.find(name);
         if (it == m_options.set.end()) return fallback;
+        const SceneKnob& k = declared(name);
         long long value = 0;
         const std::string& text = it->second;
         const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-        if (ec != std::errc() || ptr != text.data() + text.size() || value < lo || value > hi)
+        if (ec != std::errc() || ptr != text.data() + text.size() || double(value) < k.lo ||
+            double(value) > k.hi)
             throw UsageError("scene '" + m_scene + "': knob " + name + "=" + text +
-                             " must be an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) +
-                             "]");
+                             " must be an integer in " + rangeText(k));
         return value;
     }
 
+    /// A Seed knob's value, or `fallback` when not set.
     std::uint64_t unsigned64(const std::string& name, std::uint64_t fallback) const {
         const auto it = m_options.set.find(name);
         if (it == m_options.set.end()) return fallback;
@@ -119,23 +161,31 @@ class Knobs {
         return value;
     }
 
-    /// A number in (lo, hi] if `openLow`, else [lo, hi].
-    float real(const std::string& name, float fallback, float lo, float hi, bool openLow) const {
+    /// A Real knob's value, or `fallback` when not set.
+    float real(const std::string& name, float fallback) const {
         const auto it = m_options.set.find(name);
         if (it == m_options.set.end()) return fallback;
+        const SceneKnob& k = declared(name);
         double value = 0.0;
         const std::string& text = it->second;
         const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-        const bool inRange = openLow ? value > lo && value <= hi : value >= lo && value <= hi;
-        if (ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(value) || !inRange)
+        if (ec != std::errc() || ptr != text.data() + text.size() || !std::isfinite(value) || value < k.lo ||
+            value > k.hi)
             throw UsageError("scene '" + m_scene + "': knob " + name + "=" + text + " must be a number in " +
-                             (openLow ? "(" : "[") + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+                             rangeText(k));
         return float(value);
     }
 
   private:
+    const SceneKnob& declared(const std::string& name) const {
+        for (const SceneKnob& k : m_accepted)
+            if (k.name == name) return k;
+        throw Error("internal: scene '" + m_scene + "' reads an undeclared knob '" + name + "'");
+    }
+
     std::string m_scene;
     const SceneOptions& m_options;
+    const std::vector<SceneKnob>& m_accepted;
 };
 
 } // namespace
@@ -190,44 +240,44 @@ Scene loadWithoutOverrides(const std::string& spec, const SceneOptions& options)
         const Knobs knobs(spec, options, b->knobs);
         if (spec == "fence") {
             FenceParams p;
-            p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 100.0f, true);
-            p.repeat = int(knobs.integer("repeat", p.repeat, 1, 4096));
-            p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
-            p.fabric = knobs.real("fabric", p.fabric, 0.0f, 1.0f, false);
+            p.lightSize = knobs.real("light_size", p.lightSize);
+            p.repeat = int(knobs.integer("repeat", p.repeat));
+            p.textureSize = int(knobs.integer("texture_size", p.textureSize));
+            p.fabric = knobs.real("fabric", p.fabric);
             return makeFenceScene(p);
         }
         if (spec == "fence-mesh") {
             FenceParams p;
-            p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 100.0f, true);
-            p.repeat = int(knobs.integer("repeat", p.repeat, 1, 4096));
-            p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
+            p.lightSize = knobs.real("light_size", p.lightSize);
+            p.repeat = int(knobs.integer("repeat", p.repeat));
+            p.textureSize = int(knobs.integer("texture_size", p.textureSize));
             TexelBoxOptions boxes;
-            boxes.thickness = knobs.real("thickness", boxes.thickness, 0.0f, 0.1f, true);
+            boxes.thickness = knobs.real("thickness", boxes.thickness);
             return makeFenceMeshScene(p, boxes);
         }
         if (spec == "particles") {
             ParticlesParams p;
-            p.count = int(knobs.integer("count", p.count, 1, 1000000));
-            p.opacity = knobs.real("opacity", p.opacity, 0.0f, 1.0f, true);
+            p.count = int(knobs.integer("count", p.count));
+            p.opacity = knobs.real("opacity", p.opacity);
             p.seed = knobs.unsigned64("seed", p.seed);
             checkSceneMemory("scene 'particles' (count=" + std::to_string(p.count) + ")",
                              2.0 * p.count + 14.0);
             return makeParticlesScene(p);
         }
         if (spec == "knot") {
-            const int segments = int(knobs.integer("segments", 480, 3, 20000));
-            const int sides = int(knobs.integer("sides", 12, 3, 200));
+            const int segments = int(knobs.integer("segments", 480));
+            const int sides = int(knobs.integer("sides", 12));
             checkSceneMemory("scene 'knot' (segments=" + std::to_string(segments) +
                                  ", sides=" + std::to_string(sides) + ")",
                              2.0 * segments * sides);
             return makeMeshScene(makeTorusKnotMesh(segments, sides, 0.12f), "knot");
         }
         FoliageParams p;
-        p.count = int(knobs.integer("count", p.count, 1, 1000000));
+        p.count = int(knobs.integer("count", p.count));
         p.seed = knobs.unsigned64("seed", p.seed);
-        p.spacing = knobs.real("spacing", p.spacing, 0.0f, 100.0f, true);
-        p.lightSize = knobs.real("light_size", p.lightSize, 0.0f, 1000.0f, false);
-        p.textureSize = int(knobs.integer("texture_size", p.textureSize, 8, 8192));
+        p.spacing = knobs.real("spacing", p.spacing);
+        p.lightSize = knobs.real("light_size", p.lightSize);
+        p.textureSize = int(knobs.integer("texture_size", p.textureSize));
         checkSceneMemory("scene 'foliage' (count=" + std::to_string(p.count) + ")", 4.0 * p.count + 2.0);
         return makeFoliageScene(p);
     }

@@ -18,11 +18,17 @@ struct SceneOptions {
     std::vector<std::string> addLights = {}; ///< `--add-light JSON` (each): added to its lights
 };
 
-/// One knob a built-in scene accepts (for `stsv info` and error messages).
+/// One knob a built-in scene accepts (for `stsv info` and error messages), declared once with its
+/// default and the range `--set` accepts: a range whose ends each render a sensible image with
+/// the scene's other knobs at their defaults (tests/scene/load_test.cpp renders both ends).
 struct SceneKnob {
+    enum class Kind { Real, Integer, Seed }; ///< Seed: any unsigned 64-bit integer (no range)
     std::string name;
     std::string defaultValue;
-    std::string description; ///< includes the unit and the accepted range
+    std::string description; ///< what it sets, its unit and the accepted range
+    Kind kind = Kind::Real;
+    double lo = 0.0; ///< smallest accepted value (Real, Integer)
+    double hi = 0.0; ///< largest accepted value (Real, Integer)
 };
 
 /// Prints "name=default" (the form `--set` takes).

@@ -112,6 +112,10 @@ MeshData makeTexelBoxMesh(const Texture& texture, WrapMode wrap, vec2 size, vec2
 }
 
 Scene makeFenceMeshScene(const FenceParams& params, const TexelBoxOptions& options) {
+    checkParam("fence-mesh", "light_size", FENCE_MESH_LIGHT_SIZE, params.lightSize);
+    checkParam("fence-mesh", "repeat", FENCE_MESH_REPEAT, params.repeat);
+    checkParam("fence-mesh", "texture_size", FENCE_MESH_TEXTURE_SIZE, params.textureSize);
+    checkParam("fence-mesh", "thickness", TEXEL_BOX_THICKNESS, options.thickness);
     Scene scene = makeFenceScene(params);
     scene.source = "fence-mesh";
     if (scene.meshes.empty() || scene.meshes.back().name != "fence")

@@ -1,11 +1,13 @@
 #include "scene/procedural.h"
 
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "scene/geometry.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <numeric>
 
@@ -33,9 +35,7 @@ class Rng {
 };
 
 void checkTextureSize(int size, const char* what) {
-    if (size < 8 || size > 8192)
-        throw UsageError(std::string(what) + " texture size must be in [8, 8192], got " +
-                         std::to_string(size));
+    checkParam(what, "texture size", GENERATED_TEXTURE_SIZE, size);
 }
 
 /// Opaque ground: a square of half-edge `half` at height y, centred at (cx, cz), facing +y.
@@ -53,6 +53,39 @@ void addGround(Scene& scene, vec3 center, float half, vec3 albedo) {
 }
 
 } // namespace
+
+namespace {
+/// "1000000", "0.0001", "1e-05": whole numbers in full (as `--set` takes an integer), others in
+/// their shortest round-trip form.
+std::string numberText(double value) {
+    char buffer[32];
+    const char* end =
+        std::abs(value) < 1e15 && value == std::floor(value)
+            ? std::to_chars(buffer, buffer + sizeof buffer, static_cast<long long>(value)).ptr
+            : std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general).ptr;
+    return std::string(static_cast<const char*>(buffer), end);
+}
+} // namespace
+
+std::string rangeText(const ParamRange& range) {
+    return "[" + numberText(range.lo) + ", " + numberText(range.hi) + "]";
+}
+
+void checkParam(const std::string& scene, const std::string& name, const ParamRange& range, double value) {
+    if (!range.contains(value))
+        throw UsageError(scene + ": " + name + " must be in " + rangeText(range) + ", got " +
+                         numberText(value));
+}
+
+double generatedTextureBytes(int size) {
+    return 4.0 * double(size) * double(size);
+}
+
+void checkGeneratedTextureMemory(const std::string& what, int size, double heldBytes) {
+    checkMemory(what + " of " + std::to_string(size) + "x" + std::to_string(size) + " texels" +
+                    (heldBytes > 0.0 ? " (beside the scene's other textures)" : ""),
+                heldBytes + generatedTextureBytes(size), "use a smaller texture size");
+}
 
 Texture makeChainLinkTexture(int size) {
     checkTextureSize(size, "chain-link");
@@ -142,12 +175,17 @@ double openFraction(const Texture& texture) {
 }
 
 Scene makeFenceScene(const FenceParams& params) {
-    if (!(params.lightSize > 0.0f) || params.lightSize > 100.0f)
-        throw UsageError("fence: light_size must be in (0, 100] m, got " + std::to_string(params.lightSize));
-    if (params.repeat < 1 || params.repeat > 4096)
-        throw UsageError("fence: repeat must be in [1, 4096], got " + std::to_string(params.repeat));
-    if (!(params.fabric >= 0.0f && params.fabric <= 1.0f))
-        throw UsageError("fence: fabric must be in [0, 1], got " + std::to_string(params.fabric));
+    checkParam("fence", "light_size", FENCE_LIGHT_SIZE, params.lightSize);
+    checkParam("fence", "repeat", FENCE_REPEAT, params.repeat);
+    checkParam("fence", "fabric", FENCE_FABRIC, params.fabric);
+    checkTextureSize(params.textureSize, "fence: chain-link");
+    // The texel coordinate at the fence's right edge must name a texel (MAX_TEXEL_COORDINATE).
+    if (!(double(params.repeat) * params.textureSize < MAX_TEXEL_COORDINATE))
+        throw UsageError("fence: repeat x texture_size = " + std::to_string(params.repeat) + " x " +
+                         std::to_string(params.textureSize) +
+                         " texels across the fence, not below the 2^24 where a float texel coordinate "
+                         "is exact; use a smaller repeat or texture_size");
+    checkGeneratedTextureMemory("fence: chain-link texture", params.textureSize);
     Scene scene;
     scene.source = "fence";
     addGround(scene, vec3(0.0f), 15.0f, vec3(0.7f));
@@ -196,12 +234,11 @@ Scene makeFenceScene(const FenceParams& params) {
 }
 
 Scene makeFoliageScene(const FoliageParams& params) {
-    if (params.count < 1 || params.count > 1000000)
-        throw UsageError("foliage: count must be in [1, 1000000], got " + std::to_string(params.count));
-    if (!(params.spacing > 0.0f) || params.spacing > 100.0f)
-        throw UsageError("foliage: spacing must be in (0, 100] m");
-    if (!(params.lightSize >= 0.0f) || params.lightSize > 1000.0f)
-        throw UsageError("foliage: light_size must be in [0, 1000] m (0 = automatic)");
+    checkParam("foliage", "count", FOLIAGE_COUNT, params.count);
+    checkParam("foliage", "spacing", FOLIAGE_SPACING, params.spacing);
+    checkParam("foliage", "light_size", FOLIAGE_LIGHT_SIZE, params.lightSize);
+    checkTextureSize(params.textureSize, "foliage: leaf");
+    checkGeneratedTextureMemory("foliage: leaf texture", params.textureSize);
     Scene scene;
     scene.source = "foliage";
 
@@ -248,8 +285,19 @@ Scene makeFoliageScene(const FoliageParams& params) {
 
     // Light behind the patch (−z), high and to the left; shadows fall towards the camera.
     const float lightSize = params.lightSize > 0.0f ? params.lightSize : std::max(1.0f, 0.25f * side);
-    const vec3 lightCenter(-0.45f * side - 1.0f, 0.6f * side + 3.0f, -0.7f * side - 1.5f);
-    const vec3 lightNormal = normalize(vec3(0.0f, 0.0f, 0.1f * side) - lightCenter);
+    const vec3 aim(0.0f, 0.0f, 0.1f * side);
+    vec3 lightCenter(-0.45f * side - 1.0f, 0.6f * side + 3.0f, -0.7f * side - 1.5f);
+    const vec3 lightNormal = normalize(aim - lightCenter);
+    // A light too large for that place reaches down through the plants and the ground (and the
+    // picture turns dark and noisy): it moves back along its direction until its lowest corner is
+    // twice as high as the tallest plant. The automatic size never needs it.
+    float tallest = 0.0f;
+    for (std::size_t v = scene.triangles[first].x; v < scene.positions.size(); ++v)
+        tallest = std::max(tallest, scene.positions[v].y);
+    const Light unmoved =
+        makeRectangleLight(lightCenter, lightNormal, vec2(lightSize), vec3(1.0f), vec3(1.0f, 0.0f, 0.0f));
+    const float lowest = lightCenter.y - std::abs(unmoved.axisU.y) - std::abs(unmoved.axisV.y);
+    if (lowest < 2.0f * tallest) lightCenter -= lightNormal * ((2.0f * tallest - lowest) / -lightNormal.y);
     const float radiance = radianceForOutgoing(lightCenter, lightNormal, lightSize * lightSize, vec3(0.0f),
                                                vec3(0.0f, 1.0f, 0.0f), 0.45f, 0.7f);
     scene.lights.push_back(makeRectangleLight(lightCenter, lightNormal, vec2(lightSize), vec3(radiance),
@@ -287,10 +335,8 @@ Texture makeGaussianTexture(int size) {
 }
 
 Scene makeParticlesScene(const ParticlesParams& params) {
-    if (params.count < 1 || params.count > 1000000)
-        throw UsageError("particles: count must be in [1, 1000000], got " + std::to_string(params.count));
-    if (!(params.opacity > 0.0f && params.opacity <= 1.0f))
-        throw UsageError("particles: opacity must be in (0, 1], got " + std::to_string(params.opacity));
+    checkParam("particles", "count", PARTICLES_COUNT, params.count);
+    checkParam("particles", "opacity", PARTICLES_OPACITY, params.opacity);
     Scene scene;
     scene.source = "particles";
     addGround(scene, vec3(0.0f), 8.0f, vec3(0.7f));

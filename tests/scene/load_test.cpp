@@ -1,4 +1,5 @@
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "scene/camera.h"
 #include "scene/load.h"
 #include "scene/procedural.h"
@@ -7,8 +8,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <charconv>
+#include <cmath>
 #include <map>
-
 #include <sstream>
 
 namespace stsv {
@@ -35,6 +38,191 @@ TEST(Load, BuiltinNamesAndKnobs) {
         }
     }
     expectError<UsageError>([] { builtinSceneKnobs("forest"); }, {"forest", "fence, foliage"});
+}
+
+/// Sets the memory limit for one test and restores the default after it.
+struct MemoryLimitForTest {
+    explicit MemoryLimitForTest(std::uint64_t bytes) { setMemoryLimit(bytes); }
+    ~MemoryLimitForTest() { setMemoryLimit(0); }
+    MemoryLimitForTest(const MemoryLimitForTest&) = delete;
+    MemoryLimitForTest& operator=(const MemoryLimitForTest&) = delete;
+};
+
+/// What a width × height picture from the scene's camera shows, by triangle coverage (alpha
+/// ignored): pixel centres inside some projected triangle, and inside one of a mesh other than
+/// the ground.
+struct Coverage {
+    std::size_t any = 0;
+    std::size_t object = 0;
+};
+
+Coverage coverage(const Scene& scene, int width, int height) {
+    const Bounds box = scene.bounds();
+    const float reach = length(box.center() - scene.camera.eye) + 0.5f * length(box.extent());
+    const float zNear = 1e-6f * reach; // triangles are clipped there (w ≥ zNear)
+    const mat4 clipFromWorld = clipFromView(scene.camera, float(width) / float(height), zNear, 2.0f * reach) *
+                               viewFromWorld(scene.camera);
+    std::vector<std::uint8_t> seen(std::size_t(width) * height, 0); // bit 0: any, bit 1: object
+    std::vector<bool> ground(scene.triangleCount(), false);
+    for (const Mesh& m : scene.meshes)
+        if (m.name == "ground")
+            for (std::uint32_t t = m.firstTriangle; t < m.firstTriangle + m.triangleCount; ++t)
+                ground[t] = true;
+    std::vector<vec4> polygon, clipped;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t) {
+        polygon.clear();
+        for (int k = 0; k < 3; ++k)
+            polygon.push_back(clipFromWorld * vec4(scene.positions[scene.triangles[t][k]], 1.0f));
+        // Sutherland–Hodgman against the near plane w = zNear.
+        clipped.clear();
+        for (std::size_t i = 0; i < polygon.size(); ++i) {
+            const vec4 a = polygon[i], b = polygon[(i + 1) % polygon.size()];
+            if (a.w >= zNear) clipped.push_back(a);
+            if ((a.w >= zNear) != (b.w >= zNear))
+                clipped.push_back(a + (b - a) * ((zNear - a.w) / (b.w - a.w)));
+        }
+        if (clipped.size() < 3) continue;
+        std::vector<vec2> p;
+        for (const vec4& c : clipped)
+            p.emplace_back((c.x / c.w * 0.5f + 0.5f) * float(width),
+                           (c.y / c.w * 0.5f + 0.5f) * float(height));
+        const std::uint8_t bits = ground[t] ? 1 : 3;
+        for (std::size_t f = 1; f + 1 < p.size(); ++f) { // fan
+            const vec2 a = p[0], b = p[f], c = p[f + 1];
+            const float area = (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
+            if (!(std::abs(area) > 0.0f)) continue;
+            const int x0 = std::max(0, int(std::floor(std::min({a.x, b.x, c.x})))),
+                      x1 = std::min(width - 1, int(std::ceil(std::max({a.x, b.x, c.x})))),
+                      y0 = std::max(0, int(std::floor(std::min({a.y, b.y, c.y})))),
+                      y1 = std::min(height - 1, int(std::ceil(std::max({a.y, b.y, c.y}))));
+            for (int y = y0; y <= y1; ++y)
+                for (int x = x0; x <= x1; ++x) {
+                    const vec2 q(float(x) + 0.5f, float(y) + 0.5f);
+                    const auto edge = [&](vec2 u, vec2 v) {
+                        return ((v.x - u.x) * (q.y - u.y) - (v.y - u.y) * (q.x - u.x)) * area;
+                    };
+                    if (edge(a, b) >= 0.0f && edge(b, c) >= 0.0f && edge(c, a) >= 0.0f)
+                        seen[std::size_t(y) * width + x] |= bits;
+                }
+        }
+    }
+    Coverage result;
+    for (const std::uint8_t s : seen) {
+        result.any += s & 1;
+        result.object += (s >> 1) & 1;
+    }
+    return result;
+}
+
+/// The four corners of a rectangle light (the centre and ± each half-extent).
+std::vector<vec3> lightCorners(const Light& light) {
+    return {light.position - light.axisU - light.axisV, light.position + light.axisU - light.axisV,
+            light.position + light.axisU + light.axisV, light.position - light.axisU + light.axisV};
+}
+
+/// `value` as `--set` takes it: a whole number in full, others in their shortest round-trip text.
+std::string knobText(double value) {
+    char buffer[32];
+    const char* end =
+        value == std::floor(value) && std::abs(value) < 1e15
+            ? std::to_chars(buffer, buffer + sizeof buffer, static_cast<long long>(value)).ptr
+            : std::to_chars(buffer, buffer + sizeof buffer, value, std::chars_format::general).ptr;
+    return std::string(static_cast<const char*>(buffer), end);
+}
+
+// Each end of every knob's documented range, the others at their defaults, gives a picture worth
+// looking at (as `stsv render SCENE --set k=v --size 160x120` does): the scene loads without a
+// warning, the camera's 160 x 120 pixels see triangles in more than half of the picture and the
+// scene's own object (not only the ground) in some, and the lights lie above every triangle,
+// facing down. Memory is not what is tested: the limit is raised for loading.
+TEST(KnobRanges, EachEndLoadsAPictureOfTheScene) {
+    const MemoryLimitForTest limit(std::uint64_t(1) << 40);
+    for (const std::string& name : builtinSceneNames())
+        for (const SceneKnob& knob : builtinSceneKnobs(name)) {
+            const std::vector<std::string> ends =
+                knob.kind == SceneKnob::Kind::Seed
+                    ? std::vector<std::string>{"0", "18446744073709551615"}
+                    : std::vector<std::string>{knobText(knob.lo), knobText(knob.hi)};
+            if (knob.kind != SceneKnob::Kind::Seed) { // the range `stsv info` shows is the one tested
+                EXPECT_NE(knob.description.find("[" + ends[0] + ", " + ends[1] + "]"), std::string::npos)
+                    << name << " " << knob.name << ": " << knob.description;
+            }
+            for (const std::string& value : ends) {
+                SCOPED_TRACE(name + " --set " + knob.name + "=" + value);
+                SceneOptions options;
+                options.set[knob.name] = value;
+                Scene scene;
+                try {
+                    scene = loadScene(name, options);
+                } catch (const std::exception& e) {
+                    ADD_FAILURE() << e.what();
+                    continue;
+                }
+                EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+                const Coverage c = coverage(scene, 160, 120);
+                EXPECT_GT(c.any, 160u * 120u / 2u) << "pixels that see a triangle";
+                EXPECT_GT(c.object, 0u) << "pixels that see the scene's object";
+                float top = -1e30f;
+                for (const vec3& p : scene.positions) top = std::max(top, p.y);
+                for (const Light& light : scene.lights) {
+                    EXPECT_LT(light.normal.y, 0.0f) << "the light faces down";
+                    for (const vec3& corner : lightCorners(light))
+                        EXPECT_GT(corner.y, top) << "a light corner at " << corner.x << ", " << corner.y
+                                                 << ", " << corner.z << " is not above the scene";
+                }
+            }
+        }
+}
+
+TEST(KnobRanges, ValuesJustOutsideAreRefusedWithTheRange) {
+    for (const std::string& name : builtinSceneNames())
+        for (const SceneKnob& knob : builtinSceneKnobs(name)) {
+            if (knob.kind == SceneKnob::Kind::Seed) continue;
+            const bool integer = knob.kind == SceneKnob::Kind::Integer;
+            const double below = integer ? knob.lo - 1.0 : std::nextafter(knob.lo, -HUGE_VAL);
+            const double above = integer ? knob.hi + 1.0 : std::nextafter(knob.hi, HUGE_VAL);
+            for (const double value : {below, above}) {
+                SceneOptions options;
+                options.set[knob.name] = knobText(value);
+                expectError<UsageError>([&] { loadScene(name, options); },
+                                        {knob.name + "=" + knobText(value),
+                                         "[" + knobText(knob.lo) + ", " + knobText(knob.hi) + "]"});
+            }
+        }
+}
+
+TEST(KnobRanges, LightSizesThatBreakTheLightNameTheRange) {
+    // 1e-30 was inside the documented (0, 100]: its area underflowed and the radiance was infinite.
+    SceneOptions tiny;
+    tiny.set["light_size"] = "1e-30";
+    expectError<UsageError>([&] { loadScene("fence", tiny); }, {"light_size=1e-30", "[0.0001, 10]"});
+    // The foliage light of 1000 m reached through the ground; it now moves back to clear the plants.
+    SceneOptions large;
+    large.set["light_size"] = "1000";
+    const Scene foliage = loadScene("foliage", large);
+    EXPECT_FLOAT_EQ(2.0f * length(foliage.lights[0].axisU), 1000.0f);
+    EXPECT_GT(foliage.lights[0].position.y, 100.0f);
+}
+
+TEST(KnobRanges, RepeatTimesTextureSizeMustNameTexels) {
+    SceneOptions options;
+    options.set["repeat"] = "4096";
+    options.set["texture_size"] = "8192";
+    expectError<UsageError>([&] { loadScene("fence", options); },
+                            {"repeat x texture_size = 4096 x 8192", "2^24"});
+}
+
+TEST(KnobRanges, GeneratedTexturesCountAgainstTheMemoryLimit) {
+    const MemoryLimitForTest limit(std::uint64_t(10) << 20);
+    // 2048² RGBA texels are 16 MiB, above the 10 MiB limit; the default 256² fits.
+    for (const char* scene : {"fence", "foliage"}) {
+        SceneOptions options;
+        options.set["texture_size"] = "2048";
+        expectError<UsageError>(
+            [&] { loadScene(scene, options); },
+            {std::string(scene) + ":", "texture of 2048x2048 texels", "16.0 MiB", "memory limit"});
+    }
+    EXPECT_NO_THROW(loadScene("fence"));
 }
 
 TEST(Load, ParticlesAreLightFacingTranslucentBillboardsBesideACube) {
