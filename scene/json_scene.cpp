@@ -11,9 +11,12 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 
@@ -23,6 +26,13 @@ namespace {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
+
+/// The shortest text that reads back as `value` ("1e+20", "-1", "0.5").
+std::string numberText(double value) {
+    char buffer[32];
+    const char* end = std::to_chars(buffer, buffer + sizeof buffer, value).ptr;
+    return std::string(static_cast<const char*>(buffer), end);
+}
 
 /// Reads typed values out of the parsed document; every error names the file and the JSON path.
 class Reader {
@@ -62,6 +72,15 @@ class Reader {
     float positive(const Json& j, const std::string& where) const {
         const double value = number(j, where);
         if (!(value > 0.0)) fail(where, "must be > 0, got " + j.dump());
+        return float(value);
+    }
+    /// A light's size (a rectangle's edge, a disk's or sphere's radius) within
+    /// [MIN_LIGHT_SIZE, MAX_LIGHT_SIZE].
+    float lightSize(const Json& j, const std::string& where) const {
+        const double value = number(j, where);
+        if (!(value >= double(MIN_LIGHT_SIZE) && value <= double(MAX_LIGHT_SIZE)))
+            fail(where, numberText(value) + " is outside the accepted light size " + lightSizeRangeText() +
+                            " world units (the samplers need the light's area as a normal float)");
         return float(value);
     }
     float nonNegative(const Json& j, const std::string& where) const {
@@ -306,11 +325,17 @@ class SceneBuilder {
             m_r.string(m_r.require(j, "generator", w), Reader::join(w, "generator"));
         int size = generator == "leaf" ? 128 : 256;
         if (j.contains("size")) size = m_r.integer(j["size"], Reader::join(w, "size"));
-        if (size < 8 || size > 8192) m_r.fail(Reader::join(w, "size"), "must be in [8, 8192]");
-        if (generator == "chainlink") return addTexture(m_scene, makeChainLinkTexture(size));
-        if (generator == "leaf") return addTexture(m_scene, makeLeafTexture(size));
-        m_r.fail(Reader::join(w, "generator"),
-                 "unknown generator \"" + generator + "\" (expected \"chainlink\" or \"leaf\")");
+        if (!GENERATED_TEXTURE_SIZE.contains(size))
+            m_r.fail(Reader::join(w, "size"), "must be in " + rangeText(GENERATED_TEXTURE_SIZE));
+        if (generator != "chainlink" && generator != "leaf")
+            m_r.fail(Reader::join(w, "generator"),
+                     "unknown generator \"" + generator + "\" (expected \"chainlink\" or \"leaf\")");
+        // Counted before it is generated, beside the textures the scene holds already.
+        double held = 0.0;
+        for (const Texture& t : m_scene.textures) held += double(t.rgba.size());
+        checkGeneratedTextureMemory(m_r.file() + ": " + w + ": " + generator + " texture", size, held);
+        return addTexture(m_scene,
+                          generator == "chainlink" ? makeChainLinkTexture(size) : makeLeafTexture(size));
     }
 
     int materialNamed(const Json& j, const std::string& w) {
@@ -351,15 +376,56 @@ class SceneBuilder {
                 const vec2 size = m_r.vector<2>(m_r.require(j["quad"], "size", q), Reader::join(q, "size"));
                 if (!(size.x > 0.0f && size.y > 0.0f)) m_r.fail(Reader::join(q, "size"), "sizes must be > 0");
                 vec2 repeat(1.0f);
-                if (j["quad"].contains("uvRepeat"))
+                if (j["quad"].contains("uvRepeat")) {
                     repeat = m_r.vector<2>(j["quad"]["uvRepeat"], Reader::join(q, "uvRepeat"));
+                    // The quad's far corner has texture coordinates `repeat` (MAX_TEXEL_COORDINATE).
+                    const Material& m = m_scene.materials[std::size_t(material)];
+                    for (const int texture : {m.alphaTexture, m.blendTexture})
+                        if (texture >= 0)
+                            if (const std::string problem =
+                                    texcoordProblem(repeat, m_scene.textures[std::size_t(texture)]);
+                                !problem.empty())
+                                m_r.fail(Reader::join(q, "uvRepeat"), problem);
+                }
                 mesh = makeQuad(size, repeat);
             } else {
                 readTriangles(j, w, mesh);
             }
         }
         if (mesh.triangles.empty()) m_r.fail(w, "mesh has no triangles");
+        checkTexcoords(mesh, material, w,
+                       j.contains("quad")   ? "quad"
+                       : j.contains("file") ? "file"
+                                            : "texcoords");
         appendMesh(m_scene, mesh, worldFromObject, name, material);
+    }
+
+    /// Texture coordinates of textured triangles that name no texel (texcoordProblem), with the
+    /// JSON place of the value at fault: a quad's uvRepeat, an inline vertex's texcoords, or the
+    /// mesh file and its vertex. Scene::validate checks them again for every loader, by triangle.
+    void checkTexcoords(const MeshData& mesh, int material, const std::string& w, const char* source) {
+        for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+            const bool own = material < 0;
+            if (own && t >= mesh.triangleMaterial.size()) break; // appendMesh reports it
+            const std::size_t m = own ? mesh.triangleMaterial[t] : std::size_t(material);
+            const std::vector<Material>& materials = own ? mesh.materials : m_scene.materials;
+            const std::vector<Texture>& textures = own ? mesh.textures : m_scene.textures;
+            if (m >= materials.size()) continue; // appendMesh and validate report it
+            for (const int texture : {materials[m].alphaTexture, materials[m].blendTexture}) {
+                if (texture < 0 || std::size_t(texture) >= textures.size()) continue;
+                for (int k = 0; k < 3; ++k) {
+                    const std::uint32_t v = mesh.triangles[t][k];
+                    if (v >= mesh.texcoords.size()) continue; // none: appendMesh gives (0, 0)
+                    const std::string problem =
+                        texcoordProblem(mesh.texcoords[v], textures[std::size_t(texture)]);
+                    if (problem.empty()) continue;
+                    const std::string place = Reader::join(w, source);
+                    if (std::string(source) == "quad") m_r.fail(Reader::join(place, "uvRepeat"), problem);
+                    if (std::string(source) == "texcoords") m_r.fail(Reader::index(place, v), problem);
+                    m_r.fail(place, "vertex " + std::to_string(v) + " texture coordinate: " + problem);
+                }
+            }
+        }
     }
 
     void readTriangles(const Json& j, const std::string& w, MeshData& mesh) {
@@ -416,6 +482,15 @@ class SceneBuilder {
                 const vec3 u = m_r.vector<3>(m_r.require(j, "axisU", w), at("axisU"));
                 const vec3 v = m_r.vector<3>(m_r.require(j, "axisV", w), at("axisV"));
                 if (!(length(u) > 0.0f && length(v) > 0.0f)) m_r.fail(w, "axisU and axisV must be non-zero");
+                for (const char* key : {"axisU", "axisV"}) {
+                    // A half-extent: the edge is twice its length (in double: its square may overflow).
+                    const double edge = 2.0 * glm::length(glm::dvec3(std::string(key) == "axisU" ? u : v));
+                    if (!(edge >= double(MIN_LIGHT_SIZE) && edge <= double(MAX_LIGHT_SIZE)))
+                        m_r.fail(at(key), "gives an edge of " + numberText(edge) +
+                                              ", outside the accepted light size " + lightSizeRangeText() +
+                                              " world units (the samplers need the light's area as a "
+                                              "normal float)");
+                }
                 const vec3 n = cross(u, v);
                 if (!(length(n) > 1e-6f * length(u) * length(v))) m_r.fail(w, "axisU and axisV are parallel");
                 if (std::abs(dot(u, v)) > 1e-4f * length(u) * length(v))
@@ -433,9 +508,16 @@ class SceneBuilder {
             } else {
                 const vec3 normal = m_r.direction(m_r.require(j, "normal", w), at("normal"));
                 const Json& s = m_r.require(j, "size", w);
-                const vec2 size =
-                    s.is_number() ? vec2(m_r.positive(s, at("size"))) : m_r.vector<2>(s, at("size"));
-                if (!(size.x > 0.0f && size.y > 0.0f)) m_r.fail(at("size"), "sizes must be > 0");
+                vec2 size(0.0f);
+                if (s.is_number()) {
+                    size = vec2(m_r.lightSize(s, at("size")));
+                } else {
+                    if (!s.is_array() || s.size() != 2)
+                        m_r.fail(at("size"),
+                                 "expected a number or an array of 2 numbers, got " + Reader::describe(s));
+                    for (std::size_t i = 0; i < 2; ++i)
+                        size[int(i)] = m_r.lightSize(s[i], Reader::index(at("size"), i));
+                }
                 vec3 tangent(0.0f);
                 if (j.contains("tangent")) tangent = m_r.direction(j["tangent"], at("tangent"));
                 m_scene.lights.push_back(makeRectangleLight(position, normal, size, radiance(), tangent));
@@ -445,12 +527,12 @@ class SceneBuilder {
             m_scene.lights.push_back(
                 makeDiskLight(m_r.vector<3>(m_r.require(j, "position", w), at("position")),
                               m_r.direction(m_r.require(j, "normal", w), at("normal")),
-                              m_r.positive(m_r.require(j, "radius", w), at("radius")), radiance()));
+                              m_r.lightSize(m_r.require(j, "radius", w), at("radius")), radiance()));
         } else if (type == "sphere") {
             m_r.expectObject(j, w, {"type", "position", "radius", "radiance"});
             m_scene.lights.push_back(
                 makeSphereLight(m_r.vector<3>(m_r.require(j, "position", w), at("position")),
-                                m_r.positive(m_r.require(j, "radius", w), at("radius")), radiance()));
+                                m_r.lightSize(m_r.require(j, "radius", w), at("radius")), radiance()));
         } else if (type == "directional") {
             m_r.expectObject(j, w, {"type", "direction", "angularRadius", "radiance"});
             const float degrees = m_r.nonNegative(m_r.require(j, "angularRadius", w), at("angularRadius"));
@@ -496,20 +578,75 @@ class SceneBuilder {
     std::map<std::string, int> m_textureByKey;
 };
 
-/// `text` parsed as JSON with comments, nesting limited; InputError naming `path` (and the line).
+/// The 1-based line of byte `offset` of `text`.
+std::size_t lineOf(const std::string& text, std::size_t offset) {
+    return 1 + std::size_t(std::count(text.begin(),
+                                      text.begin() + std::ptrdiff_t(std::min(offset, text.size())), '\n'));
+}
+
+/// The characters of a text as nlohmann::json's parser reads them, noting in `*reached` how far
+/// it has read: the parser callback is given a value but not its place in the text, and the
+/// place of a key is where the parser has read to when the callback sees it (just past the
+/// key's closing quote: a string token needs no look-ahead).
+class TrackedChars {
+  public:
+    using iterator_category = std::input_iterator_tag;
+    using value_type = char;
+    using difference_type = std::ptrdiff_t;
+    using pointer = const char*;
+    using reference = const char&;
+
+    TrackedChars(const char* at, const char** reached) : m_at(at), m_reached(reached) {}
+    reference operator*() const { return *m_at; }
+    TrackedChars& operator++() {
+        *m_reached = ++m_at;
+        return *this;
+    }
+    TrackedChars operator++(int) {
+        TrackedChars before = *this;
+        ++*this;
+        return before;
+    }
+    bool operator==(const TrackedChars& other) const { return m_at == other.m_at; }
+    bool operator!=(const TrackedChars& other) const { return m_at != other.m_at; }
+
+  private:
+    const char* m_at;
+    const char** m_reached;
+};
+
+/// `text` parsed as JSON with comments, nesting limited and duplicate keys refused; InputError
+/// naming `path` (and the line).
 Json parseJsonText(const std::string& path, const std::string& text) {
     Json root;
+    const char* reached = text.data();
+    // The keys of each object being read, with the offset just past each (for its line).
+    std::vector<std::map<std::string, std::size_t>> keys;
     try {
-        // Nesting is limited while parsing: a scene is a few levels deep, and a deep value would
-        // exhaust the stack of whatever walks it afterwards.
-        const Json::parser_callback_t limitDepth = [&path](int depth, Json::parse_event_t event, Json&) {
+        const Json::parser_callback_t check = [&](int depth, Json::parse_event_t event, Json& parsed) {
+            // Nesting is limited while parsing: a scene is a few levels deep, and a deep value
+            // would exhaust the stack of whatever walks it afterwards.
             if (depth > MAX_JSON_DEPTH &&
                 (event == Json::parse_event_t::object_start || event == Json::parse_event_t::array_start))
                 throw InputError(path, "JSON nested deeper than " + std::to_string(MAX_JSON_DEPTH) +
                                            " levels; a scene needs a handful");
+            // A repeated key would keep only its last value, silently: refused where it repeats.
+            if (event == Json::parse_event_t::object_start) keys.emplace_back();
+            if (event == Json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+            if (event == Json::parse_event_t::key && !keys.empty()) {
+                const auto offset = std::size_t(reached - text.data());
+                const auto [it, added] = keys.back().try_emplace(parsed.get<std::string>(), offset);
+                if (!added)
+                    throw InputError(path, lineOf(text, offset),
+                                     "duplicate key " + parsed.dump() + " (first at line " +
+                                         std::to_string(lineOf(text, it->second)) +
+                                         "): JSON would keep only the last value; give each key once");
+            }
             return true;
         };
-        root = Json::parse(text, limitDepth, true, /*ignore_comments=*/true);
+        root = Json::parse(TrackedChars(text.data(), &reached),
+                           TrackedChars(text.data() + text.size(), &reached), check, true,
+                           /*ignore_comments=*/true);
     } catch (const Json::out_of_range& e) { // number overflow ("1e999")
         std::string message = e.what();
         if (const auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
@@ -518,10 +655,7 @@ Json parseJsonText(const std::string& path, const std::string& text) {
         // e.what() reads "[json.exception.parse_error.101] parse error at line L, column C: ...".
         std::string message = e.what();
         if (const auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
-        const std::string& source = text;
-        std::size_t line = 1;
-        for (std::size_t i = 0; i < std::min(e.byte, source.size()); ++i) line += source[i] == '\n' ? 1 : 0;
-        throw InputError(path, line, "invalid JSON: " + message);
+        throw InputError(path, lineOf(text, e.byte), "invalid JSON: " + message);
     }
     return root;
 }

@@ -1,4 +1,5 @@
 #include "core/error.h"
+#include "core/memory_budget.h"
 #include "scene/json_scene.h"
 #include "scene/load.h"
 #include "scene/procedural.h"
@@ -205,7 +206,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadJson{"NegativeRadius",
                 "{" MAT ", " TRI ", \"lights\": [{\"type\": \"disk\", \"position\": [0,5,0], \"normal\": "
                 "[0,-1,0], \"radius\": -1, \"radiance\": 1}]}",
-                "lights[0].radius", "> 0"},
+                "lights[0].radius", "-1 is outside the accepted light size [1e-09, 1e+09]"},
         BadJson{"ZeroNormal",
                 "{" MAT ", " TRI ", \"lights\": [{\"type\": \"rectangle\", \"position\": [0,5,0], "
                 "\"normal\": [0,0,0], \"size\": 1, \"radiance\": 1}]}",
@@ -245,6 +246,135 @@ TEST(JsonScene, BadMeshFileInsideJsonNamesTheMeshFileAndLine) {
     const std::string path =
         dir.write("s.json", "{" MAT ", \"meshes\": [{\"file\": \"broken.obj\"}], " LIGHT "}");
     expectError<InputError>([&] { loadScene(path); }, {obj + ":3:", "non-finite"});
+}
+
+TEST(JsonScene, DuplicateKeysAreRefusedWithTheirLine) {
+    TempDir dir;
+    // nlohmann::json keeps the last of two equal keys: the first "meshes" or "lights" was lost.
+    const std::string meshes =
+        dir.write("meshes.json", "{\n" MAT ",\n\"meshes\": [],\n" TRI ",\n" LIGHT "\n}\n");
+    expectError<InputError>([&] { loadScene(meshes); },
+                            {meshes + ":4:", "duplicate key \"meshes\" (first at line 3)"});
+    const std::string lights =
+        dir.write("lights.json", "{\n" MAT ",\n" TRI ",\n" LIGHT ",\n\"lights\": []\n}\n");
+    expectError<InputError>([&] { loadScene(lights); },
+                            {lights + ":5:", "duplicate key \"lights\" (first at line 4)"});
+    // Inside a nested object, on one line; the same key in two objects is no duplicate.
+    const std::string nested = dir.write(
+        "nested.json", "{" MAT ", " TRI ", \"lights\": [{\"type\": \"sphere\", \"position\": [0,5,0], "
+                       "\"radius\": 1, \"radius\": 2, \"radiance\": 1}]}");
+    expectError<InputError>([&] { loadScene(nested); }, {nested + ":1:", "duplicate key \"radius\""});
+    EXPECT_NO_THROW(
+        loadScene(dir.write("apart.json", "{" MAT ", " TRI ", \"lights\": [{\"type\": \"sphere\", "
+                                          "\"position\": [0,5,0], \"radius\": 1, \"radiance\": 1}, "
+                                          "{\"type\": \"sphere\", \"position\": [0,6,0], "
+                                          "\"radius\": 1, \"radiance\": 1}]}")));
+    // The command line's JSON goes through the same reader.
+    expectError<InputError>(
+        [] {
+            parseLightJson("--light",
+                           R"({"type": "sphere", "position": [0, 5, 0], "radius": 1, "radius": 3})");
+        },
+        {"--light:1:", "duplicate key \"radius\""});
+    expectError<InputError>(
+        [] {
+            parseCameraJson("--camera", "{\"eye\": [0, 1, 5],\n \"eye\": [0, 2, 5], \"target\": [0, 0, 0]}");
+        },
+        {"--camera:2:", "duplicate key \"eye\" (first at line 1)"});
+}
+
+TEST(JsonScene, TexcoordsOfTexturedMeshesMustNameTexels) {
+    TempDir dir;
+    const char* chain =
+        R"("materials": [{"name": "m"}, {"name": "chain", "alphaTexture": {"generator": "chainlink", "size": 64}}])";
+    // uvRepeat 1e38 of a 64-texel texture: 6.4e39 texels, far past the 2^24 a float names exactly.
+    const std::string repeat = dir.write(
+        "repeat.json",
+        std::string("{") + chain +
+            R"(, "meshes": [{"quad": {"size": [1, 1], "uvRepeat": [1e38, 1e38]}, "material": "chain"}], )" LIGHT
+            "}");
+    expectError<InputError>([&] { loadScene(repeat); },
+                            {repeat + ": meshes[0].quad.uvRepeat: u = 1e+38 is 6.4e+39 texels", "2^24"});
+    // 2^24 / 64 = 262144 repeats reach 2^24 exactly: refused; one texel less is not.
+    const std::string edge = dir.write(
+        "edge.json",
+        std::string("{") + chain +
+            R"(, "meshes": [{"quad": {"size": [1, 1], "uvRepeat": [1, 262144]}, "material": "chain"}], )" LIGHT
+            "}");
+    expectError<InputError>([&] { loadScene(edge); }, {"meshes[0].quad.uvRepeat: v = 262144", "2^24"});
+    EXPECT_NO_THROW(loadScene(dir.write(
+        "below.json",
+        std::string("{") + chain +
+            R"(, "meshes": [{"quad": {"size": [1, 1], "uvRepeat": [1, 262143.984375]}, "material": "chain"}], )" LIGHT
+            "}")));
+    // Inline texcoords: the vertex's own place.
+    const std::string inline_ = dir.write(
+        "inline.json",
+        std::string("{") + chain +
+            R"(, "meshes": [{"vertices": [[0,0,0],[1,0,0],[0,1,0]], "texcoords": [[0,0],[0,-3e20],[1,1]],)"
+            R"( "triangles": [[0,1,2]], "material": "chain"}], )" LIGHT "}");
+    expectError<InputError>([&] { loadScene(inline_); }, {"meshes[0].texcoords[1]: v = -3e+20", "2^24"});
+    // An untextured mesh's texture coordinates are never read.
+    EXPECT_NO_THROW(loadScene(dir.write(
+        "plain.json",
+        std::string("{") + chain +
+            R"(, "meshes": [{"quad": {"size": [1, 1], "uvRepeat": [1e38, 1e38]}, "material": "m"}], )" LIGHT
+            "}")));
+}
+
+TEST(JsonScene, LightSizesOutsideTheirRangeAreNamed) {
+    TempDir dir;
+    const auto withLight = [&](const std::string& name, const std::string& light) {
+        return dir.write(name, "{" MAT ", " TRI ", \"lights\": [" + light + "]}");
+    };
+    // A 1e20 edge: its square, the area, overflows a float (it said "non-finite parameter").
+    const std::string big = withLight(
+        "big.json",
+        R"({"type": "rectangle", "position": [0,5,0], "normal": [0,-1,0], "size": 1e20, "radiance": 1})");
+    expectError<InputError>(
+        [&] { loadScene(big); },
+        {big + ": lights[0].size: 1e+20 is outside the accepted light size [1e-09, 1e+09]"});
+    const std::string thin = withLight(
+        "thin.json",
+        R"({"type": "rectangle", "position": [0,5,0], "normal": [0,-1,0], "size": [1, 1e-12], "radiance": 1})");
+    expectError<InputError>([&] { loadScene(thin); },
+                            {"lights[0].size[1]: 1e-12 is outside", "[1e-09, 1e+09]"});
+    const std::string axis = withLight(
+        "axis.json",
+        R"({"type": "rectangle", "position": [0,5,0], "axisU": [1e10,0,0], "axisV": [0,0,1], "radiance": 1})");
+    expectError<InputError>([&] { loadScene(axis); },
+                            {"lights[0].axisU: gives an edge of 2e+10", "[1e-09, 1e+09]"});
+    const std::string sphere =
+        withLight("sphere.json", R"({"type": "sphere", "position": [0,5,0], "radius": 2e9, "radiance": 1})");
+    expectError<InputError>([&] { loadScene(sphere); }, {"lights[0].radius: 2e+09 is outside"});
+    // The ends themselves are accepted.
+    EXPECT_NO_THROW(loadScene(withLight(
+        "ends.json",
+        R"({"type": "rectangle", "position": [0,5,0], "normal": [0,-1,0], "size": [1e-9, 1e9], "radiance": 1})")));
+}
+
+/// Sets the memory limit for one test and restores the default after it.
+struct MemoryLimitForTest {
+    explicit MemoryLimitForTest(std::uint64_t bytes) { setMemoryLimit(bytes); }
+    ~MemoryLimitForTest() { setMemoryLimit(0); }
+    MemoryLimitForTest(const MemoryLimitForTest&) = delete;
+    MemoryLimitForTest& operator=(const MemoryLimitForTest&) = delete;
+};
+
+TEST(JsonScene, GeneratedTexturesCountAgainstTheMemoryLimit) {
+    TempDir dir;
+    const auto scene = [&](const std::string& name, int size) {
+        return dir.write(name,
+                         R"({"materials": [{"name": "m", "alphaTexture": {"generator": "leaf", "size": )" +
+                             std::to_string(size) + "}}], " TRI ", " LIGHT "}");
+    };
+    const MemoryLimitForTest limit(std::uint64_t(10) << 20);
+    // 2048² RGBA texels are 16 MiB, above 10 MiB; 1024² (4 MiB) fit.
+    const std::string big = scene("big.json", 2048);
+    expectError<UsageError>(
+        [&] { loadScene(big); },
+        {big + ": materials[0].alphaTexture: leaf texture of 2048x2048 texels", "16.0 MiB", "memory limit"});
+    EXPECT_NO_THROW(loadScene(scene("fits.json", 1024)));
 }
 
 TEST(JsonScene, MissingFileIsAnInputError) {
