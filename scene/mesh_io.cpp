@@ -414,7 +414,29 @@ struct ObjScan {
     /// bounds, found by fuzzing).
     std::string canonical;
     std::vector<std::size_t> faceLine;
+    /// Faces that name a vertex twice (degenerate): counted and skipped, never given to OpenMesh
+    /// (its OBJ reader drops the repeats and keeps the rest of such a face as a smaller polygon).
+    std::vector<bool> faceRepeats;
+    std::size_t firstRepeatLine = 0;     ///< the first such face's line
+    std::int64_t firstRepeatVertex = -1; ///< the vertex it repeats, 0-based
 };
+
+/// A vertex `corners` names twice (the smallest such), or −1; sorted, as a face may have any
+/// number of corners.
+std::int64_t repeatedVertex(std::vector<std::int64_t> corners) {
+    std::sort(corners.begin(), corners.end());
+    const auto it = std::adjacent_find(corners.begin(), corners.end());
+    return it == corners.end() ? -1 : *it;
+}
+
+/// InputError for a file whose every face repeats a vertex: the first such face, and that no face is left.
+[[noreturn]] void throwNoValidFace(const std::string& path, std::size_t line, std::int64_t vertex,
+                                   std::size_t faces, const char* firstIndex) {
+    throw InputError(path, line,
+                     "face names vertex " + std::to_string(vertex) + " (counting from " + firstIndex +
+                         ") twice, a degenerate face, and so do all " + std::to_string(faces) +
+                         " faces of the file: it has no valid face");
+}
 
 const char* const kIgnoredObjStatements[] = {
     "o",          "g",         "s",     "l",     "p",        "vp",       "cstype", "deg",    "bmat",
@@ -549,15 +571,24 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
             }
             const std::size_t first = scan.faceStart.back();
             scan.faceStart.push_back(static_cast<std::uint32_t>(scan.cornerVertex.size()));
+            const std::int64_t repeated =
+                repeatedVertex({scan.cornerVertex.begin() + std::ptrdiff_t(first), scan.cornerVertex.end()});
+            scan.faceRepeats.push_back(repeated >= 0);
+            if (repeated >= 0 && scan.firstRepeatLine == 0) {
+                scan.firstRepeatLine = number;
+                scan.firstRepeatVertex = repeated;
+            }
             bool allTexcoords = true;
             for (std::size_t c = first; c < scan.cornerVertex.size(); ++c)
                 allTexcoords &= scan.cornerTexcoord[c] >= 0;
-            scan.canonical.push_back('f');
-            for (std::size_t c = first; c < scan.cornerVertex.size(); ++c) {
-                scan.canonical += " " + std::to_string(scan.cornerVertex[c] + 1);
-                if (allTexcoords) scan.canonical += "/" + std::to_string(scan.cornerTexcoord[c] + 1);
+            if (repeated < 0) {
+                scan.canonical.push_back('f');
+                for (std::size_t c = first; c < scan.cornerVertex.size(); ++c) {
+                    scan.canonical += " " + std::to_string(scan.cornerVertex[c] + 1);
+                    if (allTexcoords) scan.canonical += "/" + std::to_string(scan.cornerTexcoord[c] + 1);
+                }
+                scan.canonical.push_back('\n');
             }
-            scan.canonical.push_back('\n');
             if (currentMaterial < 0) currentMaterial = static_cast<int>(defaultMaterial());
             scan.faceMaterial.push_back(static_cast<std::uint32_t>(currentMaterial));
             scan.faceLine.push_back(number);
@@ -592,13 +623,6 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
     return scan;
 }
 
-bool hasRepeatedVertex(const ObjScan& scan, std::size_t face) {
-    for (std::uint32_t a = scan.faceStart[face]; a < scan.faceStart[face + 1]; ++a)
-        for (std::uint32_t b = a + 1; b < scan.faceStart[face + 1]; ++b)
-            if (scan.cornerVertex[a] == scan.cornerVertex[b]) return true;
-    return false;
-}
-
 } // namespace
 
 MeshData loadObj(const std::string& path) {
@@ -606,21 +630,23 @@ MeshData loadObj(const std::string& path) {
     MeshData out;
     const ObjScan scan = scanObj(path, text, out);
 
-    PolyMesh mesh;
-    readThroughOpenMesh(path, mesh, true, &scan.canonical, ".obj");
-
-    // OpenMesh adds the faces in file order, drops faces with a repeated vertex ("equal
-    // vertices") and adds faces that would break manifoldness on fresh copies of their
-    // vertices. Face i of OpenMesh is therefore the i-th face of the scan that has no repeated
-    // vertex; we check that rather than assume it.
+    // OpenMesh is given the faces without a repeated vertex, in file order, and adds faces that
+    // would break manifoldness on fresh copies of their vertices. Face i of OpenMesh is therefore
+    // the i-th face of the scan without a repeated vertex; we check that rather than assume it.
     std::vector<std::size_t> scanFaceOf;
     scanFaceOf.reserve(scan.faceMaterial.size());
     for (std::size_t f = 0; f < scan.faceMaterial.size(); ++f) {
-        if (hasRepeatedVertex(scan, f))
+        if (scan.faceRepeats[f])
             ++out.skippedFaces;
         else
             scanFaceOf.push_back(f);
     }
+    if (scanFaceOf.empty())
+        throwNoValidFace(path, scan.firstRepeatLine, scan.firstRepeatVertex + 1, scan.faceMaterial.size(),
+                         "1");
+
+    PolyMesh mesh;
+    readThroughOpenMesh(path, mesh, true, &scan.canonical, ".obj");
     if (mesh.n_faces() != scanFaceOf.size())
         throw InputError(path, "OpenMesh read " + std::to_string(mesh.n_faces()) +
                                    " faces where the file has " + std::to_string(scanFaceOf.size()) +
@@ -741,9 +767,9 @@ MeshData loadOff(const std::string& path) {
     if (faceCount < 1) throw InputError(path, number, "no faces");
     // OpenMesh 9.0's OFF reader silently reads nothing when the counts share the header line and
     // misreads comment or blank lines, so it is fed a canonical copy of the validated tokens:
-    // header line, counts line, one vertex or face per line.
-    std::string canonical =
-        header + "\n" + std::to_string(vertexCount) + " " + std::to_string(faceCount) + " 0\n";
+    // header line, counts line, one vertex or face per line, and only the faces without a
+    // repeated vertex (the counts line is written once they are known).
+    std::string canonical;
     auto appendLine = [&canonical](const std::vector<std::string_view>& items) {
         for (std::size_t k = 0; k < items.size(); ++k) {
             if (k) canonical += ' ';
@@ -771,7 +797,8 @@ MeshData loadOff(const std::string& path) {
         }
         appendLine(std::vector<std::string_view>(numbers.begin(), numbers.end()));
     }
-    std::size_t repeated = 0;
+    std::size_t repeated = 0, firstRepeatLine = 0;
+    std::int64_t firstRepeatVertex = -1;
     for (long long f = 0; f < faceCount; ++f) {
         if (!nextTokens())
             throw InputError(path, lines.lastLine(),
@@ -799,18 +826,21 @@ MeshData loadOff(const std::string& path) {
         }
         for (std::size_t k = std::size_t(n) + 1; k < tokens.size(); ++k)
             finiteNumber(tokens[k], path, number, "face colour");
-        for (std::size_t a = faceStart.back(); a < corners.size(); ++a)
-            for (std::size_t b = a + 1; b < corners.size(); ++b)
-                if (corners[a] == corners[b]) {
-                    ++repeated;
-                    a = corners.size();
-                    break;
-                }
+        const std::int64_t twice =
+            repeatedVertex({corners.begin() + std::ptrdiff_t(faceStart.back()), corners.end()});
         faceStart.push_back(static_cast<std::uint32_t>(corners.size()));
+        if (twice >= 0) {
+            if (repeated++ == 0) firstRepeatLine = number, firstRepeatVertex = twice;
+            continue;
+        }
         // Face colours are validated but not used: OpenMesh reads a huge one as a colour count
         // and allocates without bound (found by fuzzing), so it gets the indices only.
         appendLine({tokens.begin(), tokens.begin() + std::ptrdiff_t(n + 1)});
     }
+    if (repeated == static_cast<std::size_t>(faceCount))
+        throwNoValidFace(path, firstRepeatLine, firstRepeatVertex, repeated, "0");
+    canonical = header + "\n" + std::to_string(vertexCount) + " " +
+                std::to_string(static_cast<std::size_t>(faceCount) - repeated) + " 0\n" + canonical;
 
     PolyMesh mesh;
     readThroughOpenMesh(path, mesh, hasTexcoords, &canonical, ".off");

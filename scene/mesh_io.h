@@ -14,11 +14,14 @@
 namespace stsv {
 
 /// Reads an OBJ file, its `mtllib` files (Kd, map_Kd, map_d, -clamp) and the textures they name
-/// (paths relative to the MTL file). Faces are fan-triangulated; materials follow `usemtl`.
-/// Throws InputError(file, line, problem) on malformed input, missing MTL or texture files.
+/// (paths relative to the MTL file). Faces are fan-triangulated; materials follow `usemtl`. A face
+/// that names a vertex twice is degenerate: skipped and counted in skippedFaces (a file without
+/// any other face is refused at its line). Throws InputError(file, line, problem) on malformed
+/// input, missing MTL or texture files.
 MeshData loadObj(const std::string& path);
 
-/// Reads an ASCII OFF file ([ST][C][N]OFF headers); one opaque material named "default".
+/// Reads an ASCII OFF file ([ST][C][N]OFF headers); one opaque material named "default". Faces
+/// that name a vertex twice are skipped as in loadObj.
 MeshData loadOff(const std::string& path);
 
 /// loadObj or loadOff by (case-insensitive) extension; UsageError for any other extension.

@@ -1,5 +1,6 @@
 #include "core/error.h"
 #include "core/image.h"
+#include "scene/load.h"
 #include "scene/mesh_io.h"
 
 #include "scene_test_util.h"
@@ -231,7 +232,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadObj{"MissingMtllib", "mtllib nowhere.mtl\nv 0 0 0\n", 1, "nowhere.mtl' does not exist"},
         BadObj{"Empty", "# nothing here\n\n", 0, "no vertices"},
         BadObj{"NoFaces", "v 0 0 0\nv 1 0 0\nv 0 1 0\n", 0, "no faces"},
-        BadObj{"OnlyDegenerateFaces", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n", 0, "no usable faces"}),
+        BadObj{"OnlyDegenerateFaces", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 2\n", 4,
+               "face names vertex 2 (counting from 1) twice, a degenerate face, and so do all 1 faces of the "
+               "file: it has no valid face"}),
     [](const ::testing::TestParamInfo<BadObj>& p) { return std::string(p.param.name); });
 
 TEST(Obj, UndefinedMaterialNamesObjLine) {
@@ -284,6 +287,54 @@ TEST(Off, CubeWithCommentsAndQuads) {
     // Outward winding kept: every normal points away from the cube centre.
     for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
         EXPECT_GT(dot(triangleNormal(mesh, t), centroid(mesh, t) - vec3(0.5f)), 0.0f) << "t=" << t;
+}
+
+TEST(Obj, AFaceOfManyRepeatedVerticesIsSkippedAndNamed) {
+    // A face of 300 000 corners naming three vertices over and over: OpenMesh kept it as the
+    // triangle 1 2 3 while the loader counted it as degenerate ("OpenMesh read 1 faces where the
+    // file has 0 valid faces").
+    std::string face = "f";
+    for (int i = 0; i < 300000; ++i) face += " " + std::to_string(1 + i % 3);
+    TempDir dir;
+    const std::string only = dir.write("only.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n" + face + "\n");
+    expectError<InputError>(
+        [&] { loadObj(only); },
+        {only + ":4:", "face names vertex 1 (counting from 1) twice", "it has no valid face"});
+    // Beside a valid face it is skipped and counted like any face with a repeated vertex.
+    const MeshData mesh =
+        loadObj(dir.write("beside.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" + face + "\n"));
+    EXPECT_EQ(mesh.triangles.size(), 1u);
+    EXPECT_EQ(mesh.skippedFaces, 1u);
+}
+
+TEST(Off, FacesWithRepeatedVerticesAreSkippedOrNamed) {
+    TempDir dir;
+    const std::string only = dir.write("only.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n6 0 1 2 0 1 2\n");
+    expectError<InputError>(
+        [&] { loadOff(only); },
+        {only + ":6:", "face names vertex 0 (counting from 0) twice", "it has no valid face"});
+    const MeshData mesh =
+        loadOff(dir.write("beside.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n6 0 1 2 0 1 2\n3 0 1 2\n"));
+    EXPECT_EQ(mesh.triangles.size(), 1u);
+    EXPECT_EQ(mesh.skippedFaces, 1u);
+}
+
+TEST(Obj, TexcoordsBeyondTheTexelRangeAreRefused) {
+    // vt 1e38 is finite, but u·width names no texel: Scene::validate refuses it by triangle.
+    TempDir dir;
+    writePng(dir.path("mask.png"), makeImage(8, 8, [](int x, int, std::uint8_t* t) {
+                 t[0] = t[1] = t[2] = 200;
+                 t[3] = x % 2 ? 255 : 0;
+             }));
+    dir.write("a.mtl", "newmtl holes\nmap_d mask.png\n");
+    const std::string obj = dir.write("a.obj", "mtllib a.mtl\nusemtl holes\nv 0 0 0\nv 1 0 0\nv 1 1 0\n"
+                                               "vt 0 0\nvt 1e38 0\nvt 1 1\nf 1/1 2/2 3/3\n");
+    expectError<InputError>(
+        [&] { loadScene(obj); },
+        {obj + ":", "triangle 0 vertex 1 texture coordinate: u = 1e+38 is 8e+38 texels", "2^24"});
+    // Without a texture the same coordinates are accepted.
+    EXPECT_NO_THROW(loadScene(dir.write("plain.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1e38 0\nvt 1 1\n"
+                                                     "f 1/1 2/2 3/3\n")));
 }
 
 TEST(Off, CountsOnTheHeaderLine) {
