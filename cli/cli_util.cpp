@@ -37,12 +37,14 @@ std::vector<std::string> splitList(const std::string& text) {
 std::vector<int> parseIntList(const std::string& text, const std::string& option) {
     std::vector<int> values;
     for (const std::string& item : splitList(text)) {
-        const bool digits = item.size() <= 9 && std::all_of(item.begin(), item.end(), [](unsigned char c) {
-                                return std::isdigit(c) != 0;
-                            });
-        if (!digits || std::stoi(item) <= 0)
+        const bool digits =
+            std::all_of(item.begin(), item.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
+        if (!digits)
             throw UsageError(std::string(option).append(" '").append(text).append("': '").append(item).append(
                 "' is not a positive integer"));
+        if (item.size() > 9 || std::stoi(item) <= 0)
+            throw UsageError(std::string(option).append(" '").append(text).append("': ").append(item).append(
+                " is out of range (1 to 999999999)"));
         values.push_back(std::stoi(item));
     }
     if (values.empty()) throw UsageError(option + " is empty");
@@ -416,7 +418,7 @@ std::string vulkanDeviceName(const std::string& select, nlohmann::json& allNames
                 if (d.type == type && d.vulkan13) return d.name;
         return "no Vulkan 1.3 device";
     } catch (const Error& e) {
-        return std::string("vulkan unavailable: ") + e.what();
+        return "vulkan unavailable: " + printable(e.message());
     }
 }
 

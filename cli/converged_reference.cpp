@@ -112,7 +112,7 @@ bool readEntry(const fs::path& dir, const nlohmann::json& key, const RenderOptio
     } catch (const nlohmann::json::exception& e) {
         why = std::string(kKeyFile) + " is not valid JSON (" + e.what() + ")";
     } catch (const Error& e) {
-        why = e.what();
+        why = e.message();
     }
     return false;
 }

@@ -267,7 +267,7 @@ int runInfo(const InfoArgs& args) {
             shaderSource = {{"embedded", shaders.shaderDirectory().empty()},
                             {"source", shaders.describeSource()}};
         } catch (const Error& e) {
-            shaderSource = {{"embedded", false}, {"error", e.what()}};
+            shaderSource = {{"embedded", false}, {"error", e.message()}};
         }
         nlohmann::json vulkan;
         try {
@@ -283,7 +283,7 @@ int runInfo(const InfoArgs& args) {
                                    {"device_local_bytes", d.deviceLocalBytes}});
             vulkan = {{"devices", devices}};
         } catch (const Error& e) {
-            vulkan = {{"devices", nlohmann::json::array()}, {"error", e.what()}};
+            vulkan = {{"devices", nlohmann::json::array()}, {"error", e.message()}};
         }
         out << nlohmann::json{{"version", version()},
                               {"methods", methodTableJson()},
@@ -327,7 +327,7 @@ int runInfo(const InfoArgs& args) {
             << (shaders.shaderDirectory().empty() ? " (STSV_SHADER_DIR=FOLDER reads a folder instead)\n"
                                                   : " (STSV_SHADER_DIR)\n");
     } catch (const Error& e) {
-        out << "shaders: " << e.what() << '\n';
+        out << "shaders: " << printable(e.message()) << '\n';
     }
     out << "cpu threads: " << std::thread::hardware_concurrency() << '\n';
     out << "embree: " << RTC_VERSION_STRING << '\n';
@@ -340,7 +340,7 @@ int runInfo(const InfoArgs& args) {
             out << '\n';
         }
     } catch (const Error& e) {
-        std::string reason = e.what();
+        std::string reason = printable(e.message());
         if (const auto nl = reason.find('\n'); nl != std::string::npos) reason.resize(nl);
         out << "vulkan: unavailable (" << reason << ")\n";
     }

@@ -93,6 +93,10 @@ TEST(TrustValues, AnIntegerOutOfRangeNamesTheOptionTheValueAndTheRange) {
                     << describe(args, r);
             }
         }
+    // bench's --samples takes a list: each item is checked alike.
+    const CliResult list = runStsv({"bench", "fence", "--samples", "16,99999999999", "-q"});
+    EXPECT_EQ(list.code, 1);
+    EXPECT_NE(list.err.find("99999999999 is out of range (1 to 999999999)"), std::string::npos) << list.err;
     // A leading zero is decimal, not octal: --interleave 08 is 8.
     const CliResult eight = runStsv({"info", "fence", "--interleave", "08", "--json"});
     EXPECT_EQ(eight.code, 0) << eight.err;
