@@ -97,7 +97,8 @@ Texture makeGaussianTexture(int size);
 /// Billboards of the particle scene: 1 to 100 000 (the ball is then thousands of layers deep,
 /// opaque to the eye, and a CPU frame of 160 × 120 pixels takes a minute and a half).
 constexpr ParamRange PARTICLES_COUNT{1, 100000};
-/// Peak opacity of a particle: from 0.001 (no pixel of an 8-bit image changes below 1/255) to 1.
+/// Peak opacity of a particle: from 0.001 (already below the 1/255 an 8-bit pixel shows, so a
+/// smaller one would change nothing) to 1.
 constexpr ParamRange PARTICLES_OPACITY{0.001, 1.0};
 
 struct ParticlesParams {
