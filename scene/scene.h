@@ -3,6 +3,7 @@
 
 #include "core/dh.h"
 #include "scene/light_dh.h"
+#include "scene/occlusion_rules_dh.h"
 
 #include <array>
 #include <cstdint>
@@ -128,10 +129,10 @@ std::string lightSizeRangeText();
 std::string lightProblem(const Light& light);
 
 /// The largest texel coordinate, |u|·width or |v|·height, a textured triangle's vertex may have:
-/// 2^24. The texel rule takes floor(u·width) of a float, and a float holds every integer only
-/// below 2^24; beyond it consecutive floats are two or more texels apart, so the coordinate can
-/// no longer name a texel (and a larger one overflows the integer texel index).
-constexpr double MAX_TEXEL_COORDINATE = 16777216.0;
+/// the texel rule's TEXEL_INDEX_LIMIT (scene/occlusion_rules_dh.h), 2^24. The rule takes
+/// floor(u·width) of a float, and a float holds every integer only below 2^24; beyond it
+/// consecutive floats are two or more texels apart, so the coordinate can no longer name a texel.
+constexpr double MAX_TEXEL_COORDINATE = double(TEXEL_INDEX_LIMIT);
 /// Empty when `uv` names texels of `texture` (|u|·width and |v|·height below
 /// MAX_TEXEL_COORDINATE); else what is wrong, naming the component and its value. Scene::validate
 /// checks every vertex of a textured triangle with it; loaders check earlier where they can name
