@@ -2216,6 +2216,13 @@ def cli_surface(c: Cases):
         for label, v, exp in values:
             c.add("cli", "render%s=%s" % (opt, label), base_r + [opt, v], expect=exp,
                   names=(opt,) if exp == "error" else (), check=sees_scene() if exp == "ok" else None)
+    # CLI11 reads a vector option's value in brackets as a list: every repeatable option.
+    deep = "[" * 60000 + "]" * 60000
+    c.add("cli", "render--set=deep-brackets", base_r + ["--set", deep], expect="error", names=("--set",))
+    c.add("cli", "render--param=deep-brackets", base_r + ["--method", "pcss", "--param", deep], expect="error",
+          names=("--param",))
+    c.add("cli", "render--set=bracket-list", base_r + ["--set", "[repeat=2,texture_size=16]"], expect="refuse-preferred",
+          desc="CLI11 splits a bracketed value into two knobs")
     many = []
     for i in range(100):
         many += ["--add-light", '{"type": "sphere", "position": [%d, 4, 0], "radius": 0.1, "radiance": 1}' % (i % 10)]
