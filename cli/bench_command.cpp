@@ -434,9 +434,18 @@ int runBench(BenchArgs& args) {
         const double loadMs = loadTimer.milliseconds();
         printSceneWarnings(scene, args.quiet);
         checkOutputFiles(outputs, sceneInputFiles(variants[v].scene, scene));
-        RenderOptions largest = base;
-        largest.samples = *std::max_element(samples.begin(), samples.end());
-        checkFrameMemory(largest, scene.lights.size());
+        // Every method and backend at the largest sample count: an image-based method's maps
+        // may outweigh the light-sample buffers.
+        for (const auto& [method, backend] : pairs) {
+            RenderOptions largest = base;
+            largest.method = method;
+            largest.backend = backend;
+            largest.params = paramsOf(method);
+            largest.samples = *std::max_element(samples.begin(), samples.end());
+            if (largest.buffer == BufferKind::Transmittance && !methodInfo(method).writesTransmittance())
+                largest.buffer = BufferKind::Bitmask;
+            checkFrameMemory(largest, scene);
+        }
         nlohmann::json counts = sceneStats(scene);
         counts["load_ms"] = loadMs;
         if (!args.quiet)

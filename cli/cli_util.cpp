@@ -7,6 +7,8 @@
 #include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_renderer.h"
 #include "shadowmaps/depth_grid_dh.h"
+#include "shadowmaps/filtered_map.h"
+#include "shadowmaps/shadow_fit.h"
 
 #include <algorithm>
 #include <cmath>
@@ -232,7 +234,62 @@ void prepareOutputDirectory(const std::string& dir, const std::string& what) {
         throw UsageError(what + " " + printable(dir) + ": directory is not writable");
 }
 
-double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
+double shadowMapPeakBytes(const ShadowMapView& view, const ShadowMapSettings& s, Backend backend, bool keep) {
+    const double texels = double(view.faces) * double(view.size) * double(view.size);
+    const bool vulkan = backend == Backend::Vulkan;
+    double bytes = 0.0;
+    if (s.filter == ShadowFilter::Peel) {
+        bytes += double(depthGridBytes(view, s));
+    } else if (readsTransmittanceFunctions(s.filter)) {
+        bytes += double(avsmBytes(view, s));
+        // Vulkan lists each texel's fragments first: a head a texel, and room for four fragments
+        // of 16 bytes a texel at first (render/vulkan/gpu_shadowmap_passes.cpp); the CPU flags
+        // each texel that dropped a node (AvsmMap::overflowed, a byte).
+        bytes += vulkan ? texels * (4.0 + 4.0 * 16.0) : texels;
+    } else {
+        bytes += double(shadowMapBytes(view));
+        if (keep && vulkan) bytes += double(shadowMapBytes(view)); // read back for --shadow-map
+    }
+    if (isFilteredRepresentation(s.filter)) {
+        bytes += double(filteredMapBytes(view, s));
+        // The CPU makes the tables or mips of a face from its channel values, one float a texel
+        // and channel (shadowmaps/filtered_map.cpp); Vulkan computes them in place.
+        if (!vulkan) bytes += double(filteredChannelCount(s)) * double(view.size) * double(view.size) * 4.0;
+    }
+    return bytes;
+}
+
+// The shadow-map term is each light's map as the frame fits it (fitFrameShadowMap: faces and
+// size) and what its method builds from it (shadowMapPeakBytes). Measured on fence (one face, a
+// 512x512 frame of 64 samples; lavapipe for Vulkan, whose buffers are host memory), as the peak
+// resident size less that of the same method at its smallest map, against the estimate less the
+// same; MiB:
+//   /usr/bin/time -v stsv render fence --method M --backend B -q -o o.png --param SIZE
+//   baseline SIZE sm_size=256 (peel_size=16, avsm_size=256 for peel, avsm, vpcss)
+//                       default settings          sm_size=4096 (peel_size=2048, avsm_size=4096)
+//                      measured   estimate            measured   estimate
+//   cpu    pcf, pcss       13.2       15.8                61.1       63.8
+//   cpu    vsm            109.7      110.3               445.9      446.4
+//   cpu    esm             50.4       52.5               210.4      212.5
+//   cpu    evsm           162.8      162.8               658.6      658.8
+//   cpu    msm            204.9      204.9               828.9      829.0
+//   cpu    csm           1529.0     1528.6              6185.7     6185.6
+//   cpu    peel            32.1       34.0               542.2      544.0
+//   cpu    avsm, vpcss     64.6       64.7              1099.7     1099.7
+//   vulkan pcf, pcss   7.2-17.9       15.8           58.2-68.1       63.8
+//   vulkan vsm             49.1       78.8               292.1      318.9
+//   vulkan esm             37.3       36.8               151.6      148.8
+//   vulkan evsm           100.1       99.8               407.0      403.8
+//   vulkan msm            142.8      141.9               578.0      574.0
+//   vulkan csm           1025.2     1024.6     refused: 4 GiB, over one Vulkan allocation
+//   vulkan peel            24.4       34.0               534.8      544.0
+//   vulkan avsm, vpcss     74.6      127.5              1414.4     2167.5
+// (pcf and pcss allocate alike on Vulkan: their spread is the measurement's, a few MiB.) Vulkan's
+// fragment lists are allocated whole but touched only where fragments land, so its avsm peak
+// stays below the estimate; the address space holds all of it. The old estimate, one float a
+// texel on six faces, was 96 MiB for csm at sm_size=2048.
+double estimateFrameBytes(const RenderOptions& o, const Scene& scene) {
+    const std::size_t lights = scene.lights.size();
     const double pixels = double(o.width) * double(o.height);
     // G-buffer (position, normal, triangle), colour (3 floats), visibility, and per light the
     // light-sample buffer in its storage layout (32-bit words, or 16-bit counters).
@@ -244,14 +301,15 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
     if (kind == BufferKind::Transmittance && methodInfo(o.method).opaque == OpaqueTechnique::Dcs)
         perLight +=
             double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Counters));
-    // Image-based methods: a map per light, six faces at most (the depth grid: its words a texel).
-    if (methodInfo(o.method).shadowMap != ShadowFilter::None) {
-        const ShadowMapSettings s = shadowMapSettingsFrom(methodInfo(o.method).shadowMap, o.params);
-        const double edge = shadowMapSize(s);
-        const double bytes = s.filter == ShadowFilter::Peel          ? 4.0 * peelTexelWords(uint(s.peelBins))
-                             : readsTransmittanceFunctions(s.filter) ? 4.0 + 8.0 * s.avsmNodes
-                                                                     : sizeof(float);
-        perLight += 6.0 * edge * edge * bytes;
+    // Image-based methods: each light's map and what its method builds from it.
+    double maps = 0.0;
+    if (methodInfo(o.method).shadowMap != ShadowFilter::None && !scene.triangles.empty()) {
+        const ShadowMapSettings s = shadowMapSettings(o);
+        const Bounds receivers =
+            s.fit == 0 ? Bounds{} : shadowReceiverBounds(scene, float(o.width) / float(o.height));
+        for (const Light& light : scene.lights)
+            maps += shadowMapPeakBytes(fitFrameShadowMap(scene, light, receivers, s), s, o.backend,
+                                       o.keepShadowMaps);
     }
     // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests
     // (two a pixel at first, 8 bytes each; render/vulkan/gpu_renderer.cpp) and, for STSV bits
@@ -264,15 +322,16 @@ double estimateFrameBytes(const RenderOptions& o, std::size_t lights) {
         shared += std::min(2.0 * pixels, double(kMaxDeferredFragments)) * 8.0;
     if (vulkan && stsv && kind != BufferKind::Counters)
         shared += double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));
-    return gbuffer + images + shared + perLight * double(std::max<std::size_t>(lights, 1));
+    return gbuffer + images + shared + maps + perLight * double(std::max<std::size_t>(lights, 1));
 }
 
-void checkFrameMemory(const RenderOptions& o, std::size_t lights) {
-    char what[160];
-    std::snprintf(what, sizeof what, "a %dx%d frame with %d samples and %zu light(s)", o.width, o.height,
-                  o.samples, lights);
-    checkMemory(what, estimateFrameBytes(o, lights),
-                "use a smaller --size, fewer --samples or a smaller sm_size (peel_size)");
+void checkFrameMemory(const RenderOptions& o, const Scene& scene) {
+    char what[200];
+    std::snprintf(what, sizeof what, "a %dx%d frame of %s on %s with %d samples and %zu light(s)", o.width,
+                  o.height, toString(o.method).c_str(), toString(o.backend).c_str(), o.samples,
+                  scene.lights.size());
+    checkMemory(what, estimateFrameBytes(o, scene),
+                "use a smaller --size, fewer --samples or a smaller sm_size (peel_size, avsm_size)");
 }
 
 void writeJson(const std::string& path, const nlohmann::json& json) {

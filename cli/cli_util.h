@@ -7,6 +7,7 @@
 #include "core/image.h"
 #include "render/frame.h"
 #include "scene/load.h"
+#include "shadowmaps/shadow_map.h"
 
 #include <nlohmann/json.hpp>
 
@@ -88,11 +89,17 @@ void reportWritten(const std::string& path, bool quiet);
 /// Creates `dir` (and parents) if needed; UsageError when that fails or it is not writable.
 void prepareOutputDirectory(const std::string& dir, const std::string& what);
 
-/// UsageError when one frame of `options` with `lights` lights would need more memory than
-/// the machine has (G-buffer, images, light-sample buffers and the sample passes' list).
-void checkFrameMemory(const RenderOptions& options, std::size_t lights);
-/// Bytes one frame holds on the host, estimated from the buffers' sizes.
-double estimateFrameBytes(const RenderOptions& options, std::size_t lights);
+/// UsageError when one frame of `options` on `scene` would need more memory than the limit
+/// (G-buffer, images, light-sample buffers, the sample passes' list and the lights' maps).
+void checkFrameMemory(const RenderOptions& options, const Scene& scene);
+/// Bytes one frame of `options` on `scene` holds on the host, estimated from the buffers' sizes
+/// (for an image-based method, each light's map as the frame fits it).
+double estimateFrameBytes(const RenderOptions& options, const Scene& scene);
+/// Bytes a light's map of `view` takes at its peak on `backend` with what the method of
+/// `settings` builds from it: the depths, the filtered representation (and on the CPU the channel
+/// values it is made from), the depth grid or the transmittance functions; `keep`: --shadow-map.
+double shadowMapPeakBytes(const ShadowMapView& view, const ShadowMapSettings& settings, Backend backend,
+                          bool keep);
 
 void writeJson(const std::string& path, const nlohmann::json& json);
 

@@ -10,6 +10,7 @@
 
 #include <cerrno>
 #include <cmath>
+#include <csignal>
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
@@ -215,6 +216,10 @@ int runReportingErrors(const std::function<int()>& command) {
 }
 
 int runCli(int argc, char** argv) {
+    // A file size limit (ulimit -f) stops a write with SIGXFSZ, whose default kills the process
+    // and leaves a partial file; ignored, the write fails with EFBIG, which writeFileBytes reports
+    // and cleans up after, as it does a full disk.
+    std::signal(SIGXFSZ, SIG_IGN);
     CLI::App app{"stsv: soft shadows from area lights for opaque and perforated triangles"};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string("stsv ") + version());

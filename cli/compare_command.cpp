@@ -574,7 +574,6 @@ int runCompare(CompareArgs& args) {
     const Scene scene = loadScene(spec, sceneSets);
     printSceneWarnings(scene, args.quiet);
     checkOutputFiles(outputs, sceneInputFiles(spec, scene));
-    checkFrameMemory(base, scene.lights.size());
 
     auto optionsOf = [&](const MethodBackend& mb) {
         RenderOptions o = base;
@@ -586,6 +585,10 @@ int runCompare(CompareArgs& args) {
         o.params = params[std::size_t(std::find(all.begin(), all.end(), mb.method) - all.begin())];
         return o;
     };
+    // Each frame compare renders, before the first: an image-based method's maps may outweigh
+    // the light-sample buffers.
+    checkFrameMemory(optionsOf(against), scene);
+    for (const MethodBackend& mb : methods) checkFrameMemory(optionsOf(mb), scene);
     auto render = [&](const MethodBackend& mb, double& frameMs) {
         Timer wall;
         Frame frame = renderFrame(scene, optionsOf(mb));

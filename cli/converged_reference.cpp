@@ -125,10 +125,16 @@ void writeEntry(const fs::path& dir, const nlohmann::json& description, const Co
         dir.parent_path() / (dir.filename().string() + ".tmp" + std::to_string(::getpid()));
     fs::remove_all(staging);
     fs::create_directories(staging);
-    writeNpy((staging / kVisibilityFile).string(), images.visibility);
-    writeNpy((staging / kLitFile).string(), images.color);
-    const std::string key = description.dump(2) + "\n";
-    writeFileBytes((staging / kKeyFile).string(), key.data(), key.size());
+    try {
+        writeNpy((staging / kVisibilityFile).string(), images.visibility);
+        writeNpy((staging / kLitFile).string(), images.color);
+        const std::string key = description.dump(2) + "\n";
+        writeFileBytes((staging / kKeyFile).string(), key.data(), key.size());
+    } catch (const Error&) {
+        std::error_code ec; // a half-written entry is not left in the cache either
+        fs::remove_all(staging, ec);
+        throw;
+    }
     fs::remove_all(dir);
     fs::rename(staging, dir);
 }

@@ -168,7 +168,7 @@ nlohmann::json sceneInfo(const InfoArgs& args) {
                    {"target", vec(scene.camera.target)},
                    {"up", vec(scene.camera.up)},
                    {"fov_y_degrees", scene.camera.fovY}};
-    const double frameBytes = estimateFrameBytes(o, scene.lights.size());
+    const double frameBytes = estimateFrameBytes(o, scene);
     j["memory"] = {{"scene_bytes", sceneBytes(scene)},
                    {"texture_bytes", textureBytes(scene)},
                    {"frame_bytes", frameBytes},

@@ -109,7 +109,8 @@ int runRender(RenderArgs& args) {
 
     // Every output is checked before the (possibly long) render: its format is the one its
     // extension names, no two outputs share a path, and a method writes only what it has.
-    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty())
+    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty() &&
+        args.shadowMap.empty())
         args.output = std::filesystem::path(args.scene).stem().string() + ".png";
     const MethodInfo& method = methodInfo(o.method);
     if (!args.dumpLs.empty() && method.output == MethodOutput::Visibility)
@@ -141,7 +142,7 @@ int runRender(RenderArgs& args) {
     const Scene scene = loadScene(args.scene, sceneOptions);
     const double loadMs = loadTimer.milliseconds();
     printSceneWarnings(scene, args.quiet);
-    checkFrameMemory(o, scene.lights.size());
+    checkFrameMemory(o, scene);
     // Now that the lights are known: every file the frame will write, the other lights' and the
     // .npy files' metadata included, against each other and against the files the scene was read from.
     const std::vector<OutputFile> outputs = outputFilesOf(args, scene.lights.size());
@@ -170,12 +171,19 @@ int runRender(RenderArgs& args) {
             writeExr(args.visibility, frame.visibility, false); // float32 Y: v_coef unquantised
         } else {
             writeNpy(args.visibility, frame.visibility); // float32 v_coef, unquantised
-            writeJson(npyInfoPath(args.visibility), {{"format", "stsv visibility"},
-                                                     {"samples", o.samples},
-                                                     {"width", o.width},
-                                                     {"height", o.height},
-                                                     {"lights", scene.lights.size()},
-                                                     {"method", madeBy}});
+            try {
+                writeJson(npyInfoPath(args.visibility), {{"format", "stsv visibility"},
+                                                         {"samples", o.samples},
+                                                         {"width", o.width},
+                                                         {"height", o.height},
+                                                         {"lights", scene.lights.size()},
+                                                         {"method", madeBy}});
+            } catch (const Error&) {
+                // The array and its metadata are one output: neither is left.
+                std::error_code ec;
+                std::filesystem::remove(args.visibility, ec);
+                throw;
+            }
             written.push_back(args.visibility);
             written.push_back(npyInfoPath(args.visibility));
         }

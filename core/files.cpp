@@ -66,8 +66,11 @@ void writeFileBytes(const std::string& path, const void* data, std::size_t size)
         throw Error(path + ": cannot write: " + reason);
     // Opened without blocking (a FIFO made since the check, without a reader, fails at once with
     // ENXIO instead of waiting for one), not truncated before the opened file is known to be a
-    // regular one.
-    const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_NONBLOCK | O_CLOEXEC, 0666);
+    // regular one. O_EXCL first, to know whether the file is this write's own.
+    const int flags = O_WRONLY | O_NONBLOCK | O_CLOEXEC;
+    int fd = ::open(path.c_str(), flags | O_CREAT | O_EXCL, 0666);
+    const bool created = fd >= 0;
+    if (!created && errno == EEXIST) fd = ::open(path.c_str(), flags | O_CREAT, 0666);
     if (fd < 0) {
         const int error = errno;
         if (error == ENXIO)
@@ -79,21 +82,36 @@ void writeFileBytes(const std::string& path, const void* data, std::size_t size)
         ::close(fd);
         throw Error(path + ": cannot write: is a device, pipe or socket, not a regular file");
     }
-    if (::ftruncate(fd, 0) != 0 || ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK) != 0) {
+    // A write that fails part way leaves no partial file behind: once closed, the file is removed
+    // where its name is the file itself (this write's own, or an old one already truncated), and
+    // emptied where the name is a link to it (the link is the user's).
+    std::FILE* file = nullptr;
+    auto fail = [&](const std::string& what) {
         const int error = errno;
-        ::close(fd);
-        throw Error(path + ": cannot open for writing (" + std::strerror(error) + ")");
+        if (file != nullptr)
+            std::fclose(file);
+        else if (fd >= 0)
+            ::close(fd);
+        struct stat named {};
+        if (created || (::lstat(path.c_str(), &named) == 0 && named.st_dev == opened.st_dev &&
+                        named.st_ino == opened.st_ino))
+            ::unlink(path.c_str());
+        else
+            (void)::truncate(path.c_str(), 0);
+        return Error(path + ": " + what + " (" + std::strerror(error) + ")");
+    };
+    if (::ftruncate(fd, 0) != 0 || ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK) != 0)
+        throw fail("cannot open for writing");
+    file = ::fdopen(fd, "wb");
+    if (file == nullptr) throw fail("cannot open for writing");
+    if (size > 0 && std::fwrite(data, 1, size, file) != size) throw fail("write failed");
+    if (std::fflush(file) != 0) throw fail("write failed");
+    const int closed = std::fclose(file);
+    file = nullptr;
+    if (closed != 0) {
+        fd = -1; // closed, though it failed
+        throw fail("write failed");
     }
-    std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(::fdopen(fd, "wb"), std::fclose);
-    if (!file) {
-        const int error = errno;
-        ::close(fd);
-        throw Error(path + ": cannot open for writing (" + std::strerror(error) + ")");
-    }
-    if (size > 0 && std::fwrite(data, 1, size, file.get()) != size)
-        throw Error(path + ": write failed (" + std::strerror(errno) + ")");
-    if (std::fflush(file.get()) != 0) throw Error(path + ": write failed (" + std::strerror(errno) + ")");
-    if (std::fclose(file.release()) != 0) throw Error(path + ": write failed (" + std::strerror(errno) + ")");
 }
 
 } // namespace stsv

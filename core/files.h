@@ -27,7 +27,8 @@ std::string readFileBytes(const std::string& path, const char* what, std::size_t
 /// Writes `size` bytes to `path`, replacing it; Error naming the file and the system's reason
 /// when it is not a regular file (notAnOutputReason, checked again on the opened file, so a pipe
 /// made after a command's checks cannot block it either), or when opening, writing, flushing or
-/// closing fails (a full disk, a file size limit).
+/// closing fails (a full disk, a file size limit). A write that fails part way leaves no partial
+/// file: the file is removed (emptied instead where `path` is a symbolic link to it).
 void writeFileBytes(const std::string& path, const void* data, std::size_t size);
 
 } // namespace stsv

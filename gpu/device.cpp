@@ -180,8 +180,46 @@ std::string driverFilesMessage(const char* call, VkResult result) {
            files.variable + ", or render without Vulkan with --backend cpu";
 }
 
+/// Refuses, before the loader reads them, the entries of the variables that point it at driver
+/// and layer manifests which are neither a regular file nor a folder: the loader fopen()s each
+/// entry, and each .json in a folder entry, and a FIFO without a writer blocks that open for ever
+/// (a device or socket is no manifest either). Error naming the variable and the entry.
+void checkManifestVariables() {
+    constexpr const char* kNotAManifest = "is a device, pipe or socket, not a regular file";
+    for (const char* name : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES", "VK_ADD_DRIVER_FILES", "VK_LAYER_PATH",
+                             "VK_ADD_LAYER_PATH"}) {
+        const char* value = std::getenv(name);
+        if (value == nullptr) continue;
+        const std::string list = value;
+        auto refuse = [&](const std::string& entry, const std::string& what) {
+            throw Error(std::string(name) + " names " + what + entry + ", which " + kNotAManifest +
+                        ": the Vulkan loader would wait on it for ever; name manifests (.json) or folders "
+                        "of them, or unset " +
+                        name + ", or render without Vulkan with --backend cpu");
+        };
+        for (std::size_t start = 0; start <= list.size();) {
+            const std::size_t end = std::min(list.find(':', start), list.size());
+            const std::string entry = list.substr(start, end - start);
+            start = end + 1;
+            if (entry.empty()) continue;
+            std::error_code ec;
+            const std::filesystem::file_status status = std::filesystem::status(entry, ec);
+            if (ec || !std::filesystem::exists(status)) continue; // the loader skips it
+            if (std::filesystem::is_directory(status)) {
+                for (const auto& e : std::filesystem::directory_iterator(entry, ec))
+                    if (e.path().extension() == ".json" && !e.is_regular_file(ec) && !e.is_directory(ec) &&
+                        e.exists(ec))
+                        refuse(e.path().string(), "the folder " + entry + " holding ");
+            } else if (!std::filesystem::is_regular_file(status)) {
+                refuse(entry, "");
+            }
+        }
+    }
+}
+
 /// A Vulkan 1.3 instance without surface extensions; `log` non-null enables validation.
 VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
+    checkManifestVariables();
     loadVulkan();
     VkApplicationInfo app{};
     app.sType = VK_STRUCTURE_TYPE_APPLICATION_INFO;

@@ -198,7 +198,14 @@ void LightSampleBuffer::writeNpy(const std::string& path, const std::string& met
                            {"height", m_height}};
     if (!method.empty()) info["method"] = method;
     const std::string text = info.dump(2) + "\n";
-    writeFileBytes(npyInfoPath(path), text.data(), text.size());
+    // The array without its metadata would be read as another kind: neither is left.
+    try {
+        writeFileBytes(npyInfoPath(path), text.data(), text.size());
+    } catch (const Error&) {
+        std::error_code ec;
+        std::filesystem::remove(path, ec);
+        throw;
+    }
 }
 
 void LightSampleBuffer::writeArray(const std::string& path) const {

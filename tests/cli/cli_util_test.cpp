@@ -253,17 +253,21 @@ TEST(FrameMemory, AbsurdFramesAreRefusedBeforeAllocation) {
     RenderOptions o;
     o.width = o.height = 16384;
     o.samples = 256;
+    Scene lights64, oneLight, twoLights;
+    lights64.lights.resize(64);
+    oneLight.lights.resize(1);
+    twoLights.lights.resize(2);
     // 16384² × 32 bytes = 8 GiB of bitmask per light: 64 lights exceed any machine this runs on.
-    EXPECT_THROW(checkFrameMemory(o, 64), UsageError);
+    EXPECT_THROW(checkFrameMemory(o, lights64), UsageError);
     o.width = o.height = 16;
-    EXPECT_NO_THROW(checkFrameMemory(o, 1));
+    EXPECT_NO_THROW(checkFrameMemory(o, oneLight));
     // A bitmask stores 32-bit words: 16² pixels × (28 + 16 + 4·8) bytes for 256 samples; Vulkan
     // STSV adds the list of fragments for its sample pass (two a pixel, 8 bytes each) and their
     // words (another 32 bytes a pixel), once for all lights.
-    EXPECT_EQ(estimateFrameBytes(o, 1), 256.0 * (28.0 + 16.0 + 32.0) + 256.0 * (16.0 + 32.0));
-    EXPECT_EQ(estimateFrameBytes(o, 2), 256.0 * (28.0 + 16.0 + 2.0 * 32.0) + 256.0 * (16.0 + 32.0));
+    EXPECT_EQ(estimateFrameBytes(o, oneLight), 256.0 * (28.0 + 16.0 + 32.0) + 256.0 * (16.0 + 32.0));
+    EXPECT_EQ(estimateFrameBytes(o, twoLights), 256.0 * (28.0 + 16.0 + 2.0 * 32.0) + 256.0 * (16.0 + 32.0));
     o.backend = Backend::Cpu;
-    EXPECT_EQ(estimateFrameBytes(o, 1), 256.0 * (28.0 + 16.0 + 32.0));
+    EXPECT_EQ(estimateFrameBytes(o, oneLight), 256.0 * (28.0 + 16.0 + 32.0));
 }
 
 // The scale presets measure what their descriptions say: these occluder counts, with the

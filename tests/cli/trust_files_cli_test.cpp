@@ -14,6 +14,7 @@
 #include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -198,42 +199,63 @@ TEST(TrustFiles, EveryCommandRefusesTwoOutputsOnOnePathAndAnOutputThatIsAnInput)
 }
 
 /// runStsv in a child process that may take at most `seconds`: a command that blocks (on a FIFO
-/// without a reader) is killed and reported as code -1 instead of hanging the tests.
-CliResult runStsvWithin(int seconds, const std::vector<std::string>& args) {
-    int errPipe[2];
-    if (::pipe(errPipe) != 0) return {-2, "", "pipe failed"};
+/// without a reader) is killed and reported as code -1 instead of hanging the tests, as is one a
+/// signal ends (its number in `err`). `prepare` runs in the child first (a limit, a signal's
+/// disposition, an environment variable), so that the tests' own process keeps its own. The
+/// child's stdout and stderr are pipes (no file size limit applies to them), drained as it runs.
+CliResult runStsvWithin(int seconds, const std::vector<std::string>& args,
+                        const std::function<void()>& prepare = {}) {
+    int outPipe[2], errPipe[2];
+    if (::pipe(outPipe) != 0 || ::pipe(errPipe) != 0) return {-2, "", "pipe failed"};
+    std::fflush(stdout);
+    std::fflush(stderr);
     const pid_t child = ::fork();
     if (child == 0) {
+        ::dup2(outPipe[1], 1);
         ::dup2(errPipe[1], 2);
+        ::close(outPipe[0]);
         ::close(errPipe[0]);
+        if (prepare) prepare();
         std::vector<std::string> all = args;
         all.insert(all.begin(), "stsv");
         std::vector<char*> argv;
         for (std::string& a : all) argv.push_back(a.data());
         argv.push_back(nullptr);
-        std::fflush(stdout);
         const int code = runCli(int(all.size()), argv.data());
+        std::fflush(stdout);
         std::fflush(stderr);
         ::_exit(code);
     }
+    ::close(outPipe[1]);
     ::close(errPipe[1]);
     CliResult r;
+    auto drain = [](int fd, std::string& text) {
+        char buffer[4096];
+        for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) text.append(buffer, std::size_t(n));
+    };
+    ::fcntl(outPipe[0], F_SETFL, O_NONBLOCK);
+    ::fcntl(errPipe[0], F_SETFL, O_NONBLOCK);
     int status = 0;
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
     while (::waitpid(child, &status, WNOHANG) == 0) {
+        drain(outPipe[0], r.out);
+        drain(errPipe[0], r.err);
         if (std::chrono::steady_clock::now() > deadline) {
             ::kill(child, SIGKILL);
             ::waitpid(child, &status, 0);
+            ::close(outPipe[0]);
             ::close(errPipe[0]);
-            return {-1, "", "killed after " + std::to_string(seconds) + " s: the command blocked"};
+            return {-1, r.out,
+                    r.err + "(killed after " + std::to_string(seconds) + " s: the command blocked)"};
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    char buffer[4096];
-    for (ssize_t n; (n = ::read(errPipe[0], buffer, sizeof buffer)) > 0;)
-        r.err.append(buffer, std::size_t(n));
+    drain(outPipe[0], r.out);
+    drain(errPipe[0], r.err);
+    ::close(outPipe[0]);
     ::close(errPipe[0]);
     r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    if (WIFSIGNALED(status)) r.err += "(killed by signal " + std::to_string(WTERMSIG(status)) + ")";
     return r;
 }
 
@@ -299,6 +321,104 @@ TEST(TrustFiles, AFailedWriteIsAnError) {
     std::signal(SIGXFSZ, oldHandler);
 }
 
+/// The files under `dir`, with their sizes.
+std::vector<std::pair<std::string, std::uintmax_t>> filesUnder(const fs::path& dir) {
+    std::vector<std::pair<std::string, std::uintmax_t>> files;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        if (e.is_regular_file()) files.emplace_back(e.path().string(), e.file_size());
+    return files;
+}
+
+// Under a file size limit (ulimit -f) as a shell starts it, with SIGXFSZ at its default, the
+// first write past the limit killed stsv with that signal and left the partial file behind. Every
+// writer (PNG, EXR, NPY and its metadata, the stats and bench JSON, the HTML report and its
+// images, the contact sheet) now fails with the one-line error and leaves no partial file: no
+// file in the folder reaches the limit, and the output named is not there (nor, for a .npy, its
+// metadata).
+TEST(TrustFiles, AFileSizeLimitIsAnErrorThatLeavesNoPartialFile) {
+    ScratchDir dir;
+    constexpr rlim_t kLimit = 1024;
+    auto limited = [&dir] {
+        fs::current_path(dir.path()); // a file written where no option named lands here too
+        std::signal(SIGXFSZ, SIG_DFL);
+        struct rlimit limit {};
+        ::getrlimit(RLIMIT_FSIZE, &limit);
+        limit.rlim_cur = kLimit;
+        ::setrlimit(RLIMIT_FSIZE, &limit);
+    };
+    const std::vector<std::string> render = {"render", "fence",     "--backend", "cpu", "--size",
+                                             "96x64",  "--samples", "16",        "-q"};
+    const std::vector<std::string> compare = {"compare", "fence",     "--methods", "stsv/cpu", "--size",
+                                              "96x64",   "--samples", "16",        "-q"};
+    struct Case {
+        std::vector<std::string> command;
+        std::vector<std::string> options;
+        std::string output; ///< a file or folder the command names, which must not be left
+    };
+    const std::vector<Case> cases = {
+        {render, {"-o", dir.file("lit.png")}, "lit.png"},
+        {render, {"-o", dir.file("lit.exr")}, "lit.exr"},
+        {render, {"--visibility", dir.file("v.npy")}, "v.npy"},
+        {render, {"--dump-ls", dir.file("ls.npy")}, "ls.npy"},
+        {render, {"--method", "pcf", "--shadow-map", dir.file("map.npy")}, "map.npy"},
+        {render, {"--stats", dir.file("stats.json")}, "stats.json"},
+        {{"bench", "fence", "--methods", "stsv", "--backends", "cpu", "--size", "8x8", "--samples", "16",
+          "--repeat", "1", "--warmup", "0", "-q"},
+         {"--json", dir.file("bench.json")},
+         "bench.json"},
+        {compare, {"--json", dir.file("compare.json")}, "compare.json"},
+        {compare, {"--sheet", dir.file("sheet.png")}, "sheet.png"},
+        {compare, {"--report", dir.file("report")}, "report/index.html"},
+        {compare, {"--out", dir.file("images")}, "images/stsv_cpu_lit.png"},
+    };
+    for (const Case& c : cases) {
+        std::vector<std::string> args = c.command;
+        args.insert(args.end(), c.options.begin(), c.options.end());
+        const CliResult r = runStsvWithin(120, args, limited);
+        EXPECT_EQ(r.code, 1) << describe(args, r);
+        EXPECT_EQ(r.err.rfind("stsv: error: ", 0), 0u) << describe(args, r);
+        EXPECT_NE(r.err.find("File too large"), std::string::npos) << describe(args, r);
+        EXPECT_FALSE(fs::exists(dir.file(c.output))) << c.output << " was left\n" << describe(args, r);
+        EXPECT_FALSE(fs::exists(dir.file(c.output + ".json"))) << c.output << ".json was left";
+        for (const auto& [file, size] : filesUnder(dir.path()))
+            EXPECT_LT(size, kLimit) << file << " is a partial file of " << size << " bytes\n"
+                                    << describe(args, r);
+    }
+}
+
+// VK_DRIVER_FILES (or VK_ICD_FILENAMES) naming a FIFO, alone or in a folder of manifests, made
+// the Vulkan loader's fopen wait for a writer for ever inside vkCreateInstance: `info` and a
+// Vulkan render hung. Each entry of the loader's manifest variables is checked first: a FIFO is
+// refused naming the variable and the entry (info says Vulkan is unavailable, and why).
+TEST(TrustFiles, AVulkanManifestVariableNamingAFifoIsRefusedNotWaitedOn) {
+    ScratchDir dir;
+    ASSERT_EQ(::mkfifo(dir.file("icd.json").c_str(), 0600), 0);
+    fs::create_directories(dir.file("icd.d"));
+    ASSERT_EQ(::mkfifo(dir.file("icd.d/lvp.json").c_str(), 0600), 0);
+    const std::vector<std::pair<std::string, std::string>> settings = {
+        {"VK_DRIVER_FILES", dir.file("icd.json")},
+        {"VK_ICD_FILENAMES", "/no/such/manifest.json:" + dir.file("icd.json")},
+        {"VK_DRIVER_FILES", dir.file("icd.d")},
+        {"VK_LAYER_PATH", dir.file("icd.json")},
+    };
+    for (const auto& [variable, value] : settings) {
+        const std::string entry =
+            value.ends_with("icd.d") ? dir.file("icd.d/lvp.json") : dir.file("icd.json");
+        auto setting = [variable = variable, value = value] { ::setenv(variable.c_str(), value.c_str(), 1); };
+        const std::vector<std::string> render = {"render", "fence", "--backend",       "vulkan", "--size",
+                                                 "8x8",    "-o",    dir.file("v.png"), "-q"};
+        const CliResult r = runStsvWithin(60, render, setting);
+        EXPECT_EQ(r.code, 1) << variable << "=" << value << "\n" << describe(render, r);
+        EXPECT_NE(r.err.find(variable + " names "), std::string::npos) << describe(render, r);
+        EXPECT_NE(r.err.find(entry + ", which is a device, pipe or socket"), std::string::npos)
+            << describe(render, r);
+        const CliResult info = runStsvWithin(60, {"info"}, setting);
+        EXPECT_EQ(info.code, 0) << variable << "=" << value << "\n" << describe({"info"}, info);
+        EXPECT_NE(info.out.find("vulkan: unavailable"), std::string::npos) << info.out;
+        EXPECT_NE(info.out.find(entry), std::string::npos) << info.out;
+    }
+}
+
 // `render` without -o wrote SCENE.png into the current directory and said nothing: each file a
 // command writes is named, once, unless -q.
 TEST(TrustFiles, EveryFileWrittenIsNamed) {
@@ -314,6 +434,16 @@ TEST(TrustFiles, EveryFileWrittenIsNamed) {
     EXPECT_NE(r.err.find("wrote fence.png\n"), std::string::npos) << r.err;
     ASSERT_EQ(quiet.code, 0) << quiet.err;
     EXPECT_EQ(quiet.err.find("wrote"), std::string::npos) << quiet.err;
+    // --shadow-map is an output option too: the map alone, no SCENE.png beside it.
+    fs::remove(dir.file("fence.png"));
+    fs::current_path(dir.path());
+    const CliResult map = runStsv({"render", "fence", "--backend", "cpu", "--size", "8x8", "--method", "pcf",
+                                   "--param", "sm_size=256", "--shadow-map", "map.npy"});
+    fs::current_path(before);
+    ASSERT_EQ(map.code, 0) << map.err;
+    EXPECT_TRUE(fs::exists(dir.file("map.npy")));
+    EXPECT_FALSE(fs::exists(dir.file("fence.png"))) << map.err;
+    EXPECT_EQ(map.err.find("wrote fence.png"), std::string::npos) << map.err;
 
     const CliResult all = runStsv({"render", "fence", "--backend", "cpu", "--size", "8x8", "--samples", "16",
                                    "-o", dir.file("l.png"), "--visibility", dir.file("v.npy"), "--dump-ls",

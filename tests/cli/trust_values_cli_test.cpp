@@ -245,6 +245,91 @@ TEST(TrustValues, AMalformedDriverManifestIsNamed) {
     }
 }
 
+/// The frame memory `stsv info fence` estimates (memory.frame_bytes of --json) for `extra`, MiB.
+double infoFrameMiB(const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {"info", "fence", "--json"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliResult r = runStsv(args);
+    EXPECT_EQ(r.code, 0) << describe(args, r);
+    const nlohmann::json info = nlohmann::json::parse(r.out, nullptr, false);
+    if (!info.contains("memory")) {
+        ADD_FAILURE() << "no memory estimate\n" << describe(args, r);
+        return 0.0;
+    }
+    return info["memory"]["frame_bytes"].get<double>() / double(1 << 20);
+}
+
+// The frame estimate counted one float a texel on six faces for every image-based method: csm at
+// sm_size=2048 was estimated at 96 MiB and peaked at 1.5 GiB, and sm_size=4096 passed
+// --max-memory. Each map method's estimate now grows from its smallest map to the large one as
+// the peak resident size measured on fence did (MiB, /usr/bin/time -v, the numbers and the
+// commands at estimateFrameBytes in cli/cli_util.cpp): not below 0.9 of it (a few MiB of
+// measurement noise on the small Vulkan maps) and not above 1.6 times it (Vulkan's AVSM fragment
+// lists are allocated whole and touched in part). A --max-memory between the old estimate and
+// the new one refuses csm in render, compare and bench before anything is rendered.
+TEST(TrustValues, TheFrameEstimateCoversEachMapMethodsMeasuredPeak) {
+    struct Measured {
+        const char* backend;
+        const char* method;
+        const char* small; ///< the baseline map
+        const char* large;
+        double peakMiB; ///< peak resident size at `large` less that at `small`
+    };
+    const std::vector<Measured> measured = {
+        {"cpu", "pcf", "sm_size=256", "sm_size=4096", 61.1},
+        {"cpu", "pcss", "sm_size=256", "sm_size=4096", 61.1},
+        {"cpu", "vsm", "sm_size=256", "sm_size=4096", 445.9},
+        {"cpu", "esm", "sm_size=256", "sm_size=4096", 210.4},
+        {"cpu", "evsm", "sm_size=256", "sm_size=4096", 658.6},
+        {"cpu", "msm", "sm_size=256", "sm_size=4096", 828.9},
+        {"cpu", "csm", "sm_size=256", "sm_size=4096", 6185.7},
+        {"cpu", "peel", "peel_size=16", "peel_size=2048", 542.2},
+        {"cpu", "avsm", "avsm_size=256", "avsm_size=4096", 1099.7},
+        {"cpu", "vpcss", "avsm_size=256", "avsm_size=4096", 1099.6},
+        {"vulkan", "pcf", "sm_size=256", "sm_size=4096", 58.2},
+        {"vulkan", "pcss", "sm_size=256", "sm_size=4096", 68.1},
+        {"vulkan", "vsm", "sm_size=256", "sm_size=4096", 292.1},
+        {"vulkan", "esm", "sm_size=256", "sm_size=4096", 151.6},
+        {"vulkan", "evsm", "sm_size=256", "sm_size=4096", 407.0},
+        {"vulkan", "msm", "sm_size=256", "sm_size=4096", 578.0},
+        {"vulkan", "csm", "sm_size=256", "sm_size=2048", 1025.2}, // 4096: over one Vulkan allocation
+        {"vulkan", "peel", "peel_size=16", "peel_size=2048", 534.8},
+        {"vulkan", "avsm", "avsm_size=256", "avsm_size=4096", 1414.4},
+        {"vulkan", "vpcss", "avsm_size=256", "avsm_size=4096", 1412.2},
+    };
+    for (const Measured& m : measured) {
+        const std::vector<std::string> row = {"--method", m.method, "--backend", m.backend, "--param"};
+        std::vector<std::string> small = row, large = row;
+        small.push_back(m.small);
+        large.push_back(m.large);
+        const double grows = infoFrameMiB(large) - infoFrameMiB(small);
+        EXPECT_GE(grows, 0.9 * m.peakMiB)
+            << m.method << " on " << m.backend << " from " << m.small << " to " << m.large << ": estimated "
+            << grows << " MiB, measured " << m.peakMiB;
+        EXPECT_LE(grows, 1.6 * m.peakMiB)
+            << m.method << " on " << m.backend << " from " << m.small << " to " << m.large << ": estimated "
+            << grows << " MiB, measured " << m.peakMiB;
+    }
+    for (const char* backend : {"cpu", "vulkan"})
+        EXPECT_GT(infoFrameMiB({"--method", "csm", "--backend", backend}), 1024.0) << backend;
+
+    // 512 MiB: above the old estimate of csm's frame (109 MiB), below the new (1.5 GiB).
+    ScratchDir dir;
+    const std::vector<std::vector<std::string>> commands = {
+        {"render", "fence", "--method", "csm", "--backend", "cpu", "-o", dir.file("csm.png")},
+        {"compare", "fence", "--methods", "csm/cpu", "--against", "pcf/cpu"},
+        {"bench", "fence", "--methods", "pcf,csm", "--backends", "cpu", "--repeat", "1", "--warmup", "0"},
+    };
+    for (std::vector<std::string> args : commands) {
+        for (const std::string extra : {"--size", "64x48", "--samples", "16", "--max-memory", "512M", "-q"})
+            args.push_back(extra);
+        const CliResult r = runStsv(args);
+        EXPECT_EQ(r.code, 1) << describe(args, r);
+        EXPECT_NE(r.err.find("frame of csm on cpu"), std::string::npos) << describe(args, r);
+        EXPECT_NE(r.err.find("above the memory limit of 512.0 MiB"), std::string::npos) << describe(args, r);
+    }
+}
+
 // Text quoted from input that holds a NUL byte (a JSON string "\u0000") was cut at the NUL, as
 // the user guide's \xNN escapes promise it is not: the whole message arrives, the NUL as \x00.
 TEST(TrustValues, ANulByteInQuotedInputIsEscapedNotTheEndOfTheMessage) {
