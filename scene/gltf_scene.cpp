@@ -14,11 +14,16 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <exception>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
+#include <optional>
+#include <string_view>
 
 namespace stsv {
 
@@ -41,6 +46,10 @@ constexpr int GLTF_REPEAT = 10497;
 constexpr int GLTF_CLAMP_TO_EDGE = 33071;
 /// Node trees deeper than this are refused: the walk recurses once a level.
 constexpr int MAX_NODE_DEPTH = 256;
+/// How far a node's rotation may be from a unit quaternion (glTF 2.0 §5.25 requires unit):
+/// exporters write unit quaternions in float precision, and a few rounded digits stay well
+/// inside this, while a rotation written as something else (a scale in w) does not.
+constexpr double ROTATION_UNIT_TOLERANCE = 1e-3;
 /// Bytes a glTF vertex costs while loading: its position and texture coordinate (20 bytes) in
 /// the MeshData, and again in the Scene it is appended to. A mesh's vertices are copied once for
 /// each node that draws it, so the count is taken over the scene's instances.
@@ -67,10 +76,8 @@ bool parseVersion(const std::string& text, int& major, int& minor) {
     return true;
 }
 
-/// Empty when stsv reads a file of this asset version, minimum version and required extensions;
-/// else why not.
-std::string assetProblem(const std::string& version, const std::string& minVersion,
-                         const std::vector<std::string>& required) {
+/// Empty when stsv reads a file of this asset version and minimum version; else why not.
+std::string versionProblem(const std::string& version, const std::string& minVersion) {
     int major = 0, minor = 0;
     if (version.empty()) return "asset.version is missing (glTF 2.0 files have \"2.0\")";
     if (!parseVersion(version, major, minor))
@@ -82,19 +89,22 @@ std::string assetProblem(const std::string& version, const std::string& minVersi
         if (major != 2 || minor > 0)
             return "asset.minVersion is " + minVersion + ", above the glTF 2.0 stsv reads";
     }
+    return {};
+}
+
+/// Empty when stsv implements every extension of extensionsRequired; else which it does not.
+std::string requiredExtensionsProblem(const std::vector<std::string>& required) {
     std::string unsupported;
     for (const std::string& name : required)
         if (std::find(std::begin(SUPPORTED_EXTENSIONS), std::end(SUPPORTED_EXTENSIONS), name) ==
             std::end(SUPPORTED_EXTENSIONS))
             unsupported += (unsupported.empty() ? "" : ", ") + clipped(name, 80);
-    if (!unsupported.empty()) {
-        std::string supported;
-        for (const char* name : SUPPORTED_EXTENSIONS)
-            supported += (supported.empty() ? "" : ", ") + std::string(name);
-        return "extensionsRequired names " + unsupported + ", which stsv does not implement (it implements " +
-               supported + ")";
-    }
-    return {};
+    if (unsupported.empty()) return {};
+    std::string supported;
+    for (const char* name : SUPPORTED_EXTENSIONS)
+        supported += (supported.empty() ? "" : ", ") + std::string(name);
+    return "extensionsRequired names " + unsupported + ", which stsv does not implement (it implements " +
+           supported + ")";
 }
 
 /// A URI as tinygltf turns it into a file name (its dlib urldecode: %XX escapes, '+' as a space).
@@ -175,12 +185,10 @@ bool readWholeFile(std::vector<unsigned char>* out, std::string* err, const std:
         std::ifstream in(path, std::ios::binary | std::ios::ate);
         const std::streamoff size = in.tellg();
         if (!in || size < 0) return refuse("cannot be read");
-        if (path != context.path) {
-            // Each file is held twice for a moment (tinygltf's read, then the buffer or image).
-            context.externalBytes += double(size);
-            checkMemory(context.path + ": the buffer and image files it names (" + path + " the last)",
-                        2.0 * context.externalBytes, "use smaller files");
-        }
+        // Each file is held twice for a moment (tinygltf's read, then the buffer or image).
+        context.externalBytes += double(size);
+        checkMemory(context.path + ": the buffer and image files it names (" + path + " the last)",
+                    2.0 * context.externalBytes, "use smaller files");
         out->resize(std::size_t(size));
         in.seekg(0);
         if (!in.read(reinterpret_cast<char*>(out->data()), size)) return refuse("cannot be read");
@@ -205,25 +213,114 @@ bool keepEncodedImage(tinygltf::Image* image, const int, std::string*, std::stri
     return true;
 }
 
-/// The file's JSON (a .glb's JSON chunk), read again only to explain a refusal whose cause
-/// tinygltf's message leaves out; null when it does not parse.
-Json jsonOf(const std::string& path, bool binary) {
-    std::string text;
+// ---------------------------------------------------------------------- the GLB container
+
+/// GLB (glTF 2.0 §4.4): a 12-byte header (magic "glTF", container version, the file's length),
+/// then chunks, each its length, its type and that many bytes: JSON first, then BIN, which may be
+/// left out. tinygltf reads the container without saying which of these is wrong ("Invalid glTF
+/// binary."), lets a BIN chunk reach 8 bytes past the file's end, and on an empty file throws
+/// std::out_of_range from its vector's at(0); the container is read here first, so that a
+/// refusal says what is wrong with it.
+constexpr std::size_t GLB_HEADER_BYTES = 12;
+constexpr std::size_t GLB_CHUNK_HEADER_BYTES = 8;
+
+/// What a GLB holds once its container is checked.
+struct GlbChunks {
+    std::string_view json;               ///< the JSON chunk's text
+    std::optional<std::size_t> binBytes; ///< the BIN chunk's length, when there is one
+};
+
+std::uint32_t littleEndianU32(const std::string& bytes, std::size_t offset) {
+    std::uint32_t value = 0;
+    for (int i = 3; i >= 0; --i) value = value << 8 | std::uint8_t(bytes[offset + std::size_t(i)]);
+    return value;
+}
+
+/// A GLB's chunks; InputError saying what is wrong with the container.
+GlbChunks glbChunks(const std::string& path, const std::string& bytes) {
+    const auto refuse = [&](const std::string& problem) { throw InputError(path, "glTF: " + problem); };
+    const std::string size = std::to_string(bytes.size());
+    if (bytes.size() < GLB_HEADER_BYTES)
+        refuse("is " + size + " bytes long, too short for the 12-byte header of a binary glTF (.glb)");
+    if (bytes.compare(0, 4, "glTF") != 0)
+        refuse(
+            "does not begin with \"glTF\", the magic of a binary glTF (.glb); a glTF in JSON is named .gltf");
+    if (const std::uint32_t version = littleEndianU32(bytes, 4); version != 2)
+        refuse("a binary glTF of container version " + std::to_string(version) +
+               " (glTF 1.0 wrote 1): stsv reads glTF 2.x only");
+    if (const std::uint32_t length = littleEndianU32(bytes, 8); length != bytes.size())
+        refuse("the header gives the file a length of " + std::to_string(length) + " bytes, but it has " +
+               size + (length > bytes.size() ? " (a truncated file?)" : ""));
+    GlbChunks chunks;
+    std::size_t at = GLB_HEADER_BYTES;
+    for (int index = 0; index == 0 || at < bytes.size(); ++index) {
+        const std::string chunk = "chunk " + std::to_string(index);
+        if (index == 0 && at == bytes.size())
+            refuse("has no JSON chunk: the file ends after its 12-byte header");
+        if (bytes.size() - at < GLB_CHUNK_HEADER_BYTES)
+            refuse("ends " + std::to_string(bytes.size() - at) + " bytes into the 8-byte header of " + chunk +
+                   " (at byte " + std::to_string(at) + ")");
+        const std::size_t length = littleEndianU32(bytes, at);
+        // The type as text: four ASCII letters, "BIN" padded with a NUL.
+        std::string type = bytes.substr(at + 4, 4);
+        while (!type.empty() && type.back() == '\0') type.pop_back();
+        const std::size_t start = at + GLB_CHUNK_HEADER_BYTES;
+        if (length > bytes.size() - start)
+            refuse(chunk + " (type \"" + type + "\") has a length of " + std::to_string(length) +
+                   " bytes, beyond the file's end (" + std::to_string(bytes.size() - start) +
+                   " bytes follow its header)");
+        if (index == 0) {
+            if (type != "JSON")
+                refuse("its first chunk is of type \"" + type +
+                       "\", not \"JSON\" (a binary glTF begins with its JSON)");
+            if (length == 0) refuse("its JSON chunk is empty");
+            chunks.json = std::string_view(bytes).substr(start, length);
+        } else if (index == 1) {
+            // tinygltf reads the second chunk as BIN whatever its type; the specification lets
+            // only chunks after BIN have other types.
+            if (type != "BIN")
+                refuse("its second chunk is of type \"" + type + "\", where only a BIN chunk may be");
+            if (length == 0) refuse("its BIN chunk is empty (a binary glTF leaves an empty BIN chunk out)");
+            if (length % 4 != 0)
+                refuse("its BIN chunk's length, " + std::to_string(length) +
+                       " bytes, is not a multiple of 4 (chunks are padded to 4 bytes)");
+            chunks.binBytes = length;
+        }
+        at = start + length;
+    }
+    return chunks;
+}
+
+// ---------------------------------------------------------------------- the JSON
+
+/// JSON nesting read in a glTF. glTF's own objects lie under ten levels deep; extras and
+/// extensions hold other applications' data and get more room. tinygltf copies extras and
+/// extensions recursively, so a file nested 100000 levels deep would overflow its stack.
+constexpr int MAX_GLTF_JSON_DEPTH = 128;
+
+/// The glTF's JSON (`text`, a .glb's JSON chunk when `binary`); InputError naming the file and
+/// where the text stops being JSON.
+Json parseGltfJson(const std::string& path, std::string_view text, bool binary) {
+    if (text.empty()) throw InputError(path, "glTF: is empty (0 bytes)");
+    if (!binary && text.substr(0, 4) == "glTF")
+        throw InputError(path, "glTF: is a binary glTF; name it .glb");
     try {
-        text = readFileBytes(path, "glTF file", std::size_t(1) << 32);
-    } catch (const Error&) {
-        return nullptr;
+        const Json::parser_callback_t limitDepth = [&](int depth, Json::parse_event_t event, Json&) {
+            if (depth > MAX_GLTF_JSON_DEPTH &&
+                (event == Json::parse_event_t::object_start || event == Json::parse_event_t::array_start))
+                throw InputError(path, "glTF: JSON nested deeper than " +
+                                           std::to_string(MAX_GLTF_JSON_DEPTH) + " levels");
+            return true;
+        };
+        return Json::parse(text.begin(), text.end(), limitDepth);
+    } catch (const Json::exception& e) {
+        // A syntax error or a number too large for a double ("1e400"); e.what() reads
+        // "[json.exception.parse_error.101] parse error at line L, column C: ...".
+        std::string message = e.what();
+        if (const auto at = message.find("] "); at != std::string::npos) message = message.substr(at + 2);
+        throw InputError(path, std::string("glTF: invalid JSON") + (binary ? " in the JSON chunk" : "") +
+                                   ": " + message);
     }
-    if (binary) {
-        // GLB (glTF 2.0 §4.4): a 12-byte header, then the JSON chunk's length, type and bytes.
-        if (text.size() < 20) return nullptr;
-        std::uint32_t length = 0;
-        std::memcpy(&length, text.data() + 12, 4);
-        if (text.compare(16, 4, "JSON") != 0 || length > text.size() - 20) return nullptr;
-        text = text.substr(20, length);
-    }
-    Json j = Json::parse(text, nullptr, false);
-    return j.is_discarded() ? Json(nullptr) : j;
 }
 
 std::string jsonString(const Json& j, const char* key) {
@@ -231,36 +328,309 @@ std::string jsonString(const Json& j, const char* key) {
     return j.is_object() && it != j.end() && it->is_string() ? it->get<std::string>() : std::string();
 }
 
-/// Why tinygltf refused the file, where its own message does not say: a glTF 1.0 file, a
-/// required extension (tinygltf stumbles over a Draco-compressed accessor first), or a buffer
-/// whose uri names no regular file (tinygltf stops at the first buffer it cannot read, before it
-/// reads any image). Empty when none of these is the cause.
-std::string refusalCause(const LoadContext& context, bool binary) {
-    const Json j = jsonOf(context.path, binary);
-    if (j.is_object()) {
-        const Json asset = j.value("asset", Json::object());
-        std::vector<std::string> required;
-        if (j.contains("extensionsRequired") && j["extensionsRequired"].is_array())
-            for (const Json& name : j["extensionsRequired"])
-                if (name.is_string()) required.push_back(name.get<std::string>());
-        if (asset.is_object() && asset.contains("version") && !asset["version"].is_string())
-            return "asset.version is " + clipped(asset["version"].dump(), 40) +
-                   ", not a string (glTF 1.0 files wrote a number): stsv reads glTF 2.x only";
-        if (!asset.is_object() || !asset.contains("version"))
-            return "has no asset.version (glTF 2.0 files say \"asset\": {\"version\": \"2.0\"}; a glTF 1.0 "
-                   "file need not)";
-        if (std::string problem =
-                assetProblem(jsonString(asset, "version"), jsonString(asset, "minVersion"), required);
+/// The glTF's JSON checked where tinygltf is lenient, for the fields stsv reads: tinygltf drops
+/// a value of the wrong type or length without a word (a node matrix of 15 numbers, a
+/// translation that is a string, extensionsRequired that is not an array), reads −1 as "none"
+/// (a scene of −1, a primitive mode of −1) and drops a primitive without attributes, so the file
+/// would load with the value missing. A refusal names the JSON path:
+/// "nodes[3].matrix: expected 16 numbers, got 15". This is no schema validator: fields stsv
+/// does not read are left to tinygltf.
+class GltfJsonCheck {
+  public:
+    GltfJsonCheck(const std::string& path, const std::optional<GlbChunks>& glb) : m_path(path), m_glb(glb) {}
+
+    void check(const Json& root) {
+        if (!root.is_object()) fail("", "its JSON is " + describe(root) + ", not an object");
+        checkAsset(root);
+        index(root, "scene", "");
+        forEach(root, "scenes", "scenes",
+                [&](const Json& scene, const std::string& w) { indices(scene, "nodes", w); });
+        forEach(root, "nodes", "nodes", [&](const Json& node, const std::string& w) { checkNode(node, w); });
+        forEach(root, "meshes", "meshes",
+                [&](const Json& mesh, const std::string& w) { checkMesh(mesh, w); });
+        forEach(root, "materials", "materials",
+                [&](const Json& material, const std::string& w) { checkMaterial(material, w); });
+        forEach(root, "textures", "textures", [&](const Json& texture, const std::string& w) {
+            index(texture, "source", w);
+            index(texture, "sampler", w);
+        });
+        forEach(root, "samplers", "samplers", [&](const Json& sampler, const std::string& w) {
+            for (const char* key : {"wrapS", "wrapT"})
+                if (const Json* v = find(sampler, key); v && !v->is_number_integer())
+                    fail(join(w, key), "expected an integer (a wrap mode), got " + describe(*v));
+        });
+        std::size_t images = 0, buffers = 0;
+        forEach(root, "images", "images", [&](const Json& image, const std::string& w) {
+            uri(image, w, "image " + std::to_string(images++), true);
+            index(image, "bufferView", w);
+        });
+        forEach(root, "buffers", "buffers",
+                [&](const Json& buffer, const std::string& w) { checkBuffer(buffer, w, buffers++); });
+        forEach(root, "bufferViews", "bufferViews", [&](const Json& view, const std::string& w) {
+            index(view, "buffer", w);
+            unsignedInteger(view, "byteOffset", w);
+            unsignedInteger(view, "byteStride", w);
+        });
+        forEach(root, "accessors", "accessors", [&](const Json& accessor, const std::string& w) {
+            index(accessor, "bufferView", w);
+            unsignedInteger(accessor, "byteOffset", w);
+            boolean(accessor, "normalized", w);
+        });
+        forEach(root, "skins", "skins", [&](const Json& skin, const std::string& w) {
+            indices(skin, "joints", w);
+            index(skin, "inverseBindMatrices", w);
+        });
+    }
+
+  private:
+    [[noreturn]] void fail(const std::string& where, const std::string& problem) const {
+        throw InputError(m_path, "glTF: " + (where.empty() ? problem : where + ": " + problem));
+    }
+
+    static std::string join(const std::string& where, const char* key) {
+        return where.empty() ? std::string(key) : where + "." + key;
+    }
+
+    static std::string item(const std::string& where, std::size_t i) {
+        return where + "[" + std::to_string(i) + "]";
+    }
+
+    /// A JSON value as a message shows it: numbers, booleans and null as written, a string
+    /// quoted, arrays and objects by kind.
+    static std::string describe(const Json& v) {
+        if (v.is_string())
+            return "the string " + clipped(v.dump(-1, ' ', false, Json::error_handler_t::replace), 60);
+        if (v.is_array()) return "an array";
+        if (v.is_object()) return "an object";
+        return v.dump();
+    }
+
+    static const Json* find(const Json& object, const char* key) {
+        const auto it = object.find(key);
+        return it == object.end() ? nullptr : &*it;
+    }
+
+    /// `f(element, path)` for each element of the array object[key], each an object; nothing
+    /// when the key is absent.
+    template <class F>
+    void forEach(const Json& object, const char* key, const std::string& where, F f) const {
+        const Json* list = find(object, key);
+        if (!list) return;
+        if (!list->is_array()) fail(where, "expected an array of objects, got " + describe(*list));
+        for (std::size_t i = 0; i < list->size(); ++i) {
+            const Json& element = (*list)[i];
+            if (!element.is_object()) fail(item(where, i), "expected an object, got " + describe(element));
+            f(element, item(where, i));
+        }
+    }
+
+    /// The object object[key], or null when it is absent.
+    const Json* child(const Json& object, const char* key, const std::string& where) const {
+        const Json* v = find(object, key);
+        if (v && !v->is_object()) fail(join(where, key), "expected an object, got " + describe(*v));
+        return v;
+    }
+
+    /// An index into one of the glTF's arrays: an integer in [0, 2^31 − 1] (tinygltf keeps an
+    /// index as an int, −1 for none).
+    void indexValue(const Json& v, const std::string& where) const {
+        if (!v.is_number_integer() ||
+            (v.is_number_unsigned() ? v.get<std::uint64_t>() > INT32_MAX : v.get<std::int64_t>() < 0))
+            fail(where, "expected an index (an integer from 0 to 2147483647), got " + describe(v));
+    }
+
+    void index(const Json& object, const char* key, const std::string& where) const {
+        if (const Json* v = find(object, key)) indexValue(*v, join(where, key));
+    }
+
+    void indices(const Json& object, const char* key, const std::string& where) const {
+        const Json* v = find(object, key);
+        if (!v) return;
+        if (!v->is_array()) fail(join(where, key), "expected an array of indices, got " + describe(*v));
+        for (std::size_t i = 0; i < v->size(); ++i) indexValue((*v)[i], item(join(where, key), i));
+    }
+
+    void unsignedInteger(const Json& object, const char* key, const std::string& where) const {
+        if (const Json* v = find(object, key); v && !v->is_number_unsigned())
+            fail(join(where, key), "expected an integer ≥ 0, got " + describe(*v));
+    }
+
+    void boolean(const Json& object, const char* key, const std::string& where) const {
+        if (const Json* v = find(object, key); v && !v->is_boolean())
+            fail(join(where, key), "expected true or false, got " + describe(*v));
+    }
+
+    /// object[key] as `count` numbers (any count when 0), each in [0, 1] when `unit`; nullptr when
+    /// the key is absent.
+    const Json* numbers(const Json& object, const char* key, const std::string& where, std::size_t count,
+                        bool unit = false) const {
+        const Json* v = find(object, key);
+        if (!v) return nullptr;
+        const std::string w = join(where, key);
+        const std::string expected =
+            count ? std::to_string(count) + " numbers" : std::string("an array of numbers");
+        if (!v->is_array()) fail(w, "expected " + expected + ", got " + describe(*v));
+        if (count && v->size() != count)
+            fail(w, "expected " + expected + ", got " + std::to_string(v->size()));
+        for (std::size_t i = 0; i < v->size(); ++i) {
+            const Json& x = (*v)[i];
+            if (!x.is_number()) fail(item(w, i), "expected a number, got " + describe(x));
+            if (unit && !(x.get<double>() >= 0.0 && x.get<double>() <= 1.0))
+                fail(item(w, i), x.dump() + " is outside [0, 1]");
+        }
+        return v;
+    }
+
+    /// asset.version and asset.minVersion, then extensionsUsed and extensionsRequired: a glTF 1.0
+    /// file is named as one before anything else of it is read as glTF 2.0.
+    void checkAsset(const Json& root) const {
+        const Json* asset = find(root, "asset");
+        if (asset && asset->is_object() && asset->contains("version") && !(*asset)["version"].is_string())
+            fail("", "asset.version is " + clipped((*asset)["version"].dump(), 40) +
+                         ", not a string (glTF 1.0 files wrote a number): stsv reads glTF 2.x only");
+        if (!asset || !asset->is_object() || !asset->contains("version"))
+            fail(
+                "",
+                "has no asset.version (glTF 2.0 files say \"asset\": {\"version\": \"2.0\"}; a glTF 1.0 file "
+                "need not)");
+        if (const Json* min = find(*asset, "minVersion"); min && !min->is_string())
+            fail("asset.minVersion", "expected a string, got " + describe(*min));
+        if (const std::string problem =
+                versionProblem(jsonString(*asset, "version"), jsonString(*asset, "minVersion"));
             !problem.empty())
-            return problem;
-        if (!context.refusedPath.empty() && j.contains("buffers") && j["buffers"].is_array())
-            for (std::size_t i = 0; i < j["buffers"].size(); ++i) {
-                const std::string uri = jsonString(j["buffers"][i], "uri");
-                if (!uri.empty() && !isDataUri(uri) &&
-                    resolveUri(context.baseDir, uri) == context.refusedPath)
-                    return "buffer " + std::to_string(i) + " uri \"" + clipped(uri, 200) + "\" " +
-                           context.refusedReason + " (" + context.refusedPath + ")";
+            fail("", problem);
+        std::vector<std::string> required;
+        for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+            const Json* v = find(root, key);
+            if (!v) continue;
+            if (!v->is_array()) fail(key, "expected an array of extension names, got " + describe(*v));
+            for (std::size_t i = 0; i < v->size(); ++i) {
+                if (!(*v)[i].is_string())
+                    fail(item(key, i), "expected an extension name, got " + describe((*v)[i]));
+                if (std::string(key) == "extensionsRequired") required.push_back((*v)[i].get<std::string>());
             }
+        }
+        if (const std::string problem = requiredExtensionsProblem(required); !problem.empty())
+            fail("", problem);
+    }
+
+    /// A node's transform (glTF 2.0 §3.5.2): a matrix of 16 numbers, or a translation, a unit
+    /// quaternion rotation and a scale; what it draws and its children.
+    void checkNode(const Json& node, const std::string& w) const {
+        numbers(node, "matrix", w, 16);
+        numbers(node, "translation", w, 3);
+        numbers(node, "scale", w, 3);
+        if (const Json* r = numbers(node, "rotation", w, 4)) {
+            double squared = 0.0;
+            for (const Json& x : *r) squared += x.get<double>() * x.get<double>();
+            if (!(std::abs(std::sqrt(squared) - 1.0) <= ROTATION_UNIT_TOLERANCE)) {
+                char length[32];
+                std::snprintf(length, sizeof length, "%.6g", std::sqrt(squared));
+                fail(join(w, "rotation"), clipped(r->dump(), 80) + " has length " + length +
+                                              ": a rotation is a unit quaternion (x, y, z, w)");
+            }
+        }
+        indices(node, "children", w);
+        for (const char* key : {"mesh", "skin", "camera"}) index(node, key, w);
+        numbers(node, "weights", w, 0);
+    }
+
+    void checkMesh(const Json& mesh, const std::string& w) const {
+        numbers(mesh, "weights", w, 0);
+        forEach(mesh, "primitives", join(w, "primitives"), [&](const Json& prim, const std::string& p) {
+            const Json* attributes = child(prim, "attributes", p);
+            if (!attributes)
+                fail("", join(p, "attributes") + " is missing (a primitive's vertices are its attributes)");
+            for (const auto& [name, accessor] : attributes->items())
+                indexValue(accessor, join(join(p, "attributes"), name.c_str()));
+            index(prim, "indices", p);
+            index(prim, "material", p);
+            if (const Json* mode = find(prim, "mode");
+                mode && !(mode->is_number_integer() && mode->get<std::int64_t>() >= 0 &&
+                          mode->get<std::int64_t>() <= GLTF_TRIANGLE_FAN))
+                fail(join(p, "mode"),
+                     "expected a primitive mode, an integer from 0 to 6, got " + describe(*mode));
+            forEach(prim, "targets", join(p, "targets"), [&](const Json& target, const std::string& t) {
+                for (const auto& [name, accessor] : target.items())
+                    indexValue(accessor, join(t, name.c_str()));
+            });
+        });
+    }
+
+    /// A texture reference (textureInfo): its texture and texture coordinate set, and
+    /// KHR_texture_transform, which GltfReader::textureTransform reads field by field.
+    void checkTextureInfo(const Json& info, const std::string& w) const {
+        if (!find(info, "index"))
+            fail("", join(w, "index") + " is missing (a texture reference names its texture)");
+        index(info, "index", w);
+        index(info, "texCoord", w);
+        if (const Json* extensions = child(info, "extensions", w))
+            child(*extensions, "KHR_texture_transform", join(w, "extensions"));
+    }
+
+    void checkMaterial(const Json& material, const std::string& w) const {
+        if (const Json* pbr = child(material, "pbrMetallicRoughness", w)) {
+            const std::string p = join(w, "pbrMetallicRoughness");
+            numbers(*pbr, "baseColorFactor", p, 4, true);
+            if (const Json* info = child(*pbr, "baseColorTexture", p))
+                checkTextureInfo(*info, join(p, "baseColorTexture"));
+        }
+        if (const Json* mode = find(material, "alphaMode");
+            mode && !(mode->is_string() && (*mode == "OPAQUE" || *mode == "MASK" || *mode == "BLEND")))
+            fail(join(w, "alphaMode"), "expected \"OPAQUE\", \"MASK\" or \"BLEND\", got " + describe(*mode));
+        if (const Json* cutoff = find(material, "alphaCutoff");
+            cutoff && !(cutoff->is_number() && cutoff->get<double>() >= 0.0))
+            fail(join(w, "alphaCutoff"), "expected a number ≥ 0, got " + describe(*cutoff));
+        boolean(material, "doubleSided", w);
+    }
+
+    /// The uri of `what` ("buffer 0", "image 2") at `w`: a string, not empty, there unless
+    /// `optional` (an image may be in a buffer view instead).
+    void uri(const Json& object, const std::string& w, const std::string& what, bool optional) const {
+        const Json* v = find(object, "uri");
+        if (!v) {
+            if (!optional)
+                fail("",
+                     join(w, "uri") + " is missing (a buffer of a .gltf names a file or holds a data URI)");
+            return;
+        }
+        if (!v->is_string()) fail(join(w, "uri"), "expected a string, got " + describe(*v));
+        if (v->get_ref<const std::string&>().empty())
+            fail("", join(w, "uri") + " is empty: " + what + " names neither a file nor a data URI");
+    }
+
+    /// A buffer's length and uri. A .glb's BIN chunk is the data of its first buffer, the one
+    /// without a uri (glTF 2.0 §4.4.3.3).
+    void checkBuffer(const Json& buffer, const std::string& w, std::size_t index) const {
+        const Json* length = find(buffer, "byteLength");
+        if (!length) fail("", join(w, "byteLength") + " is missing");
+        if (!length->is_number_unsigned() || length->get<std::uint64_t>() == 0)
+            fail(join(w, "byteLength"), "expected an integer ≥ 1, got " + describe(*length));
+        if (!m_glb || find(buffer, "uri")) {
+            uri(buffer, w, "buffer " + std::to_string(index), false);
+            return;
+        }
+        if (index > 0) fail("", w + " has no uri: in a .glb only the first buffer takes the BIN chunk");
+        if (!m_glb->binBytes) fail("", w + " has no uri, and the .glb has no BIN chunk to be its data");
+        if (length->get<std::uint64_t>() > *m_glb->binBytes)
+            fail(join(w, "byteLength"),
+                 length->dump() + " bytes, beyond the BIN chunk's " + std::to_string(*m_glb->binBytes));
+    }
+
+    std::string m_path;
+    const std::optional<GlbChunks>& m_glb;
+};
+
+/// Why tinygltf refused the file, where its own message does not say: a buffer whose uri names
+/// no regular file (tinygltf stops at the first buffer it cannot read, before it reads any
+/// image). Empty when that is not the cause. `bufferUris`: each buffer's uri, empty for none.
+std::string refusalCause(const LoadContext& context, const std::vector<std::string>& bufferUris) {
+    if (context.refusedPath.empty()) return {};
+    for (std::size_t i = 0; i < bufferUris.size(); ++i) {
+        const std::string& uri = bufferUris[i];
+        if (!uri.empty() && !isDataUri(uri) && resolveUri(context.baseDir, uri) == context.refusedPath)
+            return "buffer " + std::to_string(i) + " uri \"" + clipped(uri, 200) + "\" " +
+                   context.refusedReason + " (" + context.refusedPath + ")";
     }
     return {};
 }
@@ -282,10 +652,6 @@ class GltfReader {
     GltfReader(const std::string& path, const tinygltf::Model& model) : m_path(path), m_model(model) {}
 
     MeshData read(std::optional<Camera>* camera) {
-        if (const std::string problem =
-                assetProblem(m_model.asset.version, m_model.asset.minVersion, m_model.extensionsRequired);
-            !problem.empty())
-            fail(problem);
         if (m_model.scenes.empty()) fail("has no scene");
         const int sceneIndex = m_model.defaultScene >= 0 ? m_model.defaultScene : 0;
         if (sceneIndex >= int(m_model.scenes.size()))
@@ -418,8 +784,7 @@ class GltfReader {
     }
 
     static bool isTriangleMode(int mode) {
-        return mode == -1 || mode == GLTF_TRIANGLES || mode == GLTF_TRIANGLE_STRIP ||
-               mode == GLTF_TRIANGLE_FAN;
+        return mode == GLTF_TRIANGLES || mode == GLTF_TRIANGLE_STRIP || mode == GLTF_TRIANGLE_FAN;
     }
 
     /// The triangles and vertices every instance in the scene will add, from the accessors'
@@ -481,7 +846,9 @@ class GltfReader {
     }
 
     View view(int accessorIndex, int type, const std::string& what) const {
-        const tinygltf::Accessor& a = at(m_model.accessors, accessorIndex, "accessor");
+        if (accessorIndex < 0 || std::size_t(accessorIndex) >= m_model.accessors.size())
+            fail(what + ": accessor " + std::to_string(accessorIndex) + " does not exist");
+        const tinygltf::Accessor& a = m_model.accessors[std::size_t(accessorIndex)];
         const std::string where = what + " (accessor " + std::to_string(accessorIndex) + ")";
         if (a.sparse.isSparse) fail(where + " is sparse, which is not supported");
         if (a.type != type) fail(where + " has the wrong type");
@@ -599,17 +966,21 @@ class GltfReader {
         if (!weights.empty() && weights.size() != prim.targets.size())
             fail(where + " has " + std::to_string(prim.targets.size()) + " morph targets and " +
                  std::to_string(weights.size()) + " weights");
-        for (std::size_t t = 0; t < prim.targets.size() && t < weights.size(); ++t) {
+        for (std::size_t t = 0; t < weights.size(); ++t)
             if (!std::isfinite(weights[t]))
                 fail(where + " morph weight " + std::to_string(t) + " is not finite");
+        for (std::size_t t = 0; t < prim.targets.size(); ++t) {
             const auto target = prim.targets[t].find("POSITION");
-            if (weights[t] == 0.0 || target == prim.targets[t].end()) continue;
+            if (target == prim.targets[t].end()) continue;
+            // A malformed target is refused at any weight, none (0) included: the file is broken.
             const std::string what = where + " morph target " + std::to_string(t) + " POSITION";
             const View d = view(target->second, TINYGLTF_TYPE_VEC3, what);
             if (d.componentType != GLTF_FLOAT || d.count != positions.count)
                 fail(what + " must be float, one for each vertex");
+            const float weight = t < weights.size() ? float(weights[t]) : 0.0f;
+            if (weight == 0.0f) continue;
             for (std::size_t i = 0; i < p.size(); ++i)
-                p[i] += float(weights[t]) * vec3(component(d, i, 0), component(d, i, 1), component(d, i, 2));
+                p[i] += weight * vec3(component(d, i, 0), component(d, i, 1), component(d, i, 2));
         }
         if (node.skin < 0) {
             const mat4& world = *m_world[std::size_t(nodeIndex)];
@@ -672,7 +1043,7 @@ class GltfReader {
     /// second one wound as the first; a fan's is (v_{i+1}, v_{i+2}, v_0).
     std::vector<std::uint32_t> triangleCorners(int mode, const std::vector<std::uint32_t>& corners,
                                                const std::string& where) const {
-        if (mode == GLTF_TRIANGLES || mode == -1) {
+        if (mode == GLTF_TRIANGLES) {
             if (corners.size() % 3 != 0)
                 fail(where + " has " + std::to_string(corners.size()) + " indices, not a multiple of 3");
             return corners;
@@ -950,23 +1321,21 @@ class GltfReader {
     std::map<int, int> m_textures;            ///< glTF image → ours
 };
 
-} // namespace
-
-MeshData loadGltf(const std::string& path, std::optional<Camera>* camera) {
-    if (const std::string reason = notAFileReason(path); !reason.empty())
-        throw InputError(path, "glTF file " + reason);
-    checkMemory(path, double(fs::file_size(path)) * 8.0, "use a smaller file");
+/// The file read by tinygltf, after its container and JSON are checked here.
+tinygltf::Model readModel(const std::string& path) {
     const bool binary = lowerExtension(path) == ".glb";
-    if (binary) {
-        // GLB's header: magic "glTF", then the container's version; glTF 1.0's binary extension
-        // wrote 1 there.
-        char header[8] = {};
-        std::ifstream(path, std::ios::binary).read(header, 8);
-        std::uint32_t version = 0;
-        std::memcpy(&version, header + 4, 4);
-        if (std::memcmp(header, "glTF", 4) == 0 && version != 2)
-            throw InputError(path, "glTF: a binary glTF of container version " + std::to_string(version) +
-                                       " (glTF 1.0 wrote 1): stsv reads glTF 2.x only");
+    // tinygltf takes a file's length as a 32-bit unsigned int, as GLB's header does.
+    const std::string bytes = readFileBytes(path, "glTF file", std::numeric_limits<std::uint32_t>::max());
+    std::optional<GlbChunks> glb;
+    if (binary) glb = glbChunks(path, bytes);
+    // The JSON is checked before tinygltf reads it; only the buffers' uris are kept from it, to
+    // name a buffer whose file tinygltf cannot read.
+    std::vector<std::string> bufferUris;
+    {
+        const Json document = parseGltfJson(path, binary ? glb->json : std::string_view(bytes), binary);
+        GltfJsonCheck(path, glb).check(document);
+        if (const auto buffers = document.find("buffers"); buffers != document.end())
+            for (const Json& buffer : *buffers) bufferUris.push_back(jsonString(buffer, "uri"));
     }
     LoadContext context;
     context.path = path;
@@ -978,19 +1347,41 @@ MeshData loadGltf(const std::string& path, std::optional<Camera>* camera) {
     std::string error, warning;
     bool ok = false;
     try {
-        ok = binary ? loader.LoadBinaryFromFile(&model, &error, &warning, path)
-                    : loader.LoadASCIIFromFile(&model, &error, &warning, path);
-    } catch (const std::exception& e) {
-        throw InputError(path, std::string("glTF: ") + e.what());
+        const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+        const auto size = static_cast<unsigned int>(bytes.size());
+        ok = binary
+                 ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, size, context.baseDir)
+                 : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), size, context.baseDir);
+    } catch (const std::bad_alloc&) {
+        if (context.error) std::rethrow_exception(context.error);
+        throw UsageError(path + ": glTF: out of memory while tinygltf read it; use a smaller file");
+    } catch (const std::exception&) {
+        // The checks above leave tinygltf nothing known to throw on; its exception's own text
+        // ("vector::_M_range_check: ...") would tell a user nothing.
+        if (context.error) std::rethrow_exception(context.error);
+        throw InputError(path, "glTF: tinygltf stopped on a malformed part it does not name");
     }
     if (context.error) std::rethrow_exception(context.error);
     if (!ok) {
-        if (const std::string cause = refusalCause(context, binary); !cause.empty())
+        if (const std::string cause = refusalCause(context, bufferUris); !cause.empty())
             throw InputError(path, "glTF: " + cause);
+        // tinygltf ends each of its messages with a newline: one line, the messages apart by "; ".
         while (!error.empty() && (error.back() == '\n' || error.back() == ' ')) error.pop_back();
+        for (std::size_t at = error.find('\n'); at != std::string::npos; at = error.find('\n', at))
+            error.replace(at, 1, "; ");
         throw InputError(path,
                          "glTF: " + (error.empty() ? std::string("cannot be read") : clipped(error, 400)));
     }
+    return model;
+}
+
+} // namespace
+
+MeshData loadGltf(const std::string& path, std::optional<Camera>* camera) {
+    if (const std::string reason = notAFileReason(path); !reason.empty())
+        throw InputError(path, "glTF file " + reason);
+    checkMemory(path, double(fs::file_size(path)) * 8.0, "use a smaller file");
+    const tinygltf::Model model = readModel(path);
     return GltfReader(path, model).read(camera);
 }
 

@@ -19,7 +19,10 @@ namespace stsv {
 /// cast no shadow) were skipped. `camera`, when given, gets the first perspective camera met in a
 /// depth-first walk of the nodes (std::nullopt when there is none).
 ///
-/// InputError naming the file and the place on malformed glTF; an asset.version other than 2.x
+/// InputError naming the file and the place on malformed glTF: a .glb container too short,
+/// truncated or with chunks out of place; JSON that does not parse or nests deeper than 128
+/// levels; a field stsv reads of the wrong type or length, named by its JSON path
+/// ("nodes[3].matrix: expected 16 numbers, got 15"); an asset.version other than 2.x
 /// or a minVersion above 2.0; an extensionsRequired stsv does not implement (all but
 /// KHR_texture_transform); a buffer or image uri that names no regular file; a node reached twice
 /// (two parents, listed twice, a cycle); an accessor outside its buffer; a texture coordinate set
