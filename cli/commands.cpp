@@ -8,6 +8,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <csignal>
@@ -19,6 +20,7 @@
 #include <limits>
 #include <new>
 #include <regex>
+#include <string_view>
 
 namespace stsv {
 
@@ -191,6 +193,69 @@ void refuseEmptyValues(CLI::App& app) {
     }
 }
 
+/// The deepest nesting of brackets an argument may hold. CLI11 reads a bracketed value of a
+/// repeatable option (--set, --param, --light, --add-light) as a list, splitting it one level at a
+/// time and copying the rest at each (60,000 levels took 3 GiB in 3 s); the JSON options nest two
+/// or three levels, and their reader refuses past 64 (scene/json_scene.cpp), as this does.
+constexpr int kMaxArgumentNesting = 64;
+
+/// The option an argument of `command` is the value of: "--light" for "--light=..." or the value
+/// after "--light" (an option that takes one), else "the scene" (a positional argument).
+std::string optionOfArgument(const CLI::App* command, char** argv, int k) {
+    const std::string_view arg = argv[k];
+    if (arg.starts_with("--")) return std::string(arg.substr(0, arg.find('=')));
+    if (command != nullptr && k > 1) {
+        const std::string_view previous = argv[k - 1];
+        const std::string name(previous.substr(0, previous.find('=')));
+        const CLI::Option* option =
+            name.size() > 1 && name[0] == '-' ? command->get_option_no_throw(name) : nullptr;
+        if (option != nullptr && option->get_type_size() != 0) return name;
+    }
+    return command != nullptr && command->get_name() == "compare" ? "the inputs" : "the scene";
+}
+
+/// UsageError, naming the option, for an argument whose brackets ([ ] and { }) nest deeper than
+/// kMaxArgumentNesting; run before CLI11 parses.
+void refuseDeeplyNestedArguments(CLI::App& app, int argc, char** argv) {
+    const CLI::App* command = nullptr;
+    for (const CLI::App* c : app.get_subcommands({}))
+        if (argc > 1 && c->get_name() == argv[1]) command = c;
+    for (int k = 1; k < argc; ++k) {
+        int depth = 0, deepest = 0;
+        for (const char* c = argv[k]; *c != '\0'; ++c) {
+            if (*c == '[' || *c == '{') deepest = std::max(deepest, ++depth);
+            if ((*c == ']' || *c == '}') && depth > 0) --depth;
+        }
+        if (deepest > kMaxArgumentNesting)
+            throw UsageError(optionOfArgument(command, argv, k) + ": the value nests brackets " +
+                             std::to_string(deepest) + " levels deep, more than the " +
+                             std::to_string(kMaxArgumentNesting) + " accepted (a light or camera nests 2)");
+    }
+}
+
+/// The memory limit of --max-memory, set before anything can quote it (an allocation that fails
+/// while CLI11 reads the arguments): the last --max-memory given. A value that is no size is left
+/// to the check after parsing, which names it. The arguments are not copied.
+void setMemoryLimitFromArguments(int argc, char** argv) {
+    setMemoryLimit(0);
+    constexpr std::string_view option = "--max-memory";
+    for (int k = 1; k < argc; ++k) {
+        const std::string_view arg = argv[k];
+        std::string_view value;
+        if (arg.starts_with(option) && arg.size() > option.size() && arg[option.size()] == '=')
+            value = arg.substr(option.size() + 1);
+        else if (arg == option && k + 1 < argc)
+            value = argv[k + 1];
+        else
+            continue;
+        if (value.size() > 64) continue;
+        try {
+            setMemoryLimit(parseMemorySize(std::string(value)));
+        } catch (const Error&) {
+        }
+    }
+}
+
 } // namespace
 
 int runReportingErrors(const std::function<int()>& command) {
@@ -347,6 +412,8 @@ int runCli(int argc, char** argv) {
                 first != "compare")
                 throw UsageError("unknown command '" + std::string(argv[1]) +
                                  "' (expected render, info, bench or compare)");
+            setMemoryLimitFromArguments(argc, argv);
+            refuseDeeplyNestedArguments(app, argc, argv);
             app.parse(argc, argv);
             // The memory limit before anything is loaded: the default, unless the command says
             // otherwise (info too: what it loads, it loads under the same limit as a render).

@@ -198,67 +198,6 @@ TEST(TrustFiles, EveryCommandRefusesTwoOutputsOnOnePathAndAnOutputThatIsAnInput)
     EXPECT_TRUE(readJson(dir.file("presets.json")).contains("tiny"));
 }
 
-/// runStsv in a child process that may take at most `seconds`: a command that blocks (on a FIFO
-/// without a reader) is killed and reported as code -1 instead of hanging the tests, as is one a
-/// signal ends (its number in `err`). `prepare` runs in the child first (a limit, a signal's
-/// disposition, an environment variable), so that the tests' own process keeps its own. The
-/// child's stdout and stderr are pipes (no file size limit applies to them), drained as it runs.
-CliResult runStsvWithin(int seconds, const std::vector<std::string>& args,
-                        const std::function<void()>& prepare = {}) {
-    int outPipe[2], errPipe[2];
-    if (::pipe(outPipe) != 0 || ::pipe(errPipe) != 0) return {-2, "", "pipe failed"};
-    std::fflush(stdout);
-    std::fflush(stderr);
-    const pid_t child = ::fork();
-    if (child == 0) {
-        ::dup2(outPipe[1], 1);
-        ::dup2(errPipe[1], 2);
-        ::close(outPipe[0]);
-        ::close(errPipe[0]);
-        if (prepare) prepare();
-        std::vector<std::string> all = args;
-        all.insert(all.begin(), "stsv");
-        std::vector<char*> argv;
-        for (std::string& a : all) argv.push_back(a.data());
-        argv.push_back(nullptr);
-        const int code = runCli(int(all.size()), argv.data());
-        std::fflush(stdout);
-        std::fflush(stderr);
-        ::_exit(code);
-    }
-    ::close(outPipe[1]);
-    ::close(errPipe[1]);
-    CliResult r;
-    auto drain = [](int fd, std::string& text) {
-        char buffer[4096];
-        for (ssize_t n; (n = ::read(fd, buffer, sizeof buffer)) > 0;) text.append(buffer, std::size_t(n));
-    };
-    ::fcntl(outPipe[0], F_SETFL, O_NONBLOCK);
-    ::fcntl(errPipe[0], F_SETFL, O_NONBLOCK);
-    int status = 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(seconds);
-    while (::waitpid(child, &status, WNOHANG) == 0) {
-        drain(outPipe[0], r.out);
-        drain(errPipe[0], r.err);
-        if (std::chrono::steady_clock::now() > deadline) {
-            ::kill(child, SIGKILL);
-            ::waitpid(child, &status, 0);
-            ::close(outPipe[0]);
-            ::close(errPipe[0]);
-            return {-1, r.out,
-                    r.err + "(killed after " + std::to_string(seconds) + " s: the command blocked)"};
-        }
-        std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    drain(outPipe[0], r.out);
-    drain(errPipe[0], r.err);
-    ::close(outPipe[0]);
-    ::close(errPipe[0]);
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    if (WIFSIGNALED(status)) r.err += "(killed by signal " + std::to_string(WTERMSIG(status)) + ")";
-    return r;
-}
-
 // An output that is a FIFO without a reader blocked the write forever, and one that is a device
 // (/dev/null behind a .png name) took the picture nowhere: both are refused before any work,
 // as inputs that are not regular files are, for every output option.

@@ -18,6 +18,9 @@
 #include <string>
 #include <vector>
 
+#include <sys/resource.h>
+#include <unistd.h>
+
 namespace stsv::test {
 namespace {
 
@@ -328,6 +331,61 @@ TEST(TrustValues, TheFrameEstimateCoversEachMapMethodsMeasuredPeak) {
         EXPECT_NE(r.err.find("frame of csm on cpu"), std::string::npos) << describe(args, r);
         EXPECT_NE(r.err.find("above the memory limit of 512.0 MiB"), std::string::npos) << describe(args, r);
     }
+}
+
+/// Sets the child's address space to what it uses now plus `extra` bytes (for runStsvWithin).
+void limitAddressSpace(std::size_t extra) {
+    std::ifstream statm("/proc/self/statm");
+    std::size_t pages = 0;
+    statm >> pages;
+    struct rlimit limit {};
+    ::getrlimit(RLIMIT_AS, &limit);
+    limit.rlim_cur = rlim_t(pages * std::size_t(::sysconf(_SC_PAGESIZE)) + extra);
+    ::setrlimit(RLIMIT_AS, &limit);
+}
+
+// A value of 60,000 nested brackets given to --light, --add-light, --set or --param reached 3 GiB
+// in 3 s inside CLI11, which splits a bracketed value one level at a time and copies the rest at
+// each. An argument nested deeper than 64 levels is refused before CLI11 reads it, naming the
+// option (in a child held to 1 GiB more address space, which CLI11 ran into before).
+TEST(TrustValues, AnArgumentNestedTooDeepIsRefusedBeforeParsing) {
+    const std::string deep = std::string(60000, '[') + std::string(60000, ']');
+    const std::vector<std::vector<std::string>> cases = {
+        {"render", "fence", "--light", deep},    {"render", "fence", "--add-light", deep},
+        {"render", "fence", "--set", deep},      {"render", "fence", "--method", "pcss", "--param", deep},
+        {"render", "fence", "--camera=" + deep}, {"bench", "fence", "--set", deep},
+        {"compare", "fence", "--light", deep},   {"info", "fence", "--param", deep},
+    };
+    for (std::vector<std::string> args : cases) {
+        const std::string option = args[2].starts_with("--camera") ? "--camera" : args[args.size() - 2];
+        for (const std::string extra : {"--backend", "cpu", "--size", "8x8", "-q"}) args.push_back(extra);
+        const CliResult r = runStsvWithin(60, args, [] { limitAddressSpace(std::size_t(1) << 30); });
+        const std::string shown = args[0] + " " + option + " (60000 brackets deep)";
+        EXPECT_EQ(r.code, 1) << shown << "\n" << r.err;
+        const std::string expected =
+            option + ": the value nests brackets 60000 levels deep, more than the 64";
+        EXPECT_NE(r.err.find(expected), std::string::npos) << "lacks '" << expected << "'\n" << r.err;
+    }
+    // 64 levels are the JSON reader's to judge, as before.
+    const std::string nested64 = std::string(64, '[') + std::string(64, ']');
+    const CliResult r = runStsv({"render", "fence", "--light", nested64, "--backend", "cpu", "-q"});
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_EQ(r.err.find("nests brackets"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("--light"), std::string::npos) << r.err;
+}
+
+// When memory ran out while CLI11 read the arguments, the message quoted the default limit
+// (half of this machine's memory) although --max-memory 1G was given: the limit is set from the
+// arguments before anything can quote it. Here a 64 MiB argument that a child with 16 MiB of
+// address space to spare cannot copy.
+TEST(TrustValues, OutOfMemoryWhileReadingTheArgumentsQuotesTheLimitGiven) {
+    const std::vector<std::string> args = {"render",    "fence", "--max-memory",
+                                           "1G",        "--set", "count=" + std::string(64 << 20, '1'),
+                                           "--backend", "cpu"};
+    const CliResult r = runStsvWithin(60, args, [] { limitAddressSpace(std::size_t(16) << 20); });
+    EXPECT_EQ(r.code, 1) << r.err;
+    EXPECT_NE(r.err.find("stsv: error: out of memory"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("memory limit of 1.0 GiB (--max-memory)"), std::string::npos) << r.err;
 }
 
 // Text quoted from input that holds a NUL byte (a JSON string "\u0000") was cut at the NUL, as
