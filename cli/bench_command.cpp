@@ -16,10 +16,13 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <map>
 #include <new>
 #include <thread>
@@ -194,74 +197,127 @@ void printTable(const std::vector<Result>& results, const std::vector<Variant>& 
 
 } // namespace
 
+namespace {
+
+/// Where presets come from, as messages name it.
+std::string presetsSource(const std::string& file) {
+    return file.empty() ? "bench/presets.json (built in)" : file;
+}
+
+/// "a string", "an array", ...: the JSON type of `value`, as a message names it.
+std::string jsonTypeName(const nlohmann::json& value) {
+    const std::string type = value.type_name();
+    return (type == "array" || type == "object" ? "an " : "a ") + type;
+}
+
+/// A preset's whole number `value` of `key`, in [lo, hi]; UsageError naming the preset, the key
+/// and the range otherwise. Checked as a double before it is converted (1e30 is no int).
+long long presetInteger(const std::string& where, const std::string& key, const nlohmann::json& value,
+                        long long lo, long long hi) {
+    const std::string range = " (" + std::to_string(lo) + " to " + std::to_string(hi) + ")";
+    if (!value.is_number())
+        throw UsageError(where + ": \"" + key + "\" must be a whole number" + range + ", not " +
+                         jsonTypeName(value));
+    if (value.is_number_unsigned()) {
+        const std::uint64_t v = value.get<std::uint64_t>();
+        if (v > std::uint64_t(hi))
+            throw UsageError(where + ": \"" + key + "\" " + value.dump() + " is out of range" + range);
+        return (long long)(v);
+    }
+    if (value.is_number_integer()) {
+        const std::int64_t v = value.get<std::int64_t>();
+        if (v < lo || v > hi)
+            throw UsageError(where + ": \"" + key + "\" " + value.dump() + " is out of range" + range);
+        return v;
+    }
+    const double v = value.get<double>();
+    if (!(v >= double(lo) && v <= double(hi)))
+        throw UsageError(where + ": \"" + key + "\" " + value.dump() + " is out of range" + range);
+    if (v != std::floor(v))
+        throw UsageError(where + ": \"" + key + "\" " + value.dump() + " is not a whole number" + range);
+    return (long long)(v);
+}
+
+} // namespace
+
 nlohmann::json loadBenchPresets(const std::string& file) {
     std::string text = benchPresetsJson;
-    std::string source = "bench/presets.json (built in)";
-    if (!file.empty()) {
-        text = readFileBytes(file, "presets file", std::size_t(1) << 24);
-        source = file;
-    }
+    const std::string source = presetsSource(file);
+    if (!file.empty()) text = readFileBytes(file, "presets file", std::size_t(1) << 24);
     nlohmann::json presets;
     try {
         presets = nlohmann::json::parse(text);
     } catch (const nlohmann::json::parse_error& e) {
-        throw InputError(source, std::string("not valid JSON: ") + e.what());
+        // nlohmann's text without its "[json.exception.parse_error.101] " tag.
+        const std::string what = e.what();
+        const std::size_t tag = what.rfind("[json.exception", 0) == 0 ? what.find("] ") : std::string::npos;
+        throw InputError(source,
+                         "not valid JSON: " + (tag == std::string::npos ? what : what.substr(tag + 2)));
     }
     if (!presets.is_object()) throw InputError(source, "presets must be a JSON object of name → preset");
+    // Each preset an object whose description, where it has one, is text (--list-presets prints it).
+    for (const auto& [name, preset] : presets.items()) {
+        if (!preset.is_object())
+            throw InputError(source, "preset '" + name + "' must be an object of option → value, not " +
+                                         jsonTypeName(preset));
+        if (preset.contains("description") && !preset["description"].is_string())
+            throw InputError(source, "preset '" + name + "': \"description\" must be a string, not " +
+                                         jsonTypeName(preset["description"]));
+    }
     return presets;
 }
 
 void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std::string& name) {
+    const std::string source = presetsSource(args.presetsFile);
+    if (presets.empty()) throw UsageError("unknown preset '" + name + "': " + source + " holds no presets");
     if (!presets.contains(name)) {
         std::string names;
         for (const auto& [n, p] : presets.items()) names += (names.empty() ? "" : ", ") + n;
-        throw UsageError("unknown preset '" + name + "' (presets: " + names + ")");
+        throw UsageError("unknown preset '" + name + "' (presets of " + source + ": " + names + ")");
     }
     const nlohmann::json& p = presets.at(name);
+    const std::string where = "preset '" + name + "' of " + source;
     auto given = [&](const std::string& option) {
         return std::find(args.given.begin(), args.given.end(), option) != args.given.end();
     };
-    try {
-        for (const auto& [key, value] : p.items()) {
-            if (key == "description") continue;
-            const std::string option = key == "scene" ? "scene" : "--" + key;
-            if (given(option)) continue;
-            if (key == "scene")
-                args.scene = value.get<std::string>();
-            else if (key == "size")
-                args.size = value.get<std::string>();
-            else if (key == "samples")
-                args.samples = value.get<std::string>();
-            else if (key == "methods")
-                args.methods = value.get<std::string>();
-            else if (key == "backends")
-                args.backends = value.get<std::string>();
-            else if (key == "vary")
-                args.vary = value.get<std::string>();
-            else if (key == "repeat")
-                args.repeat = value.get<int>();
-            else if (key == "warmup")
-                args.warmup = value.get<int>();
-            else if (key == "check")
-                args.check = value.get<bool>();
-            else if (key == "pattern")
-                args.pattern = value.get<std::string>();
-            else if (key == "buffer")
-                args.buffer = value.get<std::string>();
-            else if (key == "extrusion")
-                args.extrusion = value.get<std::string>();
-            else if (key == "seed")
-                args.options.seed = value.get<std::uint32_t>();
-            else if (key == "set")
-                args.sets = value.get<std::vector<std::string>>();
-            else if (key == "param")
-                args.params = value.get<std::vector<std::string>>();
-            else
-                throw UsageError(
-                    std::string("preset '").append(name).append("': unknown key '").append(key).append("'"));
+    // The keys that hold text, each an option's value ("samples": "16,64", as --samples takes it).
+    const std::vector<std::pair<const char*, std::string*>> texts = {
+        {"scene", &args.scene},     {"size", &args.size},         {"samples", &args.samples},
+        {"methods", &args.methods}, {"backends", &args.backends}, {"vary", &args.vary},
+        {"pattern", &args.pattern}, {"buffer", &args.buffer},     {"extrusion", &args.extrusion}};
+    for (const auto& [key, value] : p.items()) {
+        if (key == "description") continue;
+        const std::string option = key == "scene" ? "scene" : "--" + key;
+        if (given(option)) continue;
+        const auto text =
+            std::find_if(texts.begin(), texts.end(), [&](const auto& t) { return key == t.first; });
+        if (text != texts.end()) {
+            if (!value.is_string())
+                throw UsageError(where + ": \"" + key + "\" must be a string, as " + option +
+                                 " takes it, not " + jsonTypeName(value));
+            *text->second = value.get<std::string>();
+        } else if (key == "repeat") {
+            args.repeat = int(presetInteger(where, key, value, kMinRepeat, kMaxRepeat));
+        } else if (key == "warmup") {
+            args.warmup = int(presetInteger(where, key, value, kMinWarmup, kMaxWarmup));
+        } else if (key == "seed") {
+            args.options.seed =
+                std::uint32_t(presetInteger(where, key, value, 0, std::numeric_limits<std::uint32_t>::max()));
+        } else if (key == "check") {
+            if (!value.is_boolean())
+                throw UsageError(where + ": \"check\" must be true or false, not " + jsonTypeName(value));
+            args.check = value.get<bool>();
+        } else if (key == "set" || key == "param") {
+            const bool strings = value.is_array() && std::all_of(value.begin(), value.end(),
+                                                                 [](const auto& v) { return v.is_string(); });
+            if (!strings)
+                throw UsageError(where + ": \"" + key +
+                                 "\" must be an array of strings (\"name=value\"), not " +
+                                 jsonTypeName(value));
+            (key == "set" ? args.sets : args.params) = value.get<std::vector<std::string>>();
+        } else {
+            throw UsageError(where + ": unknown key '" + key + "'");
         }
-    } catch (const nlohmann::json::exception& e) {
-        throw UsageError("preset '" + name + "': a value has the wrong type (" + e.what() + ")");
     }
 }
 

@@ -351,6 +351,57 @@ TEST(BenchPresets, UnknownKeyAndBadFileAreErrors) {
     EXPECT_THROW(loadBenchPresets(dir.file("none.json")), InputError);
 }
 
+// A presets file holding an empty object said "unknown preset 'tiny' (presets: )", a "samples"
+// array printed nlohmann's "[json.exception.type_error.302] ...", and "repeat": 1e30 became
+// --repeat -2147483648 (a double converted to int out of range). Each names the file, the preset,
+// the key and what it takes; every number is checked before it is converted.
+TEST(BenchPresets, AFileWithoutPresetsOrAValueOfTheWrongTypeOrRangeIsNamed) {
+    test::ScratchDir dir;
+    auto refusal = [&](const std::string& json) -> std::string {
+        { std::ofstream(dir.file("p.json"), std::ios::trunc) << json; }
+        BenchArgs args;
+        args.presetsFile = dir.file("p.json");
+        try {
+            applyBenchPreset(args, loadBenchPresets(args.presetsFile), "tiny");
+        } catch (const Error& e) {
+            return e.message();
+        }
+        return "accepted: repeat " + std::to_string(args.repeat) + ", warmup " + std::to_string(args.warmup) +
+               ", seed " + std::to_string(args.options.seed);
+    };
+    const std::string file = dir.file("p.json");
+    const std::vector<std::pair<std::string, std::string>> cases = {
+        {"{}", "unknown preset 'tiny': " + file + " holds no presets"},
+        {R"({"tiny": {"samples": [16]}})",
+         "preset 'tiny' of " + file + ": \"samples\" must be a string, as --samples takes it, not an array"},
+        {R"({"tiny": {"scene": 3}})", "preset 'tiny' of " + file + ": \"scene\" must be a string"},
+        {R"({"tiny": {"repeat": 1e30}})",
+         "preset 'tiny' of " + file + ": \"repeat\" 1e+30 is out of range (1 to 10000)"},
+        {R"({"tiny": {"repeat": -1e30}})", "\"repeat\" -1e+30 is out of range (1 to 10000)"},
+        {R"({"tiny": {"repeat": 2.5}})", "\"repeat\" 2.5 is not a whole number (1 to 10000)"},
+        {R"({"tiny": {"repeat": "3"}})", "\"repeat\" must be a whole number (1 to 10000), not a string"},
+        {R"({"tiny": {"warmup": 18446744073709551615}})",
+         "\"warmup\" 18446744073709551615 is out of range (0 to 1000)"},
+        {R"({"tiny": {"warmup": -1}})", "\"warmup\" -1 is out of range (0 to 1000)"},
+        {R"({"tiny": {"seed": 4294967296}})", "\"seed\" 4294967296 is out of range (0 to 4294967295)"},
+        {R"({"tiny": {"seed": NaN}})", "not valid JSON"},
+        {R"({"tiny": {"check": 1}})", "\"check\" must be true or false, not a number"},
+        {R"({"tiny": {"set": "count=3"}})", "\"set\" must be an array of strings"},
+        {R"({"tiny": {"param": [1]}})", "\"param\" must be an array of strings"},
+        {R"({"tiny": [1]})", "preset 'tiny' must be an object of option → value, not an array"},
+        {R"({"tiny": {"description": 1}})", "preset 'tiny': \"description\" must be a string, not a number"},
+    };
+    for (const auto& [json, expected] : cases) {
+        const std::string message = refusal(json);
+        EXPECT_NE(message.find(expected), std::string::npos)
+            << json << "\n  said: " << message << "\n  lacks: " << expected;
+        EXPECT_EQ(message.find("json.exception"), std::string::npos) << json << ": " << message;
+    }
+    // In range, whole numbers written as floats are whole numbers.
+    EXPECT_EQ(refusal(R"({"tiny": {"repeat": 2.0, "warmup": 0, "seed": 4294967295}})"),
+              "accepted: repeat 2, warmup 0, seed 4294967295");
+}
+
 } // namespace
 } // namespace stsv
 
