@@ -192,7 +192,8 @@ void printSceneInfo(const nlohmann::json& j, std::ostream& out) {
     out << printable(j["source"].get<std::string>()) << '\n';
     out << "  triangles: " << j["triangles"] << " (" << j["opaque_triangles"] << " opaque, "
         << j["perforated_triangles"] << " perforated, " << j["translucent_triangles"]
-        << " translucent); faces skipped as degenerate: " << j["skipped_faces"] << '\n';
+        << " translucent); faces skipped as degenerate: " << j["skipped_faces"]
+        << "; triangles of zero area (kept, drawn by no method): " << j["zero_area_triangles"] << '\n';
     out << "  materials:\n";
     for (const nlohmann::json& m : j["materials"]) {
         out << "    " << printable(m["name"].get<std::string>()) << ": albedo " << v3(m["albedo"])

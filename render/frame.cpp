@@ -30,6 +30,7 @@ nlohmann::json sceneStats(const Scene& scene) {
             {"perforated_triangles", perforated},
             {"translucent_triangles", translucent},
             {"skipped_faces", scene.skippedFaces},
+            {"zero_area_triangles", scene.zeroAreaTriangles},
             {"lights", scene.lights.size()}};
 }
 

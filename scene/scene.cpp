@@ -254,6 +254,14 @@ void Scene::validate() {
         throw InputError(source,
                          "camera is degenerate (eye = target, up along the view, or fovY outside (0, 180))");
     checkPrecision(*this);
+    // Triangles whose corners coincide or lie on one line are kept and counted (no method draws
+    // them, and none casts a shadow); a scene of nothing else would render as empty background.
+    zeroAreaTriangles = 0;
+    for (std::size_t t = 0; t < triangles.size(); ++t) zeroAreaTriangles += collapsed(*this, t) ? 1 : 0;
+    if (zeroAreaTriangles == triangles.size())
+        throw InputError(source, "every triangle is degenerate: the " + std::to_string(triangles.size()) +
+                                     " triangle(s) have zero area (their vertices coincide or lie on one "
+                                     "line), so nothing would be drawn or cast a shadow");
 }
 
 } // namespace stsv

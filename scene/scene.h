@@ -164,6 +164,9 @@ struct Scene {
     Camera camera;
     std::vector<Light> lights;
     std::size_t skippedFaces = 0; ///< input faces the loaders dropped as degenerate (repeated vertex index)
+    /// Triangles kept whose vertices, as floats, coincide or lie on one line (zero area): counted
+    /// by validate; they neither show nor cast a shadow in any method.
+    std::size_t zeroAreaTriangles = 0;
     /// What a user should know about how the scene was read, one line each, without the file's
     /// name (the CLI prints them after loading): primitives skipped, precision lost far from the
     /// origin. Loaders append; nothing here stops a render.
@@ -187,8 +190,9 @@ struct Scene {
     /// camera and the float precision left where the scene lies; throws InputError naming
     /// `source` on the first problem. Where floats resolve less than MIN_SCENE_PRECISION of the
     /// scene's diagonal it appends a warning to `warnings` (once, however often it is called), and
-    /// refuses the scene when some triangle has collapsed to a line or a point there. Loaders
-    /// call it before returning.
+    /// refuses the scene when some triangle has collapsed to a line or a point there. Counts the
+    /// triangles of zero area (zeroAreaTriangles) and refuses a scene whose every triangle has
+    /// zero area. Loaders call it before returning.
     void validate();
 };
 

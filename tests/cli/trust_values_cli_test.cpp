@@ -388,6 +388,37 @@ TEST(TrustValues, OutOfMemoryWhileReadingTheArgumentsQuotesTheLimitGiven) {
     EXPECT_NE(r.err.find("memory limit of 1.0 GiB (--max-memory)"), std::string::npos) << r.err;
 }
 
+// A scene whose only triangle had collinear corners rendered an all-background image with exit 0,
+// and info said "faces skipped as degenerate: 0". It is refused naming the file; beside a
+// triangle with area, info and --stats count the triangles of zero area.
+TEST(TrustValues, ZeroAreaTrianglesAreCountedAndASceneOfNothingElseIsRefused) {
+    ScratchDir dir;
+    const std::string scene = R"({"materials": [{"name": "floor"}],
+        "lights": [{"type": "sphere", "position": [0, 4, 0], "radius": 0.5, "radiance": 40}],
+        "camera": {"eye": [0, 3, 6], "target": [0, 0, 0]},
+        "meshes": [{"name": "d", "material": "floor", "vertices": [[0, 0, 0], [1, 0, 0], [2, 0, 0]],
+                    "triangles": [[0, 1, 2]]})";
+    writeText(dir.file("flat.json"), scene + "]}");
+    const CliResult flat = runStsv({"render", dir.file("flat.json"), "--backend", "cpu", "--size", "8x8",
+                                    "-o", dir.file("flat.png"), "-q"});
+    EXPECT_EQ(flat.code, 1) << flat.err;
+    EXPECT_NE(flat.err.find(dir.file("flat.json") + ": every triangle is degenerate"), std::string::npos)
+        << flat.err;
+    EXPECT_FALSE(fs::exists(dir.file("flat.png")));
+
+    writeText(dir.file("mixed.json"), scene + R"(, {"quad": {"size": [8, 8]}, "material": "floor",
+        "transform": {"euler": [-90, 0, 0]}}]})");
+    const CliResult info = runStsv({"info", dir.file("mixed.json")});
+    ASSERT_EQ(info.code, 0) << info.err;
+    EXPECT_NE(info.out.find("faces skipped as degenerate: 0; triangles of zero area"), std::string::npos)
+        << info.out;
+    const CliResult render = runStsv({"render", dir.file("mixed.json"), "--backend", "cpu", "--size", "8x8",
+                                      "--stats", dir.file("s.json"), "-q"});
+    ASSERT_EQ(render.code, 0) << render.err;
+    EXPECT_EQ(readJson(dir.file("s.json"))["scene"]["zero_area_triangles"], 1) << render.err;
+    EXPECT_EQ(readJson(dir.file("s.json"))["scene"]["skipped_faces"], 0) << render.err;
+}
+
 // Text quoted from input that holds a NUL byte (a JSON string "\u0000") was cut at the NUL, as
 // the user guide's \xNN escapes promise it is not: the whole message arrives, the NUL as \x00.
 TEST(TrustValues, ANulByteInQuotedInputIsEscapedNotTheEndOfTheMessage) {

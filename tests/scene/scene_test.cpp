@@ -134,5 +134,30 @@ TEST(Validate, SceneFarFromTheOriginWarnsThenRefuses) {
          "4 of its 4 triangles have collapsed to lines or points", "recentre the scene near the origin"});
 }
 
+// A scene whose only triangles had collinear corners loaded, rendered background and said
+// "faces skipped as degenerate: 0". validate counts the triangles of zero area and refuses a
+// scene of nothing else, naming its file.
+TEST(Validate, ZeroAreaTrianglesAreCountedAndAllOfThemRefused) {
+    test::TempDir dir;
+    const std::string mesh = R"({"name": "d", "material": "floor",
+        "vertices": [[0, 0, 0], [1, 0, 0], [2, 0, 0], [3, 1, 0], [3, 1, 0]], "triangles": [[0, 1, 2], [2, 3, 4]]})";
+    const std::string scene = R"({"materials": [{"name": "floor"}],
+        "lights": [{"type": "sphere", "position": [0, 4, 0], "radius": 0.5, "radiance": 40}], "meshes": [)";
+    const std::string flat = dir.write("flat.json", scene + mesh + "]}");
+    expectError<InputError>([&] { loadJsonScene(flat); },
+                            {flat, "every triangle is degenerate", "2 triangle(s) have zero area"});
+
+    // Beside a triangle with area they are kept and counted, once however often validate runs.
+    Scene mixed = validScene();
+    const std::size_t triangles = mixed.triangleCount();
+    EXPECT_EQ(mixed.zeroAreaTriangles, 0u);
+    mixed.addTriangle(vec3(0, 0, 0), vec3(1, 1, 1), vec3(2, 2, 2), vec2(0), vec2(0), vec2(0), 0);
+    mixed.addTriangle(vec3(5, 0, 5), vec3(5, 0, 5), vec3(5, 0, 5), vec2(0), vec2(0), vec2(0), 0);
+    mixed.validate();
+    mixed.validate();
+    EXPECT_EQ(mixed.zeroAreaTriangles, 2u);
+    EXPECT_EQ(mixed.triangleCount(), triangles + 2);
+}
+
 } // namespace
 } // namespace stsv
