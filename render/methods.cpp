@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 #include <sstream>
 
 namespace stsv {
@@ -279,9 +280,7 @@ Backend parseBackend(const std::string& name) {
 }
 
 BufferKind parseBufferKind(const std::string& name) {
-    if (name == "bitmask") return BufferKind::Bitmask;
-    if (name == "counters") return BufferKind::Counters;
-    if (name == "transmittance") return BufferKind::Transmittance;
+    if (const std::optional<BufferKind> kind = bufferKindNamed(name)) return *kind;
     throw UsageError("unknown light-sample buffer '" + name +
                      "' (expected bitmask, counters or transmittance)");
 }
@@ -291,9 +290,7 @@ std::string toString(Backend backend) {
 }
 
 std::string toString(BufferKind kind) {
-    return kind == BufferKind::Bitmask    ? "bitmask"
-           : kind == BufferKind::Counters ? "counters"
-                                          : "transmittance";
+    return bufferKindName(kind); // the names the files' metadata use (sampling/ls_buffer.h)
 }
 
 std::string toString(MethodFamily family) {
@@ -394,7 +391,7 @@ nlohmann::json methodTableJson() {
         rows.push_back({{"name", m.name},
                         {"description", m.description},
                         {"family", toString(m.family)},
-                        {"writes", toString(m.output)},
+                        {"writes", writesText(m)},
                         {"writes_transmittance", m.writesTransmittance()},
                         {"backends", backends},
                         {"parameters", knobs}});

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <vector>
 
@@ -88,6 +89,43 @@ TEST(MethodTableCli, ReadmeMethodListIsTheTable) {
     const test::CliResult r = runStsv({"info", "--markdown"});
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_EQ(r.out, methodTableMarkdown());
+}
+
+// `info --json` said "writes": "visibility image" for rows that also write transmittance (pw+stsv,
+// the STSV rows), where the Markdown table says "(or transmittance)": each row's "writes" is the
+// Markdown table's column, and names transmittance exactly where "writes_transmittance" is true.
+TEST(MethodTableCli, JsonWritesIsTheMarkdownColumn) {
+    const test::CliResult markdown = runStsv({"info", "--markdown"});
+    ASSERT_EQ(markdown.code, 0) << markdown.err;
+    std::map<std::string, std::string> column; // method → its "writes" cell
+    std::istringstream lines(markdown.out);
+    for (std::string line; std::getline(lines, line);) {
+        if (line.rfind("| `", 0) != 0) continue;
+        std::vector<std::string> cells;
+        std::istringstream row(line.substr(1));
+        for (std::string cell; std::getline(row, cell, '|');) cells.push_back(cell);
+        ASSERT_GE(cells.size(), 3u) << line;
+        auto trim = [](std::string text) {
+            text.erase(0, text.find_first_not_of(' '));
+            text.erase(text.find_last_not_of(' ') + 1);
+            return text;
+        };
+        const std::string name = trim(cells[0]);
+        column[name.substr(1, name.size() - 2)] = trim(cells[2]);
+    }
+    const test::CliResult json = runStsv({"info", "--json"});
+    ASSERT_EQ(json.code, 0) << json.err;
+    const nlohmann::json j = nlohmann::json::parse(json.out);
+    ASSERT_EQ(column.size(), j["methods"].size()) << markdown.out;
+    std::size_t transmittanceRows = 0;
+    for (const nlohmann::json& row : j["methods"]) {
+        const std::string name = row["name"].get<std::string>(), writes = row["writes"].get<std::string>();
+        EXPECT_EQ(writes, column[name]) << name;
+        const bool says = writes.find("transmittance") != std::string::npos;
+        EXPECT_EQ(says, row["writes_transmittance"].get<bool>()) << name << ": " << writes;
+        transmittanceRows += says ? 1 : 0;
+    }
+    EXPECT_GT(transmittanceRows, 0u);
 }
 
 TEST(MethodTableCli, InfoListsEveryRowAndItsPairs) {
