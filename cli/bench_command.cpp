@@ -93,7 +93,7 @@ std::vector<Variant> makeVariants(const BenchArgs& args, const std::string& vary
     if (eq == std::string::npos || eq == 0)
         throw UsageError("--vary '" + vary + "' is not of the form key=value1,value2,...");
     const std::string key = vary.substr(0, eq);
-    const std::vector<std::string> values = splitList(vary.substr(eq + 1));
+    const std::vector<std::string> values = splitList(vary.substr(eq + 1), "--vary");
     if (values.empty()) throw UsageError("--vary '" + vary + "' lists no values");
     std::vector<Variant> variants;
     for (const std::string& v : values) {
@@ -350,14 +350,15 @@ int runBench(BenchArgs& args) {
     single.extrusion = "auto";
     RenderOptions base = resolveFrameOptions(single);
     std::vector<ExtrusionStage> extrusions;
-    for (const std::string& e : splitList(args.extrusion)) extrusions.push_back(parseExtrusionStage(e));
+    for (const std::string& e : splitList(args.extrusion, "--extrusion"))
+        extrusions.push_back(parseExtrusionStage(e));
     if (extrusions.empty()) throw UsageError("--extrusion is empty");
     std::vector<Method> methods;
-    for (const std::string& m : splitList(args.methods)) methods.push_back(parseMethod(m));
+    for (const std::string& m : splitList(args.methods, "--methods")) methods.push_back(parseMethod(m));
     std::vector<Backend> backends;
     const std::string backendList =
         args.backends.empty() ? (defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") : args.backends;
-    for (const std::string& b : splitList(backendList)) backends.push_back(parseBackend(b));
+    for (const std::string& b : splitList(backendList, "--backends")) backends.push_back(parseBackend(b));
     if (methods.empty()) throw UsageError("--methods is empty");
     if (backends.empty()) throw UsageError("--backends is empty");
     const std::vector<MethodParams> params = paramsForMethods(methods, args.params);

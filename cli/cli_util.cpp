@@ -22,15 +22,19 @@ namespace stsv {
 
 namespace fs = std::filesystem;
 
-std::vector<std::string> splitList(const std::string& text) {
+std::vector<std::string> splitList(const std::string& text, const std::string& option) {
     std::vector<std::string> items;
+    if (text.find_first_not_of(" \t") == std::string::npos) return items; // the caller says it is empty
     std::size_t start = 0;
     while (start <= text.size()) {
         const std::size_t comma = std::min(text.find(',', start), text.size());
         std::string item = text.substr(start, comma - start);
         const auto first = item.find_first_not_of(" \t");
         const auto last = item.find_last_not_of(" \t");
-        if (first != std::string::npos) items.push_back(item.substr(first, last - first + 1));
+        if (first == std::string::npos)
+            throw UsageError(option + " '" + printable(text) + "': item " + std::to_string(items.size() + 1) +
+                             " is empty; separate the items with single commas, none at either end");
+        items.push_back(item.substr(first, last - first + 1));
         start = comma + 1;
     }
     return items;
@@ -38,7 +42,7 @@ std::vector<std::string> splitList(const std::string& text) {
 
 std::vector<int> parseIntList(const std::string& text, const std::string& option) {
     std::vector<int> values;
-    for (const std::string& item : splitList(text)) {
+    for (const std::string& item : splitList(text, option)) {
         const bool digits =
             std::all_of(item.begin(), item.end(), [](unsigned char c) { return std::isdigit(c) != 0; });
         if (!digits)

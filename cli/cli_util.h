@@ -16,8 +16,9 @@
 
 namespace stsv {
 
-/// "a,b,,c" → {"a", "b", "c"} (empty items and surrounding spaces dropped).
-std::vector<std::string> splitList(const std::string& text);
+/// "a, b,c" → {"a", "b", "c"} (surrounding spaces dropped); {} for an empty or blank `text`.
+/// UsageError naming `option`, the list and the item's place for an empty item ("a,,b", "a,").
+std::vector<std::string> splitList(const std::string& text, const std::string& option);
 
 /// "16,64,256" → {16, 64, 256}; UsageError naming `option` on anything that is not a
 /// positive integer.

@@ -554,7 +554,8 @@ int runCompare(CompareArgs& args) {
     const Backend fallback = args.backend.empty() ? defaultBackend() : parseBackend(args.backend);
     const MethodBackend against = parseMethodBackend(args.against, fallback);
     std::vector<MethodBackend> methods;
-    for (const std::string& m : splitList(args.methods)) methods.push_back(parseMethodBackend(m, fallback));
+    for (const std::string& m : splitList(args.methods, "--methods"))
+        methods.push_back(parseMethodBackend(m, fallback));
     if (methods.empty()) throw UsageError("--methods is empty");
     std::vector<Method> all{against.method};
     for (const MethodBackend& mb : methods) all.push_back(mb.method);

@@ -52,11 +52,22 @@ TEST(PerLightPath, OtherLightsGetASuffixBeforeTheExtension) {
     EXPECT_EQ(perLightPath("/abs/x.npy", 1), "/abs/x_light1.npy");
 }
 
-TEST(SplitList, DropsEmptyItemsAndSpaces) {
-    EXPECT_EQ(splitList("a,b"), (std::vector<std::string>{"a", "b"}));
-    EXPECT_EQ(splitList(" a , ,b,"), (std::vector<std::string>{"a", "b"}));
-    EXPECT_TRUE(splitList("").empty());
-    EXPECT_TRUE(splitList(",,").empty());
+// "stsv,", "16,,32" and "repeat=1,,2" were read as "stsv", "16,32" and "1,2": an empty item is
+// refused, naming the option, the list and the item's place; spaces around items are dropped.
+TEST(SplitList, RefusesEmptyItemsAndDropsSpaces) {
+    EXPECT_EQ(splitList("a,b", "--x"), (std::vector<std::string>{"a", "b"}));
+    EXPECT_EQ(splitList(" a , b", "--x"), (std::vector<std::string>{"a", "b"}));
+    EXPECT_TRUE(splitList("", "--x").empty());
+    EXPECT_TRUE(splitList("  ", "--x").empty());
+    for (const auto& [text, place] : std::vector<std::pair<std::string, std::string>>{
+             {"a,", "item 2"}, {",a", "item 1"}, {"a,,b", "item 2"}, {"a, ,b", "item 2"}, {",,", "item 1"}})
+        try {
+            splitList(text, "--methods");
+            ADD_FAILURE() << "accepted '" << text << "'";
+        } catch (const UsageError& e) {
+            const std::string expected = "--methods '" + text + "': " + place + " is empty";
+            EXPECT_NE(e.message().find(expected), std::string::npos) << e.message() << "\nlacks " << expected;
+        }
 }
 
 TEST(ParseIntList, PositiveIntegersOnly) {
@@ -284,11 +295,11 @@ TEST(BenchPresets, ScalePresetsSpanTheirOccluderCountsWithTheReferenceAndCheck) 
         BenchArgs args;
         applyBenchPreset(args, presets, c.preset);
         EXPECT_TRUE(args.check) << c.preset;
-        const std::vector<std::string> methods = splitList(args.methods);
+        const std::vector<std::string> methods = splitList(args.methods, "--methods");
         EXPECT_NE(std::find(methods.begin(), methods.end(), "reference"), methods.end()) << c.preset;
         const std::size_t eq = args.vary.find('=');
         ASSERT_NE(eq, std::string::npos) << c.preset;
-        const std::vector<std::string> values = splitList(args.vary.substr(eq + 1));
+        const std::vector<std::string> values = splitList(args.vary.substr(eq + 1), "--vary");
         ASSERT_EQ(values.size(), c.counts.size()) << c.preset;
         for (std::size_t i = 0; i < values.size(); ++i) {
             SceneOptions options;
@@ -312,8 +323,10 @@ TEST(BenchPresets, EveryPresetAppliesAndNamesValidOptions) {
         EXPECT_FALSE(preset.value("description", "").empty()) << name << " has no description";
         int w = 0, h = 0;
         EXPECT_NO_THROW(parseSize(args.size, w, h)) << name;
-        for (const std::string& m : splitList(args.methods)) EXPECT_NO_THROW(parseMethod(m)) << name;
-        for (const std::string& b : splitList(args.backends)) EXPECT_NO_THROW(parseBackend(b)) << name;
+        for (const std::string& m : splitList(args.methods, "--methods"))
+            EXPECT_NO_THROW(parseMethod(m)) << name;
+        for (const std::string& b : splitList(args.backends, "--backends"))
+            EXPECT_NO_THROW(parseBackend(b)) << name;
         for (int n : parseIntList(args.samples, "--samples")) {
             RenderOptions o;
             o.samples = n;

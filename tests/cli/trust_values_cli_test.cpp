@@ -419,6 +419,39 @@ TEST(TrustValues, ZeroAreaTrianglesAreCountedAndASceneOfNothingElseIsRefused) {
     EXPECT_EQ(readJson(dir.file("s.json"))["scene"]["skipped_faces"], 0) << render.err;
 }
 
+// `--methods stsv,`, `--samples 16,,32` and `--vary repeat=1,,2` ran as if the empty item were
+// not there: every list option refuses an empty item, naming the option.
+TEST(TrustValues, EveryListOptionRefusesAnEmptyItem) {
+    const std::vector<std::string> bench = {"bench", "fence",    "--size", "8x8", "--repeat",
+                                            "1",     "--warmup", "0",      "-q"};
+    const std::vector<std::pair<std::vector<std::string>, std::string>> cases = {
+        {{"--methods", "stsv,"}, "--methods 'stsv,': item 2 is empty"},
+        {{"--methods", ",stsv"}, "--methods ',stsv': item 1 is empty"},
+        {{"--backends", "cpu,,cpu"}, "--backends 'cpu,,cpu': item 2 is empty"},
+        {{"--samples", "16,,32"}, "--samples '16,,32': item 2 is empty"},
+        {{"--samples", "16,"}, "--samples '16,': item 2 is empty"},
+        {{"--vary", "repeat=1,,2"}, "--vary '1,,2': item 2 is empty"},
+        {{"--extrusion", "hull,"}, "--extrusion 'hull,': item 2 is empty"},
+    };
+    for (const auto& [options, expected] : cases) {
+        std::vector<std::string> args = bench;
+        args.insert(args.end(), options.begin(), options.end());
+        if (options[0] != "--backends") args.insert(args.end(), {"--backends", "cpu"});
+        const CliResult r = runStsv(args);
+        EXPECT_EQ(r.code, 1) << describe(args, r);
+        EXPECT_NE(r.err.find(expected), std::string::npos) << "lacks '" << expected << "'\n"
+                                                           << describe(args, r);
+    }
+    for (const std::string methods : {"stsv/cpu,", "stsv/cpu,,reference/cpu"}) {
+        const std::vector<std::string> args = {"compare",   "fence", "--size", "8x8",
+                                               "--methods", methods, "-q"};
+        const CliResult r = runStsv(args);
+        EXPECT_EQ(r.code, 1) << describe(args, r);
+        EXPECT_NE(r.err.find("--methods '" + methods + "': item 2 is empty"), std::string::npos)
+            << describe(args, r);
+    }
+}
+
 // Text quoted from input that holds a NUL byte (a JSON string "\u0000") was cut at the NUL, as
 // the user guide's \xNN escapes promise it is not: the whole message arrives, the NUL as \x00.
 TEST(TrustValues, ANulByteInQuotedInputIsEscapedNotTheEndOfTheMessage) {
