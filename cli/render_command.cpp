@@ -109,8 +109,7 @@ int runRender(RenderArgs& args) {
 
     // Every output is checked before the (possibly long) render: its format is the one its
     // extension names, no two outputs share a path, and a method writes only what it has.
-    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty() &&
-        args.shadowMap.empty())
+    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty())
         args.output = std::filesystem::path(args.scene).stem().string() + ".png";
     const MethodInfo& method = methodInfo(o.method);
     if (!args.dumpLs.empty() && method.output == MethodOutput::Visibility)
