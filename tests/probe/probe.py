@@ -2144,8 +2144,12 @@ def cli_surface(c: Cases):
               names=("--methods",) if exp == "error" and v == "" else ())
     allm = ",".join(m + "/cpu" for m in ["stsv", "pw", "dcs", "pw+stsv", "dcs+stsv", "pcf", "pcss", "vsm", "esm", "evsm",
                                           "msm", "csm", "peel", "avsm", "vpcss"])
-    c.add("cli", "compare-every-method-cpu", with_opt(base_c, "--methods", allm), expect="ok", timeout=180,
-          budget_mb=BUDGET_LIMIT)
+    # At the default sm_size=2048, csm's frame needs about 1.5 GiB (its 2M planes of summed-area
+    # tables), above --max-memory 1G: every method fits at sm_size=512, and csm alone is refused.
+    c.add("cli", "compare-every-method-cpu", with_opt(base_c, "--methods", allm) + ["--param", "sm_size=512"],
+          expect="ok", timeout=180, budget_mb=BUDGET_LIMIT)
+    c.add("cli", "compare-csm-default-above-max-memory", with_opt(base_c, "--methods", "csm/cpu"), expect="error",
+          names=("memory",), timeout=180, budget_mb=BUDGET_LIMIT)
     for v in ["", "bogus", "stsv/cpu", "pcss/cpu", "reference/vulkan", "reference/cpu"]:
         exp = "ok" if v in ("stsv/cpu", "pcss/cpu", "reference/cpu") else "error"
         c.add("cli", "compare--against=%s" % v, with_opt(base_c, "--against", v), expect=exp,
