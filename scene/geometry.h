@@ -19,7 +19,7 @@ struct MeshData {
     std::vector<std::uint32_t> triangleMaterial; ///< one per triangle, index into materials
     std::vector<Material> materials;             ///< alphaTexture indexes `textures`
     std::vector<Texture> textures;
-    std::size_t skippedFaces = 0; ///< input faces dropped as degenerate (repeated vertex index)
+    std::size_t skippedFaces = 0;      ///< input faces dropped as degenerate (repeated vertex index)
     std::vector<std::string> warnings; ///< for Scene::warnings (appendMesh adds them)
 };
 

@@ -1,7 +1,7 @@
 // The rules every method and the reference share, so that they all answer the same question:
 // which texel of an alpha texture a point falls in and whether it blocks (the texel rule), and
-// where a shadow segment p → s starts and ends (the gaps at both ends). The Embree reference, the G-buffer, the
-// shadow maps, STSV and the wedges all use these. Compiles as C++ and as GLSL (see core/dh.h).
+// where a shadow segment p → s starts and ends (the gaps at both ends). The Embree reference, the G-buffer,
+// the shadow maps, STSV and the wedges all use these. Compiles as C++ and as GLSL (see core/dh.h).
 #ifndef STSV_SCENE_OCCLUSION_RULES_DH_H
 #define STSV_SCENE_OCCLUSION_RULES_DH_H
 

@@ -28,6 +28,7 @@ namespace {
 
 using test::CliResult;
 using test::readJson;
+using test::readText;
 using test::runStsv;
 using test::ScratchDir;
 namespace fs = std::filesystem;
@@ -335,11 +336,6 @@ std::vector<std::string> imageSources(const std::string& html) {
     for (auto it = std::sregex_iterator(html.begin(), html.end(), src); it != std::sregex_iterator(); ++it)
         sources.push_back((*it)[1]);
     return sources;
-}
-
-std::string readText(const std::string& path) {
-    std::ifstream in(path);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 TEST(ReportCli, PageNamesTheCommandEscapesTextAndReferencesItsImages) {

@@ -22,13 +22,6 @@ std::string tables() {
     return "python3 '" + (fs::path(STSV_SOURCE_DIR) / "bench" / "tables.py").string() + "'";
 }
 
-std::string readText(const fs::path& path) {
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
 TEST(MeasurementTables, CommittedTablesAreWhatTheirFilesGive) {
     for (const char* doc : {"README.md", "docs/measurements.md"}) {
         const ShellResult r =

@@ -22,12 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    ASSERT_TRUE(out.good()) << path;
-}
-
 /// CRC-32 of PNG chunks (ISO 3309, polynomial 0xedb88320), bit by bit.
 std::uint32_t crc32Of(const std::string& bytes) {
     std::uint32_t crc = 0xffffffffu;

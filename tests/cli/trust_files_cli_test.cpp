@@ -30,17 +30,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    ASSERT_TRUE(out.good()) << path;
-}
-
-std::string readText(const std::string& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 /// `stsv render fence` on the CPU with `extra` options; fails the test when it does not exit 0.
 void renderFence(const std::vector<std::string>& extra) {
     std::vector<std::string> args = {"render", "fence", "--backend", "cpu", "--size", "24x16", "-q"};

@@ -26,12 +26,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void writeText(const std::string& path, const std::string& text) {
-    std::ofstream out(path, std::ios::binary);
-    out << text;
-    ASSERT_TRUE(out.good()) << path;
-}
-
 /// The options of `command` that take a value, with their type as --help shows it ("--seed",
 /// "UINT"): every line of the help's option list that names a type after the option.
 std::vector<std::pair<std::string, std::string>> valueOptions(const std::string& command) {

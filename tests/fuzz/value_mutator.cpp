@@ -64,20 +64,56 @@ std::string mutateGlb(const std::string& input, std::mt19937& rng) {
 
 const std::vector<std::string>& extremeNumberTokens() {
     static const std::vector<std::string> tokens = {
-        "0", "-0", "-0.0", "1", "-1", "0.5", "1e-45", "1.4e-45", "-1e-45", "1e-38", "1.17549435e-38",
-        "3.4028235e38", "-3.4028235e38", "3.5e38", "1e38", "-1e38", "1e39", "-1e39", "1e308", "1e309",
-        "16777216", "16777217", "-16777217", "2147483647", "2147483648", "-2147483649", "4294967295",
-        "4294967296", "18446744073709551615", "18446744073709551616", "1e18", "nan", "NaN", "-nan", "inf",
-        "-inf", "Infinity", "-Infinity", "1e9", "1000000001", "65536",
+        "0",
+        "-0",
+        "-0.0",
+        "1",
+        "-1",
+        "0.5",
+        "1e-45",
+        "1.4e-45",
+        "-1e-45",
+        "1e-38",
+        "1.17549435e-38",
+        "3.4028235e38",
+        "-3.4028235e38",
+        "3.5e38",
+        "1e38",
+        "-1e38",
+        "1e39",
+        "-1e39",
+        "1e308",
+        "1e309",
+        "16777216",
+        "16777217",
+        "-16777217",
+        "2147483647",
+        "2147483648",
+        "-2147483649",
+        "4294967295",
+        "4294967296",
+        "18446744073709551615",
+        "18446744073709551616",
+        "1e18",
+        "nan",
+        "NaN",
+        "-nan",
+        "inf",
+        "-inf",
+        "Infinity",
+        "-Infinity",
+        "1e9",
+        "1000000001",
+        "65536",
     };
     return tokens;
 }
 
 const std::vector<std::uint32_t>& extremeWords() {
     static const std::vector<std::uint32_t> words = {
-        0x00000000u, 0x80000000u, 0x00000001u, 0x007fffffu, 0x7f7fffffu, 0xff7fffffu, 0x7f800000u,
-        0xff800000u, 0x7fc00000u, 0xffc00000u, 0x7e967699u, 0xfe967699u, 0xffffffffu, 0x7fffffffu,
-        0x01000001u, 0x4b800001u,
+        0x00000000u, 0x80000000u, 0x00000001u, 0x007fffffu, 0x7f7fffffu, 0xff7fffffu,
+        0x7f800000u, 0xff800000u, 0x7fc00000u, 0xffc00000u, 0x7e967699u, 0xfe967699u,
+        0xffffffffu, 0x7fffffffu, 0x01000001u, 0x4b800001u,
     };
     return words;
 }
@@ -89,8 +125,10 @@ std::vector<std::pair<std::size_t, std::size_t>> numberTokens(const std::string&
     while (i < text.size()) {
         const char c = text[i];
         if (json && inString) {
-            if (c == '\\') ++i;
-            else if (c == '"') inString = false;
+            if (c == '\\')
+                ++i;
+            else if (c == '"')
+                inString = false;
             ++i;
             continue;
         }
@@ -101,12 +139,15 @@ std::vector<std::pair<std::size_t, std::size_t>> numberTokens(const std::string&
         }
         // A number starts with a sign or a digit not glued to a name (v1, TEXCOORD_0, part_12):
         // such a name is skipped whole.
-        const bool glued = i > 0 && (std::isalpha(static_cast<unsigned char>(text[i - 1])) || text[i - 1] == '_');
+        const bool glued =
+            i > 0 && (std::isalpha(static_cast<unsigned char>(text[i - 1])) || text[i - 1] == '_');
         if (glued && isDigit(c)) {
-            while (i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '_')) ++i;
+            while (i < text.size() && (std::isalnum(static_cast<unsigned char>(text[i])) || text[i] == '_'))
+                ++i;
             continue;
         }
-        if (!glued && (isDigit(c) || ((c == '-' || c == '+') && i + 1 < text.size() && isDigit(text[i + 1])))) {
+        if (!glued &&
+            (isDigit(c) || ((c == '-' || c == '+') && i + 1 < text.size() && isDigit(text[i + 1])))) {
             std::size_t end = i + 1;
             while (end < text.size() && isDigit(text[end])) ++end;
             if (end < text.size() && text[end] == '.') {

@@ -19,7 +19,8 @@ TEST(ValueMutator, FindsTheNumbersOfTextOutsideJsonStrings) {
     const std::string obj = "v 1 2.5 -3\nvt 0.25 1e2\nf 1/1 2/2 3/3\ng part_12\n";
     found.clear();
     for (const auto& [b, e] : numberTokens(obj, false)) found.push_back(obj.substr(b, e - b));
-    EXPECT_EQ(found, (std::vector<std::string>{"1", "2.5", "-3", "0.25", "1e2", "1", "1", "2", "2", "3", "3"}));
+    EXPECT_EQ(found,
+              (std::vector<std::string>{"1", "2.5", "-3", "0.25", "1e2", "1", "1", "2", "2", "3", "3"}));
 }
 
 TEST(ValueMutator, ReplacesOneNumberWithAnExtremeTokenAndKeepsTheRest) {
@@ -56,8 +57,8 @@ TEST(ValueMutator, KeepsABinaryGltfWellFormed) {
     const std::string json = R"({"a":[1,2]} )";
     const std::string bin(8, '\x11');
     const std::string glb = "glTF" + le32(2) + le32(std::uint32_t(12 + 8 + json.size() + 8 + bin.size())) +
-                            le32(std::uint32_t(json.size())) + "JSON" + json + le32(8) + std::string("BIN\0", 4) +
-                            bin;
+                            le32(std::uint32_t(json.size())) + "JSON" + json + le32(8) +
+                            std::string("BIN\0", 4) + bin;
     std::size_t jsonChanged = 0, binChanged = 0;
     for (std::uint32_t seed = 0; seed < 400; ++seed) {
         const std::string out = mutateValue(glb, seed);

@@ -52,20 +52,23 @@ std::vector<MathCheckCase> makeCases(uint32_t count, uint32_t seed) {
     return cases;
 }
 
-std::vector<MathCheckResult> runOnGpu(Device& device, const std::vector<MathCheckCase>& cases) {
+/// Runs the test shader `shader` (beside this file) once per case: binding
+/// MATH_CHECK_BINDING_CASES holds the cases, MATH_CHECK_BINDING_RESULTS gets one Result each.
+template <typename Result, typename Case>
+std::vector<Result> runOnGpu(Device& device, const std::string& shader, const std::vector<Case>& cases) {
     // The checkout's shader folder: its headers are the ones the shipped set embeds, and the
-    // test's own shader sits in tests/gpu/shaders beside this file.
+    // test's own shaders sit in tests/gpu/shaders beside this file.
     const ShaderCompiler compiler(std::filesystem::path(STSV_SOURCE_DIR) / "shaders");
     DescriptorSetLayout setLayout(
         device,
         {{MATH_CHECK_BINDING_CASES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
          {MATH_CHECK_BINDING_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}});
     PipelineLayout layout(device, {setLayout.handle()}, sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
-    Pipeline pipeline = createComputePipeline(
-        device, layout, compiler.compileFile("../tests/gpu/shaders/stsv_math_check.comp"));
+    Pipeline pipeline =
+        createComputePipeline(device, layout, compiler.compileFile("../tests/gpu/shaders/" + shader));
     Buffer caseBuffer =
-        createBuffer(device, std::span<const MathCheckCase>(cases), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    Buffer resultBuffer(device, cases.size() * sizeof(MathCheckResult), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
+        createBuffer(device, std::span<const Case>(cases), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
+    Buffer resultBuffer(device, cases.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
                         MemoryUsage::DeviceLocal);
     DescriptorSet set(device, setLayout);
     set.writeBuffer(MATH_CHECK_BINDING_CASES, caseBuffer);
@@ -79,7 +82,11 @@ std::vector<MathCheckResult> runOnGpu(Device& device, const std::vector<MathChec
         layout.push(cmd, &count, sizeof(count));
         vkCmdDispatch(cmd, (count + MATH_CHECK_GROUP_SIZE - 1) / MATH_CHECK_GROUP_SIZE, 1, 1);
     });
-    return resultBuffer.download<MathCheckResult>(cases.size());
+    return resultBuffer.download<Result>(cases.size());
+}
+
+std::vector<MathCheckResult> runOnGpu(Device& device, const std::vector<MathCheckCase>& cases) {
+    return runOnGpu<MathCheckResult>(device, "stsv_math_check.comp", cases);
 }
 
 /// How close the CPU's decision came to flipping: the smallest of the margins of the tests in
@@ -124,30 +131,7 @@ std::string describeCase(const MathCheckCase& k, const MathCheckResult& cpu, con
 /// texelAt of each (u bits, v bits, width | height << 16, wrap) case on the device
 /// (tests/gpu/shaders/texel_check.comp).
 std::vector<ivec2> texelsOnGpu(Device& device, const std::vector<uvec4>& cases) {
-    const ShaderCompiler compiler(std::filesystem::path(STSV_SOURCE_DIR) / "shaders");
-    DescriptorSetLayout setLayout(
-        device,
-        {{MATH_CHECK_BINDING_CASES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
-         {MATH_CHECK_BINDING_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}});
-    PipelineLayout layout(device, {setLayout.handle()}, sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
-    Pipeline pipeline =
-        createComputePipeline(device, layout, compiler.compileFile("../tests/gpu/shaders/texel_check.comp"));
-    Buffer caseBuffer = createBuffer(device, std::span<const uvec4>(cases), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
-    Buffer resultBuffer(device, cases.size() * sizeof(ivec2), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,
-                        MemoryUsage::DeviceLocal);
-    DescriptorSet set(device, setLayout);
-    set.writeBuffer(MATH_CHECK_BINDING_CASES, caseBuffer);
-    set.writeBuffer(MATH_CHECK_BINDING_RESULTS, resultBuffer);
-    const uint32_t count = uint32_t(cases.size());
-    submitOnce(device, [&](VkCommandBuffer cmd) {
-        pipeline.bind(cmd);
-        VkDescriptorSet handle = set.handle();
-        vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout.handle(), 0, 1, &handle, 0,
-                                nullptr);
-        layout.push(cmd, &count, sizeof(count));
-        vkCmdDispatch(cmd, (count + MATH_CHECK_GROUP_SIZE - 1) / MATH_CHECK_GROUP_SIZE, 1, 1);
-    });
-    return resultBuffer.download<ivec2>(cases.size());
+    return runOnGpu<ivec2>(device, "texel_check.comp", cases);
 }
 
 using MathCheckTest = GpuTest;
@@ -174,9 +158,9 @@ TEST_F(MathCheckTest, GpuPicksTheCpusTexelForEveryFloat) {
         const ivec2 size(int(k.z & 0xffffu), int(k.z >> 16));
         const ivec2 cpu = texelAt(vec2(std::bit_cast<float>(k.x), std::bit_cast<float>(k.y)), size, k.w);
         if (gpu[i] != cpu && ++failures <= 5)
-            ADD_FAILURE() << "uv bits " << std::hex << k.x << "," << k.y << std::dec << " size " << size.x << "x"
-                          << size.y << " wrap " << k.w << ": cpu (" << cpu.x << "," << cpu.y << ") gpu ("
-                          << gpu[i].x << "," << gpu[i].y << ")";
+            ADD_FAILURE() << "uv bits " << std::hex << k.x << "," << k.y << std::dec << " size " << size.x
+                          << "x" << size.y << " wrap " << k.w << ": cpu (" << cpu.x << "," << cpu.y
+                          << ") gpu (" << gpu[i].x << "," << gpu[i].y << ")";
     }
     EXPECT_EQ(failures, 0u) << "of " << cases.size() << " cases";
 }

@@ -15,12 +15,12 @@
 namespace stsv::test {
 namespace {
 
-constexpr float kRoomHalf = 2.0f;     ///< the room spans [−2, 2] in x and z
-constexpr float kCeiling = 2.5f;      ///< y of the ceiling
-constexpr float kLightHalf = 0.3f;    ///< half the edge of the square light
-constexpr float kHoleHalf = 0.5f;     ///< the recess: a hole of [−0.5, 0.5]² in the ceiling …
-constexpr float kRecessDepth = 0.3f;  ///< … under a box 0.3 high, the light flush with its top
-constexpr float kShelfBottom = 1.6f;  ///< the shelf: [−0.5, 0.5]² × [1.6, 1.8], the light under it
+constexpr float kRoomHalf = 2.0f;    ///< the room spans [−2, 2] in x and z
+constexpr float kCeiling = 2.5f;     ///< y of the ceiling
+constexpr float kLightHalf = 0.3f;   ///< half the edge of the square light
+constexpr float kHoleHalf = 0.5f;    ///< the recess: a hole of [−0.5, 0.5]² in the ceiling …
+constexpr float kRecessDepth = 0.3f; ///< … under a box 0.3 high, the light flush with its top
+constexpr float kShelfBottom = 1.6f; ///< the shelf: [−0.5, 0.5]² × [1.6, 1.8], the light under it
 constexpr float kShelfTop = 1.8f;
 
 enum class Room { Flush, Shelf, Recess };
@@ -38,8 +38,10 @@ void addQuad(Scene& s, vec3 a, vec3 b, vec3 c, vec3 d) {
 /// Horizontal quad at height y over [x0, x1] × [z0, z1], facing down when `down`.
 void addHorizontal(Scene& s, float y, float x0, float x1, float z0, float z1, bool down) {
     const vec3 a(x0, y, z0), b(x1, y, z0), c(x1, y, z1), d(x0, y, z1);
-    if (down) addQuad(s, a, b, c, d);
-    else addQuad(s, a, d, c, b);
+    if (down)
+        addQuad(s, a, b, c, d);
+    else
+        addQuad(s, a, d, c, b);
 }
 
 /// The four vertical sides of the box [x0, x1] × [y0, y1] × [z0, z1].
@@ -121,7 +123,8 @@ struct Agreement {
     std::string firstWrong;
 };
 
-Agreement check(Room room, const Scene& scene, const RenderOptions& options, const Frame& frame, bool perSample) {
+Agreement check(Room room, const Scene& scene, const RenderOptions& options, const Frame& frame,
+                bool perSample) {
     const SamplePlan plan = samplePlanOf(options);
     const float far = farDistanceFor(scene.bounds());
     const GBuffer& g = frame.gbuffer;
@@ -176,7 +179,8 @@ class LightFlushTest : public GpuRenderTest {
   protected:
     Frame render(const Scene& scene, const MethodInfo& row, Backend backend) {
         RenderOptions options = optionsFor(row, backend);
-        return backend == Backend::Vulkan ? renderGpu(scene, options) : makeCpuRenderer(scene, options)->render();
+        return backend == Backend::Vulkan ? renderGpu(scene, options)
+                                          : makeCpuRenderer(scene, options)->render();
     }
     static RenderOptions optionsFor(const MethodInfo& row, Backend backend) {
         RenderOptions options;
@@ -209,12 +213,14 @@ class LightFlushTest : public GpuRenderTest {
                 }
                 // Approximate: where the whole light is in view the room is lit, not dark, in at
                 // least 99 % of those pixels, and on average within 0.05 of fully lit (the maps'
-                // biases and filters darken some of it: measured at worst 0.968, MSM and PCSS under the shelf).
+                // biases and filters darken some of it: measured at worst 0.968, MSM and PCSS under the
+                // shelf).
                 EXPECT_GT(a.litPixels, 300u);
                 std::cout << roomName(room) << " " << row.name << "/" << toString(backend) << ": lit pixels "
                           << a.litPixels << ", dark " << a.darkLitPixels << ", mean "
                           << a.litVisibility / double(a.litPixels) << "\n";
-                EXPECT_LE(double(a.darkLitPixels), 0.01 * double(a.litPixels)) << "pixels dark where all is lit";
+                EXPECT_LE(double(a.darkLitPixels), 0.01 * double(a.litPixels))
+                    << "pixels dark where all is lit";
                 EXPECT_GT(a.litVisibility / double(a.litPixels), 0.95);
             }
         }

@@ -123,8 +123,8 @@ TEST(Texel, EveryFloatGivesATexelInsideTheTexture) {
                 ASSERT_TRUE(t.x >= 0 && t.x < s && t.y >= 0 && t.y < s + 1)
                     << "texel " << t.x << "," << t.y << " outside " << s << "x" << s + 1 << " for uv bits "
                     << std::hex << std::bit_cast<std::uint32_t>(u) << "," << std::bit_cast<std::uint32_t>(v);
-                ASSERT_EQ(t.x, statedIndex(u, s, wrap))
-                    << "size " << s << " wrap " << wrap << " u bits " << std::hex << std::bit_cast<std::uint32_t>(u);
+                ASSERT_EQ(t.x, statedIndex(u, s, wrap)) << "size " << s << " wrap " << wrap << " u bits "
+                                                        << std::hex << std::bit_cast<std::uint32_t>(u);
                 ASSERT_EQ(t.y, statedIndex(v, s + 1, wrap))
                     << "size " << s + 1 << " wrap " << wrap << " v bits " << std::hex
                     << std::bit_cast<std::uint32_t>(v);
