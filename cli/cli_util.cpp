@@ -6,6 +6,7 @@
 #include "gpu/device.h"
 #include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_renderer.h"
+#include "sampling/light_sampling.h"
 #include "shadowmaps/depth_grid_dh.h"
 #include "shadowmaps/filtered_map.h"
 #include "shadowmaps/shadow_fit.h"
@@ -397,6 +398,43 @@ ImageError compareImages(const ImageF& a, const ImageF& b, float threshold) {
     e.fractionAbove = pixels > 0 ? double(above) / pixels : 0.0;
     e.ssim = structuralSimilarity(a, b);
     return e;
+}
+
+RegionError compareImagesWhere(const ImageF& a, const ImageF& b, const std::vector<std::uint8_t>& selected) {
+    if (a.width != b.width || a.height != b.height || a.channels != b.channels)
+        throw UsageError("cannot compare images of different sizes");
+    if (selected.size() != std::size_t(a.width) * std::size_t(a.height))
+        throw UsageError("the pixel mask does not match the images' size");
+    RegionError e;
+    double sumSquares = 0.0;
+    double sum = 0.0;
+    for (int y = 0; y < a.height; ++y)
+        for (int x = 0; x < a.width; ++x) {
+            if (!selected[std::size_t(y) * std::size_t(a.width) + std::size_t(x)]) continue;
+            ++e.pixels;
+            for (int c = 0; c < a.channels; ++c) {
+                const double d = double(a.at(x, y, c)) - double(b.at(x, y, c));
+                sum += d;
+                sumSquares += d * d;
+                e.maxAbs = std::max(e.maxAbs, std::abs(d));
+            }
+        }
+    const double values = double(e.pixels) * double(a.channels);
+    e.rmse = values > 0 ? std::sqrt(sumSquares / values) : 0.0;
+    e.bias = values > 0 ? sum / values : 0.0;
+    return e;
+}
+
+LightFacingMask lightFacingMask(const GBuffer& gbuffer, const std::vector<Light>& lights, float farDistance,
+                                int width, int height) {
+    const std::vector<PixelFacing> pixels = lightFacingPixels(gbuffer, lights, farDistance, width, height);
+    LightFacingMask mask;
+    mask.selected.reserve(pixels.size());
+    for (PixelFacing p : pixels) {
+        mask.selected.push_back(p == PixelFacing::Facing ? 1 : 0);
+        (p == PixelFacing::Facing ? mask.facing : p == PixelFacing::Away ? mask.away : mask.background) += 1;
+    }
+    return mask;
 }
 
 namespace {

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -136,6 +137,30 @@ struct ImageError {
 /// 1 for equal images, lower as structure, contrast or brightness differ; −1 at worst.
 double structuralSimilarity(const ImageF& a, const ImageF& b);
 ImageError compareImages(const ImageF& a, const ImageF& b, float threshold = 1.0f / 255.0f);
+
+/// The error of image `a` against the reference `b` over some of their pixels.
+struct RegionError {
+    double rmse = 0.0;      ///< over the selected pixels' channels
+    double bias = 0.0;      ///< mean signed a − b over the selected pixels' channels
+    double maxAbs = 0.0;    ///< largest |a − b| of a selected pixel's channel
+    std::size_t pixels = 0; ///< selected pixels; 0: every figure is 0 (nothing to measure)
+};
+
+/// compareImages' RMSE, bias and max over the pixels where `selected` (row-major, one byte per
+/// pixel of a and b) is non-zero. UsageError for images of different sizes or a mask of another.
+RegionError compareImagesWhere(const ImageF& a, const ImageF& b, const std::vector<std::uint8_t>& selected);
+
+/// The pixels compare's headline figure counts: per pixel of a width × height image, 1 where it
+/// faces some light (lightFacingPixels of sampling/light_sampling.h), and how many pixels are of
+/// each kind.
+struct LightFacingMask {
+    std::vector<std::uint8_t> selected; ///< row-major, 1 where the pixel faces a light
+    std::size_t facing = 0;
+    std::size_t away = 0;       ///< a surface that faces no light
+    std::size_t background = 0; ///< no surface
+};
+LightFacingMask lightFacingMask(const GBuffer& gbuffer, const std::vector<Light>& lights, float farDistance,
+                                int width, int height);
 
 /// The machine a measurement ran on, for --json files: "cpu_model", "cpu_threads",
 /// "memory_bytes", and with `vulkan` the name of the device the Vulkan backend picks by `select`

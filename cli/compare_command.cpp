@@ -13,6 +13,7 @@
 #include "core/timer.h"
 #include "core/version.h"
 #include "render/renderer.h"
+#include "sampling/light_sampling.h"
 #include "scene/load.h"
 
 #include <algorithm>
@@ -80,6 +81,9 @@ int compareVisibilityFiles(const CompareArgs& args) {
     std::printf(
         "RMSE %.6f, bias %+.6f, max |difference| %.6f, |dv| > 0.1 in %.4f %% of the pixels, SSIM %.6f\n",
         e.rmse, e.bias, e.maxAbs, 100.0 * e.fractionAbove, e.ssim);
+    std::printf(
+        "(no light-facing figure: visibility files hold no normals or lights; compare a SCENE for the "
+        "error over the pixels that face a light)\n");
     if (!args.out.empty()) {
         const std::string path = (fs::path(args.out) / "difference.png").string();
         writePng(path, heatMapWithLegend(e.absDifference, args.heatScale, kVisibilityCaption));
@@ -99,7 +103,12 @@ struct Row {
     ImageError visibilityCoarse;    ///< the same, fractionAbove at |Δ| > kCoarseError
     ImageError convergedVisibility; ///< against the converged reference; fractionAbove at kCoarseError
     ImageError convergedLit;        ///< against the converged reference; fractionAbove at 1/255
-    ImageF visibilityDisplay;       ///< kept for --converged, --report, --sheet
+    /// The visibility error over the light-facing pixels (LightFacing), against the equal-sample
+    /// and the converged reference: the figure the ranking uses.
+    RegionError visibilityFacing;
+    RegionError convergedVisibilityFacing;
+    std::optional<int> rank;  ///< 1 for the smallest light-facing error; none for the --against row
+    ImageF visibilityDisplay; ///< kept for --converged, --report, --sheet
     ImageF litDisplay;
     double frameMs = 0.0;
     bool perSample = true; ///< false when it or the method compared with has a v_coef per pixel only
@@ -124,8 +133,15 @@ double frameMsOf(const Frame& frame, double fallback) {
     return it != frame.stats.end() && it->is_number() ? it->get<double>() : fallback;
 }
 
+/// The pixels the headline figure counts, one mask for every row of a compare: those of the
+/// --against frame's G-buffer that face some light.
+LightFacingMask lightFacingOf(const Frame& against, const Scene& scene) {
+    return lightFacingMask(against.gbuffer, scene.lights, farDistanceFor(scene.bounds()),
+                           against.visibility.width, against.visibility.height);
+}
+
 Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBackend& againstMb,
-                  const Frame& against, double frameMs) {
+                  const Frame& against, double frameMs, const LightFacingMask& facing) {
     Row row;
     row.mb = mb;
     row.frameMs = frameMs;
@@ -166,6 +182,7 @@ Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBacke
     const ImageF againstVisibility = toDisplay(against.visibility, false);
     row.visibility = compareImages(row.visibilityDisplay, againstVisibility);
     row.visibilityCoarse = compareImages(row.visibilityDisplay, againstVisibility, kCoarseError);
+    row.visibilityFacing = compareImagesWhere(row.visibilityDisplay, againstVisibility, facing.selected);
     row.lit = compareImages(row.litDisplay, toDisplay(against.color, true));
     return row;
 }
@@ -289,8 +306,17 @@ std::vector<std::string> errorCells(const std::string& name, const ImageError& v
             formatSigned(lit.bias)};
 }
 
-nlohmann::json errorJson(const ImageError& visibility, const ImageError& lit) {
-    return {{"visibility",
+/// A light-facing error: rmse, bias and max_abs (null where no pixel faces a light) and pixels.
+nlohmann::json facingJson(const RegionError& e) {
+    const auto value = [&](double v) { return e.pixels ? nlohmann::json(v) : nlohmann::json(); };
+    return {
+        {"rmse", value(e.rmse)}, {"bias", value(e.bias)}, {"max_abs", value(e.maxAbs)}, {"pixels", e.pixels}};
+}
+
+nlohmann::json errorJson(const ImageError& visibility, const RegionError& visibilityFacing,
+                         const ImageError& lit) {
+    return {{"visibility_facing", facingJson(visibilityFacing)},
+            {"visibility",
              {{"rmse", visibility.rmse},
               {"bias", visibility.bias},
               {"max_abs", visibility.maxAbs},
@@ -307,6 +333,69 @@ const char* const kBiasNote =
     "errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; bias = mean of method - "
     "reference over the pixels (negative: darker than the reference); |dv|>0.1 = pixels whose visibility "
     "is off by more than 0.1";
+
+/// What the ranking says of itself, under its table and in the report (docs/user-guide.md).
+const char* const kRankingNote =
+    "ranked by the visibility error over the light-facing pixels: those whose visible point has N.L > 0 "
+    "for some point of some light (part of a light is in front of its surface). On pixels facing away "
+    "from every light visibility changes nothing in the lit image, so their error ranks no method; "
+    "pixels without a surface count in neither. vis RMSE (all) is over every pixel, as in the tables "
+    "above; lit RMSE is the lit image's, over every pixel";
+
+/// The light-facing figure the ranking uses: against the converged reference where there is one.
+const RegionError& rankingFigure(const Row& r, bool converged) {
+    return converged ? r.convergedVisibilityFacing : r.visibilityFacing;
+}
+
+/// Ranks every row but the first (--against) by rankingFigure's RMSE, smallest first, ties in
+/// the command's order; returns the rows' indices in rank order.
+std::vector<std::size_t> rankRows(std::vector<Row>& rows, bool converged) {
+    std::vector<std::size_t> order;
+    for (std::size_t i = 1; i < rows.size(); ++i) order.push_back(i);
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+        return rankingFigure(rows[a], converged).rmse < rankingFigure(rows[b], converged).rmse;
+    });
+    for (std::size_t k = 0; k < order.size(); ++k) rows[order[k]].rank = int(k) + 1;
+    return order;
+}
+
+/// "1234 of the 4096 pixels with a surface, 30.13 %".
+std::string facingPixelsText(const LightFacingMask& facing) {
+    const std::size_t surface = facing.facing + facing.away;
+    return std::to_string(facing.facing) + " of the " + std::to_string(surface) + " pixels with a surface, " +
+           formatFixed(surface ? 100.0 * double(facing.facing) / double(surface) : 0.0, 2) + " %";
+}
+
+/// The headline table: the rows in rank order (with --converged the noise floor first, unranked).
+ReportTable rankingTable(const std::vector<Row>& rows, const std::vector<std::size_t>& order, bool converged,
+                         const LightFacingMask& facing) {
+    ReportTable t;
+    t.caption = std::string("ranking by visibility RMSE over the light-facing pixels, against the ") +
+                (converged ? "converged" : "equal-sample") + " reference (" + facingPixelsText(facing) + "):";
+    t.header = {"rank",           "method",         "facing vis RMSE", "facing vis bias",
+                "facing vis max", "vis RMSE (all)", "lit RMSE",        "frame ms"};
+    const auto cells = [&](const std::string& rank, const std::string& name, const Row& r) {
+        const RegionError& f = rankingFigure(r, converged);
+        const ImageError& all = converged ? r.convergedVisibility : r.visibility;
+        const ImageError& lit = converged ? r.convergedLit : r.lit;
+        const bool any = f.pixels > 0;
+        return std::vector<std::string>{rank,
+                                        name,
+                                        any ? formatFixed(f.rmse, 5) : "n/a",
+                                        any ? formatSigned(f.bias) : "n/a",
+                                        any ? formatFixed(f.maxAbs, 5) : "n/a",
+                                        formatFixed(all.rmse, 5),
+                                        formatFixed(lit.rmse, 5),
+                                        formatFixed(r.frameMs, 1)};
+    };
+    if (converged) t.rows.push_back(cells("-", "noise floor", rows.front()));
+    for (std::size_t i : order)
+        t.rows.push_back(cells(std::to_string(*rows[i].rank), toString(rows[i].mb), rows[i]));
+    t.note = "(" + std::string(kRankingNote) +
+             (facing.facing ? "" : "; no pixel faces a light here, so the order is the command's") +
+             (converged ? "; noise floor = the equal-sample reference against the converged one)" : ")");
+    return t;
+}
 
 /// The existing table's cells (what the terminal prints first), for the HTML page.
 ReportTable equalSampleTable(const std::vector<Row>& rows) {
@@ -406,15 +495,31 @@ Report describeReport(const CompareArgs& args, const Scene& scene, const SceneOp
     report.settings.push_back({"heat scale", formatFixed(args.heatScale, 3) + " (yellow)"});
     report.tables = std::move(tables);
     const bool converged = args.converged.has_value();
-    report.chart.yLabel = converged ? "visibility RMSE vs converged" : "visibility RMSE vs reference";
+    std::vector<const Row*> ranked;
+    for (const Row& r : rows)
+        if (r.rank) ranked.push_back(&r);
+    std::sort(ranked.begin(), ranked.end(), [](const Row* a, const Row* b) { return *a->rank < *b->rank; });
+    report.headline = std::string("Ranked by visibility RMSE over the light-facing pixels (N.L > 0 for some "
+                                  "point of a light), against the ") +
+                      (converged ? "converged" : "equal-sample") + " reference:";
+    for (const Row* r : ranked)
+        report.headline += (r == ranked.front() ? " " : ", ") + std::to_string(*r->rank) + ". " +
+                           toString(r->mb) + " " + formatFixed(rankingFigure(*r, converged).rmse, 5) +
+                           " (lit RMSE " + formatFixed((converged ? r->convergedLit : r->lit).rmse, 5) + ")";
+    report.headline += ". Pixels facing away from every light, where visibility changes nothing in the lit "
+                       "image, are left out of the ranking; the tables give the whole-image figures too.";
+    report.chart.yLabel =
+        converged ? "light-facing visibility RMSE vs converged" : "light-facing visibility RMSE vs reference";
     report.chart.caption =
-        std::string("each method's frame time and visibility RMSE against the ") +
+        std::string(
+            "each method's frame time and visibility RMSE over the light-facing pixels (the ranking's "
+            "figure) against the ") +
         (converged ? "converged reference (the equal-sample reference's point is the noise floor)"
                    : "equal-sample reference") +
         "; lower left is better";
     for (const Row& r : rows)
         report.chart.points.push_back({toString(r.mb), toString(methodInfo(r.mb.method).family), r.frameMs,
-                                       converged ? r.convergedVisibility.rmse : r.visibility.rmse});
+                                       rankingFigure(r, converged).rmse});
     report.imagesNote = "heat maps: |visibility - " +
                         std::string(converged ? "converged reference" : "equal-sample reference") +
                         "|, black 0, red " + formatFixed(args.heatScale / 2, 3) + ", yellow " +
@@ -600,6 +705,8 @@ int runCompare(CompareArgs& args) {
     };
     double againstMs = 0.0;
     const Frame reference = render(against, againstMs);
+    // One mask for every row, from the --against frame's G-buffer.
+    const LightFacingMask facing = lightFacingOf(reference, scene);
 
     // The converged reference: the reference frame above is its seed S, the others follow.
     std::optional<ConvergedReference> converged;
@@ -629,6 +736,8 @@ int runCompare(CompareArgs& args) {
         if (converged) {
             row.convergedVisibility = compareImages(row.visibilityDisplay, convergedVisibility, kCoarseError);
             row.convergedLit = compareImages(row.litDisplay, convergedLit);
+            row.convergedVisibilityFacing =
+                compareImagesWhere(row.visibilityDisplay, convergedVisibility, facing.selected);
         }
         const bool first = rows.empty();
         if (!args.out.empty()) {
@@ -641,13 +750,15 @@ int runCompare(CompareArgs& args) {
         }
         rows.push_back(std::move(row));
     };
-    addRow(compareFrames(against, reference, against, reference, againstMs), reference);
+    addRow(compareFrames(against, reference, against, reference, againstMs, facing), reference);
     for (const MethodBackend& mb : methods) {
         if (mb.method == against.method && mb.backend == against.backend) continue; // already the first row
         double ms = 0.0;
         const Frame frame = render(mb, ms);
-        addRow(compareFrames(mb, frame, against, reference, ms), frame);
+        addRow(compareFrames(mb, frame, against, reference, ms, facing), frame);
     }
+    const std::vector<std::size_t> rankOrder = rankRows(rows, converged.has_value());
+    const ReportTable ranking = rankingTable(rows, rankOrder, converged.has_value(), facing);
     if (converged && !args.out.empty()) {
         writePng((fs::path(args.out) / "converged_visibility.png").string(),
                  toImage8(converged->images.visibility, false));
@@ -728,6 +839,7 @@ int runCompare(CompareArgs& args) {
     } else {
         biasTable.note = "(" + std::string(kBiasNote) + ")";
     }
+    std::printf("\n%s", formatTextTable(ranking).c_str());
     if (!args.out.empty()) std::printf("images in %s\n", printable(args.out).c_str());
 
     if (!args.report.empty() || !args.sheet.empty()) {
@@ -738,7 +850,7 @@ int runCompare(CompareArgs& args) {
             ReportTable first = equalSampleTable(rows);
             first.caption = "against " + toString(against) + " at the same samples:";
             first.note = equalNote;
-            std::vector<ReportTable> tables = {first, biasTable};
+            std::vector<ReportTable> tables = {ranking, first, biasTable};
             if (converged) tables.push_back(convergedTable);
             const Report report = describeReport(args, scene, sceneSets, optionsOf(against), rows, tables,
                                                  converged ? convergedSummary : "not requested");
@@ -768,6 +880,8 @@ int runCompare(CompareArgs& args) {
                   {"max_abs", r.visibility.maxAbs},
                   {"fraction_above_1_255", r.visibility.fractionAbove},
                   {"fraction_above_0_1", r.visibilityCoarse.fractionAbove}}},
+                {"visibility_facing", facingJson(r.visibilityFacing)},
+                {"rank", r.rank ? nlohmann::json(*r.rank) : nlohmann::json()},
                 {"lit",
                  {{"rmse", r.lit.rmse},
                   {"bias", r.lit.bias},
@@ -775,7 +889,9 @@ int runCompare(CompareArgs& args) {
                   {"ssim", r.lit.ssim},
                   {"fraction_above_1_255", r.lit.fractionAbove}}},
                 {"frame_ms", r.frameMs}};
-            if (converged) row["converged"] = errorJson(r.convergedVisibility, r.convergedLit);
+            if (converged)
+                row["converged"] =
+                    errorJson(r.convergedVisibility, r.convergedVisibilityFacing, r.convergedLit);
             if (r.transmittanceRmse) row["transmittance_rmse"] = *r.transmittanceRmse;
             list.push_back(row);
         }
@@ -788,6 +904,13 @@ int runCompare(CompareArgs& args) {
                             {"against", toString(against)},
                             {"options", toJson(optionsOf(against))},
                             {"rows", list}};
+        nlohmann::json order = nlohmann::json::array();
+        for (std::size_t i : rankOrder) order.push_back(toString(rows[i].mb));
+        j["light_facing"] = {{"facing_pixels", facing.facing},
+                             {"away_pixels", facing.away},
+                             {"background_pixels", facing.background}};
+        j["ranking"] = {{"by", converged ? "converged.visibility_facing.rmse" : "visibility_facing.rmse"},
+                        {"methods", order}};
         if (converged) {
             j["converged_reference"] = {{"frames", frames},
                                         {"seeds", {base.seed, base.seed + std::uint32_t(frames - 1)}},
@@ -795,7 +918,8 @@ int runCompare(CompareArgs& args) {
                                         {"cache", toString(converged->cache)},
                                         {"cache_entry", converged->entry},
                                         {"frames_rendered", converged->framesRendered}};
-            j["noise_floor"] = errorJson(rows.front().convergedVisibility, rows.front().convergedLit);
+            j["noise_floor"] = errorJson(rows.front().convergedVisibility,
+                                         rows.front().convergedVisibilityFacing, rows.front().convergedLit);
         }
         writeJson(args.json, j);
         std::printf("wrote %s\n", printable(args.json).c_str());

@@ -100,6 +100,7 @@ th, td { border: 1px solid #bbb; padding: 2px 8px; font-family: monospace; font-
 th:first-child, td:first-child { text-align: left; }
 caption { text-align: left; font-weight: bold; padding: 4px 0; }
 table.settings td { text-align: left; }
+p.headline { font-size: 15px; max-width: 1100px; }
 p.note { font-size: 12px; color: #444; margin: 2px 0 10px; max-width: 1100px; }
 div.images { display: flex; flex-wrap: wrap; gap: 12px; }
 figure { margin: 0; }
@@ -217,6 +218,7 @@ std::string reportHtml(const Report& r) {
     out << "</table>\n";
 
     out << "<h2>Errors</h2>\n";
+    if (!r.headline.empty()) out << "<p class=\"headline\">" << escapeHtml(r.headline) << "</p>\n";
     for (const ReportTable& t : r.tables) {
         out << "<table>\n";
         if (!t.caption.empty()) out << "<caption>" << escapeHtml(t.caption) << "</caption>\n";

@@ -39,7 +39,7 @@ struct ReportPoint {
     std::string name;   ///< e.g. "stsv/vulkan"
     std::string family; ///< "object-based", "image-based" or "ground truth": the marker
     double ms = 0.0;    ///< frame time
-    double error = 0.0; ///< visibility RMSE
+    double error = 0.0; ///< visibility RMSE (compare: over the light-facing pixels)
 };
 
 struct ReportChart {
@@ -57,6 +57,7 @@ struct Report {
     std::string title;
     std::string commandLine;
     std::vector<std::pair<std::string, std::string>> settings; ///< name, value
+    std::string headline; ///< what the compare found, in a sentence or two, above the tables (may be empty)
     std::vector<ReportTable> tables;
     ReportChart chart;      ///< error against time, after the tables (none without points)
     std::string imagesNote; ///< what the heat maps show

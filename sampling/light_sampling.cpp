@@ -1,7 +1,10 @@
 #include "sampling/light_sampling.h"
 
+#include "core/error.h"
+
 #include <algorithm>
 #include <array>
+#include <string>
 
 namespace stsv {
 
@@ -64,6 +67,37 @@ vec3 resolveDirect(const LightSampleBuffer& buffer, const SamplePlan& plan, int 
     const ResolveSums sums =
         resolveSamples(light, frame, p, n, src, lsMaskWordCount(count), std::min(32u, count));
     return resolveDirectLighting(albedo, resolveContributionSum(light, frame, sums), scale, count);
+}
+
+std::vector<PixelFacing> lightFacingPixels(const GBuffer& gbuffer, const std::vector<Light>& lights,
+                                           float farDistance, int width, int height) {
+    const int k = width > 0 ? gbuffer.width / width : 0;
+    if (width <= 0 || height <= 0 || k < 1 || gbuffer.width != k * width || gbuffer.height != k * height ||
+        gbuffer.position.size() != std::size_t(gbuffer.width) * std::size_t(gbuffer.height) ||
+        gbuffer.normal.size() != gbuffer.position.size() ||
+        gbuffer.triangle.size() != gbuffer.position.size())
+        throw Error("lightFacingPixels: a " + std::to_string(gbuffer.width) + "x" +
+                    std::to_string(gbuffer.height) + " G-buffer is not the point grid of a " +
+                    std::to_string(width) + "x" + std::to_string(height) + " image");
+    std::vector<PixelFacing> out(std::size_t(width) * std::size_t(height), PixelFacing::Background);
+    for (int y = 0; y < height; ++y)
+        for (int x = 0; x < width; ++x) {
+            PixelFacing& pixel = out[std::size_t(y) * std::size_t(width) + std::size_t(x)];
+            for (int j = 0; j < k && pixel != PixelFacing::Facing; ++j)
+                for (int i = 0; i < k && pixel != PixelFacing::Facing; ++i) {
+                    const std::size_t g = gbuffer.index(x * k + i, y * k + j);
+                    if (!gbuffer.covered(g)) continue;
+                    pixel = PixelFacing::Away;
+                    const vec3 p = gbuffer.position[g];
+                    const vec3 n = gbuffer.normal[g];
+                    for (const Light& light : lights)
+                        if (receiverFacesLight(light, lightFrame(light, p, farDistance), p, n)) {
+                            pixel = PixelFacing::Facing;
+                            break;
+                        }
+                }
+        }
+    return out;
 }
 
 } // namespace stsv

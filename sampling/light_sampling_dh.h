@@ -193,6 +193,27 @@ DH_FUNC vec3 sampleContribution(Light light, LightFrame f, vec3 p, vec3 n, vec3 
     return light.radiance * (cosP * cosL * area / dist2);
 }
 
+/// True when receiver p (world units) with shading normal n faces `light`, whose frame at p is f
+/// (lightFrame(light, p, farDistance)): some point s of the frame's domain has n·(s − p) > 0 and,
+/// for rectangles and disks, which emit along +normal only, p lies strictly in front of the
+/// light's plane (normal·(p − centre) > 0). Otherwise sampleContribution is 0 for every sample s
+/// (cosθp or cosθl clamped to 0), so visibility changes nothing in the lit image. The largest
+/// n·(s − p) over the domain is n·(centre − p) plus its reach |n·T| + |n·B| over the square
+/// (a corner) or √((n·T)² + (n·B)²) over the disk. So a rectangle or disk counts where any part of
+/// it is in front of the receiver's plane; a sphere where its silhouette disk, which every method
+/// samples, is (a receiver whose plane cuts only the cap nearer to p gets no light from those
+/// samples); a directional light where its cone of angularRadius around the direction is.
+/// Receivers edge-on to a light's plane, or whose plane only touches the light, do not count.
+DH_FUNC bool receiverFacesLight(Light light, LightFrame f, vec3 p, vec3 n) {
+    if ((SAMPLING_LIGHT_TYPE(light) == LIGHT_RECTANGLE || SAMPLING_LIGHT_TYPE(light) == LIGHT_DISK) &&
+        !(dot(light.normal, p - f.center) > 0.0f))
+        return false;
+    float nt = dot(n, f.T);
+    float nb = dot(n, f.B);
+    float reach = f.domain == DOMAIN_SQUARE ? abs(nt) + abs(nb) : sqrt(nt * nt + nb * nb);
+    return dot(n, f.center - p) + reach > 0.0f;
+}
+
 DH_END
 
 #endif // STSV_SAMPLING_LIGHT_SAMPLING_DH_H

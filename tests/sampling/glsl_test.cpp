@@ -27,7 +27,8 @@ void main() {
     vec3 b1;
     vec3 b2;
     orthonormalBasis(vec3(0.0f, 0.0f, 1.0f), b1, b2);
-    color = vec4(c + b1 + b2, float(h + off.x + DOMAIN_DISK) * SAMPLING_PI);
+    bool facing = receiverFacesLight(l, f, p, vec3(0.0f, 1.0f, 0.0f));
+    color = vec4(c + b1 + b2, float(h + off.x + DOMAIN_DISK + (facing ? 1u : 0u)) * SAMPLING_PI);
 }
 )";
 
