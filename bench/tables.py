@@ -3,6 +3,7 @@
 
     bench/tables.py compare FILE.json...   the equal-sample error table of compare runs
     bench/tables.py converged FILE.json    one compare --converged run against its converged reference
+    bench/tables.py facing FILE.json       one compare run's ranking by the light-facing visibility error
     bench/tables.py bench FILE.json        one bench run: frame medians, passes, speed-ups, errors
     bench/tables.py summary FILE.json...   a line of results per run (the README's headline table)
     bench/tables.py update DOC.md          regenerates every generated block of DOC.md in place
@@ -146,6 +147,46 @@ def converged_table(files):
     return "\n\n".join(out)
 
 
+def facing_table(files):
+    """The ranking of compare runs that have one (the light-facing visibility error, against the
+    converged reference where the run has one): the facing figure beside the whole-image one, the
+    share of the whole image's squared visibility error that lies on pixels facing away from every
+    light, and the lit image's RMSE."""
+    out = []
+    for _, data in files:
+        o, mask = data["options"], data["light_facing"]
+        converged = "converged_reference" in data
+        pixels = o["width"] * o["height"]
+        surface = mask["facing_pixels"] + mask["away_pixels"]
+        against = ("the converged reference of %d seeds, %d samples per pixel" % (
+            data["converged_reference"]["frames"], data["converged_reference"]["samples_per_pixel"])
+                   if converged else "the %d-sample %s" % (o["samples"], data["against"]))
+        out.append("**%s** (%dx%d, %d samples; against %s; %d of the %d pixels with a surface face the light, "
+                   "%.2f %%)" % (scene_name(data), o["width"], o["height"], o["samples"], against,
+                                  mask["facing_pixels"], surface, 100.0 * mask["facing_pixels"] / surface))
+
+        def cells(rank, name, errors, frame_ms):
+            facing, whole = errors["visibility_facing"], errors["visibility"]
+            all_squares = whole["rmse"] ** 2 * pixels
+            away_share = "–" if all_squares == 0 else "%.1f %%" % (
+                100.0 * max(0.0, 1.0 - facing["rmse"] ** 2 * facing["pixels"] / all_squares))
+            return [rank, name, fixed(facing["rmse"], 4), fixed(whole["rmse"], 4), away_share,
+                    fixed(errors["lit"]["rmse"], 4), "%.0f" % frame_ms]
+
+        def errors_of(r):
+            return r["converged"] if converged else r
+
+        rows = []
+        if converged:
+            rows.append(cells("–", "noise floor", data["noise_floor"], data["rows"][0]["frame_ms"]))
+        ranked = sorted((r for r in data["rows"] if r["rank"] is not None), key=lambda r: r["rank"])
+        for r in ranked:
+            rows.append(cells(str(r["rank"]), r["method"] + "/" + r["backend"], errors_of(r), r["frame_ms"]))
+        out.append(table(["rank", "method", "light-facing vis RMSE", "vis RMSE (all pixels)",
+                          "squared vis error facing away", "lit RMSE", "frame ms"], rows))
+    return "\n\n".join(out)
+
+
 def passes_text(passes):
     return ", ".join("%s %.1f" % (name, p["median"]) for name, p in sorted(passes.items()))
 
@@ -242,6 +283,15 @@ def summary_line(data):
         if len(scenes) == 1:
             return "; ".join(t for _, t in parts)
         return " — ".join(s + ": " + "; ".join(t for sc, t in parts if sc == s) for s in scenes)
+    if "ranking" in data:
+        by = {r["method"] + "/" + r["backend"]: r for r in data["rows"]}
+        converged = "converged_reference" in data
+        items = ["%s %.4f" % (m, (by[m]["converged"] if converged else by[m])["visibility_facing"]["rmse"])
+                 for m in data["ranking"]["methods"]]
+        against = ("a converged %d-sample-per-pixel reference" % data["converged_reference"]["samples_per_pixel"]
+                   if converged else data["against"])
+        return "ranked by the visibility RMSE over the light-facing pixels against %s: %s" % (
+            against, ", ".join(items))
     if "converged_reference" in data:
         items = ["%s %.4f" % (r["method"] + "/" + r["backend"], r["converged"]["visibility"]["rmse"])
                  for r in data["rows"]]
@@ -259,7 +309,7 @@ def summary_table(files):
 
 
 KINDS = {"compare": compare_table, "converged": converged_table, "bench": bench_table,
-         "summary": summary_table}
+         "summary": summary_table, "facing": facing_table}
 
 
 def generate(kind, paths):

@@ -339,8 +339,8 @@ const char* const kRankingNote =
     "ranked by the visibility error over the light-facing pixels: those whose visible point has N.L > 0 "
     "for some point of some light (part of a light is in front of its surface). On pixels facing away "
     "from every light visibility changes nothing in the lit image, so their error ranks no method; "
-    "pixels without a surface count in neither. vis RMSE (all) is over every pixel, as in the tables "
-    "above; lit RMSE is the lit image's, over every pixel";
+    "pixels without a surface count in neither. vis RMSE (all) is over every pixel, as in the other "
+    "tables; lit RMSE is the lit image's, over every pixel";
 
 /// The light-facing figure the ranking uses: against the converged reference where there is one.
 const RegionError& rankingFigure(const Row& r, bool converged) {

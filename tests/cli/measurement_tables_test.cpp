@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -75,6 +76,49 @@ TEST(MeasurementTables, ACompareRunsNumbersLandInTheirCells) {
     EXPECT_NE(r.out.find(std::to_string(j["machine"]["cpu_threads"].get<int>()) + " threads"),
               std::string::npos)
         << r.out;
+}
+
+TEST(MeasurementTables, AFacingTableListsTheRankingWithItsFigures) {
+    ScratchDir dir;
+    const std::string json = dir.file("f.json");
+    const CliResult run = runStsv({"compare", "fence", "--methods", "pcf/cpu,pcss/cpu,stsv/cpu", "--size",
+                                   "16x12", "--samples", "16", "--json", json, "-q"});
+    ASSERT_EQ(run.code, 0) << run.err;
+    nlohmann::json j;
+    std::ifstream(json) >> j;
+    const ShellResult r = runShell(tables() + " facing '" + json + "'");
+    ASSERT_EQ(r.code, 0) << r.out;
+    // One line per ranked method, in the ranking's order, with the file's figures: the
+    // light-facing RMSE, the whole image's, the share of the squared error on pixels facing
+    // away (1 − facing RMSE² · facing pixels / (whole RMSE² · 16 · 12)) and the lit RMSE.
+    std::size_t last = 0;
+    int rank = 0;
+    for (const nlohmann::json& name : j["ranking"]["methods"]) {
+        ++rank;
+        const nlohmann::json* row = nullptr;
+        for (const nlohmann::json& candidate : j["rows"])
+            if (candidate["method"].get<std::string>() + "/" + candidate["backend"].get<std::string>() ==
+                name)
+                row = &candidate;
+        ASSERT_NE(row, nullptr) << name;
+        ASSERT_EQ((*row)["rank"], rank);
+        const double facing = (*row)["visibility_facing"]["rmse"], all = (*row)["visibility"]["rmse"];
+        const double pixels = (*row)["visibility_facing"]["pixels"];
+        char line[256];
+        if (all > 0.0)
+            std::snprintf(line, sizeof line, "| %d | %s | %.4f | %.4f | %.1f %% | %.4f |", rank,
+                          name.get<std::string>().c_str(), facing, all,
+                          100.0 * std::max(0.0, 1.0 - facing * facing * pixels / (all * all * 16.0 * 12.0)),
+                          (*row)["lit"]["rmse"].get<double>());
+        else
+            std::snprintf(line, sizeof line, "| %d | %s | %.4f | %.4f | – | %.4f |", rank,
+                          name.get<std::string>().c_str(), facing, all, (*row)["lit"]["rmse"].get<double>());
+        const std::size_t at = r.out.find(line);
+        EXPECT_NE(at, std::string::npos) << line << "\n" << r.out;
+        EXPECT_GT(at, last) << "rank " << rank << " out of order\n" << r.out;
+        last = at;
+    }
+    EXPECT_EQ(rank, 3);
 }
 
 } // namespace
