@@ -57,6 +57,8 @@ measurement() {
       --size 512x512 --samples 64 --repeat 3 --extrusion hull,mesh,geometry ;;
     extrusion-knot-mesa25) echo bench knot --methods dcs --backends vulkan --size 512x512 --samples 64 --repeat 3 \
       --extrusion hull,mesh,geometry ;;
+    facing-knot) echo compare knot --backend cpu --methods stsv,pw,dcs,pcf,pcss,vsm,esm,evsm,msm,csm,peel \
+      --converged 16 --size 256x256 --samples 64 ;;
     sheet-fabric) echo compare fence --set fabric=0.6 --buffer transmittance --methods "$all_methods,avsm,vpcss" \
       --converged 16 --size 192x144 --sheet docs/fabric-sheet.png ;;
     *) return 1 ;;
@@ -65,7 +67,7 @@ measurement() {
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
      bench-fence-vs-mesh bench-foliage-count bench-knot-scale bench-foliage-dense compare-particles sheet-particles bench-particles
-     bench-particles-maps sheet-fabric extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25)
+     bench-particles-maps sheet-fabric facing-knot extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")
