@@ -103,7 +103,7 @@ struct Row {
     ImageError visibilityCoarse;    ///< the same, fractionAbove at |Δ| > kCoarseError
     ImageError convergedVisibility; ///< against the converged reference; fractionAbove at kCoarseError
     ImageError convergedLit;        ///< against the converged reference; fractionAbove at 1/255
-    /// The visibility error over the light-facing pixels (LightFacing), against the equal-sample
+    /// The visibility error over the light-facing pixels (lightFacingOf), against the equal-sample
     /// and the converged reference: the figure the ranking uses.
     RegionError visibilityFacing;
     RegionError convergedVisibilityFacing;
@@ -506,6 +506,7 @@ Report describeReport(const CompareArgs& args, const Scene& scene, const SceneOp
         report.headline += (r == ranked.front() ? " " : ", ") + std::to_string(*r->rank) + ". " +
                            toString(r->mb) + " " + formatFixed(rankingFigure(*r, converged).rmse, 5) +
                            " (lit RMSE " + formatFixed((converged ? r->convergedLit : r->lit).rmse, 5) + ")";
+    if (ranked.empty()) report.headline += " no method besides the reference";
     report.headline += ". Pixels facing away from every light, where visibility changes nothing in the lit "
                        "image, are left out of the ranking; the tables give the whole-image figures too.";
     report.chart.yLabel =
