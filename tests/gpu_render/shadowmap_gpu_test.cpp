@@ -255,11 +255,13 @@ TEST_F(ShadowMapGpu, PeelGridsAndBitsMatchTheCpuMirror) {
 }
 
 TEST(PeelMarchLanes, KeepEveryInvocationsMarchWithinTheLoopBudget) {
-    // A sample's march loops up to peel_steps·(peel_bins + 1) + 1 times: at the defaults (20, 16)
-    // 341, so 96 samples fit the budget of 32 768 and 64 samples need one lane, 256 four.
+    // A sample's march loops up to peel_max_steps·(peel_bins + 1) + 1 times: at the defaults
+    // (1024, 16) 17 409, so every sample gets a lane of its own; capped at 20 steps 341, 96
+    // samples fit the budget of 32 768 and 64 samples need one lane, 256 four.
+    EXPECT_EQ(peelMarchLanes(64, 1024, 16), 64u);
     EXPECT_EQ(peelMarchLanes(64, 20, 16), 1u);
     EXPECT_EQ(peelMarchLanes(256, 20, 16), 4u);
-    // peel_steps 400: 6 801 a sample, 4 a lane, 64 lanes for 256 samples.
+    // peel_max_steps 400: 6 801 a sample, 4 a lane, 64 lanes for 256 samples.
     EXPECT_EQ(peelMarchLanes(256, 400, 16), 64u);
     // The largest parameters: one sample a lane (33 793 iterations, under lavapipe's 65 535).
     EXPECT_EQ(peelMarchLanes(256, 1024, 32), 256u);
@@ -277,25 +279,26 @@ TEST(PeelMarchLanes, KeepEveryInvocationsMarchWithinTheLoopBudget) {
             }
 }
 
-TEST_F(ShadowMapGpu, PeelMarchKeepsEverySampleOfLongMarches) {
-    // 256 samples of 400 steps: a pixel's march loops about 10⁵ times, past lavapipe's limit of
+TEST_F(ShadowMapGpu, PeelMarchKeepsEverySampleAndCountOfLongMarches) {
+    // 256 samples: a pixel's march may loop about 10⁵ times and more, past lavapipe's limit of
     // 65 535 for one invocation (which marched a whole pixel and lost three quarters of the
-    // knot's occluded bits here). Split over lanes, the bits and counters match the CPU's march
-    // as closely as PeelGridsAndBitsMatchTheCpuMirror's do (the G-buffers and grids differ at
-    // silhouettes and subinterval boundaries: at most 1 in 500 bits).
-    // At the default 20 steps four lanes share a pixel, sixteen pixels a workgroup.
+    // knot's occluded bits at 400 fixed steps). Split over lanes (256 at the default cap, 64 at
+    // 400, 4 at 20), the bits and counters match the CPU's march as closely as
+    // PeelGridsAndBitsMatchTheCpuMirror's do (the G-buffers and grids differ at silhouettes and
+    // subinterval boundaries: at most 1 in 500 samples), and so do the march's stats.
     const Scene scene = loadScene("knot");
-    for (const auto& [kind, steps] :
-         {std::pair{BufferKind::Bitmask, "peel_steps=400"}, std::pair{BufferKind::Counters, "peel_steps=400"},
-          std::pair{BufferKind::Bitmask, "peel_steps=20"}}) {
+    for (const auto& [kind, cap] : {std::pair{BufferKind::Bitmask, "peel_max_steps=1024"},
+                                    std::pair{BufferKind::Counters, "peel_max_steps=1024"},
+                                    std::pair{BufferKind::Counters, "peel_max_steps=400"},
+                                    std::pair{BufferKind::Bitmask, "peel_max_steps=20"}}) {
         RenderOptions o = gpuOptions(32, 24, 256, kind);
         o.method = Method::Peel;
-        o.params = parseMethodParams(methodInfo(Method::Peel), {steps});
+        o.params = parseMethodParams(methodInfo(Method::Peel), {cap});
         const Frame gpu = renderGpu(scene, o);
         RenderOptions cpuOptions = o;
         cpuOptions.backend = Backend::Cpu;
         const Frame cpu = makeRenderer(scene, cpuOptions)->render();
-        std::size_t samples = 0, occluded = 0, differ = 0;
+        std::size_t samples = 0, occluded = 0, differ = 0, countsDiffer = 0;
         for (int y = 0; y < 24; ++y)
             for (int x = 0; x < 32; ++x) {
                 if (!cpu.gbuffer.covered(cpu.gbuffer.index(x, y))) continue;
@@ -303,12 +306,23 @@ TEST_F(ShadowMapGpu, PeelMarchKeepsEverySampleOfLongMarches) {
                     ++samples;
                     occluded += cpu.lightSamples[0].occluded(x, y, k);
                     differ += gpu.lightSamples[0].occluded(x, y, k) != cpu.lightSamples[0].occluded(x, y, k);
+                    countsDiffer += gpu.lightSamples[0].count(x, y, k) != cpu.lightSamples[0].count(x, y, k);
                 }
             }
-        std::printf("%s %s: %zu of %zu sample bits differ (%zu occluded)\n", toString(kind).c_str(), steps,
-                    differ, samples, occluded);
+        const nlohmann::json& gm = gpu.stats["shadow_maps"][0]["march"];
+        const nlohmann::json& cm = cpu.stats["shadow_maps"][0]["march"];
+        std::printf("%s %s: %zu of %zu sample bits differ (%zu occluded), %zu counts; march gpu %s cpu %s\n",
+                    toString(kind).c_str(), cap, differ, samples, occluded, countsDiffer, gm.dump().c_str(),
+                    cm.dump().c_str());
         ASSERT_GT(occluded, samples / 20) << "the view shows too little shadow to test";
-        EXPECT_LE(differ, samples / 500) << toString(kind) << " " << steps;
+        EXPECT_LE(differ, samples / 500) << toString(kind) << " " << cap;
+        EXPECT_LE(countsDiffer, samples / 500) << toString(kind) << " " << cap;
+        // The same rays; their steps agree but where the G-buffers differ (silhouette pixels).
+        EXPECT_EQ(gm["rays"], cm["rays"]);
+        EXPECT_NEAR(gm["steps_mean"].get<double>(), cm["steps_mean"].get<double>(),
+                    0.01 * cm["steps_mean"].get<double>());
+        EXPECT_EQ(gm["capped_rays"].get<std::size_t>() > 0, cm["capped_rays"].get<std::size_t>() > 0);
+        EXPECT_EQ(gm["max_steps"], cm["max_steps"]);
     }
 }
 
