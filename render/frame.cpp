@@ -41,6 +41,16 @@ nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuf
             {"kernel_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
 }
 
+nlohmann::json peelMarchStats(const PeelMarchCounts& c) {
+    return {{"march",
+             {{"rays", c.rays},
+              {"steps_mean", c.rays ? double(c.steps) / double(c.rays) : 0.0},
+              {"steps_max", c.longest},
+              {"max_steps", c.maxSteps},
+              {"capped_rays", c.capped},
+              {"capped_fraction", c.rays ? double(c.capped) / double(c.rays) : 0.0}}}};
+}
+
 nlohmann::json avsmStatsJson(const AvsmStats& s, std::size_t bytes) {
     return {{"nodes_mean", s.meanNodes},
             {"nodes_max", s.maxNodes},
@@ -123,6 +133,24 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                 " open edges (single quads, open meshes): behind a surface facing the light with "
                 "no back face after it everything counts as shadowed, behind a lone back face "
                 "nothing");
+        std::uint64_t capped = 0, rays = 0;
+        std::uint32_t cap = 0;
+        for (const nlohmann::json& map : stats["shadow_maps"])
+            if (map.contains("march")) {
+                capped += map["march"].value("capped_rays", std::uint64_t(0));
+                rays += map["march"].value("rays", std::uint64_t(0));
+                cap = map["march"].value("max_steps", std::uint32_t(0));
+            }
+        if (capped > 0) {
+            char text[240];
+            std::snprintf(text, sizeof text,
+                          "%s: %llu of %llu light-sample rays (%.3f %%) needed more than peel_max_steps=%u "
+                          "march steps and took longer ones, which can step over thin occluders (raise "
+                          "it with --param peel_max_steps=...)",
+                          method.c_str(), static_cast<unsigned long long>(capped),
+                          static_cast<unsigned long long>(rays), 100.0 * double(capped) / double(rays), cap);
+            warnings.emplace_back(text);
+        }
         if (worst > KERNEL_CLAMP_WARNING) {
             char text[200];
             std::snprintf(

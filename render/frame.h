@@ -69,6 +69,9 @@ nlohmann::json sceneStats(const Scene& scene);
 /// surface had their PCSS kernel cut to pcss_max_kernel, counted and as a fraction (both backends).
 nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer);
 
+/// {"march": {"rays", "steps_mean", "steps_max", "max_steps", "capped_rays", "capped_fraction"}}.
+nlohmann::json peelMarchStats(const PeelMarchCounts& counts);
+
 /// A light's transmittance functions (`avsm`, `vpcss`; both backends): the nodes per texel that
 /// holds any (mean, max), the texels with nodes, those that had more surfaces than nodes, and the
 /// map's bytes (avsmBytes).

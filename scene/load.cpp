@@ -91,6 +91,10 @@ const std::vector<Builtin>& builtins() {
          "particle scene; --buffer transmittance)",
          {integer("count", "1000", "billboards (2 translucent triangles each)", PARTICLES_COUNT),
           real("opacity", "0.5", "peak alpha at a particle's centre", PARTICLES_OPACITY),
+          real("height", "2",
+               "height of the cloud's centre, metres (below 1.45 the cloud rests on the ground, whose "
+               "receivers then lie inside it)",
+               PARTICLES_HEIGHT),
           seed("seed", "seed of placement")}},
         {"knot",
          "a closed (2, 3) torus-knot mesh on a ground plane under a square light (opaque occluders: dcs, "
@@ -259,6 +263,7 @@ Scene loadWithoutOverrides(const std::string& spec, const SceneOptions& options)
             ParticlesParams p;
             p.count = int(knobs.integer("count", p.count));
             p.opacity = knobs.real("opacity", p.opacity);
+            p.height = knobs.real("height", p.height);
             p.seed = knobs.unsigned64("seed", p.seed);
             checkSceneMemory("scene 'particles' (count=" + std::to_string(p.count) + ")",
                              2.0 * p.count + 14.0);

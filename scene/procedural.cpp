@@ -337,6 +337,7 @@ Texture makeGaussianTexture(int size) {
 Scene makeParticlesScene(const ParticlesParams& params) {
     checkParam("particles", "count", PARTICLES_COUNT, params.count);
     checkParam("particles", "opacity", PARTICLES_OPACITY, params.opacity);
+    checkParam("particles", "height", PARTICLES_HEIGHT, params.height);
     Scene scene;
     scene.source = "particles";
     addGround(scene, vec3(0.0f), 8.0f, vec3(0.7f));
@@ -370,14 +371,16 @@ Scene makeParticlesScene(const ParticlesParams& params) {
                      params.opacity, 0.5f);
     const std::uint32_t m = addMaterial(scene, particle);
     Rng rng(params.seed);
-    const vec3 cloud(-0.6f, 2.0f, 0.0f);
+    const vec3 cloud(-0.6f, params.height, 0.0f);
     const float radius = 1.2f, half = 0.25f;
     const auto first = static_cast<std::uint32_t>(scene.triangles.size());
     for (int i = 0; i < params.count; ++i) {
+        // In the ball, and (a cloud resting on the ground) with the billboard's centre a half-width
+        // above the ground.
         vec3 offset;
         do {
             offset = vec3(rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f), rng.uniform(-1.0f, 1.0f));
-        } while (dot(offset, offset) > 1.0f);
+        } while (dot(offset, offset) > 1.0f || params.height + radius * offset.y < half);
         const vec3 c = cloud + radius * offset;
         // Facing the light centre: the billboard's axes span the plane normal to c → light.
         const vec3 n = normalize(lightCenter - c);

@@ -100,15 +100,24 @@ constexpr ParamRange PARTICLES_COUNT{1, 100000};
 /// Peak opacity of a particle: from 0.001 (already below the 1/255 an 8-bit pixel shows, so a
 /// smaller one would change nothing) to 1.
 constexpr ParamRange PARTICLES_OPACITY{0.001, 1.0};
+/// Height of the cloud's centre: from 0.5 m (the cloud's lower half pressed onto the ground) to
+/// 10 m (far above it).
+constexpr ParamRange PARTICLES_HEIGHT{0.5, 10.0};
 
 struct ParticlesParams {
     int count = 1000;       ///< billboards, 2 translucent triangles each
     float opacity = 0.5f;   ///< peak α at a particle's centre, (0, 1]
     std::uint64_t seed = 1; ///< placement
+    /// Height of the cloud's centre, m. At 2 the cloud floats over the ground and every receiver
+    /// lies behind all of it (seen from the light); below 1.2 + 0.25 (its radius and a
+    /// billboard's half-width) it sits on the ground, which then lies inside it: particles in
+    /// front of a receiver and beside it, at every depth up to the receiver's own.
+    float height = 2.0f;
 };
 
 /// Klein et al.'s particle scene: `count` light-facing square billboards (0.5 m, Gaussian α
-/// of peak `opacity`, Blend) in a ball of radius 1.2 m, beside an opaque 1 m cube, over a ground
+/// of peak `opacity`, Blend) in a ball of radius 1.2 m centred `height` above a ground, beside an
+/// opaque 1 m cube,
 /// under a square light, so that the soft translucent shadow and the cube's shadow meet.
 Scene makeParticlesScene(const ParticlesParams& params = {});
 

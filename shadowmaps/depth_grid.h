@@ -33,6 +33,16 @@ struct GridSurface {
 /// subinterval's front or back slot.
 void fillDepthGridTexel(std::uint32_t* words, uint bins, const std::vector<GridSurface>& surfaces);
 
+/// What a light's march did (both backends): its rays, the steps they took and the longest, and
+/// those that needed more than peel_max_steps.
+struct PeelMarchCounts {
+    std::uint64_t rays = 0;
+    std::uint64_t steps = 0;
+    std::uint64_t capped = 0;
+    std::uint32_t longest = 0;
+    std::uint32_t maxSteps = 0; ///< peel_max_steps
+};
+
 struct PeelGridSource {
     const DepthGrid* grid;
 };

@@ -105,7 +105,82 @@ DH_END
 #if defined(PEEL_GRID_SOURCE) && !defined(STSV_SHADOWMAPS_DEPTH_GRID_MARCH)
 #define STSV_SHADOWMAPS_DEPTH_GRID_MARCH
 
+#include "shadowmaps/shadow_receiver_dh.h"
+
 DH_BEGIN
+
+/// Table 1 over the depths [z0, z1] (z0 ≤ z1) of one texel, nearest first: whether the nearest
+/// and the farthest are inside an object, how often inside and outside change between them, and
+/// whether any is inside. Along a texel's centre ray the table is a step function of the depth:
+/// outside in front of near_p; in subinterval i, with z_j the first non-empty one in front, one
+/// state before the depth |z_i| it keeps and one after; behind far_p the last surface's.
+struct PeelSpan {
+    uint first;   ///< 1: z0 is inside
+    uint last;    ///< 1: z1 is inside
+    uint changes; ///< inside/outside changes between z0 and z1
+    uint any;     ///< 1: some depth of [z0, z1] is inside
+};
+
+DH_FUNC PeelSpan peelEmptySpan() {
+    PeelSpan span;
+    span.first = 0u;
+    span.last = 0u;
+    span.changes = 0u;
+    span.any = 0u;
+    return span;
+}
+
+/// The next piece of a span, nearest first.
+DH_FUNC void peelSpanPush(DH_INOUT(PeelSpan) span, DH_INOUT(bool) started, bool inside) {
+    uint state = inside ? 1u : 0u;
+    if (!started) {
+        span.first = state;
+        started = true;
+    } else if (span.last != state) {
+        span.changes += 1u;
+    }
+    span.last = state;
+    if (inside) span.any = 1u;
+}
+
+/// The span [z0, z1] of the texel whose words start at `base`: at most `bins` loop iterations
+/// (back from the span's first subinterval to the first non-empty one in front, then forward
+/// through the span's).
+DH_FUNC PeelSpan peelTexelSpan(PeelGridSource src, uint base, uint bins, float z0, float z1) {
+    PeelSpan span = peelEmptySpan();
+    uint nearWord = peelGridWord(src, base);
+    if (nearWord == 0u) return span; // no surface on this texel
+    float lo = peelWordDepth(~nearWord);
+    if (z1 < lo) return span; // in front of the texel's nearest surface
+    float hi = peelWordDepth(peelGridWord(src, base + 1u));
+    int i0 = peelBin(z0, lo, hi, bins);
+    int i1 = peelBin(z1, lo, hi, bins);
+    bool started = false;
+    if (i0 < 0) peelSpanPush(span, started, false); // the part in front of near_p
+    float zj = 0.0f;
+    for (int j = min(i0, int(bins)) - 1; j >= 0 && zj == 0.0f; --j)
+        zj = peelBinValue(peelGridWord(src, base + 2u + 2u * uint(j)),
+                          peelGridWord(src, base + 3u + 2u * uint(j)));
+    int last = min(i1, int(bins) - 1);
+    for (int b = max(i0, 0); b <= last; ++b) {
+        float zi = peelBinValue(peelGridWord(src, base + 2u + 2u * uint(b)),
+                                peelGridWord(src, base + 3u + 2u * uint(b)));
+        if (zi == 0.0f) {
+            peelSpanPush(span, started, zj > 0.0f);
+        } else {
+            // Before the face (z ≤ z_i for a front face, z < |z_i| for a back face) and after it.
+            // A back face at near_p has no depth before it in the texel: nothing is inside there.
+            float edge = abs(zi);
+            bool front = zi > 0.0f;
+            if ((b > i0 || (front ? z0 <= edge : z0 < edge)) && (front || edge > lo))
+                peelSpanPush(span, started, front ? zj > 0.0f : true);
+            if (b < i1 || (front ? z1 > edge : z1 >= edge)) peelSpanPush(span, started, front);
+            zj = zi;
+        }
+    }
+    if (i1 >= int(bins)) peelSpanPush(span, started, zj > 0.0f); // behind far_p: the last surface decides
+    return span;
+}
 
 /// Whether the point x lies inside an object according to the grid (Table 1 at its texel).
 DH_FUNC bool peelPointOccluded(PeelGridSource src, ShadowMapView v, uint bins, vec3 x) {
@@ -115,32 +190,174 @@ DH_FUNC bool peelPointOccluded(PeelGridSource src, ShadowMapView v, uint bins, v
     uint face;
     ivec2 texel;
     if (!shadowMapTexelOf(v, c.face, c.uv, face, texel)) return false;
-    uint base = peelTexelBase(v, face, texel, bins);
-    uint nearWord = peelGridWord(src, base);
-    if (nearWord == 0u) return false; // no surface on this texel
-    float lo = peelWordDepth(~nearWord);
-    if (c.depth < lo) return false; // in front of the texel's nearest surface
-    float hi = peelWordDepth(peelGridWord(src, base + 1u));
-    int i = peelBin(c.depth, lo, hi, bins);
-    float zi = 0.0f;
-    if (i < int(bins))
-        zi = peelBinValue(peelGridWord(src, base + 2u + 2u * uint(i)),
-                          peelGridWord(src, base + 3u + 2u * uint(i)));
-    float zj = 0.0f;
-    for (int j = i - 1; j >= 0 && zj == 0.0f; --j)
-        zj = peelBinValue(peelGridWord(src, base + 2u + 2u * uint(j)),
-                          peelGridWord(src, base + 3u + 2u * uint(j)));
-    return peelTableOccluded(c.depth, zi, zj);
+    return peelTexelSpan(src, peelTexelBase(v, face, texel, bins), bins, c.depth, c.depth).any != 0u;
 }
 
-/// Whether the ray from the visible point p to the light sample s is occluded: any of the
-/// midpoints of `steps` equal steps inside an object.
-DH_FUNC bool peelRayOccluded(PeelGridSource src, ShadowMapView v, uint bins, uint steps, vec3 p, vec3 s) {
-    vec3 d = s - p;
-    float inv = 1.0f / float(steps);
-    for (uint k = 0u; k < steps; ++k)
-        if (peelPointOccluded(src, v, bins, p + ((float(k) + 0.5f) * inv) * d)) return true;
-    return false;
+/// A cube map's texel seen from the centre spans at least 0.94/size radians (0.471 of its 2/size
+/// tangent units, at a face's corner): the march's angular step on cube maps.
+DH_CONST float PEEL_CUBE_TEXEL_ANGLE = 0.94f;
+
+/// The outcome of one light-sample ray's march.
+struct PeelMarch {
+    uint occluded;  ///< 1: some step found a depth inside an object
+    uint crossings; ///< inside/outside changes along the ray (counted only when asked for)
+    uint steps;     ///< steps the ray's projection took (at most the cap)
+    uint capped;    ///< 1: the ray needed more steps than the cap, which lengthened them
+};
+
+/// Clips t ∈ [t0, t1] to h0 + t·h1 ≥ 0 (one plane of Liang–Barsky's clip).
+DH_FUNC void peelClip(float h0, float h1, DH_INOUT(float) t0, DH_INOUT(float) t1) {
+    if (h1 == 0.0f) {
+        if (h0 < 0.0f) t1 = -1.0f;
+        return;
+    }
+    float t = -h0 / h1;
+    if (h1 > 0.0f)
+        t0 = max(t0, t);
+    else
+        t1 = min(t1, t);
+}
+
+/// The point of the march at fraction f of its projection, relative to the map's origin: the
+/// projective interpolation between qa and qb with depths za and zb along the dividing axis
+/// (perspective-correct: equal steps of f are equal steps across the map; za = zb = 1: linear).
+DH_FUNC vec3 peelMarchPoint(vec3 qa, vec3 qb, float za, float zb, float f) {
+    float wa = (1.0f - f) / za;
+    float wb = f / zb;
+    return (wa * qa + wb * qb) / (wa + wb);
+}
+
+/// The map's depth of a point relative to its origin (axial along Z, or radial on cube maps).
+DH_FUNC float peelMarchDepth(ShadowMapView v, vec3 q) {
+    return v.projection == SHADOW_MAP_CUBE ? length(q) : dot(q, v.axisZ);
+}
+
+/// The march of the ray from the receiver r (its point, plane and bias as the map filters take
+/// them, shadow_receiver_dh.h) to the light sample s through the grid.
+///  * The ray is clipped to where the grid can hold a blocker: depth at least `near`, inside the
+///    window of a single-face map.
+///  * Its projection on the map is cut into steps of at most one texel (max-norm across the face;
+///    on cube maps PEEL_CUBE_TEXEL_ANGLE/size radians), equal across the map (perspective-correct),
+///    at most `maxSteps`; a ray that needs more takes `maxSteps` longer ones and is `capped`.
+///  * Each step is judged whole, not at a point: the depths it spans, in the texel of its
+///    midpoint, run through Table 1 (peelTexelSpan), so an object thinner than a step along the
+///    depth is not stepped over. Depths behind the receiver's plane along that texel's centre ray,
+///    less the receiver's bias, are left out: the receiver's own surface does not shadow it.
+/// `countAll` 0 stops at the first step inside an object; 1 marches the whole ray and counts the
+/// inside/outside changes (a closed object crossed counts two: its front and its back face).
+DH_FUNC PeelMarch peelRayMarch(PeelGridSource src, ShadowMapView v, uint bins, uint maxSteps,
+                               ShadowReceiver r, vec3 s, uint countAll) {
+    PeelMarch m;
+    m.occluded = 0u;
+    m.crossings = 0u;
+    m.steps = 0u;
+    m.capped = 0u;
+    vec3 a = r.p - v.origin;
+    vec3 d = s - r.p;
+    float t0 = 0.0f;
+    float t1 = 1.0f;
+    vec3 X = v.axisX;
+    vec3 Y = v.axisY;
+    vec3 Z = v.axisZ;
+    float width = v.window.z - v.window.x;
+    if (v.projection == SHADOW_MAP_CUBE) {
+        // Outside the ball of radius near: up to where the ray enters it.
+        float dd = dot(d, d), ad = dot(a, d), excess = dot(a, a) - v.near * v.near;
+        if (excess <= 0.0f) return m;
+        float disc = ad * ad - dd * excess;
+        if (disc > 0.0f && ad < 0.0f) t1 = min(t1, (-ad - sqrt(disc)) / dd);
+    } else {
+        float az = dot(a, Z), dz = dot(d, Z);
+        float ax = dot(a, X), dx = dot(d, X), ay = dot(a, Y), dy = dot(d, Y);
+        peelClip(az - v.near, dz, t0, t1);
+        // The window: u0 ≤ x/z ≤ u1 (perspective, z > 0) or u0 ≤ x ≤ u1 (orthographic).
+        float pz = v.projection == SHADOW_MAP_PERSPECTIVE ? az : 1.0f;
+        float pdz = v.projection == SHADOW_MAP_PERSPECTIVE ? dz : 0.0f;
+        peelClip(ax - v.window.x * pz, dx - v.window.x * pdz, t0, t1);
+        peelClip(v.window.z * pz - ax, v.window.z * pdz - dx, t0, t1);
+        peelClip(ay - v.window.y * pz, dy - v.window.y * pdz, t0, t1);
+        peelClip(v.window.w * pz - ay, v.window.w * pdz - dy, t0, t1);
+    }
+    if (!(t1 > t0)) return m;
+    vec3 qa = a + t0 * d;
+    vec3 qb = a + t1 * d;
+    // The dividing axis and the texels the projection crosses.
+    float za = 1.0f, zb = 1.0f, texels = 0.0f;
+    if (v.projection == SHADOW_MAP_ORTHOGRAPHIC) {
+        vec3 e = qb - qa;
+        texels = max(abs(dot(e, X)), abs(dot(e, Y))) * float(v.size) / width;
+    } else {
+        vec3 axis = Z;
+        if (v.projection == SHADOW_MAP_CUBE) {
+            // The bisector of the ray's ends seen from the centre: both lie in front of it.
+            vec3 h = normalize(qa) + normalize(qb);
+            axis = dot(h, h) > 1e-6f ? normalize(h) : normalize(qa);
+        }
+        za = dot(qa, axis);
+        zb = dot(qb, axis);
+        if (!(za > 0.0f) || !(zb > 0.0f)) {
+            // Ends almost opposite seen from the centre: linear steps, as many as allowed.
+            za = 1.0f;
+            zb = 1.0f;
+            texels = 3.0e38f;
+        } else {
+            vec3 e = qb / zb - qa / za; // across the plane at unit depth along the axis
+            texels = v.projection == SHADOW_MAP_CUBE
+                         ? length(e) * float(v.size) / PEEL_CUBE_TEXEL_ANGLE
+                         : max(abs(dot(e, X)), abs(dot(e, Y))) * float(v.size) / width;
+        }
+    }
+    uint n = 1u;
+    if (texels > float(maxSteps)) {
+        n = maxSteps;
+        m.capped = 1u;
+    } else if (texels > 1.0f) {
+        n = uint(ceil(texels));
+    }
+    m.steps = n;
+    float inv = 1.0f / float(n);
+    float zPrev = peelMarchDepth(v, qa);
+    // Whether the last depth looked at is inside; 2: none yet. As the reference leaves out the
+    // receiver's own triangle, the count starts at the first depth the march looks at (a receiver
+    // on an object's side away from the sample counts the face it leaves by, not the one it is on).
+    uint state = 2u;
+    for (uint k = 0u; k < n; ++k) {
+        vec3 mid = peelMarchPoint(qa, qb, za, zb, (float(k) + 0.5f) * inv);
+        float zNext = peelMarchDepth(v, peelMarchPoint(qa, qb, za, zb, float(k + 1u) * inv));
+        bool nearer = zNext < zPrev; // the step runs towards the light: its start is its far end
+        float lo = min(zPrev, zNext);
+        float hi = max(zPrev, zNext);
+        zPrev = zNext;
+        PeelSpan span = peelEmptySpan();
+        bool behind = false; // the whole step lies behind the receiver's plane: not looked at
+        ShadowMapCoord c = shadowMapProject(v, v.origin + mid);
+        uint face;
+        ivec2 texel;
+        if (c.valid != 0.0f && shadowMapTexelOf(v, c.face, c.uv, face, texel)) {
+            uint base = peelTexelBase(v, face, texel, bins);
+            uint nearWord = peelGridWord(src, base);
+            // Most steps lie in front of their texel's nearest surface (or on an empty texel).
+            if (nearWord != 0u && hi >= peelWordDepth(~nearWord)) {
+                float limit = shadowMapPlaneDepth(v, face, texel, r.p, r.n, r.depth) - r.bias;
+                if (min(hi, limit) >= lo)
+                    span = peelTexelSpan(src, base, bins, lo, min(hi, limit));
+                else
+                    behind = true;
+            }
+        }
+        if (span.any != 0u) {
+            m.occluded = 1u;
+            if (countAll == 0u) return m;
+        }
+        if (behind) continue;
+        uint start = nearer ? span.last : span.first;
+        if (state != 2u && start != state) m.crossings += 1u;
+        m.crossings += span.changes;
+        state = nearer ? span.first : span.last;
+    }
+    // The march ends outside every object: nearer than `near`, or beyond the map's window.
+    if (state == 1u) m.crossings += 1u;
+    return m;
 }
 
 DH_END

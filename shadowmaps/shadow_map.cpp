@@ -302,7 +302,7 @@ ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
     params.csmTerms = uint(settings.csmTerms);
     params.csmDamp = uint(settings.csmDamp);
     params.peelBins = uint(settings.peelBins);
-    params.peelSteps = uint(settings.peelSteps);
+    params.peelMaxSteps = uint(settings.peelMaxSteps);
     params.avsmNodes = uint(settings.avsmNodes);
     params.vpcssTaps = uint(settings.vpcssTaps);
     return params;
@@ -317,9 +317,10 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     const std::vector<F> filtered = {F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
     const std::vector<F> depthMaps = {F::Pcf, F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
     const std::vector<F> functions = {F::Avsm, F::Vpcss};
-    // The maps that compare depths at the receiver (the depth grid marches rays instead).
+    // The maps that compare depths at the receiver (the depth grid's march leaves out what lies
+    // behind the receiver's plane less the same bias).
     const std::vector<F> compared = {F::Pcf, F::Pcss, F::Vsm,  F::Esm,  F::Evsm,
-                                     F::Msm, F::Csm,  F::Avsm, F::Vpcss};
+                                     F::Msm, F::Csm,  F::Peel, F::Avsm, F::Vpcss};
     static const std::vector<ShadowMapKnob> knobs = {
         {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", depthMaps,
          nullptr, &S::size},
@@ -413,14 +414,15 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
          {F::Peel},
          nullptr,
          &S::peelBins},
-        {"peel_steps",
+        {"peel_max_steps",
          1,
          1024,
          true,
-         "march steps from the visible point to each light sample",
+         "most march steps a light-sample ray takes (a texel a step; longer steps past it, counted in "
+         "--stats)",
          {F::Peel},
          nullptr,
-         &S::peelSteps},
+         &S::peelMaxSteps},
         {"avsm_size", 16, 8192, true,
          "transmittance-function texels per face edge (4 + 8 avsm_nodes bytes a texel)", functions, nullptr,
          &S::avsmSize},

@@ -116,7 +116,10 @@ struct ShadowMapSettings {
     // sm_size: at 512² and 16 subintervals a face holds 36 MB (the paper's grid is coarse).
     int peelSize = 512; ///< peel_size: grid texels per face edge
     int peelBins = 16;  ///< peel_bins: subintervals of each texel's depth range
-    int peelSteps = 20; ///< peel_steps: march steps per light-sample ray
+    /// peel_max_steps: most march steps per light-sample ray. The march steps a texel at a time
+    /// across the grid (depth_grid_dh.h); this caps what a ray may cost, and the stats count the
+    /// rays it cuts short.
+    int peelMaxSteps = 1024;
     // Transmittance functions (AVSM, volumetric PCSS). Klein et al. used 1024² and 8 nodes: at
     // 8 nodes a texel holds 68 bytes, 68 MB a face at 1024².
     int avsmSize = 1024; ///< avsm_size: texels per face edge

@@ -86,10 +86,10 @@ struct ShadowFilterParams {
     float msmBias;
     uint csmTerms;
     uint csmDamp;
-    uint peelBins;  ///< depth grid: subintervals per texel
-    uint peelSteps; ///< depth grid: march steps per ray
-    uint avsmNodes; ///< transmittance functions: nodes per texel at most
-    uint vpcssTaps; ///< volumetric PCSS: Poisson taps of the blocker search and of the filter
+    uint peelBins;     ///< depth grid: subintervals per texel
+    uint peelMaxSteps; ///< depth grid: most march steps per ray
+    uint avsmNodes;    ///< transmittance functions: nodes per texel at most
+    uint vpcssTaps;    ///< volumetric PCSS: Poisson taps of the blocker search and of the filter
 };
 
 #ifdef __cplusplus

@@ -62,29 +62,56 @@ DepthGrid traceDepthGrid(const EmbreeScene& embree, const ShadowMapView& view, u
     return grid;
 }
 
-void peelMarchSamples(const DepthGrid& grid, const GBuffer& gbuffer, const Light& light,
-                      const SamplePlan& plan, float farDistance, uint steps, LightSampleBuffer& out) {
+PeelMarchCounts peelMarchSamples(const DepthGrid& grid, const GBuffer& gbuffer, const Light& light,
+                                 const SamplePlan& plan, float farDistance, const ShadowMapSettings& settings,
+                                 LightSampleBuffer& out) {
     const bool counting = out.kind() == BufferKind::Counters;
     const PeelGridSource src{&grid};
+    const uint maxSteps = uint(settings.peelMaxSteps);
+    std::atomic<std::uint64_t> rays{0}, steps{0}, capped{0};
+    std::atomic<std::uint32_t> longest{0};
     Progress progress("peel march", std::size_t(tilesAcross(gbuffer.width)) * tilesAcross(gbuffer.height));
     parallelForTiles(gbuffer.width, gbuffer.height, [&](const PixelTile& tile) {
+        std::uint64_t tileRays = 0, tileSteps = 0, tileCapped = 0;
+        std::uint32_t tileLongest = 0;
         for (int y = tile.y0; y < tile.y1; ++y)
             for (int x = tile.x0; x < tile.x1; ++x) {
                 const std::size_t i = gbuffer.index(x, y);
                 if (!gbuffer.covered(i)) continue;
                 const vec3 p = gbuffer.position[i];
                 const LightFrame frame = lightFrame(light, p, farDistance);
+                const ShadowReceiver r = shadowReceiver(grid.view, p, gbuffer.normal[i], settings.bias,
+                                                        settings.normalOffset, vec2(1.0f, 0.0f));
                 for (int k = 0; k < plan.count; ++k) {
                     const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
-                    if (!peelRayOccluded(src, grid.view, grid.bins, steps, p, s)) continue;
+                    const PeelMarch m =
+                        peelRayMarch(src, grid.view, grid.bins, maxSteps, r, s, counting ? 1u : 0u);
+                    ++tileRays;
+                    tileSteps += m.steps;
+                    tileCapped += m.capped;
+                    tileLongest = std::max(tileLongest, m.steps);
+                    if (m.occluded == 0u) continue;
                     if (counting)
-                        out.addCount(x, y, k, 1);
+                        out.addCount(x, y, k, int(m.crossings));
                     else
                         out.setOccluded(x, y, k);
                 }
             }
+        rays += tileRays;
+        steps += tileSteps;
+        capped += tileCapped;
+        for (std::uint32_t seen = longest.load();
+             seen < tileLongest && !longest.compare_exchange_weak(seen, tileLongest);) {
+        }
         progress.advance();
     });
+    PeelMarchCounts counts;
+    counts.rays = rays;
+    counts.steps = steps;
+    counts.capped = capped;
+    counts.longest = longest;
+    counts.maxSteps = maxSteps;
+    return counts;
 }
 
 PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, const Light& light,
@@ -96,7 +123,7 @@ PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, c
     stats.grid_ms = timer.milliseconds();
     stats.gridBytes = depthGridBytes(view, settings);
     timer.reset();
-    peelMarchSamples(grid, gbuffer, light, plan, farDistance, uint(settings.peelSteps), out);
+    stats.march = peelMarchSamples(grid, gbuffer, light, plan, farDistance, settings, out);
     stats.march_ms = timer.milliseconds();
     if (keep) *keep = std::move(grid);
     return stats;

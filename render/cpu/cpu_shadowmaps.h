@@ -55,12 +55,15 @@ struct PeelCpuStats {
     double grid_ms = 0.0;  ///< tracing the grid
     double march_ms = 0.0; ///< marching every sample's ray
     std::size_t gridBytes = 0;
+    PeelMarchCounts march;
 };
 
-/// `peel`: each covered pixel's light-sample rays marched through the grid into `out` (bits, or
-/// one layer per occluded sample in a counters buffer).
-void peelMarchSamples(const DepthGrid& grid, const GBuffer& gbuffer, const Light& light,
-                      const SamplePlan& plan, float farDistance, uint steps, LightSampleBuffer& out);
+/// `peel`: each covered pixel's light-sample rays marched through the grid (peelRayMarch, with
+/// the receiver as the filters take it: sm_bias, sm_normal_offset) into `out`: the occluded
+/// samples' bits, or in a counters buffer the surfaces each ray crosses as the grid holds them.
+PeelMarchCounts peelMarchSamples(const DepthGrid& grid, const GBuffer& gbuffer, const Light& light,
+                                 const SamplePlan& plan, float farDistance, const ShadowMapSettings& settings,
+                                 LightSampleBuffer& out);
 
 /// The grid of `view` and the march, timed.
 PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, const Light& light,

@@ -145,6 +145,7 @@ class ShadowMapTechnique final : public CpuTechnique {
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         map["grid_bytes"] = s.gridBytes;
         map["open_edges"] = m_openEdges;
+        map.update(peelMarchStats(s.march));
         m_stats.push_back(map);
     }
 

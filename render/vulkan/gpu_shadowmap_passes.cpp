@@ -336,16 +336,16 @@ PeelMarchPass::PeelMarchPass(const Device& device, const RenderOptions& options,
       m_counters(options.buffer == BufferKind::Counters), m_width(static_cast<uint32_t>(options.width)),
       m_height(static_cast<uint32_t>(options.height)) {
     const ShadowMapSettings settings = shadowMapSettings(options);
-    const std::uint32_t lanes = peelMarchLanes(options.samples, settings.peelSteps, settings.peelBins);
+    const std::uint32_t lanes = peelMarchLanes(options.samples, settings.peelMaxSteps, settings.peelBins);
     const std::uint32_t group = std::max<std::uint32_t>(lanes, 64);
     if (group > device.limits().maxComputeWorkGroupInvocations ||
         group > device.limits().maxComputeWorkGroupSize[0])
         throw UsageError("peel's march needs " + std::to_string(group) + " invocations a workgroup at " +
-                         std::to_string(options.samples) + " samples, peel_steps " +
-                         std::to_string(settings.peelSteps) + " and peel_bins " +
+                         std::to_string(options.samples) + " samples, peel_max_steps " +
+                         std::to_string(settings.peelMaxSteps) + " and peel_bins " +
                          std::to_string(settings.peelBins) + "; Vulkan device " + device.info().name +
                          " allows " + std::to_string(device.limits().maxComputeWorkGroupInvocations) +
-                         ": lower peel_steps, peel_bins or --samples");
+                         ": lower peel_max_steps, peel_bins or --samples");
     m_pixelsPerGroup = group / lanes;
     std::vector<ShaderDefine> marchDefines = defines;
     marchDefines.push_back({"PEEL_LANES", std::to_string(lanes)});
@@ -359,7 +359,8 @@ PassAccesses PeelMarchPass::accesses(std::size_t light) const {
     PassAccesses accesses;
     accesses.use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
-        .use(m_maps->grid[light], ResourceUse::storageRead(COMPUTE));
+        .use(m_maps->grid[light], ResourceUse::storageRead(COMPUTE))
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     if (m_counters) {
         accesses.use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
     } else {

@@ -137,9 +137,9 @@ class DepthGridPass final : public GpuPass {
 };
 
 /// Invocations of peel_march.comp that share a pixel, a power of two: enough that none marches
-/// more samples than kSampleLoopBudget allows at up to peel_steps·(peel_bins + 1) + 1 loop
+/// more samples than kSampleLoopBudget allows at up to peel_max_steps·(peel_bins + 1) + 1 loop
 /// iterations a sample (lavapipe ends an invocation's loops after 65 535; one sample's march
-/// stays under that at every peel_steps and peel_bins the parameters accept).
+/// stays under that at every peel_max_steps and peel_bins the parameters accept).
 std::uint32_t peelMarchLanes(int samples, int steps, int bins);
 
 /// `peel`'s march (peel_march.comp): every covered pixel's light-sample rays through the light's

@@ -42,6 +42,10 @@ struct GpuShadowMapStats {
     /// 1 when a fragment found the lists full: with avsmFragments no larger than the lists, its
     /// count wrapped past 2^32
     uint avsmLost;
+    uint peelCapped;    ///< `peel`: rays that needed more than peel_max_steps (peel_march.comp)
+    uint peelStepsLow;  ///< `peel`: the steps of every ray, a 64-bit sum: low 32 bits
+    uint peelStepsHigh; ///< and the carries into the high 32
+    uint peelLongest;   ///< `peel`: the most steps of one ray
     uint pad0;
 };
 
@@ -73,7 +77,7 @@ DH_FUNC uint gpuAvsmNodeWord(uint texels, uint texel, uint maxNodes, uint j) {
 }
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(GpuShadowMapStats) == 32);
+DH_STATIC_ASSERT(sizeof(GpuShadowMapStats) == 48);
 DH_STATIC_ASSERT(sizeof(GpuAvsmLists) == 16);
 #endif
 

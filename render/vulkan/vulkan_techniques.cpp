@@ -482,9 +482,19 @@ class DepthGridTechnique final : public ShadowMapFamilyTechnique {
     }
 
   private:
-    void addStats(std::size_t light, const GBuffer&, nlohmann::json& map) const override {
+    void addStats(std::size_t light, const GBuffer& gbuffer, nlohmann::json& map) const override {
         map["grid_bytes"] = depthGridBytes(m_maps.view(light), m_maps.settings());
         map["open_edges"] = m_openEdges;
+        const GpuShadowMapStats& s = m_counts[light];
+        std::uint64_t covered = 0;
+        for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;
+        PeelMarchCounts march;
+        march.rays = covered * std::uint64_t(m_c.options.samples);
+        march.steps = (std::uint64_t(s.peelStepsHigh) << 32) | s.peelStepsLow;
+        march.capped = s.peelCapped;
+        march.longest = s.peelLongest;
+        march.maxSteps = std::uint32_t(m_maps.settings().peelMaxSteps);
+        map.update(peelMarchStats(march));
     }
 
     std::vector<ClearPass> m_clear; ///< [light]

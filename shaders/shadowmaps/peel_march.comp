@@ -1,11 +1,13 @@
 #version 450
 // `peel`'s march (shadowmaps/depth_grid_dh.h): every light sample's ray from the visible point
 // through the light's depth grid, the samples it finds occluded set in the light's bitmask images
-// (lsMaskAttachment: image i holds words 2i and 2i + 1), or one layer added to their counters —
-// the same function the CPU backend runs. PEEL_LANES invocations share a pixel, lane j marching
-// samples j, j + PEEL_LANES, …: one sample's march loops up to peel_steps·(peel_bins + 1) times,
-// and the host (peelMarchLanes) gives each invocation few enough samples to stay under
-// lavapipe's loop limit. The lanes' bits meet in shared memory, and lane 0 stores the pixel's.
+// (lsMaskAttachment: image i holds words 2i and 2i + 1), or the surfaces it crosses added to their
+// counters — the same function the CPU backend runs. PEEL_LANES invocations share a pixel, lane j
+// marching samples j, j + PEEL_LANES, …: one sample's march loops up to
+// peel_max_steps·(peel_bins + 1) times, and the host (peelMarchLanes) gives each invocation few
+// enough samples to stay under lavapipe's loop limit. The lanes' bits meet in shared memory, and
+// lane 0 stores the pixel's. Each invocation adds its rays' steps, capped rays and longest march
+// to the light's stats.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_buffer_reference : require
@@ -37,6 +39,7 @@ layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Count
 #else
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_MASKS, rg32ui) uniform uimage2D masks[GPU_MAX_MASK_IMAGES];
 #endif
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuShadowMapStats stats[]; };
 
 // The data access of depth_grid_dh.h: the light's grid by device address.
 layout(buffer_reference, std430, buffer_reference_align = 4) readonly buffer GridWordRef { uint value; };
@@ -62,8 +65,10 @@ void main() {
                    imageLoad(gTriangle, ivec2(pixel)).x != GPU_NO_TRIANGLE;
     uint words[WORD_COUNT];
     for (uint w = 0u; w < uint(WORD_COUNT); ++w) words[w] = 0u;
+    uint steps = 0u, capped = 0u, longest = 0u;
     if (covered) {
         vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
+        vec3 n = gpuShadingNormal(triangles[imageLoad(gTriangle, ivec2(pixel)).x], vec3(frame.eye), p);
         LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
         uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
         uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
@@ -71,20 +76,32 @@ void main() {
         ShadowMapView v = shadowViews[pc.light];
         PeelGridSource src;
         src.address = packUint2x32(uvec2(v.representationLow, v.representationHigh));
-        uint bins = shadowParams.peelBins, steps = shadowParams.peelSteps;
+        uint bins = shadowParams.peelBins, maxSteps = shadowParams.peelMaxSteps;
+        ShadowReceiver r = shadowReceiver(v, p, n, shadowParams.bias, shadowParams.normalOffset, vec2(1.0, 0.0));
 #if LS_COUNTERS
         uint counterWord = lsPixelCounterWord(lsPixelIndex(pixel, frame.width), uint(SAMPLE_COUNT));
 #endif
         for (uint k = lane; k < uint(SAMPLE_COUNT); k += uint(PEEL_LANES)) {
             vec3 s = lightSamplePosition(lf, pixelSamplePoint(base, k, offset, decorrelate, lf.domain));
-            if (!peelRayOccluded(src, v, bins, steps, p, s)) continue;
+            PeelMarch m = peelRayMarch(src, v, bins, maxSteps, r, s, uint(LS_COUNTERS));
+            steps += m.steps;
+            capped += m.capped;
+            longest = max(longest, m.steps);
+            if (m.occluded == 0u) continue;
 #if LS_COUNTERS
-            atomicAdd(counters[counterWord + lsCounterWord(k)], 1u << lsCounterShift(k));
+            atomicAdd(counters[counterWord + lsCounterWord(k)], m.crossings << lsCounterShift(k));
 #else
             words[lsMaskWord(k)] |= lsMaskBit(k);
 #endif
         }
     }
+    if (steps != 0u) {
+        // A 64-bit sum of 32-bit atomics: a carry out of the low word adds one to the high word.
+        uint before = atomicAdd(stats[pc.light].peelStepsLow, steps);
+        if (before + steps < before) atomicAdd(stats[pc.light].peelStepsHigh, 1u);
+        atomicMax(stats[pc.light].peelLongest, longest);
+    }
+    if (capped != 0u) atomicAdd(stats[pc.light].peelCapped, capped);
 #if !LS_COUNTERS
     if (lane == 0u)
         for (uint w = 0u; w < uint(WORD_COUNT); ++w) groupWords[slot][w] = 0u;

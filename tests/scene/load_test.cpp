@@ -255,6 +255,35 @@ TEST(Load, ParticlesAreLightFacingTranslucentBillboardsBesideACube) {
     EXPECT_EQ(g.alpha(0, 0), 0);
 }
 
+TEST(Load, ParticlesHeightLowersTheCloudOntoTheGround) {
+    // Billboard centres: within the 1.2 m ball around (−0.6, height, 0), and at least a
+    // half-width (0.25 m) above the ground. At the default 2 the centres stay 0.8 m above the
+    // ground; at 0.9 the cloud rests on it, centres down to 0.25 m.
+    for (const char* height : {"2", "0.9"}) {
+        SceneOptions options;
+        options.set["count"] = "400";
+        options.set["height"] = height;
+        const Scene s = loadScene("particles", options);
+        const float h = std::stof(height);
+        float lowest = 1e30f;
+        for (std::size_t t = 0; t < s.triangleCount(); t += 1) {
+            if (!s.translucent(t) || t % 2 != 0) continue;
+            const vec3 a = s.positions[s.triangles[t].x], c = s.positions[s.triangles[t].z];
+            const vec3 centre = 0.5f * (a + c);
+            EXPECT_LE(length(centre - vec3(-0.6f, h, 0.0f)), 1.2f + 1e-4f) << height;
+            EXPECT_GE(centre.y, 0.25f - 1e-4f) << height;
+            lowest = std::min(lowest, centre.y);
+        }
+        if (h == 2.0f)
+            EXPECT_GT(lowest, 0.8f - 1e-4f);
+        else
+            EXPECT_LT(lowest, 0.35f); // 400 centres in the ball's lower cap down to the ground
+    }
+    SceneOptions bad;
+    bad.set["height"] = "0.2";
+    expectError<UsageError>([&] { loadScene("particles", bad); }, {"particles", "height=0.2"});
+}
+
 TEST(Load, FenceFabricIsOneTranslucentQuadBehindTheFence) {
     SceneOptions options;
     options.set["fabric"] = "0.4";
