@@ -409,6 +409,7 @@ int runCli(int argc, char** argv) {
 
     TuneArgs t;
     t.options.samples = 64;
+    t.size = "128x128"; // tuning renders many frames
     CLI::App* tune = app.add_subcommand(
         "tune", "search an image-based method's knobs for the least error against the converged references "
                 "of training scenes; the best knobs beside the defaults on held-out scenes");
