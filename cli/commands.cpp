@@ -402,16 +402,59 @@ int runCli(int argc, char** argv) {
     compare->add_option("--report", c.report,
                         "directory for index.html: options, error tables, lit/visibility/heat-map images");
     compare->add_option("--sheet", c.sheet, "contact sheet PNG: per method lit, visibility, heat map");
+    compare->add_option(
+        "--knobs", c.knobs,
+        "a knobs file (tune --json): its methods render with its knobs (--param wins over it)");
     addFrameOptions(compare, c);
+
+    TuneArgs t;
+    t.options.samples = 64;
+    t.size = "128x128"; // tuning renders many frames
+    CLI::App* tune = app.add_subcommand(
+        "tune", "search an image-based method's knobs for the least error against the converged references "
+                "of training scenes; the best knobs beside the defaults on held-out scenes");
+    tune->add_option("method", t.methods,
+                     "the image-based method (or several, comma-separated) whose knobs are searched")
+        ->required();
+    tune->add_option("--scenes", t.scenes, "the training scenes (several values, or comma-separated)")
+        ->required()
+        ->expected(1, -1);
+    tune->add_option("--validate", t.validate,
+                     "held-out scenes: the defaults' and the best knobs' error on them")
+        ->expected(1, -1);
+    tune->add_option("--knob", t.knobs,
+                     "NAME or NAME=LO:HI: a knob to search (repeatable; default: the method's tunable knobs, "
+                     "those that do not trade time for quality)");
+    tune->add_option("--budget", t.budget,
+                     "the most renders of each method's search (one per training scene per point tried)")
+        ->transform(integerIn(1, kMaxTuneBudget))
+        ->capture_default_str();
+    tune->add_option("--converged", t.converged,
+                     "K: each scene's reference is the mean of K renders of --against (cached as compare's)")
+        ->transform(integerIn(1, kMaxConvergedFrames))
+        ->capture_default_str();
+    tune->add_option("--against", t.against, "method[/backend] of the converged references")
+        ->capture_default_str();
+    tune->add_option("--backend", t.backend, "backend of the methods tuned: cpu | vulkan")
+        ->capture_default_str();
+    tune->add_option("--samples", t.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
+        ->transform(integerIn(16, 256, kSampleCounts))
+        ->capture_default_str();
+    tune->add_flag("--no-cache", t.noCache, "render the converged references even when the cache holds them");
+    tune->add_option("--json", t.json,
+                     "write the best knobs and the errors as JSON (compare --knobs reads it)");
+    addFrameOptions(tune, t);
+    tune->get_option("--param")->description(
+        "method parameter name=value (repeatable): fixed at that value, not searched");
     refuseEmptyValues(app);
 
     return runReportingErrors([&]() -> int {
         try {
             const std::string first = argc > 1 ? argv[1] : "-";
             if (first[0] != '-' && first != "render" && first != "info" && first != "bench" &&
-                first != "compare")
+                first != "compare" && first != "tune")
                 throw UsageError("unknown command '" + std::string(argv[1]) +
-                                 "' (expected render, info, bench or compare)");
+                                 "' (expected render, info, bench, compare or tune)");
             setMemoryLimitFromArguments(argc, argv);
             refuseDeeplyNestedArguments(app, argc, argv);
             app.parse(argc, argv);
@@ -419,7 +462,8 @@ int runCli(int argc, char** argv) {
             // otherwise (info too: what it loads, it loads under the same limit as a render).
             setMemoryLimit(0);
             for (const FrameArgs* a : {static_cast<const FrameArgs*>(&r), static_cast<const FrameArgs*>(&i),
-                                       static_cast<const FrameArgs*>(&b), static_cast<const FrameArgs*>(&c)})
+                                       static_cast<const FrameArgs*>(&b), static_cast<const FrameArgs*>(&c),
+                                       static_cast<const FrameArgs*>(&t)})
                 if (!a->maxMemory.empty()) setMemoryLimit(parseMemorySize(a->maxMemory));
             if (*render) {
                 r.argv.assign(argv, argv + argc);
@@ -435,6 +479,10 @@ int runCli(int argc, char** argv) {
                 c.argv.assign(argv, argv + argc);
                 c.samplesGiven = compare->get_option("--samples")->count() > 0;
                 return runCompare(c);
+            }
+            if (*tune) {
+                t.argv.assign(argv, argv + argc);
+                return runTune(t);
             }
         } catch (const CLI::ParseError& e) {
             if (e.get_exit_code() == 0) return app.exit(e); // --help, --version

@@ -631,10 +631,12 @@ int runCompare(CompareArgs& args) {
         if (!files)
             throw UsageError("compare takes one SCENE, two .npy light-sample files, or two visibility files "
                              "(.exr or float32 .npy)");
-        if (args.converged || !args.report.empty() || !args.sheet.empty() || !args.json.empty())
+        if (args.converged || !args.report.empty() || !args.sheet.empty() || !args.json.empty() ||
+            !args.knobs.empty())
             throw UsageError(std::string(args.converged         ? "--converged"
                                          : !args.report.empty() ? "--report"
                                          : !args.sheet.empty()  ? "--sheet"
+                                         : !args.knobs.empty()  ? "--knobs"
                                                                 : "--json") +
                              " compares renders of a SCENE, not two files");
         // The files are read once, before anything is written: --out's heat map must be neither.
@@ -665,7 +667,13 @@ int runCompare(CompareArgs& args) {
     if (methods.empty()) throw UsageError("--methods is empty");
     std::vector<Method> all{against.method};
     for (const MethodBackend& mb : methods) all.push_back(mb.method);
-    const std::vector<MethodParams> params = paramsForMethods(all, args.params);
+    std::vector<MethodParams> params = paramsForMethods(all, args.params);
+    // --knobs: the file's methods take its knobs (a --param item wins); knobLabels[i] says which.
+    std::vector<std::string> knobLabels(all.size());
+    if (!args.knobs.empty()) knobLabels = applyKnobsFile(readKnobsFile(args.knobs), all, params, args.params);
+    auto knobLabelOf = [&](Method m) {
+        return knobLabels[std::size_t(std::find(all.begin(), all.end(), m) - all.begin())];
+    };
     if (!args.kind.empty()) throw UsageError("--kind applies to two .npy light-sample files, not a SCENE");
     if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
     if (!args.report.empty()) prepareOutputDirectory(args.report, "--report");
@@ -675,6 +683,7 @@ int runCompare(CompareArgs& args) {
     const std::vector<OutputFile> outputs = sceneCompareOutputs(args, rowMethods);
     std::vector<InputFile> inputs;
     if (std::error_code ec; fs::is_regular_file(spec, ec)) inputs.push_back({"the scene", spec});
+    if (!args.knobs.empty()) inputs.push_back({"--knobs", args.knobs});
     checkOutputFiles(outputs, inputs);
 
     const SceneOptions sceneSets = sceneOptionsOf(args);
@@ -780,6 +789,10 @@ int runCompare(CompareArgs& args) {
                     r.visibility.maxAbs, r.lit.rmse, r.lit.maxAbs, r.lit.ssim, 100.0 * r.lit.fractionAbove,
                     r.frameMs);
     }
+    for (const Row& r : rows)
+        if (!knobLabelOf(r.mb.method).empty())
+            std::printf("knobs of %s from %s: %s\n", toString(r.mb).c_str(), printable(args.knobs).c_str(),
+                        knobLabelOf(r.mb.method).c_str());
     if (rows.front().transmittanceRmse) {
         std::printf("per-sample transmittance RMSE against %s:", toString(against).c_str());
         for (const Row& r : rows)
@@ -853,8 +866,12 @@ int runCompare(CompareArgs& args) {
             first.note = equalNote;
             std::vector<ReportTable> tables = {ranking, first, biasTable};
             if (converged) tables.push_back(convergedTable);
-            const Report report = describeReport(args, scene, sceneSets, optionsOf(against), rows, tables,
-                                                 converged ? convergedSummary : "not requested");
+            Report report = describeReport(args, scene, sceneSets, optionsOf(against), rows, tables,
+                                           converged ? convergedSummary : "not requested");
+            for (const Row& r : rows)
+                if (!knobLabelOf(r.mb.method).empty())
+                    report.settings.push_back({"knobs of " + toString(r.mb) + " (--knobs " + args.knobs + ")",
+                                               knobLabelOf(r.mb.method)});
             writeReport(args.report, report, sets, "|visibility - " + heatAgainst + "|", args.heatScale);
             std::printf("report in %s\n", printable((fs::path(args.report) / "index.html").string()).c_str());
         }
@@ -894,6 +911,8 @@ int runCompare(CompareArgs& args) {
                 row["converged"] =
                     errorJson(r.convergedVisibility, r.convergedVisibilityFacing, r.convergedLit);
             if (r.transmittanceRmse) row["transmittance_rmse"] = *r.transmittanceRmse;
+            row["knobs"] = optionsOf(r.mb).params; // every knob of the method, as rendered
+            if (!knobLabelOf(r.mb.method).empty()) row["knobs_file"] = args.knobs;
             list.push_back(row);
         }
         const bool vulkan = std::any_of(rows.begin(), rows.end(),

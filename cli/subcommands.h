@@ -11,6 +11,7 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace stsv {
@@ -111,9 +112,50 @@ struct CompareArgs : FrameArgs {
     std::string report;            ///< directory for index.html and its images (none when empty)
     std::string sheet;             ///< contact-sheet PNG (none when empty)
     std::string kind;              ///< two .npy files without metadata: what they hold (--kind)
+    std::string knobs;             ///< --knobs: a tune --json file whose methods' knobs the rows use
     bool samplesGiven = false;     ///< --samples was given (two .npy files must hold that many)
     std::vector<std::string> argv; ///< the command line, shown in the report
 };
 int runCompare(CompareArgs& args);
+
+/// The most renders `tune --budget` may allow a method's search (a bound against typing mistakes).
+constexpr int kMaxTuneBudget = 100000;
+
+struct TuneArgs : FrameArgs {
+    std::string methods;               ///< METHOD: one image-based method, or several comma-separated
+    std::vector<std::string> scenes;   ///< --scenes: the training scenes
+    std::vector<std::string> validate; ///< --validate: the held-out scenes
+    std::vector<std::string> knobs; ///< --knob NAME[=LO:HI]: the knobs searched (default: the tunable ones)
+    int budget = 200;               ///< renders of each method's search, the defaults' included
+    int converged = 16;             ///< K of each scene's converged reference
+    std::string against = "reference"; ///< method[/backend] of the converged references
+    std::string backend = "cpu";       ///< backend of the methods tuned
+    bool noCache = false;
+    std::string json;
+    std::vector<std::string> argv; ///< the command line, recorded in --json
+};
+int runTune(TuneArgs& args);
+
+/// The knobs a `tune --json` file holds per method (what `compare --knobs` applies).
+struct KnobsFile {
+    std::string path;
+    std::vector<std::pair<Method, MethodParams>> methods; ///< each method once, in the file's order
+    const MethodParams* find(Method method) const {
+        for (const auto& [m, knobs] : methods)
+            if (m == method) return &knobs;
+        return nullptr;
+    }
+};
+/// Reads a knobs file: {"methods": [{"method": NAME, "knobs": {NAME: NUMBER, ...}, ...}, ...]}
+/// (what tune --json writes; other keys are ignored), or one such method object. InputError
+/// naming the file and the entry for bad JSON, an unknown method, a method listed twice, a knob
+/// the method lacks or a value outside the knob's range.
+KnobsFile readKnobsFile(const std::string& path);
+/// compare --knobs: for each methods[i] the file lists, its knobs set in params[i], except those a
+/// `--param` item (`paramItems`) names, which win. Per method, what its rows say of their knobs:
+/// "name=value …" (a --param value marked so), empty for a method the file does not list.
+std::vector<std::string> applyKnobsFile(const KnobsFile& file, const std::vector<Method>& methods,
+                                        std::vector<MethodParams>& params,
+                                        const std::vector<std::string>& paramItems);
 
 } // namespace stsv

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <string>
 
 namespace stsv {
@@ -308,6 +309,56 @@ ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
     return params;
 }
 
+namespace {
+
+/// The knobs `stsv tune` searches unless told otherwise, with the range and scale it searches
+/// each in: the knobs that shape a method's error without changing its cost. Left out are the
+/// knobs that trade time or memory for quality, which a search for the least error would only
+/// drive to their largest value: the map's, grid's and functions' resolutions (sm_size,
+/// peel_size, avsm_size), tap, step, term and node counts (pcss_*_taps, vpcss_taps, peel_bins,
+/// peel_steps, csm_terms, avsm_nodes), and sm_fit (the fitted view is finer texels for nothing).
+/// The ranges are narrower than the knobs' own where the ends are no candidates for an optimum
+/// (a 64-texel bias, a variance floor of 0); a log scale where the effect is multiplicative.
+struct TunedKnob {
+    const char* name;
+    KnobScale scale;
+    double lo;
+    double hi;
+};
+constexpr TunedKnob kTunedKnobs[] = {
+    {"sm_bias", KnobScale::Linear, 0.0, 8.0},          // texels at the receiver
+    {"sm_normal_offset", KnobScale::Linear, 0.0, 4.0}, // texels
+    {"pcf_radius", KnobScale::Linear, 0.0, 32.0},      // texels: the penumbra's width
+    {"fm_kernel", KnobScale::Linear, 0.0, 1.0},        // fixed or searched kernel
+    {"fm_radius", KnobScale::Log, 0.5, 64.0},          // texels
+    {"fm_mip", KnobScale::Linear, 0.0, 1.0},           // summed-area table or mips
+    {"pcss_max_kernel", KnobScale::Log, 4.0, 4096.0},  // texels
+    {"pcss_max_search", KnobScale::Log, 4.0, 1024.0},  // texels
+    {"vsm_min_variance", KnobScale::Log, 1e-8, 1e-2},
+    {"vsm_bleed", KnobScale::Linear, 0.0, 0.9},
+    {"esm_c", KnobScale::Log, 5.0, 88.0},
+    {"evsm_positive", KnobScale::Log, 2.0, 42.0},
+    {"evsm_negative", KnobScale::Log, 1.0, 42.0},
+    {"msm_bias", KnobScale::Log, 1e-8, 1e-2},
+    {"csm_damp", KnobScale::Linear, 0.0, 1.0},
+};
+
+/// `knobs` with kTunedKnobs' search set on theirs; std::logic_error (a bug) for a name that is
+/// no knob or a range outside the knob's.
+std::vector<ShadowMapKnob> withTunedKnobs(std::vector<ShadowMapKnob> knobs) {
+    for (const TunedKnob& t : kTunedKnobs) {
+        const auto knob = std::find_if(knobs.begin(), knobs.end(),
+                                       [&](const ShadowMapKnob& k) { return std::string(k.name) == t.name; });
+        if (knob == knobs.end() || t.lo < knob->min || t.hi > knob->max || !(t.lo < t.hi) ||
+            (t.scale == KnobScale::Log && t.lo <= 0.0))
+            throw std::logic_error(std::string("tuned knob ") + t.name + ": no such knob, or a bad range");
+        knob->search = {true, t.scale, t.lo, t.hi};
+    }
+    return knobs;
+}
+
+} // namespace
+
 const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     using F = ShadowFilter;
     using S = ShadowMapSettings;
@@ -438,7 +489,8 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
          nullptr,
          &S::vpcssTaps},
     };
-    return knobs;
+    static const std::vector<ShadowMapKnob> tuned = withTunedKnobs(knobs);
+    return tuned;
 }
 
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params) {

@@ -127,6 +127,22 @@ struct ShadowMapSettings {
     int vpcssTaps = 25;  ///< vpcss_taps: Poisson taps of the search and of the filter (the paper's 25)
 };
 
+/// How `stsv tune` spaces the values it tries of a knob: evenly, or evenly in log(value) (knobs
+/// whose effect is multiplicative: an exponent, a variance floor, a radius).
+enum class KnobScale { Linear, Log };
+
+/// How `stsv tune` searches a knob: whether it does unless told otherwise, and the range and
+/// scale of the values it tries.
+struct KnobSearch {
+    /// Searched by default: the knob shapes the error and not the cost. Resolutions, tap and
+    /// step counts and representation sizes are not (more is always better at more cost, so a
+    /// search would pick the largest); `tune --knob NAME` searches one anyway.
+    bool tunable = false;
+    KnobScale scale = KnobScale::Linear;
+    double lo = 0.0; ///< the range searched, within the knob's [min, max]
+    double hi = 0.0;
+};
+
 /// One knob of ShadowMapSettings as a method's `--param`: its name, range and help, which filters
 /// read it, and the member it sets. The one list of the knobs: the method table's parameters are
 /// made from it (render/methods.cpp) and frames read the settings through it, so a name, a
@@ -140,6 +156,8 @@ struct ShadowMapKnob {
     std::vector<ShadowFilter> only;           ///< the filters that read it; empty: every filter
     float ShadowMapSettings::*real = nullptr; ///< the member, for a float knob
     int ShadowMapSettings::*whole = nullptr;  ///< the member, for an integer knob
+    /// How `stsv tune` searches it (set for the tunable knobs in shadowMapKnobs(), after the list).
+    KnobSearch search{};
 
     double get(const ShadowMapSettings& s) const { return whole ? double(s.*whole) : double(s.*real); }
     void set(ShadowMapSettings& s, double value) const {
@@ -150,6 +168,14 @@ struct ShadowMapKnob {
     }
     bool readBy(ShadowFilter filter) const {
         return only.empty() || std::find(only.begin(), only.end(), filter) != only.end();
+    }
+    /// What `tune` searches when told to: `search` for a tunable knob; else the knob's whole
+    /// [min, max], in log steps where min > 0 and max/min ≥ 64 (sm_size, tap counts), linear
+    /// otherwise.
+    KnobSearch searchRange() const {
+        if (search.tunable) return search;
+        const bool log = min > 0.0 && max >= 64.0 * min;
+        return {false, log ? KnobScale::Log : KnobScale::Linear, min, max};
     }
 };
 

@@ -1,8 +1,8 @@
 // Every `stsv …` command the README and docs/ show runs: each is taken from the Markdown (code
 // blocks, with `\` continuations, and inline code spans), made small (a 16×12 frame, 16 samples,
-// one timed frame, a converged reference of 2) and run in a scratch folder, and must exit 0. A
-// renamed option, a removed preset or a wrong example fails here. Synopses with placeholders
-// (SCENE, [options], a|b) are not commands and are skipped.
+// one timed frame, a converged reference of 2, a tune budget of 8 renders) and run in a scratch
+// folder, and must exit 0. A renamed option, a removed preset or a wrong example fails here.
+// Synopses with placeholders (SCENE, [options], a|b) are not commands and are skipped.
 #include "cli_test_util.h"
 
 #include <gtest/gtest.h>
@@ -141,7 +141,7 @@ std::vector<std::string> smallVersion(std::vector<std::string> args) {
     const bool npyPair =
         args.size() > 2 && args[2].size() > 4 && args[2].substr(args[2].size() - 4) == ".npy";
     const bool framed = command == "render" || command == "compare" || command == "bench" ||
-                        (command == "info" && args.size() > 2 && args[2].front() != '-');
+                        command == "tune" || (command == "info" && args.size() > 2 && args[2].front() != '-');
     if (framed && !listing && !npyPair) {
         set("--size", "16x12");
         if (command != "info") set("--samples", "16");
@@ -149,6 +149,10 @@ std::vector<std::string> smallVersion(std::vector<std::string> args) {
     if (command == "bench" && !listing) {
         set("--repeat", "1");
         set("--warmup", "0");
+    }
+    if (command == "tune") { // a few points of the search
+        set("--budget", "8");
+        set("--converged", "2");
     }
     for (std::size_t i = 0; i + 1 < args.size(); ++i)
         if (args[i] == "--converged") args[i + 1] = "2";
