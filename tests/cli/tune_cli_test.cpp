@@ -317,6 +317,8 @@ TEST(TuneCli, BadInputIsRefusedWithAClearError) {
                                         "--size",  "8x8",   "--samples", "16",      "-q"};
     };
     expectRefused(compare(dir.file("missing.json")), "missing.json");
+    expectRefused({"compare", dir.file("a.npy"), dir.file("b.npy"), "--knobs", dir.file("k.json")},
+                  "--knobs compares renders of a SCENE, not two files");
     const std::vector<std::pair<std::string, std::string>> bad = {
         {"{not json", "not valid JSON"},
         {"[1, 2]", "a knobs file is an object"},
