@@ -156,8 +156,9 @@ std::vector<MethodInfo> buildTable() {
          .name = "peel",
          .description =
              "Depth-peeling soft shadows (Liu et al. 2009): a depth grid of front and back faces "
-             "from the light centre, every sample's ray marched through it (Table 1); assumes "
-             "closed objects (behind an open surface facing the light: shadowed; facing away: lit)",
+             "from the light centre, every sample's ray marched through it a texel a step (Table 1 "
+             "over each step's depths; counters: the grid's surfaces it crosses); assumes closed "
+             "objects (behind an open surface facing the light: shadowed; facing away: lit)",
          .family = MethodFamily::ImageBased,
          .output = MethodOutput::SampleOcclusion,
          .backends = {B::Vulkan, B::Cpu},

@@ -101,8 +101,8 @@ constexpr ParamRange PARTICLES_COUNT{1, 100000};
 /// smaller one would change nothing) to 1.
 constexpr ParamRange PARTICLES_OPACITY{0.001, 1.0};
 /// Height of the cloud's centre: from 0.5 m (the cloud's lower half pressed onto the ground) to
-/// 10 m (far above it).
-constexpr ParamRange PARTICLES_HEIGHT{0.5, 10.0};
+/// 4 m (its top, 5.45 m with a billboard's half-width, still under the light's lowest corner).
+constexpr ParamRange PARTICLES_HEIGHT{0.5, 4.0};
 
 struct ParticlesParams {
     int count = 1000;       ///< billboards, 2 translucent triangles each

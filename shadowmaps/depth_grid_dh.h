@@ -30,8 +30,11 @@
 // non-intersecting objects, so that a ray meets surfaces in pairs: behind a lone front face (an
 // open quad facing the light) everything counts as inside, behind a lone back face nothing.
 //
-// A light sample's ray from the visible point p to the sample s is occluded when any of
-// `peel_steps` points on it is: the midpoints of S equal steps, p + (k + ½)/S·(s − p).
+// A light sample's ray from the visible point p to the sample s is marched a grid texel at a time
+// across the map (peelRayMarch), each step's whole depth span run through the table in the texel
+// of its midpoint (peelTexelSpan): occluded when some depth is inside. The paper marches points
+// at a fixed step; with 20 of them a ray on the knot (0.22 m apart against a 0.24 m tube) stepped
+// over the tube and whole blobs of its shadow vanished. `peel_max_steps` caps the steps.
 //
 // The includer defines, before including this header,
 //   struct PeelGridSource                                   what the grid is read from

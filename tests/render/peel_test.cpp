@@ -1,8 +1,10 @@
 // Depth-peeling soft shadows (`peel`, shadowmaps/depth_grid_dh.h) on the CPU: the paper's Table 1
-// case by case and on hand-built grids, then the light-sample bits against Embree on closed meshes
-// (a sphere, the torus knot, the crate of tests/data): agreement grows with the march steps and
-// with the subintervals. On the open fence, whose quads face away from the light, the lone back
-// faces let the light through: too bright, as the paper's closed-object assumption predicts.
+// case by case and on hand-built grids, the march on hand-built grids (a thin object and a
+// one-texel wall that fixed points step over, the surfaces a ray crosses), then the light-sample
+// bits and counters against Embree on closed meshes (a sphere, the torus knot, the crate of
+// tests/data), the cap's stats and warning. On the open fence, whose quads face away from the
+// light, the lone back faces let the light through: too bright, as the paper's closed-object
+// assumption predicts.
 #include "scene/geometry.h"
 #include "scene/load.h"
 #include "shadowmaps/depth_grid.h"
