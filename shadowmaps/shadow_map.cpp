@@ -316,7 +316,7 @@ namespace {
 /// knobs that trade time or memory for quality, which a search for the least error would only
 /// drive to their largest value: the map's, grid's and functions' resolutions (sm_size,
 /// peel_size, avsm_size), tap, step, term and node counts (pcss_*_taps, vpcss_taps, peel_bins,
-/// peel_steps, csm_terms, avsm_nodes), and sm_fit (the fitted view is finer texels for nothing).
+/// peel_max_steps, csm_terms, avsm_nodes), and sm_fit (the fitted view is finer texels for nothing).
 /// The ranges are narrower than the knobs' own where the ends are no candidates for an optimum
 /// (a 64-texel bias, a variance floor of 0); a log scale where the effect is multiplicative.
 struct TunedKnob {
