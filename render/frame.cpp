@@ -34,11 +34,29 @@ nlohmann::json sceneStats(const Scene& scene) {
             {"lights", scene.lights.size()}};
 }
 
-nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+namespace {
+
+nlohmann::json clampStats(const std::string& what, std::uint64_t clampedPixels, const GBuffer& gbuffer) {
     std::size_t covered = 0;
     for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;
-    return {{"kernel_clamped_pixels", clampedPixels},
-            {"kernel_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
+    return {{what + "_clamped_pixels", clampedPixels},
+            {what + "_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
+}
+
+} // namespace
+
+nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+    return clampStats("kernel", clampedPixels, gbuffer);
+}
+
+nlohmann::json kernelStrideStats(std::uint64_t stridedPixels, const GBuffer& gbuffer) {
+    nlohmann::json stats = clampStats("kernel", stridedPixels, gbuffer);
+    return {{"kernel_strided_pixels", stats["kernel_clamped_pixels"]},
+            {"kernel_strided_fraction", stats["kernel_clamped_fraction"]}};
+}
+
+nlohmann::json searchClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+    return clampStats("search", clampedPixels, gbuffer);
 }
 
 nlohmann::json avsmStatsJson(const AvsmStats& s, std::size_t bytes) {
@@ -111,9 +129,12 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                            " with --buffer transmittance, let their fraction through)");
     }
     if (stats.contains("shadow_maps") && stats["shadow_maps"].is_array()) {
-        double worst = 0.0;
-        for (const nlohmann::json& map : stats["shadow_maps"])
-            worst = std::max(worst, map.value("kernel_clamped_fraction", 0.0));
+        double worstKernel = 0.0, worstSearch = 0.0, worstStride = 0.0;
+        for (const nlohmann::json& map : stats["shadow_maps"]) {
+            worstKernel = std::max(worstKernel, map.value("kernel_clamped_fraction", 0.0));
+            worstSearch = std::max(worstSearch, map.value("search_clamped_fraction", 0.0));
+            worstStride = std::max(worstStride, map.value("kernel_strided_fraction", 0.0));
+        }
         std::size_t openEdges = 0;
         for (const nlohmann::json& map : stats["shadow_maps"])
             openEdges = std::max(openEdges, map.value("open_edges", std::size_t(0)));
@@ -123,13 +144,29 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                 " open edges (single quads, open meshes): behind a surface facing the light with "
                 "no back face after it everything counts as shadowed, behind a lone back face "
                 "nothing");
-        if (worst > KERNEL_CLAMP_WARNING) {
-            char text[200];
-            std::snprintf(
-                text, sizeof text,
-                "%s clamped the filter kernel of %.1f %% of the pixels to pcss_max_kernel: their "
-                "penumbrae are narrower than PCSS estimates (raise it with --param pcss_max_kernel=...)",
-                method.c_str(), 100.0 * worst);
+        char text[240];
+        if (worstKernel > KERNEL_CLAMP_WARNING) {
+            std::snprintf(text, sizeof text,
+                          "%s clamped the filter kernel of %.1f %% of the pixels to pcss_max_kernel: their "
+                          "penumbrae are narrower than PCSS estimates (raise it with --param "
+                          "pcss_max_kernel=...)",
+                          method.c_str(), 100.0 * worstKernel);
+            warnings.emplace_back(text);
+        }
+        if (worstStride > KERNEL_CLAMP_WARNING) {
+            std::snprintf(text, sizeof text,
+                          "%s spread the kernel's taps more than three texels apart in %.1f %% of the pixels "
+                          "(pcf_max_radius): blockers narrower than that can fall between them (raise it "
+                          "with --param pcf_max_radius=...)",
+                          method.c_str(), 100.0 * worstStride);
+            warnings.emplace_back(text);
+        }
+        if (worstSearch > KERNEL_CLAMP_WARNING) {
+            std::snprintf(text, sizeof text,
+                          "%s cut the blocker search of %.1f %% of the pixels to pcss_max_search: blockers "
+                          "beyond it are missed, and wide penumbrae end early on their lit side (raise it "
+                          "with --param pcss_max_search=...)",
+                          method.c_str(), 100.0 * worstSearch);
             warnings.emplace_back(text);
         }
     }

@@ -206,6 +206,7 @@ std::string knobList(const MethodInfo& method) {
 }
 
 UsageError unknownKnob(const MethodInfo& method, const std::string& name) {
+    if (const char* why = retiredShadowMapKnob(name)) return UsageError("--param " + name + ": " + why);
     return UsageError("--param " + name + ": method " + method.name +
                       " has no such parameter (its parameters: " + knobList(method) + ")");
 }

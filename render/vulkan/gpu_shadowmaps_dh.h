@@ -32,7 +32,8 @@ struct GpuAvsmLists {
 
 /// What the shadow-map passes count per light.
 struct GpuShadowMapStats {
-    uint kernelClamped;  ///< PCSS, vpcss: pixels whose filter radius pcss_max_kernel clamped
+    uint kernelClamped;  ///< PCSS, vpcss: pixels whose filter radius pcss_max_kernel clamped;
+                         ///< PCF: whose taps pcf_max_radius spread more than three texels apart
                          ///< (shadow_filter.comp)
     uint avsmFragments;  ///< fragments listed (avsm_fragments.frag), past the list's end too
     uint avsmTexels;     ///< texels whose function has nodes (avsm_build.comp)
@@ -42,7 +43,7 @@ struct GpuShadowMapStats {
     /// 1 when a fragment found the lists full: with avsmFragments no larger than the lists, its
     /// count wrapped past 2^32
     uint avsmLost;
-    uint pad0;
+    uint searchClamped; ///< PCSS, vpcss, fm_kernel=1: pixels whose blocker search pcss_max_search cut
 };
 
 /// A map texel as the rasteriser writes it with atomicMax: the bits of the depth (a positive

@@ -33,7 +33,9 @@ float groundTexel(const Scene& scene) {
 /// the scene box (sm_fit=0): the texel sizes and limits here are worked out for that map (groundTexel).
 const MethodParams kPcssParams = {
     {"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
-const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcf_radius", 2.0}};
+/// PCF with a kernel of 1.5 cm either side: about the 5 × 5 texels around the receiver's on the
+/// ground of this 1024² scene-box map (texels of 5 to 6 mm).
+const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcf_world_radius", 0.015}};
 
 struct Measured {
     double width = 0.0;
@@ -153,8 +155,9 @@ TEST(PcfParallelPlanes, FixedKernelDoesNotHardenWithContact) {
                 low.width, lowH, high.width, highH, texel, (kHigh - kLow) * penumbraWidth(lowH),
                 (kHigh - kLow) * penumbraWidth(highH));
     ASSERT_FALSE(std::isnan(low.width) || std::isnan(high.width));
-    // The 5×5-texel kernel makes the same ramp at both heights: equal within two texels (the
-    // staircase of a texel grid sampled by 3.5 mm columns).
+    // The fixed world kernel (1.5 cm either side, 5 to 6 texels across) makes the same ramp at
+    // both heights: equal within two texels (the staircase of a texel grid sampled by 3.5 mm
+    // columns).
     EXPECT_NEAR(high.width, low.width, 2.0 * texel);
     // … and misses the analytic width at h_o = 1.5 by far more than two texels.
     EXPECT_GT(std::abs(high.width - (kHigh - kLow) * penumbraWidth(highH)), 20.0 * texel);

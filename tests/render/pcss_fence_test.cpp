@@ -148,9 +148,9 @@ struct BiasSetup {
         ShadowMapSettings s;
         s.filter = f;
         s.bias = bias;
-        // The map here is fitted to the scene box (6 mm texels): a 5 × 5 kernel spans there what
-        // the default 11 × 11 spans on the map fitted to the view.
-        s.pcfRadius = 2;
+        // The map here is fitted to the scene box (6 mm texels): a kernel of 1.5 cm either side,
+        // the 5 × 5 texels around the receiver's, whose blur the bounds below are worked out for.
+        s.pcfWorldRadius = 0.015f;
         const BiasErrors e = measure(s);
         std::printf("%-16s acne %.5f, peter-panning %.4f of the dark band (%zu px), mean excess %.4f\n", what,
                     e.acne, e.leak, e.band, e.excess);
