@@ -132,9 +132,13 @@ TEST(ShadowMapDefaults, EveryDepthMapMethodMakesTheParallelPlanesPenumbraAtItsDe
         std::vector<std::pair<double, double>> penumbrae; ///< (centre, width) on the ground
     };
     const std::vector<Case> cases = {
-        {"one occluder at 1.5 m", parallelPlanes(1.5f), [&](double x) { return linearRamp(x, Wone); },
+        {"one occluder at 1.5 m",
+         parallelPlanes(1.5f),
+         [&](double x) { return linearRamp(x, Wone); },
          {{0.0, Wone}}},
-        {"two occluders at 0.5 m and 1 m", twoOccluders(), twoOccludersRamp,
+        {"two occluders at 0.5 m and 1 m",
+         twoOccluders(),
+         twoOccludersRamp,
          {{-0.2 * kLightHeight / (kLightHeight - 0.5), penumbraWidth(0.5f)},
           {0.15 * kLightHeight / (kLightHeight - 1.0), penumbraWidth(1.0f)}}},
     };
@@ -154,22 +158,24 @@ TEST(ShadowMapDefaults, EveryDepthMapMethodMakesTheParallelPlanesPenumbraAtItsDe
             return v;
         };
         std::map<Method, double> error;
-        for (const Method m : {Method::Pcf, Method::Pcss, Method::Vsm, Method::Esm, Method::Evsm, Method::Msm,
-                               Method::Csm}) {
+        for (const Method m :
+             {Method::Pcf, Method::Pcss, Method::Vsm, Method::Esm, Method::Evsm, Method::Msm, Method::Csm}) {
             const Frame f = renderCpu(c.scene, m, kW, kH, params, 64, 3u);
             const Profile p = columnProfile(f);
             error[m] = penumbraRmse(p, c.truth, c.penumbrae);
             std::printf("%s, %s: penumbra RMSE %.4f against the analytic ramp\n", c.name,
                         methodInfo(m).name.c_str(), error[m]);
             if (m == Method::Pcf) {
-                const double expected = penumbraRmse(
-                    Profile{p.x, [&] {
-                                std::vector<double> v;
-                                for (const double x : p.x) v.push_back(pcfRamp(x));
-                                return v;
-                            }()},
-                    c.truth, c.penumbrae);
-                std::printf("  pcf's own ramp of %.3f m against the analytic one: %.4f\n", 2.0 * rho, expected);
+                const double expected = penumbraRmse(Profile{p.x,
+                                                             [&] {
+                                                                 std::vector<double> v;
+                                                                 for (const double x : p.x)
+                                                                     v.push_back(pcfRamp(x));
+                                                                 return v;
+                                                             }()},
+                                                     c.truth, c.penumbrae);
+                std::printf("  pcf's own ramp of %.3f m against the analytic one: %.4f\n", 2.0 * rho,
+                            expected);
                 // The texel staircase and the strided taps: 0.02.
                 EXPECT_NEAR(error[m], expected, 0.02);
             }
