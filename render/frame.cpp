@@ -36,27 +36,27 @@ nlohmann::json sceneStats(const Scene& scene) {
 
 namespace {
 
-nlohmann::json clampStats(const std::string& what, std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+/// {"<what>_pixels", "<what>_fraction"}: a count of the pixels with a visible surface, and its
+/// fraction of them.
+nlohmann::json pixelCountStats(const std::string& what, std::uint64_t pixels, const GBuffer& gbuffer) {
     std::size_t covered = 0;
     for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;
-    return {{what + "_clamped_pixels", clampedPixels},
-            {what + "_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
+    return {{what + "_pixels", pixels},
+            {what + "_fraction", covered ? double(pixels) / double(covered) : 0.0}};
 }
 
 } // namespace
 
 nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
-    return clampStats("kernel", clampedPixels, gbuffer);
+    return pixelCountStats("kernel_clamped", clampedPixels, gbuffer);
 }
 
 nlohmann::json kernelStrideStats(std::uint64_t stridedPixels, const GBuffer& gbuffer) {
-    nlohmann::json stats = clampStats("kernel", stridedPixels, gbuffer);
-    return {{"kernel_strided_pixels", stats["kernel_clamped_pixels"]},
-            {"kernel_strided_fraction", stats["kernel_clamped_fraction"]}};
+    return pixelCountStats("kernel_strided", stridedPixels, gbuffer);
 }
 
 nlohmann::json searchClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
-    return clampStats("search", clampedPixels, gbuffer);
+    return pixelCountStats("search_clamped", clampedPixels, gbuffer);
 }
 
 nlohmann::json avsmStatsJson(const AvsmStats& s, std::size_t bytes) {
