@@ -21,6 +21,10 @@ every_method="stsv/vulkan,stsv/cpu,dcs+stsv/vulkan,dcs+stsv/cpu,pw+stsv/vulkan,p
 opaque_methods="stsv/vulkan,stsv/cpu,dcs/vulkan,dcs/cpu,pw/vulkan,pw/cpu"
 all_methods="stsv,pw,dcs,pw+stsv,dcs+stsv,pcf,pcss,vsm,esm,evsm,msm,csm,peel"
 example=tests/data/scene/example.json
+# The fairness sweep: every image-based method's knobs tuned on each scene of the tuning set alone
+# (bench/tables.py tune: the defaults' error beside each scene's best).
+map_methods="pcf,pcss,vsm,esm,evsm,msm,csm,peel,avsm,vpcss"
+tune_options="--size 160x120 --samples 64 --converged 8 -q"
 
 # name, then the stsv arguments (the --json file is added).
 measurement() {
@@ -61,13 +65,23 @@ measurement() {
       --converged 16 --size 256x256 --samples 64 ;;
     sheet-fabric) echo compare fence --set fabric=0.6 --buffer transmittance --methods "$all_methods,avsm,vpcss" \
       --converged 16 --size 192x144 --sheet docs/fabric-sheet.png ;;
+    tune-fence) echo tune "$map_methods" --scenes fence $tune_options ;;
+    tune-foliage) echo tune "$map_methods" --scenes foliage $tune_options ;;
+    tune-knot) echo tune "$map_methods" --scenes knot $tune_options ;;
+    tune-fence-mesh) echo tune "$map_methods" --scenes fence-mesh $tune_options ;;
+    tune-particles-inside) echo tune "$map_methods" --scenes particles --set height=0.9 --buffer transmittance \
+      $tune_options ;;
+    tune-example) echo tune "$map_methods" --scenes "$example" $tune_options ;;
+    tune-planes) echo tune "$map_methods" --scenes tests/data/scene/parallel_planes.json $tune_options ;;
+    tune-planes-two) echo tune "$map_methods" --scenes tests/data/scene/parallel_planes_two.json $tune_options ;;
     *) return 1 ;;
   esac
 }
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
      bench-fence-vs-mesh bench-foliage-count bench-knot-scale bench-foliage-dense compare-particles sheet-particles bench-particles
-     bench-particles-maps sheet-fabric facing-knot extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25)
+     bench-particles-maps sheet-fabric facing-knot extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25
+     tune-fence tune-foliage tune-knot tune-fence-mesh tune-particles-inside tune-example tune-planes tune-planes-two)
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")

@@ -6,6 +6,8 @@
     bench/tables.py facing FILE.json       one compare run's ranking by the light-facing visibility error
     bench/tables.py bench FILE.json        one bench run: frame medians, passes, speed-ups, errors
     bench/tables.py summary FILE.json...   a line of results per run (the README's headline table)
+    bench/tables.py tune FILE.json...      the fairness table: per method, each scene's error at the
+                                           defaults and at the knobs tune found best for that scene
     bench/tables.py update DOC.md          regenerates every generated block of DOC.md in place
     bench/tables.py check DOC.md           exit 1 when a block differs from what its files give
 
@@ -308,7 +310,50 @@ def summary_table(files):
                                          for p, d in files])
 
 
-KINDS = {"compare": compare_table, "converged": converged_table, "bench": bench_table,
+def tune_scene_name(data, spec):
+    label = os.path.splitext(os.path.basename(spec))[0]
+    sets = data.get("set") or {}
+    return label + "".join(" %s=%g" % (k, v) for k, v in sorted(sets.items()))
+
+
+def tune_table(files):
+    """Per image-based method and scene, the error at the defaults against the least error that
+    `stsv tune METHODS --scenes SCENE` found on that scene alone (its error figure: the light-facing
+    visibility RMSE against the converged reference), their ratio, and the worst ratio over the
+    scenes: the defaults are fair where it is at most FAIR_RATIO."""
+    scenes, cells, methods = [], {}, []
+    for _, data in files:
+        for m in data["methods"]:
+            if m["method"] not in methods:
+                methods.append(m["method"])
+            for t in m["training"]:
+                name = tune_scene_name(data, t["scene"])
+                if name not in scenes:
+                    scenes.append(name)
+                cells[(m["method"], name)] = (t["default"], t["best"])
+    rows = []
+    for method in methods:
+        worst = None
+        r = [method]
+        for name in scenes:
+            if (method, name) not in cells:
+                r.append("–")
+                continue
+            default, best = cells[(method, name)]
+            ratio = default / best if best > 0 else 1.0
+            worst = ratio if worst is None else max(worst, ratio)
+            r.append("%.4f / %.4f (%.2f)" % (default, best, ratio))
+        r.append("–" if worst is None else "%.2f%s" % (worst, "" if worst <= FAIR_RATIO else " ✗"))
+        rows.append(r)
+    legend = ("Each cell: error at the defaults / least error tune found on that scene alone (their ratio); "
+              "error: %s. ✗: the defaults are more than %.2f× the best on some scene." % (
+                  files[0][1]["error"], FAIR_RATIO))
+    return legend + "\n\n" + table(["method"] + scenes + ["worst ratio"], rows)
+
+
+FAIR_RATIO = 1.25
+
+KINDS = {"tune": tune_table, "compare": compare_table, "converged": converged_table, "bench": bench_table,
          "summary": summary_table, "facing": facing_table}
 
 

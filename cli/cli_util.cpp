@@ -81,6 +81,8 @@ std::vector<MethodParams> paramsForMethods(const std::vector<Method>& methods,
                 known = true;
             }
         if (!known) {
+            if (const char* why = retiredShadowMapKnob(name))
+                throw UsageError("--param " + name + ": " + why);
             std::string list;
             for (Method m : methods)
                 for (const MethodKnob& k : methodInfo(m).knobs)

@@ -33,6 +33,7 @@
 #include "core/timer.h"
 #include "core/version.h"
 #include "render/renderer.h"
+#include "sampling/light_bounds.h"
 #include "scene/load.h"
 
 #include <algorithm>
@@ -57,16 +58,6 @@ constexpr double kErrorFloor = 1e-6;
 /// Significant digits of the values tried of a continuous knob (the printed and written values
 /// are the values rendered).
 constexpr int kSignificantDigits = 4;
-
-/// The error tune minimises on one scene: the frame's visibility RMSE, in display units over every
-/// pixel, against the scene's converged reference (`converged`: its visibility, display values),
-/// as `compare --converged` reports it. The one place that says what tune optimises: a different
-/// figure (say the visibility error over the pixels that face the light) replaces this body, and
-/// kErrorName and the docs' tune section say which.
-double tuneError(const Frame& frame, const ImageF& converged) {
-    return compareImages(toDisplay(frame.visibility, false), converged).rmse;
-}
-constexpr const char* kErrorName = "visibility RMSE against the converged reference";
 
 std::string formatNumber(double value) {
     char text[32];
@@ -141,7 +132,26 @@ struct TuneScene {
     std::string spec;
     Scene scene;
     ImageF converged; ///< visibility, display values
+    /// The pixels the error counts, from the G-buffer of the first frame rendered of the scene
+    /// (every frame of a backend sees the same G-buffer; compare takes its --against frame's).
+    mutable std::optional<LightFacingMask> facing;
 };
+
+/// The error tune minimises on one scene, the figure compare ranks by: the frame's visibility
+/// RMSE (display units) over the light-facing pixels, against the scene's converged reference.
+/// Pixels facing away from every light change nothing in the lit image, and counting them
+/// would tune the filtered maps for the light bleeding there (docs/user-guide.md, compare). A
+/// scene where no pixel faces a light counts every pixel (its facing_pixels, in --json, is 0).
+double tuneError(const Frame& frame, const TuneScene& s) {
+    const ImageF visibility = toDisplay(frame.visibility, false);
+    if (!s.facing)
+        s.facing = lightFacingMask(frame.gbuffer, s.scene.lights, farDistanceFor(s.scene.bounds()),
+                                   visibility.width, visibility.height);
+    if (s.facing->facing == 0) return compareImages(visibility, s.converged).rmse;
+    return compareImagesWhere(visibility, s.converged, s.facing->selected).rmse;
+}
+constexpr const char* kErrorName =
+    "visibility RMSE over the light-facing pixels against the converged reference";
 
 /// "name=value name=value" of `values` (the searched knobs', in order).
 std::string describePoint(const std::vector<SearchedKnob>& knobs, const std::vector<double>& values) {
@@ -387,7 +397,7 @@ class Search {
             checkFrameMemory(o, s.scene);
             const Frame frame = renderFrame(s.scene, o);
             for (const std::string& w : frameWarnings(frame.stats)) m_r.warnings.insert(s.spec + ": " + w);
-            e.errors.push_back(tuneError(frame, s.converged));
+            e.errors.push_back(tuneError(frame, s));
             ++m_r.renders;
         }
         e.objective = m_seen.empty() ? 1.0 : objectiveOf(e.errors, m_r.defaults.errors);
@@ -614,7 +624,7 @@ int runTune(TuneArgs& args) {
         for (const TuneScene& s : heldOut) {
             o.params = r.paramsAt(r.defaults.values);
             const Frame d = renderFrame(s.scene, o);
-            r.heldOutDefault.push_back(tuneError(d, s.converged));
+            r.heldOutDefault.push_back(tuneError(d, s));
             ++r.heldOutRenders;
             if (same) {
                 r.heldOutBest.push_back(r.heldOutDefault.back());
@@ -622,7 +632,7 @@ int runTune(TuneArgs& args) {
             }
             o.params = r.paramsAt(r.best.values);
             const Frame b = renderFrame(s.scene, o);
-            r.heldOutBest.push_back(tuneError(b, s.converged));
+            r.heldOutBest.push_back(tuneError(b, s));
             ++r.heldOutRenders;
         }
         r.seconds = timer.milliseconds() / 1000.0;
@@ -645,7 +655,10 @@ int runTune(TuneArgs& args) {
                                const std::vector<double>& b) {
                 nlohmann::json j = nlohmann::json::array();
                 for (std::size_t i = 0; i < scenes.size(); ++i)
-                    j.push_back({{"scene", scenes[i].spec}, {"default", d[i]}, {"best", b[i]}});
+                    j.push_back({{"scene", scenes[i].spec},
+                                 {"default", d[i]},
+                                 {"best", b[i]},
+                                 {"facing_pixels", scenes[i].facing ? scenes[i].facing->facing : 0}});
                 return j;
             };
             list.push_back(
@@ -680,6 +693,7 @@ int runTune(TuneArgs& args) {
                  return o;
              }()},
             {"seconds", total.milliseconds() / 1000.0},
+            {"machine", machineJson(base.backend == Backend::Vulkan, base.device)},
             {"methods", list}};
         writeJson(args.json, j);
         reportWritten(args.json, args.quiet);
@@ -730,6 +744,7 @@ KnobsFile readKnobsFile(const std::string& path) {
         for (const auto& [knob, value] : e["knobs"].items()) {
             const MethodKnob* k = method->knob(knob);
             if (!k) {
+                if (const char* why = retiredShadowMapKnob(knob)) throw InputError(path, where + ": " + why);
                 std::string list;
                 for (const MethodKnob& mk : method->knobs) list += (list.empty() ? "" : ", ") + mk.name;
                 throw InputError(path, where + ": " + name + " has no knob '" + knob +

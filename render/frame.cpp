@@ -34,11 +34,29 @@ nlohmann::json sceneStats(const Scene& scene) {
             {"lights", scene.lights.size()}};
 }
 
-nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+namespace {
+
+/// {"<what>_pixels", "<what>_fraction"}: a count of the pixels with a visible surface, and its
+/// fraction of them.
+nlohmann::json pixelCountStats(const std::string& what, std::uint64_t pixels, const GBuffer& gbuffer) {
     std::size_t covered = 0;
     for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;
-    return {{"kernel_clamped_pixels", clampedPixels},
-            {"kernel_clamped_fraction", covered ? double(clampedPixels) / double(covered) : 0.0}};
+    return {{what + "_pixels", pixels},
+            {what + "_fraction", covered ? double(pixels) / double(covered) : 0.0}};
+}
+
+} // namespace
+
+nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+    return pixelCountStats("kernel_clamped", clampedPixels, gbuffer);
+}
+
+nlohmann::json kernelStrideStats(std::uint64_t stridedPixels, const GBuffer& gbuffer) {
+    return pixelCountStats("kernel_strided", stridedPixels, gbuffer);
+}
+
+nlohmann::json searchClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer) {
+    return pixelCountStats("search_clamped", clampedPixels, gbuffer);
 }
 
 nlohmann::json peelMarchStats(const PeelMarchCounts& c) {
@@ -121,9 +139,12 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                            " with --buffer transmittance, let their fraction through)");
     }
     if (stats.contains("shadow_maps") && stats["shadow_maps"].is_array()) {
-        double worst = 0.0;
-        for (const nlohmann::json& map : stats["shadow_maps"])
-            worst = std::max(worst, map.value("kernel_clamped_fraction", 0.0));
+        double worstKernel = 0.0, worstSearch = 0.0, worstStride = 0.0;
+        for (const nlohmann::json& map : stats["shadow_maps"]) {
+            worstKernel = std::max(worstKernel, map.value("kernel_clamped_fraction", 0.0));
+            worstSearch = std::max(worstSearch, map.value("search_clamped_fraction", 0.0));
+            worstStride = std::max(worstStride, map.value("kernel_strided_fraction", 0.0));
+        }
         std::size_t openEdges = 0;
         for (const nlohmann::json& map : stats["shadow_maps"])
             openEdges = std::max(openEdges, map.value("open_edges", std::size_t(0)));
@@ -133,6 +154,7 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                 " open edges (single quads, open meshes): behind a surface facing the light with "
                 "no back face after it everything counts as shadowed, behind a lone back face "
                 "nothing");
+        char text[240];
         std::uint64_t capped = 0, rays = 0;
         std::uint32_t cap = 0;
         for (const nlohmann::json& map : stats["shadow_maps"])
@@ -142,7 +164,6 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                 cap = map["march"].value("max_steps", std::uint32_t(0));
             }
         if (capped > 0) {
-            char text[240];
             std::snprintf(text, sizeof text,
                           "%s: %llu of %llu light-sample rays (%.3f %%) needed more than peel_max_steps=%u "
                           "march steps and took longer ones, which can step over thin occluders (raise "
@@ -151,13 +172,28 @@ std::vector<std::string> frameWarnings(const nlohmann::json& stats) {
                           static_cast<unsigned long long>(rays), 100.0 * double(capped) / double(rays), cap);
             warnings.emplace_back(text);
         }
-        if (worst > KERNEL_CLAMP_WARNING) {
-            char text[200];
-            std::snprintf(
-                text, sizeof text,
-                "%s clamped the filter kernel of %.1f %% of the pixels to pcss_max_kernel: their "
-                "penumbrae are narrower than PCSS estimates (raise it with --param pcss_max_kernel=...)",
-                method.c_str(), 100.0 * worst);
+        if (worstKernel > KERNEL_CLAMP_WARNING) {
+            std::snprintf(text, sizeof text,
+                          "%s clamped the filter kernel of %.1f %% of the pixels to pcss_max_kernel: their "
+                          "penumbrae are narrower than PCSS estimates (raise it with --param "
+                          "pcss_max_kernel=...)",
+                          method.c_str(), 100.0 * worstKernel);
+            warnings.emplace_back(text);
+        }
+        if (worstStride > KERNEL_CLAMP_WARNING) {
+            std::snprintf(text, sizeof text,
+                          "%s spread the kernel's taps more than three texels apart in %.1f %% of the pixels "
+                          "(pcf_max_radius): blockers narrower than that can fall between them (raise it "
+                          "with --param pcf_max_radius=...)",
+                          method.c_str(), 100.0 * worstStride);
+            warnings.emplace_back(text);
+        }
+        if (worstSearch > KERNEL_CLAMP_WARNING) {
+            std::snprintf(text, sizeof text,
+                          "%s cut the blocker search of %.1f %% of the pixels to pcss_max_search: blockers "
+                          "beyond it are missed, and wide penumbrae end early on their lit side (raise it "
+                          "with --param pcss_max_search=...)",
+                          method.c_str(), 100.0 * worstSearch);
             warnings.emplace_back(text);
         }
     }

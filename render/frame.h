@@ -53,11 +53,12 @@ class FrameRenderer {
 /// "ignored_perforated_triangles_use", the method that draws them).
 nlohmann::json methodSceneNotes(const Scene& scene, const MethodInfo& method);
 
-/// The fraction of clamped PCSS kernels above which frameWarnings speaks.
+/// The fraction of clamped kernels (or blocker searches) above which frameWarnings speaks.
 constexpr double KERNEL_CLAMP_WARNING = 0.01;
 
 /// Sentences a user should read about a frame's result, from its stats: perforated triangles a
-/// method left out ("ignored_perforated_triangles"), PCSS kernels clamped for more than
+/// method left out ("ignored_perforated_triangles"), PCSS's kernels (pcss_max_kernel) or blocker
+/// searches (pcss_max_search) clamped, or PCF's taps spread (pcf_max_radius), for more than
 /// KERNEL_CLAMP_WARNING of the pixels. The CLI prints them on stderr.
 std::vector<std::string> frameWarnings(const nlohmann::json& stats);
 
@@ -66,8 +67,17 @@ void initFrameImages(const Scene& scene, const GBuffer& gbuffer, float ambient, 
 nlohmann::json sceneStats(const Scene& scene);
 
 /// {"kernel_clamped_pixels", "kernel_clamped_fraction"}: how many of the pixels with a visible
-/// surface had their PCSS kernel cut to pcss_max_kernel, counted and as a fraction (both backends).
+/// surface had their PCSS kernel cut to pcss_max_kernel, counted and as a fraction (both
+/// backends).
 nlohmann::json kernelClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer);
+
+/// {"kernel_strided_pixels", "kernel_strided_fraction"}: the same for PCF's kernels whose taps
+/// pcf_max_radius spread more than three texels apart.
+nlohmann::json kernelStrideStats(std::uint64_t stridedPixels, const GBuffer& gbuffer);
+
+/// {"search_clamped_pixels", "search_clamped_fraction"}: the same for the blocker search cut to
+/// pcss_max_search (PCSS, vpcss, the filtered maps with fm_kernel=1).
+nlohmann::json searchClampStats(std::uint64_t clampedPixels, const GBuffer& gbuffer);
 
 /// {"march": {"rays", "steps_mean", "steps_max", "max_steps", "capped_rays", "capped_fraction"}}.
 nlohmann::json peelMarchStats(const PeelMarchCounts& counts);

@@ -92,7 +92,7 @@ std::vector<MethodInfo> buildTable() {
          .name = "pcf",
          .description =
              "Percentage-closer filtering (Reeves 1987) of a shadow map from the light centre over "
-             "a fixed texel kernel",
+             "a fixed kernel of pcf_world_radius metres either side at the receiver",
          .family = MethodFamily::ImageBased,
          .output = MethodOutput::Visibility,
          .backends = {B::Vulkan, B::Cpu},
@@ -207,6 +207,7 @@ std::string knobList(const MethodInfo& method) {
 }
 
 UsageError unknownKnob(const MethodInfo& method, const std::string& name) {
+    if (const char* why = retiredShadowMapKnob(name)) return UsageError("--param " + name + ": " + why);
     return UsageError("--param " + name + ": method " + method.name +
                       " has no such parameter (its parameters: " + knobList(method) + ")");
 }

@@ -286,14 +286,15 @@ ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
     params.normalOffset = settings.normalOffset;
     params.maxKernel = settings.maxKernel;
     params.maxSearch = settings.maxSearch;
-    params.pcfRadius = settings.pcfRadius;
+    params.pcfWorldRadius = settings.pcfWorldRadius;
+    params.pcfMaxRadius = settings.pcfMaxRadius;
     params.blockerTaps = uint(settings.blockerTaps);
     params.filterTaps = uint(settings.filterTaps);
     params.method = uint(settings.filter);
     params.channels = uint(filteredChannelCount(settings));
     params.mip = filteredUsesMip(settings) ? 1u : 0u;
     params.kernel = uint(settings.kernel);
-    params.radius = settings.radius;
+    params.worldRadius = settings.worldRadius;
     params.minVariance = settings.minVariance;
     params.bleed = settings.bleed;
     params.esmC = settings.esmC;
@@ -316,9 +317,9 @@ namespace {
 /// knobs that trade time or memory for quality, which a search for the least error would only
 /// drive to their largest value: the map's, grid's and functions' resolutions (sm_size,
 /// peel_size, avsm_size), tap, step, term and node counts (pcss_*_taps, vpcss_taps, peel_bins,
-/// peel_max_steps, csm_terms, avsm_nodes), and sm_fit (the fitted view is finer texels for nothing).
-/// The ranges are narrower than the knobs' own where the ends are no candidates for an optimum
-/// (a 64-texel bias, a variance floor of 0); a log scale where the effect is multiplicative.
+/// peel_max_steps, csm_terms, avsm_nodes), the taps' spread (pcf_max_radius), and sm_fit (the fitted view is
+/// finer texels for nothing). The ranges are narrower than the knobs' own where the ends are no candidates
+/// for an optimum (a 64-texel bias, a variance floor of 0); a log scale where the effect is multiplicative.
 struct TunedKnob {
     const char* name;
     KnobScale scale;
@@ -328,9 +329,9 @@ struct TunedKnob {
 constexpr TunedKnob kTunedKnobs[] = {
     {"sm_bias", KnobScale::Linear, 0.0, 8.0},          // texels at the receiver
     {"sm_normal_offset", KnobScale::Linear, 0.0, 4.0}, // texels
-    {"pcf_radius", KnobScale::Linear, 0.0, 32.0},      // texels: the penumbra's width
+    {"pcf_world_radius", KnobScale::Log, 0.002, 0.3},  // metres at the receiver: the penumbra's width
     {"fm_kernel", KnobScale::Linear, 0.0, 1.0},        // fixed or searched kernel
-    {"fm_radius", KnobScale::Log, 0.5, 64.0},          // texels
+    {"fm_world_radius", KnobScale::Log, 0.002, 0.3},   // metres at the receiver
     {"fm_mip", KnobScale::Linear, 0.0, 1.0},           // summed-area table or mips
     {"pcss_max_kernel", KnobScale::Log, 4.0, 4096.0},  // texels
     {"pcss_max_search", KnobScale::Log, 4.0, 1024.0},  // texels
@@ -387,22 +388,31 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
         {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", compared, &S::bias},
         {"sm_normal_offset", 0, 64, false, "receiver moved along its normal before the lookup, in texels",
          compared, &S::normalOffset},
-        {"pcf_radius",
+        {"pcf_world_radius",
          0,
-         32,
+         10,
+         false,
+         "kernel half-width at the receiver, in world units (metres); converted to texels per pixel",
+         {F::Pcf},
+         &S::pcfWorldRadius},
+        {"pcf_max_radius",
+         1,
+         128,
          true,
-         "kernel radius in texels: (2r+1)^2 taps",
+         "taps either side at most, one texel apart; a wider kernel spreads them (the stats count the "
+         "pixels where they are more than three texels apart)",
          {F::Pcf},
          nullptr,
-         &S::pcfRadius},
+         &S::pcfMaxRadius},
         {"fm_kernel", 0, 1, true,
-         "kernel size: 0 fm_radius everywhere, 1 per pixel from PCSS's blocker search", filtered, nullptr,
-         &S::kernel},
-        {"fm_radius", 0, 512, false, "fixed kernel radius, texels ((2r+1)^2 texels averaged)", filtered,
-         &S::radius},
+         "kernel size: 0 fm_world_radius everywhere, 1 per pixel from PCSS's blocker search", filtered,
+         nullptr, &S::kernel},
+        {"fm_world_radius", 0, 10, false,
+         "fixed kernel half-width at the receiver, in world units (metres); converted to texels per pixel",
+         filtered, &S::worldRadius},
         {"fm_mip", 0, 1, true,
-         "the average: 0 a summed-area table, 1 trilinear mip lookup (ESM, EVSM: always mip)", filtered,
-         nullptr, &S::mip},
+         "the average: 0 a summed-area table, 1 bilinear taps of a mip pyramid (ESM, EVSM: always mip)",
+         filtered, nullptr, &S::mip},
         {"pcss_blocker_taps", 1, 256, true, "Poisson-disk taps of the blocker search", searchedDepths,
          nullptr, &S::blockerTaps},
         {"pcss_filter_taps",
@@ -415,7 +425,9 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
          &S::filterTaps},
         {"pcss_max_kernel", 1, 8192, false,
          "largest filter radius, texels (the stats count the pixels it clamps)", searched, &S::maxKernel},
-        {"pcss_max_search", 1, 8192, false, "largest blocker-search radius, texels", searched, &S::maxSearch},
+        {"pcss_max_search", 1, 8192, false,
+         "largest blocker-search radius, texels (the stats count the pixels it clamps)", searched,
+         &S::maxSearch},
         {"vsm_min_variance",
          0,
          0.01,
@@ -493,6 +505,18 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     return tuned;
 }
 
+const char* retiredShadowMapKnob(const std::string& name) {
+    if (name == "pcf_radius")
+        return "pcf_radius (a kernel radius in texels) was replaced by pcf_world_radius, the kernel's "
+               "half-width in world units (metres) at the receiver: pcf_radius=r on a map whose texels are T "
+               "metres at the receiver (--stats: texel_world_median) is pcf_world_radius=(r+0.5)*T";
+    if (name == "fm_radius")
+        return "fm_radius (a kernel radius in texels) was replaced by fm_world_radius, the kernel's "
+               "half-width in world units (metres) at the receiver: fm_radius=r on a map whose texels are T "
+               "metres at the receiver (--stats: texel_world_median) is fm_world_radius=(r+0.5)*T";
+    return nullptr;
+}
+
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params) {
     ShadowMapSettings s;
     s.filter = filter;
@@ -502,8 +526,10 @@ ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std:
         const auto knob = std::find_if(knobs.begin(), knobs.end(), [&](const ShadowMapKnob& k) {
             return k.readBy(filter) && name == k.name;
         });
-        if (knob == knobs.end())
+        if (knob == knobs.end()) {
+            if (const char* why = retiredShadowMapKnob(name)) throw UsageError(why);
             throw UsageError("shadow maps have no parameter '" + name + "' for this method");
+        }
         knob->set(s, value);
     }
     return s;

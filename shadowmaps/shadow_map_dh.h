@@ -63,21 +63,21 @@ DH_CONST uint SHADOW_FILTER_AVSM = 9u;
 DH_CONST uint SHADOW_FILTER_VPCSS = 10u;
 
 /// The filter knobs of a frame as the shaders read them, ahead of the views in one buffer
-/// (ShadowMapSettings on the host, shadowFilterParams). std430: 6 × 16 bytes.
+/// (ShadowMapSettings on the host, shadowFilterParams). std430: 7 × 16 bytes.
 struct ShadowFilterParams {
-    float bias;         ///< texels
-    float normalOffset; ///< texels
-    float maxKernel;    ///< texels: the filter's radius
-    int pcfRadius;      ///< texels
+    float bias;           ///< texels at the receiver
+    float normalOffset;   ///< texels at the receiver
+    float maxKernel;      ///< texels: the filter's radius at most
+    float pcfWorldRadius; ///< world units: PCF's kernel half-width at the receiver
     uint blockerTaps;
     uint filterTaps;
-    float maxSearch; ///< texels: the blocker search's radius
+    float maxSearch; ///< texels: the blocker search's radius at most
     uint method;     ///< SHADOW_FILTER_*
     // The filtered representations (filtered_shadow_dh.h).
     uint channels;     ///< values per texel
     uint mip;          ///< 1: mip pyramids, 0: summed-area tables
-    uint kernel;       ///< 1: radius from the blocker search, 0: `radius`
-    float radius;      ///< texels
+    uint kernel;       ///< 1: radius from the blocker search, 0: `worldRadius`
+    float worldRadius; ///< world units: the fixed kernel's half-width at the receiver
     float minVariance; ///< VSM, EVSM
     float bleed;       ///< VSM, EVSM
     float esmC;
@@ -90,10 +90,14 @@ struct ShadowFilterParams {
     uint peelMaxSteps; ///< depth grid: most march steps per ray
     uint avsmNodes;    ///< transmittance functions: nodes per texel at most
     uint vpcssTaps;    ///< volumetric PCSS: Poisson taps of the blocker search and of the filter
+    int pcfMaxRadius;  ///< PCF's taps either side at most (one texel apart up to there)
+    uint pad0;
+    uint pad1;
+    uint pad2;
 };
 
 #ifdef __cplusplus
-DH_STATIC_ASSERT(sizeof(ShadowFilterParams) == 96);
+DH_STATIC_ASSERT(sizeof(ShadowFilterParams) == 112);
 #endif
 
 /// The orthonormal frame of face `face` (X, Y across, Z along the view). A cube map's faces
@@ -194,13 +198,11 @@ DH_FUNC vec4 shadowMapClip(ShadowMapView v, uint face, vec3 p) {
                 v.far * (l.z - v.near) / range, l.z);
 }
 
-/// The ray through the centre of texel `texel` of face `face`: origin o and direction d with
-/// d·Z = 1, so the ray parameter t of a point is its axial depth. The stored depth of a hit at
-/// t is shadowMapDepthAlong(v, d, t).
-DH_FUNC void shadowMapTexelRay(ShadowMapView v, uint face, ivec2 texel, DH_OUT(vec3) o, DH_OUT(vec3) d) {
+/// The ray through face point uv of face `face`: origin o and direction d with d·Z = 1, as
+/// shadowMapTexelRay's through a texel centre.
+DH_FUNC void shadowMapFaceRay(ShadowMapView v, uint face, vec2 uv, DH_OUT(vec3) o, DH_OUT(vec3) d) {
     vec3 X, Y, Z;
     shadowMapFaceBasis(v, face, X, Y, Z);
-    vec2 uv = (vec2(texel) + vec2(0.5f)) / float(v.size);
     vec2 s = shadowMapFacePoint(v, uv);
     if (v.projection == SHADOW_MAP_ORTHOGRAPHIC) {
         o = v.origin + s.x * X + s.y * Y;
@@ -209,6 +211,13 @@ DH_FUNC void shadowMapTexelRay(ShadowMapView v, uint face, ivec2 texel, DH_OUT(v
         o = v.origin;
         d = s.x * X + s.y * Y + Z;
     }
+}
+
+/// The ray through the centre of texel `texel` of face `face`: origin o and direction d with
+/// d·Z = 1, so the ray parameter t of a point is its axial depth. The stored depth of a hit at
+/// t is shadowMapDepthAlong(v, d, t).
+DH_FUNC void shadowMapTexelRay(ShadowMapView v, uint face, ivec2 texel, DH_OUT(vec3) o, DH_OUT(vec3) d) {
+    shadowMapFaceRay(v, face, (vec2(texel) + vec2(0.5f)) / float(v.size), o, d);
 }
 
 DH_FUNC float shadowMapDepthAlong(ShadowMapView v, vec3 d, float t) {
@@ -241,18 +250,21 @@ DH_FUNC bool shadowMapTexelOf(ShadowMapView v, uint face, vec2 uv, DH_OUT(uint) 
 }
 
 /// Depth, in the map's measure, of the receiver's tangent plane (point p, normal n) along the
-/// centre ray of texel `texel`: the depth a planar receiver has in that texel (receiver-plane
-/// depth bias, Isidoro 2006), so taps far from the receiver's own texel compare with the
-/// receiver's surface there, not with its centre's depth. `fallback` when the ray runs along
-/// the plane.
-DH_FUNC float shadowMapPlaneDepth(ShadowMapView v, uint face, ivec2 texel, vec3 p, vec3 n, float fallback) {
+/// ray through face point uv (shadowMapPlaneDepthAt), or the centre ray of texel `texel`: the
+/// depth a planar receiver has in that texel (receiver-plane depth bias, Isidoro 2006), so taps far from the
+/// receiver's own texel compare with the receiver's surface there, not with its centre's depth. `fallback`
+/// when the ray runs along the plane.
+DH_FUNC float shadowMapPlaneDepthAt(ShadowMapView v, uint face, vec2 uv, vec3 p, vec3 n, float fallback) {
     vec3 o, d;
-    shadowMapTexelRay(v, face, texel, o, d);
+    shadowMapFaceRay(v, face, uv, o, d);
     float denom = dot(n, d);
     float t = dot(n, p - o);
     // Rays within about 0.06° of the plane: the intersection is ill-conditioned.
     if (abs(denom) <= 1e-3f * length(d) || t / denom <= 0.0f) return fallback;
     return shadowMapDepthAlong(v, d, t / denom);
+}
+DH_FUNC float shadowMapPlaneDepth(ShadowMapView v, uint face, ivec2 texel, vec3 p, vec3 n, float fallback) {
+    return shadowMapPlaneDepthAt(v, face, (vec2(texel) + vec2(0.5f)) / float(v.size), p, n, fallback);
 }
 
 /// World size of one texel at axial depth `axial` (the unit of the bias knobs).

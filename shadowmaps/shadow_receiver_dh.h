@@ -56,6 +56,15 @@ DH_FUNC ShadowReceiver shadowReceiver(ShadowMapView v, vec3 p, vec3 n, float bia
     return r;
 }
 
+/// Whether the receiver lies on the map: in front of its face and, for single-face maps, inside
+/// its window (a receiver outside has no caster on its centre ray; the stats count clamped
+/// kernels and searches only where they can change the picture).
+DH_FUNC bool shadowReceiverOnMap(ShadowMapView v, ShadowReceiver r) {
+    if (r.valid == 0.0f) return false;
+    return v.projection == SHADOW_MAP_CUBE ||
+           (r.uv.x >= 0.0f && r.uv.y >= 0.0f && r.uv.x <= 1.0f && r.uv.y <= 1.0f);
+}
+
 /// The receiver's depth along the axis of its face (world units), the depth PCSS's similar
 /// triangles take: a plane parallel to the face has one such depth, and a world length at the
 /// receiver parallel to the face spans length/(axial·window width) in uv. r.depth itself but on
@@ -90,6 +99,13 @@ DH_FUNC float shadowTapAxial(ShadowMapView v, ShadowReceiver r, uint face, ivec2
     return stored * dot(d, Z) / length(d);
 }
 
+/// Texels of the map at the receiver that a world length `world` spans there (across the map's
+/// axis): the unit change of the kernels given in world units (pcf_world_radius,
+/// fm_world_radius), so one setting gives the same world kernel at every map size and fit.
+DH_FUNC float shadowReceiverTexels(ShadowReceiver r, float world) {
+    return world / max(r.texel, 1e-30f);
+}
+
 DH_FUNC vec2 shadowRotate(vec2 t, vec2 rotation) {
     return vec2(rotation.x * t.x - rotation.y * t.y, rotation.y * t.x + rotation.x * t.y);
 }
@@ -105,6 +121,13 @@ DH_FUNC float pcssSearchRadius(ShadowMapView v, ShadowReceiver r, float maxTexel
                        ? 0.5f * v.lightWidth * max(d - v.near, 0.0f) / width
                        : 0.5f * v.lightWidth * max(d - v.near, 0.0f) / (d * v.near * width);
     return min(radius, maxTexels / float(v.size));
+}
+
+/// Whether pcssSearchRadius cut the blocker search to maxTexels: blockers beyond it are not
+/// found, so a penumbra wider than the search reads lit on its outer side (the stats count such
+/// receivers).
+DH_FUNC bool pcssSearchClamped(ShadowMapView v, ShadowReceiver r, float maxTexels) {
+    return pcssSearchRadius(v, r, 3.0e38f) > maxTexels / float(v.size);
 }
 
 /// Step 3's kernel radius in uv: half the penumbra w_p = (d_r − d_b)·w_light/d_b (Fernando 2005,

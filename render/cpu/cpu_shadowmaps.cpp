@@ -5,6 +5,7 @@
 #include "core/progress.h"
 #include "core/timer.h"
 #include "reference/embree_scene.h"
+#include "shadowmaps/filtered_lookup.h"
 #include "shadowmaps/filtered_map.h"
 #include "shadowmaps/shadow_filter.h"
 
@@ -156,8 +157,8 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
     // visibility.
     const bool search = settings.filter == ShadowFilter::Pcss || (filtered && settings.kernel != 0);
     const uint blockerTaps = uint(settings.blockerTaps), filterTaps = uint(settings.filterTaps);
+    std::atomic<std::uint64_t> kernelClamped{0}, searchClamped{0};
     if (search) {
-        std::atomic<std::uint64_t> clamped{0};
         parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
             const std::size_t i = gbuffer.index(x, y);
             if (!gbuffer.covered(i)) return;
@@ -165,30 +166,37 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
             const float blocker = pcssAverageBlocker(view, src, r, blockerTaps, settings.maxSearch);
             vcoef.at(x, y, 0) =
                 blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
+            if (shadowReceiverOnMap(view, r) && pcssSearchClamped(view, r, settings.maxSearch))
+                searchClamped.fetch_add(1, std::memory_order_relaxed);
             if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
-                clamped.fetch_add(1, std::memory_order_relaxed);
+                kernelClamped.fetch_add(1, std::memory_order_relaxed);
         });
-        if (stats) {
-            stats->kernelClamped = clamped.load();
-            stats->blocker_ms = timer.milliseconds();
-        }
+        if (stats) stats->blocker_ms = timer.milliseconds();
         timer.reset();
     }
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
         const std::size_t i = gbuffer.index(x, y);
         if (!gbuffer.covered(i)) return;
         float& v = vcoef.at(x, y, 0);
+        const ShadowReceiver r = receiver(x, y, i);
         if (settings.filter == ShadowFilter::Pcf) {
-            v = pcfVisibility(view, src, receiver(x, y, i), settings.pcfRadius);
+            v = pcfVisibility(view, src, r, settings.pcfWorldRadius, settings.pcfMaxRadius);
+            if (shadowReceiverOnMap(view, r) &&
+                pcfKernelStrided(r, settings.pcfWorldRadius, settings.pcfMaxRadius))
+                kernelClamped.fetch_add(1, std::memory_order_relaxed);
         } else if (!filtered) {
-            v = v < 0.0f ? 1.0f : pcssFilter(view, src, receiver(x, y, i), v, blockerTaps, filterTaps);
+            v = v < 0.0f ? 1.0f : pcssFilter(view, src, r, v, blockerTaps, filterTaps);
         } else {
             // The lookup takes texels.
-            const float radius = search ? v * float(view.size) : settings.radius;
-            v = radius < 0.0f ? 1.0f : filtered->visibility(receiver(x, y, i), radius);
+            const float radius = search ? v * float(view.size) : filteredFixedRadius(r, settings.worldRadius);
+            v = radius < 0.0f ? 1.0f : filtered->visibility(r, radius);
         }
     });
-    if (stats) stats->filter_ms = timer.milliseconds();
+    if (stats) {
+        stats->filter_ms = timer.milliseconds();
+        stats->kernelClamped = kernelClamped.load();
+        stats->searchClamped = searchClamped.load();
+    }
 }
 
 AvsmMap traceAvsm(const EmbreeScene& embree, const ShadowMapView& view, uint maxNodes) {
@@ -231,7 +239,7 @@ void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const G
     Timer timer;
     // vpcss's blocker search leaves the kernel radius (uv) or −1 (no light lost: lit) in `vcoef`.
     if (vpcss) {
-        std::atomic<std::uint64_t> clamped{0};
+        std::atomic<std::uint64_t> clamped{0}, searchClamped{0};
         parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
             const std::size_t i = gbuffer.index(x, y);
             if (!gbuffer.covered(i)) return;
@@ -239,11 +247,14 @@ void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const G
             const float blocker = vpcssAverageBlocker(view, src, r, n, settings.maxSearch);
             vcoef.at(x, y, 0) =
                 blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
+            if (shadowReceiverOnMap(view, r) && pcssSearchClamped(view, r, settings.maxSearch))
+                searchClamped.fetch_add(1, std::memory_order_relaxed);
             if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
                 clamped.fetch_add(1, std::memory_order_relaxed);
         });
         if (stats) {
             stats->kernelClamped = clamped.load();
+            stats->searchClamped = searchClamped.load();
             stats->blocker_ms = timer.milliseconds();
         }
         timer.reset();

@@ -25,11 +25,14 @@ class EmbreeScene;
 ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);
 
 struct ShadowMapCpuStats {
-    double map_ms = 0.0;             ///< tracing the map
-    double build_ms = 0.0;           ///< filtered representations: channels and summed-area tables or mips
-    double blocker_ms = 0.0;         ///< the blocker search (PCSS; filtered maps with fm_kernel=1)
-    double filter_ms = 0.0;          ///< PCF, or PCSS's filter
-    std::uint64_t kernelClamped = 0; ///< pixels whose filter radius pcss_max_kernel clamped
+    double map_ms = 0.0;     ///< tracing the map
+    double build_ms = 0.0;   ///< filtered representations: channels and summed-area tables or mips
+    double blocker_ms = 0.0; ///< the blocker search (PCSS; filtered maps with fm_kernel=1)
+    double filter_ms = 0.0;  ///< PCF, or PCSS's filter
+    /// pixels whose kernel pcss_max_kernel cut; PCF: whose taps pcf_max_radius spread more than three
+    /// texels apart
+    std::uint64_t kernelClamped = 0;
+    std::uint64_t searchClamped = 0;     ///< pixels whose blocker search pcss_max_search cut
     std::size_t representationBytes = 0; ///< filtered representations: filteredMapBytes
 };
 
@@ -81,6 +84,7 @@ struct AvsmCpuStats {
     double blocker_ms = 0.0;         ///< vpcss: the blocker search
     double filter_ms = 0.0;          ///< the lookups (avsm), the filter (vpcss)
     std::uint64_t kernelClamped = 0; ///< vpcss: pixels whose filter radius pcss_max_kernel clamped
+    std::uint64_t searchClamped = 0; ///< vpcss: pixels whose blocker search pcss_max_search cut
     AvsmStats map;
     std::size_t bytes = 0; ///< avsmBytes
 };

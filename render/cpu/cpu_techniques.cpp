@@ -126,7 +126,10 @@ class ShadowMapTechnique final : public CpuTechnique {
         work.passes[work.pass("shadow_filter")] = s.filter_ms;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         if (filtered) map["representation_bytes"] = s.representationBytes;
-        map.update(kernelClampStats(s.kernelClamped, work.gbuffer));
+        map.update(m_settings.filter == ShadowFilter::Pcf ? kernelStrideStats(s.kernelClamped, work.gbuffer)
+                                                          : kernelClampStats(s.kernelClamped, work.gbuffer));
+        if (m_settings.filter == ShadowFilter::Pcss || (filtered && m_settings.kernel != 0))
+            map.update(searchClampStats(s.searchClamped, work.gbuffer));
         m_stats.push_back(map);
     }
     void takeStats(nlohmann::json& stats) override {
@@ -161,8 +164,10 @@ class ShadowMapTechnique final : public CpuTechnique {
         work.passes[work.pass("shadow_filter")] = s.filter_ms;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         map["avsm"] = avsmStatsJson(s.map, s.bytes);
-        if (m_settings.filter == ShadowFilter::Vpcss)
+        if (m_settings.filter == ShadowFilter::Vpcss) {
             map.update(kernelClampStats(s.kernelClamped, work.gbuffer));
+            map.update(searchClampStats(s.searchClamped, work.gbuffer));
+        }
         m_stats.push_back(map);
     }
 

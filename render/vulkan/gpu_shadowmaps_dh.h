@@ -32,7 +32,8 @@ struct GpuAvsmLists {
 
 /// What the shadow-map passes count per light.
 struct GpuShadowMapStats {
-    uint kernelClamped;  ///< PCSS, vpcss: pixels whose filter radius pcss_max_kernel clamped
+    uint kernelClamped;  ///< PCSS, vpcss: pixels whose filter radius pcss_max_kernel clamped;
+                         ///< PCF: whose taps pcf_max_radius spread more than three texels apart
                          ///< (shadow_filter.comp)
     uint avsmFragments;  ///< fragments listed (avsm_fragments.frag), past the list's end too
     uint avsmTexels;     ///< texels whose function has nodes (avsm_build.comp)
@@ -42,11 +43,11 @@ struct GpuShadowMapStats {
     /// 1 when a fragment found the lists full: with avsmFragments no larger than the lists, its
     /// count wrapped past 2^32
     uint avsmLost;
+    uint searchClamped; ///< PCSS, vpcss, fm_kernel=1: pixels whose blocker search pcss_max_search cut
     uint peelCapped;    ///< `peel`: rays that needed more than peel_max_steps (peel_march.comp)
     uint peelStepsLow;  ///< `peel`: the steps of every ray, a 64-bit sum: low 32 bits
     uint peelStepsHigh; ///< and the carries into the high 32
     uint peelLongest;   ///< `peel`: the most steps of one ray
-    uint pad0;
 };
 
 /// A map texel as the rasteriser writes it with atomicMax: the bits of the depth (a positive

@@ -445,7 +445,10 @@ class ShadowMapTechnique final : public ShadowMapFamilyTechnique {
 
   private:
     void addStats(std::size_t light, const GBuffer& gbuffer, nlohmann::json& map) const override {
-        map.update(kernelClampStats(m_counts[light].kernelClamped, gbuffer));
+        const std::uint64_t kernels = m_counts[light].kernelClamped;
+        map.update(m_c.method.shadowMap == ShadowFilter::Pcf ? kernelStrideStats(kernels, gbuffer)
+                                                             : kernelClampStats(kernels, gbuffer));
+        if (m_blocker) map.update(searchClampStats(m_counts[light].searchClamped, gbuffer));
         if (m_filtered) map["representation_bytes"] = filteredMapBytes(m_maps.view(light), m_maps.settings());
     }
 
@@ -563,7 +566,10 @@ class AvsmTechnique final : public ShadowMapFamilyTechnique {
         map["avsm"] = avsmStatsJson(functions, avsmBytes(view, m_maps.settings()));
         map["avsm"]["fragments_listed"] = counts.avsmFragments;
         map["avsm"]["fragment_capacity"] = m_maps.avsmCapacity();
-        if (vpcss()) map.update(kernelClampStats(counts.kernelClamped, gbuffer));
+        if (vpcss()) {
+            map.update(kernelClampStats(counts.kernelClamped, gbuffer));
+            map.update(searchClampStats(counts.searchClamped, gbuffer));
+        }
     }
     bool vpcss() const { return m_c.method.shadowMap == ShadowFilter::Vpcss; }
 

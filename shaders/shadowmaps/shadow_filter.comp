@@ -6,7 +6,8 @@
 //                      1: PCSS blocker search → the filter radius (uv), −1 when no blocker
 //                      2: PCSS filter of that radius → v_coef
 //                      3: a filtered representation (shadowmaps/filtered_lookup_dh.h) over a kernel
-//                         of fm_radius texels, or of the radius step 1 left (fm_kernel=1) → v_coef
+//                         of fm_world_radius at the receiver, or of the radius step 1 left
+//                         (fm_kernel=1) → v_coef
 //                      4: avsm, the transmittance function's lookup (shadowmaps/avsm_filter_dh.h) → v_coef
 //                      5: vpcss blocker search → the filter radius (uv), −1 when no light is lost
 //                      6: vpcss filter of that radius → v_coef
@@ -31,7 +32,7 @@ layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) uniform image2D vcoefImage;
-#if SHADOW_FILTER_STEP == 1 || SHADOW_FILTER_STEP == 5
+#if SHADOW_FILTER_STEP <= 1 || SHADOW_FILTER_STEP == 5
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuShadowMapStats stats[]; };
 #endif
 
@@ -49,10 +50,14 @@ void main() {
     ShadowReceiver r = shadowReceiver(v, p, n, shadowParams.bias, shadowParams.normalOffset,
                                       shadowTapRotation(samplePixelOf(uvec2(pixel)), frame.seed, frame.decorrelate != 0u));
 #if SHADOW_FILTER_STEP == 0
-    float result = pcfVisibility(v, src, r, shadowParams.pcfRadius);
+    float result = pcfVisibility(v, src, r, shadowParams.pcfWorldRadius, shadowParams.pcfMaxRadius);
+    if (shadowReceiverOnMap(v, r) && pcfKernelStrided(r, shadowParams.pcfWorldRadius, shadowParams.pcfMaxRadius))
+        atomicAdd(stats[pc.light].kernelClamped, 1u);
 #elif SHADOW_FILTER_STEP == 1
     float blocker = pcssAverageBlocker(v, src, r, shadowParams.blockerTaps, shadowParams.maxSearch);
     float result = blocker < 0.0 ? -1.0 : pcssFilterRadius(v, r, blocker, shadowParams.maxKernel);
+    if (shadowReceiverOnMap(v, r) && pcssSearchClamped(v, r, shadowParams.maxSearch))
+        atomicAdd(stats[pc.light].searchClamped, 1u);
     if (blocker >= 0.0 && pcssKernelClamped(v, r, blocker, shadowParams.maxKernel))
         atomicAdd(stats[pc.light].kernelClamped, 1u);
 #elif SHADOW_FILTER_STEP == 2
@@ -64,6 +69,8 @@ void main() {
 #elif SHADOW_FILTER_STEP == 5
     float blocker = vpcssAverageBlocker(v, avsmSourceOf(v), r, shadowParams.vpcssTaps, shadowParams.maxSearch);
     float result = blocker < 0.0 ? -1.0 : pcssFilterRadius(v, r, blocker, shadowParams.maxKernel);
+    if (shadowReceiverOnMap(v, r) && pcssSearchClamped(v, r, shadowParams.maxSearch))
+        atomicAdd(stats[pc.light].searchClamped, 1u);
     if (blocker >= 0.0 && pcssKernelClamped(v, r, blocker, shadowParams.maxKernel))
         atomicAdd(stats[pc.light].kernelClamped, 1u);
 #elif SHADOW_FILTER_STEP == 6
@@ -72,7 +79,8 @@ void main() {
                                 : vpcssFilter(v, avsmSourceOf(v), r, radius, shadowParams.vpcssTaps, shadowParams.vpcssTaps);
 #else
     // Step 1 left the radius in uv (−1: no blocker, lit); the lookup takes texels.
-    float radius = shadowParams.kernel != 0u ? imageLoad(vcoefImage, pixel).x * float(v.size) : shadowParams.radius;
+    float radius = shadowParams.kernel != 0u ? imageLoad(vcoefImage, pixel).x * float(v.size)
+                                             : filteredFixedRadius(r, shadowParams.worldRadius);
     FilteredSource filtered = filteredSourceOf(v);
     float result = radius < 0.0 ? 1.0 : filteredVisibility(v, shadowParams, filtered, r, radius);
 #endif

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace stsv::test {
@@ -280,6 +281,55 @@ TEST(TrustCli, PcssWarnsWhenItsKernelLimitShapesThePicture) {
         EXPECT_EQ(d.err.find("warning"), std::string::npos) << d.err;
         EXPECT_EQ(readJson(dir.file(backend + "_default.json"))["shadow_maps"][0]["kernel_clamped_pixels"],
                   0);
+    }
+}
+
+// The other bounds of the shadow maps' cost, counted on both backends and warned above 1 %: PCSS's
+// blocker search cut to pcss_max_search, PCF's taps spread by pcf_max_radius; at the defaults the
+// search is not cut on fence (the stats say 0) and nothing is said.
+TEST(TrustCli, PcssSearchAndPcfTapBoundsAreCountedAndWarned) {
+    ScratchDir dir;
+    for (const std::string backend : {"cpu", "vulkan"}) {
+        const CliResult pcss =
+            runStsv({"render", "fence", "--method", "pcss", "--backend", backend, "--size", "32x32",
+                     "--param", "pcss_max_search=1", "--stats", dir.file(backend + "_search.json"), "-q"});
+        ASSERT_EQ(pcss.code, 0) << pcss.err;
+        EXPECT_NE(pcss.err.find("stsv: warning: pcss cut the blocker search"), std::string::npos) << pcss.err;
+        EXPECT_GT(readJson(dir.file(backend + "_search.json"))["shadow_maps"][0]["search_clamped_fraction"]
+                      .get<double>(),
+                  0.01);
+        const CliResult pcssDefault =
+            runStsv({"render", "fence", "--method", "pcss", "--backend", backend, "--size", "32x32",
+                     "--stats", dir.file(backend + "_search_default.json"), "-q"});
+        ASSERT_EQ(pcssDefault.code, 0) << pcssDefault.err;
+        EXPECT_EQ(pcssDefault.err.find("warning"), std::string::npos) << pcssDefault.err;
+        EXPECT_EQ(
+            readJson(dir.file(backend + "_search_default.json"))["shadow_maps"][0]["search_clamped_pixels"],
+            0);
+        // 10 cm either side is some 30 texels on fence's ground: one tap either side spreads them
+        // about 20 texels apart.
+        const CliResult pcf = runStsv({"render", "fence", "--method", "pcf", "--backend", backend, "--size",
+                                       "32x32", "--param", "pcf_world_radius=0.1", "--param",
+                                       "pcf_max_radius=1", "--stats", dir.file(backend + "_pcf.json"), "-q"});
+        ASSERT_EQ(pcf.code, 0) << pcf.err;
+        EXPECT_NE(pcf.err.find("stsv: warning: pcf spread the kernel's taps"), std::string::npos) << pcf.err;
+        EXPECT_GT(readJson(dir.file(backend + "_pcf.json"))["shadow_maps"][0]["kernel_strided_fraction"]
+                      .get<double>(),
+                  0.01);
+    }
+}
+
+// A knob whose unit changed is refused with the knob that replaced it, never read in the new
+// unit: pcf_radius=5 (texels) would be a 5 m kernel as pcf_world_radius.
+TEST(TrustCli, KernelKnobsThatCountedTexelsAreRefusedWithTheirWorldUnitReplacement) {
+    for (const auto& [method, old, replacement] : {std::tuple{"pcf", "pcf_radius=5", "pcf_world_radius"},
+                                                   std::tuple{"esm", "fm_radius=2", "fm_world_radius"}}) {
+        const CliResult r = runStsv({"render", "fence", "--method", method, "--backend", "cpu", "--size",
+                                     "16x16", "--param", old, "-q"});
+        EXPECT_EQ(r.code, 1) << r.err;
+        EXPECT_NE(r.err.find(replacement), std::string::npos) << r.err;
+        EXPECT_NE(r.err.find("metres"), std::string::npos) << r.err;
+        EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     }
 }
 

@@ -51,26 +51,22 @@ CliResult runOk(const std::vector<std::string>& args) {
     return r;
 }
 
-/// A scene where PCF's kernel radius r has one right value, `radius`:
+/// A scene where PCF's kernel half-width R (pcf_world_radius, metres at the receiver) has one
+/// right value, `radius`:
 ///  * a square light of edge L at height H = 4 facing down, its edges along x and z; an opaque
 ///    occluder covering x ≤ xe = 0.3 at height h = 1; the ground at y = 0, 4 × 4 around the origin.
 ///  * Across the occluder's edge the ground's visibility is the fraction of the light beyond the
 ///    line through the edge: by similar triangles it rises linearly from 0 to 1 over a width
 ///    w = L·h/(H − h), centred where the edge projects from the light's centre (x = xe·H/(H − h)).
-///  * PCF (sm_fit=0, sm_size = S) counts the lit texel columns among the 2r + 1 around the
-///    receiver's texel: a ramp of 2r + 1 texels centred on the same projection. With sm_fit=0 the
-///    map's window is the scene box seen from the light: its widest points are the top corners
-///    (y = h, x, z = ±2) at depth H − h, so the window spans 2·2/(H − h) in tan units (times the
-///    fit's 1.001 margin, shadowmaps/shadow_map.cpp), and a texel covers t = H·window/S of the
-///    ground.
-/// The ramps coincide when (2r + 1)·t = w, i.e. L = (2r + 1)·t·(H − h)/h; each step of r away
-/// widens or narrows PCF's ramp by 2t, a visibility error of up to 1/(2r+1) across the penumbra.
-/// The camera looks obliquely at the penumbra from the lit side, so the occluder hides none of it.
-std::string writeRampScene(const ScratchDir& dir, const std::string& name, int radius, int mapSize) {
+///  * PCF averages the shadow test over a square of half-width R at the receiver, centred on it:
+///    across a straight edge that is a linear ramp of width 2R centred on the same projection.
+/// The ramps coincide when 2R = w, i.e. L = 2R·(H − h)/h; a radius off by a factor f widens or
+/// narrows PCF's ramp by the same factor. The camera looks obliquely at the penumbra from the
+/// lit side, so the occluder hides none of it. (The map's texels, 256 over the scene box seen
+/// from the light with sm_fit=0, are 2.1 cm on the ground.)
+std::string writeRampScene(const ScratchDir& dir, const std::string& name, double radius) {
     const double H = 4.0, h = 1.0;
-    const double window = 2.0 * (1.001 * 2.0 / (H - h));
-    const double texel = H * window / double(mapSize);
-    const double edge = double(2 * radius + 1) * texel * (H - h) / h;
+    const double edge = 2.0 * radius * (H - h) / h;
     const nlohmann::json scene = {
         {"camera", {{"eye", {1.5, 2.5, 0.0}}, {"target", {0.4, 0.0, 0.0}}, {"fovY", 12}}},
         {"materials", {{{"name", "grey"}, {"albedo", 0.7}, {"doubleSided", true}}}},
@@ -95,11 +91,20 @@ std::string writeRampScene(const ScratchDir& dir, const std::string& name, int r
     return path;
 }
 
-/// tune's arguments for the ramp scene: PCF's radius searched, the map fixed as the scene assumes.
-std::vector<std::string> rampTune(const std::string& scene, const std::string& json) {
-    return {"tune",        "pcf",     "--scenes", scene,    "--knob", "pcf_radius", "--param",
-            "sm_size=256", "--param", "sm_fit=0", "--size", "48x48",  "--samples",  "64",
-            "--converged", "8",       "--json",   json,     "-q"};
+/// tune's arguments for the ramp scene: PCF's radius searched (over `range`, or its own), the map
+/// fixed as the scene assumes.
+std::vector<std::string> rampTune(const std::string& scene, const std::string& json,
+                                  const std::string& range = "") {
+    return {"tune",      "pcf",         "--scenes",    scene,      "--knob", "pcf_world_radius" + range,
+            "--param",   "sm_size=256", "--param",     "sm_fit=0", "--size", "48x48",
+            "--samples", "64",          "--converged", "8",        "--json", json,
+            "-q"};
+}
+
+std::string formatG(double value) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", value);
+    return text;
 }
 
 /// Every run: the reported knobs never do worse than the defaults on the training scenes.
@@ -116,13 +121,16 @@ void expectNoWorseThanDefaults(const nlohmann::json& method) {
 TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
     ScratchDir dir;
     ScopedCacheDir cache(dir.file("cache"));
-    const std::string scene = writeRampScene(dir, "ramp3.json", 3, 256);
+    const std::string scene = writeRampScene(dir, "ramp6.json", 0.06);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json j = readJson(dir.file("t.json"));
     ASSERT_EQ(j["methods"].size(), 1u);
     const nlohmann::json& m = j["methods"][0];
-    EXPECT_EQ(m["knobs"]["pcf_radius"], 3) << m.dump(1);
-    EXPECT_EQ(m["defaults"]["pcf_radius"], 5);
+    // Within 12 %: the refinement's last step is 1/64 of the log range, a factor of 1.08, and the
+    // occluder's edge lands on the map's texel grid, which shifts the best radius by up to half a
+    // texel (1 cm) over the ramp's 12 cm.
+    EXPECT_NEAR(m["knobs"]["pcf_world_radius"].get<double>(), 0.06, 0.12 * 0.06) << m.dump(1);
+    EXPECT_EQ(m["defaults"]["pcf_world_radius"].get<double>(), double(0.03f));
     EXPECT_TRUE(m["improved"].get<bool>());
     // The fixed knobs are part of what compare --knobs must set.
     EXPECT_EQ(m["knobs"]["sm_size"], 256);
@@ -133,11 +141,12 @@ TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
 TEST(TuneCli, ReportsTheDefaultsWhenNothingBeatsThem) {
     ScratchDir dir;
     ScopedCacheDir cache(dir.file("cache"));
-    // The same scene built for r = 5, pcf_radius's default: every other radius is worse.
-    const std::string scene = writeRampScene(dir, "ramp5.json", 5, 256);
-    const CliResult r = runOk(rampTune(scene, dir.file("t.json")));
+    // The scene built for the default radius, 3 cm, and a search over radii of 10 to 30 cm only:
+    // every one of them makes a ramp over three times too wide.
+    const std::string scene = writeRampScene(dir, "ramp3.json", 0.03);
+    const CliResult r = runOk(rampTune(scene, dir.file("t.json"), "=0.1:0.3"));
     const nlohmann::json m = readJson(dir.file("t.json"))["methods"][0];
-    EXPECT_EQ(m["knobs"]["pcf_radius"], 5) << m.dump(1);
+    EXPECT_EQ(m["knobs"]["pcf_world_radius"].get<double>(), double(0.03f)) << m.dump(1);
     EXPECT_FALSE(m["improved"].get<bool>());
     EXPECT_GT(m["evaluations"].get<int>(), 5) << "the search tried other radii";
     // The defaults' own error, not a later render's: the same number.
@@ -159,7 +168,7 @@ TEST(TuneCli, TheDefaultKnobsOverTwoScenesWithHeldOutErrorsAndTheBudget) {
     // pcf's tunable knobs, in the order of the knob list.
     std::vector<std::string> searched;
     for (const nlohmann::json& k : m["searched"]) searched.push_back(k["name"]);
-    EXPECT_EQ(searched, (std::vector<std::string>{"sm_bias", "sm_normal_offset", "pcf_radius"}));
+    EXPECT_EQ(searched, (std::vector<std::string>{"sm_bias", "sm_normal_offset", "pcf_world_radius"}));
     // Two renders a point: 13 allow 6 points (12 renders), the 7th would pass it.
     EXPECT_EQ(m["renders"], 12);
     EXPECT_EQ(m["evaluations"], 6);
@@ -178,10 +187,11 @@ TEST(TuneCli, TheDefaultKnobsOverTwoScenesWithHeldOutErrorsAndTheBudget) {
 TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
     ScratchDir dir;
     ScopedCacheDir cache(dir.file("cache"));
-    const std::string scene = writeRampScene(dir, "ramp3.json", 3, 256);
+    const std::string scene = writeRampScene(dir, "ramp6.json", 0.06);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json tuned = readJson(dir.file("t.json"))["methods"][0];
-    ASSERT_EQ(tuned["knobs"]["pcf_radius"], 3);
+    const double radius = tuned["knobs"]["pcf_world_radius"].get<double>();
+    ASSERT_NE(radius, double(0.03f)) << "the file must hold a radius other than the default";
 
     const std::vector<std::string> compare = {
         "compare",          scene,    "--methods", "pcf/cpu,pcss/cpu", "--knobs",
@@ -198,8 +208,11 @@ TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
     EXPECT_EQ(pcf["knobs_file"], dir.file("t.json"));
     // The same frame against the same converged images: the error tune reported, to the last bit
     // (both are compareImages of the same two images; JSON keeps a double's every digit).
-    EXPECT_EQ(pcf["converged"]["visibility"]["rmse"].get<double>(),
+    EXPECT_EQ(pcf["converged"]["visibility_facing"]["rmse"].get<double>(),
               tuned["training"][0]["best"].get<double>());
+    EXPECT_EQ(pcf["converged"]["visibility_facing"]["pixels"].get<std::size_t>(),
+              tuned["training"][0]["facing_pixels"].get<std::size_t>());
+    EXPECT_GT(tuned["training"][0]["facing_pixels"].get<std::size_t>(), 0u);
     // pcss is not in the file: its defaults, and no file named.
     EXPECT_EQ(c["rows"][2]["knobs"]["sm_size"].get<double>(), 2048.0);
     EXPECT_FALSE(c["rows"][2].contains("knobs_file"));
@@ -208,18 +221,20 @@ TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
 
     // An explicit --param wins over the file, and the row says so.
     std::vector<std::string> overridden = compare;
-    overridden.insert(overridden.end(), {"--param", "pcf_radius=1"});
+    overridden.insert(overridden.end(), {"--param", "pcf_world_radius=0.01"});
     const CliResult o = runOk(overridden);
     const nlohmann::json co = readJson(dir.file("c.json"));
-    EXPECT_EQ(co["rows"][1]["knobs"]["pcf_radius"].get<double>(), 1.0);
+    EXPECT_EQ(co["rows"][1]["knobs"]["pcf_world_radius"].get<double>(), 0.01);
     EXPECT_EQ(co["rows"][1]["knobs"]["sm_size"].get<double>(), 256.0);
-    EXPECT_NE(o.out.find("pcf_radius=1 (--param; the file has 3)"), std::string::npos) << o.out;
+    EXPECT_NE(o.out.find("pcf_world_radius=0.01 (--param; the file has " + formatG(radius) + ")"),
+              std::string::npos)
+        << o.out;
 }
 
 TEST(TuneCli, AFileOfSeveralMethods) {
     ScratchDir dir;
     test::writeText(dir.file("k.json"),
-                    R"({"methods": [{"method": "pcf", "knobs": {"pcf_radius": 2, "sm_size": 256}},
+                    R"({"methods": [{"method": "pcf", "knobs": {"pcf_world_radius": 0.05, "sm_size": 256}},
                                     {"method": "vsm", "knobs": {"vsm_bleed": 0.3, "sm_size": 256}}]})");
     const std::vector<std::string> args = {"compare",   "fence",
                                            "--methods", "pcf/cpu,vsm/cpu",
@@ -230,20 +245,14 @@ TEST(TuneCli, AFileOfSeveralMethods) {
                                            "-q"};
     runOk(args);
     const nlohmann::json c = readJson(dir.file("c.json"));
-    EXPECT_EQ(c["rows"][1]["knobs"]["pcf_radius"].get<double>(), 2.0);
+    EXPECT_EQ(c["rows"][1]["knobs"]["pcf_world_radius"].get<double>(), 0.05);
     EXPECT_EQ(c["rows"][2]["knobs"]["vsm_bleed"].get<double>(), 0.3);
     EXPECT_EQ(c["rows"][2]["knobs"]["sm_size"].get<double>(), 256.0);
     // One method's object alone is a file too.
-    test::writeText(dir.file("one.json"), R"({"method": "pcf", "knobs": {"pcf_radius": 7}})");
+    test::writeText(dir.file("one.json"), R"({"method": "pcf", "knobs": {"pcf_world_radius": 0.07}})");
     runOk({"compare", "fence", "--methods", "pcf/cpu", "--knobs", dir.file("one.json"), "--size", "16x16",
            "--samples", "16", "--param", "sm_size=256", "--json", dir.file("c.json"), "-q"});
-    EXPECT_EQ(readJson(dir.file("c.json"))["rows"][1]["knobs"]["pcf_radius"].get<double>(), 7.0);
-}
-
-std::string formatG(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", value);
-    return text;
+    EXPECT_EQ(readJson(dir.file("c.json"))["rows"][1]["knobs"]["pcf_world_radius"].get<double>(), 0.07);
 }
 
 TEST(TuneCli, TheUserGuideListsTheTunableKnobsAsTheKnobListHasThem) {
@@ -299,9 +308,10 @@ TEST(TuneCli, BadInputIsRefusedWithAClearError) {
     expectRefused(tune({"pcf", "--scenes", "fence", "--knob", "nosuch"}), "--knob 'nosuch' names no knob");
     expectRefused(tune({"pcf", "--scenes", "fence", "--knob", "vsm_bleed"}),
                   "--knob 'vsm_bleed' names no knob");
-    expectRefused(tune({"pcf", "--scenes", "fence", "--knob", "pcf_radius", "--param", "pcf_radius=2"}),
-                  "either searched (--knob) or fixed (--param)");
-    expectRefused(tune({"pcf", "--scenes", "fence", "--knob", "pcf_radius=4:99"}),
+    expectRefused(
+        tune({"pcf", "--scenes", "fence", "--knob", "pcf_world_radius", "--param", "pcf_world_radius=0.2"}),
+        "either searched (--knob) or fixed (--param)");
+    expectRefused(tune({"pcf", "--scenes", "fence", "--knob", "pcf_world_radius=4:99"}),
                   "the range must be LO < HI");
     expectRefused(tune({"pcf", "--scenes", "fence", "--knob", "sm_bias=x:2"}), "'x' is not a number");
     expectRefused(tune({"pcf", "--scenes", "fence", "knot", "--budget", "1"}),
@@ -327,11 +337,15 @@ TEST(TuneCli, BadInputIsRefusedWithAClearError) {
         {R"({"methods": [{"method": "pcf", "knobs": {}}, {"method": "pcf", "knobs": {}}]})",
          "methods[1]: method pcf is listed twice"},
         {R"({"method": "pcf", "knobs": {"nosuch": 1}})", "pcf has no knob 'nosuch'"},
-        {R"({"method": "stsv", "knobs": {"pcf_radius": 1}})",
-         "stsv has no knob 'pcf_radius' (its knobs: none)"},
-        {R"({"method": "pcf", "knobs": {"pcf_radius": "3"}})", "knob pcf_radius must be a number"},
-        {R"({"method": "pcf", "knobs": {"pcf_radius": 99}})", "pcf_radius=99 is outside pcf's range [0, 32]"},
-        {R"({"method": "pcf", "knobs": {"pcf_radius": 2.5}})", "of whole numbers"},
+        {R"({"method": "stsv", "knobs": {"pcf_world_radius": 1}})",
+         "stsv has no knob 'pcf_world_radius' (its knobs: none)"},
+        {R"({"method": "pcf", "knobs": {"pcf_world_radius": "3"}})",
+         "knob pcf_world_radius must be a number"},
+        {R"({"method": "pcf", "knobs": {"pcf_world_radius": 99}})",
+         "pcf_world_radius=99 is outside pcf's range [0, 10]"},
+        {R"({"method": "pcf", "knobs": {"pcf_max_radius": 2.5}})", "of whole numbers"},
+        {R"({"method": "pcf", "knobs": {"pcf_radius": 3}})",
+         "pcf_radius (a kernel radius in texels) was replaced"},
     };
     for (std::size_t i = 0; i < bad.size(); ++i) {
         const std::string file = dir.file("bad" + std::to_string(i) + ".json");

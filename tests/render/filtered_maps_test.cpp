@@ -3,6 +3,7 @@
 // from the edge's texel, and with a fixed kernel over the planar occluder's edge VSM, EVSM and MSM
 // stay close to PCF with the same kernel — the case the filtered-shadows lecture calls exact for
 // VSM (one occluder plane over one receiver plane).
+#include "shadowmaps/shadow_map.h"
 #include "tests/render/parallel_planes.h"
 #include "tests/render/shadow_map_test_util.h"
 
@@ -17,16 +18,33 @@ using namespace test;
 
 const Method kFiltered[] = {Method::Vsm, Method::Esm, Method::Evsm, Method::Msm, Method::Csm};
 
-MethodParams fixedKernel(float radius) {
-    return {{"sm_size", double(kMapSize)}, {"fm_kernel", 0.0}, {"fm_radius", double(radius)}};
+/// World size of a map texel on the ground: the map fitted to the scene box (sm_fit=0), whose
+/// ground texels the kernels below are counted in.
+double groundTexel(const Scene& scene) {
+    return shadowMapTexelWorld(fitShadowMap(scene.lights[0], scene.bounds(), kMapSize), kLightHeight);
+}
+
+/// A fixed kernel of the (2r + 1)² texels around the receiver's on the ground: half-width
+/// (r + ½) texels in world units.
+MethodParams fixedKernel(const Scene& scene, int radius) {
+    return {{"sm_size", double(kMapSize)},
+            {"sm_fit", 0.0},
+            {"fm_kernel", 0.0},
+            {"fm_world_radius", (radius + 0.5) * groundTexel(scene)}};
+}
+
+/// PCF over the same (2r + 1)² texels (radius 0: the hard test of the receiver's texel).
+MethodParams pcfKernel(const Scene& scene, int radius) {
+    return {{"sm_size", double(kMapSize)},
+            {"sm_fit", 0.0},
+            {"pcf_world_radius", radius == 0 ? 0.0 : (radius + 0.5) * groundTexel(scene)}};
 }
 
 TEST(FilteredMaps, OneTexelKernelsReproduceTheHardShadowTest) {
     const Scene scene = parallelPlanes(1.5f);
-    const Frame hard =
-        renderCpu(scene, Method::Pcf, kW, kH, {{"sm_size", double(kMapSize)}, {"pcf_radius", 0.0}});
+    const Frame hard = renderCpu(scene, Method::Pcf, kW, kH, pcfKernel(scene, 0));
     for (const Method m : kFiltered) {
-        const Frame f = renderCpu(scene, m, kW, kH, fixedKernel(0.0f));
+        const Frame f = renderCpu(scene, m, kW, kH, fixedKernel(scene, 0));
         std::size_t compared = 0, differ = 0;
         for (int y = 0; y < kH; ++y)
             for (int x = 0; x < kW; ++x) {
@@ -61,11 +79,10 @@ TEST(FilteredMaps, FixedKernelsOnAPlanarOccluderStayCloseToPcf) {
     // PCF to 10⁻⁴ RMSE (measured; 0.005 allowed); EVSM's warped minimum variance softens the
     // edge's texels (measured 0.006 RMSE, 0.02 allowed).
     const Scene scene = parallelPlanes(1.5f);
-    const Frame pcf =
-        renderCpu(scene, Method::Pcf, kW, kH, {{"sm_size", double(kMapSize)}, {"pcf_radius", 2.0}});
+    const Frame pcf = renderCpu(scene, Method::Pcf, kW, kH, pcfKernel(scene, 2));
     const auto all = [](int, int) { return true; };
     for (const Method m : {Method::Vsm, Method::Evsm, Method::Msm}) {
-        const Frame f = renderCpu(scene, m, kW, kH, fixedKernel(2.0f));
+        const Frame f = renderCpu(scene, m, kW, kH, fixedKernel(scene, 2));
         const VisibilityDiff d = compareVisibility(f.visibility, pcf.visibility, all);
         std::printf("%s, 5x5 kernel: RMSE %.4f against PCF 5x5 (max %.3f)\n", methodInfo(m).name.c_str(),
                     d.rmse, d.maxAbs);

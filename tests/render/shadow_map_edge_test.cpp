@@ -21,7 +21,9 @@ using namespace test;
 // The map fitted to the scene box (sm_fit=0): the tolerances below are worked out from its texels.
 const MethodParams kPcssParams = {
     {"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
-const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcf_radius", 2.0}};
+/// PCF with a kernel of 1.5 cm either side: about the 5 × 5 texels around the receiver's on the
+/// ground of this 1024² scene-box map (texels of 5 to 6 mm).
+const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcf_world_radius", 0.015}};
 const MethodParams& paramsFor(Method m) {
     return m == Method::Pcss ? kPcssParams : kPcfParams;
 }

@@ -29,7 +29,7 @@ void main() {
     vec3 p = vec3(gl_GlobalInvocationID) * 0.01f;
     ShadowReceiver r = shadowReceiver(v, p, vec3(0.0f, 1.0f, 0.0f), 1.0f, 0.5f,
                                       shadowTapRotation(gl_GlobalInvocationID.xy, 7u, true));
-    float pcf = pcfVisibility(v, src, r, 2);
+    float pcf = pcfVisibility(v, src, r, 0.01f, 16);
     float blocker = pcssAverageBlocker(v, src, r, 32u, 64.0f);
     float pcss = blocker < 0.0f ? 1.0f : pcssFilter(v, src, r, pcssFilterRadius(v, r, blocker, 64.0f), 32u, 64u);
     ShadowMapCoord c = shadowMapProject(v, p);

@@ -129,13 +129,15 @@ TEST(PcfSteps, LitOutsideShadowedInsideAndHalfOnTheEdge) {
     auto pcf = [&](float x) {
         const ShadowReceiver r =
             shadowReceiver(v, vec3(x, 0.3f, kReceiverDepth), vec3(0, 0, -1), 1.0f, 0.0f, vec2(1.0f, 0.0f));
-        return pcfVisibility(v, src, r, 2);
+        return pcfVisibility(v, src, r, 2.5f * r.texel, 16); // the 5 × 5 texels around the receiver's
     };
     EXPECT_EQ(pcf(-2.0f), 0.0f);
     EXPECT_EQ(pcf(3.0f), 1.0f);
     // On the hard edge: 2 or 3 of the kernel's 5 columns (texel-centre sampling) are shadowed.
+    // The half-width of 2.5 texels goes to world units and back: its float round-off weighs the
+    // outer ring by 1 ± 10⁻⁶.
     const float edge = pcf(1.0f);
-    EXPECT_TRUE(edge == 10.0f / 25.0f || edge == 15.0f / 25.0f) << edge;
+    EXPECT_TRUE(std::abs(edge - 10.0f / 25.0f) < 1e-5f || std::abs(edge - 15.0f / 25.0f) < 1e-5f) << edge;
 }
 
 } // namespace

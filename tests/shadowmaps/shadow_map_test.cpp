@@ -13,6 +13,7 @@
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 namespace stsv {
 namespace {
@@ -405,7 +406,20 @@ TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
     // A misspelt name, and a PCSS knob given to PCF, are errors rather than silent defaults.
     EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcss, {{"pcss_filter_tap", 8}}), UsageError);
     EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcss_filter_taps", 8}}), UsageError);
-    EXPECT_EQ(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcf_radius", 3}}).pcfRadius, 3);
+    EXPECT_EQ(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcf_world_radius", 0.25}}).pcfWorldRadius, 0.25f);
+    // The knobs that counted texels are refused with the one that replaced them, never read as
+    // metres: an old script's pcf_radius=5 would be a 5 m kernel.
+    for (const auto& [filter, retired, replacement] :
+         {std::tuple{ShadowFilter::Pcf, "pcf_radius", "pcf_world_radius"},
+          std::tuple{ShadowFilter::Vsm, "fm_radius", "fm_world_radius"}}) {
+        try {
+            shadowMapSettingsFrom(filter, {{retired, 5}});
+            ADD_FAILURE() << retired << " was accepted";
+        } catch (const UsageError& e) {
+            EXPECT_NE(std::string(e.what()).find(replacement), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("metres"), std::string::npos) << e.what();
+        }
+    }
 }
 
 } // namespace
