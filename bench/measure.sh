@@ -25,6 +25,13 @@ example=tests/data/scene/example.json
 # (bench/tables.py tune: the defaults' error beside each scene's best).
 map_methods="pcf,pcss,vsm,esm,evsm,msm,csm,peel,avsm,vpcss"
 tune_options="--size 160x120 --samples 64 --converged 8 -q"
+declare -A tune_scenes=([fence]=fence [foliage]=foliage [knot]=knot [fencemesh]=fence-mesh
+  [particlesinside]="particles --set height=0.9 --buffer transmittance" [example]=$example
+  [planes]=tests/data/scene/parallel_planes.json [planestwo]=tests/data/scene/parallel_planes_two.json)
+tune_all=()
+for key in fence foliage knot fencemesh particlesinside example planes planestwo; do
+  for method in ${map_methods//,/ }; do tune_all+=("tune-$key-$method"); done
+done
 
 # name, then the stsv arguments (the --json file is added).
 measurement() {
@@ -65,15 +72,13 @@ measurement() {
       --converged 16 --size 256x256 --samples 64 ;;
     sheet-fabric) echo compare fence --set fabric=0.6 --buffer transmittance --methods "$all_methods,avsm,vpcss" \
       --converged 16 --size 192x144 --sheet docs/fabric-sheet.png ;;
-    tune-fence) echo tune "$map_methods" --scenes fence $tune_options ;;
-    tune-foliage) echo tune "$map_methods" --scenes foliage $tune_options ;;
-    tune-knot) echo tune "$map_methods" --scenes knot $tune_options ;;
-    tune-fence-mesh) echo tune "$map_methods" --scenes fence-mesh $tune_options ;;
-    tune-particles-inside) echo tune "$map_methods" --scenes particles --set height=0.9 --buffer transmittance \
-      $tune_options ;;
-    tune-example) echo tune "$map_methods" --scenes "$example" $tune_options ;;
-    tune-planes) echo tune "$map_methods" --scenes tests/data/scene/parallel_planes.json $tune_options ;;
-    tune-planes-two) echo tune "$map_methods" --scenes tests/data/scene/parallel_planes_two.json $tune_options ;;
+    tune-*) # tune-SCENE-METHOD: one method tuned on one scene of the tuning set
+      local key=${1#tune-} method=${1##*-}
+      key=${key%-*}
+      local scene=${tune_scenes[$key]:-}
+      [ -n "$scene" ] && [[ ",$map_methods," == *",$method,"* ]] || return 1
+      # shellcheck disable=SC2086 # the scene's options hold no spaces
+      echo tune "$method" --scenes $scene $tune_options ;;
     *) return 1 ;;
   esac
 }
@@ -81,7 +86,7 @@ all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
      bench-fence-vs-mesh bench-foliage-count bench-knot-scale bench-foliage-dense compare-particles sheet-particles bench-particles
      bench-particles-maps sheet-fabric facing-knot extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25
-     tune-fence tune-foliage tune-knot tune-fence-mesh tune-particles-inside tune-example tune-planes tune-planes-two)
+     "${tune_all[@]}")
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")

@@ -40,6 +40,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <map>
 #include <optional>
 #include <set>
@@ -433,10 +434,19 @@ std::vector<std::string> sceneList(const std::vector<std::string>& values, const
     return specs;
 }
 
-/// A knob's value as JSON: an integer knob's as an integer.
+/// A knob's value as JSON: an integer knob's as an integer; a default held as a float (0.03f) as
+/// the shortest decimal that reads back as that float (0.03, not 0.029999999329447746).
 nlohmann::json knobValueJson(Method method, const std::string& name, double value) {
     const MethodKnob* k = methodInfo(method).knob(name);
     if (k && k->integer) return std::int64_t(value);
+    const float f = float(value);
+    if (double(f) != value || !std::isfinite(f)) return value;
+    for (int digits = 1; digits <= 9; ++digits) {
+        char text[32];
+        std::snprintf(text, sizeof text, "%.*g", digits, double(f));
+        const double shortest = std::strtod(text, nullptr);
+        if (float(shortest) == f) return shortest;
+    }
     return value;
 }
 

@@ -131,8 +131,9 @@ double chartY(const std::string& html, const std::string& name) {
 TEST(LightFacingCli, RankingFollowsTheLightFacingFigureWhereTheWholeImageOrderDiffers) {
     // On the knot at 48×48 and 16 samples, pw's visibility is closer to the reference's over the
     // whole image (0.035 against 0.036) and PCSS's over the pixels that face the light (0.032
-    // against 0.038: PCSS errs most where the knot faces away): the two orders differ, and the ranking must follow the light-facing one. A
-    // renderer change that makes them agree leaves this test without its point: pick another case.
+    // against 0.038: PCSS errs most where the knot faces away): the two orders differ, and the ranking must
+    // follow the light-facing one. A renderer change that makes them agree leaves this test without its
+    // point: pick another case.
     ScratchDir dir;
     const std::vector<std::string> args = {
         "compare", "knot",   "--methods",        "pw/cpu,pcss/cpu", "--size",           "48x48", "--samples",

@@ -129,17 +129,21 @@ TEST(MeasurementTables, TheFairnessTableHoldsEachScenesDefaultAndBestWithTheWors
         "error": "light-facing RMSE", "set": {}, "methods": [
         {"method": "pcf", "training": [{"scene": "fence", "default": 0.02, "best": 0.016}]},
         {"method": "vsm", "training": [{"scene": "fence", "default": 0.03, "best": 0.02}]}]})");
-    writeText(dir.file("b.json"), R"({"command": "stsv tune pcf,vsm --scenes tests/planes.json", "version": "v",
-        "error": "light-facing RMSE", "set": {"height": 0.9}, "methods": [
+    writeText(dir.file("b.json"),
+              R"({"command": "stsv tune pcf,vsm --scenes tests/planes.json", "version": "v",
+        "error": "light-facing RMSE", "set": {"height": "0.9"}, "methods": [
         {"method": "pcf", "training": [{"scene": "tests/planes.json", "default": 0.05, "best": 0.05}]},
         {"method": "vsm", "training": [{"scene": "tests/planes.json", "default": 0.01, "best": 0.008}]}]})");
-    const ShellResult r = runShell(tables() + " tune '" + dir.file("a.json") + "' '" + dir.file("b.json") + "'");
+    const ShellResult r =
+        runShell(tables() + " tune '" + dir.file("a.json") + "' '" + dir.file("b.json") + "'");
     ASSERT_EQ(r.code, 0) << r.out;
     EXPECT_NE(r.out.find("| method | fence | planes height=0.9 | worst ratio |"), std::string::npos) << r.out;
     // 0.02 / 0.016 = 1.25 is fair (at most 1.25×); 0.03 / 0.02 = 1.5 is not.
-    EXPECT_NE(r.out.find("| pcf | 0.0200 / 0.0160 (1.25) | 0.0500 / 0.0500 (1.00) | 1.25 |"), std::string::npos)
+    EXPECT_NE(r.out.find("| pcf | 0.0200 / 0.0160 (1.25) | 0.0500 / 0.0500 (1.00) | 1.25 |"),
+              std::string::npos)
         << r.out;
-    EXPECT_NE(r.out.find("| vsm | 0.0300 / 0.0200 (1.50) | 0.0100 / 0.0080 (1.25) | 1.50 ✗ |"), std::string::npos)
+    EXPECT_NE(r.out.find("| vsm | 0.0300 / 0.0200 (1.50) | 0.0100 / 0.0080 (1.25) | 1.50 ✗ |"),
+              std::string::npos)
         << r.out;
 }
 

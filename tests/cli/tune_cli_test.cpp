@@ -130,7 +130,8 @@ TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
     // occluder's edge lands on the map's texel grid, which shifts the best radius by up to half a
     // texel (1 cm) over the ramp's 12 cm.
     EXPECT_NEAR(m["knobs"]["pcf_world_radius"].get<double>(), 0.06, 0.12 * 0.06) << m.dump(1);
-    EXPECT_EQ(m["defaults"]["pcf_world_radius"].get<double>(), double(0.03f));
+    // The default as written (the float 0.03f as its shortest decimal).
+    EXPECT_EQ(m["defaults"]["pcf_world_radius"].get<double>(), 0.03);
     EXPECT_TRUE(m["improved"].get<bool>());
     // The fixed knobs are part of what compare --knobs must set.
     EXPECT_EQ(m["knobs"]["sm_size"], 256);
@@ -146,7 +147,7 @@ TEST(TuneCli, ReportsTheDefaultsWhenNothingBeatsThem) {
     const std::string scene = writeRampScene(dir, "ramp3.json", 0.03);
     const CliResult r = runOk(rampTune(scene, dir.file("t.json"), "=0.1:0.3"));
     const nlohmann::json m = readJson(dir.file("t.json"))["methods"][0];
-    EXPECT_EQ(m["knobs"]["pcf_world_radius"].get<double>(), double(0.03f)) << m.dump(1);
+    EXPECT_EQ(m["knobs"]["pcf_world_radius"].get<double>(), 0.03) << m.dump(1);
     EXPECT_FALSE(m["improved"].get<bool>());
     EXPECT_GT(m["evaluations"].get<int>(), 5) << "the search tried other radii";
     // The defaults' own error, not a later render's: the same number.
@@ -191,7 +192,7 @@ TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json tuned = readJson(dir.file("t.json"))["methods"][0];
     const double radius = tuned["knobs"]["pcf_world_radius"].get<double>();
-    ASSERT_NE(radius, double(0.03f)) << "the file must hold a radius other than the default";
+    ASSERT_NE(radius, 0.03) << "the file must hold a radius other than the default";
 
     const std::vector<std::string> compare = {
         "compare",          scene,    "--methods", "pcf/cpu,pcss/cpu", "--knobs",

@@ -393,10 +393,11 @@ TEST_F(ShadowMapGpu, MsmOnTheKnotDiffersFromTheCpuOnlyByItsMapsRounding) {
     const Diff maps = diff(cpuOnGpuMap, filter(cm, nullptr));
     const Diff frames = diff(gpu.visibility, cpu.visibility);
     const Diff biased = diff(filter(gm, "msm_bias=3e-5"), filter(cm, "msm_bias=3e-5"));
-    std::printf("msm knot: same map max |dv| %.5f (%zu px > 2e-3); maps: max %.3f mean %.6f, %zu px > 1/16; frames: max %.3f "
+    std::printf("msm knot: same map max |dv| %.5f (%zu px > 2e-3); maps: max %.3f mean %.6f, %zu px > 1/16; "
+                "frames: max %.3f "
                 "mean %.6f, %zu px > 1/16; msm_bias=3e-5: max %.3f mean %.6f, %zu px > 1/16\n",
-                double(same.max), same.apart, double(maps.max), maps.mean, maps.off, double(frames.max), frames.mean,
-                frames.off, double(biased.max), biased.mean, biased.off);
+                double(same.max), same.apart, double(maps.max), maps.mean, maps.off, double(frames.max),
+                frames.mean, frames.off, double(biased.max), biased.mean, biased.off);
     EXPECT_LE(same.apart, 3u);
     EXPECT_LE(same.max, 1.0f / 128.0f);
     // Measured at 320 × 240 (about 60 000 covered pixels): maps and frames 0.245 at most, mean

@@ -228,7 +228,8 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
         // The grid and the transmittance functions, every knob at its default (their own sizes).
         for (const Method m : {Method::Peel, Method::Avsm, Method::Vpcss}) {
             const Scene& scene = m == Method::Peel ? c.closed : c.scene;
-            error[m] = penumbraRmse(columnProfile(renderCpu(scene, m, kW, kH, {}, 64, 3u)), c.truth, c.penumbrae);
+            error[m] =
+                penumbraRmse(columnProfile(renderCpu(scene, m, kW, kH, {}, 64, 3u)), c.truth, c.penumbrae);
             std::printf("%s, %s: penumbra RMSE %.4f against the analytic ramp\n", c.name,
                         methodInfo(m).name.c_str(), error[m]);
         }
