@@ -25,26 +25,6 @@ using test::readJson;
 using test::runStsv;
 using test::ScratchDir;
 
-/// The converged references go to the scratch folder's cache, not the user's.
-class ScopedCacheDir {
-  public:
-    explicit ScopedCacheDir(const std::string& dir) {
-        if (const char* old = std::getenv("STSV_CACHE_DIR")) m_old = old;
-        ::setenv("STSV_CACHE_DIR", dir.c_str(), 1);
-    }
-    ~ScopedCacheDir() {
-        if (m_old)
-            ::setenv("STSV_CACHE_DIR", m_old->c_str(), 1);
-        else
-            ::unsetenv("STSV_CACHE_DIR");
-    }
-    ScopedCacheDir(const ScopedCacheDir&) = delete;
-    ScopedCacheDir& operator=(const ScopedCacheDir&) = delete;
-
-  private:
-    std::optional<std::string> m_old;
-};
-
 CliResult runOk(const std::vector<std::string>& args) {
     const CliResult r = runStsv(args);
     EXPECT_EQ(r.code, 0) << test::describe(args, r);
@@ -115,7 +95,8 @@ void expectNoWorseThanDefaults(const nlohmann::json& method) {
 
 TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::string scene = writeRampScene(dir, "ramp3.json", 3, 256);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json j = readJson(dir.file("t.json"));
@@ -132,7 +113,8 @@ TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
 
 TEST(TuneCli, ReportsTheDefaultsWhenNothingBeatsThem) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     // The same scene built for r = 5, pcf_radius's default: every other radius is worse.
     const std::string scene = writeRampScene(dir, "ramp5.json", 5, 256);
     const CliResult r = runOk(rampTune(scene, dir.file("t.json")));
@@ -149,7 +131,8 @@ TEST(TuneCli, ReportsTheDefaultsWhenNothingBeatsThem) {
 
 TEST(TuneCli, TheDefaultKnobsOverTwoScenesWithHeldOutErrorsAndTheBudget) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::vector<std::string> args = {"tune",       "pcf",       "--scenes", "fence",           "knot",
                                            "--validate", "foliage",   "--param",  "sm_size=256",     "--size",
                                            "24x24",      "--samples", "16",       "--converged",     "2",
@@ -177,7 +160,8 @@ TEST(TuneCli, TheDefaultKnobsOverTwoScenesWithHeldOutErrorsAndTheBudget) {
 
 TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::string scene = writeRampScene(dir, "ramp3.json", 3, 256);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json tuned = readJson(dir.file("t.json"))["methods"][0];
@@ -287,7 +271,8 @@ void expectRefused(const std::vector<std::string>& args, const std::string& expe
 
 TEST(TuneCli, BadInputIsRefusedWithAClearError) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::vector<std::string> tiny = {"--size", "8x8", "--samples", "16", "--converged", "1", "-q"};
     auto tune = [&](std::vector<std::string> args) {
         args.insert(args.begin(), "tune");
