@@ -538,6 +538,12 @@ std::string cpuModel() {
 
 } // namespace
 
+std::string formatFixed(double value, int decimals) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*f", decimals, value);
+    return text;
+}
+
 nlohmann::json machineJson(bool vulkan, const std::string& select) {
     nlohmann::json machine = {{"cpu_model", cpuModel()},
                               {"cpu_threads", std::thread::hardware_concurrency()},

@@ -47,6 +47,9 @@ struct MethodBackend {
 MethodBackend parseMethodBackend(const std::string& text, Backend fallback);
 std::string toString(const MethodBackend& mb);
 
+/// `value` with `decimals` digits after the point ("%.*f"): the tables' figures.
+std::string formatFixed(double value, int decimals);
+
 /// Whether the method table lists `backend` for `method` (render/methods.h).
 bool backendImplements(Method method, Backend backend);
 /// One phrase saying why `method` does not run on `backend`.

@@ -34,12 +34,6 @@ namespace fs = std::filesystem;
 constexpr const char* kVisibilityCaption = "|visibility difference|";
 constexpr const char* kSampleCaption = "fraction of light samples that differ";
 
-std::string formatFixed(double value, int decimals) {
-    char text[64];
-    std::snprintf(text, sizeof text, "%.*f", decimals, value);
-    return text;
-}
-
 bool isNpy(const std::string& path) {
     return lowerExtension(path) == ".npy";
 }

@@ -66,18 +66,6 @@ std::string formatNumber(double value) {
     return text;
 }
 
-std::string formatError(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.5f", value);
-    return text;
-}
-
-std::string formatRatio(double value) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.4f", value);
-    return text;
-}
-
 std::string toString(KnobScale scale) {
     return scale == KnobScale::Log ? "log" : "linear";
 }
@@ -409,7 +397,7 @@ class Search {
             std::fprintf(
                 stderr, "tune %s: render %d of at most %d: %s: %s of the defaults' error (best %s)\n",
                 toString(m_r.mb).c_str(), m_r.renders, m_budget, describePoint(m_r.knobs, values).c_str(),
-                formatRatio(e.objective).c_str(), formatRatio(best).c_str());
+                formatFixed(e.objective, 4).c_str(), formatFixed(best, 4).c_str());
         }
         return e;
     }
@@ -486,17 +474,17 @@ void printResult(const MethodResult& r, const std::vector<TuneScene>& training,
     errors.caption = std::string(kErrorName) + ":";
     errors.header = {"scene", "set", "defaults", "best", "best/defaults"};
     auto add = [&](const std::string& spec, const char* set, double d, double b) {
-        errors.rows.push_back(
-            {spec, set, formatError(d), formatError(b), formatRatio((b + kErrorFloor) / (d + kErrorFloor))});
+        errors.rows.push_back({spec, set, formatFixed(d, 5), formatFixed(b, 5),
+                               formatFixed((b + kErrorFloor) / (d + kErrorFloor), 4)});
     };
     for (std::size_t i = 0; i < training.size(); ++i)
         add(training[i].spec, "training", r.defaults.errors[i], r.best.errors[i]);
     for (std::size_t i = 0; i < heldOut.size(); ++i)
         add(heldOut[i].spec, "held out", r.heldOutDefault[i], r.heldOutBest[i]);
     errors.note =
-        improved
-            ? "objective (mean of best/defaults over the training scenes): " + formatRatio(r.best.objective)
-            : "no point beat the defaults on the training scenes: the defaults are the best knobs found";
+        improved ? "objective (mean of best/defaults over the training scenes): " +
+                       formatFixed(r.best.objective, 4)
+                 : "no point beat the defaults on the training scenes: the defaults are the best knobs found";
     std::printf("%s", formatTextTable(errors).c_str());
 }
 

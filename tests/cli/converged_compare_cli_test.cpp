@@ -30,29 +30,9 @@ using test::CliResult;
 using test::readJson;
 using test::readText;
 using test::runStsv;
+using test::ScopedEnv;
 using test::ScratchDir;
 namespace fs = std::filesystem;
-
-/// Sets an environment variable for the scope of a test and restores the previous value.
-class ScopedEnv {
-  public:
-    ScopedEnv(const char* name, const std::string& value) : m_name(name) {
-        if (const char* old = std::getenv(name)) m_old = old;
-        ::setenv(name, value.c_str(), 1);
-    }
-    ~ScopedEnv() {
-        if (m_old)
-            ::setenv(m_name.c_str(), m_old->c_str(), 1);
-        else
-            ::unsetenv(m_name.c_str());
-    }
-    ScopedEnv(const ScopedEnv&) = delete;
-    ScopedEnv& operator=(const ScopedEnv&) = delete;
-
-  private:
-    std::string m_name;
-    std::optional<std::string> m_old;
-};
 
 std::vector<std::string> compareArgs(const ScratchDir& dir, const std::string& json,
                                      std::vector<std::string> extra) {

@@ -189,26 +189,6 @@ TEST(TrustValues, CompareFootnoteNamesEveryNotApplicableRow) {
     EXPECT_NE(r.out.find("n/a: vpcss, pcss give(s) a v_coef per pixel"), std::string::npos) << r.out;
 }
 
-class ScopedEnv {
-  public:
-    ScopedEnv(const char* name, const std::string& value) : m_name(name) {
-        if (const char* old = std::getenv(name)) m_old = old;
-        ::setenv(name, value.c_str(), 1);
-    }
-    ~ScopedEnv() {
-        if (m_old)
-            ::setenv(m_name.c_str(), m_old->c_str(), 1);
-        else
-            ::unsetenv(m_name.c_str());
-    }
-    ScopedEnv(const ScopedEnv&) = delete;
-    ScopedEnv& operator=(const ScopedEnv&) = delete;
-
-  private:
-    std::string m_name;
-    std::optional<std::string> m_old;
-};
-
 // A malformed VK_DRIVER_FILES manifest gave "VK_ERROR_OUT_OF_HOST_MEMORY at gpu/device.cpp:112"
 // (garbage) or "no Vulkan driver was found" (a manifest without its keys): the message names the
 // variable, the manifest and what is wrong with it.

@@ -25,26 +25,6 @@ using test::readJson;
 using test::runStsv;
 using test::ScratchDir;
 
-/// The converged references go to the scratch folder's cache, not the user's.
-class ScopedCacheDir {
-  public:
-    explicit ScopedCacheDir(const std::string& dir) {
-        if (const char* old = std::getenv("STSV_CACHE_DIR")) m_old = old;
-        ::setenv("STSV_CACHE_DIR", dir.c_str(), 1);
-    }
-    ~ScopedCacheDir() {
-        if (m_old)
-            ::setenv("STSV_CACHE_DIR", m_old->c_str(), 1);
-        else
-            ::unsetenv("STSV_CACHE_DIR");
-    }
-    ScopedCacheDir(const ScopedCacheDir&) = delete;
-    ScopedCacheDir& operator=(const ScopedCacheDir&) = delete;
-
-  private:
-    std::optional<std::string> m_old;
-};
-
 CliResult runOk(const std::vector<std::string>& args) {
     const CliResult r = runStsv(args);
     EXPECT_EQ(r.code, 0) << test::describe(args, r);
@@ -120,7 +100,8 @@ void expectNoWorseThanDefaults(const nlohmann::json& method) {
 
 TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::string scene = writeRampScene(dir, "ramp6.json", 0.06);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json j = readJson(dir.file("t.json"));
@@ -141,7 +122,8 @@ TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
 
 TEST(TuneCli, ReportsTheDefaultsWhenNothingBeatsThem) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     // The scene built for the default radius, 3 cm, and a search over radii of 10 to 30 cm only:
     // every one of them makes a ramp over three times too wide.
     const std::string scene = writeRampScene(dir, "ramp3.json", 0.03);
@@ -159,7 +141,8 @@ TEST(TuneCli, ReportsTheDefaultsWhenNothingBeatsThem) {
 
 TEST(TuneCli, TheDefaultKnobsOverTwoScenesWithHeldOutErrorsAndTheBudget) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::vector<std::string> args = {"tune",       "pcf",       "--scenes", "fence",           "knot",
                                            "--validate", "foliage",   "--param",  "sm_size=256",     "--size",
                                            "24x24",      "--samples", "16",       "--converged",     "2",
@@ -187,7 +170,8 @@ TEST(TuneCli, TheDefaultKnobsOverTwoScenesWithHeldOutErrorsAndTheBudget) {
 
 TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::string scene = writeRampScene(dir, "ramp6.json", 0.06);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json tuned = readJson(dir.file("t.json"))["methods"][0];
@@ -297,7 +281,8 @@ void expectRefused(const std::vector<std::string>& args, const std::string& expe
 
 TEST(TuneCli, BadInputIsRefusedWithAClearError) {
     ScratchDir dir;
-    ScopedCacheDir cache(dir.file("cache"));
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
     const std::vector<std::string> tiny = {"--size", "8x8", "--samples", "16", "--converged", "1", "-q"};
     auto tune = [&](std::vector<std::string> args) {
         args.insert(args.begin(), "tune");
