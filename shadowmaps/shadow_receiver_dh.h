@@ -113,13 +113,20 @@ DH_FUNC vec2 shadowRotate(vec2 t, vec2 rotation) {
 /// Radius, in uv, of PCSS's blocker search (step 1): half of w_search = w_light·(d_r − near)/d_r
 /// on the near plane for perspective and cube maps (d_r the receiver's axial depth); for
 /// orthographic maps (a directional light of width 2·tan θ per unit distance) half of
-/// w_light·(d_r − near) on the receiver.
+/// w_light·(d_r − near) on the receiver. Fernando's near plane is where blockers begin; a map's
+/// near plane can lie far closer to the light (a ceiling the light is flush with, a shelf it hangs
+/// under: near ≈ 0), and the region then spans the whole hemisphere and finds those surfaces at
+/// depth ≈ 0 beside the light, whose kernel w_p → ∞ darkens a lit room. So the search's near plane
+/// is at least ½·w_light from the light's centre: the region's half-angle stays under 45°, and
+/// blockers nearer the light than its own half-width (which shape the light more than they cast a
+/// penumbra) are found only within it.
 DH_FUNC float pcssSearchRadius(ShadowMapView v, ShadowReceiver r, float maxTexels) {
     float width = v.window.z - v.window.x;
     float d = shadowReceiverAxial(v, r);
+    float near = max(v.near, 0.5f * v.lightWidth);
     float radius = v.projection == SHADOW_MAP_ORTHOGRAPHIC
                        ? 0.5f * v.lightWidth * max(d - v.near, 0.0f) / width
-                       : 0.5f * v.lightWidth * max(d - v.near, 0.0f) / (d * v.near * width);
+                       : 0.5f * v.lightWidth * max(d - near, 0.0f) / (d * near * width);
     return min(radius, maxTexels / float(v.size));
 }
 

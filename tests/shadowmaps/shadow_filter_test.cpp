@@ -99,6 +99,24 @@ TEST(PcssSteps, BlockerDepthAndKernelOnAPerspectiveFace) {
     EXPECT_LT(pcssAt(v, depth, t, 3.0f, 0.0f).blocker, 0.0f);
 }
 
+TEST(PcssSteps, TheSearchRegionsNearPlaneIsAtLeastHalfTheLightsWidthFromIt) {
+    // Half of w_search = w·(d_r − near)/d_r on the near plane, in uv of a face 2 units wide at
+    // depth 1: 0.25·(5 − near)/(5·near·2).
+    ShadowMapView v = view(SHADOW_MAP_PERSPECTIVE, 512);
+    const ShadowReceiver r =
+        shadowReceiver(v, vec3(0.0f, 0.0f, kReceiverDepth), vec3(0, 0, -1), 1.0f, 0.0f, vec2(1.0f, 0.0f));
+    EXPECT_NEAR(pcssSearchRadius(v, r, 3.0e38f), 0.25f * 4.0f / 10.0f, 1e-6f); // near = 1
+    // A map whose near plane touches the light (a surface flush with it): the region is the one
+    // at ½·w = 0.25, 0.25·4.75/2.5 = 0.475, not 0.25·4.99/0.1 = 12.5 (a half-angle of 86°).
+    v.near = 0.01f;
+    EXPECT_NEAR(pcssSearchRadius(v, r, 3.0e38f), 0.475f, 1e-6f);
+    v.near = 0.25f;
+    EXPECT_NEAR(pcssSearchRadius(v, r, 3.0e38f), 0.475f, 1e-6f);
+    // Beyond ½·w, the map's own near plane, as Fernando's.
+    v.near = 0.5f;
+    EXPECT_NEAR(pcssSearchRadius(v, r, 3.0e38f), 0.25f * 4.5f / 5.0f, 1e-6f);
+}
+
 TEST(PcssSteps, BlockerDepthAndKernelOffTheAxisOfACubeFace) {
     // The same planes seen through a cube map, the receiver 37° off face 4's axis: the average
     // blocker depth and the kernel are taken along the face's axis, as on a perspective face
