@@ -429,6 +429,12 @@ int runCli(int argc, char** argv) {
                      "the most renders of each method's search (one per training scene per point tried)")
         ->transform(integerIn(1, kMaxTuneBudget))
         ->capture_default_str();
+    tune->add_option("--objective", t.objective,
+                     "mean: the mean over the training scenes of error/defaults' error; worst: each scene "
+                     "searched alone first, then the worst over the scenes of error/that scene's own best "
+                     "(the knobs nearest every scene's best at once)")
+        ->check(CLI::IsMember({"mean", "worst"}))
+        ->capture_default_str();
     tune->add_option("--converged", t.converged,
                      "K: each scene's reference is the mean of K renders of --against (cached as compare's)")
         ->transform(integerIn(1, kMaxConvergedFrames))

@@ -127,7 +127,10 @@ struct TuneArgs : FrameArgs {
     std::vector<std::string> validate; ///< --validate: the held-out scenes
     std::vector<std::string> knobs; ///< --knob NAME[=LO:HI]: the knobs searched (default: the tunable ones)
     int budget = 200;               ///< renders of each method's search, the defaults' included
-    int converged = 16;             ///< K of each scene's converged reference
+    /// --objective: "mean" (of each scene's error over the defaults') or "worst" (of each
+    /// scene's error over its own best, found by a search on that scene alone first)
+    std::string objective = "mean";
+    int converged = 16;                ///< K of each scene's converged reference
     std::string against = "reference"; ///< method[/backend] of the converged references
     std::string backend = "cpu";       ///< backend of the methods tuned
     bool noCache = false;

@@ -22,6 +22,12 @@
 // exactly right). Ratios rather than the errors' plain mean: the scenes' errors differ in scale
 // (a scene of wide penumbrae or many pixels in shadow has a larger RMSE at any knob), and a plain
 // mean would tune for the worst scene alone; the ratio weighs each scene by its relative gain.
+//
+// --objective worst asks for the knobs nearest every scene's own best at once, the measure of
+// fair defaults: each training scene is searched alone first (the search above, its own budget),
+// then the scenes together for the least worst ratio of a scene's error to its own best (plus
+// kErrorFloor on both sides). The defaults' objective is then their worst ratio, not 1. A ratio
+// below 1 on some scene means the joint search found a better point there than that scene's own.
 #include "cli/cli_util.h"
 #include "cli/compare_report.h"
 #include "cli/converged_reference.h"
@@ -141,6 +147,12 @@ double tuneError(const Frame& frame, const TuneScene& s) {
 }
 constexpr const char* kErrorName =
     "visibility RMSE over the light-facing pixels against the converged reference";
+
+const char* objectiveName(bool worst) {
+    return worst ? "worst over the training scenes of the error divided by the scene's own best (each "
+                   "scene searched alone first)"
+                 : "mean over the training scenes of the error divided by the defaults' error";
+}
 
 /// "name=value name=value" of `values` (the searched knobs', in order).
 std::string describePoint(const std::vector<SearchedKnob>& knobs, const std::vector<double>& values) {
@@ -268,11 +280,23 @@ struct Evaluation {
     double objective = 1.0;
 };
 
-/// Mean over the scenes of (error + floor) / (default error + floor).
-double objectiveOf(const std::vector<double>& errors, const std::vector<double>& defaults) {
+/// (error + floor) / (unit + floor): a scene's error in the objective's unit.
+double errorRatio(double error, double unit) {
+    return (error + kErrorFloor) / (unit + kErrorFloor);
+}
+
+/// Without `ownBests`, the mean over the scenes of each error over the defaults'; with them, the
+/// worst over the scenes of each error over the scene's own best.
+double objectiveOf(const std::vector<double>& errors, const std::vector<double>& defaults,
+                   const std::vector<double>& ownBests) {
+    if (!ownBests.empty()) {
+        double worst = 0.0;
+        for (std::size_t i = 0; i < errors.size(); ++i)
+            worst = std::max(worst, errorRatio(errors[i], ownBests[i]));
+        return worst;
+    }
     double sum = 0.0;
-    for (std::size_t i = 0; i < errors.size(); ++i)
-        sum += (errors[i] + kErrorFloor) / (defaults[i] + kErrorFloor);
+    for (std::size_t i = 0; i < errors.size(); ++i) sum += errorRatio(errors[i], defaults[i]);
     return sum / double(errors.size());
 }
 
@@ -310,6 +334,10 @@ struct MethodResult {
     std::set<std::string> given;
     Evaluation defaults;
     Evaluation best;
+    /// --objective worst: each training scene's least error, from a search on it alone (the
+    /// objective's unit per scene); empty for --objective mean
+    std::vector<double> ownBests;
+    int ownRenders = 0; ///< the renders of those searches
     std::vector<double> heldOutDefault, heldOutBest;
     int renders = 0; ///< the search's
     int heldOutRenders = 0;
@@ -389,15 +417,21 @@ class Search {
             e.errors.push_back(tuneError(frame, s));
             ++m_r.renders;
         }
-        e.objective = m_seen.empty() ? 1.0 : objectiveOf(e.errors, m_r.defaults.errors);
+        // The defaults are the mean objective's unit; the worst one measures them too.
+        e.objective =
+            m_seen.empty() && m_r.ownBests.empty()
+                ? 1.0
+                : objectiveOf(e.errors, m_seen.empty() ? e.errors : m_r.defaults.errors, m_r.ownBests);
         ++m_r.evaluations;
         m_seen.emplace(values, e);
         if (!m_quiet) {
-            const double best = std::min(e.objective, m_seen.size() == 1 ? 1.0 : m_r.best.objective);
-            std::fprintf(
-                stderr, "tune %s: render %d of at most %d: %s: %s of the defaults' error (best %s)\n",
-                toString(m_r.mb).c_str(), m_r.renders, m_budget, describePoint(m_r.knobs, values).c_str(),
-                formatFixed(e.objective, 4).c_str(), formatFixed(best, 4).c_str());
+            const double best = m_seen.size() == 1 ? e.objective : std::min(e.objective, m_r.best.objective);
+            std::fprintf(stderr, "tune %s: render %d of at most %d: %s: %s %s (best %s)\n",
+                         toString(m_r.mb).c_str(), m_r.renders, m_budget,
+                         describePoint(m_r.knobs, values).c_str(), formatFixed(e.objective, 4).c_str(),
+                         m_r.ownBests.empty() ? "of the defaults' error"
+                                              : "of its own best on the worst scene",
+                         formatFixed(best, 4).c_str());
         }
         return e;
     }
@@ -453,9 +487,11 @@ nlohmann::json knobsJson(Method method, const std::vector<SearchedKnob>& knobs,
 void printResult(const MethodResult& r, const std::vector<TuneScene>& training,
                  const std::vector<TuneScene>& heldOut, int budget) {
     const bool improved = r.best.objective < r.defaults.objective;
-    std::printf("\n%s: %d renders of the search (budget %d%s), %d of the held-out scenes, %.1f s\n",
-                toString(r.mb).c_str(), r.renders, budget, r.budgetSpent ? ", spent" : "", r.heldOutRenders,
-                r.seconds);
+    std::printf("\n%s: %d renders of the search (budget %d%s)%s, %d of the held-out scenes, %.1f s\n",
+                toString(r.mb).c_str(), r.renders, budget, r.budgetSpent ? ", spent" : "",
+                r.ownBests.empty() ? ""
+                                   : (", " + std::to_string(r.ownRenders) + " of the scenes' own").c_str(),
+                r.heldOutRenders, r.seconds);
     ReportTable knobs;
     knobs.header = {"knob", "searched", "scale", "default", "best"};
     for (std::size_t i = 0; i < r.knobs.size(); ++i) {
@@ -472,19 +508,34 @@ void printResult(const MethodResult& r, const std::vector<TuneScene>& training,
     std::printf("%s", formatTextTable(knobs).c_str());
     ReportTable errors;
     errors.caption = std::string(kErrorName) + ":";
+    const bool worst = !r.ownBests.empty();
     errors.header = {"scene", "set", "defaults", "best", "best/defaults"};
-    auto add = [&](const std::string& spec, const char* set, double d, double b) {
-        errors.rows.push_back({spec, set, formatFixed(d, 5), formatFixed(b, 5),
-                               formatFixed((b + kErrorFloor) / (d + kErrorFloor), 4)});
-    };
-    for (std::size_t i = 0; i < training.size(); ++i)
-        add(training[i].spec, "training", r.defaults.errors[i], r.best.errors[i]);
-    for (std::size_t i = 0; i < heldOut.size(); ++i)
-        add(heldOut[i].spec, "held out", r.heldOutDefault[i], r.heldOutBest[i]);
-    errors.note =
-        improved ? "objective (mean of best/defaults over the training scenes): " +
-                       formatFixed(r.best.objective, 4)
-                 : "no point beat the defaults on the training scenes: the defaults are the best knobs found";
+    if (worst) errors.header.insert(errors.header.end(), {"own best", "defaults/own", "best/own"});
+    for (std::size_t i = 0; i < training.size() + heldOut.size(); ++i) {
+        const bool train = i < training.size();
+        const std::size_t k = train ? i : i - training.size();
+        const double d = train ? r.defaults.errors[k] : r.heldOutDefault[k];
+        const double b = train ? r.best.errors[k] : r.heldOutBest[k];
+        std::vector<std::string> row = {(train ? training[k] : heldOut[k]).spec,
+                                        train ? "training" : "held out", formatFixed(d, 5), formatFixed(b, 5),
+                                        formatFixed(errorRatio(b, d), 4)};
+        if (worst && train)
+            row.insert(row.end(),
+                       {formatFixed(r.ownBests[k], 5), formatFixed(errorRatio(d, r.ownBests[k]), 4),
+                        formatFixed(errorRatio(b, r.ownBests[k]), 4)});
+        else if (worst)
+            row.insert(row.end(), {"", "", ""});
+        errors.rows.push_back(row);
+    }
+    if (worst)
+        errors.note = "objective (worst over the training scenes of error/own best): defaults " +
+                      formatFixed(r.defaults.objective, 4) + ", best " + formatFixed(r.best.objective, 4) +
+                      (improved ? "" : "; no point beat the defaults");
+    else
+        errors.note = improved ? "objective (mean of best/defaults over the training scenes): " +
+                                     formatFixed(r.best.objective, 4)
+                               : "no point beat the defaults on the training scenes: the defaults are the "
+                                 "best knobs found";
     std::printf("%s", formatTextTable(errors).c_str());
 }
 
@@ -560,6 +611,10 @@ int runTune(TuneArgs& args) {
             throw UsageError("--validate " + spec +
                              " is a training scene too (--scenes): held-out scenes are "
                              "scenes the search did not see");
+    const bool worst = args.objective == "worst";
+    if (worst && trainingSpecs.size() < 2)
+        throw UsageError("--objective worst weighs scenes against their own bests: give two or more "
+                         "training scenes (with one, --objective mean finds the same knobs)");
     if (args.budget < int(trainingSpecs.size()))
         throw UsageError("--budget " + std::to_string(args.budget) +
                          " is less than one render per training scene (" +
@@ -601,11 +656,11 @@ int runTune(TuneArgs& args) {
     for (const TuneScene& s : heldOut) heldOutNames += (heldOutNames.empty() ? "" : ", ") + s.spec;
     std::printf(
         "tune on %s (training)%s: %dx%d, %d samples (%s, seed %u); error: %s (%s, %d x %d samples per "
-        "pixel); objective: mean over the training scenes of best/defaults\n",
+        "pixel); objective: %s\n",
         printable(trainingNames).c_str(),
         heldOut.empty() ? "" : (", " + printable(heldOutNames) + " (held out)").c_str(), base.width,
         base.height, base.samples, toString(base.pattern).c_str(), base.seed, kErrorName,
-        toString(against).c_str(), args.converged, base.samples);
+        toString(against).c_str(), args.converged, base.samples, objectiveName(worst));
 
     // The search's lines say where it is; a frame's own bar (peel's march) would interleave with them.
     Progress::setEnabled(false);
@@ -616,6 +671,19 @@ int runTune(TuneArgs& args) {
         o.backend = r.mb.backend;
         if (o.buffer == BufferKind::Transmittance && !methodInfo(r.mb.method).writesTransmittance())
             o.buffer = BufferKind::Bitmask;
+        if (worst) {
+            // Each scene's own best first: the joint search's unit per scene.
+            for (const TuneScene& scene : training) {
+                MethodResult alone = r;
+                if (!args.quiet)
+                    std::fprintf(stderr, "tune %s: %s alone\n", toString(r.mb).c_str(),
+                                 printable(scene.spec).c_str());
+                Search(alone, std::vector<TuneScene>{scene}, o, args.budget, args.quiet).run();
+                r.ownBests.push_back(alone.best.errors[0]);
+                r.ownRenders += alone.renders;
+                r.warnings.insert(alone.warnings.begin(), alone.warnings.end());
+            }
+        }
         Search(r, training, o, args.budget, args.quiet).run();
         // The held-out scenes, at the defaults and at the best point.
         const bool same = r.best.values == r.defaults.values;
@@ -650,13 +718,15 @@ int runTune(TuneArgs& args) {
                                     {"scale", toString(k.range.scale)},
                                     {"integer", k.integer}});
             auto perScene = [](const std::vector<TuneScene>& scenes, const std::vector<double>& d,
-                               const std::vector<double>& b) {
+                               const std::vector<double>& b, const std::vector<double>& own) {
                 nlohmann::json j = nlohmann::json::array();
-                for (std::size_t i = 0; i < scenes.size(); ++i)
+                for (std::size_t i = 0; i < scenes.size(); ++i) {
                     j.push_back({{"scene", scenes[i].spec},
                                  {"default", d[i]},
                                  {"best", b[i]},
                                  {"facing_pixels", scenes[i].facing ? scenes[i].facing->facing : 0}});
+                    if (i < own.size()) j.back()["own_best"] = own[i];
+                }
                 return j;
             };
             list.push_back(
@@ -667,32 +737,33 @@ int runTune(TuneArgs& args) {
                  {"searched", searched},
                  {"improved", r.best.objective < r.defaults.objective},
                  {"objective", {{"defaults", r.defaults.objective}, {"best", r.best.objective}}},
-                 {"training", perScene(training, r.defaults.errors, r.best.errors)},
-                 {"validation", perScene(heldOut, r.heldOutDefault, r.heldOutBest)},
+                 {"training", perScene(training, r.defaults.errors, r.best.errors, r.ownBests)},
+                 {"validation", perScene(heldOut, r.heldOutDefault, r.heldOutBest, {})},
                  {"renders", r.renders},
+                 {"own_renders", r.ownRenders},
                  {"evaluations", r.evaluations},
                  {"budget", args.budget},
                  {"budget_spent", r.budgetSpent},
                  {"held_out_renders", r.heldOutRenders},
                  {"seconds", r.seconds}});
         }
-        const nlohmann::json j = {
-            {"version", version()},
-            {"command", shellCommandLine(args.argv)},
-            {"error", kErrorName},
-            {"objective", "mean over the training scenes of the error divided by the defaults' error"},
-            {"against", toString(against)},
-            {"converged_frames", args.converged},
-            {"set", sets.set},
-            {"options",
-             [&] {
-                 nlohmann::json o = toJson(frameOptions(base));
-                 for (const char* key : {"method", "backend", "params", "validation"}) o.erase(key);
-                 return o;
-             }()},
-            {"seconds", total.milliseconds() / 1000.0},
-            {"machine", machineJson(base.backend == Backend::Vulkan, base.device)},
-            {"methods", list}};
+        const nlohmann::json j = {{"version", version()},
+                                  {"command", shellCommandLine(args.argv)},
+                                  {"error", kErrorName},
+                                  {"objective", objectiveName(worst)},
+                                  {"against", toString(against)},
+                                  {"converged_frames", args.converged},
+                                  {"set", sets.set},
+                                  {"options",
+                                   [&] {
+                                       nlohmann::json o = toJson(frameOptions(base));
+                                       for (const char* key : {"method", "backend", "params", "validation"})
+                                           o.erase(key);
+                                       return o;
+                                   }()},
+                                  {"seconds", total.milliseconds() / 1000.0},
+                                  {"machine", machineJson(base.backend == Backend::Vulkan, base.device)},
+                                  {"methods", list}};
         writeJson(args.json, j);
         reportWritten(args.json, args.quiet);
     }

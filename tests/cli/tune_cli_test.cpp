@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -168,6 +169,58 @@ TEST(TuneCli, TheDefaultKnobsOverTwoScenesWithHeldOutErrorsAndTheBudget) {
     expectNoWorseThanDefaults(m);
 }
 
+TEST(TuneCli, TheWorstObjectiveFindsTheKnobsNearestEverySceneBestAtOnce) {
+    ScratchDir dir;
+    // The converged references go to the scratch folder's cache, not the user's.
+    test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
+    // Two ramps that want radii a factor 4 apart: no radius is right for both.
+    const std::string narrow = writeRampScene(dir, "ramp3.json", 0.03);
+    const std::string wide = writeRampScene(dir, "ramp12.json", 0.12);
+    auto both = [&](const std::string& objective, const std::string& json) {
+        std::vector<std::string> args = rampTune(narrow, json);
+        args.insert(args.begin() + 4, wide);
+        args.insert(args.end(), {"--objective", objective});
+        return args;
+    };
+    runOk(both("worst", dir.file("worst.json")));
+    runOk(both("mean", dir.file("mean.json")));
+    runOk(rampTune(narrow, dir.file("narrow.json")));
+    runOk(rampTune(wide, dir.file("wide.json")));
+    const nlohmann::json w = readJson(dir.file("worst.json"))["methods"][0];
+    const nlohmann::json mean = readJson(dir.file("mean.json"))["methods"][0];
+    ASSERT_EQ(w["training"].size(), 2u);
+    // Each scene's own best is what tune finds on that scene alone (the same search, deterministic).
+    const double own[2] = {w["training"][0]["own_best"].get<double>(),
+                           w["training"][1]["own_best"].get<double>()};
+    EXPECT_EQ(own[0], readJson(dir.file("narrow.json"))["methods"][0]["training"][0]["best"].get<double>());
+    EXPECT_EQ(own[1], readJson(dir.file("wide.json"))["methods"][0]["training"][0]["best"].get<double>());
+    // The objective is the worse of the two scenes' error over their own best (1e-6 floor, far
+    // below these errors), for the defaults and for the knobs reported.
+    auto worstRatio = [&](const nlohmann::json& m, const char* point) {
+        double r = 0.0;
+        for (int i = 0; i < 2; ++i)
+            r = std::max(r, (m["training"][i][point].get<double>() + 1e-6) / (own[i] + 1e-6));
+        return r;
+    };
+    EXPECT_DOUBLE_EQ(w["objective"]["best"].get<double>(), worstRatio(w, "best"));
+    EXPECT_DOUBLE_EQ(w["objective"]["defaults"].get<double>(), worstRatio(w, "default"));
+    EXPECT_LE(w["objective"]["best"].get<double>(), w["objective"]["defaults"].get<double>());
+    // The wide scene at the default radius, 3 cm, is far from its own best; the compromise lies
+    // strictly between the two scenes' radii (each recovered within 12 %), and it is no worse on
+    // the worse scene than what the mean objective picks: minimising the mean trades one scene
+    // against the other, the worst objective bounds both.
+    EXPECT_GT(w["objective"]["defaults"].get<double>(), 1.5);
+    const double radius = w["knobs"]["pcf_world_radius"].get<double>();
+    EXPECT_GT(radius, 1.12 * 0.03) << w.dump(1);
+    EXPECT_LT(radius, 0.12 / 1.12) << w.dump(1);
+    EXPECT_LE(w["objective"]["best"].get<double>(), worstRatio(mean, "best")) << mean.dump(1);
+    EXPECT_EQ(w["own_renders"].get<int>(),
+              readJson(dir.file("narrow.json"))["methods"][0]["renders"].get<int>() +
+                  readJson(dir.file("wide.json"))["methods"][0]["renders"].get<int>());
+    EXPECT_LE(w["renders"].get<int>(), w["budget"].get<int>());
+    EXPECT_EQ(readJson(dir.file("worst.json"))["objective"].get<std::string>().rfind("worst over", 0), 0u);
+}
+
 TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
     ScratchDir dir;
     // The converged references go to the scratch folder's cache, not the user's.
@@ -303,6 +356,9 @@ TEST(TuneCli, BadInputIsRefusedWithAClearError) {
     expectRefused(tune({"pcf", "--scenes", "fence", "knot", "--budget", "1"}),
                   "less than one render per training scene");
     expectRefused(tune({"pcf", "--scenes", "fence", "--validate", "fence"}), "is a training scene too");
+    expectRefused(tune({"pcf", "--scenes", "fence", "--objective", "worst"}),
+                  "give two or more training scenes");
+    expectRefused(tune({"pcf", "--scenes", "fence", "knot", "--objective", "best"}), "--objective");
     expectRefused(tune({"pcf", "--scenes", "fence", "--json", dir.file("t.txt")}), "--json");
     expectRefused(tune({"pcf", "--scenes", "nosuchscene"}), "nosuchscene");
 
