@@ -13,6 +13,7 @@ extern "C" unsigned char* stbi_write_png_to_mem(const unsigned char* pixels, int
                                                 int n, int* outLength);
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -63,9 +64,18 @@ std::uint64_t pngInflatedBytes(const std::uint8_t* ihdr) {
 void checkPngInflation(const std::string& name, const std::uint8_t* data, std::size_t size, double estimate) {
     std::string compressed;
     std::uint64_t idat = 0;
-    for (std::size_t at = 8; at + 12 <= size;) {
+    for (std::size_t at = 8; at + 8 <= size;) {
         const std::uint64_t length = bigEndian32(data + at);
-        if (length > size - at - 12) break; // truncated: stb refuses it
+        // stb refuses a chunk that runs past the file's end, but only after it has grown its
+        // buffer to the length declared (an IDAT of 2 GiB in a file of 500 bytes).
+        if (length + 12 > size - at) {
+            std::string type(reinterpret_cast<const char*>(data + at + 4), 4);
+            for (char& c : type)
+                if (!std::isalpha(static_cast<unsigned char>(c))) c = '?';
+            throw InputError(name, "not a readable PNG (its " + type + " chunk at byte " +
+                                       std::to_string(at) + " declares " + std::to_string(length) +
+                                       " bytes of data, past the file's end)");
+        }
         if (std::memcmp(data + at + 4, "IDAT", 4) == 0) idat += length;
         if (std::memcmp(data + at + 4, "IEND", 4) == 0) break;
         at += 12 + std::size_t(length);

@@ -102,6 +102,31 @@ TEST(Image, PngIsHeldToTheMemoryLimitAtTheDecodersPeak) {
     EXPECT_EQ(image.at(4095, 4095, 3), 255);
 }
 
+TEST(Image, APngChunkRunningPastTheFilesEndIsRefusedBeforeDecoding) {
+    // A valid 4x4 PNG whose IDAT chunk's length field then says 1 GiB: stb would grow its buffer
+    // to that before finding the file too short. The chunk walk refuses it first.
+    std::string bytes = test::zeroPng(4);
+    const std::size_t idat = bytes.find("IDAT") - 4;
+    ASSERT_LT(idat, bytes.size());
+    for (int i = 0; i < 4; ++i) bytes[idat + std::size_t(i)] = char(i == 0 ? 0x40 : 0);
+    const std::string path = tempPath("chunk_past_the_end.png");
+    writeBytes(path, bytes);
+    try {
+        readPngRgba(path);
+        FAIL() << "expected InputError";
+    } catch (const InputError& e) {
+        const std::string what = e.what();
+        EXPECT_NE(what.find("chunk_past_the_end.png: not a readable PNG (its IDAT chunk at byte " +
+                            std::to_string(idat) +
+                            " declares 1073741824 bytes of data, past the file's end)"),
+                  std::string::npos)
+            << what;
+    }
+    // The file as written, chunk lengths intact, decodes.
+    writeBytes(path, test::zeroPng(4));
+    EXPECT_EQ(readPngRgba(path).width, 4);
+}
+
 TEST(Image, PngDataInflatingPastItsHeaderIsRefusedNearTheLimit) {
     // 16x16 pixels declared (16 rows of a filter byte and 16 samples: 272 bytes), 64 MiB of zeros
     // in its data (426 KB of file): stb would grow its buffer to hold them all and decode the
