@@ -33,6 +33,15 @@ for key in fence foliage knot fencemesh particlesinside example planes planestwo
   for method in ${map_methods//,/ }; do tune_all+=("tune-$key-$method"); done
 done
 
+# The defaults nearest every scene's own best at once (tune --objective worst) for the methods
+# whose defaults miss 1.25x somewhere, on the scenes whose bests pull apart (a subset: its least
+# worst ratio is a lower bound for the whole set's).
+declare -A worst_scenes=([pcf]="foliage planes" [pcss]="foliage planes" [vsm]="foliage planes"
+  [evsm]="foliage planes" [msm]="foliage example planes" [csm]="foliage example planes"
+  [esm]="example fence foliage knot planes" [vpcss]="foliage planes")
+worst_all=()
+for method in pcf pcss vpcss vsm evsm msm esm csm; do worst_all+=("worst-$method"); done
+
 # name, then the stsv arguments (the --json file is added).
 measurement() {
   case $1 in
@@ -79,6 +88,13 @@ measurement() {
       [ -n "$scene" ] && [[ ",$map_methods," == *",$method,"* ]] || return 1
       # shellcheck disable=SC2086 # the scene's options hold no spaces
       echo tune "$method" --scenes $scene $tune_options ;;
+    worst-*) # worst-METHOD: tune --objective worst on the scenes of worst_scenes
+      local method=${1#worst-} keys specs="" key
+      keys=${worst_scenes[$method]:-}
+      [ -n "$keys" ] || return 1
+      for key in $keys; do specs+=" ${tune_scenes[$key]}"; done
+      # shellcheck disable=SC2086 # scene names hold no spaces
+      echo tune "$method" --scenes $specs --objective worst $tune_options ;;
     *) return 1 ;;
   esac
 }
@@ -86,7 +102,7 @@ all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
      bench-fence-vs-mesh bench-foliage-count bench-knot-scale bench-foliage-dense compare-particles sheet-particles bench-particles
      bench-particles-maps sheet-fabric facing-knot extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25
-     "${tune_all[@]}")
+     "${tune_all[@]}" "${worst_all[@]}")
 
 names=("$@")
 [ ${#names[@]} -gt 0 ] || names=("${all[@]}")
