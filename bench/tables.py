@@ -8,6 +8,8 @@
     bench/tables.py summary FILE.json...   a line of results per run (the README's headline table)
     bench/tables.py tune FILE.json...      the fairness table: per method, each scene's error at the
                                            defaults and at the knobs tune found best for that scene
+    bench/tables.py worst FILE.json...     per method, tune --objective worst: each scene's error over
+                                           its own best at the defaults and at the knobs found
     bench/tables.py update DOC.md          regenerates every generated block of DOC.md in place
     bench/tables.py check DOC.md           exit 1 when a block differs from what its files give
 
@@ -371,10 +373,33 @@ def tune_provenance(patterns, files):
         shared, len(files), ", ".join("`%s`" % p for p in patterns))
 
 
+def worst_table(files):
+    """Per method, `stsv tune METHOD --scenes A B … --objective worst`: each scene's error over its
+    own best (tune on that scene alone) at the defaults and at the knobs nearest every scene's own
+    best at once, the worst of those ratios, and the knobs. Where even those knobs stay above
+    FAIR_RATIO on these scenes, no setting the search found makes the defaults fair there."""
+    rows = []
+    for _, data in sorted(files, key=lambda f: METHOD_ORDER.index(f[1]["methods"][0]["method"])
+                          if f[1]["methods"][0]["method"] in METHOD_ORDER else len(METHOD_ORDER)):
+        m = data["methods"][0]
+        scenes = ", ".join("%s %.2f → %.2f" % (tune_scene_name(data, t["scene"]), t["default"] / t["own_best"],
+                                               t["best"] / t["own_best"]) for t in m["training"])
+        best = m["objective"]["best"]
+        knobs = " ".join("%s=%s" % (k, ("%g" % v) if isinstance(v, float) else v)
+                         for k, v in m["knobs"].items() if k in {s["name"] for s in m["searched"]})
+        rows.append([m["method"], scenes, "%.2f" % m["objective"]["defaults"],
+                     "%.2f%s" % (best, "" if best <= FAIR_RATIO else " ✗"), "`%s`" % knobs])
+    legend = ("Per scene: its error over its own best (tune on that scene alone), at the defaults → at the knobs "
+              "found; error: %s. ✗: no knobs found within %.2f× of every scene's own best at once." % (
+                  files[0][1]["error"], FAIR_RATIO))
+    return legend + "\n\n" + table(["method", "scenes: defaults → knobs found", "worst at the defaults",
+                                     "worst at the knobs found", "knobs found"], rows)
+
+
 FAIR_RATIO = 1.25
 METHOD_ORDER = ["pcf", "pcss", "vsm", "esm", "evsm", "msm", "csm", "peel", "avsm", "vpcss"]
 
-KINDS = {"tune": tune_table, "compare": compare_table, "converged": converged_table, "bench": bench_table,
+KINDS = {"tune": tune_table, "worst": worst_table, "compare": compare_table, "converged": converged_table, "bench": bench_table,
          "summary": summary_table, "facing": facing_table}
 
 

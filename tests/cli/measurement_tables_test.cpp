@@ -147,5 +147,34 @@ TEST(MeasurementTables, TheFairnessTableHoldsEachScenesDefaultAndBestWithTheWors
         << r.out;
 }
 
+TEST(MeasurementTables, TheWorstTableHoldsEachScenesRatiosToItsOwnBest) {
+    ScratchDir dir;
+    // A tune --objective worst run as stsv writes it (the fields the table reads): two scenes,
+    // their own bests, the defaults' and the knobs' errors.
+    writeText(dir.file("w.json"),
+              R"({"command": "stsv tune pcf --scenes foliage planes.json --objective worst",
+        "version": "v", "error": "light-facing RMSE", "set": {}, "methods": [
+        {"method": "pcf", "searched": [{"name": "pcf_world_radius"}],
+         "knobs": {"pcf_world_radius": 0.25, "sm_size": 256},
+         "objective": {"defaults": 10.0, "best": 1.5},
+         "training": [{"scene": "foliage", "default": 0.03, "best": 0.045, "own_best": 0.03},
+                      {"scene": "tests/planes.json", "default": 0.2, "best": 0.03, "own_best": 0.02}]}]})");
+    writeText(dir.file("v.json"), R"({"command": "stsv tune vsm --scenes a b --objective worst",
+        "version": "v", "error": "light-facing RMSE", "set": {}, "methods": [
+        {"method": "vsm", "searched": [{"name": "sm_bias"}], "knobs": {"sm_bias": 2.0},
+         "objective": {"defaults": 1.3, "best": 1.2},
+         "training": [{"scene": "a", "default": 0.013, "best": 0.012, "own_best": 0.01},
+                      {"scene": "b", "default": 0.02, "best": 0.02, "own_best": 0.02}]}]})");
+    const ShellResult r =
+        runShell(tables() + " worst '" + dir.file("v.json") + "' '" + dir.file("w.json") + "'");
+    ASSERT_EQ(r.code, 0) << r.out;
+    // pcf first (the methods' order), the searched knob only; 0.045 / 0.03 = 1.5 is not fair.
+    EXPECT_NE(r.out.find("| pcf | foliage 1.00 → 1.50, planes 10.00 → 1.50 | 10.00 | 1.50 ✗ | "
+                         "`pcf_world_radius=0.25` |\n| vsm | a 1.30 → 1.20, b 1.00 → 1.00 | 1.30 | 1.20 | "
+                         "`sm_bias=2` |"),
+              std::string::npos)
+        << r.out;
+}
+
 } // namespace
 } // namespace stsv::test
