@@ -38,7 +38,7 @@ done
 # worst ratio is a lower bound for the whole set's).
 declare -A worst_scenes=([pcf]="foliage planes" [pcss]="foliage planes" [vsm]="foliage planes"
   [evsm]="foliage planes" [msm]="foliage example planes" [csm]="foliage example planes"
-  [esm]="example fence foliage knot planes" [vpcss]="foliage planes")
+  [esm]="example foliage" [vpcss]="foliage planes")
 worst_all=()
 for method in pcf pcss vpcss vsm evsm msm esm csm; do worst_all+=("worst-$method"); done
 
