@@ -12,10 +12,10 @@ namespace stsv {
 
 namespace {
 
-/// The knobs a shadow-map method reads (shadowmaps/shadow_map.h: the one list, with the defaults
-/// of ShadowMapSettings).
+/// The knobs a shadow-map method reads (shadowmaps/shadow_map.h: the one list, with the method's
+/// defaults).
 std::vector<MethodKnob> mapKnobs(ShadowFilter filter) {
-    const ShadowMapSettings defaults;
+    const ShadowMapSettings defaults = defaultShadowMapSettings(filter);
     std::vector<MethodKnob> knobs;
     for (const ShadowMapKnob& k : shadowMapKnobs())
         if (k.readBy(filter))

@@ -80,16 +80,18 @@ inline bool isFilteredRepresentation(ShadowFilter f) {
 
 /// The knobs the shadow-map methods read (method knobs of render/methods.cpp).
 struct ShadowMapSettings {
-    int size = 2048;           ///< sm_size: texels per face edge
-    int fit = 1;               ///< sm_fit: 0 the scene box, 1 the receivers in view and their casters
-    float bias = 1.0f;         ///< sm_bias: constant depth bias, texels at the receiver
-    float normalOffset = 0.0f; ///< sm_normal_offset: receiver moved along its normal, texels
+    int size = 2048; ///< sm_size: texels per face edge
+    int fit = 1;     ///< sm_fit: 0 the scene box, 1 the receivers in view and their casters
+    /// sm_bias: constant depth bias, texels at the receiver; sm_normal_offset: receiver moved
+    /// along its normal, texels. Several methods start from other values (defaultShadowMapSettings).
+    float bias = 1.0f;
+    float normalOffset = 0.0f;
     ShadowFilter filter = ShadowFilter::None;
     /// pcf_world_radius: PCF's kernel half-width at the receiver, world units (metres), turned into
     /// texels per pixel through the receiver's texel size: the same penumbra at every map size and
-    /// fit (it replaced pcf_radius, which counted texels). 3 cm is near the best of a sweep
-    /// against the converged reference on fence, foliage and knot (docs/methods.md).
-    float pcfWorldRadius = 0.03f;
+    /// fit (it replaced pcf_radius, which counted texels). 6 cm is the fixed width nearest every
+    /// tuning scene's own best at once (docs/measurements.md, "Fair defaults").
+    float pcfWorldRadius = 0.06f;
     /// pcf_max_radius: taps either side at most ((2·r + 1)² taps a pixel), a bound on the cost; a
     /// wider kernel keeps its world width with its taps more than a texel apart (measured within
     /// 1 % of the full kernel's error at 8 on fence, foliage, knot and particles). The stats
@@ -197,7 +199,14 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs();
 /// script's value would mean something else), or null when it never was one.
 const char* retiredShadowMapKnob(const std::string& name);
 
-/// The settings of a `filter` frame: the defaults of ShadowMapSettings, with each (name, value)
+/// The defaults of a `filter` frame: those of ShadowMapSettings, but for the knobs where the
+/// fairness sweep put the method's best elsewhere (the knobs nearest every tuning scene's own
+/// best at once, docs/measurements.md "Fair defaults"): the filtered representations VSM, ESM,
+/// EVSM a smaller bias with a normal offset, VSM and EVSM a smaller variance floor, VSM mips;
+/// volumetric PCSS a larger bias and normal offset.
+ShadowMapSettings defaultShadowMapSettings(ShadowFilter filter);
+
+/// The settings of a `filter` frame: defaultShadowMapSettings(filter), with each (name, value)
 /// of `params` set on its knob. UsageError for a name that is no knob of `filter` (naming the
 /// knob that replaced a retired one).
 ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params);

@@ -103,17 +103,17 @@ TEST(TuneCli, RecoversThePcfRadiusThatMatchesAnAnalyticPenumbra) {
     ScratchDir dir;
     // The converged references go to the scratch folder's cache, not the user's.
     test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
-    const std::string scene = writeRampScene(dir, "ramp6.json", 0.06);
+    const std::string scene = writeRampScene(dir, "ramp15.json", 0.15);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json j = readJson(dir.file("t.json"));
     ASSERT_EQ(j["methods"].size(), 1u);
     const nlohmann::json& m = j["methods"][0];
     // Within 12 %: the refinement's last step is 1/64 of the log range, a factor of 1.08, and the
     // occluder's edge lands on the map's texel grid, which shifts the best radius by up to half a
-    // texel (1 cm) over the ramp's 12 cm.
-    EXPECT_NEAR(m["knobs"]["pcf_world_radius"].get<double>(), 0.06, 0.12 * 0.06) << m.dump(1);
-    // The default as written (the float 0.03f as its shortest decimal).
-    EXPECT_EQ(m["defaults"]["pcf_world_radius"].get<double>(), 0.03);
+    // texel (1 cm) over the ramp's 30 cm.
+    EXPECT_NEAR(m["knobs"]["pcf_world_radius"].get<double>(), 0.15, 0.12 * 0.15) << m.dump(1);
+    // The default as written (the float 0.06f as its shortest decimal).
+    EXPECT_EQ(m["defaults"]["pcf_world_radius"].get<double>(), 0.06);
     EXPECT_TRUE(m["improved"].get<bool>());
     // The fixed knobs are part of what compare --knobs must set.
     EXPECT_EQ(m["knobs"]["sm_size"], 256);
@@ -125,12 +125,12 @@ TEST(TuneCli, ReportsTheDefaultsWhenNothingBeatsThem) {
     ScratchDir dir;
     // The converged references go to the scratch folder's cache, not the user's.
     test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
-    // The scene built for the default radius, 3 cm, and a search over radii of 10 to 30 cm only:
-    // every one of them makes a ramp over three times too wide.
-    const std::string scene = writeRampScene(dir, "ramp3.json", 0.03);
-    const CliResult r = runOk(rampTune(scene, dir.file("t.json"), "=0.1:0.3"));
+    // The scene built for the default radius, 6 cm, and a search over radii of 18 to 54 cm only:
+    // every one of them makes a ramp three times too wide or more.
+    const std::string scene = writeRampScene(dir, "ramp6.json", 0.06);
+    const CliResult r = runOk(rampTune(scene, dir.file("t.json"), "=0.18:0.54"));
     const nlohmann::json m = readJson(dir.file("t.json"))["methods"][0];
-    EXPECT_EQ(m["knobs"]["pcf_world_radius"].get<double>(), 0.03) << m.dump(1);
+    EXPECT_EQ(m["knobs"]["pcf_world_radius"].get<double>(), 0.06) << m.dump(1);
     EXPECT_FALSE(m["improved"].get<bool>());
     EXPECT_GT(m["evaluations"].get<int>(), 5) << "the search tried other radii";
     // The defaults' own error, not a later render's: the same number.
@@ -173,9 +173,9 @@ TEST(TuneCli, TheWorstObjectiveFindsTheKnobsNearestEverySceneBestAtOnce) {
     ScratchDir dir;
     // The converged references go to the scratch folder's cache, not the user's.
     test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
-    // Two ramps that want radii a factor 4 apart: no radius is right for both.
-    const std::string narrow = writeRampScene(dir, "ramp3.json", 0.03);
-    const std::string wide = writeRampScene(dir, "ramp12.json", 0.12);
+    // Two ramps that want radii a factor 9 apart: no radius is right for both.
+    const std::string narrow = writeRampScene(dir, "ramp2.json", 0.02);
+    const std::string wide = writeRampScene(dir, "ramp18.json", 0.18);
     auto both = [&](const std::string& objective, const std::string& json) {
         std::vector<std::string> args = rampTune(narrow, json);
         args.insert(args.begin() + 4, wide);
@@ -205,14 +205,14 @@ TEST(TuneCli, TheWorstObjectiveFindsTheKnobsNearestEverySceneBestAtOnce) {
     EXPECT_DOUBLE_EQ(w["objective"]["best"].get<double>(), worstRatio(w, "best"));
     EXPECT_DOUBLE_EQ(w["objective"]["defaults"].get<double>(), worstRatio(w, "default"));
     EXPECT_LE(w["objective"]["best"].get<double>(), w["objective"]["defaults"].get<double>());
-    // The wide scene at the default radius, 3 cm, is far from its own best; the compromise lies
+    // Each scene at the default radius, 6 cm, is a factor 3 from its own; the compromise lies
     // strictly between the two scenes' radii (each recovered within 12 %), and it is no worse on
     // the worse scene than what the mean objective picks: minimising the mean trades one scene
     // against the other, the worst objective bounds both.
     EXPECT_GT(w["objective"]["defaults"].get<double>(), 1.5);
     const double radius = w["knobs"]["pcf_world_radius"].get<double>();
-    EXPECT_GT(radius, 1.12 * 0.03) << w.dump(1);
-    EXPECT_LT(radius, 0.12 / 1.12) << w.dump(1);
+    EXPECT_GT(radius, 1.12 * 0.02) << w.dump(1);
+    EXPECT_LT(radius, 0.18 / 1.12) << w.dump(1);
     EXPECT_LE(w["objective"]["best"].get<double>(), worstRatio(mean, "best")) << mean.dump(1);
     EXPECT_EQ(w["own_renders"].get<int>(),
               readJson(dir.file("narrow.json"))["methods"][0]["renders"].get<int>() +
@@ -225,11 +225,11 @@ TEST(TuneCli, TheJsonFileSetsCompareKnobs) {
     ScratchDir dir;
     // The converged references go to the scratch folder's cache, not the user's.
     test::ScopedEnv cache("STSV_CACHE_DIR", dir.file("cache"));
-    const std::string scene = writeRampScene(dir, "ramp6.json", 0.06);
+    const std::string scene = writeRampScene(dir, "ramp15.json", 0.15);
     runOk(rampTune(scene, dir.file("t.json")));
     const nlohmann::json tuned = readJson(dir.file("t.json"))["methods"][0];
     const double radius = tuned["knobs"]["pcf_world_radius"].get<double>();
-    ASSERT_NE(radius, 0.03) << "the file must hold a radius other than the default";
+    ASSERT_NE(radius, 0.06) << "the file must hold a radius other than the default";
 
     const std::vector<std::string> compare = {
         "compare",          scene,    "--methods", "pcf/cpu,pcss/cpu", "--knobs",

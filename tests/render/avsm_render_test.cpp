@@ -202,8 +202,14 @@ TEST(AvsmRender, VpcssIsPcssWithoutTranslucentTriangles) {
     for (const char* name : {"fence", "knot"}) {
         const Scene scene = loadScene(name, name == std::string("knot") ? SceneOptions{{{"segments", "120"}}}
                                                                         : SceneOptions{});
+        // The depth test at volumetric PCSS's own bias and normal offset.
+        const ShadowMapSettings own = defaultShadowMapSettings(ShadowFilter::Vpcss);
         const Frame pcss = render(scene, Method::Pcss, kW,
-                                  {{"sm_size", 512}, {"pcss_blocker_taps", 25}, {"pcss_filter_taps", 25}});
+                                  {{"sm_size", 512},
+                                   {"pcss_blocker_taps", 25},
+                                   {"pcss_filter_taps", 25},
+                                   {"sm_bias", own.bias},
+                                   {"sm_normal_offset", own.normalOffset}});
         const Frame vpcss = render(scene, Method::Vpcss, kW, {{"avsm_size", 512}});
         std::size_t penumbra = 0;
         for (float v : pcss.visibility.pixels) penumbra += v > 0.02f && v < 0.98f ? 1 : 0;

@@ -27,8 +27,14 @@ double groundTexel(const Scene& scene) {
 /// A fixed kernel of the (2r + 1)² texels around the receiver's on the ground: half-width
 /// (r + ½) texels in world units.
 MethodParams fixedKernel(const Scene& scene, int radius) {
+    // PCF's depth test (the shared bias, no normal offset) and the summed-area table's exact
+    // box, whatever a representation's own defaults.
+    const ShadowMapSettings shared;
     return {{"sm_size", double(kMapSize)},
             {"sm_fit", 0.0},
+            {"sm_bias", double(shared.bias)},
+            {"sm_normal_offset", double(shared.normalOffset)},
+            {"fm_mip", 0.0},
             {"fm_kernel", 0.0},
             {"fm_world_radius", (radius + 0.5) * groundTexel(scene)}};
 }

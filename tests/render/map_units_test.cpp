@@ -168,7 +168,7 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
          {{-0.2 * kLightHeight / (kLightHeight - 0.5), penumbraWidth(0.5f)},
           {0.15 * kLightHeight / (kLightHeight - 1.0), penumbraWidth(1.0f)}}},
     };
-    const ShadowMapSettings defaults;
+    const ShadowMapSettings defaults = defaultShadowMapSettings(ShadowFilter::Pcf);
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);
         // PCF's fixed kernel (pcf_world_radius either side) makes a ramp of its own width under
