@@ -276,7 +276,8 @@ double shadowMapPeakBytes(const ShadowMapView& view, const ShadowMapSettings& s,
 //                       default settings          sm_size=4096 (peel_size=2048, avsm_size=4096)
 //                      measured   estimate            measured   estimate
 //   cpu    pcf, pcss       13.2       15.8                61.1       63.8
-//   cpu    vsm            109.7      110.3               445.9      446.4
+//   cpu    vsm             88.4       89.3               360.4      361.3
+//   cpu    vsm fm_mip=0   109.7      110.3               445.9      446.4
 //   cpu    esm             50.4       52.5               210.4      212.5
 //   cpu    evsm           162.8      162.8               658.6      658.8
 //   cpu    msm            204.9      204.9               828.9      829.0
@@ -284,14 +285,16 @@ double shadowMapPeakBytes(const ShadowMapView& view, const ShadowMapSettings& s,
 //   cpu    peel            32.1       34.0               542.2      544.0
 //   cpu    avsm, vpcss     64.6       64.7              1099.7     1099.7
 //   vulkan pcf, pcss   7.2-17.9       15.8           58.2-68.1       63.8
-//   vulkan vsm             49.1       78.8               292.1      318.9
+//   vulkan vsm             23.1       57.8               202.5      233.8
+//   vulkan vsm fm_mip=0    49.1       78.8               292.1      318.9
 //   vulkan esm             37.3       36.8               151.6      148.8
 //   vulkan evsm           100.1       99.8               407.0      403.8
 //   vulkan msm            142.8      141.9               578.0      574.0
 //   vulkan csm           1025.2     1024.6     refused: 4 GiB, over one Vulkan allocation
 //   vulkan peel            24.4       34.0               534.8      544.0
 //   vulkan avsm, vpcss     74.6      127.5              1414.4     2167.5
-// (pcf and pcss allocate alike on Vulkan: their spread is the measurement's, a few MiB.) Vulkan's
+// (pcf and pcss allocate alike on Vulkan: their spread is the measurement's, a few MiB; vsm reads
+// mips by default, fm_mip=0 its summed-area table.) Vulkan's
 // fragment lists are allocated whole but touched only where fragments land, so its avsm peak
 // stays below the estimate; the address space holds all of it. The old estimate, one float a
 // texel on six faces, was 96 MiB for csm at sm_size=2048.

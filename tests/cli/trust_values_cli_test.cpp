@@ -250,12 +250,14 @@ TEST(TrustValues, TheFrameEstimateCoversEachMapMethodsMeasuredPeak) {
         const char* method;
         const char* small; ///< the baseline map
         const char* large;
-        double peakMiB; ///< peak resident size at `large` less that at `small`
+        double peakMiB;              ///< peak resident size at `large` less that at `small`
+        const char* extra = nullptr; ///< another --param of both renders
     };
     const std::vector<Measured> measured = {
         {"cpu", "pcf", "sm_size=256", "sm_size=4096", 61.1},
         {"cpu", "pcss", "sm_size=256", "sm_size=4096", 61.1},
-        {"cpu", "vsm", "sm_size=256", "sm_size=4096", 445.9},
+        {"cpu", "vsm", "sm_size=256", "sm_size=4096", 360.4},
+        {"cpu", "vsm", "sm_size=256", "sm_size=4096", 445.9, "fm_mip=0"},
         {"cpu", "esm", "sm_size=256", "sm_size=4096", 210.4},
         {"cpu", "evsm", "sm_size=256", "sm_size=4096", 658.6},
         {"cpu", "msm", "sm_size=256", "sm_size=4096", 828.9},
@@ -265,7 +267,8 @@ TEST(TrustValues, TheFrameEstimateCoversEachMapMethodsMeasuredPeak) {
         {"cpu", "vpcss", "avsm_size=256", "avsm_size=4096", 1099.6},
         {"vulkan", "pcf", "sm_size=256", "sm_size=4096", 58.2},
         {"vulkan", "pcss", "sm_size=256", "sm_size=4096", 68.1},
-        {"vulkan", "vsm", "sm_size=256", "sm_size=4096", 292.1},
+        {"vulkan", "vsm", "sm_size=256", "sm_size=4096", 202.5},
+        {"vulkan", "vsm", "sm_size=256", "sm_size=4096", 292.1, "fm_mip=0"},
         {"vulkan", "esm", "sm_size=256", "sm_size=4096", 151.6},
         {"vulkan", "evsm", "sm_size=256", "sm_size=4096", 407.0},
         {"vulkan", "msm", "sm_size=256", "sm_size=4096", 578.0},
@@ -279,13 +282,21 @@ TEST(TrustValues, TheFrameEstimateCoversEachMapMethodsMeasuredPeak) {
         std::vector<std::string> small = row, large = row;
         small.push_back(m.small);
         large.push_back(m.large);
+        if (m.extra) {
+            for (std::vector<std::string>* args : {&small, &large}) {
+                args->push_back("--param");
+                args->push_back(m.extra);
+            }
+        }
         const double grows = infoFrameMiB(large) - infoFrameMiB(small);
         EXPECT_GE(grows, 0.9 * m.peakMiB)
-            << m.method << " on " << m.backend << " from " << m.small << " to " << m.large << ": estimated "
-            << grows << " MiB, measured " << m.peakMiB;
+            << m.method << " on " << m.backend << (m.extra ? std::string(" with ") + m.extra : std::string())
+            << " from " << m.small << " to " << m.large << ": estimated " << grows << " MiB, measured "
+            << m.peakMiB;
         EXPECT_LE(grows, 1.6 * m.peakMiB)
-            << m.method << " on " << m.backend << " from " << m.small << " to " << m.large << ": estimated "
-            << grows << " MiB, measured " << m.peakMiB;
+            << m.method << " on " << m.backend << (m.extra ? std::string(" with ") + m.extra : std::string())
+            << " from " << m.small << " to " << m.large << ": estimated " << grows << " MiB, measured "
+            << m.peakMiB;
     }
     for (const char* backend : {"cpu", "vulkan"})
         EXPECT_GT(infoFrameMiB({"--method", "csm", "--backend", backend}), 1024.0) << backend;

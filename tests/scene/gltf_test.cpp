@@ -21,6 +21,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 
 namespace stsv {
 namespace {
@@ -949,9 +950,13 @@ TEST(Gltf, DeeplyNestedJsonIsRefusedBeforeTinygltfRecursesIntoIt) {
 }
 
 /// Khronos's glTF sample and generator models as Debian's assimp-testmodels ships them (one of
-/// the test packages `make test` installs).
+/// the test packages `make test` installs); a failure names the package when it is missing.
 std::string khronosModel(const std::string& name) {
-    return "/usr/share/assimp/models/" + name;
+    const std::string path = "/usr/share/assimp/models/" + name;
+    if (!std::filesystem::exists(path))
+        ADD_FAILURE() << path << " is missing: it comes with Debian's assimp-testmodels package "
+                      << "(`make test-deps` installs it, or apt-get install assimp-testmodels)";
+    return path;
 }
 
 TEST(Gltf, KhronosModelsFromDebian) {
