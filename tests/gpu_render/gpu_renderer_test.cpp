@@ -194,7 +194,7 @@ TEST_F(GpuRenderer, FenceMatchesEmbree) {
     const RenderOptions o = gpuOptions(W, H, 64);
     const Frame frame = renderGpu(scene, o);
     for (std::size_t l = 0; l < scene.lights.size(); ++l)
-        expectMatchesEmbree(scene, frame, o, l, 0.999, "fence");
+        expectMatchesEmbree(scene, frame, o, l, 1, "fence"); // measured 1 of 324 544
 }
 
 TEST_F(GpuRenderer, FoliageMatchesEmbree) {
@@ -202,7 +202,7 @@ TEST_F(GpuRenderer, FoliageMatchesEmbree) {
     const RenderOptions o = gpuOptions(W, H, 64);
     const Frame frame = renderGpu(scene, o);
     for (std::size_t l = 0; l < scene.lights.size(); ++l)
-        expectMatchesEmbree(scene, frame, o, l, 0.999, "foliage");
+        expectMatchesEmbree(scene, frame, o, l, 0, "foliage"); // measured 0 of 343 296
 }
 
 TEST_F(GpuRenderer, EveryLightShapeInOneFrameMatchesMirrorEmbreeAndCpuResolve) {
@@ -218,7 +218,7 @@ TEST_F(GpuRenderer, EveryLightShapeInOneFrameMatchesMirrorEmbreeAndCpuResolve) {
     for (std::size_t l = 0; l < 4; ++l) {
         const std::string what = "light shape " + std::to_string(scene.lights[l].type);
         expectMirrorExact(scene, frame, o, l, what);
-        expectMatchesEmbree(scene, frame, o, l, 0.999, what);
+        expectMatchesEmbree(scene, frame, o, l, 0, what); // measured 0 of 127 552 for each shape
     }
     // Resolve: the CPU resolve of the GPU's own buffers (render/cpu/cpu_renderer.cpp's conventions).
     Frame cpu;
@@ -258,7 +258,7 @@ TEST_F(GpuRenderer, DoubleSidedTrianglesWithLightStraddlingTheirPlane) {
     const Frame frame = renderGpu(scene, o);
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
         expectMirrorExact(scene, frame, o, l, "straddling");
-        expectMatchesEmbree(scene, frame, o, l, 0.999, "straddling");
+        expectMatchesEmbree(scene, frame, o, l, 0, "straddling"); // measured 0 of 255 104, both lights
     }
     // Shadow on both sides of the plane x = 0.
     std::size_t left = 0, right = 0;
@@ -293,7 +293,7 @@ TEST_F(GpuRenderer, CameraInsideVolumeNearPlaneBehindLightAndDegenerateTriangles
     const RenderOptions o = gpuOptions(W, H, 64);
     const Frame frame = renderGpu(scene, o);
     expectMirrorExact(scene, frame, o, 0, "camera inside");
-    expectMatchesEmbree(scene, frame, o, 0, 0.999, "camera inside");
+    expectMatchesEmbree(scene, frame, o, 0, 0, "camera inside"); // measured 0 of 299 968
     for (std::size_t i = 0; i < frame.gbuffer.triangle.size(); ++i) {
         EXPECT_NE(frame.gbuffer.triangle[i], 6u) << "degenerate triangle rasterised";
         EXPECT_NE(frame.gbuffer.triangle[i], 7u) << "degenerate triangle rasterised";

@@ -108,9 +108,9 @@ void expectMirrorExactButTexelTies(const Scene& scene, const Frame& frame, const
 }
 
 /// GPU vs Embree's optical depths on the GPU's G-buffer: every differing sample at a boundary,
-/// and at least 99.9 % identical.
+/// and at most test::allowedDifferingBits(measuredDiffering) of them.
 void expectDepthsMatchEmbree(const Scene& scene, const Frame& frame, const RenderOptions& o,
-                             const std::string& what) {
+                             std::size_t measuredDiffering, const std::string& what) {
     const EmbreeScene embree(scene);
     const float far = farDistanceFor(scene.bounds());
     const SamplePlan plan = planOf(o);
@@ -137,7 +137,8 @@ void expectDepthsMatchEmbree(const Scene& scene, const Frame& frame, const Rende
         }
     std::cout << what << " vs Embree: " << total << " pairs, " << differing << " differ, " << unexplained
               << " away from boundaries\n";
-    EXPECT_LE(double(differing), 1e-3 * double(total)) << what;
+    EXPECT_LE(differing, test::allowedDifferingBits(measuredDiffering))
+        << what << ": " << measuredDiffering << " measured";
     EXPECT_EQ(unexplained, 0u) << what << ": differing optical depths away from boundaries:" << where.str();
 }
 
@@ -152,7 +153,9 @@ TEST_F(GpuTransmittance, StsvMatchesTheMirrorButTexelTiesAndEmbreeAtBoundaries) 
                 std::string(c.name) + " (" + frame.stats["gpu"]["extrusion"].get<std::string>() + ")";
             ASSERT_EQ(frame.lightSamples[0].kind(), BufferKind::Transmittance);
             expectMirrorExactButTexelTies(c.scene, frame, test::mirrorSamples(c.scene, frame, 0, o), o, what);
-            if (stage == ExtrusionStage::Auto) expectDepthsMatchEmbree(c.scene, frame, o, what);
+            // Measured 5 of 333 568 samples on the particles, 1 of 324 544 on the fence fabric.
+            if (stage == ExtrusionStage::Auto)
+                expectDepthsMatchEmbree(c.scene, frame, o, c.name == std::string("particles") ? 5 : 1, what);
         }
 }
 

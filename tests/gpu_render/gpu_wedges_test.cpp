@@ -88,9 +88,10 @@ class GpuWedges : public test::GpuRenderTest {
 
     /// PW: the GPU's visibility image against the mirror's v_coef (one light): per pixel within
     /// 1e-4 — the wedge terms are float sums in another order (blending vs a loop), each term a
-    /// fraction ≤ 1 computed by the same dh code — on at least `minAgreement` of the pixels.
+    /// fraction ≤ 1 computed by the same dh code — on every pixel (measured: the largest
+    /// difference 1.2·10⁻⁷ on the sphere, 0 with STSV on fence and foliage).
     void expectPwMatchesMirror(const Scene& scene, const Frame& frame, const RenderOptions& o,
-                               double minAgreement, const std::string& what) {
+                               const std::string& what) {
         ASSERT_EQ(scene.lights.size(), 1u);
         const OpaqueOccluders occ(scene);
         const float far = farDistanceFor(scene.bounds());
@@ -113,11 +114,10 @@ class GpuWedges : public test::GpuRenderTest {
                 worst = std::max(worst, d);
                 close += d <= 1e-4 ? 1 : 0;
             }
-        const double agreement = double(close) / double(covered);
         std::cout << what << ": " << covered << " pixels, " << penumbra << " in penumbra (mirror), "
                   << covered - close << " differ by > 1e-4 (largest " << worst << ")\n";
         EXPECT_GT(penumbra, covered / 100) << what << ": no penumbra to test";
-        EXPECT_GE(agreement, minAgreement) << what;
+        EXPECT_EQ(close, covered) << what << ": pixels more than 1e-4 from the mirror";
     }
 };
 
@@ -185,14 +185,17 @@ TEST_F(GpuWedges, DcsOnClosedMeshesMatchesMirrorAndEmbree) {
     const struct {
         const char* name;
         MeshData mesh;
-    } meshes[] = {{"sphere", test::makeSphereMesh(32, 16)},
-                  {"torus knot", test::makeTorusKnotMesh(256, 12, 0.12f)}};
+        std::size_t measuredDiffering;
+    } meshes[] = {{"sphere", test::makeSphereMesh(32, 16), 38},
+                  {"torus knot", test::makeTorusKnotMesh(256, 12, 0.12f), 27}};
     for (const auto& m : meshes) {
         const Scene scene = makeMeshScene(m.mesh, m.name);
         const RenderOptions o = wedgeOptions(Method::Dcs, 128, 96, 32);
         const Frame frame = renderGpu(scene, o);
         expectDcsMatchesMirror(scene, frame, o, 1.0, std::string(m.name) + " dcs");
-        expectMatchesEmbree(scene, frame, o, 0, 0.999, std::string(m.name) + " dcs", true);
+        // Measured 38 of 306 592 (sphere) and 27 of 321 248 (knot): a tie on the segment to the
+        // light centre moves a whole pixel's bits.
+        expectMatchesEmbree(scene, frame, o, 0, m.measuredDiffering, std::string(m.name) + " dcs", true);
     }
 }
 
@@ -226,7 +229,7 @@ TEST_F(GpuWedges, DcsOnClosedBoxesAsThinAsTheStartGapMatchesMirror) {
         EXPECT_GT(thin, 100u) << "repeat " << repeat << ": no visible point at the thin-box tie";
         const std::string what = "fence-mesh repeat " + std::to_string(repeat) + " dcs";
         expectDcsMatchesMirror(scene, frame, o, 1.0, what);
-        expectMatchesEmbree(scene, frame, o, 0, 0.999, what, true);
+        expectMatchesEmbree(scene, frame, o, 0, 0, what, true); // measured 0 of 288 512, both repeats
     }
 }
 
@@ -311,7 +314,9 @@ TEST_F(GpuWedges, DcsEveryLightShapeAndOpenNonManifoldSoupMatchMirror) {
         const std::string what =
             std::string(shape % 2 ? "soup" : "torus") + " light shape " + std::to_string(shape);
         expectDcsMatchesMirror(scene, frame, o, 1.0, what);
-        expectMatchesEmbree(scene, frame, o, 0, 0.999, what, true);
+        // Measured 0 of 327 648 (torus, shapes 0 and 2), 0 of 315 328 (soup, disk) and 6 of
+        // 315 328 (soup, directional).
+        expectMatchesEmbree(scene, frame, o, 0, shape == 3 ? 6 : 0, what, true);
     }
 }
 
@@ -329,12 +334,12 @@ TEST_F(GpuWedges, PwMatchesMirrorOnConvexMeshAndFence) {
     {
         const Scene scene = makeMeshScene(test::makeSphereMesh(32, 16), "sphere");
         const RenderOptions o = wedgeOptions(Method::Pw, 128, 96, 32);
-        expectPwMatchesMirror(scene, renderGpu(scene, o), o, 0.999, "sphere pw");
+        expectPwMatchesMirror(scene, renderGpu(scene, o), o, "sphere pw");
     }
     for (const char* name : {"fence", "foliage"}) {
         const Scene scene = loadScene(name);
         const RenderOptions o = wedgeOptions(Method::PwStsv, 128, 96, 64);
-        expectPwMatchesMirror(scene, renderGpu(scene, o), o, 0.999, std::string(name) + " pw+stsv");
+        expectPwMatchesMirror(scene, renderGpu(scene, o), o, std::string(name) + " pw+stsv");
     }
 }
 

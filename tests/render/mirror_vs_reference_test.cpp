@@ -14,19 +14,23 @@
 
 #include <cmath>
 #include <sstream>
+#include <vector>
 
 namespace stsv {
 namespace {
 
+using test::allowedDifferingBits;
 using test::atBoundary;
 
-void compareOnScene(const std::string& name, int samples) {
+/// `measured`: the differing bits of each light when the test was written.
+void compareOnScene(const std::string& name, int samples, const std::vector<std::size_t>& measured) {
     Scene scene = loadScene(name);
     constexpr int W = 160, H = 120; // small enough for a unit test, large enough for real shadows
     const EmbreeScene embree(scene);
     const GBuffer g = embree.traceGBuffer(W, H);
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 7u, 1, true);
     const float far = farDistanceFor(scene.bounds());
+    ASSERT_EQ(measured.size(), scene.lights.size()) << name;
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
         LightSampleBuffer reference(W, H, samples, BufferKind::Bitmask);
         LightSampleBuffer mirror(W, H, samples, BufferKind::Bitmask);
@@ -62,17 +66,18 @@ void compareOnScene(const std::string& name, int samples) {
                   << " away from boundaries\n";
         // The scenes must actually cast shadows, or agreement is meaningless.
         EXPECT_GT(occludedRef, total / 50) << name << ": too few occluded samples to test anything";
-        EXPECT_GE(agreement, 0.999) << name << " light " << l;
+        EXPECT_LE(differing, allowedDifferingBits(measured[l]))
+            << name << " light " << l << ": " << measured[l] << " measured";
         EXPECT_EQ(unexplained, 0u) << name << " light " << l
                                    << ": differing bits away from boundaries:" << where.str();
     }
 }
 
 TEST(MirrorVsReference, Fence64) {
-    compareOnScene("fence", 64);
+    compareOnScene("fence", 64, {2}); // measured 2 of 901 376
 }
 TEST(MirrorVsReference, Foliage64) {
-    compareOnScene("foliage", 64);
+    compareOnScene("foliage", 64, {0}); // measured 0 of 953 536
 }
 
 TEST(MirrorVsReference, CountersMatchEmbreeLayerCounts) {
