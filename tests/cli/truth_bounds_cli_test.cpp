@@ -46,10 +46,9 @@ void expectWithinTheTruth(const std::string& scene, const std::vector<TruthBound
     std::string methods;
     for (const TruthBound& b : bounds)
         methods += std::string(methods.empty() ? "" : ",") + b.method + "/cpu," + b.method + "/vulkan";
-    const std::vector<std::string> args = {"compare",   scene, "--methods", methods, "--size",
-                                           "96x72",     "--samples",       "64",    "--converged",
-                                           "8",         "--validation",    "-q",    "--json",
-                                           dir.file("c.json")};
+    const std::vector<std::string> args = {
+        "compare", scene,         "--methods", methods,        "--size", "96x72",  "--samples",
+        "64",      "--converged", "8",         "--validation", "-q",     "--json", dir.file("c.json")};
     const test::CliResult r = runStsv(args);
     ASSERT_EQ(r.code, 0) << test::describe(args, r);
     EXPECT_EQ(r.err.find("vulkan validation"), std::string::npos) << r.err;
@@ -63,8 +62,9 @@ void expectWithinTheTruth(const std::string& scene, const std::vector<TruthBound
         for (const char* backend : {"cpu", "vulkan"}) {
             const std::string name = std::string(b.method) + "/" + backend;
             ASSERT_EQ(error.count(name), 1u) << scene << ": no row for " << name;
-            std::printf("%s, %s: light-facing visibility RMSE %.4f against the converged reference (bound %.4f)\n",
-                        scene.c_str(), name.c_str(), error[name], allowed(b.measured));
+            std::printf(
+                "%s, %s: light-facing visibility RMSE %.4f against the converged reference (bound %.4f)\n",
+                scene.c_str(), name.c_str(), error[name], allowed(b.measured));
             EXPECT_LE(error[name], allowed(b.measured)) << scene << ", " << name << ": " << b.why;
         }
 }
@@ -72,39 +72,39 @@ void expectWithinTheTruth(const std::string& scene, const std::vector<TruthBound
 TEST(TruthBounds, EveryMethodThatTakesPerforatedTrianglesOnTheFence) {
     // The equal-sample noise floor (64 samples against 512) is 0.0153: the per-sample methods
     // stand on it.
-    expectWithinTheTruth(
-        "fence",
-        {{"stsv", 0.0153, "Embree's bits at 64 samples: the noise floor"},
-         {"pw+stsv", 0.0153, "no opaque caster in view: STSV's bits"},
-         {"dcs+stsv", 0.0153, "no opaque caster in view: STSV's bits"},
-         {"pcf", 0.0227, "a fixed 6 cm kernel against penumbrae of other widths"},
-         {"pcss", 0.0145, "the averaged blocker depth of the wires; the taps' noise"},
-         {"vsm", 0.0141, "the moments' bound where wires and ground share a kernel"},
-         {"esm", 0.0145, "the exponential's overdarkening near contact"},
-         {"evsm", 0.0162, "the warps' bounds over the wires"},
-         {"msm", 0.0103, "the moment bias"},
-         {"csm", 0.0130, "16 damped Fourier terms round the step"},
-         {"avsm", 0.1321, "a hard shadow from the light centre (no penumbra)"},
-         {"vpcss", 0.0288, "PCSS on the functions with its 25 taps"}});
+    expectWithinTheTruth("fence",
+                         {{"stsv", 0.0153, "Embree's bits at 64 samples: the noise floor"},
+                          {"pw+stsv", 0.0153, "no opaque caster in view: STSV's bits"},
+                          {"dcs+stsv", 0.0153, "no opaque caster in view: STSV's bits"},
+                          {"pcf", 0.0227, "a fixed 6 cm kernel against penumbrae of other widths"},
+                          {"pcss", 0.0145, "the averaged blocker depth of the wires; the taps' noise"},
+                          {"vsm", 0.0141, "the moments' bound where wires and ground share a kernel"},
+                          {"esm", 0.0145, "the exponential's overdarkening near contact"},
+                          {"evsm", 0.0162, "the warps' bounds over the wires"},
+                          {"msm", 0.0103, "the moment bias"},
+                          {"csm", 0.0130, "16 damped Fourier terms round the step"},
+                          {"avsm", 0.1321, "a hard shadow from the light centre (no penumbra)"},
+                          {"vpcss", 0.0288, "PCSS on the functions with its 25 taps"}});
 }
 
 TEST(TruthBounds, EveryMethodOnTheClosedKnot) {
     // The noise floor is 0.0082.
-    expectWithinTheTruth("knot", {{"stsv", 0.0082, "Embree's bits at 64 samples: the noise floor"},
-                                  {"dcs", 0.0099, "depth complexity: the floor and ties at the silhouettes"},
-                                  {"dcs+stsv", 0.0099, "DCS's, nothing is perforated"},
-                                  {"pw", 0.0269, "the wedges of overlapping silhouettes added, the method's approximation"},
-                                  {"pw+stsv", 0.0269, "PW's, nothing is perforated"},
-                                  {"pcf", 0.0396, "a fixed 6 cm kernel"},
-                                  {"pcss", 0.0297, "the averaged blocker depth of the tube's layers"},
-                                  {"vsm", 0.0283, "light bleeding where the tube crosses itself"},
-                                  {"esm", 0.0307, "the exponential's bleeding across the tube's layers"},
-                                  {"evsm", 0.0282, "light bleeding where the tube crosses itself"},
-                                  {"msm", 0.0272, "the moment bias across the tube's layers"},
-                                  {"csm", 0.0320, "ringing of the truncated series across layers"},
-                                  {"peel", 0.0223, "the depth grid's texels along the tube's silhouette"},
-                                  {"avsm", 0.0633, "a hard shadow from the light centre (no penumbra)"},
-                                  {"vpcss", 0.0257, "PCSS's averaged blocker depth"}});
+    expectWithinTheTruth(
+        "knot", {{"stsv", 0.0082, "Embree's bits at 64 samples: the noise floor"},
+                 {"dcs", 0.0099, "depth complexity: the floor and ties at the silhouettes"},
+                 {"dcs+stsv", 0.0099, "DCS's, nothing is perforated"},
+                 {"pw", 0.0269, "the wedges of overlapping silhouettes added, the method's approximation"},
+                 {"pw+stsv", 0.0269, "PW's, nothing is perforated"},
+                 {"pcf", 0.0396, "a fixed 6 cm kernel"},
+                 {"pcss", 0.0297, "the averaged blocker depth of the tube's layers"},
+                 {"vsm", 0.0283, "light bleeding where the tube crosses itself"},
+                 {"esm", 0.0307, "the exponential's bleeding across the tube's layers"},
+                 {"evsm", 0.0282, "light bleeding where the tube crosses itself"},
+                 {"msm", 0.0272, "the moment bias across the tube's layers"},
+                 {"csm", 0.0320, "ringing of the truncated series across layers"},
+                 {"peel", 0.0223, "the depth grid's texels along the tube's silhouette"},
+                 {"avsm", 0.0633, "a hard shadow from the light centre (no penumbra)"},
+                 {"vpcss", 0.0257, "PCSS's averaged blocker depth"}});
 }
 
 TEST(TruthBounds, TheOpaqueOnlyMethodsOnTheParallelPlanes) {
