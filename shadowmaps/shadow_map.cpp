@@ -522,11 +522,11 @@ namespace {
 /// Where a method's default differs from ShadowMapSettings' own. Each set is the one among the
 /// candidates measured on the whole tuning set (fence, foliage, knot, fence-mesh, particles with
 /// receivers inside, example) whose worst error over a scene's own best is least, without
-/// losing the held-out parallel planes (docs/measurements.md, "Fair defaults"): VSM 2.19 → 1.74,
-/// EVSM 2.14 → 1.75, ESM 1.37 → 1.29, volumetric PCSS 1.39 → 1.28. CSM and MSM keep the shared
-/// values: the filtered set gains CSM 1 % and costs it 25 % on the planes; MSM's gain (1.91 →
-/// 1.74) is the mips', whose bilinear taps (8-bit weights on lavapipe) the moment reconstruction
-/// amplifies into CPU/Vulkan differences of 0.08 on the knot.
+/// losing the held-out parallel planes (docs/measurements.md, "The defaults chosen from these
+/// searches", with the ratios before and after). CSM and MSM keep the shared values: the
+/// filtered set gains CSM 1 % and costs it 25 % on the planes; MSM's gain is the mips', whose
+/// bilinear taps (8-bit weights on lavapipe) the moment reconstruction amplifies into
+/// CPU/Vulkan differences of 0.08 on the knot.
 struct MethodDefault {
     ShadowFilter filter;
     const char* knob;

@@ -289,14 +289,12 @@ TEST(TrustValues, TheFrameEstimateCoversEachMapMethodsMeasuredPeak) {
             }
         }
         const double grows = infoFrameMiB(large) - infoFrameMiB(small);
-        EXPECT_GE(grows, 0.9 * m.peakMiB)
-            << m.method << " on " << m.backend << (m.extra ? std::string(" with ") + m.extra : std::string())
-            << " from " << m.small << " to " << m.large << ": estimated " << grows << " MiB, measured "
-            << m.peakMiB;
-        EXPECT_LE(grows, 1.6 * m.peakMiB)
-            << m.method << " on " << m.backend << (m.extra ? std::string(" with ") + m.extra : std::string())
-            << " from " << m.small << " to " << m.large << ": estimated " << grows << " MiB, measured "
-            << m.peakMiB;
+        const std::string what = std::string(m.method) + " on " + m.backend +
+                                 (m.extra ? std::string(" with ") + m.extra : std::string()) + " from " +
+                                 m.small + " to " + m.large + ": estimated " + std::to_string(grows) +
+                                 " MiB, measured " + std::to_string(m.peakMiB);
+        EXPECT_GE(grows, 0.9 * m.peakMiB) << what;
+        EXPECT_LE(grows, 1.6 * m.peakMiB) << what;
     }
     for (const char* backend : {"cpu", "vulkan"})
         EXPECT_GT(infoFrameMiB({"--method", "csm", "--backend", backend}), 1024.0) << backend;

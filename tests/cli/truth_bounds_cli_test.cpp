@@ -23,7 +23,7 @@ using test::ScratchDir;
 
 /// The bound of one method on one scene: the light-facing visibility RMSE measured on both
 /// backends when the bound was written (96 × 72, 64 samples, seed 1; the same figure on both to
-/// the fourth decimal but where noted), and why the method stands where it does.
+/// the fourth decimal), and why the method stands where it does.
 struct TruthBound {
     const char* method;
     double measured;
