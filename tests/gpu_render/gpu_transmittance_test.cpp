@@ -130,7 +130,7 @@ void expectDepthsMatchEmbree(const Scene& scene, const Frame& frame, const Rende
                 if (reference.opticalDepth(x, y, k) == gpu.opticalDepth(x, y, k)) continue;
                 ++differing;
                 const vec3 s = lightSamplePosition(lf, pixelSamplePoint(plan, x, y, k, lf.domain));
-                if (!test::atBoundary(scene, g, x, y, s, true) && ++unexplained <= 10)
+                if (!test::atBoundary(scene, g, x, y, s, lf.center, true) && ++unexplained <= 10)
                     where << "\n  pixel (" << x << "," << y << ") sample " << k << ": gpu "
                           << gpu.opticalDepth(x, y, k) << ", embree " << reference.opticalDepth(x, y, k);
             }

@@ -20,7 +20,6 @@ namespace stsv {
 namespace {
 
 using test::allowedDifferingBits;
-using test::atBoundary;
 
 /// `measured`: the differing bits of each light when the test was written.
 void compareOnScene(const std::string& name, int samples, const std::vector<std::size_t>& measured) {
@@ -38,6 +37,7 @@ void compareOnScene(const std::string& name, int samples, const std::vector<std:
         stsvCpuSamples(scene, g, scene.lights[l], plan, far, mirror);
 
         std::size_t total = 0, differing = 0, occludedRef = 0, unexplained = 0;
+        double worst = 0.0; // the largest distance, in units of round-off, of an explained bit
         std::ostringstream where;
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x) {
@@ -50,12 +50,15 @@ void compareOnScene(const std::string& name, int samples, const std::vector<std:
                     if (reference.occluded(x, y, k) == mirror.occluded(x, y, k)) continue;
                     ++differing;
                     const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
-                    if (!atBoundary(scene, g, x, y, s)) {
+                    const double units = test::boundaryDistanceAt(scene, g, x, y, s, frame.center).nearest();
+                    if (units <= test::kRoundOffUnits) worst = std::max(worst, units);
+                    if (units > test::kRoundOffUnits) {
                         if (++unexplained <= 10)
                             where << "\n  pixel (" << x << "," << y << ") sample " << k
-                                  << " reference=" << reference.occluded(x, y, k) << " p=(" << g.position[i].x
-                                  << "," << g.position[i].y << "," << g.position[i].z << ") s=(" << s.x << ","
-                                  << s.y << "," << s.z << ")";
+                                  << " reference=" << reference.occluded(x, y, k) << ", " << units
+                                  << " units of round-off from a boundary, p=(" << g.position[i].x << ","
+                                  << g.position[i].y << "," << g.position[i].z << ") s=(" << s.x << "," << s.y
+                                  << "," << s.z << ")";
                     }
                 }
             }
@@ -63,7 +66,7 @@ void compareOnScene(const std::string& name, int samples, const std::vector<std:
         ::testing::Test::RecordProperty(name + "_agreement", std::to_string(agreement));
         std::cout << name << " light " << l << ": " << total << " pairs, " << occludedRef << " occluded, "
                   << differing << " differ (" << 100.0 * (1.0 - agreement) << " %), " << unexplained
-                  << " away from boundaries\n";
+                  << " away from boundaries; worst explained " << worst << " units of round-off\n";
         // The scenes must actually cast shadows, or agreement is meaningless.
         EXPECT_GT(occludedRef, total / 50) << name << ": too few occluded samples to test anything";
         EXPECT_LE(differing, allowedDifferingBits(measured[l]))

@@ -91,7 +91,7 @@ void expectSameDepths(const Scene& scene, const Frame& fa, const Frame& fb, bool
                 const std::size_t i = fa.gbuffer.index(x, y);
                 const LightFrame frame = lightFrame(scene.lights[0], fa.gbuffer.position[i], far);
                 const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
-                ASSERT_TRUE(atBoundaries && test::atBoundary(scene, fa.gbuffer, x, y, s))
+                ASSERT_TRUE(atBoundaries && test::atBoundary(scene, fa.gbuffer, x, y, s, frame.center, true))
                     << "pixel (" << x << "," << y << ") sample " << k << ": " << d << " vs "
                     << b.opticalDepth(x, y, k);
             }

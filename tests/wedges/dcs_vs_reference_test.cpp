@@ -54,121 +54,11 @@ struct Agreement {
     std::size_t inStartGap = 0;    ///< a triangle within the start gap of the visible point
     std::size_t texelBoundary = 0; ///< the sample's segment crosses a perforated triangle at a texel boundary
     std::size_t unexplained = 0;   ///< none of these: a fault
-    double worstDistance = 0.0;    ///< largest relative edge distance that explained a bit
+    double worstDistance = 0.0;    ///< largest distance (units of round-off) that explained a bit
     double fraction() const { return compared ? 1.0 - double(differing) / double(compared) : 0.0; }
 };
 
 using dvec3 = glm::dvec3;
-
-/// Distance between the segments [a0, a1] and [b0, b1] (closest points clamped to both; Ericson,
-/// Real-Time Collision Detection, 5.1.9), in double precision.
-double segmentDistance(dvec3 a0, dvec3 a1, dvec3 b0, dvec3 b1) {
-    const dvec3 d1 = a1 - a0, d2 = b1 - b0, r = a0 - b0;
-    const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);
-    double sParam = 0.0, tParam = 0.0;
-    if (a <= 1e-30 && e <= 1e-30) return glm::length(r);
-    if (a <= 1e-30) {
-        tParam = std::clamp(f / e, 0.0, 1.0);
-    } else {
-        const double c = glm::dot(d1, r);
-        if (e <= 1e-30) {
-            sParam = std::clamp(-c / a, 0.0, 1.0);
-        } else {
-            const double b = glm::dot(d1, d2), denom = a * e - b * b;
-            sParam = denom > 0.0 ? std::clamp((b * f - c * e) / denom, 0.0, 1.0) : 0.0;
-            tParam = (b * sParam + f) / e;
-            if (tParam < 0.0) {
-                tParam = 0.0;
-                sParam = std::clamp(-c / a, 0.0, 1.0);
-            } else if (tParam > 1.0) {
-                tParam = 1.0;
-                sParam = std::clamp((b - c) / a, 0.0, 1.0);
-            }
-        }
-    }
-    return glm::length((a0 + d1 * sParam) - (b0 + d2 * tParam));
-}
-
-/// Smallest distance from the segment p + t(q − p), t in [tMin, 1], to an edge of any triangle
-/// but `ignore`, relative to |q − p|.
-double nearestEdge(const Scene& scene, vec3 p, vec3 q, float tMin, std::uint32_t ignore) {
-    const dvec3 a0 = dvec3(p) + double(tMin) * (dvec3(q) - dvec3(p)), a1 = dvec3(q);
-    double best = std::numeric_limits<double>::infinity();
-    for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
-        if (t == ignore) continue;
-        const uvec3 idx = scene.triangles[t];
-        const dvec3 v[3] = {dvec3(scene.positions[idx.x]), dvec3(scene.positions[idx.y]),
-                            dvec3(scene.positions[idx.z])};
-        for (int e = 0; e < 3; ++e) best = std::min(best, segmentDistance(a0, a1, v[e], v[(e + 1) % 3]));
-    }
-    return best / glm::length(dvec3(q) - dvec3(p));
-}
-
-/// True iff a triangle but `ignore` has a point within `gap` of p (|p − x| over the triangle,
-/// bounded below by the distance to its plane and its edges: the exact point-triangle distance).
-bool triangleWithin(const Scene& scene, vec3 p, double gap, std::uint32_t ignore) {
-    const dvec3 x(p);
-    for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
-        if (t == ignore) continue;
-        const uvec3 idx = scene.triangles[t];
-        const dvec3 a(scene.positions[idx.x]), b(scene.positions[idx.y]), c(scene.positions[idx.z]);
-        double d =
-            std::min({segmentDistance(x, x, a, b), segmentDistance(x, x, b, c), segmentDistance(x, x, c, a)});
-        const dvec3 n = glm::cross(b - a, c - a);
-        const double n2 = glm::dot(n, n);
-        if (n2 > 0.0) {
-            // The foot of the perpendicular, if inside the triangle, is the closest point.
-            const dvec3 foot = x - n * (glm::dot(x - a, n) / n2);
-            const double u = glm::dot(glm::cross(b - a, foot - a), n),
-                         v = glm::dot(glm::cross(c - b, foot - b), n),
-                         w = glm::dot(glm::cross(a - c, foot - c), n);
-            if (u >= 0.0 && v >= 0.0 && w >= 0.0) d = std::min(d, glm::length(x - foot));
-        }
-        if (d <= gap) return true;
-    }
-    return false;
-}
-
-/// Where the segment p + t(q − p), t in [tMin, 1], crosses a perforated triangle (but `ignore`):
-/// the smallest distance, in texels, from the crossing's texel coordinate to a texel boundary
-/// (infinity when it crosses none). The texel rule decides such a crossing by round-off.
-double nearestTexelBoundary(const Scene& scene, vec3 p, vec3 q, float tMin, std::uint32_t ignore) {
-    double best = std::numeric_limits<double>::infinity();
-    const dvec3 o(p), d = dvec3(q) - dvec3(p);
-    for (std::uint32_t t = 0; t < scene.triangles.size(); ++t) {
-        if (t == ignore || !scene.perforated(t)) continue;
-        const uvec3 idx = scene.triangles[t];
-        const dvec3 a(scene.positions[idx.x]), b(scene.positions[idx.y]), c(scene.positions[idx.z]);
-        // Möller–Trumbore in double precision.
-        const dvec3 e1 = b - a, e2 = c - a, h = glm::cross(d, e2);
-        const double det = glm::dot(e1, h);
-        if (std::abs(det) < 1e-300) continue;
-        const dvec3 sv = o - a;
-        const double u = glm::dot(sv, h) / det;
-        const dvec3 qv = glm::cross(sv, e1);
-        const double v = glm::dot(d, qv) / det, tt = glm::dot(e2, qv) / det;
-        if (u < -1e-6 || v < -1e-6 || u + v > 1.0 + 1e-6 || tt < double(tMin) || tt > 1.0) continue;
-        const glm::dvec2 uv0(scene.texcoords[idx.x]), uv1(scene.texcoords[idx.y]),
-            uv2(scene.texcoords[idx.z]);
-        const glm::dvec2 uv = uv0 + u * (uv1 - uv0) + v * (uv2 - uv0);
-        const Texture& texture = scene.textures[std::size_t(scene.materialOf(t).alphaTexture)];
-        const glm::dvec2 texel = uv * glm::dvec2(texture.width, texture.height);
-        best = std::min(
-            {best, std::abs(texel.x - std::round(texel.x)), std::abs(texel.y - std::round(texel.y))});
-    }
-    return best;
-}
-
-/// Texel-coordinate distance below which float round-off decides a crossing's texel: texel
-/// coordinates reach a few hundred here (float ulp about 3e-5 at 256), after a transform and a
-/// barycentric interpolation that each lose a few bits.
-constexpr double kTexelGrazing = 1e-3;
-
-/// Relative distance from a segment to an edge below which float round-off can decide the
-/// segment's side: the segments are tested in float (ulp 6e-8 relative) after transforms and
-/// plane equations that lose a few bits each; 1e-4 leaves a wide margin over the worst measured
-/// (printed below) while a fault, which moves whole penumbrae, is far above it.
-constexpr double kGrazing = 1e-4;
 
 Agreement compareWithReference(const Scene& scene, int size, int samples, bool withStsv,
                                WedgeCpuStats* statsOut = nullptr) {
@@ -192,37 +82,40 @@ Agreement compareWithReference(const Scene& scene, int size, int samples, bool w
                 const std::size_t i = g.index(x, y);
                 const vec3 p = g.position[i];
                 const LightFrame frame = lightFrame(light, p, farDistance);
-                const float tMin = shadowTMin(p, frame.center, length(scene.bounds().extent()));
-                double centreDistance = -1.0; // computed once per pixel, when a bit differs
+                test::BoundaryDistance centreDistance; // computed once per pixel, when a bit differs
+                bool centreKnown = false;
                 for (int k = 0; k < samples; ++k) {
                     ++a.compared;
                     a.occluded += ref.occluded(x, y, k) ? 1 : 0;
                     if (ref.occluded(x, y, k) == dcs.occluded(x, y, k)) continue;
                     ++a.differing;
                     const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
-                    const double sampleDistance = nearestEdge(scene, p, s, tMin, g.triangle[i]);
-                    if (centreDistance < 0.0)
-                        centreDistance = nearestEdge(scene, p, frame.center, tMin, g.triangle[i]);
-                    const bool grazes = sampleDistance < kGrazing, centre = centreDistance < kGrazing;
-                    // The start gap: tMin·|s − p|, twice over for the round-off of the start point.
-                    const bool gap =
-                        triangleWithin(scene, p, 2.0 * double(tMin) * double(length(s - p)), g.triangle[i]);
-                    const double texelDistance = nearestTexelBoundary(scene, p, s, tMin, g.triangle[i]);
-                    const bool texel = texelDistance < kTexelGrazing;
+                    const test::BoundaryDistance sample =
+                        test::boundaryDistance(scene, p, s, frame.center, g.triangle[i]);
+                    if (!centreKnown) {
+                        centreDistance =
+                            test::boundaryDistance(scene, p, frame.center, frame.center, g.triangle[i]);
+                        centreKnown = true;
+                    }
+                    constexpr double units = test::kDcsRoundOffUnits;
+                    const double sampleDistance = std::min(sample.edge, sample.gap);
+                    const bool grazes = sampleDistance <= units, centre = centreDistance.nearest() <= units;
+                    const bool gap = sample.startGap <= 2.0;
+                    const bool texel = sample.texel <= units;
                     a.texelBoundary += texel ? 1 : 0;
                     a.sampleGrazes += grazes ? 1 : 0;
                     a.centreGrazes += centre ? 1 : 0;
                     a.inStartGap += gap ? 1 : 0;
                     if (grazes) a.worstDistance = std::max(a.worstDistance, sampleDistance);
-                    if (centre) a.worstDistance = std::max(a.worstDistance, centreDistance);
+                    if (centre) a.worstDistance = std::max(a.worstDistance, centreDistance.nearest());
                     if (!grazes && !centre && !gap && !texel) {
                         ++a.unexplained;
                         std::printf(
                             "  unexplained: pixel (%d, %d) sample %d: reference %d, dcs %d; sample's segment "
-                            "%.3g, centre's %.3g of its length from an edge; %.3g texels from a texel "
-                            "boundary\n",
+                            "%.3g, centre's %.3g units of round-off from an edge; %.3g from a texel "
+                            "boundary; start gap %.3g\n",
                             x, y, k, int(ref.occluded(x, y, k)), int(dcs.occluded(x, y, k)), sampleDistance,
-                            centreDistance, texelDistance);
+                            centreDistance.nearest(), sample.texel, sample.startGap);
                     }
                 }
             }
@@ -239,7 +132,8 @@ void expectAgreement(const char* name, const Scene& scene, bool withStsv, std::s
         "%-28s %s: %zu of %zu samples differ (%.4f %% identical), %zu occluded; %zu edges, %zu potential "
         "silhouettes, %zu negative counts\n"
         "  differing bits: %zu with the sample's segment grazing an edge, %zu with the centre's, %zu with a "
-        "triangle in the start gap, %zu at a texel boundary, %zu unexplained; worst grazing distance %.3g\n",
+        "triangle in the start gap, %zu at a texel boundary, %zu unexplained; worst grazing distance %.3g "
+        "units of round-off\n",
         name, withStsv ? "dcs+stsv" : "dcs     ", a.differing, a.compared, 100.0 * a.fraction(), a.occluded,
         stats.edges, stats.potentialSilhouettes, stats.negativeCounts, a.sampleGrazes, a.centreGrazes,
         a.inStartGap, a.texelBoundary, a.unexplained, a.worstDistance);
