@@ -6,6 +6,7 @@
 #include "scene/surface_dh.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <string>
 
 namespace stsv {
@@ -143,10 +144,15 @@ void checkDevice(RTCDevice device, const char* what) {
 
 EmbreeScene::EmbreeScene(const Scene& scene) : m_scene(scene) {
     for (const Material& m : scene.materials) m_depthTables.push_back(opticalDepthTable(m));
-    m_device = rtcNewDevice(nullptr);
+    // STSV_EMBREE_CONFIG, when set, is Embree's device configuration (rtcNewDevice): `isa=sse2`
+    // pins the kernels, whose rounding differs from one instruction set to another, so that a
+    // traced buffer is the same on every x86-64 machine (tests/golden pins it so).
+    const char* config = std::getenv("STSV_EMBREE_CONFIG");
+    m_device = rtcNewDevice(config);
     if (!m_device)
-        throw Error("Embree: cannot create a device (error " +
-                    std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+        throw Error("Embree: cannot create a device" +
+                    (config ? " with STSV_EMBREE_CONFIG='" + std::string(config) + "'" : std::string()) +
+                    " (error " + std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
     m_rtcScene = rtcNewScene(m_device);
     rtcSetSceneFlags(m_rtcScene, RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(m_rtcScene, RTC_BUILD_QUALITY_HIGH);

@@ -31,7 +31,7 @@ namespace stsv::test {
 /// The differing light-sample bits a comparison with Embree allows, from the count `measured`
 /// on the build machine (Embree's AVX2 kernels, llvmpipe at 256 bits): that count, a quarter
 /// more and two, for Embree's other instruction sets, whose rounding can move a grazing
-/// segment's bit (tests/golden keeps one record per instruction set for the same reason). A
+/// segment's bit (tests/golden pins Embree's kernels for the same reason). A
 /// test states each measurement beside its call, so a fault that flips a handful of bits fails.
 constexpr std::size_t allowedDifferingBits(std::size_t measured) {
     return measured + (measured + 3) / 4 + 2;
