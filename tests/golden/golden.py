@@ -119,18 +119,25 @@ def per_pixel_differences(name, old, new):
     step = max(1, len(va) // max(1, height * width))
     bits = "_bitmask" in name and not name.endswith("_visibility.npy")
     counts = [0] * (height * width)
+    heat = [0.0] * (height * width)  # differing samples, or the |difference| of a float image
     largest = 0.0
     for i, (x, y) in enumerate(zip(va, vb)):
         if x == y:
             continue
-        counts[min(i // step, len(counts) - 1)] += bin(x ^ y).count("1") if bits else 1
+        pixel = min(i // step, len(counts) - 1)
+        n = bin(x ^ y).count("1") if bits else 1
+        counts[pixel] += n
         if isinstance(x, float):
             largest = max(largest, abs(x - y))
-    return (width, height, counts), largest, ""
+            heat[pixel] += abs(x - y)
+        else:
+            heat[pixel] += n
+    return (width, height, counts, heat), largest, ""
 
 
 def write_png(path, width, height, counts, scale=6):
-    """A heat image of the differing samples per pixel: black none, red to yellow more."""
+    """A heat image of the differences per pixel: black none, red to yellow more (relative to
+    the largest)."""
     peak = max(counts) or 1
     rows = []
     for y in range(height):
@@ -190,14 +197,14 @@ def compare(stsv, images):
         if diff is None:
             failures.append(f"{name}: {why}")
             continue
-        width, height, counts = diff
+        width, height, counts, heat = diff
         summed = owners.get(name) in GPU_SUMMED and name.endswith("_visibility.npy")
         if summed and largest <= SUMMED_TOLERANCE:
             tolerated += 1
             continue
         images.mkdir(parents=True, exist_ok=True)
         image = images / f"golden_{Path(name).stem}.png"
-        write_png(image, width, height, counts)
+        write_png(image, width, height, heat)
         pixels = sum(1 for c in counts if c)
         failures.append(f"{name}: {sum(counts)} samples differ in {pixels} of {width * height} pixels"
                         + (f", largest |difference| {largest:.3g}" if largest else "") + f"; image {image}")
