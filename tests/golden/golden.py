@@ -9,16 +9,19 @@ image (--visibility) with the bitmask buffer and, where it accepts one, the tran
     golden.py compare STSV IMAGES_DIR  render again and compare with the record byte for byte
 
 The record holds the files' bytes (xz-compressed), not digests: a failure names each file that
-changed, how many samples and pixels differ, and writes an image of the differing samples per
-pixel into IMAGES_DIR (a failed CI run keeps it).
+changed, how many samples and pixels differ, and writes a heat image into IMAGES_DIR (a failed CI
+run keeps it): per pixel the differing samples (bits of a bitmask), or the |difference| of a
+float image.
 
 One record holds on every x86-64 machine: Embree's kernels differ in rounding from one instruction
 set to another, so the renders pin them to SSE2 (STSV_EMBREE_CONFIG=isa=sse2), which every x86-64
-CPU runs; llvmpipe's vector width is pinned to 256 bits (LP_NATIVE_VECTOR_WIDTH); the library is
-built without floating-point contraction (-ffp-contract=off, CMakeLists.txt), so no compiler flag
-that enables FMA changes the CPU mirror's rounding.
+CPU runs; llvmpipe compiles the shaders for the CPU's features, fusing multiply-adds where it has
+FMA (VSM's visibility differs without), so its features are pinned to SSE2 too
+(GALLIUM_OVERRIDE_CPU_CAPS=sse2); the library is built without floating-point contraction
+(-ffp-contract=off, CMakeLists.txt), so no compiler flag that enables FMA changes the CPU
+mirror's rounding.
 
-Two exceptions compare within a stated tolerance instead of byte for byte: pw's and pw+stsv's
+One exception compares within a stated tolerance instead of byte for byte: pw's and pw+stsv's
 visibility on Vulkan, whose wedge coverage is summed by additive blending in the order the compute
 passes append the hulls, which varies from run to run (GPU_SUMMED).
 """
@@ -39,7 +42,7 @@ SOURCE = HERE.parent.parent
 RECORD = HERE / "record.tar.xz"
 SCENES = ["fence", "foliage", "knot", str(SOURCE / "tests/data/scene/example.json")]
 COMMON = ["--size", "48x36", "--samples", "32", "--seed", "7", "-q"]
-PINNED = {"STSV_EMBREE_CONFIG": "isa=sse2", "LP_NATIVE_VECTOR_WIDTH": "256", "STSV_VALIDATION": "1"}
+PINNED = {"STSV_EMBREE_CONFIG": "isa=sse2", "GALLIUM_OVERRIDE_CPU_CAPS": "sse2", "STSV_VALIDATION": "1"}
 # Float visibility summed in a run-dependent order: |difference| allowed. The coverage of at most
 # a few dozen wedges per pixel, each at most 1, summed in float32 in any order: a few units of the
 # last place of a value of at most 1 (2^-24 each); 1e-5 is about 170 of them.
