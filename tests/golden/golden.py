@@ -25,6 +25,7 @@ One exception compares within a stated tolerance instead of byte for byte: pw's 
 visibility on Vulkan, whose wedge coverage is summed by additive blending in the order the compute
 passes append the hulls, which varies from run to run (GPU_SUMMED).
 """
+import ast
 import io
 import json
 import lzma
@@ -99,7 +100,7 @@ def read_npy(data):
     major = data[6]
     length_size = 2 if major == 1 else 4
     (header_len,) = struct.unpack("<H" if major == 1 else "<I", data[8:8 + length_size])
-    header = eval(data[8 + length_size:8 + length_size + header_len].decode("latin1"), {}, {})  # a Python dict literal
+    header = ast.literal_eval(data[8 + length_size:8 + length_size + header_len].decode("latin1"))
     return header["descr"], tuple(header["shape"]), data[8 + length_size + header_len:]
 
 

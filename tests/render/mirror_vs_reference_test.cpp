@@ -1,6 +1,6 @@
 // CPU STSV mirror against the Embree ground truth: at equal light samples, the
-// occlusion bits must agree except where a sample's segment grazes a triangle edge or an
-// alpha-texel boundary, or the pixel sits on a G-buffer silhouette.
+// occlusion bits must agree except where a sample's segment passes within float round-off of a
+// triangle edge or an alpha-texel boundary (tests/support/boundary.h).
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu/cpu_stsv.h"

@@ -69,9 +69,9 @@ void expectUmbra(const Frame& f, float quadY, float h, float lightSize, float ex
 }
 
 /// The two frames' buffers hold the same optical depth for every sample, and some are
-/// fractional. `atBoundaries`: except where the sample's segment grazes a triangle edge (within a
-/// texel of it, tests/support/boundary.h), where the reference and the mirror round differently,
-/// as with bits (tests/render/mirror_vs_reference_test.cpp).
+/// fractional. `atBoundaries`: except where the sample's segment passes within float round-off of
+/// a triangle edge or a texel boundary (tests/support/boundary.h), where the reference and the mirror round
+/// differently, as with bits (tests/render/mirror_vs_reference_test.cpp).
 void expectSameDepths(const Scene& scene, const Frame& fa, const Frame& fb, bool atBoundaries = false) {
     const LightSampleBuffer& a = fa.lightSamples[0];
     const LightSampleBuffer& b = fb.lightSamples[0];
