@@ -6,7 +6,6 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/blocked_range2d.h>
-#include <tbb/info.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_reduce.h>
 
@@ -25,11 +24,6 @@ struct PixelTile {
     int x0, y0, x1, y1;
     int tx, ty;
 };
-
-/// Threads oneTBB runs parallel loops on (at least 1).
-inline unsigned workerCount() {
-    return static_cast<unsigned>(std::max(1, tbb::info::default_concurrency()));
-}
 
 /// Tiles per row and per column of a width × height image.
 inline int tilesAcross(int pixels) {

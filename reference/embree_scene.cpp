@@ -3,7 +3,6 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "scene/occlusion_rules_dh.h"
-#include "scene/surface_dh.h"
 
 #include <algorithm>
 #include <cstdlib>
@@ -296,17 +295,6 @@ void EmbreeScene::surfaceCrossings(vec3 o, vec3 d, float tNear, float tFar,
     std::sort(out.begin(), out.end(), [](const SurfaceCrossing& a, const SurfaceCrossing& b) {
         return a.t != b.t ? a.t < b.t : a.triangle < b.triangle;
     });
-}
-
-vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary) {
-    const uvec3 idx = scene.triangles[tri];
-    return trianglePoint(scene.positions[idx.x], scene.positions[idx.y], scene.positions[idx.z], bary);
-}
-
-vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p) {
-    const uvec3 idx = scene.triangles[tri];
-    return triangleShadingNormal(scene.positions[idx.x], scene.positions[idx.y], scene.positions[idx.z],
-                                 scene.materialOf(tri).doubleSided, eye, p);
 }
 
 GBuffer EmbreeScene::traceGBuffer(int width, int height) const {

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "core/memory_budget.h"
 #include "scene/occlusion_rules_dh.h"
+#include "scene/surface_dh.h"
 
 #include <algorithm>
 #include <charconv>
@@ -262,6 +263,17 @@ void Scene::validate() {
         throw InputError(source, "every triangle is degenerate: the " + std::to_string(triangles.size()) +
                                      " triangle(s) have zero area (their vertices coincide or lie on one "
                                      "line), so nothing would be drawn or cast a shadow");
+}
+
+vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary) {
+    const uvec3 idx = scene.triangles[tri];
+    return trianglePoint(scene.positions[idx.x], scene.positions[idx.y], scene.positions[idx.z], bary);
+}
+
+vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p) {
+    const uvec3 idx = scene.triangles[tri];
+    return triangleShadingNormal(scene.positions[idx.x], scene.positions[idx.y], scene.positions[idx.z],
+                                 scene.materialOf(tri).doubleSided, eye, p);
 }
 
 } // namespace stsv

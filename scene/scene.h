@@ -196,4 +196,10 @@ struct Scene {
     void validate();
 };
 
+/// The point on triangle `tri` at barycentrics (b1, b2), and the shading normal a viewer at
+/// `eye` sees there (faces the viewer for double-sided materials, the winding normal otherwise):
+/// scene/surface_dh.h's rules, which the Vulkan G-buffer and resolve use too.
+vec3 pointOnTriangle(const Scene& scene, std::uint32_t tri, vec2 bary);
+vec3 shadingNormal(const Scene& scene, std::uint32_t tri, vec3 eye, vec3 p);
+
 } // namespace stsv

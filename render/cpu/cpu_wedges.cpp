@@ -7,7 +7,6 @@
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/camera.h"
-#include "volumes/extrusion.h"
 #include "volumes/stsv_dh.h"
 #include "wedges/dcs_dh.h"
 #include "wedges/edge_cluster_dh.h"
@@ -343,22 +342,6 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     return stats;
 }
 
-/// Algorithm 2, lines 9 and 13: the perforated triangles through STSV, into `out`.
-StsvCpuStats perforatedStsvSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
-                                   const SamplePlan& plan, float farDistance, LightSampleBuffer& out) {
-    return stsvCpuSamples(scene, gbuffer, light, plan, farDistance, out,
-                          stsvFilter(scene, StsvTriangles::Perforated));
-}
-
-WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
-                                const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
-                                StsvCpuStats* stsvStats) {
-    WedgeCpuStats stats = dcsCpuSamples(occ, gbuffer, light, plan, farDistance, counters);
-    const StsvCpuStats s = perforatedStsvSamples(occ.scene(), gbuffer, light, plan, farDistance, counters);
-    if (stsvStats) *stsvStats = s;
-    return stats;
-}
-
 WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
                               float farDistance, ImageF& visibility) {
     WedgeCpuStats stats;
@@ -392,16 +375,6 @@ WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer
     stats.pixelEdgeVisits = visits;
     stats.volumes = sil.volumesBuilt();
     stats.shade_ms = timer.milliseconds();
-    return stats;
-}
-
-WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
-                                  const SamplePlan& plan, float farDistance, ImageF& visibility,
-                                  LightSampleBuffer& stsvBits, StsvCpuStats* stsvStats) {
-    WedgeCpuStats stats = pwCpuVisibility(occ, gbuffer, light, farDistance, visibility);
-    const StsvCpuStats s = perforatedStsvSamples(occ.scene(), gbuffer, light, plan, farDistance, stsvBits);
-    if (stsvStats) *stsvStats = s;
-    pwFoldStsv(gbuffer, stsvBits, visibility);
     return stats;
 }
 

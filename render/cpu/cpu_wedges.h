@@ -9,13 +9,15 @@
 
 #include "core/gbuffer.h"
 #include "core/image.h"
-#include "render/cpu/cpu_stsv.h"
+#include "render/cpu/cpu_binning.h"
 #include "sampling/ls_buffer.h"
 #include "sampling/pattern.h"
 #include "scene/scene.h"
 #include "wedges/adjacency.h"
 #include "wedges/layer_bvh.h"
 #include "wedges/silhouette_edges.h"
+
+#include <nlohmann/json.hpp>
 
 #include <cstddef>
 #include <memory>
@@ -94,25 +96,11 @@ class OpaqueOccluders {
 WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
                             const SamplePlan& plan, float farDistance, LightSampleBuffer& counters);
 
-/// DCS+STSV (Algorithm 2, lines 8–9): DCS for the opaque triangles, then the STSV increments of
-/// the perforated ones added to the same counters.
-WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
-                                const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
-                                StsvCpuStats* stsvStats = nullptr);
-
 /// PW: per-pixel visibility v_coef of the opaque triangles (one channel, 1 on background):
 /// 1 − clamp([D(r) > 0] + Σ_e sign(k_e)·coverage_e, 0, 1), coverage analytic over the light
 /// frame's square or disk (wedges/pw_dh.h).
 WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
                               float farDistance, ImageF& visibility);
-
-/// PW+STSV (Algorithm 2, lines 12–14): v = clamp(v_pw − occluded fraction of the STSV bitmask of
-/// the perforated triangles, 0, 1). `stsvBits` (BufferKind::Bitmask, cleared by the caller) receives
-/// the STSV bits.
-WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer,
-                                  const Light& light, const SamplePlan& plan, float farDistance,
-                                  ImageF& visibility, LightSampleBuffer& stsvBits,
-                                  StsvCpuStats* stsvStats = nullptr);
 
 /// The fold of pw+stsv (Algorithm 2, line 14) alone: v = clamp(v − occluded fraction of
 /// `stsvBits`, 0, 1) at every covered pixel of `visibility` (PW's v_coef).

@@ -63,9 +63,6 @@ class HullResources {
     void reportCounts(VolumeGeometry geometry, std::size_t light, const char* pass,
                       const GpuHullCounts& counts, nlohmann::json& out) const;
 
-    std::uint64_t recordCapacity() const { return m_recordCapacity; }
-    std::uint64_t triangleCapacity() const { return m_triangleCapacity; }
-
     Buffer draw;     ///< GpuHullDraw
     Buffer records;  ///< GPU_HULL_RECORD_TEXELS uvec4 per record, written as storage, read as texels
     Buffer vertices; ///< uvec4 per hull vertex, written as storage, read as texels

@@ -3,7 +3,7 @@
 #include "sampling/ls_buffer_dh.h"
 
 #include "core/parallel.h"
-#include "reference/embree_scene.h"
+#include "scene/scene.h"
 
 #include <algorithm>
 #include <cstring>

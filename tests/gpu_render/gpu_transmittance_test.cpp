@@ -14,6 +14,7 @@
 #include "render/cpu/cpu_wedges.h"
 #include "scene/load.h"
 #include "scene/occlusion_rules_dh.h"
+#include "tests/support/wedge_composition.h"
 #include "volumes/stsv.h"
 
 #include <gtest/gtest.h>

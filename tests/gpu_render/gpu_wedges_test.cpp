@@ -9,6 +9,7 @@
 #include "scene/geometry.h"
 #include "scene/load.h"
 #include "scene/mesh_fence.h"
+#include "tests/support/wedge_composition.h"
 #include "tests/wedges/wedge_test_util.h"
 
 #include "wedges/layer_bvh_dh.h"

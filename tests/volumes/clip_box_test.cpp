@@ -1,9 +1,9 @@
 // A box clipped by half-spaces (volumes/clip_box_dh.h): the polyhedron is the intersection, closed
 // without cracks and wound outwards; and the STSV volume's hull (volumeHull) encloses every
 // point the fragment's plane tests accept.
+#include "tests/support/extrusion.h"
 #include "volume_test_util.h"
 #include "volumes/clip_box_dh.h"
-#include "volumes/extrusion.h"
 #include "volumes/extrusion_dh.h"
 
 #include <gtest/gtest.h>

@@ -3,8 +3,8 @@
 #include "core/error.h"
 #include "sampling/light_sampling_dh.h"
 #include "scene/surface_dh.h"
+#include "tests/support/extrusion.h"
 #include "volume_test_util.h"
-#include "volumes/extrusion.h"
 #include "volumes/stsv_dh.h"
 
 #include <embree3/rtcore.h>

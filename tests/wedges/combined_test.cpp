@@ -10,6 +10,7 @@
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "scene/procedural.h"
+#include "tests/support/wedge_composition.h"
 #include "volumes/stsv_dh.h"
 #include "wedge_test_util.h"
 

@@ -14,6 +14,7 @@
 #include "scene/load.h"
 #include "scene/procedural.h"
 #include "tests/support/boundary.h"
+#include "tests/support/wedge_composition.h"
 #include "volumes/stsv_dh.h"
 #include "wedge_test_util.h"
 

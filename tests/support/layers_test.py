@@ -1,0 +1,123 @@
+#!/usr/bin/env python3
+"""The layers point down (ARCHITECTURE.md): every #include of the source tree checked against the
+rules below. The math of the families (their *_dh.h headers and the folders of shared math) builds
+without Vulkan and without a renderer; no Vulkan code reaches the ground truth (Embree) or the
+CPU renderer; the CPU renderer reaches no Vulkan code; the frame code that both backends share
+reaches neither backend. A violation is printed as FILE:LINE: the include and the rule it breaks.
+
+    layers_test.py SOURCE_DIR        # exit 0: every rule holds
+    layers_test.py SOURCE_DIR --self-test
+"""
+import pathlib
+import re
+import sys
+
+# The folders of math and data that build on the CPU alone (no gpu/, render/, reference/, cli/).
+MATH = ("core/", "sampling/", "scene/", "volumes/", "wedges/", "shadowmaps/")
+BACKENDS = ("render/cpu/", "render/vulkan/", "gpu/")
+
+# (rule, which files it governs, which includes it forbids)
+RULES = [
+    ("math builds without a renderer, Vulkan or the ground truth",
+     lambda f: f.startswith(MATH), lambda inc: inc.startswith(("gpu/", "render/", "reference/", "cli/"))),
+    ("a device/host (*_dh.h) header includes only device/host headers",
+     lambda f: f.endswith("_dh.h"), lambda inc: not (inc.endswith("_dh.h") or inc == "core/dh.h")),
+    ("the Vulkan side reaches neither the ground truth nor the CPU renderer",
+     lambda f: f.startswith(("render/vulkan/", "gpu/")), lambda inc: inc.startswith(("reference/", "render/cpu/"))),
+    ("the CPU renderer reaches no Vulkan code",
+     lambda f: f.startswith("render/cpu/"), lambda inc: inc.startswith(("render/vulkan/", "gpu/"))),
+    ("the Vulkan plumbing (gpu/) knows no renderer",
+     lambda f: f.startswith("gpu/"), lambda inc: inc.startswith("render/")),
+    ("the frame code both backends share reaches neither backend",
+     lambda f: f.startswith("render/") and not f.startswith(BACKENDS) and f != "render/renderer.cpp",
+     lambda inc: inc.startswith(BACKENDS)),
+    ("the ground truth knows no renderer",
+     lambda f: f.startswith("reference/"), lambda inc: inc.startswith(("render/", "gpu/"))),
+]
+
+# A family's CPU side includes no other family's CPU side (render/cpu/cpu_<family>*): only the
+# techniques file, which composes the families a method row names, includes them all.
+CPU_FAMILY = re.compile(r"render/cpu/cpu_(stsv|wedges|shadowmaps)")
+VULKAN_FAMILY = re.compile(r"render/vulkan/gpu_(stsv|wedge|opaque|shadowmap)")
+COMPOSERS = {"render/cpu/cpu_techniques.cpp", "render/vulkan/vulkan_techniques.cpp"}
+
+INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
+SOURCES = ("*.h", "*.cpp", "*.glsl", "*.comp", "*.frag", "*.vert", "*.geom", "*.mesh", "*.task")
+
+
+def family(path, pattern):
+    match = pattern.match(path)
+    if not match:
+        return None
+    name = match.group(1)
+    return {"wedge": "wedges", "opaque": "wedges", "shadowmap": "shadowmaps"}.get(name, name)
+
+
+def violations(files):
+    """files: {relative path: text}. Yields 'FILE:LINE: include "X": rule'."""
+    for path, text in sorted(files.items()):
+        for number, line in enumerate(text.splitlines(), 1):
+            match = INCLUDE.match(line)
+            if not match:
+                continue
+            inc = match.group(1)
+            for rule, governs, forbids in RULES:
+                if governs(path) and forbids(inc):
+                    yield f'{path}:{number}: include "{inc}": {rule}'
+            for pattern in (CPU_FAMILY, VULKAN_FAMILY):
+                own, other = family(path, pattern), family(inc, pattern)
+                if own and other and own != other and path not in COMPOSERS:
+                    yield f'{path}:{number}: include "{inc}": a family includes no other family\'s backend'
+
+
+def tree(root):
+    files = {}
+    for folder in ("core", "sampling", "scene", "volumes", "wedges", "shadowmaps", "reference", "render", "gpu",
+                   "shaders", "cli"):
+        for pattern in SOURCES:
+            for path in (root / folder).rglob(pattern):
+                files[path.relative_to(root).as_posix()] = path.read_text(encoding="utf-8")
+    return files
+
+
+def self_test():
+    """Each rule must catch a planted include, so a rule that matches nothing cannot pass."""
+    planted = {
+        "wedges/x_dh.h": '#include "render/methods.h"\n',
+        "volumes/y_dh.h": '#include "scene/scene.h"\n',
+        "render/vulkan/z.cpp": '#include "reference/embree_scene.h"\n',
+        "render/cpu/w.cpp": '#include "gpu/device.h"\n',
+        "gpu/v.cpp": '#include "render/frame.h"\n',
+        "render/frame.cpp": '#include "render/cpu/cpu_renderer.h"\n',
+        "reference/u.cpp": '#include "render/methods.h"\n',
+        "render/cpu/cpu_wedges.h": '#include "render/cpu/cpu_stsv.h"\n',
+        "render/vulkan/gpu_stsv_pass.cpp": '#include "render/vulkan/gpu_opaque_passes.h"\n',
+    }
+    found = list(violations(planted))
+    for path in planted:
+        if not any(v.startswith(path + ":") for v in found):
+            print(f"self-test: the planted include in {path} was not caught", file=sys.stderr)
+            return 1
+    if list(violations({"render/cpu/cpu_techniques.cpp": '#include "render/cpu/cpu_stsv.h"\n'})):
+        print("self-test: the techniques file may compose the families", file=sys.stderr)
+        return 1
+    return 0
+
+
+def main():
+    root = pathlib.Path(sys.argv[1])
+    if self_test():
+        return 1
+    files = tree(root)
+    if len(files) < 100:
+        print(f"found only {len(files)} sources under {root}: wrong folder?", file=sys.stderr)
+        return 1
+    bad = list(violations(files))
+    for v in bad:
+        print(v, file=sys.stderr)
+    print(f"{len(files)} sources, {len(bad)} includes against the layers")
+    return 1 if bad else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
