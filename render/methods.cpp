@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <optional>
 #include <sstream>
+#include <stdexcept>
 
 namespace stsv {
 
@@ -88,105 +89,23 @@ std::vector<MethodInfo> buildTable() {
          .knobs = {},
          .stsv = StsvTriangles::Perforated,
          .opaque = OpaqueTechnique::Dcs},
-        {.id = Method::Pcf,
-         .name = "pcf",
-         .description =
-             "Percentage-closer filtering (Reeves 1987) of a shadow map from the light centre over "
-             "a fixed kernel of pcf_world_radius metres either side at the receiver",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Pcf),
-         .shadowMap = ShadowFilter::Pcf},
-        {.id = Method::Pcss,
-         .name = "pcss",
-         .description = "Percentage-closer soft shadows (Fernando 2005): blocker search, average blocker "
-                        "depth, PCF of the penumbra's width",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Pcss),
-         .shadowMap = ShadowFilter::Pcss},
-        {.id = Method::Vsm,
-         .name = "vsm",
-         .description = "Variance shadow maps (Donnelly & Lauritzen 2006): moments (z, z^2) averaged over "
-                        "the kernel, Chebyshev's upper bound",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Vsm),
-         .shadowMap = ShadowFilter::Vsm},
-        {.id = Method::Esm,
-         .name = "esm",
-         .description = "Exponential shadow maps (Annen et al. 2008): exp(c z) averaged in log space, exp(-c "
-                        "t) times the average",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Esm),
-         .shadowMap = ShadowFilter::Esm},
-        {.id = Method::Evsm,
-         .name = "evsm",
-         .description = "Exponential variance shadow maps: Chebyshev on a positive and a negative "
-                        "exponential warp, the smaller bound",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Evsm),
-         .shadowMap = ShadowFilter::Evsm},
-        {.id = Method::Msm,
-         .name = "msm",
-         .description =
-             "Moment shadow maps (Peters & Klein 2015): four power moments, Hamburger 4MSM reconstruction",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Msm),
-         .shadowMap = ShadowFilter::Msm},
-        {.id = Method::Csm,
-         .name = "csm",
-         .description = "Convolution shadow maps (Annen et al. 2007): the shadow test as a truncated Fourier "
-                        "series of filtered basis images",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Csm),
-         .shadowMap = ShadowFilter::Csm},
-        {.id = Method::Peel,
-         .name = "peel",
-         .description =
-             "Depth-peeling soft shadows (Liu et al. 2009): a depth grid of front and back faces "
-             "from the light centre, every sample's ray marched through it a texel a step (Table 1 "
-             "over each step's depths; counters: the grid's surfaces it crosses); assumes closed "
-             "objects (behind an open surface facing the light: shadowed; facing away: lit)",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::SampleOcclusion,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Peel),
-         .shadowMap = ShadowFilter::Peel},
-        {.id = Method::Avsm,
-         .name = "avsm",
-         .description = "Adaptive volumetric shadow maps (Salvi et al. 2010): per texel a transmittance "
-                        "function of avsm_nodes nodes from the light centre, built in depth order with "
-                        "the least area lost on overflow; hard translucent shadows by lookup",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Avsm),
-         .shadowMap = ShadowFilter::Avsm},
-        {.id = Method::Vpcss,
-         .name = "vpcss",
-         .description = "Volumetric PCSS (Klein et al.): PCSS on the AVSM, the blocker depth a "
-                        "transmittance-weighted average of the translucent and opaque blockers (Eq. 6-8, "
-                        "13), filtered transmittance lookups over the penumbra (Eq. 12, 14)",
-         .family = MethodFamily::ImageBased,
-         .output = MethodOutput::Visibility,
-         .backends = {B::Vulkan, B::Cpu},
-         .knobs = mapKnobs(ShadowFilter::Vpcss),
-         .shadowMap = ShadowFilter::Vpcss},
     };
+    // The image family: one row per variant, in its table's order.
+    for (const ShadowMapVariant& v : shadowMapVariants())
+        table.push_back({.id = imageMethod(v.filter),
+                         .name = v.name,
+                         .description = v.description,
+                         .family = MethodFamily::ImageBased,
+                         .output = v.representation == MapRepresentation::DepthGrid
+                                       ? MethodOutput::SampleOcclusion
+                                       : MethodOutput::Visibility,
+                         .backends = {B::Vulkan, B::Cpu},
+                         .knobs = mapKnobs(v.filter),
+                         .shadowMap = v.filter});
     for (std::size_t i = 0; i < table.size(); ++i)
-        if (static_cast<std::size_t>(table[i].id) != i) throw Error("method table out of enum order");
+        for (std::size_t j = 0; j < i; ++j)
+            if (table[i].id == table[j].id || table[i].name == table[j].name)
+                throw Error("method table: two rows of one id or name (" + table[i].name + ")");
     return table;
 }
 
@@ -220,7 +139,9 @@ const std::vector<MethodInfo>& methodTable() {
 }
 
 const MethodInfo& methodInfo(Method method) {
-    return methodTable().at(static_cast<std::size_t>(method));
+    for (const MethodInfo& m : methodTable())
+        if (m.id == method) return m;
+    throw std::logic_error("no method of id " + std::to_string(unsigned(method)));
 }
 
 std::vector<TechniqueFamily> MethodInfo::techniques() const {

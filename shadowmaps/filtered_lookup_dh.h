@@ -25,39 +25,6 @@
 
 DH_BEGIN
 
-/// The most values a texel's representation has (CSM at CSM_MAX_TERMS).
-DH_CONST uint FILTERED_MAX_CHANNELS = 32u;
-
-struct FilteredChannels {
-    float v[32];
-};
-
-/// The channels of one normalised depth z (ESM: c·z, the log of exp(c·z)).
-DH_FUNC FilteredChannels filteredChannelValues(ShadowFilterParams p, float z) {
-    FilteredChannels c;
-    for (uint i = 0u; i < FILTERED_MAX_CHANNELS; ++i) c.v[i] = 0.0f;
-    if (p.method == SHADOW_FILTER_VSM) {
-        vec2 m = vsmMoments(z);
-        c.v[0] = m.x;
-        c.v[1] = m.y;
-    } else if (p.method == SHADOW_FILTER_ESM) {
-        c.v[0] = p.esmC * z;
-    } else if (p.method == SHADOW_FILTER_EVSM || p.method == SHADOW_FILTER_MSM) {
-        vec4 m =
-            p.method == SHADOW_FILTER_EVSM ? evsmMoments(z, p.evsmPositive, p.evsmNegative) : msmMoments(z);
-        c.v[0] = m.x;
-        c.v[1] = m.y;
-        c.v[2] = m.z;
-        c.v[3] = m.w;
-    } else if (p.method == SHADOW_FILTER_CSM) {
-        for (int k = 1; k <= int(p.csmTerms); ++k) {
-            c.v[2 * (k - 1)] = cos(csmPhase(k, z));
-            c.v[2 * (k - 1) + 1] = sin(csmPhase(k, z));
-        }
-    }
-    return c;
-}
-
 /// Channel c alone of filteredChannelValues(p, z).
 DH_FUNC float filteredChannelValue(ShadowFilterParams p, float z, uint c) {
     if (p.method == SHADOW_FILTER_CSM) {
@@ -218,22 +185,6 @@ DH_FUNC FilteredChannels filteredSatMeans(ShadowMapView v, ShadowFilterParams p,
         result.v[c] = weight > 0.0f ? sum / weight : far.v[c];
     }
     return result;
-}
-
-/// The lit fraction the method reconstructs from a kernel's channel means `a` for a receiver at
-/// normalised depth t.
-DH_FUNC float filteredReconstruct(ShadowFilterParams p, FilteredChannels a, float t) {
-    if (p.method == SHADOW_FILTER_VSM) return vsmVisibility(vec2(a.v[0], a.v[1]), t, p.minVariance, p.bleed);
-    if (p.method == SHADOW_FILTER_ESM) return esmVisibility(a.v[0], p.esmC, t);
-    if (p.method == SHADOW_FILTER_EVSM)
-        return evsmVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.evsmPositive, p.evsmNegative,
-                              p.minVariance, p.bleed);
-    if (p.method == SHADOW_FILTER_MSM)
-        return msmVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.msmBias);
-    float series = 0.5f;
-    for (int k = 1; k <= int(p.csmTerms); ++k)
-        series += csmTerm(a.v[2 * (k - 1)], a.v[2 * (k - 1) + 1], t, k, int(p.csmTerms), p.csmDamp != 0u);
-    return csmVisibility(series);
 }
 
 /// The normalised depth a cell of the kernel centred on face point uv compares with: the

@@ -16,6 +16,15 @@
 
 DH_BEGIN
 
+/// The filtered representations among the image family's variants (ShadowFilterParams::method;
+/// shadow_map_dh.h has the others). A variant is its selector here, its functions below, its
+/// branches in the three dispatches at the end of this file, and its row in shadowmaps/variants.cpp.
+DH_CONST uint SHADOW_FILTER_VSM = 3u;
+DH_CONST uint SHADOW_FILTER_ESM = 4u;
+DH_CONST uint SHADOW_FILTER_EVSM = 5u;
+DH_CONST uint SHADOW_FILTER_MSM = 6u;
+DH_CONST uint SHADOW_FILTER_CSM = 7u;
+
 /// Normalised depth of a map depth d (SHADOW_MAP_EMPTY and beyond far: 1).
 DH_FUNC float filteredDepth(ShadowMapView v, float d) {
     if (d >= SHADOW_MAP_EMPTY) return 1.0f;
@@ -180,6 +189,67 @@ DH_FUNC float csmTerm(float cosAverage, float sinAverage, float t, int k, int te
 /// The lit fraction from the series' sum ½ + Σ terms, offset as published.
 DH_FUNC float csmVisibility(float series) {
     return clamp(2.0f * series, 0.0f, 1.0f);
+}
+
+// ---- The dispatches: a variant's representation, its channel count and its reconstruction ----
+
+/// Values per texel of a variant's representation (CSM: 2·csm_terms); 0 for a variant that is no
+/// filtered representation.
+DH_FUNC uint filteredChannelCount(uint method, uint csmTerms) {
+    if (method == SHADOW_FILTER_VSM) return 2u;
+    if (method == SHADOW_FILTER_ESM) return 1u;
+    if (method == SHADOW_FILTER_EVSM || method == SHADOW_FILTER_MSM) return 4u;
+    if (method == SHADOW_FILTER_CSM) return 2u * csmTerms;
+    return 0u;
+}
+
+/// The most values a texel's representation has (CSM at CSM_MAX_TERMS).
+DH_CONST uint FILTERED_MAX_CHANNELS = 32u;
+
+struct FilteredChannels {
+    float v[32];
+};
+
+/// The channels of one normalised depth z (ESM: c·z, the log of exp(c·z)).
+DH_FUNC FilteredChannels filteredChannelValues(ShadowFilterParams p, float z) {
+    FilteredChannels c;
+    for (uint i = 0u; i < FILTERED_MAX_CHANNELS; ++i) c.v[i] = 0.0f;
+    if (p.method == SHADOW_FILTER_VSM) {
+        vec2 m = vsmMoments(z);
+        c.v[0] = m.x;
+        c.v[1] = m.y;
+    } else if (p.method == SHADOW_FILTER_ESM) {
+        c.v[0] = p.esmC * z;
+    } else if (p.method == SHADOW_FILTER_EVSM || p.method == SHADOW_FILTER_MSM) {
+        vec4 m =
+            p.method == SHADOW_FILTER_EVSM ? evsmMoments(z, p.evsmPositive, p.evsmNegative) : msmMoments(z);
+        c.v[0] = m.x;
+        c.v[1] = m.y;
+        c.v[2] = m.z;
+        c.v[3] = m.w;
+    } else if (p.method == SHADOW_FILTER_CSM) {
+        for (int k = 1; k <= int(p.csmTerms); ++k) {
+            c.v[2 * (k - 1)] = cos(csmPhase(k, z));
+            c.v[2 * (k - 1) + 1] = sin(csmPhase(k, z));
+        }
+    }
+    return c;
+}
+
+/// The lit fraction the method reconstructs from a kernel's channel means `a` for a receiver at
+/// normalised depth t.
+DH_FUNC float filteredReconstruct(ShadowFilterParams p, FilteredChannels a, float t) {
+    if (p.method == SHADOW_FILTER_VSM) return vsmVisibility(vec2(a.v[0], a.v[1]), t, p.minVariance, p.bleed);
+    if (p.method == SHADOW_FILTER_ESM) return esmVisibility(a.v[0], p.esmC, t);
+    if (p.method == SHADOW_FILTER_EVSM)
+        return evsmVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.evsmPositive, p.evsmNegative,
+                              p.minVariance, p.bleed);
+    if (p.method == SHADOW_FILTER_MSM)
+        return msmVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.msmBias);
+    float series = 0.5f;
+    for (int k = 1; k <= int(p.csmTerms); ++k)
+        series += csmTerm(a.v[2 * (k - 1)], a.v[2 * (k - 1) + 1], t, k, int(p.csmTerms), p.csmDamp != 0u);
+    return csmVisibility(series);
 }
 
 DH_END

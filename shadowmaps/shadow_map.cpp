@@ -242,42 +242,47 @@ std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings) {
     return taps;
 }
 
-static_assert(uint(ShadowFilter::Pcf) == SHADOW_FILTER_PCF &&
-              uint(ShadowFilter::Pcss) == SHADOW_FILTER_PCSS &&
-              uint(ShadowFilter::Vsm) == SHADOW_FILTER_VSM && uint(ShadowFilter::Esm) == SHADOW_FILTER_ESM &&
-              uint(ShadowFilter::Evsm) == SHADOW_FILTER_EVSM &&
-              uint(ShadowFilter::Msm) == SHADOW_FILTER_MSM && uint(ShadowFilter::Csm) == SHADOW_FILTER_CSM &&
-              uint(ShadowFilter::Peel) == SHADOW_FILTER_PEEL &&
-              uint(ShadowFilter::Avsm) == SHADOW_FILTER_AVSM &&
-              uint(ShadowFilter::Vpcss) == SHADOW_FILTER_VPCSS);
-
 std::size_t avsmBytes(const ShadowMapView& view, const ShadowMapSettings& settings) {
     const std::size_t texels = std::size_t(view.faces) * view.size * view.size;
     return texels * (4 + 8 * std::size_t(settings.avsmNodes));
 }
 
 int filteredChannelCount(const ShadowMapSettings& s) {
-    switch (s.filter) {
-    case ShadowFilter::Vsm:
-        return 2;
-    case ShadowFilter::Esm:
-        return 1;
-    case ShadowFilter::Evsm:
-    case ShadowFilter::Msm:
-        return 4;
-    case ShadowFilter::Csm:
-        return 2 * s.csmTerms;
-    default:
-        return 0;
-    }
+    return int(stsv::filteredChannelCount(uint(s.filter), uint(s.csmTerms)));
 }
 
 bool filteredUsesMip(const ShadowMapSettings& s) {
-    // ESM and EVSM always filter through float (ESM: log-space) mips: their exponentials span
-    // more than the 32 fractional bits of a summed-area table (exp(40·(z − 1)) is below 2⁻³² for
-    // z < 0.45, and EVSM's variance of such values vanishes; measured on fence: 0.136 RMSE against
-    // 0.012 with mips).
-    return s.mip != 0 || s.filter == ShadowFilter::Esm || s.filter == ShadowFilter::Evsm;
+    return s.mip != 0 || (isFilteredRepresentation(s.filter) && shadowMapVariant(s.filter).alwaysMip);
+}
+
+bool searchesBlockers(const ShadowMapSettings& s) {
+    if (s.filter == ShadowFilter::None) return false;
+    const BlockerSearch search = shadowMapVariant(s.filter).blockers;
+    return search == BlockerSearch::Always || (search == BlockerSearch::WithSearchedKernel && s.kernel != 0);
+}
+
+bool ShadowMapKnob::readBy(ShadowFilter filter) const {
+    if (filter == ShadowFilter::None) return false;
+    const ShadowMapVariant& v = shadowMapVariant(filter);
+    switch (readers) {
+    case KnobReaders::Every:
+        return true;
+    case KnobReaders::DepthMaps:
+        return v.representation == MapRepresentation::Depths ||
+               v.representation == MapRepresentation::Filtered;
+    case KnobReaders::Filtered:
+        return v.representation == MapRepresentation::Filtered;
+    case KnobReaders::SearchedDepths:
+        return v.blockers != BlockerSearch::Never && v.representation != MapRepresentation::Transmittance;
+    case KnobReaders::Searched:
+        return v.blockers != BlockerSearch::Never;
+    case KnobReaders::Transmittance:
+        return v.representation == MapRepresentation::Transmittance;
+    case KnobReaders::Own:
+        return std::any_of(v.knobs.begin(), v.knobs.end(),
+                           [&](const char* k) { return std::string(k) == name; });
+    }
+    return false;
 }
 
 ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
@@ -361,145 +366,71 @@ std::vector<ShadowMapKnob> withTunedKnobs(std::vector<ShadowMapKnob> knobs) {
 } // namespace
 
 const std::vector<ShadowMapKnob>& shadowMapKnobs() {
-    using F = ShadowFilter;
+    using K = KnobReaders;
     using S = ShadowMapSettings;
-    const std::vector<F> searchedDepths = {F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
-    std::vector<F> searched = searchedDepths;
-    searched.push_back(F::Vpcss);
-    const std::vector<F> filtered = {F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
-    const std::vector<F> depthMaps = {F::Pcf, F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm};
-    const std::vector<F> functions = {F::Avsm, F::Vpcss};
-    // The maps that compare depths at the receiver (the depth grid's march leaves out what lies
-    // behind the receiver's plane less the same bias).
-    const std::vector<F> compared = {F::Pcf, F::Pcss, F::Vsm,  F::Esm,  F::Evsm,
-                                     F::Msm, F::Csm,  F::Peel, F::Avsm, F::Vpcss};
     static const std::vector<ShadowMapKnob> knobs = {
-        {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", depthMaps,
+        {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", K::DepthMaps,
          nullptr, &S::size},
-        {"sm_fit",
-         0,
-         1,
-         true,
+        {"sm_fit", 0, 1, true,
          "what the map is fitted to: 0 the scene box, 1 the receivers in view and the casters between "
          "them and the light",
-         {},
-         nullptr,
-         &S::fit},
-        {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", compared, &S::bias},
+         K::Every, nullptr, &S::fit},
+        {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", K::Every, &S::bias},
         {"sm_normal_offset", 0, 64, false, "receiver moved along its normal before the lookup, in texels",
-         compared, &S::normalOffset},
-        {"pcf_world_radius",
-         0,
-         10,
-         false,
-         "kernel half-width at the receiver, in world units (metres); converted to texels per pixel",
-         {F::Pcf},
+         K::Every, &S::normalOffset},
+        {"pcf_world_radius", 0, 10, false,
+         "kernel half-width at the receiver, in world units (metres); converted to texels per pixel", K::Own,
          &S::pcfWorldRadius},
-        {"pcf_max_radius",
-         1,
-         128,
-         true,
+        {"pcf_max_radius", 1, 128, true,
          "taps either side at most, one texel apart; a wider kernel spreads them (the stats count the "
          "pixels where they are more than three texels apart)",
-         {F::Pcf},
-         nullptr,
-         &S::pcfMaxRadius},
+         K::Own, nullptr, &S::pcfMaxRadius},
         {"fm_kernel", 0, 1, true,
-         "kernel size: 0 fm_world_radius everywhere, 1 per pixel from PCSS's blocker search", filtered,
+         "kernel size: 0 fm_world_radius everywhere, 1 per pixel from PCSS's blocker search", K::Filtered,
          nullptr, &S::kernel},
         {"fm_world_radius", 0, 10, false,
          "fixed kernel half-width at the receiver, in world units (metres); converted to texels per pixel",
-         filtered, &S::worldRadius},
+         K::Filtered, &S::worldRadius},
         {"fm_mip", 0, 1, true,
          "the average: 0 a summed-area table, 1 bilinear taps of a mip pyramid (ESM, EVSM: always mip)",
-         filtered, nullptr, &S::mip},
-        {"pcss_blocker_taps", 1, 256, true, "Poisson-disk taps of the blocker search", searchedDepths,
+         K::Filtered, nullptr, &S::mip},
+        {"pcss_blocker_taps", 1, 256, true, "Poisson-disk taps of the blocker search", K::SearchedDepths,
          nullptr, &S::blockerTaps},
-        {"pcss_filter_taps",
-         1,
-         256,
-         true,
-         "Poisson-disk taps of the filter",
-         {F::Pcss},
-         nullptr,
+        {"pcss_filter_taps", 1, 256, true, "Poisson-disk taps of the filter", K::Own, nullptr,
          &S::filterTaps},
         {"pcss_max_kernel", 1, 8192, false,
-         "largest filter radius, texels (the stats count the pixels it clamps)", searched, &S::maxKernel},
+         "largest filter radius, texels (the stats count the pixels it clamps)", K::Searched, &S::maxKernel},
         {"pcss_max_search", 1, 8192, false,
-         "largest blocker-search radius, texels (the stats count the pixels it clamps)", searched,
+         "largest blocker-search radius, texels (the stats count the pixels it clamps)", K::Searched,
          &S::maxSearch},
-        {"vsm_min_variance",
-         0,
-         0.01,
-         false,
-         "smallest variance of the normalised depth (VSM, EVSM)",
-         {F::Vsm, F::Evsm},
+        {"vsm_min_variance", 0, 0.01, false, "smallest variance of the normalised depth (VSM, EVSM)", K::Own,
          &S::minVariance},
-        {"vsm_bleed",
-         0,
-         0.99,
-         false,
-         "light-bleeding reduction: bounds below it become 0 (0: off)",
-         {F::Vsm, F::Evsm},
+        {"vsm_bleed", 0, 0.99, false, "light-bleeding reduction: bounds below it become 0 (0: off)", K::Own,
          &S::bleed},
-        {"esm_c", 1, 88, false, "exponent c of exp(c z) (below ln FLT_MAX = 88.7)", {F::Esm}, &S::esmC},
-        {"evsm_positive",
-         1,
-         42,
-         false,
-         "positive warp exponent (its square must fit a float)",
-         {F::Evsm},
+        {"esm_c", 1, 88, false, "exponent c of exp(c z) (below ln FLT_MAX = 88.7)", K::Own, &S::esmC},
+        {"evsm_positive", 1, 42, false, "positive warp exponent (its square must fit a float)", K::Own,
          &S::evsmPositive},
-        {"evsm_negative", 1, 42, false, "negative warp exponent", {F::Evsm}, &S::evsmNegative},
-        {"msm_bias", 0, 0.01, false, "moment bias alpha towards (1/2, 1/2, 1/2, 1/2)", {F::Msm}, &S::msmBias},
-        {"csm_terms", 1, 16, true, "Fourier terms M (2M values per texel)", {F::Csm}, nullptr, &S::csmTerms},
-        {"csm_damp",
-         0,
-         1,
-         true,
-         "Lanczos sigma factors on the terms against ringing",
-         {F::Csm},
-         nullptr,
+        {"evsm_negative", 1, 42, false, "negative warp exponent", K::Own, &S::evsmNegative},
+        {"msm_bias", 0, 0.01, false, "moment bias alpha towards (1/2, 1/2, 1/2, 1/2)", K::Own, &S::msmBias},
+        {"csm_terms", 1, 16, true, "Fourier terms M (2M values per texel)", K::Own, nullptr, &S::csmTerms},
+        {"csm_damp", 0, 1, true, "Lanczos sigma factors on the terms against ringing", K::Own, nullptr,
          &S::csmDamp},
-        {"peel_size",
-         16,
-         4096,
-         true,
-         "depth grid texels per face edge (4 (2 + 2 peel_bins) bytes a texel)",
-         {F::Peel},
-         nullptr,
-         &S::peelSize},
-        {"peel_bins",
-         1,
-         32,
-         true,
-         "subintervals of each grid texel's depth range",
-         {F::Peel},
-         nullptr,
+        {"peel_size", 16, 4096, true, "depth grid texels per face edge (4 (2 + 2 peel_bins) bytes a texel)",
+         K::Own, nullptr, &S::peelSize},
+        {"peel_bins", 1, 32, true, "subintervals of each grid texel's depth range", K::Own, nullptr,
          &S::peelBins},
-        {"peel_max_steps",
-         1,
-         1024,
-         true,
+        {"peel_max_steps", 1, 1024, true,
          "most march steps a light-sample ray takes (a texel a step; longer steps past it, counted in "
          "--stats)",
-         {F::Peel},
-         nullptr,
-         &S::peelMaxSteps},
+         K::Own, nullptr, &S::peelMaxSteps},
         {"avsm_size", 16, 8192, true,
-         "transmittance-function texels per face edge (4 + 8 avsm_nodes bytes a texel)", functions, nullptr,
-         &S::avsmSize},
+         "transmittance-function texels per face edge (4 + 8 avsm_nodes bytes a texel)", K::Transmittance,
+         nullptr, &S::avsmSize},
         {"avsm_nodes", 1, double(AVSM_MAX_NODES), true,
-         "nodes of each texel's transmittance function (the least important is dropped beyond)", functions,
-         nullptr, &S::avsmNodes},
-        {"vpcss_taps",
-         1,
-         256,
-         true,
-         "Poisson-disk taps of the blocker search and of the filter",
-         {F::Vpcss},
-         nullptr,
-         &S::vpcssTaps},
+         "nodes of each texel's transmittance function (the least important is dropped beyond)",
+         K::Transmittance, nullptr, &S::avsmNodes},
+        {"vpcss_taps", 1, 256, true, "Poisson-disk taps of the blocker search and of the filter", K::Own,
+         nullptr, &S::vpcssTaps},
     };
     static const std::vector<ShadowMapKnob> tuned = withTunedKnobs(knobs);
     return tuned;
@@ -519,33 +450,6 @@ const char* retiredShadowMapKnob(const std::string& name) {
 
 namespace {
 
-/// Where a method's default differs from ShadowMapSettings' own. Each set is the one among the
-/// candidates measured on the whole tuning set (fence, foliage, knot, fence-mesh, particles with
-/// receivers inside, example) whose worst error over a scene's own best is least, without
-/// losing the held-out parallel planes (docs/measurements.md, "The defaults chosen from these
-/// searches", with the ratios before and after). CSM and MSM keep the shared values: the
-/// filtered set gains CSM 1 % and costs it 25 % on the planes; MSM's gain is the mips', whose
-/// bilinear taps (8-bit weights on lavapipe) the moment reconstruction amplifies into
-/// CPU/Vulkan differences of 0.08 on the knot.
-struct MethodDefault {
-    ShadowFilter filter;
-    const char* knob;
-    double value;
-};
-constexpr MethodDefault kMethodDefaults[] = {
-    {ShadowFilter::Vsm, "sm_bias", 0.125},
-    {ShadowFilter::Vsm, "sm_normal_offset", 0.25},
-    {ShadowFilter::Vsm, "fm_mip", 1},
-    {ShadowFilter::Vsm, "vsm_min_variance", 1e-8},
-    {ShadowFilter::Esm, "sm_bias", 0.125},
-    {ShadowFilter::Esm, "sm_normal_offset", 0.25},
-    {ShadowFilter::Evsm, "sm_bias", 0.125},
-    {ShadowFilter::Evsm, "sm_normal_offset", 0.25},
-    {ShadowFilter::Evsm, "vsm_min_variance", 1e-8},
-    {ShadowFilter::Vpcss, "sm_bias", 0.5},
-    {ShadowFilter::Vpcss, "sm_normal_offset", 0.75},
-};
-
 const ShadowMapKnob& knobNamed(const char* name) {
     const auto& knobs = shadowMapKnobs();
     const auto knob = std::find_if(knobs.begin(), knobs.end(),
@@ -559,8 +463,8 @@ const ShadowMapKnob& knobNamed(const char* name) {
 ShadowMapSettings defaultShadowMapSettings(ShadowFilter filter) {
     ShadowMapSettings s;
     s.filter = filter;
-    for (const MethodDefault& d : kMethodDefaults)
-        if (d.filter == filter) knobNamed(d.knob).set(s, d.value);
+    if (filter == ShadowFilter::None) return s;
+    for (const auto& [knob, value] : shadowMapVariant(filter).defaults) knobNamed(knob).set(s, value);
     return s;
 }
 

@@ -5,6 +5,7 @@
 
 #include "scene/scene.h"
 #include "shadowmaps/shadow_map_dh.h"
+#include "shadowmaps/variants.h"
 
 #include <algorithm>
 #include <cstddef>
@@ -60,22 +61,14 @@ struct ShadowMap {
     }
 };
 
-/// How a frame filters its maps: percentage-closer filters of the depths, a filtered
-/// representation (shadowmaps/filtered_shadow_dh.h) averaged over a kernel and compared once,
-/// (Peel) a depth grid marched per light sample (shadowmaps/depth_grid_dh.h), or (Avsm, Vpcss)
-/// transmittance functions looked up once or filtered as PCSS filters depths
-/// (shadowmaps/avsm_dh.h).
-enum class ShadowFilter { None, Pcf, Pcss, Vsm, Esm, Evsm, Msm, Csm, Peel, Avsm, Vpcss };
-
-/// Whether a filter reads transmittance functions (AVSM) instead of a depth map.
+/// Whether a variant reads transmittance functions (AVSM) instead of a depth map.
 inline bool readsTransmittanceFunctions(ShadowFilter f) {
-    return f == ShadowFilter::Avsm || f == ShadowFilter::Vpcss;
+    return f != ShadowFilter::None && shadowMapVariant(f).representation == MapRepresentation::Transmittance;
 }
 
-/// Whether a filter averages a representation of the depths (VSM, ESM, EVSM, MSM, CSM).
+/// Whether a variant averages a representation of the depths (VSM, ESM, EVSM, MSM, CSM).
 inline bool isFilteredRepresentation(ShadowFilter f) {
-    return f == ShadowFilter::Vsm || f == ShadowFilter::Esm || f == ShadowFilter::Evsm ||
-           f == ShadowFilter::Msm || f == ShadowFilter::Csm;
+    return f != ShadowFilter::None && shadowMapVariant(f).representation == MapRepresentation::Filtered;
 }
 
 /// The knobs the shadow-map methods read (method knobs of render/methods.cpp).
@@ -156,7 +149,11 @@ struct KnobSearch {
     double hi = 0.0;
 };
 
-/// One knob of ShadowMapSettings as a method's `--param`: its name, range and help, which filters
+/// Which variants read a knob: every one, those of a kind (by what they read of the map and
+/// whether they search blockers), or (Own) those whose row in the variant table names it.
+enum class KnobReaders { Every, DepthMaps, Filtered, SearchedDepths, Searched, Transmittance, Own };
+
+/// One knob of ShadowMapSettings as a method's `--param`: its name, range and help, which variants
 /// read it, and the member it sets. The one list of the knobs: the method table's parameters are
 /// made from it (render/methods.cpp) and frames read the settings through it, so a name, a
 /// default or a range is written once.
@@ -166,7 +163,7 @@ struct ShadowMapKnob {
     double max;
     bool integer;
     const char* help;                         ///< one line, with the unit
-    std::vector<ShadowFilter> only;           ///< the filters that read it; empty: every filter
+    KnobReaders readers;                      ///< the variants that read it
     float ShadowMapSettings::*real = nullptr; ///< the member, for a float knob
     int ShadowMapSettings::*whole = nullptr;  ///< the member, for an integer knob
     /// How `stsv tune` searches it (set for the tunable knobs in shadowMapKnobs(), after the list).
@@ -179,9 +176,7 @@ struct ShadowMapKnob {
         else
             s.*real = float(value);
     }
-    bool readBy(ShadowFilter filter) const {
-        return only.empty() || std::find(only.begin(), only.end(), filter) != only.end();
-    }
+    bool readBy(ShadowFilter filter) const;
     /// What `tune` searches when told to: `search` for a tunable knob; else the knob's whole
     /// [min, max], in log steps where min > 0 and max/min ≥ 64 (sm_size, tap counts), linear
     /// otherwise.
@@ -225,12 +220,16 @@ std::size_t avsmBytes(const ShadowMapView& view, const ShadowMapSettings& settin
 /// Bytes of one light's depth grid (`peel`): faces × size² texels of peelTexelWords(peel_bins) words.
 std::size_t depthGridBytes(const ShadowMapView& view, const ShadowMapSettings& settings);
 
-/// Values per texel of a filtered representation: VSM 2, ESM 1, EVSM 4, MSM 4, CSM 2·csm_terms;
-/// 0 for PCF and PCSS.
+/// Values per texel of a filtered representation (filtered_shadow_dh.h filteredChannelCount); 0
+/// for the other variants.
 int filteredChannelCount(const ShadowMapSettings& settings);
-/// Whether a filtered representation averages through mips (fm_mip, and always for ESM and EVSM)
-/// rather than summed-area tables.
+/// Whether a filtered representation averages through mips (fm_mip, or always where its row says
+/// so) rather than summed-area tables.
 bool filteredUsesMip(const ShadowMapSettings& settings);
+/// Whether a frame of `settings` runs PCSS's blocker search before it filters the depths (pcss;
+/// the filtered representations with fm_kernel=1). Volumetric PCSS searches its own way
+/// (avsm_filter_dh.h).
+bool searchesBlockers(const ShadowMapSettings& settings);
 
 /// The settings the filter shaders read, in their buffer layout.
 ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings);

@@ -50,14 +50,11 @@ struct ShadowMapView {
 DH_STATIC_ASSERT(sizeof(ShadowMapView) == 96);
 #endif
 
-/// Filters of ShadowMapSettings::filter (shadow_map.h's ShadowFilter, same values).
+/// The image family's variants (ShadowFilterParams::method; the C++ names them ShadowFilter,
+/// shadow_map.h, and describes each in the variant table, shadowmaps/variants.cpp). The filtered
+/// representations' selectors are in filtered_shadow_dh.h, each beside its math.
 DH_CONST uint SHADOW_FILTER_PCF = 1u;
 DH_CONST uint SHADOW_FILTER_PCSS = 2u;
-DH_CONST uint SHADOW_FILTER_VSM = 3u;
-DH_CONST uint SHADOW_FILTER_ESM = 4u;
-DH_CONST uint SHADOW_FILTER_EVSM = 5u;
-DH_CONST uint SHADOW_FILTER_MSM = 6u;
-DH_CONST uint SHADOW_FILTER_CSM = 7u;
 DH_CONST uint SHADOW_FILTER_PEEL = 8u;
 DH_CONST uint SHADOW_FILTER_AVSM = 9u;
 DH_CONST uint SHADOW_FILTER_VPCSS = 10u;

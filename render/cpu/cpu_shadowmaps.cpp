@@ -155,7 +155,7 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
     // The blocker search, as on the GPU: PCSS, and the filtered maps with fm_kernel=1. It leaves
     // the kernel radius (uv) or −1 (no blocker: lit) in `vcoef`; the filter replaces it with the
     // visibility.
-    const bool search = settings.filter == ShadowFilter::Pcss || (filtered && settings.kernel != 0);
+    const bool search = searchesBlockers(settings);
     const uint blockerTaps = uint(settings.blockerTaps), filterTaps = uint(settings.filterTaps);
     std::atomic<std::uint64_t> kernelClamped{0}, searchClamped{0};
     if (search) {

@@ -121,15 +121,13 @@ class ShadowMapTechnique final : public CpuTechnique {
         work.passes[work.pass("shadow_map")] = s.map_ms;
         const bool filtered = isFilteredRepresentation(m_settings.filter);
         if (filtered) work.passes[work.pass("filtered_map")] = s.build_ms;
-        if (m_settings.filter == ShadowFilter::Pcss || (filtered && m_settings.kernel != 0))
-            work.passes[work.pass("pcss_blocker")] = s.blocker_ms;
+        if (searchesBlockers(m_settings)) work.passes[work.pass("pcss_blocker")] = s.blocker_ms;
         work.passes[work.pass("shadow_filter")] = s.filter_ms;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         if (filtered) map["representation_bytes"] = s.representationBytes;
         map.update(m_settings.filter == ShadowFilter::Pcf ? kernelStrideStats(s.kernelClamped, work.gbuffer)
                                                           : kernelClampStats(s.kernelClamped, work.gbuffer));
-        if (m_settings.filter == ShadowFilter::Pcss || (filtered && m_settings.kernel != 0))
-            map.update(searchClampStats(s.searchClamped, work.gbuffer));
+        if (searchesBlockers(m_settings)) map.update(searchClampStats(s.searchClamped, work.gbuffer));
         m_stats.push_back(map);
     }
     void takeStats(nlohmann::json& stats) override {

@@ -422,7 +422,7 @@ class ShadowMapTechnique final : public ShadowMapFamilyTechnique {
         for (const Buffer& depth : m_maps.depth) m_clear.push_back(ClearPass({}, {&depth}));
         const bool filtered = isFilteredRepresentation(c.method.shadowMap);
         if (filtered) m_filtered.emplace(c.device, m_maps, m_family, c.defines);
-        if (c.method.shadowMap == ShadowFilter::Pcss || (filtered && m_maps.settings().kernel != 0))
+        if (searchesBlockers(m_maps.settings()))
             m_blocker.emplace(c.device, c.options, ShadowFilterPass::PcssBlocker, m_maps, c.resources,
                               m_family, c.defines);
     }

@@ -388,7 +388,11 @@ TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
     // Every knob, set to a value inside its range and unlike its default, changes exactly its
     // member: read back through the knob, and every other knob keeps its default.
     for (const ShadowMapKnob& knob : shadowMapKnobs()) {
-        const ShadowFilter filter = knob.only.empty() ? ShadowFilter::Pcss : knob.only.front();
+        // The first variant that reads it.
+        ShadowFilter filter = ShadowFilter::None;
+        for (const ShadowMapVariant& v : shadowMapVariants())
+            if (filter == ShadowFilter::None && knob.readBy(v.filter)) filter = v.filter;
+        ASSERT_NE(filter, ShadowFilter::None) << knob.name << " is read by no variant";
         const ShadowMapSettings defaults = defaultShadowMapSettings(filter);
         const double value = knob.get(defaults) == knob.max ? knob.min : knob.max;
         const ShadowMapSettings s = shadowMapSettingsFrom(filter, {{knob.name, value}});
