@@ -116,15 +116,27 @@ DH_FUNC vec4 msmMoments(float z) {
     float z2 = z * z;
     return vec4(z, z2, z2 * z, z2 * z2);
 }
-DH_FUNC float msmVisibility(vec4 moments, float t, float bias) {
-    vec4 b = (1.0f - bias) * moments + bias * vec4(0.5f);
-    float fallback = chebyshevUpperBound(b.x, b.y, t, 1e-7f);
+/// The bound of Algorithm 3 for biased moments b: the shadow intensity g and the roots z₂ ≤ z₃ of
+/// the three-point solution {t, z₂, z₃}; ok = 0 where the factorisation breaks down in float
+/// arithmetic.
+struct MsmBound {
+    float g;
+    float z2;
+    float z3;
+    uint ok;
+};
+DH_FUNC MsmBound msmHamburgerBound(vec4 b, float t) {
+    MsmBound bound;
+    bound.g = 0.0f;
+    bound.z2 = 0.0f;
+    bound.z3 = 0.0f;
+    bound.ok = 0u;
     // Cholesky B = L·D·Lᵀ of the Hankel matrix (first row 1, b1, b2).
     float d22 = b.y - b.x * b.x;
-    if (!(d22 > 0.0f)) return fallback;
+    if (!(d22 > 0.0f)) return bound;
     float l32 = (b.z - b.x * b.y) / d22;
     float d33 = (b.w - b.y * b.y) - l32 * l32 * d22;
-    if (!(d33 > 0.0f)) return fallback;
+    if (!(d33 > 0.0f)) return bound;
     // Solve L·D·Lᵀ·c = (1, t, t²).
     float c0 = 1.0f;
     float c1 = t - b.x;
@@ -133,12 +145,12 @@ DH_FUNC float msmVisibility(vec4 moments, float t, float bias) {
     c2 /= d33;
     c1 -= l32 * c2;
     c0 -= c1 * b.x + c2 * b.y;
-    if (!(abs(c2) > 0.0f)) return fallback;
+    if (!(abs(c2) > 0.0f)) return bound;
     // Roots of c0 + c1·z + c2·z².
     float p = c1 / c2;
     float q = c0 / c2;
     float disc = 0.25f * p * p - q;
-    if (!(disc >= 0.0f)) return fallback;
+    if (!(disc >= 0.0f)) return bound;
     float r = sqrt(disc);
     float z2 = -0.5f * p - r;
     float z3 = -0.5f * p + r;
@@ -149,7 +161,61 @@ DH_FUNC float msmVisibility(vec4 moments, float t, float bias) {
         g = (t * z3 - b.x * (t + z3) + b.y) / ((z3 - z2) * (t - z2));
     else
         g = 1.0f - (z2 * z3 - b.x * (z2 + z3) + b.y) / ((t - z2) * (t - z3));
-    if (!(g >= -1.0e30f && g <= 1.0e30f)) return fallback;
+    if (!(g >= -1.0e30f && g <= 1.0e30f)) return bound;
+    bound.g = g;
+    bound.z2 = z2;
+    bound.z3 = z3;
+    bound.ok = 1u;
+    return bound;
+}
+DH_FUNC float msmVisibility(vec4 moments, float t, float bias) {
+    vec4 b = (1.0f - bias) * moments + bias * vec4(0.5f);
+    MsmBound bound = msmHamburgerBound(b, t);
+    if (bound.ok == 0u) return chebyshevUpperBound(b.x, b.y, t, 1e-7f);
+    return clamp(1.0f - bound.g, 0.0f, 1.0f);
+}
+
+// ---- MSM, Hausdorff (Peters & Klein 2015): the same moments, the depths known to lie in [0, 1] ----
+// The Hamburger bound ranges over every distribution with the moments b; the normalised depths
+// lie in [0, 1], and the Hausdorff moment problem bounds over those alone, which can only raise
+// the shadow intensity: less light leaks. Where the three-point solution {t, z₂, z₃} lies in
+// [0, 1] the two bounds agree. Where z₂ < 0 or z₃ > 1 it is no distribution on [0, 1], and the
+// bound comes from the four-point one with support {0, t, z_f, 1}: the polynomial
+// z·(z − 1)·(z − t)·(z − z_f) has expectation 0 under it, so with Q(z) = z·(z − 1)·(z − t),
+//   z_f = E[z·Q(z)] / E[Q(z)],   E[Q] = b3 − (1 + t)·b2 + t·b1,   E[z·Q] = b4 − (1 + t)·b3 + t·b2,
+// and the shadow intensity is the weight of its points before t, w₀ + [z_f < t]·w_f (Lagrange):
+//   w₀ = E[(z − t)(z − z_f)(z − 1)] / (−t·z_f),   w_f = E[Q] / (z_f·(z_f − t)·(z_f − 1)).
+// Where that breaks down in float arithmetic (z_f outside (0, 1) or equal to t, t at an end of
+// [0, 1], a non-finite weight), the Hamburger bound stands.
+
+DH_CONST uint SHADOW_FILTER_MSM_HAUSDORFF = 11u;
+/// How far outside [0, 1] a four-point weight may lie from round-off alone.
+DH_CONST float MSM_HAUSDORFF_WEIGHT_SLACK = 1e-3f;
+
+DH_FUNC float msmHausdorffVisibility(vec4 moments, float t, float bias) {
+    vec4 b = (1.0f - bias) * moments + bias * vec4(0.5f);
+    MsmBound bound = msmHamburgerBound(b, t);
+    if (bound.ok == 0u) return chebyshevUpperBound(b.x, b.y, t, 1e-7f);
+    float hamburger = clamp(1.0f - bound.g, 0.0f, 1.0f);
+    if ((bound.z2 >= 0.0f && bound.z3 <= 1.0f) || !(t > 0.0f && t < 1.0f)) return hamburger;
+    float eq = b.z - (1.0f + t) * b.y + t * b.x;
+    float ezq = b.w - (1.0f + t) * b.z + t * b.y;
+    float zf = ezq / eq;
+    if (!(zf > 0.0f && zf < 1.0f) || zf == t) return hamburger;
+    float s1 = t + zf + 1.0f;
+    float s2 = t * zf + t + zf;
+    float w0 = (b.z - s1 * b.y + s2 * b.x - t * zf) / (-t * zf);
+    float wf = eq / (zf * (zf - t) * (zf - 1.0f));
+    float wt = (b.z - (zf + 1.0f) * b.y + zf * b.x) / (t * (t - zf) * (t - 1.0f));
+    float w1 = (b.z - (t + zf) * b.y + t * zf * b.x) / ((1.0f - t) * (1.0f - zf));
+    float g = w0 + (zf < t ? wf : 0.0f);
+    // Float round-off: E[Q] and the weights cancel terms of the moments' size, and where the
+    // mass crowds 0, t or 1 the four points come out of the noise. A solution with a weight
+    // outside [0, 1] is no distribution, and one below the Hamburger bound contradicts it:
+    // both are round-off, and the Hamburger bound stands.
+    float lo = min(min(w0, wf), min(wt, w1)), hi = max(max(w0, wf), max(wt, w1));
+    if (!(lo >= -MSM_HAUSDORFF_WEIGHT_SLACK && hi <= 1.0f + MSM_HAUSDORFF_WEIGHT_SLACK) || !(g >= bound.g))
+        return hamburger;
     return clamp(1.0f - g, 0.0f, 1.0f);
 }
 
@@ -198,7 +264,8 @@ DH_FUNC float csmVisibility(float series) {
 DH_FUNC uint filteredChannelCount(uint method, uint csmTerms) {
     if (method == SHADOW_FILTER_VSM) return 2u;
     if (method == SHADOW_FILTER_ESM) return 1u;
-    if (method == SHADOW_FILTER_EVSM || method == SHADOW_FILTER_MSM) return 4u;
+    if (method == SHADOW_FILTER_EVSM || method == SHADOW_FILTER_MSM || method == SHADOW_FILTER_MSM_HAUSDORFF)
+        return 4u;
     if (method == SHADOW_FILTER_CSM) return 2u * csmTerms;
     return 0u;
 }
@@ -220,7 +287,8 @@ DH_FUNC FilteredChannels filteredChannelValues(ShadowFilterParams p, float z) {
         c.v[1] = m.y;
     } else if (p.method == SHADOW_FILTER_ESM) {
         c.v[0] = p.esmC * z;
-    } else if (p.method == SHADOW_FILTER_EVSM || p.method == SHADOW_FILTER_MSM) {
+    } else if (p.method == SHADOW_FILTER_EVSM || p.method == SHADOW_FILTER_MSM ||
+               p.method == SHADOW_FILTER_MSM_HAUSDORFF) {
         vec4 m =
             p.method == SHADOW_FILTER_EVSM ? evsmMoments(z, p.evsmPositive, p.evsmNegative) : msmMoments(z);
         c.v[0] = m.x;
@@ -246,6 +314,8 @@ DH_FUNC float filteredReconstruct(ShadowFilterParams p, FilteredChannels a, floa
                               p.minVariance, p.bleed);
     if (p.method == SHADOW_FILTER_MSM)
         return msmVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.msmBias);
+    if (p.method == SHADOW_FILTER_MSM_HAUSDORFF)
+        return msmHausdorffVisibility(vec4(a.v[0], a.v[1], a.v[2], a.v[3]), t, p.msmBias);
     float series = 0.5f;
     for (int k = 1; k <= int(p.csmTerms); ++k)
         series += csmTerm(a.v[2 * (k - 1)], a.v[2 * (k - 1) + 1], t, k, int(p.csmTerms), p.csmDamp != 0u);

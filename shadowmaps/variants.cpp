@@ -76,6 +76,14 @@ std::vector<ShadowMapVariant> buildVariants() {
          .representation = R::Filtered,
          .blockers = B::WithSearchedKernel,
          .knobs = {"msm_bias"}},
+        {.filter = ShadowFilter(SHADOW_FILTER_MSM_HAUSDORFF),
+         .name = "msm-hausdorff",
+         .description =
+             "Moment shadow maps (Peters & Klein 2015): the four power moments of msm, the Hausdorff "
+             "reconstruction (the depths' support [0, 1]: four points where Hamburger's three leave it)",
+         .representation = R::Filtered,
+         .blockers = B::WithSearchedKernel,
+         .knobs = {"msm_bias"}},
         {.filter = F::Csm,
          .name = "csm",
          .description = "Convolution shadow maps (Annen et al. 2007): the shadow test as a truncated Fourier "

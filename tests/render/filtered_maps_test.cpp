@@ -16,7 +16,8 @@ namespace {
 
 using namespace test;
 
-const Method kFiltered[] = {Method::Vsm, Method::Esm, Method::Evsm, Method::Msm, Method::Csm};
+const Method kMsmHausdorff = imageMethod(ShadowFilter(SHADOW_FILTER_MSM_HAUSDORFF));
+const Method kFiltered[] = {Method::Vsm, Method::Esm, Method::Evsm, Method::Msm, kMsmHausdorff, Method::Csm};
 
 /// World size of a map texel on the ground: the map fitted to the scene box (sm_fit=0), whose
 /// ground texels the kernels below are counted in.
@@ -87,7 +88,7 @@ TEST(FilteredMaps, FixedKernelsOnAPlanarOccluderStayCloseToPcf) {
     const Scene scene = parallelPlanes(1.5f);
     const Frame pcf = renderCpu(scene, Method::Pcf, kW, kH, pcfKernel(scene, 2));
     const auto all = [](int, int) { return true; };
-    for (const Method m : {Method::Vsm, Method::Evsm, Method::Msm}) {
+    for (const Method m : {Method::Vsm, Method::Evsm, Method::Msm, kMsmHausdorff}) {
         const Frame f = renderCpu(scene, m, kW, kH, fixedKernel(scene, 2));
         const VisibilityDiff d = compareVisibility(f.visibility, pcf.visibility, all);
         std::printf("%s, 5x5 kernel: RMSE %.4f against PCF 5x5 (max %.3f)\n", methodInfo(m).name.c_str(),

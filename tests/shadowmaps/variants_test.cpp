@@ -82,17 +82,21 @@ TEST(ShadowMapVariants, KnobKindsSelectTheVariantsTheyDid) {
     // The kinds, spelled out as the lists they replaced: a change to a row's representation or
     // search that moves a knob in or out of a method fails here.
     using F = ShadowFilter;
+    const F hausdorff = F(SHADOW_FILTER_MSM_HAUSDORFF);
     const auto readers = [](const char* name) {
         std::set<F> out;
         for (const ShadowMapVariant& v : shadowMapVariants())
             if (knobNamed(name)->readBy(v.filter)) out.insert(v.filter);
         return out;
     };
-    EXPECT_EQ(readers("sm_size"), (std::set<F>{F::Pcf, F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm}));
-    EXPECT_EQ(readers("fm_kernel"), (std::set<F>{F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm}));
-    EXPECT_EQ(readers("pcss_blocker_taps"), (std::set<F>{F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm}));
+    EXPECT_EQ(readers("sm_size"),
+              (std::set<F>{F::Pcf, F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, hausdorff, F::Csm}));
+    EXPECT_EQ(readers("fm_kernel"), (std::set<F>{F::Vsm, F::Esm, F::Evsm, F::Msm, hausdorff, F::Csm}));
+    EXPECT_EQ(readers("pcss_blocker_taps"),
+              (std::set<F>{F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, hausdorff, F::Csm}));
     EXPECT_EQ(readers("pcss_max_search"),
-              (std::set<F>{F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, F::Csm, F::Vpcss}));
+              (std::set<F>{F::Pcss, F::Vsm, F::Esm, F::Evsm, F::Msm, hausdorff, F::Csm, F::Vpcss}));
+    EXPECT_EQ(readers("msm_bias"), (std::set<F>{F::Msm, hausdorff}));
     EXPECT_EQ(readers("avsm_nodes"), (std::set<F>{F::Avsm, F::Vpcss}));
     EXPECT_EQ(readers("vsm_bleed"), (std::set<F>{F::Vsm, F::Evsm}));
     EXPECT_EQ(readers("sm_bias").size(), shadowMapVariants().size());
