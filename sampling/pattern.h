@@ -5,6 +5,7 @@
 #pragma once
 
 #include "core/dh.h"
+#include "sampling/light_sampling_dh.h"
 
 #include <cstdint>
 #include <string>
@@ -49,8 +50,10 @@ struct SamplePlan {
     std::vector<vec2> points;
 
     int setCount() const { return interleave * interleave; }
-    /// Keller & Heidrich: pixel (x, y) uses set (y mod K)·K + (x mod K).
-    int setIndex(int x, int y) const { return (y % interleave) * interleave + (x % interleave); }
+    /// Keller & Heidrich: the set of pixel (x, y) (interleaveSet, as the shaders take it).
+    int setIndex(int x, int y) const {
+        return int(interleaveSet(uvec2(unsigned(x), unsigned(y)), unsigned(interleave)));
+    }
     /// Pattern point k of (sub-)pixel (x, y), before decorrelation and domain mapping.
     vec2 patternPoint(int x, int y, int k) const {
         return points[std::size_t(setIndex(x / supersample, y / supersample)) * std::size_t(count) +

@@ -69,15 +69,21 @@ uint alphaAt(uint texture, ivec2 texel) { return alphaAtTexture(textures[texture
 /// frame's grid takes: itself, or with supersampling K its pixel (x/K, y/K).
 uvec2 samplePixelOf(uvec2 pixel) { return pixel / frame.supersample; }
 
-/// samplePoint (sampling/light_sampling_dh.h) with the pixel's decorrelationOffset computed once
-/// per pixel instead of per sample: the same fixed-point rotation, bit for bit.
-vec2 samplePointWithOffset(vec2 patternPoint, uvec2 offset, bool decorrelated, uint domain) {
-    vec2 u = patternPoint;
-    if (decorrelated) {
-        uvec2 q = (uvec2(u * SAMPLING_FIXED_ONE) + offset) & uvec2(SAMPLING_FIXED_MASK);
-        u = vec2(q) * (1.0 / SAMPLING_FIXED_ONE);
-    }
-    return domainPoint(u, domain);
+/// A pixel's light samples (DESIGN §4.1), set up once per pixel by every pass that reads them:
+/// its interleaved set's first pattern point and its decorrelation offset, both of its sample
+/// pixel (samplePixelOf), as sampling/light_sampling.cpp sets up the CPU's.
+struct PixelSamples {
+    uint base;        ///< interleaveSet · N: the pixel's sample set
+    uvec2 offset;     ///< decorrelationOffset of the pixel
+    bool decorrelate; ///< frame.decorrelate, loaded once (a storage-buffer load)
+};
+PixelSamples pixelSamples(uvec2 pixel, uint sampleCount) {
+    uvec2 owner = samplePixelOf(pixel);
+    PixelSamples samples;
+    samples.base = interleaveSet(owner, frame.interleave) * sampleCount;
+    samples.offset = decorrelationOffset(owner, frame.seed);
+    samples.decorrelate = frame.decorrelate != 0u;
+    return samples;
 }
 
 #ifdef STSV_PATTERN_Q
@@ -93,16 +99,17 @@ const uvec2 patternQ[SAMPLE_COUNT] = STSV_PATTERN_Q;
 #define STSV_UNROLL
 #endif
 
-/// Sample k of the pixel's set starting at `base` (interleaveSet · N), in the light frame's
-/// domain: samplePoint of sampling/light_sampling_dh.h bit for bit (patternQ[k] = pattern
-/// point · 2^24 exactly, and vec2(q) · 2^−24 is exact for q < 2^24).
-vec2 pixelSamplePoint(uint base, uint k, uvec2 offset, bool decorrelated, uint domain) {
+/// Sample k of a pixel's samples in the light frame's domain: samplePoint of
+/// sampling/light_sampling_dh.h bit for bit (patternQ[k] = pattern point · 2^24 exactly, and
+/// vec2(q) · 2^−24 is exact for q < 2^24), the offset computed once per pixel.
+vec2 pixelSamplePoint(PixelSamples samples, uint k, uint domain) {
 #ifdef STSV_PATTERN_Q
     uvec2 q = patternQ[k];
-    if (decorrelated) q = (q + offset) & uvec2(SAMPLING_FIXED_MASK);
+    if (samples.decorrelate) q = (q + samples.offset) & uvec2(SAMPLING_FIXED_MASK);
     return domainPoint(vec2(q) * (1.0 / SAMPLING_FIXED_ONE), domain);
 #else
-    return samplePointWithOffset(patternPointAt(base + k), offset, decorrelated, domain);
+    vec2 u = patternPointAt(samples.base + k);
+    return domainPoint(samples.decorrelate ? decorrelateBy(u, samples.offset) : u, domain);
 #endif
 }
 

@@ -46,9 +46,7 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VCOEF, r32f) readonly uniform 
 // samples' optical depths. With STSV_PATTERN_Q the loops are unrolled, so k, the mask word and bit and the
 // pattern point are constants in each copy of the body.
 struct ResolveSource {
-    uint base;        ///< interleaveSet · N: the pixel's sample set
-    uvec2 offset;     ///< decorrelationOffset of the pixel
-    bool decorrelate; ///< frame.decorrelate, loaded once (storage-buffer load)
+    PixelSamples samples;
     uint domain;      ///< LightFrame::domain
     uint counterWord; ///< lsPixelCounterWord: the pixel's first counter word
     uint depthSlot;   ///< lsCounterSlot of the pixel's sample 0: its first optical depth
@@ -58,7 +56,7 @@ struct ResolveSource {
     uvec2 m3;
 };
 vec2 resolveSourcePoint(ResolveSource s, uint k) {
-    return pixelSamplePoint(s.base, k, s.offset, s.decorrelate, s.domain);
+    return pixelSamplePoint(s.samples, k, s.domain);
 }
 uint resolveSourceWord(ResolveSource s, uint w) {
     return w == 0u ? s.m0.x : w == 1u ? s.m0.y : w == 2u ? s.m1.x : w == 3u ? s.m1.y :
@@ -111,9 +109,7 @@ void main() {
             vec3 n = gpuShadingNormal(triangles[tri], vec3(frame.eye), p);
             LightFrame lf = lightFrame(light, p, frame.farDistance);
             ResolveSource src;
-            src.base = interleaveSet(samplePixelOf(uvec2(pixel)), frame.interleave) * uint(SAMPLE_COUNT);
-            src.offset = decorrelationOffset(samplePixelOf(uvec2(pixel)), frame.seed);
-            src.decorrelate = frame.decorrelate != 0u;
+            src.samples = pixelSamples(uvec2(pixel), uint(SAMPLE_COUNT));
             src.domain = lf.domain;
             src.counterWord =
                 lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));

@@ -70,9 +70,7 @@ void main() {
         vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
         vec3 n = gpuShadingNormal(triangles[imageLoad(gTriangle, ivec2(pixel)).x], vec3(frame.eye), p);
         LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
-        uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
-        uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
-        bool decorrelate = frame.decorrelate != 0u;
+        PixelSamples samples = pixelSamples(pixel, uint(SAMPLE_COUNT));
         ShadowMapView v = shadowViews[pc.light];
         PeelGridSource src;
         src.address = packUint2x32(uvec2(v.representationLow, v.representationHigh));
@@ -82,7 +80,7 @@ void main() {
         uint counterWord = lsPixelCounterWord(lsPixelIndex(pixel, frame.width), uint(SAMPLE_COUNT));
 #endif
         for (uint k = lane; k < uint(SAMPLE_COUNT); k += uint(PEEL_LANES)) {
-            vec3 s = lightSamplePosition(lf, pixelSamplePoint(base, k, offset, decorrelate, lf.domain));
+            vec3 s = lightSamplePosition(lf, pixelSamplePoint(samples, k, lf.domain));
             PeelMarch m = peelRayMarch(src, v, bins, maxSteps, r, s, uint(LS_COUNTERS));
             steps += m.steps;
             capped += m.capped;

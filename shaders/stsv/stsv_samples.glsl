@@ -19,15 +19,13 @@
 // (frame_bindings.glsl), the texels through the triangle's texture record, loaded once per
 // pixel (storage-buffer loads are per-lane loops on lavapipe).
 struct StsvSampleSource {
-    uint base;        ///< interleaveSet · N: the pixel's sample set
-    uvec2 offset;     ///< decorrelationOffset of the pixel
-    bool decorrelate; ///< frame.decorrelate, loaded once
-    uint domain;      ///< LightFrame::domain
+    PixelSamples samples;
+    uint domain; ///< LightFrame::domain
     GpuTexture texture;
     uint depthTable; ///< a translucent triangle's material table: its first entry in depthTables
 };
 vec2 stsvSourcePoint(StsvSampleSource s, uint k) {
-    return pixelSamplePoint(s.base, k, s.offset, s.decorrelate, s.domain);
+    return pixelSamplePoint(s.samples, k, s.domain);
 }
 bool stsvSourceBlocks(StsvSampleSource s, ivec2 texel) {
     return alphaBlocks(alphaAtTexture(s.texture, texel));
@@ -52,9 +50,7 @@ bool stsvPixelSetup(uvec2 pixel, vec3 p, StsvTriangle t, uint side, out StsvPixe
     LightFrame lf = lightFrame(light, p, frame.farDistance);
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     bool opaque = (t.flags & STSV_FLAG_OPAQUE) != 0u;
-    src.base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
-    src.offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
-    src.decorrelate = frame.decorrelate != 0u;
+    src.samples = pixelSamples(pixel, uint(SAMPLE_COUNT));
     src.domain = lf.domain;
     src.texture = textures[opaque ? 0u : t.texture];
     size = opaque ? ivec2(1) : ivec2(src.texture.width, src.texture.height);

@@ -33,7 +33,6 @@ void main() {
     }
     uint count = deferredEntries();
     uint stride = gl_NumWorkGroups.x * gl_WorkGroupSize.x;
-    bool decorrelate = frame.decorrelate != 0u;
     uint inside = 0u;
     for (uint i = gl_GlobalInvocationID.x; i < count; i += stride) {
         uvec2 entry = deferred[i];
@@ -55,11 +54,10 @@ void main() {
         domain = lf.domain;
 #endif
         ++inside;
-        uint base = interleaveSet(samplePixelOf(pixel), frame.interleave) * uint(SAMPLE_COUNT);
-        uvec2 offset = decorrelationOffset(samplePixelOf(pixel), frame.seed);
+        PixelSamples samples = pixelSamples(pixel, uint(SAMPLE_COUNT));
         uint counterWord = lsPixelCounterWord(entry.x, uint(SAMPLE_COUNT));
         STSV_UNROLL for (uint s = 0u; s < uint(SAMPLE_COUNT); ++s) {
-            vec2 ab = pixelSamplePoint(base, s, offset, decorrelate, domain);
+            vec2 ab = pixelSamplePoint(samples, s, domain);
             int crossing = dcsSampleCrossing(l, h0, h1, ab);
             // A negative addend wraps modulo 2^32 across the word's two 16-bit counters, which
             // wedge_fold.comp undoes.
