@@ -17,6 +17,16 @@
 
 DH_BEGIN
 
+/// Pixels per side of the square blocks whose visible points the cluster walks bound together:
+/// the CPU passes' blocks within a tile (render/cpu/cpu_binning.h) and the Vulkan walk's
+/// (shaders/common/cluster_walk.glsl), 4 × 4 so a block's pixels fit a 16-bit lane mask.
+DH_CONST uint CLUSTER_BLOCK = 4u;
+
+/// Blocks along an image side of `pixels` pixels (the last one clipped).
+DH_FUNC uint clusterBlocksAlong(uint pixels) {
+    return (pixels + CLUSTER_BLOCK - 1u) / CLUSTER_BLOCK;
+}
+
 /// False when no edge of the cluster can be a silhouette from any point of the ball `region`:
 /// every normal of the cone `cone` (unit axis, cos θ of its half-angle θ; w < 0: no cone) faces
 /// the whole region, or turns away from all of it. With d = region centre − cluster centre, φ the

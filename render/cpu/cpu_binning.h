@@ -10,6 +10,7 @@
 #include "volumes/ball_tree.h"
 #include "volumes/extrusion_dh.h"
 #include "volumes/light_hull_dh.h"
+#include "wedges/edge_cluster_dh.h"
 
 #include <algorithm>
 #include <array>
@@ -27,7 +28,7 @@ Bounds tileReceiverBounds(const GBuffer& gbuffer, const PixelTile& tile);
 
 /// Blocks of CPU_BLOCK × CPU_BLOCK pixels within a tile: the CPU passes cull once more per block,
 /// by the block's own (smaller) box of visible points.
-constexpr int CPU_BLOCK = 4;
+constexpr int CPU_BLOCK = int(CLUSTER_BLOCK);
 constexpr int CPU_BLOCKS = CPU_TILE / CPU_BLOCK;
 
 /// Block (bx, by) of `tile`, clipped to it: empty (x0 ≥ x1 or y0 ≥ y1) past the image's edge.

@@ -3,6 +3,7 @@
 #include "core/error.h"
 #include "gpu/device.h"
 #include "gpu/shader_compiler.h"
+#include "wedges/edge_cluster_dh.h"
 
 #include <algorithm>
 #include <bit>
@@ -48,9 +49,9 @@ ClusterLists::ClusterLists(const Device& device, const RenderOptions& options, s
     listCounts = Buffer(device, GPU_CLUSTER_COUNT_SLOTS * sizeof(uint), storage, MemoryUsage::DeviceLocal);
     dispatch = Buffer(device, 4 * sizeof(uint), storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT,
                       MemoryUsage::DeviceLocal);
-    m_blockCount = static_cast<std::uint32_t>(((options.width + 3) / 4) * ((options.height + 3) / 4));
-    m_blocksAcross = static_cast<std::uint32_t>((options.width + 3) / 4);
-    m_blocksDown = static_cast<std::uint32_t>((options.height + 3) / 4);
+    m_blocksAcross = clusterBlocksAlong(std::uint32_t(options.width));
+    m_blocksDown = clusterBlocksAlong(std::uint32_t(options.height));
+    m_blockCount = m_blocksAcross * m_blocksDown;
     blocks = Buffer(device, 2 * sizeof(vec4), storage, MemoryUsage::DeviceLocal);
     // One buffer holds the lists: each at most what a storage buffer binding may address.
     m_maxCapacity =

@@ -50,8 +50,8 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_PAIRS) buffer
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BLOCKS) buffer Blocks { vec4 blockBoxes[]; };
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_DISPATCH) buffer Dispatch { uint dispatchArgs[]; };
 
-uint blocksAcross() { return (frame.width + 3u) / 4u; }
-uint blocksDown() { return (frame.height + 3u) / 4u; }
+uint blocksAcross() { return clusterBlocksAlong(frame.width); }
+uint blocksDown() { return clusterBlocksAlong(frame.height); }
 /// A tile's side in blocks: 4 (16 × 16 pixels), or 1 where a 16 × 16 tile needs more pairs than a
 /// list holds (GpuPush::flags).
 uint tileBlocks() { return pc.flags; }
@@ -179,7 +179,8 @@ bool tableMayAdd(usamplerBuffer table, uint index, vec4 region, LightHull hull) 
 /// Pixel `lane` (0 … 15, row by row) of block `block`.
 ivec2 blockPixel(uint block, uint lane) {
     uint across = blocksAcross();
-    return ivec2(4u * (block % across) + lane % 4u, 4u * (block / across) + lane / 4u);
+    return ivec2(CLUSTER_BLOCK * (block % across) + lane % CLUSTER_BLOCK,
+                 CLUSTER_BLOCK * (block / across) + lane / CLUSTER_BLOCK);
 }
 /// The light-sample buffer's index of pixel `lane` of block `block`.
 uint blockPixelIndex(uint block, uint lane) { return lsPixelIndex(uvec2(blockPixel(block, lane)), frame.width); }
@@ -248,7 +249,7 @@ void clusterTileBoxes(uint tile) {
         if (!tileBlock(tile, k, block)) continue;
         vec3 lo = vec3(3.0e38);
         vec3 hi = vec3(-3.0e38);
-        for (uint lane = 0u; lane < 16u; ++lane) {
+        for (uint lane = 0u; lane < CLUSTER_BLOCK * CLUSTER_BLOCK; ++lane) {
             ivec2 pixel = blockPixel(block, lane);
             if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
             if (imageLoad(gTriangle, pixel).x == GPU_NO_TRIANGLE) continue;
