@@ -156,6 +156,24 @@ DH_FUNC bool pcssKernelClamped(ShadowMapView v, ShadowReceiver r, float blockerD
     return pcssFilterRadius(v, r, blockerDepth, 3.0e38f) > maxTexels / float(v.size);
 }
 
+/// PCSS's step after its blocker search (Fernando 2005, step 2), for any search (the depth map's
+/// pcssAverageBlocker, volumetric PCSS's vpcssAverageBlocker): the filter radius in uv from the
+/// average blocker depth (−1 where the search found none: lit), and whether the search's region
+/// and the kernel were cut (the stats count them). Both backends run it per pixel.
+struct PcssBlockerStep {
+    float radius;
+    uint searchClamped; ///< 1: pcssSearchClamped on a receiver the map covers
+    uint kernelClamped; ///< 1: pcssKernelClamped where a blocker was found
+};
+DH_FUNC PcssBlockerStep pcssBlockerStep(ShadowMapView v, ShadowReceiver r, float blockerDepth,
+                                        float maxSearch, float maxKernel) {
+    PcssBlockerStep step;
+    step.radius = blockerDepth < 0.0f ? -1.0f : pcssFilterRadius(v, r, blockerDepth, maxKernel);
+    step.searchClamped = shadowReceiverOnMap(v, r) && pcssSearchClamped(v, r, maxSearch) ? 1u : 0u;
+    step.kernelClamped = blockerDepth >= 0.0f && pcssKernelClamped(v, r, blockerDepth, maxKernel) ? 1u : 0u;
+    return step;
+}
+
 DH_END
 
 #endif // STSV_SHADOWMAPS_SHADOW_RECEIVER_DH_H

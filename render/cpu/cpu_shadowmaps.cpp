@@ -163,13 +163,12 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
             const std::size_t i = gbuffer.index(x, y);
             if (!gbuffer.covered(i)) return;
             const ShadowReceiver r = receiver(x, y, i);
-            const float blocker = pcssAverageBlocker(view, src, r, blockerTaps, settings.maxSearch);
-            vcoef.at(x, y, 0) =
-                blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
-            if (shadowReceiverOnMap(view, r) && pcssSearchClamped(view, r, settings.maxSearch))
-                searchClamped.fetch_add(1, std::memory_order_relaxed);
-            if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
-                kernelClamped.fetch_add(1, std::memory_order_relaxed);
+            const PcssBlockerStep step =
+                pcssBlockerStep(view, r, pcssAverageBlocker(view, src, r, blockerTaps, settings.maxSearch),
+                                settings.maxSearch, settings.maxKernel);
+            vcoef.at(x, y, 0) = step.radius;
+            if (step.searchClamped != 0u) searchClamped.fetch_add(1, std::memory_order_relaxed);
+            if (step.kernelClamped != 0u) kernelClamped.fetch_add(1, std::memory_order_relaxed);
         });
         if (stats) stats->blocker_ms = timer.milliseconds();
         timer.reset();
@@ -244,13 +243,12 @@ void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const G
             const std::size_t i = gbuffer.index(x, y);
             if (!gbuffer.covered(i)) return;
             const ShadowReceiver r = receiver(x, y, i);
-            const float blocker = vpcssAverageBlocker(view, src, r, n, settings.maxSearch);
-            vcoef.at(x, y, 0) =
-                blocker < 0.0f ? -1.0f : pcssFilterRadius(view, r, blocker, settings.maxKernel);
-            if (shadowReceiverOnMap(view, r) && pcssSearchClamped(view, r, settings.maxSearch))
-                searchClamped.fetch_add(1, std::memory_order_relaxed);
-            if (blocker >= 0.0f && pcssKernelClamped(view, r, blocker, settings.maxKernel))
-                clamped.fetch_add(1, std::memory_order_relaxed);
+            const PcssBlockerStep step =
+                pcssBlockerStep(view, r, vpcssAverageBlocker(view, src, r, n, settings.maxSearch),
+                                settings.maxSearch, settings.maxKernel);
+            vcoef.at(x, y, 0) = step.radius;
+            if (step.searchClamped != 0u) searchClamped.fetch_add(1, std::memory_order_relaxed);
+            if (step.kernelClamped != 0u) clamped.fetch_add(1, std::memory_order_relaxed);
         });
         if (stats) {
             stats->kernelClamped = clamped.load();

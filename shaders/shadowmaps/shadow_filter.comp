@@ -54,12 +54,11 @@ void main() {
     if (shadowReceiverOnMap(v, r) && pcfKernelStrided(r, shadowParams.pcfWorldRadius, shadowParams.pcfMaxRadius))
         atomicAdd(stats[pc.light].kernelClamped, 1u);
 #elif SHADOW_FILTER_STEP == 1
-    float blocker = pcssAverageBlocker(v, src, r, shadowParams.blockerTaps, shadowParams.maxSearch);
-    float result = blocker < 0.0 ? -1.0 : pcssFilterRadius(v, r, blocker, shadowParams.maxKernel);
-    if (shadowReceiverOnMap(v, r) && pcssSearchClamped(v, r, shadowParams.maxSearch))
-        atomicAdd(stats[pc.light].searchClamped, 1u);
-    if (blocker >= 0.0 && pcssKernelClamped(v, r, blocker, shadowParams.maxKernel))
-        atomicAdd(stats[pc.light].kernelClamped, 1u);
+    PcssBlockerStep step = pcssBlockerStep(v, r, pcssAverageBlocker(v, src, r, shadowParams.blockerTaps, shadowParams.maxSearch),
+                                           shadowParams.maxSearch, shadowParams.maxKernel);
+    float result = step.radius;
+    if (step.searchClamped != 0u) atomicAdd(stats[pc.light].searchClamped, 1u);
+    if (step.kernelClamped != 0u) atomicAdd(stats[pc.light].kernelClamped, 1u);
 #elif SHADOW_FILTER_STEP == 2
     float radius = imageLoad(vcoefImage, pixel).x;
     float result = radius < 0.0 ? 1.0
@@ -67,12 +66,11 @@ void main() {
 #elif SHADOW_FILTER_STEP == 4
     float result = avsmVisibility(v, avsmSourceOf(v), r);
 #elif SHADOW_FILTER_STEP == 5
-    float blocker = vpcssAverageBlocker(v, avsmSourceOf(v), r, shadowParams.vpcssTaps, shadowParams.maxSearch);
-    float result = blocker < 0.0 ? -1.0 : pcssFilterRadius(v, r, blocker, shadowParams.maxKernel);
-    if (shadowReceiverOnMap(v, r) && pcssSearchClamped(v, r, shadowParams.maxSearch))
-        atomicAdd(stats[pc.light].searchClamped, 1u);
-    if (blocker >= 0.0 && pcssKernelClamped(v, r, blocker, shadowParams.maxKernel))
-        atomicAdd(stats[pc.light].kernelClamped, 1u);
+    PcssBlockerStep step = pcssBlockerStep(v, r, vpcssAverageBlocker(v, avsmSourceOf(v), r, shadowParams.vpcssTaps, shadowParams.maxSearch),
+                                           shadowParams.maxSearch, shadowParams.maxKernel);
+    float result = step.radius;
+    if (step.searchClamped != 0u) atomicAdd(stats[pc.light].searchClamped, 1u);
+    if (step.kernelClamped != 0u) atomicAdd(stats[pc.light].kernelClamped, 1u);
 #elif SHADOW_FILTER_STEP == 6
     float radius = imageLoad(vcoefImage, pixel).x;
     float result = radius < 0.0 ? 1.0
