@@ -15,30 +15,32 @@
 
 namespace stsv {
 
+/// The first image-family method: a variant's method is this past its selector.
+inline constexpr unsigned IMAGE_METHODS = 64u;
+
 /// A method: a row of the table. The object-based rows and the reference are named here; the
 /// image family's rows are its variants (shadowmaps/variants.h), IMAGE_METHODS past their dh
 /// selector, so a new variant is a row of that table and needs no name here (imageMethod).
 enum class Method : unsigned {
-    Reference,                         ///< Embree shadow rays
-    Stsv,                              ///< every triangle through STSV
-    Pw,                                ///< opaque triangles through penumbra wedges
-    Dcs,                               ///< opaque triangles through depth complexity sampling
-    PwStsv,                            ///< pw for opaque, STSV for perforated triangles
-    DcsStsv,                           ///< dcs for opaque, STSV for perforated triangles
-    Pcf = 64u + SHADOW_FILTER_PCF,     ///< percentage-closer filtering of a light-centre shadow map
-    Pcss = 64u + SHADOW_FILTER_PCSS,   ///< percentage-closer soft shadows
-    Vsm = 64u + SHADOW_FILTER_VSM,     ///< variance shadow maps
-    Esm = 64u + SHADOW_FILTER_ESM,     ///< exponential shadow maps
-    Evsm = 64u + SHADOW_FILTER_EVSM,   ///< exponential variance shadow maps
-    Msm = 64u + SHADOW_FILTER_MSM,     ///< moment shadow maps
-    Csm = 64u + SHADOW_FILTER_CSM,     ///< convolution shadow maps
-    Peel = 64u + SHADOW_FILTER_PEEL,   ///< depth-peeling soft shadows: a depth grid marched per sample
-    Avsm = 64u + SHADOW_FILTER_AVSM,   ///< adaptive volumetric shadow maps: hard translucent shadows
-    Vpcss = 64u + SHADOW_FILTER_VPCSS, ///< volumetric PCSS on the AVSM's transmittance functions
+    Reference,                                 ///< Embree shadow rays
+    Stsv,                                      ///< every triangle through STSV
+    Pw,                                        ///< opaque triangles through penumbra wedges
+    Dcs,                                       ///< opaque triangles through depth complexity sampling
+    PwStsv,                                    ///< pw for opaque, STSV for perforated triangles
+    DcsStsv,                                   ///< dcs for opaque, STSV for perforated triangles
+    Pcf = IMAGE_METHODS + SHADOW_FILTER_PCF,   ///< percentage-closer filtering of a light-centre shadow map
+    Pcss = IMAGE_METHODS + SHADOW_FILTER_PCSS, ///< percentage-closer soft shadows
+    Vsm = IMAGE_METHODS + SHADOW_FILTER_VSM,   ///< variance shadow maps
+    Esm = IMAGE_METHODS + SHADOW_FILTER_ESM,   ///< exponential shadow maps
+    Evsm = IMAGE_METHODS + SHADOW_FILTER_EVSM, ///< exponential variance shadow maps
+    Msm = IMAGE_METHODS + SHADOW_FILTER_MSM,   ///< moment shadow maps
+    Csm = IMAGE_METHODS + SHADOW_FILTER_CSM,   ///< convolution shadow maps
+    Peel =
+        IMAGE_METHODS + SHADOW_FILTER_PEEL, ///< depth-peeling soft shadows: a depth grid marched per sample
+    Avsm = IMAGE_METHODS + SHADOW_FILTER_AVSM, ///< adaptive volumetric shadow maps: hard translucent shadows
+    Vpcss = IMAGE_METHODS + SHADOW_FILTER_VPCSS, ///< volumetric PCSS on the AVSM's transmittance functions
 };
 
-/// The first image-family method: a variant's method is this past its selector.
-inline constexpr unsigned IMAGE_METHODS = 64u;
 /// The method of an image-family variant.
 constexpr Method imageMethod(ShadowFilter filter) {
     return Method(IMAGE_METHODS + unsigned(filter));

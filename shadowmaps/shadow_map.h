@@ -7,7 +7,6 @@
 #include "shadowmaps/shadow_map_dh.h"
 #include "shadowmaps/variants.h"
 
-#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <map>
