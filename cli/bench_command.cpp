@@ -321,21 +321,18 @@ void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std:
     }
 }
 
-int runBench(BenchArgs& args) {
-    const bool progressOn = !args.quiet && isatty(fileno(stderr));
-    if (args.listPresets || !args.preset.empty()) {
-        const nlohmann::json presets = loadBenchPresets(args.presetsFile);
-        if (args.listPresets) {
-            for (const auto& [name, p] : presets.items()) {
-                std::printf("%s: %s\n  ", name.c_str(), p.value("description", "").c_str());
-                for (const auto& [key, value] : p.items())
-                    if (key != "description") std::printf(" %s=%s", key.c_str(), value.dump().c_str());
-                std::printf("\n");
-            }
-            return 0;
-        }
-        applyBenchPreset(args, presets, args.preset);
+namespace {
+/// --list-presets.
+void printPresets(const nlohmann::json& presets) {
+    for (const auto& [name, p] : presets.items()) {
+        std::printf("%s: %s\n  ", name.c_str(), p.value("description", "").c_str());
+        for (const auto& [key, value] : p.items())
+            if (key != "description") std::printf(" %s=%s", key.c_str(), value.dump().c_str());
+        std::printf("\n");
     }
+}
+
+void checkBenchArgs(const BenchArgs& args) {
     if (args.scene.empty() && args.vary.rfind("scene=", 0) != 0)
         throw UsageError("bench needs a SCENE, --vary scene=A,B or --preset NAME (see --list-presets)");
     if (args.repeat < kMinRepeat || args.repeat > kMaxRepeat)
@@ -344,48 +341,19 @@ int runBench(BenchArgs& args) {
     if (args.warmup < kMinWarmup || args.warmup > kMaxWarmup)
         throw UsageError("--warmup " + std::to_string(args.warmup) + " is out of range (" +
                          std::to_string(kMinWarmup) + " to " + std::to_string(kMaxWarmup) + ")");
+}
 
-    // --extrusion takes a list here: each Vulkan configuration runs through each stage, in one run.
-    BenchArgs single = args;
-    single.extrusion = "auto";
-    RenderOptions base = resolveFrameOptions(single);
-    std::vector<ExtrusionStage> extrusions;
-    for (const std::string& e : splitList(args.extrusion, "--extrusion"))
-        extrusions.push_back(parseExtrusionStage(e));
-    if (extrusions.empty()) throw UsageError("--extrusion is empty");
-    std::vector<Method> methods;
-    for (const std::string& m : splitList(args.methods, "--methods")) methods.push_back(parseMethod(m));
-    std::vector<Backend> backends;
-    const std::string backendList =
-        args.backends.empty() ? (defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") : args.backends;
-    for (const std::string& b : splitList(backendList, "--backends")) backends.push_back(parseBackend(b));
-    if (methods.empty()) throw UsageError("--methods is empty");
-    if (backends.empty()) throw UsageError("--backends is empty");
-    const std::vector<MethodParams> params = paramsForMethods(methods, args.params);
-    const auto paramsOf = [&](Method m) {
-        return params[std::size_t(std::find(methods.begin(), methods.end(), m) - methods.begin())];
-    };
-    const std::vector<int> samples = parseIntList(args.samples, "--samples");
-    for (int n : samples) {
-        RenderOptions probe = base;
-        probe.samples = n;
-        validate(probe);
-    }
-    const std::vector<Variant> variants = makeVariants(args, args.vary);
-    // The results file: a .json, none of the files the bench reads (checked again against each
-    // variant's textures once it is loaded).
-    std::vector<InputFile> inputs;
-    if (!args.presetsFile.empty()) inputs.push_back({"the presets file", args.presetsFile});
-    for (const Variant& v : variants)
-        if (std::error_code ec; std::filesystem::is_regular_file(v.scene, ec))
-            inputs.push_back({"a scene", v.scene});
-    const std::vector<OutputFile> outputs = {{"--json", args.json, {".json"}}};
-    checkOutputFiles(outputs, inputs);
+bool isGroundTruth(Method m) {
+    return methodInfo(m).family == MethodFamily::GroundTruth;
+}
 
-    // Method × backend pairs. A pair the backend does not implement (the reference on vulkan)
-    // is skipped with a note; a method left without any backend runs on its own first backend.
+/// Method × backend pairs, the reference first (so that --check and the speed-ups have it when
+/// the others run). A pair the backend does not implement (the reference on vulkan) is skipped
+/// with a note, into `skipped`; a method left without any backend runs on its own first backend.
+std::vector<std::pair<Method, Backend>> benchPairs(const std::vector<Method>& methods,
+                                                   const std::vector<Backend>& backends,
+                                                   nlohmann::json& skipped) {
     std::vector<std::pair<Method, Backend>> pairs;
-    nlohmann::json skipped = nlohmann::json::array();
     for (Method m : methods) {
         bool ran = false;
         for (Backend b : backends) {
@@ -408,181 +376,268 @@ int runBench(BenchArgs& args) {
             pairs.push_back(own);
         }
     }
-    // The reference first, so --check and the speed-ups have it when the others run.
-    const auto isGroundTruth = [](Method m) { return methodInfo(m).family == MethodFamily::GroundTruth; };
     std::stable_partition(pairs.begin(), pairs.end(), [&](const auto& p) { return isGroundTruth(p.first); });
-    const bool haveReference = !pairs.empty() && isGroundTruth(pairs.front().first);
+    return pairs;
+}
+
+/// What a bench runs: the configurations of the command line.
+struct BenchPlan {
+    RenderOptions base;
+    std::vector<ExtrusionStage> extrusions; ///< each Vulkan configuration runs through each
+    std::vector<Method> methods;
+    std::vector<MethodParams> params; ///< [methods]
+    std::vector<int> samples;
+    std::vector<Variant> variants;
+    std::vector<std::pair<Method, Backend>> pairs;
+    nlohmann::json skipped = nlohmann::json::array();
+    std::vector<OutputFile> outputs;
+
+    const MethodParams& paramsOf(Method m) const {
+        return params[std::size_t(std::find(methods.begin(), methods.end(), m) - methods.begin())];
+    }
+};
+
+BenchPlan planBench(const BenchArgs& args) {
+    BenchPlan plan;
+    // --extrusion takes a list here: each Vulkan configuration runs through each stage, in one run.
+    BenchArgs single = args;
+    single.extrusion = "auto";
+    plan.base = resolveFrameOptions(single);
+    for (const std::string& e : splitList(args.extrusion, "--extrusion"))
+        plan.extrusions.push_back(parseExtrusionStage(e));
+    if (plan.extrusions.empty()) throw UsageError("--extrusion is empty");
+    for (const std::string& m : splitList(args.methods, "--methods")) plan.methods.push_back(parseMethod(m));
+    std::vector<Backend> backends;
+    const std::string backendList =
+        args.backends.empty() ? (defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") : args.backends;
+    for (const std::string& b : splitList(backendList, "--backends")) backends.push_back(parseBackend(b));
+    if (plan.methods.empty()) throw UsageError("--methods is empty");
+    if (backends.empty()) throw UsageError("--backends is empty");
+    plan.params = paramsForMethods(plan.methods, args.params);
+    plan.samples = parseIntList(args.samples, "--samples");
+    for (int n : plan.samples) {
+        RenderOptions probe = plan.base;
+        probe.samples = n;
+        validate(probe);
+    }
+    plan.variants = makeVariants(args, args.vary);
+    // The results file: a .json, none of the files the bench reads (checked again against each
+    // variant's textures once it is loaded).
+    std::vector<InputFile> inputs;
+    if (!args.presetsFile.empty()) inputs.push_back({"the presets file", args.presetsFile});
+    for (const Variant& v : plan.variants)
+        if (std::error_code ec; std::filesystem::is_regular_file(v.scene, ec))
+            inputs.push_back({"a scene", v.scene});
+    plan.outputs = {{"--json", args.json, {".json"}}};
+    checkOutputFiles(plan.outputs, inputs);
+    plan.pairs = benchPairs(plan.methods, backends, plan.skipped);
+    const bool haveReference = !plan.pairs.empty() && isGroundTruth(plan.pairs.front().first);
     if (args.check && !haveReference) throw UsageError("--check needs the reference among --methods");
+    return plan;
+}
+
+/// The --json document of the results so far ("complete": false until the end).
+nlohmann::json benchJson(const BenchArgs& args, const BenchPlan& plan, const std::vector<Result>& results,
+                         bool complete) {
+    const RenderOptions& base = plan.base;
+    const bool vulkanAsked = std::any_of(plan.pairs.begin(), plan.pairs.end(),
+                                         [](const auto& p) { return p.second == Backend::Vulkan; });
+    nlohmann::json machine = machineJson(vulkanAsked, base.device);
+    for (const Result& r : results)
+        if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu")) {
+            machine["device"] = r.lastStats["gpu"].value("device", std::string());
+            machine["driver"] = r.lastStats["gpu"].value("driver", std::string());
+        }
+    nlohmann::json configurations = nlohmann::json::array();
+    for (const Result& r : results) {
+        const Config& c = r.config;
+        RenderOptions o = base;
+        o.method = c.method;
+        o.params = c.params;
+        o.backend = c.backend;
+        o.samples = c.samples;
+        o.extrusion = c.extrusion;
+        const Variant& variant = plan.variants[c.variant];
+        nlohmann::json j = {{"method", toString(c.method)},
+                            {"backend", toString(c.backend)},
+                            {"samples", c.samples},
+                            {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
+                            {"set", variant.sceneOptions.set},
+                            {"variant", variant.label},
+                            {"scene_name", variant.scene},
+                            {"scene", r.scene},
+                            {"options", toJson(o)},
+                            {"warmup", args.warmup},
+                            {"repeat", r.frameMs.size()}};
+        if (!r.error.empty()) {
+            j["error"] = r.error;
+            configurations.push_back(j);
+            continue;
+        }
+        j["startup_ms"] = r.startupMs;
+        j["frame_ms"] = toJson(summarize(r.frameMs));
+        j["frame_ms_samples"] = r.frameMs;
+        nlohmann::json passes = nlohmann::json::object();
+        for (const auto& [name, values] : r.passes) passes[name] = toJson(summarize(values));
+        j["passes"] = passes;
+        j["speedup_vs_reference"] = r.speedup ? nlohmann::json(*r.speedup) : nlohmann::json(nullptr);
+        if (args.check && r.agreementPercent) {
+            j["identical_bits_percent"] = *r.agreementPercent;
+            j["differing_samples"] = r.differingSamples;
+        }
+        if (r.visibilityError)
+            j["visibility_vs_reference"] = {{"rmse", r.visibilityError->rmse},
+                                            {"bias", r.visibilityError->bias},
+                                            {"max_abs", r.visibilityError->maxAbs}};
+        // The last frame's stats, whole, but for what the bench summarised itself above
+        // (options, scene, frame and pass times).
+        for (const auto& [key, value] : r.lastStats.items())
+            if (!j.contains(key)) j[key] = value;
+        configurations.push_back(j);
+    }
+    return {{"scene", args.scene},
+            {"preset", args.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.preset)},
+            {"version", version()},
+            {"command", shellCommandLine(args.argv)},
+            {"machine", machine},
+            {"configurations", configurations},
+            {"skipped", plan.skipped},
+            {"complete", complete}};
+}
+
+/// Each result of a group (one sample count of one variant) against the group's reference: the
+/// speed-up, and with --check the visibility error and the differing bits.
+void compareWithReference(std::vector<Result>& results, std::size_t groupStart, std::size_t referenceIndex,
+                          bool check) {
+    const Result& reference = results[referenceIndex];
+    for (std::size_t i = groupStart; i < results.size(); ++i) {
+        Result& r = results[i];
+        if (!r.error.empty()) continue;
+        r.speedup = summarize(reference.frameMs).median / summarize(r.frameMs).median;
+        if (check) {
+            r.visibilityError = compareImages(r.visibility, reference.visibility);
+            r.visibilityError->absDifference = ImageF();
+        }
+        // Bits only for methods that write per-sample results (not a visibility image).
+        if (check && methodInfo(r.config.method).output != MethodOutput::Visibility) {
+            std::size_t differing = 0, compared = 0;
+            for (std::size_t l = 0; l < r.lightSamples.size() && l < reference.lightSamples.size(); ++l) {
+                const LightSampleDiff d =
+                    compareLightSamples(r.lightSamples[l], reference.lightSamples[l], 0,
+                                        transmittanceBoth(r.lightSamples[l], reference.lightSamples[l]));
+                differing += d.differingSamples;
+                compared += d.comparedSamples;
+            }
+            r.differingSamples = differing;
+            r.agreementPercent = compared ? 100.0 * double(compared - differing) / double(compared) : 0.0;
+        }
+    }
+}
+
+/// Runs every configuration on variant v, appending to `results`; false when one failed.
+bool benchVariant(const BenchArgs& args, const BenchPlan& plan, std::size_t v, bool progressOn,
+                  std::vector<Result>& results) {
+    const RenderOptions& base = plan.base;
+    const Variant& variant = plan.variants[v];
+    Timer loadTimer;
+    const Scene scene = loadScene(variant.scene, variant.sceneOptions);
+    const double loadMs = loadTimer.milliseconds();
+    printSceneWarnings(scene, args.quiet);
+    checkOutputFiles(plan.outputs, sceneInputFiles(variant.scene, scene));
+    // Every method and backend at the largest sample count: an image-based method's maps
+    // may outweigh the light-sample buffers.
+    for (const auto& [method, backend] : plan.pairs) {
+        RenderOptions largest = base;
+        largest.method = method;
+        largest.backend = backend;
+        largest.params = plan.paramsOf(method);
+        largest.samples = *std::max_element(plan.samples.begin(), plan.samples.end());
+        if (largest.buffer == BufferKind::Transmittance && !methodInfo(method).writesTransmittance())
+            largest.buffer = BufferKind::Bitmask;
+        checkFrameMemory(largest, scene);
+    }
+    nlohmann::json counts = sceneStats(scene);
+    counts["load_ms"] = loadMs;
+    if (!args.quiet)
+        std::fprintf(stderr, "%s%s%s: %zu triangles (%zu perforated), %zu light(s), %dx%d\n",
+                     printable(variant.scene).c_str(), variant.label.empty() ? "" : " ",
+                     printable(variant.label).c_str(), counts["triangles"].get<std::size_t>(),
+                     counts["perforated_triangles"].get<std::size_t>(), counts["lights"].get<std::size_t>(),
+                     base.width, base.height);
+    bool failed = false;
+    for (int n : plan.samples) {
+        std::optional<std::size_t> referenceIndex;
+        const std::size_t groupStart = results.size();
+        for (const auto& [method, backend] : plan.pairs)
+            for (std::size_t x = 0; x < (backend == Backend::Vulkan ? plan.extrusions.size() : 1); ++x) {
+                Result r;
+                r.config = {method,
+                            backend,
+                            n,
+                            v,
+                            plan.paramsOf(method),
+                            backend == Backend::Vulkan ? plan.extrusions[x] : ExtrusionStage::Auto};
+                r.scene = counts;
+                try {
+                    runConfiguration(scene, base, args.warmup, args.repeat, progressOn, args.onFrame, r);
+                } catch (const std::bad_alloc&) {
+                    r.error = "out of memory";
+                } catch (const Error& e) {
+                    r.error = printable(e.message());
+                }
+                Progress::setEnabled(progressOn);
+                if (!args.quiet && !progressOn && r.error.empty()) // a log line where there is no bar
+                    std::fprintf(stderr, "  %s: %zu timed frames, median %.2f ms\n", r.config.label().c_str(),
+                                 r.frameMs.size(), summarize(r.frameMs).median);
+                if (!r.error.empty()) {
+                    failed = true;
+                    std::fprintf(stderr, "stsv: error: %s: %s\n", r.config.label().c_str(), r.error.c_str());
+                }
+                results.push_back(std::move(r));
+                if (isGroundTruth(method) && results.back().error.empty())
+                    referenceIndex = results.size() - 1;
+            }
+        if (referenceIndex) compareWithReference(results, groupStart, *referenceIndex, args.check);
+        // Buffers are only kept for the check within one group.
+        for (std::size_t i = groupStart; i < results.size(); ++i) {
+            results[i].lightSamples.clear();
+            results[i].visibility = ImageF();
+        }
+    }
+    return !failed;
+}
+
+} // namespace
+
+int runBench(BenchArgs& args) {
+    const bool progressOn = !args.quiet && isatty(fileno(stderr));
+    if (args.listPresets || !args.preset.empty()) {
+        const nlohmann::json presets = loadBenchPresets(args.presetsFile);
+        if (args.listPresets) {
+            printPresets(presets);
+            return 0;
+        }
+        applyBenchPreset(args, presets, args.preset);
+    }
+    checkBenchArgs(args);
+    const BenchPlan plan = planBench(args);
 
     std::vector<Result> results;
     bool failed = false;
     // --json is rewritten after each scene variant ("complete": false until the end), so a run
     // stopped early keeps what it measured.
     const auto writeResults = [&](bool complete) {
-        if (args.json.empty()) return;
-        const bool vulkanAsked = std::any_of(pairs.begin(), pairs.end(),
-                                             [](const auto& p) { return p.second == Backend::Vulkan; });
-        nlohmann::json machine = machineJson(vulkanAsked, base.device);
-        for (const Result& r : results)
-            if (r.config.backend == Backend::Vulkan && r.lastStats.contains("gpu")) {
-                machine["device"] = r.lastStats["gpu"].value("device", std::string());
-                machine["driver"] = r.lastStats["gpu"].value("driver", std::string());
-            }
-        nlohmann::json configurations = nlohmann::json::array();
-        for (const Result& r : results) {
-            const Config& c = r.config;
-            RenderOptions o = base;
-            o.method = c.method;
-            o.params = c.params;
-            o.backend = c.backend;
-            o.samples = c.samples;
-            o.extrusion = c.extrusion;
-            nlohmann::json j = {{"method", toString(c.method)},
-                                {"backend", toString(c.backend)},
-                                {"samples", c.samples},
-                                {"size", std::to_string(base.width) + "x" + std::to_string(base.height)},
-                                {"set", variants[c.variant].sceneOptions.set},
-                                {"variant", variants[c.variant].label},
-                                {"scene_name", variants[c.variant].scene},
-                                {"scene", r.scene},
-                                {"options", toJson(o)},
-                                {"warmup", args.warmup},
-                                {"repeat", r.frameMs.size()}};
-            if (!r.error.empty()) {
-                j["error"] = r.error;
-                configurations.push_back(j);
-                continue;
-            }
-            j["startup_ms"] = r.startupMs;
-            j["frame_ms"] = toJson(summarize(r.frameMs));
-            j["frame_ms_samples"] = r.frameMs;
-            nlohmann::json passes = nlohmann::json::object();
-            for (const auto& [name, values] : r.passes) passes[name] = toJson(summarize(values));
-            j["passes"] = passes;
-            j["speedup_vs_reference"] = r.speedup ? nlohmann::json(*r.speedup) : nlohmann::json(nullptr);
-            if (args.check && r.agreementPercent) {
-                j["identical_bits_percent"] = *r.agreementPercent;
-                j["differing_samples"] = r.differingSamples;
-            }
-            if (r.visibilityError)
-                j["visibility_vs_reference"] = {{"rmse", r.visibilityError->rmse},
-                                                {"bias", r.visibilityError->bias},
-                                                {"max_abs", r.visibilityError->maxAbs}};
-            // The last frame's stats, whole, but for what the bench summarised itself above
-            // (options, scene, frame and pass times).
-            for (const auto& [key, value] : r.lastStats.items())
-                if (!j.contains(key)) j[key] = value;
-            configurations.push_back(j);
-        }
-        nlohmann::json out = {
-            {"scene", args.scene},
-            {"preset", args.preset.empty() ? nlohmann::json(nullptr) : nlohmann::json(args.preset)},
-            {"version", version()},
-            {"command", shellCommandLine(args.argv)},
-            {"machine", machine},
-            {"configurations", configurations},
-            {"skipped", skipped},
-            {"complete", complete}};
-        writeJson(args.json, out);
+        if (!args.json.empty()) writeJson(args.json, benchJson(args, plan, results, complete));
     };
-    for (std::size_t v = 0; v < variants.size(); ++v) {
-        Timer loadTimer;
-        const Scene scene = loadScene(variants[v].scene, variants[v].sceneOptions);
-        const double loadMs = loadTimer.milliseconds();
-        printSceneWarnings(scene, args.quiet);
-        checkOutputFiles(outputs, sceneInputFiles(variants[v].scene, scene));
-        // Every method and backend at the largest sample count: an image-based method's maps
-        // may outweigh the light-sample buffers.
-        for (const auto& [method, backend] : pairs) {
-            RenderOptions largest = base;
-            largest.method = method;
-            largest.backend = backend;
-            largest.params = paramsOf(method);
-            largest.samples = *std::max_element(samples.begin(), samples.end());
-            if (largest.buffer == BufferKind::Transmittance && !methodInfo(method).writesTransmittance())
-                largest.buffer = BufferKind::Bitmask;
-            checkFrameMemory(largest, scene);
-        }
-        nlohmann::json counts = sceneStats(scene);
-        counts["load_ms"] = loadMs;
-        if (!args.quiet)
-            std::fprintf(stderr, "%s%s%s: %zu triangles (%zu perforated), %zu light(s), %dx%d\n",
-                         printable(variants[v].scene).c_str(), variants[v].label.empty() ? "" : " ",
-                         printable(variants[v].label).c_str(), counts["triangles"].get<std::size_t>(),
-                         counts["perforated_triangles"].get<std::size_t>(),
-                         counts["lights"].get<std::size_t>(), base.width, base.height);
-        for (int n : samples) {
-            std::optional<std::size_t> referenceIndex;
-            const std::size_t groupStart = results.size();
-            for (const auto& [method, backend] : pairs)
-                for (std::size_t x = 0; x < (backend == Backend::Vulkan ? extrusions.size() : 1); ++x) {
-                    Result r;
-                    r.config = {method,
-                                backend,
-                                n,
-                                v,
-                                paramsOf(method),
-                                backend == Backend::Vulkan ? extrusions[x] : ExtrusionStage::Auto};
-                    r.scene = counts;
-                    try {
-                        runConfiguration(scene, base, args.warmup, args.repeat, progressOn, args.onFrame, r);
-                    } catch (const std::bad_alloc&) {
-                        r.error = "out of memory";
-                    } catch (const Error& e) {
-                        r.error = printable(e.message());
-                    }
-                    Progress::setEnabled(progressOn);
-                    if (!args.quiet && !progressOn && r.error.empty()) // a log line where there is no bar
-                        std::fprintf(stderr, "  %s: %zu timed frames, median %.2f ms\n",
-                                     r.config.label().c_str(), r.frameMs.size(), summarize(r.frameMs).median);
-                    if (!r.error.empty()) {
-                        failed = true;
-                        std::fprintf(stderr, "stsv: error: %s: %s\n", r.config.label().c_str(),
-                                     r.error.c_str());
-                    }
-                    results.push_back(std::move(r));
-                    if (isGroundTruth(method) && results.back().error.empty())
-                        referenceIndex = results.size() - 1;
-                }
-            for (std::size_t i = groupStart; i < results.size(); ++i) {
-                Result& r = results[i];
-                if (!referenceIndex || !r.error.empty()) continue;
-                const Result* reference = &results[*referenceIndex];
-                r.speedup = summarize(reference->frameMs).median / summarize(r.frameMs).median;
-                if (args.check) {
-                    r.visibilityError = compareImages(r.visibility, reference->visibility);
-                    r.visibilityError->absDifference = ImageF();
-                }
-                // Bits only for methods that write per-sample results (not a visibility image).
-                if (args.check && methodInfo(r.config.method).output != MethodOutput::Visibility) {
-                    std::size_t differing = 0, compared = 0;
-                    for (std::size_t l = 0; l < r.lightSamples.size() && l < reference->lightSamples.size();
-                         ++l) {
-                        const LightSampleDiff d = compareLightSamples(
-                            r.lightSamples[l], reference->lightSamples[l], 0,
-                            transmittanceBoth(r.lightSamples[l], reference->lightSamples[l]));
-                        differing += d.differingSamples;
-                        compared += d.comparedSamples;
-                    }
-                    r.differingSamples = differing;
-                    r.agreementPercent =
-                        compared ? 100.0 * double(compared - differing) / double(compared) : 0.0;
-                }
-            }
-            // Buffers are only kept for the check within one group.
-            for (std::size_t i = groupStart; i < results.size(); ++i) {
-                results[i].lightSamples.clear();
-                results[i].visibility = ImageF();
-            }
-        }
-        if (v + 1 < variants.size()) writeResults(false);
+    for (std::size_t v = 0; v < plan.variants.size(); ++v) {
+        if (!benchVariant(args, plan, v, progressOn, results)) failed = true;
+        if (v + 1 < plan.variants.size()) writeResults(false);
     }
 
-    printTable(results, variants, args.check);
-    if (!skipped.empty())
-        for (const auto& s : skipped)
-            std::printf("skipped %s/%s: %s\n", s["method"].get<std::string>().c_str(),
-                        s["backend"].get<std::string>().c_str(), s["reason"].get<std::string>().c_str());
+    printTable(results, plan.variants, args.check);
+    for (const auto& s : plan.skipped)
+        std::printf("skipped %s/%s: %s\n", s["method"].get<std::string>().c_str(),
+                    s["backend"].get<std::string>().c_str(), s["reason"].get<std::string>().c_str());
 
     writeResults(true);
     if (!args.json.empty()) std::printf("wrote %s\n", printable(args.json).c_str());

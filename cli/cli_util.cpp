@@ -6,6 +6,7 @@
 #include "gpu/device.h"
 #include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_renderer.h"
+#include "render/vulkan/gpu_shadowmap_passes.h"
 #include "sampling/light_sampling.h"
 #include "shadowmaps/depth_grid_dh.h"
 #include "shadowmaps/filtered_map.h"
@@ -245,14 +246,13 @@ double shadowMapPeakBytes(const ShadowMapView& view, const ShadowMapSettings& s,
     const double texels = double(view.faces) * double(view.size) * double(view.size);
     const bool vulkan = backend == Backend::Vulkan;
     double bytes = 0.0;
-    if (s.filter == ShadowFilter::Peel) {
+    if (s.filter == ShadowMapMethod::Peel) {
         bytes += double(depthGridBytes(view, s));
     } else if (readsTransmittanceFunctions(s.filter)) {
         bytes += double(avsmBytes(view, s));
-        // Vulkan lists each texel's fragments first: a head a texel, and room for four fragments
-        // of 16 bytes a texel at first (render/vulkan/gpu_shadowmap_passes.cpp); the CPU flags
-        // each texel that dropped a node (AvsmMap::overflowed, a byte).
-        bytes += vulkan ? texels * (4.0 + 4.0 * 16.0) : texels;
+        // Vulkan lists each texel's fragments first (avsmInitialListBytes); the CPU flags each
+        // texel that dropped a node (AvsmMap::overflowed, a byte).
+        bytes += vulkan ? double(avsmInitialListBytes(std::uint64_t(texels))) : texels;
     } else {
         bytes += double(shadowMapBytes(view));
         if (keep && vulkan) bytes += double(shadowMapBytes(view)); // read back for --shadow-map
@@ -308,12 +308,12 @@ double estimateFrameBytes(const RenderOptions& o, const Scene& scene) {
     const BufferKind kind = methodInfo(o.method).bufferKind(o.buffer);
     double perLight = double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, kind));
     // Transmittance with DCS: its layer counters beside the bits and depths (on both backends).
-    if (kind == BufferKind::Transmittance && methodInfo(o.method).opaque == OpaqueTechnique::Dcs)
+    if (kind == BufferKind::Transmittance && methodInfo(o.method).wedges == WedgeVariant::Dcs)
         perLight +=
             double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Counters));
     // Image-based methods: each light's map and what its method builds from it.
     double maps = 0.0;
-    if (methodInfo(o.method).shadowMap != ShadowFilter::None && !scene.triangles.empty()) {
+    if (methodInfo(o.method).shadowMap != ShadowMapMethod::None && !scene.triangles.empty()) {
         const ShadowMapSettings s = shadowMapSettings(o);
         const Bounds receivers =
             s.fit == 0 ? Bounds{} : shadowReceiverBounds(scene, float(o.width) / float(o.height));
@@ -322,14 +322,14 @@ double estimateFrameBytes(const RenderOptions& o, const Scene& scene) {
                                        o.keepShadowMaps);
     }
     // Vulkan STSV with hulls and DCS: the list of fragments whose samples a compute pass tests
-    // (two a pixel at first, 8 bytes each; render/vulkan/gpu_renderer.cpp) and, for STSV bits
+    // (initialDeferredFragments) and, for STSV bits
     // (bitmask and transmittance frames), their word buffer.
     double shared = 0.0;
     const MethodInfo& method = methodInfo(o.method);
     const bool vulkan = o.backend == Backend::Vulkan;
     const bool stsv = method.stsv != StsvTriangles::None;
-    if (vulkan && (stsv || method.opaque == OpaqueTechnique::Dcs))
-        shared += std::min(2.0 * pixels, double(kMaxDeferredFragments)) * 8.0;
+    if (vulkan && (stsv || method.wedges == WedgeVariant::Dcs))
+        shared += double(initialDeferredFragments(std::uint64_t(pixels)) * kDeferredFragmentBytes);
     if (vulkan && stsv && kind != BufferKind::Counters)
         shared += double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));
     return gbuffer + images + shared + maps + perLight * double(std::max<std::size_t>(lights, 1));

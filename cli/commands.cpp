@@ -280,6 +280,198 @@ int runReportingErrors(const std::function<int()>& command) {
     }
 }
 
+namespace {
+
+/// `stsv render`: its options into `r`.
+CLI::App* addRenderCommand(CLI::App& app, RenderArgs& r) {
+    r.options.samples = 64;
+    CLI::App* command =
+        app.add_subcommand("render", "render a scene: image, visibility, light-sample buffers, stats");
+    command->add_option("scene", r.scene, sceneHelp())->required();
+    command->add_option("--method", r.method, methodHelp())->capture_default_str();
+    command->add_option("--backend", r.backend,
+                        "vulkan | cpu (default " + toString(defaultBackend()) +
+                            ", or the method's own backend where it lacks that one)");
+    command->add_option("--samples", r.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
+        ->transform(integerIn(16, 256, kSampleCounts))
+        ->capture_default_str();
+    addFrameOptions(command, r);
+    command->add_option(
+        "-o,--output", r.output,
+        "lit image: .png (sRGB, 8 bits) or .exr (linear RGB, half floats); default SCENE.png when no output "
+        "is given");
+    command->add_option(
+        "--visibility", r.visibility,
+        "visibility v_coef: .png (linear gray, 8 bits), .exr (float32 Y) or .npy (float32 [H, W])");
+    command->add_option("--dump-ls", r.dumpLs, "light-sample buffer as NumPy .npy (one file per light)");
+    command->add_option(
+        "--shadow-map", r.shadowMap,
+        "image-based methods: each light's shadow map as NumPy .npy, float32 [faces, size, size] "
+        "of linear depth (inf: no surface)");
+    command->add_option("--stats", r.stats, "parameters, counts, timings and buffer memory as JSON");
+    return command;
+}
+
+/// `stsv info`: its options into `i`.
+CLI::App* addInfoCommand(CLI::App& app, InfoArgs& i) {
+    i.options.samples = 64;
+    CLI::App* command = app.add_subcommand(
+        "info", "list methods, built-in scenes and the machine's capabilities; with a SCENE, what it holds "
+                "and the memory a frame of the given options would take, without rendering");
+    command->add_option("scene", i.scene, sceneHelp());
+    command->add_option("--method", i.method, "method whose frame memory is estimated")
+        ->capture_default_str();
+    command->add_option("--backend", i.backend, "vulkan | cpu");
+    command->add_option("--samples", i.options.samples, "light samples per pixel")
+        ->transform(integerIn(16, 256, kSampleCounts))
+        ->capture_default_str();
+    addFrameOptions(command, i);
+    command->add_flag("--methods", i.methodPairs,
+                      "only the method/backend pairs, one 'method backend' per line");
+    command->add_flag("--markdown", i.markdown,
+                      "only the method table, in Markdown (the README's method list)");
+    command->add_flag("--json", i.json, "the method table and the built-in scenes as JSON");
+    return command;
+}
+
+/// `stsv bench`: its options into `b`.
+CLI::App* addBenchCommand(CLI::App& app, BenchArgs& b) {
+    CLI::App* command = app.add_subcommand("bench", "time frames per method, backend and sample count");
+    command->add_option("scene", b.scene, sceneHelp());
+    command->add_option("--methods", b.methods, "comma-separated, of: " + methodNameList("and"))
+        ->capture_default_str();
+    command->add_option("--backends", b.backends,
+                        "comma-separated: vulkan,cpu (default: " +
+                            std::string(defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") +
+                            "; methods vulkan lacks run on cpu)");
+    command->add_option("--samples", b.samples, "comma-separated sample counts, e.g. 16,64,256")
+        ->capture_default_str();
+    command->add_option(
+        "--vary", b.vary,
+        "one scene per value of a knob, e.g. count=250,1000,4000, or per scene, e.g. scene=fence,fence-mesh");
+    command->add_option("--repeat", b.repeat, "timed frames per configuration")
+        ->transform(integerIn(kMinRepeat, kMaxRepeat))
+        ->capture_default_str();
+    command->add_option("--warmup", b.warmup, "untimed frames before them")
+        ->transform(integerIn(kMinWarmup, kMaxWarmup))
+        ->capture_default_str();
+    command->add_flag("--check", b.check,
+                      "compare each configuration's light-sample bits with the reference's");
+    command->add_option("--json", b.json, "write the results as JSON");
+    command->add_option("--preset", b.preset,
+                        "named configuration from bench/presets.json (see --list-presets)");
+    command->add_option("--presets", b.presetsFile,
+                        "read presets from this JSON file instead of the built-in ones");
+    command->add_flag("--list-presets", b.listPresets, "print the presets and exit");
+    addFrameOptions(command, b);
+    command->get_option("--extrusion")
+        ->description("Vulkan stages that build the volumes, comma-separated: each Vulkan configuration runs "
+                      "through each (auto | hull | geometry | mesh; see stsv render --help)");
+    return command;
+}
+
+/// `stsv compare`: its options into `c`.
+CLI::App* addCompareCommand(CLI::App& app, CompareArgs& c) {
+    c.options.samples = 64;
+    CLI::App* command =
+        app.add_subcommand("compare", "error tables and images of methods against the reference, "
+                                      "or of two --dump-ls .npy files");
+    command->add_option("inputs", c.inputs, "SCENE, or A.npy B.npy")->required()->expected(1, 2);
+    command->add_option("--methods", c.methods, "comma-separated, each method[/backend], e.g. stsv,stsv/cpu")
+        ->capture_default_str();
+    command->add_option("--backend", c.backend,
+                        "backend of methods without one (default " + toString(defaultBackend()) + ")");
+    command->add_option("--against", c.against, "method[/backend] the others are compared with")
+        ->capture_default_str();
+    command
+        ->add_option(
+            "--samples", c.options.samples,
+            "light samples per pixel: 16, 32, 64, 128, 256 (two .npy files: the count they must hold)")
+        ->transform(integerIn(16, 256, kSampleCounts))
+        ->capture_default_str();
+    command->add_option("--out", c.out,
+                        "directory for the images (visibility, |difference| heat map, lit image)");
+    command->add_option("--json", c.json, "write the error table as JSON");
+    command->add_option("--heat-scale", c.heatScale, "difference shown yellow in the heat maps")
+        ->check(finiteNumber())
+        ->capture_default_str();
+    command
+        ->add_option("--converged", c.converged,
+                     "K: also compare with the converged reference, the mean of K renders of --against "
+                     "with seeds SEED … SEED+K-1 (cached, see --no-cache)")
+        ->transform(integerIn(1, kMaxConvergedFrames));
+    command->add_option("--kind", c.kind,
+                        "two .npy light-sample files without their .npy.json metadata (from an older stsv "
+                        "or NumPy): what they hold, bitmask | counters | transmittance");
+    command->add_flag("--no-cache", c.noCache, "render the converged reference even when the cache holds it");
+    command->add_option("--report", c.report,
+                        "directory for index.html: options, error tables, lit/visibility/heat-map images");
+    command->add_option("--sheet", c.sheet, "contact sheet PNG: per method lit, visibility, heat map");
+    command->add_option(
+        "--knobs", c.knobs,
+        "a knobs file (tune --json): its methods render with its knobs (--param wins over it)");
+    addFrameOptions(command, c);
+    return command;
+}
+
+/// `stsv tune`: its options into `t`.
+CLI::App* addTuneCommand(CLI::App& app, TuneArgs& t) {
+    t.options.samples = 64;
+    t.size = "128x128"; // tuning renders many frames
+    CLI::App* command = app.add_subcommand(
+        "tune", "search an image-based method's knobs for the least error against the converged references "
+                "of training scenes; the best knobs beside the defaults on held-out scenes");
+    command
+        ->add_option("method", t.methods,
+                     "the image-based method (or several, comma-separated) whose knobs are searched")
+        ->required();
+    command->add_option("--scenes", t.scenes, "the training scenes (several values, or comma-separated)")
+        ->required()
+        ->expected(1, -1);
+    command
+        ->add_option("--validate", t.validate,
+                     "held-out scenes: the defaults' and the best knobs' error on them")
+        ->expected(1, -1);
+    command->add_option(
+        "--knob", t.knobs,
+        "NAME or NAME=LO:HI: a knob to search (repeatable; default: the method's tunable knobs, "
+        "those that do not trade time for quality)");
+    command
+        ->add_option("--budget", t.budget,
+                     "the most renders of each method's search (one per training scene per point tried)")
+        ->transform(integerIn(1, kMaxTuneBudget))
+        ->capture_default_str();
+    command
+        ->add_option("--objective", t.objective,
+                     "mean: the mean over the training scenes of error/defaults' error; worst: each scene "
+                     "searched alone first, then the worst over the scenes of error/that scene's own best "
+                     "(the knobs nearest every scene's best at once)")
+        ->check(CLI::IsMember({"mean", "worst"}))
+        ->capture_default_str();
+    command
+        ->add_option("--converged", t.converged,
+                     "K: each scene's reference is the mean of K renders of --against (cached as compare's)")
+        ->transform(integerIn(1, kMaxConvergedFrames))
+        ->capture_default_str();
+    command->add_option("--against", t.against, "method[/backend] of the converged references")
+        ->capture_default_str();
+    command->add_option("--backend", t.backend, "backend of the methods tuned: cpu | vulkan")
+        ->capture_default_str();
+    command->add_option("--samples", t.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
+        ->transform(integerIn(16, 256, kSampleCounts))
+        ->capture_default_str();
+    command->add_flag("--no-cache", t.noCache,
+                      "render the converged references even when the cache holds them");
+    command->add_option("--json", t.json,
+                        "write the best knobs and the errors as JSON (compare --knobs reads it)");
+    addFrameOptions(command, t);
+    command->get_option("--param")->description(
+        "method parameter name=value (repeatable): fixed at that value, not searched");
+    return command;
+}
+
+} // namespace
+
 int runCli(int argc, char** argv) {
     // A file size limit (ulimit -f) stops a write with SIGXFSZ, whose default kills the process
     // and leaves a partial file; ignored, the write fails with EFBIG, which writeFileBytes reports
@@ -290,168 +482,15 @@ int runCli(int argc, char** argv) {
     app.set_version_flag("--version", std::string("stsv ") + version());
 
     RenderArgs r;
-    r.options.samples = 64;
-    CLI::App* render =
-        app.add_subcommand("render", "render a scene: image, visibility, light-sample buffers, stats");
-    render->add_option("scene", r.scene, sceneHelp())->required();
-    render->add_option("--method", r.method, methodHelp())->capture_default_str();
-    render->add_option("--backend", r.backend,
-                       "vulkan | cpu (default " + toString(defaultBackend()) +
-                           ", or the method's own backend where it lacks that one)");
-    render->add_option("--samples", r.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
-        ->transform(integerIn(16, 256, kSampleCounts))
-        ->capture_default_str();
-    addFrameOptions(render, r);
-    render->add_option(
-        "-o,--output", r.output,
-        "lit image: .png (sRGB, 8 bits) or .exr (linear RGB, half floats); default SCENE.png when no output "
-        "is given");
-    render->add_option(
-        "--visibility", r.visibility,
-        "visibility v_coef: .png (linear gray, 8 bits), .exr (float32 Y) or .npy (float32 [H, W])");
-    render->add_option("--dump-ls", r.dumpLs, "light-sample buffer as NumPy .npy (one file per light)");
-    render->add_option(
-        "--shadow-map", r.shadowMap,
-        "image-based methods: each light's shadow map as NumPy .npy, float32 [faces, size, size] "
-        "of linear depth (inf: no surface)");
-    render->add_option("--stats", r.stats, "parameters, counts, timings and buffer memory as JSON");
-
+    CLI::App* render = addRenderCommand(app, r);
     InfoArgs i;
-    i.options.samples = 64;
-    CLI::App* info = app.add_subcommand(
-        "info", "list methods, built-in scenes and the machine's capabilities; with a SCENE, what it holds "
-                "and the memory a frame of the given options would take, without rendering");
-    info->add_option("scene", i.scene, sceneHelp());
-    info->add_option("--method", i.method, "method whose frame memory is estimated")->capture_default_str();
-    info->add_option("--backend", i.backend, "vulkan | cpu");
-    info->add_option("--samples", i.options.samples, "light samples per pixel")
-        ->transform(integerIn(16, 256, kSampleCounts))
-        ->capture_default_str();
-    addFrameOptions(info, i);
-    info->add_flag("--methods", i.methodPairs,
-                   "only the method/backend pairs, one 'method backend' per line");
-    info->add_flag("--markdown", i.markdown, "only the method table, in Markdown (the README's method list)");
-    info->add_flag("--json", i.json, "the method table and the built-in scenes as JSON");
-
+    CLI::App* info = addInfoCommand(app, i);
     BenchArgs b;
-    CLI::App* bench = app.add_subcommand("bench", "time frames per method, backend and sample count");
-    bench->add_option("scene", b.scene, sceneHelp());
-    bench->add_option("--methods", b.methods, "comma-separated, of: " + methodNameList("and"))
-        ->capture_default_str();
-    bench->add_option("--backends", b.backends,
-                      "comma-separated: vulkan,cpu (default: " +
-                          std::string(defaultBackend() == Backend::Vulkan ? "vulkan,cpu" : "cpu") +
-                          "; methods vulkan lacks run on cpu)");
-    bench->add_option("--samples", b.samples, "comma-separated sample counts, e.g. 16,64,256")
-        ->capture_default_str();
-    bench->add_option(
-        "--vary", b.vary,
-        "one scene per value of a knob, e.g. count=250,1000,4000, or per scene, e.g. scene=fence,fence-mesh");
-    bench->add_option("--repeat", b.repeat, "timed frames per configuration")
-        ->transform(integerIn(kMinRepeat, kMaxRepeat))
-        ->capture_default_str();
-    bench->add_option("--warmup", b.warmup, "untimed frames before them")
-        ->transform(integerIn(kMinWarmup, kMaxWarmup))
-        ->capture_default_str();
-    bench->add_flag("--check", b.check,
-                    "compare each configuration's light-sample bits with the reference's");
-    bench->add_option("--json", b.json, "write the results as JSON");
-    bench->add_option("--preset", b.preset,
-                      "named configuration from bench/presets.json (see --list-presets)");
-    bench->add_option("--presets", b.presetsFile,
-                      "read presets from this JSON file instead of the built-in ones");
-    bench->add_flag("--list-presets", b.listPresets, "print the presets and exit");
-    addFrameOptions(bench, b);
-    bench->get_option("--extrusion")
-        ->description("Vulkan stages that build the volumes, comma-separated: each Vulkan configuration runs "
-                      "through each (auto | hull | geometry | mesh; see stsv render --help)");
-
+    CLI::App* bench = addBenchCommand(app, b);
     CompareArgs c;
-    c.options.samples = 64;
-    CLI::App* compare =
-        app.add_subcommand("compare", "error tables and images of methods against the reference, "
-                                      "or of two --dump-ls .npy files");
-    compare->add_option("inputs", c.inputs, "SCENE, or A.npy B.npy")->required()->expected(1, 2);
-    compare->add_option("--methods", c.methods, "comma-separated, each method[/backend], e.g. stsv,stsv/cpu")
-        ->capture_default_str();
-    compare->add_option("--backend", c.backend,
-                        "backend of methods without one (default " + toString(defaultBackend()) + ")");
-    compare->add_option("--against", c.against, "method[/backend] the others are compared with")
-        ->capture_default_str();
-    compare
-        ->add_option(
-            "--samples", c.options.samples,
-            "light samples per pixel: 16, 32, 64, 128, 256 (two .npy files: the count they must hold)")
-        ->transform(integerIn(16, 256, kSampleCounts))
-        ->capture_default_str();
-    compare->add_option("--out", c.out,
-                        "directory for the images (visibility, |difference| heat map, lit image)");
-    compare->add_option("--json", c.json, "write the error table as JSON");
-    compare->add_option("--heat-scale", c.heatScale, "difference shown yellow in the heat maps")
-        ->check(finiteNumber())
-        ->capture_default_str();
-    compare
-        ->add_option("--converged", c.converged,
-                     "K: also compare with the converged reference, the mean of K renders of --against "
-                     "with seeds SEED … SEED+K-1 (cached, see --no-cache)")
-        ->transform(integerIn(1, kMaxConvergedFrames));
-    compare->add_option("--kind", c.kind,
-                        "two .npy light-sample files without their .npy.json metadata (from an older stsv "
-                        "or NumPy): what they hold, bitmask | counters | transmittance");
-    compare->add_flag("--no-cache", c.noCache, "render the converged reference even when the cache holds it");
-    compare->add_option("--report", c.report,
-                        "directory for index.html: options, error tables, lit/visibility/heat-map images");
-    compare->add_option("--sheet", c.sheet, "contact sheet PNG: per method lit, visibility, heat map");
-    compare->add_option(
-        "--knobs", c.knobs,
-        "a knobs file (tune --json): its methods render with its knobs (--param wins over it)");
-    addFrameOptions(compare, c);
-
+    CLI::App* compare = addCompareCommand(app, c);
     TuneArgs t;
-    t.options.samples = 64;
-    t.size = "128x128"; // tuning renders many frames
-    CLI::App* tune = app.add_subcommand(
-        "tune", "search an image-based method's knobs for the least error against the converged references "
-                "of training scenes; the best knobs beside the defaults on held-out scenes");
-    tune->add_option("method", t.methods,
-                     "the image-based method (or several, comma-separated) whose knobs are searched")
-        ->required();
-    tune->add_option("--scenes", t.scenes, "the training scenes (several values, or comma-separated)")
-        ->required()
-        ->expected(1, -1);
-    tune->add_option("--validate", t.validate,
-                     "held-out scenes: the defaults' and the best knobs' error on them")
-        ->expected(1, -1);
-    tune->add_option("--knob", t.knobs,
-                     "NAME or NAME=LO:HI: a knob to search (repeatable; default: the method's tunable knobs, "
-                     "those that do not trade time for quality)");
-    tune->add_option("--budget", t.budget,
-                     "the most renders of each method's search (one per training scene per point tried)")
-        ->transform(integerIn(1, kMaxTuneBudget))
-        ->capture_default_str();
-    tune->add_option("--objective", t.objective,
-                     "mean: the mean over the training scenes of error/defaults' error; worst: each scene "
-                     "searched alone first, then the worst over the scenes of error/that scene's own best "
-                     "(the knobs nearest every scene's best at once)")
-        ->check(CLI::IsMember({"mean", "worst"}))
-        ->capture_default_str();
-    tune->add_option("--converged", t.converged,
-                     "K: each scene's reference is the mean of K renders of --against (cached as compare's)")
-        ->transform(integerIn(1, kMaxConvergedFrames))
-        ->capture_default_str();
-    tune->add_option("--against", t.against, "method[/backend] of the converged references")
-        ->capture_default_str();
-    tune->add_option("--backend", t.backend, "backend of the methods tuned: cpu | vulkan")
-        ->capture_default_str();
-    tune->add_option("--samples", t.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
-        ->transform(integerIn(16, 256, kSampleCounts))
-        ->capture_default_str();
-    tune->add_flag("--no-cache", t.noCache, "render the converged references even when the cache holds them");
-    tune->add_option("--json", t.json,
-                     "write the best knobs and the errors as JSON (compare --knobs reads it)");
-    addFrameOptions(tune, t);
-    tune->get_option("--param")->description(
-        "method parameter name=value (repeatable): fixed at that value, not searched");
+    CLI::App* tune = addTuneCommand(app, t);
     refuseEmptyValues(app);
 
     return runReportingErrors([&]() -> int {

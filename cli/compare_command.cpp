@@ -608,10 +608,8 @@ std::vector<OutputFile> sceneCompareOutputs(const CompareArgs& args, const std::
     return outputs;
 }
 
-} // namespace
-
-int runCompare(CompareArgs& args) {
-    if (args.quiet) Progress::setEnabled(false);
+/// --heat-scale, --converged and --no-cache, whatever is compared.
+void checkCompareOptions(const CompareArgs& args) {
     if (!(args.heatScale > 0.0f && args.heatScale <= 1.0f))
         throw UsageError("--heat-scale must lie in (0, 1]");
     if (args.converged && (*args.converged < 1 || *args.converged > kMaxConvergedFrames))
@@ -619,110 +617,131 @@ int runCompare(CompareArgs& args) {
                          ": K, the number of seeds averaged, " + "must lie in 1 to " +
                          std::to_string(kMaxConvergedFrames));
     if (args.noCache && !args.converged) throw UsageError("--no-cache applies to --converged only");
-    if (args.inputs.size() == 2) {
-        const bool files = (isNpy(args.inputs[0]) || isExr(args.inputs[0])) &&
-                           (isNpy(args.inputs[1]) || isExr(args.inputs[1]));
-        if (!files)
-            throw UsageError("compare takes one SCENE, two .npy light-sample files, or two visibility files "
-                             "(.exr or float32 .npy)");
-        if (args.converged || !args.report.empty() || !args.sheet.empty() || !args.json.empty() ||
-            !args.knobs.empty())
-            throw UsageError(std::string(args.converged         ? "--converged"
-                                         : !args.report.empty() ? "--report"
-                                         : !args.sheet.empty()  ? "--sheet"
-                                         : !args.knobs.empty()  ? "--knobs"
-                                                                : "--json") +
-                             " compares renders of a SCENE, not two files");
-        // The files are read once, before anything is written: --out's heat map must be neither.
-        std::vector<InputFile> inputs;
-        for (const std::string& input : args.inputs) {
-            inputs.push_back({"an input", input});
-            if (isNpy(input)) inputs.push_back({"an input's metadata", npyInfoPath(input)});
-        }
-        if (!args.out.empty()) {
-            prepareOutputDirectory(args.out, "--out");
-            checkOutputFiles({{"--out", (fs::path(args.out) / "difference.png").string(), {".png"}}}, inputs);
-        }
-        if (isExr(args.inputs[0]) || isExr(args.inputs[1])) return compareVisibilityFiles(args);
-        const NpyArray a = readNpy(args.inputs[0]);
-        if (a.dtype == "<f4") return compareVisibilityFiles(args);
-        return compareNpy(args, a, readNpy(args.inputs[1]));
-    }
-    if (args.inputs.size() != 1) throw UsageError("compare takes one SCENE, or two .npy light-sample files");
-    if (isNpy(args.inputs[0])) throw UsageError("compare of light-sample files needs two .npy files");
+}
 
-    const std::string& spec = args.inputs[0];
-    const RenderOptions base = resolveFrameOptions(args);
-    const Backend fallback = args.backend.empty() ? defaultBackend() : parseBackend(args.backend);
-    const MethodBackend against = parseMethodBackend(args.against, fallback);
-    std::vector<MethodBackend> methods;
-    for (const std::string& m : splitList(args.methods, "--methods"))
-        methods.push_back(parseMethodBackend(m, fallback));
-    if (methods.empty()) throw UsageError("--methods is empty");
-    std::vector<Method> all{against.method};
-    for (const MethodBackend& mb : methods) all.push_back(mb.method);
-    std::vector<MethodParams> params = paramsForMethods(all, args.params);
-    // --knobs: the file's methods take its knobs (a --param item wins); knobLabels[i] says which.
-    std::vector<std::string> knobLabels(all.size());
-    if (!args.knobs.empty()) knobLabels = applyKnobsFile(readKnobsFile(args.knobs), all, params, args.params);
-    auto knobLabelOf = [&](Method m) {
-        return knobLabels[std::size_t(std::find(all.begin(), all.end(), m) - all.begin())];
-    };
-    if (!args.kind.empty()) throw UsageError("--kind applies to two .npy light-sample files, not a SCENE");
-    if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
-    if (!args.report.empty()) prepareOutputDirectory(args.report, "--report");
-    std::vector<MethodBackend> rowMethods{against}; // the rows, in order (the methods' files)
-    for (const MethodBackend& mb : methods)
-        if (mb.method != against.method || mb.backend != against.backend) rowMethods.push_back(mb);
-    const std::vector<OutputFile> outputs = sceneCompareOutputs(args, rowMethods);
+/// compare of two files: two --dump-ls light-sample files, or two visibility images.
+int compareTwoFiles(const CompareArgs& args) {
+    const bool files =
+        (isNpy(args.inputs[0]) || isExr(args.inputs[0])) && (isNpy(args.inputs[1]) || isExr(args.inputs[1]));
+    if (!files)
+        throw UsageError("compare takes one SCENE, two .npy light-sample files, or two visibility files "
+                         "(.exr or float32 .npy)");
+    if (args.converged || !args.report.empty() || !args.sheet.empty() || !args.json.empty() ||
+        !args.knobs.empty())
+        throw UsageError(std::string(args.converged         ? "--converged"
+                                     : !args.report.empty() ? "--report"
+                                     : !args.sheet.empty()  ? "--sheet"
+                                     : !args.knobs.empty()  ? "--knobs"
+                                                            : "--json") +
+                         " compares renders of a SCENE, not two files");
+    // The files are read once, before anything is written: --out's heat map must be neither.
     std::vector<InputFile> inputs;
-    if (std::error_code ec; fs::is_regular_file(spec, ec)) inputs.push_back({"the scene", spec});
-    if (!args.knobs.empty()) inputs.push_back({"--knobs", args.knobs});
-    checkOutputFiles(outputs, inputs);
+    for (const std::string& input : args.inputs) {
+        inputs.push_back({"an input", input});
+        if (isNpy(input)) inputs.push_back({"an input's metadata", npyInfoPath(input)});
+    }
+    if (!args.out.empty()) {
+        prepareOutputDirectory(args.out, "--out");
+        checkOutputFiles({{"--out", (fs::path(args.out) / "difference.png").string(), {".png"}}}, inputs);
+    }
+    if (isExr(args.inputs[0]) || isExr(args.inputs[1])) return compareVisibilityFiles(args);
+    const NpyArray a = readNpy(args.inputs[0]);
+    if (a.dtype == "<f4") return compareVisibilityFiles(args);
+    return compareNpy(args, a, readNpy(args.inputs[1]));
+}
 
-    const SceneOptions sceneSets = sceneOptionsOf(args);
-    const Scene scene = loadScene(spec, sceneSets);
-    printSceneWarnings(scene, args.quiet);
-    checkOutputFiles(outputs, sceneInputFiles(spec, scene));
+/// A compare of a SCENE: what the command line asks for, and what it measured. The methods
+/// (--against first) and their knobs, the rows of the error table, the light-facing mask and
+/// the converged reference.
+struct SceneComparison {
+    explicit SceneComparison(const CompareArgs& commandLine) : args(commandLine) {}
+    const CompareArgs& args;
+    std::string spec;
+    RenderOptions base;
+    MethodBackend against;
+    std::vector<MethodBackend> methods;
+    std::vector<Method> all;               ///< against, then the methods, as listed
+    std::vector<MethodParams> params;      ///< [all]
+    std::vector<std::string> knobLabels;   ///< [all]: the --knobs entry each method took, if any
+    std::vector<MethodBackend> rowMethods; ///< the rows, in order (the methods' files)
+    std::vector<Row> rows;
+    std::vector<std::size_t> rankOrder;
+    LightFacingMask facing;
+    std::optional<ConvergedReference> converged;
+    int frames = 0; ///< the converged reference's seeds (0: none)
 
-    auto optionsOf = [&](const MethodBackend& mb) {
+    std::size_t indexOf(Method m) const {
+        return std::size_t(std::find(all.begin(), all.end(), m) - all.begin());
+    }
+    const std::string& knobLabelOf(Method m) const { return knobLabels[indexOf(m)]; }
+    /// The frame options of a method: --against's frame, that method's knobs, and bits for a
+    /// method without fractional transmittance.
+    RenderOptions optionsOf(const MethodBackend& mb) const {
         RenderOptions o = base;
         o.method = mb.method;
         o.backend = mb.backend;
-        // A method without fractional transmittance is compared with its bits.
         if (o.buffer == BufferKind::Transmittance && !methodInfo(mb.method).writesTransmittance())
             o.buffer = BufferKind::Bitmask;
-        o.params = params[std::size_t(std::find(all.begin(), all.end(), mb.method) - all.begin())];
+        o.params = params[indexOf(mb.method)];
         return o;
-    };
+    }
+};
+
+/// The methods, their knobs and the rows of a compare of a SCENE, from the command line.
+SceneComparison planComparison(const CompareArgs& args) {
+    SceneComparison c(args);
+    c.spec = args.inputs[0];
+    c.base = resolveFrameOptions(args);
+    const Backend fallback = args.backend.empty() ? defaultBackend() : parseBackend(args.backend);
+    c.against = parseMethodBackend(args.against, fallback);
+    for (const std::string& m : splitList(args.methods, "--methods"))
+        c.methods.push_back(parseMethodBackend(m, fallback));
+    if (c.methods.empty()) throw UsageError("--methods is empty");
+    c.all = {c.against.method};
+    for (const MethodBackend& mb : c.methods) c.all.push_back(mb.method);
+    c.params = paramsForMethods(c.all, args.params);
+    // --knobs: the file's methods take its knobs (a --param item wins).
+    c.knobLabels.resize(c.all.size());
+    if (!args.knobs.empty())
+        c.knobLabels = applyKnobsFile(readKnobsFile(args.knobs), c.all, c.params, args.params);
+    if (!args.kind.empty()) throw UsageError("--kind applies to two .npy light-sample files, not a SCENE");
+    c.rowMethods = {c.against};
+    for (const MethodBackend& mb : c.methods)
+        if (mb.method != c.against.method || mb.backend != c.against.backend) c.rowMethods.push_back(mb);
+    return c;
+}
+
+/// Renders --against and every method, with the converged reference when asked, into the rows
+/// (their images written to --out as they come).
+void measureComparison(SceneComparison& c, const Scene& scene, const SceneOptions& sceneSets) {
+    const CompareArgs& args = c.args;
     // Each frame compare renders, before the first: an image-based method's maps may outweigh
     // the light-sample buffers.
-    checkFrameMemory(optionsOf(against), scene);
-    for (const MethodBackend& mb : methods) checkFrameMemory(optionsOf(mb), scene);
+    checkFrameMemory(c.optionsOf(c.against), scene);
+    for (const MethodBackend& mb : c.methods) checkFrameMemory(c.optionsOf(mb), scene);
     auto render = [&](const MethodBackend& mb, double& frameMs) {
         Timer wall;
-        Frame frame = renderFrame(scene, optionsOf(mb));
+        Frame frame = renderFrame(scene, c.optionsOf(mb));
         frameMs = frameMsOf(frame, wall.milliseconds());
         for (const std::string& warning : frameWarnings(frame.stats))
             std::fprintf(stderr, "stsv: warning: %s\n", printable(warning).c_str());
         return frame;
     };
     double againstMs = 0.0;
-    const Frame reference = render(against, againstMs);
+    const Frame reference = render(c.against, againstMs);
     // One mask for every row, from the --against frame's G-buffer.
-    const LightFacingMask facing = lightFacingOf(reference, scene);
+    c.facing = lightFacingOf(reference, scene);
 
     // The converged reference: the reference frame above is its seed S, the others follow.
-    std::optional<ConvergedReference> converged;
     ImageF convergedVisibility, convergedLit; // display values
-    const int frames = args.converged.value_or(0);
+    c.frames = args.converged.value_or(0);
     if (args.converged) {
         ConvergedRequest request;
         request.scene = &scene;
-        request.spec = spec;
+        request.spec = c.spec;
         request.sceneSets = sceneSets;
-        request.options = optionsOf(against);
-        request.frames = frames;
+        request.options = c.optionsOf(c.against);
+        request.frames = c.frames;
         request.useCache = !args.noCache;
         request.cacheDir = convergedCacheDirectory();
         request.first = &reference;
@@ -730,52 +749,55 @@ int runCompare(CompareArgs& args) {
         if (request.useCache && request.cacheDir.empty())
             std::fprintf(stderr, "note: no cache directory (set STSV_CACHE_DIR, XDG_CACHE_HOME or HOME): the "
                                  "converged reference is not cached\n");
-        converged = convergedReference(request);
-        for (const std::string& m : converged->messages) std::fprintf(stderr, "note: %s\n", m.c_str());
-        convergedVisibility = toDisplay(converged->images.visibility, false);
-        convergedLit = toDisplay(converged->images.color, true);
+        c.converged = convergedReference(request);
+        for (const std::string& m : c.converged->messages) std::fprintf(stderr, "note: %s\n", m.c_str());
+        convergedVisibility = toDisplay(c.converged->images.visibility, false);
+        convergedLit = toDisplay(c.converged->images.color, true);
     }
-    std::vector<Row> rows;
     auto addRow = [&](Row row, const Frame& frame) {
-        if (converged) {
+        if (c.converged) {
             row.convergedVisibility = compareImages(row.visibilityDisplay, convergedVisibility, kCoarseError);
             row.convergedLit = compareImages(row.litDisplay, convergedLit);
             row.convergedVisibilityFacing =
-                compareImagesWhere(row.visibilityDisplay, convergedVisibility, facing.selected);
+                compareImagesWhere(row.visibilityDisplay, convergedVisibility, c.facing.selected);
         }
-        const bool first = rows.empty();
+        const bool first = c.rows.empty();
         if (!args.out.empty()) {
             writeImages(args.out, row.mb, frame, first ? nullptr : &row, first ? nullptr : &reference,
                         args.heatScale);
-            if (converged)
+            if (c.converged)
                 writePng((fs::path(args.out) / (fileStem(row.mb) + "_converged_diff.png")).string(),
                          heatMapWithLegend(row.convergedVisibility.absDifference, args.heatScale,
                                            "|visibility - converged reference|"));
         }
-        rows.push_back(std::move(row));
+        c.rows.push_back(std::move(row));
     };
-    addRow(compareFrames(against, reference, against, reference, againstMs, facing), reference);
-    for (const MethodBackend& mb : methods) {
-        if (mb.method == against.method && mb.backend == against.backend) continue; // already the first row
+    addRow(compareFrames(c.against, reference, c.against, reference, againstMs, c.facing), reference);
+    for (const MethodBackend& mb : c.methods) {
+        if (mb.method == c.against.method && mb.backend == c.against.backend)
+            continue; // already the first row
         double ms = 0.0;
         const Frame frame = render(mb, ms);
-        addRow(compareFrames(mb, frame, against, reference, ms, facing), frame);
+        addRow(compareFrames(mb, frame, c.against, reference, ms, c.facing), frame);
     }
-    const std::vector<std::size_t> rankOrder = rankRows(rows, converged.has_value());
-    const ReportTable ranking = rankingTable(rows, rankOrder, converged.has_value(), facing);
-    if (converged && !args.out.empty()) {
+    c.rankOrder = rankRows(c.rows, c.converged.has_value());
+    if (c.converged && !args.out.empty()) {
         writePng((fs::path(args.out) / "converged_visibility.png").string(),
-                 toImage8(converged->images.visibility, false));
+                 toImage8(c.converged->images.visibility, false));
         writePng((fs::path(args.out) / "converged_lit.png").string(),
-                 toImage8(converged->images.color, true));
+                 toImage8(c.converged->images.color, true));
     }
+}
 
+/// Prints the equal-sample table and its notes; returns the note under it (the report's too).
+std::string printEqualSampleTable(const SceneComparison& c, const Scene& scene) {
+    const RenderOptions& base = c.base;
     std::printf("%s, %dx%d, %d samples (%s, seed %u), against %s\n", printable(scene.source).c_str(),
                 base.width, base.height, base.samples, toString(base.pattern).c_str(), base.seed,
-                toString(against).c_str());
+                toString(c.against).c_str());
     std::printf("%-16s %12s %12s %10s %10s %10s %10s %10s %10s %11s\n", "method", "identical %", "diff. bits",
                 "vis RMSE", "vis max", "lit RMSE", "lit max", "lit SSIM", ">1/255 px", "frame ms");
-    for (const Row& r : rows) {
+    for (const Row& r : c.rows) {
         const std::string identical = r.perSample ? formatFixed(r.identicalPercent(), 4) : "n/a";
         const std::string differing = r.perSample ? std::to_string(r.differingSamples) : "n/a";
         std::printf("%-16s %12s %12s %10.5f %10.5f %10.5f %10.5f %10.5f %9.4f%% %11.1f\n",
@@ -783,27 +805,27 @@ int runCompare(CompareArgs& args) {
                     r.visibility.maxAbs, r.lit.rmse, r.lit.maxAbs, r.lit.ssim, 100.0 * r.lit.fractionAbove,
                     r.frameMs);
     }
-    for (const Row& r : rows)
-        if (!knobLabelOf(r.mb.method).empty())
-            std::printf("knobs of %s from %s: %s\n", toString(r.mb).c_str(), printable(args.knobs).c_str(),
-                        knobLabelOf(r.mb.method).c_str());
-    if (rows.front().transmittanceRmse) {
-        std::printf("per-sample transmittance RMSE against %s:", toString(against).c_str());
-        for (const Row& r : rows)
+    for (const Row& r : c.rows)
+        if (!c.knobLabelOf(r.mb.method).empty())
+            std::printf("knobs of %s from %s: %s\n", toString(r.mb).c_str(), printable(c.args.knobs).c_str(),
+                        c.knobLabelOf(r.mb.method).c_str());
+    if (c.rows.front().transmittanceRmse) {
+        std::printf("per-sample transmittance RMSE against %s:", toString(c.against).c_str());
+        for (const Row& r : c.rows)
             std::printf(" %s %s", toString(r.mb).c_str(),
                         r.transmittanceRmse ? formatFixed(*r.transmittanceRmse, 5).c_str() : "n/a");
         std::printf("\n");
     }
     // The n/a rows' methods, from the rows themselves: each method once, by its row in the table.
     std::vector<Method> naMethods;
-    for (const Row& r : rows)
+    for (const Row& r : c.rows)
         if (!r.perSample && methodInfo(r.mb.method).output == MethodOutput::Visibility &&
             std::find(naMethods.begin(), naMethods.end(), r.mb.method) == naMethods.end())
             naMethods.push_back(r.mb.method);
     std::string visibilityOnly;
     for (Method m : naMethods) visibilityOnly += (visibilityOnly.empty() ? "" : ", ") + toString(m);
-    if (methodInfo(against.method).output == MethodOutput::Visibility)
-        visibilityOnly = "every method: " + toString(against.method) + ", the method compared with,";
+    if (methodInfo(c.against.method).output == MethodOutput::Visibility)
+        visibilityOnly = "every method: " + toString(c.against.method) + ", the method compared with,";
     const std::string equalNote =
         std::string("(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; lit SSIM = "
                     "structural "
@@ -814,128 +836,182 @@ int runCompare(CompareArgs& args) {
              ? ")"
              : "; n/a: " + visibilityOnly + " give(s) a v_coef per pixel, not per-sample bits)");
     std::printf("%s\n", equalNote.c_str());
+    return equalNote;
+}
 
-    // The bias tables: against the equal-sample reference, and against the converged one with
-    // the equal-sample reference's own error as the noise floor.
-    ReportTable biasTable;
-    biasTable.caption = "against the equal-sample reference (" + toString(against) + ", " +
-                        std::to_string(base.samples) + " samples, seed " + std::to_string(base.seed) + "):";
-    biasTable.header = kErrorHeader;
-    for (const Row& r : rows) biasTable.rows.push_back(errorCells(toString(r.mb), r.visibilityCoarse, r.lit));
-    ReportTable convergedTable;
-    std::string convergedSummary; // "reference/cpu, seeds 1 to 16 (16 x 16 = 256 samples per pixel), cache …"
-    if (converged) {
-        const std::uint32_t last = base.seed + std::uint32_t(frames - 1);
-        convergedSummary = toString(against) + ", seeds " + std::to_string(base.seed) +
-                           (frames > 1 ? " to " + std::to_string(last) : "") + " (" + std::to_string(frames) +
-                           " x " + std::to_string(base.samples) + " = " +
-                           std::to_string(frames * base.samples) + " samples per pixel), cache " +
-                           toString(converged->cache) +
-                           (converged->entry.empty() ? std::string() : ": " + converged->entry);
-        convergedTable.caption = "against the converged reference (" + std::to_string(frames * base.samples) +
-                                 " samples per pixel):";
-        convergedTable.header = kErrorHeader;
-        convergedTable.rows.push_back(
-            errorCells("noise floor", rows.front().convergedVisibility, rows.front().convergedLit));
-        for (std::size_t i = 1; i < rows.size(); ++i)
-            convergedTable.rows.push_back(
-                errorCells(toString(rows[i].mb), rows[i].convergedVisibility, rows[i].convergedLit));
-        convergedTable.note = "(" + std::string(kBiasNote) + "; noise floor = the equal-sample " +
-                              toString(against) + " against the converged one)";
-        std::printf("\nconverged reference: %s\n%s\n%s", convergedSummary.c_str(),
-                    formatTextTable(biasTable).c_str(), formatTextTable(convergedTable).c_str());
-    } else {
-        biasTable.note = "(" + std::string(kBiasNote) + ")";
+/// The bias tables: against the equal-sample reference, and against the converged one with the
+/// equal-sample reference's own error as the noise floor (only with --converged), and the
+/// converged reference's one-line summary.
+struct BiasTables {
+    ReportTable equalSamples;
+    ReportTable converged;
+    std::string
+        convergedSummary; ///< "reference/cpu, seeds 1 to 16 (16 x 16 = 256 samples per pixel), cache …"
+};
+
+BiasTables biasTables(const SceneComparison& c) {
+    const RenderOptions& base = c.base;
+    BiasTables t;
+    t.equalSamples.caption = "against the equal-sample reference (" + toString(c.against) + ", " +
+                             std::to_string(base.samples) + " samples, seed " + std::to_string(base.seed) +
+                             "):";
+    t.equalSamples.header = kErrorHeader;
+    for (const Row& r : c.rows)
+        t.equalSamples.rows.push_back(errorCells(toString(r.mb), r.visibilityCoarse, r.lit));
+    if (!c.converged) {
+        t.equalSamples.note = "(" + std::string(kBiasNote) + ")";
+        return t;
     }
+    const int frames = c.frames;
+    const std::uint32_t last = base.seed + std::uint32_t(frames - 1);
+    t.convergedSummary = toString(c.against) + ", seeds " + std::to_string(base.seed) +
+                         (frames > 1 ? " to " + std::to_string(last) : "") + " (" + std::to_string(frames) +
+                         " x " + std::to_string(base.samples) + " = " +
+                         std::to_string(frames * base.samples) + " samples per pixel), cache " +
+                         toString(c.converged->cache) +
+                         (c.converged->entry.empty() ? std::string() : ": " + c.converged->entry);
+    t.converged.caption =
+        "against the converged reference (" + std::to_string(frames * base.samples) + " samples per pixel):";
+    t.converged.header = kErrorHeader;
+    t.converged.rows.push_back(
+        errorCells("noise floor", c.rows.front().convergedVisibility, c.rows.front().convergedLit));
+    for (std::size_t i = 1; i < c.rows.size(); ++i)
+        t.converged.rows.push_back(
+            errorCells(toString(c.rows[i].mb), c.rows[i].convergedVisibility, c.rows[i].convergedLit));
+    t.converged.note = "(" + std::string(kBiasNote) + "; noise floor = the equal-sample " +
+                       toString(c.against) + " against the converged one)";
+    return t;
+}
+
+/// --report and --sheet.
+void writeComparisonPages(const SceneComparison& c, const Scene& scene, const SceneOptions& sceneSets,
+                          const ReportTable& ranking, const std::string& equalNote, const BiasTables& bias) {
+    const CompareArgs& args = c.args;
+    const std::vector<ImageSet> sets =
+        imageSets(c.rows, c.converged ? &*c.converged : nullptr, c.frames * c.base.samples, args.heatScale);
+    const std::string heatAgainst = c.converged ? "converged" : "reference";
+    if (!args.report.empty()) {
+        ReportTable first = equalSampleTable(c.rows);
+        first.caption = "against " + toString(c.against) + " at the same samples:";
+        first.note = equalNote;
+        std::vector<ReportTable> tables = {ranking, first, bias.equalSamples};
+        if (c.converged) tables.push_back(bias.converged);
+        Report report = describeReport(args, scene, sceneSets, c.optionsOf(c.against), c.rows, tables,
+                                       c.converged ? bias.convergedSummary : "not requested");
+        for (const Row& r : c.rows)
+            if (!c.knobLabelOf(r.mb.method).empty())
+                report.settings.push_back({"knobs of " + toString(r.mb) + " (--knobs " + args.knobs + ")",
+                                           c.knobLabelOf(r.mb.method)});
+        writeReport(args.report, report, sets, "|visibility - " + heatAgainst + "|", args.heatScale);
+        std::printf("report in %s\n", printable((fs::path(args.report) / "index.html").string()).c_str());
+    }
+    if (!args.sheet.empty()) {
+        writeSheet(args.sheet, sets, "|dv| " + heatAgainst,
+                   args.heatScale); // fits a 192-pixel tile at scale 2
+        std::printf("contact sheet in %s\n", printable(args.sheet).c_str());
+    }
+}
+
+/// --json: every row's errors and knobs, the ranking, the mask's pixels, the converged reference.
+nlohmann::json comparisonJson(const SceneComparison& c) {
+    const CompareArgs& args = c.args;
+    nlohmann::json list = nlohmann::json::array();
+    for (const Row& r : c.rows) {
+        nlohmann::json row = {
+            {"method", toString(r.mb.method)},
+            {"backend", toString(r.mb.backend)},
+            {"identical_percent", r.perSample ? nlohmann::json(r.identicalPercent()) : nlohmann::json()},
+            {"differing_samples", r.differingSamples},
+            {"compared_samples", r.comparedSamples},
+            {"differing_pixels", r.differingPixels},
+            {"visibility",
+             {{"rmse", r.visibility.rmse},
+              {"bias", r.visibility.bias},
+              {"max_abs", r.visibility.maxAbs},
+              {"fraction_above_1_255", r.visibility.fractionAbove},
+              {"fraction_above_0_1", r.visibilityCoarse.fractionAbove}}},
+            {"visibility_facing", facingJson(r.visibilityFacing)},
+            {"rank", r.rank ? nlohmann::json(*r.rank) : nlohmann::json()},
+            {"lit",
+             {{"rmse", r.lit.rmse},
+              {"bias", r.lit.bias},
+              {"max_abs", r.lit.maxAbs},
+              {"ssim", r.lit.ssim},
+              {"fraction_above_1_255", r.lit.fractionAbove}}},
+            {"frame_ms", r.frameMs}};
+        if (c.converged)
+            row["converged"] = errorJson(r.convergedVisibility, r.convergedVisibilityFacing, r.convergedLit);
+        if (r.transmittanceRmse) row["transmittance_rmse"] = *r.transmittanceRmse;
+        row["knobs"] = c.optionsOf(r.mb).params; // every knob of the method, as rendered
+        if (!c.knobLabelOf(r.mb.method).empty()) row["knobs_file"] = args.knobs;
+        list.push_back(row);
+    }
+    const bool vulkan = std::any_of(c.rows.begin(), c.rows.end(),
+                                    [](const Row& r) { return r.mb.backend == Backend::Vulkan; });
+    nlohmann::json j = {{"scene", c.spec},
+                        {"version", version()},
+                        {"command", shellCommandLine(args.argv)},
+                        {"machine", machineJson(vulkan, c.optionsOf(c.against).device)},
+                        {"against", toString(c.against)},
+                        {"options", toJson(c.optionsOf(c.against))},
+                        {"rows", list}};
+    nlohmann::json order = nlohmann::json::array();
+    for (std::size_t i : c.rankOrder) order.push_back(toString(c.rows[i].mb));
+    j["light_facing"] = {{"facing_pixels", c.facing.facing},
+                         {"away_pixels", c.facing.away},
+                         {"background_pixels", c.facing.background}};
+    j["ranking"] = {{"by", c.converged ? "converged.visibility_facing.rmse" : "visibility_facing.rmse"},
+                    {"methods", order}};
+    if (c.converged) {
+        const RenderOptions& base = c.base;
+        j["converged_reference"] = {{"frames", c.frames},
+                                    {"seeds", {base.seed, base.seed + std::uint32_t(c.frames - 1)}},
+                                    {"samples_per_pixel", c.frames * base.samples},
+                                    {"cache", toString(c.converged->cache)},
+                                    {"cache_entry", c.converged->entry},
+                                    {"frames_rendered", c.converged->framesRendered}};
+        j["noise_floor"] = errorJson(c.rows.front().convergedVisibility,
+                                     c.rows.front().convergedVisibilityFacing, c.rows.front().convergedLit);
+    }
+    return j;
+}
+
+} // namespace
+
+int runCompare(CompareArgs& args) {
+    if (args.quiet) Progress::setEnabled(false);
+    checkCompareOptions(args);
+    if (args.inputs.size() == 2) return compareTwoFiles(args);
+    if (args.inputs.size() != 1) throw UsageError("compare takes one SCENE, or two .npy light-sample files");
+    if (isNpy(args.inputs[0])) throw UsageError("compare of light-sample files needs two .npy files");
+
+    SceneComparison c = planComparison(args);
+    if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
+    if (!args.report.empty()) prepareOutputDirectory(args.report, "--report");
+    const std::vector<OutputFile> outputs = sceneCompareOutputs(args, c.rowMethods);
+    std::vector<InputFile> inputs;
+    if (std::error_code ec; fs::is_regular_file(c.spec, ec)) inputs.push_back({"the scene", c.spec});
+    if (!args.knobs.empty()) inputs.push_back({"--knobs", args.knobs});
+    checkOutputFiles(outputs, inputs);
+
+    const SceneOptions sceneSets = sceneOptionsOf(args);
+    const Scene scene = loadScene(c.spec, sceneSets);
+    printSceneWarnings(scene, args.quiet);
+    checkOutputFiles(outputs, sceneInputFiles(c.spec, scene));
+
+    measureComparison(c, scene, sceneSets);
+    const ReportTable ranking = rankingTable(c.rows, c.rankOrder, c.converged.has_value(), c.facing);
+    const std::string equalNote = printEqualSampleTable(c, scene);
+    const BiasTables bias = biasTables(c);
+    if (c.converged)
+        std::printf("\nconverged reference: %s\n%s\n%s", bias.convergedSummary.c_str(),
+                    formatTextTable(bias.equalSamples).c_str(), formatTextTable(bias.converged).c_str());
     std::printf("\n%s", formatTextTable(ranking).c_str());
     if (!args.out.empty()) std::printf("images in %s\n", printable(args.out).c_str());
-
-    if (!args.report.empty() || !args.sheet.empty()) {
-        const std::vector<ImageSet> sets =
-            imageSets(rows, converged ? &*converged : nullptr, frames * base.samples, args.heatScale);
-        const std::string heatAgainst = converged ? "converged" : "reference";
-        if (!args.report.empty()) {
-            ReportTable first = equalSampleTable(rows);
-            first.caption = "against " + toString(against) + " at the same samples:";
-            first.note = equalNote;
-            std::vector<ReportTable> tables = {ranking, first, biasTable};
-            if (converged) tables.push_back(convergedTable);
-            Report report = describeReport(args, scene, sceneSets, optionsOf(against), rows, tables,
-                                           converged ? convergedSummary : "not requested");
-            for (const Row& r : rows)
-                if (!knobLabelOf(r.mb.method).empty())
-                    report.settings.push_back({"knobs of " + toString(r.mb) + " (--knobs " + args.knobs + ")",
-                                               knobLabelOf(r.mb.method)});
-            writeReport(args.report, report, sets, "|visibility - " + heatAgainst + "|", args.heatScale);
-            std::printf("report in %s\n", printable((fs::path(args.report) / "index.html").string()).c_str());
-        }
-        if (!args.sheet.empty()) {
-            writeSheet(args.sheet, sets, "|dv| " + heatAgainst,
-                       args.heatScale); // fits a 192-pixel tile at scale 2
-            std::printf("contact sheet in %s\n", printable(args.sheet).c_str());
-        }
-    }
-
+    if (!args.report.empty() || !args.sheet.empty())
+        writeComparisonPages(c, scene, sceneSets, ranking, equalNote, bias);
     if (!args.json.empty()) {
-        nlohmann::json list = nlohmann::json::array();
-        for (const Row& r : rows) {
-            nlohmann::json row = {
-                {"method", toString(r.mb.method)},
-                {"backend", toString(r.mb.backend)},
-                {"identical_percent", r.perSample ? nlohmann::json(r.identicalPercent()) : nlohmann::json()},
-                {"differing_samples", r.differingSamples},
-                {"compared_samples", r.comparedSamples},
-                {"differing_pixels", r.differingPixels},
-                {"visibility",
-                 {{"rmse", r.visibility.rmse},
-                  {"bias", r.visibility.bias},
-                  {"max_abs", r.visibility.maxAbs},
-                  {"fraction_above_1_255", r.visibility.fractionAbove},
-                  {"fraction_above_0_1", r.visibilityCoarse.fractionAbove}}},
-                {"visibility_facing", facingJson(r.visibilityFacing)},
-                {"rank", r.rank ? nlohmann::json(*r.rank) : nlohmann::json()},
-                {"lit",
-                 {{"rmse", r.lit.rmse},
-                  {"bias", r.lit.bias},
-                  {"max_abs", r.lit.maxAbs},
-                  {"ssim", r.lit.ssim},
-                  {"fraction_above_1_255", r.lit.fractionAbove}}},
-                {"frame_ms", r.frameMs}};
-            if (converged)
-                row["converged"] =
-                    errorJson(r.convergedVisibility, r.convergedVisibilityFacing, r.convergedLit);
-            if (r.transmittanceRmse) row["transmittance_rmse"] = *r.transmittanceRmse;
-            row["knobs"] = optionsOf(r.mb).params; // every knob of the method, as rendered
-            if (!knobLabelOf(r.mb.method).empty()) row["knobs_file"] = args.knobs;
-            list.push_back(row);
-        }
-        const bool vulkan = std::any_of(rows.begin(), rows.end(),
-                                        [](const Row& r) { return r.mb.backend == Backend::Vulkan; });
-        nlohmann::json j = {{"scene", spec},
-                            {"version", version()},
-                            {"command", shellCommandLine(args.argv)},
-                            {"machine", machineJson(vulkan, optionsOf(against).device)},
-                            {"against", toString(against)},
-                            {"options", toJson(optionsOf(against))},
-                            {"rows", list}};
-        nlohmann::json order = nlohmann::json::array();
-        for (std::size_t i : rankOrder) order.push_back(toString(rows[i].mb));
-        j["light_facing"] = {{"facing_pixels", facing.facing},
-                             {"away_pixels", facing.away},
-                             {"background_pixels", facing.background}};
-        j["ranking"] = {{"by", converged ? "converged.visibility_facing.rmse" : "visibility_facing.rmse"},
-                        {"methods", order}};
-        if (converged) {
-            j["converged_reference"] = {{"frames", frames},
-                                        {"seeds", {base.seed, base.seed + std::uint32_t(frames - 1)}},
-                                        {"samples_per_pixel", frames * base.samples},
-                                        {"cache", toString(converged->cache)},
-                                        {"cache_entry", converged->entry},
-                                        {"frames_rendered", converged->framesRendered}};
-            j["noise_floor"] = errorJson(rows.front().convergedVisibility,
-                                         rows.front().convergedVisibilityFacing, rows.front().convergedLit);
-        }
-        writeJson(args.json, j);
+        writeJson(args.json, comparisonJson(c));
         std::printf("wrote %s\n", printable(args.json).c_str());
     }
     return 0;

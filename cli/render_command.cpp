@@ -116,10 +116,10 @@ int runRender(RenderArgs& args) {
         throw UsageError("--dump-ls: method " + method.name +
                          " has no per-sample answer (it writes a v_coef per pixel); write that with "
                          "--visibility, or dump the light samples of a per-sample method");
-    if (!args.shadowMap.empty() && method.shadowMap == ShadowFilter::None)
+    if (!args.shadowMap.empty() && method.shadowMap == ShadowMapMethod::None)
         throw UsageError("--shadow-map: method " + method.name +
                          " renders no shadow map (image-based methods do)");
-    if (!args.shadowMap.empty() && method.shadowMap == ShadowFilter::Peel)
+    if (!args.shadowMap.empty() && method.shadowMap == ShadowMapMethod::Peel)
         throw UsageError("--shadow-map: method " + method.name +
                          " keeps a depth grid of front and back faces, not a depth map (its size and "
                          "memory are in --stats)");

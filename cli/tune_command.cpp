@@ -201,7 +201,7 @@ std::vector<KnobRequest> parseKnobRequests(const std::vector<std::string>& items
 }
 
 /// The knob of `filter` named `name` in the one list, or null.
-const ShadowMapKnob* mapKnob(ShadowFilter filter, const std::string& name) {
+const ShadowMapKnob* mapKnob(ShadowMapMethod filter, const std::string& name) {
     for (const ShadowMapKnob& k : shadowMapKnobs())
         if (k.readBy(filter) && name == k.name) return &k;
     return nullptr;
@@ -541,22 +541,12 @@ void printResult(const MethodResult& r, const std::vector<TuneScene>& training,
 
 } // namespace
 
-int runTune(TuneArgs& args) {
-    Timer total;
-    if (args.quiet) Progress::setEnabled(false);
-    if (args.budget < 1 || args.budget > kMaxTuneBudget)
-        throw UsageError("--budget " + std::to_string(args.budget) + " is out of range (1 to " +
-                         std::to_string(kMaxTuneBudget) + ")");
-    if (args.converged < 1 || args.converged > kMaxConvergedFrames)
-        throw UsageError("--converged " + std::to_string(args.converged) + " is out of range (1 to " +
-                         std::to_string(kMaxConvergedFrames) + ")");
-    const RenderOptions base = resolveFrameOptions(args);
-    const Backend backend = parseBackend(args.backend);
-    const MethodBackend against = parseMethodBackend(args.against, Backend::Cpu);
+namespace {
 
-    // The methods: image-based ones (the others have no knobs), on --backend.
+/// The methods tuned: image-based ones (the others have no knobs), each once, on `backend`.
+std::vector<MethodBackend> tunedMethods(const std::string& list, Backend backend) {
     std::vector<MethodBackend> methods;
-    for (const std::string& name : splitList(args.methods, "METHOD")) {
+    for (const std::string& name : splitList(list, "METHOD")) {
         const MethodInfo& m = findMethod(name);
         if (m.family != MethodFamily::ImageBased) {
             std::string imageBased;
@@ -574,11 +564,11 @@ int runTune(TuneArgs& args) {
         methods.push_back({m.id, backend});
     }
     if (methods.empty()) throw UsageError("tune: no METHOD given");
-    std::vector<Method> all{against.method};
-    for (const MethodBackend& mb : methods) all.push_back(mb.method);
-    const std::vector<MethodParams> params = paramsForMethods(all, args.params);
-    const std::set<std::string> given = paramNames(args.params);
-    const std::vector<KnobRequest> requests = parseKnobRequests(args.knobs);
+    return methods;
+}
+
+/// Every --knob names a knob of one of the methods at least.
+void checkKnobRequests(const std::vector<KnobRequest>& requests, const std::vector<MethodBackend>& methods) {
     for (const KnobRequest& r : requests) {
         bool read = false;
         for (const MethodBackend& mb : methods)
@@ -592,6 +582,127 @@ int runTune(TuneArgs& args) {
                              ")");
         }
     }
+}
+
+/// The search of one method: with the worst-scene objective each training scene's own best
+/// first, then the joint search, then the defaults and the best point on the held-out scenes.
+void tuneMethod(MethodResult& r, const std::vector<TuneScene>& training,
+                const std::vector<TuneScene>& heldOut, RenderOptions o, const TuneArgs& args, bool worst) {
+    if (worst) {
+        // Each scene's own best first: the joint search's unit per scene.
+        for (const TuneScene& scene : training) {
+            MethodResult alone = r;
+            if (!args.quiet)
+                std::fprintf(stderr, "tune %s: %s alone\n", toString(r.mb).c_str(),
+                             printable(scene.spec).c_str());
+            Search(alone, std::vector<TuneScene>{scene}, o, args.budget, args.quiet).run();
+            r.ownBests.push_back(alone.best.errors[0]);
+            r.ownRenders += alone.renders;
+            r.warnings.insert(alone.warnings.begin(), alone.warnings.end());
+        }
+    }
+    Search(r, training, o, args.budget, args.quiet).run();
+    // The held-out scenes, at the defaults and at the best point.
+    const bool same = r.best.values == r.defaults.values;
+    for (const TuneScene& s : heldOut) {
+        o.params = r.paramsAt(r.defaults.values);
+        const Frame d = renderFrame(s.scene, o);
+        r.heldOutDefault.push_back(tuneError(d, s));
+        ++r.heldOutRenders;
+        if (same) {
+            r.heldOutBest.push_back(r.heldOutDefault.back());
+            continue;
+        }
+        o.params = r.paramsAt(r.best.values);
+        const Frame b = renderFrame(s.scene, o);
+        r.heldOutBest.push_back(tuneError(b, s));
+        ++r.heldOutRenders;
+    }
+}
+
+/// --json: each method's best knobs beside its defaults, per training and held-out scene.
+nlohmann::json tuneJson(const TuneArgs& args, const std::vector<MethodResult>& results,
+                        const std::vector<TuneScene>& training, const std::vector<TuneScene>& heldOut,
+                        const RenderOptions& base, const MethodBackend& against, const SceneOptions& sets,
+                        bool worst, double seconds) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const MethodResult& r : results) {
+        nlohmann::json searched = nlohmann::json::array();
+        for (const SearchedKnob& k : r.knobs)
+            searched.push_back({{"name", k.name},
+                                {"lo", k.range.lo},
+                                {"hi", k.range.hi},
+                                {"scale", toString(k.range.scale)},
+                                {"integer", k.integer}});
+        auto perScene = [](const std::vector<TuneScene>& scenes, const std::vector<double>& d,
+                           const std::vector<double>& b, const std::vector<double>& own) {
+            nlohmann::json j = nlohmann::json::array();
+            for (std::size_t i = 0; i < scenes.size(); ++i) {
+                j.push_back({{"scene", scenes[i].spec},
+                             {"default", d[i]},
+                             {"best", b[i]},
+                             {"facing_pixels", scenes[i].facing ? scenes[i].facing->facing : 0}});
+                if (i < own.size()) j.back()["own_best"] = own[i];
+            }
+            return j;
+        };
+        list.push_back({{"method", toString(r.mb.method)},
+                        {"backend", toString(r.mb.backend)},
+                        {"knobs", knobsJson(r.mb.method, r.knobs, r.best.values, r.fixed, r.given)},
+                        {"defaults", knobsJson(r.mb.method, r.knobs, r.defaults.values, r.fixed, r.given)},
+                        {"searched", searched},
+                        {"improved", r.best.objective < r.defaults.objective},
+                        {"objective", {{"defaults", r.defaults.objective}, {"best", r.best.objective}}},
+                        {"training", perScene(training, r.defaults.errors, r.best.errors, r.ownBests)},
+                        {"validation", perScene(heldOut, r.heldOutDefault, r.heldOutBest, {})},
+                        {"renders", r.renders},
+                        {"own_renders", r.ownRenders},
+                        {"evaluations", r.evaluations},
+                        {"budget", args.budget},
+                        {"budget_spent", r.budgetSpent},
+                        {"held_out_renders", r.heldOutRenders},
+                        {"seconds", r.seconds}});
+    }
+    return {{"version", version()},
+            {"command", shellCommandLine(args.argv)},
+            {"error", kErrorName},
+            {"objective", objectiveName(worst)},
+            {"against", toString(against)},
+            {"converged_frames", args.converged},
+            {"set", sets.set},
+            {"options",
+             [&] {
+                 nlohmann::json o = toJson(frameOptions(base));
+                 for (const char* key : {"method", "backend", "params", "validation"}) o.erase(key);
+                 return o;
+             }()},
+            {"seconds", seconds},
+            {"machine", machineJson(base.backend == Backend::Vulkan, base.device)},
+            {"methods", list}};
+}
+
+} // namespace
+
+int runTune(TuneArgs& args) {
+    Timer total;
+    if (args.quiet) Progress::setEnabled(false);
+    if (args.budget < 1 || args.budget > kMaxTuneBudget)
+        throw UsageError("--budget " + std::to_string(args.budget) + " is out of range (1 to " +
+                         std::to_string(kMaxTuneBudget) + ")");
+    if (args.converged < 1 || args.converged > kMaxConvergedFrames)
+        throw UsageError("--converged " + std::to_string(args.converged) + " is out of range (1 to " +
+                         std::to_string(kMaxConvergedFrames) + ")");
+    const RenderOptions base = resolveFrameOptions(args);
+    const Backend backend = parseBackend(args.backend);
+    const MethodBackend against = parseMethodBackend(args.against, Backend::Cpu);
+
+    const std::vector<MethodBackend> methods = tunedMethods(args.methods, backend);
+    std::vector<Method> all{against.method};
+    for (const MethodBackend& mb : methods) all.push_back(mb.method);
+    const std::vector<MethodParams> params = paramsForMethods(all, args.params);
+    const std::set<std::string> given = paramNames(args.params);
+    const std::vector<KnobRequest> requests = parseKnobRequests(args.knobs);
+    checkKnobRequests(requests, methods);
     std::vector<MethodResult> results;
     for (std::size_t i = 0; i < methods.size(); ++i) {
         MethodResult r;
@@ -671,36 +782,7 @@ int runTune(TuneArgs& args) {
         o.backend = r.mb.backend;
         if (o.buffer == BufferKind::Transmittance && !methodInfo(r.mb.method).writesTransmittance())
             o.buffer = BufferKind::Bitmask;
-        if (worst) {
-            // Each scene's own best first: the joint search's unit per scene.
-            for (const TuneScene& scene : training) {
-                MethodResult alone = r;
-                if (!args.quiet)
-                    std::fprintf(stderr, "tune %s: %s alone\n", toString(r.mb).c_str(),
-                                 printable(scene.spec).c_str());
-                Search(alone, std::vector<TuneScene>{scene}, o, args.budget, args.quiet).run();
-                r.ownBests.push_back(alone.best.errors[0]);
-                r.ownRenders += alone.renders;
-                r.warnings.insert(alone.warnings.begin(), alone.warnings.end());
-            }
-        }
-        Search(r, training, o, args.budget, args.quiet).run();
-        // The held-out scenes, at the defaults and at the best point.
-        const bool same = r.best.values == r.defaults.values;
-        for (const TuneScene& s : heldOut) {
-            o.params = r.paramsAt(r.defaults.values);
-            const Frame d = renderFrame(s.scene, o);
-            r.heldOutDefault.push_back(tuneError(d, s));
-            ++r.heldOutRenders;
-            if (same) {
-                r.heldOutBest.push_back(r.heldOutDefault.back());
-                continue;
-            }
-            o.params = r.paramsAt(r.best.values);
-            const Frame b = renderFrame(s.scene, o);
-            r.heldOutBest.push_back(tuneError(b, s));
-            ++r.heldOutRenders;
-        }
+        tuneMethod(r, training, heldOut, o, args, worst);
         r.seconds = timer.milliseconds() / 1000.0;
         for (const std::string& w : r.warnings)
             std::fprintf(stderr, "stsv: warning: %s\n", printable(w).c_str());
@@ -708,63 +790,8 @@ int runTune(TuneArgs& args) {
     }
 
     if (!args.json.empty()) {
-        nlohmann::json list = nlohmann::json::array();
-        for (const MethodResult& r : results) {
-            nlohmann::json searched = nlohmann::json::array();
-            for (const SearchedKnob& k : r.knobs)
-                searched.push_back({{"name", k.name},
-                                    {"lo", k.range.lo},
-                                    {"hi", k.range.hi},
-                                    {"scale", toString(k.range.scale)},
-                                    {"integer", k.integer}});
-            auto perScene = [](const std::vector<TuneScene>& scenes, const std::vector<double>& d,
-                               const std::vector<double>& b, const std::vector<double>& own) {
-                nlohmann::json j = nlohmann::json::array();
-                for (std::size_t i = 0; i < scenes.size(); ++i) {
-                    j.push_back({{"scene", scenes[i].spec},
-                                 {"default", d[i]},
-                                 {"best", b[i]},
-                                 {"facing_pixels", scenes[i].facing ? scenes[i].facing->facing : 0}});
-                    if (i < own.size()) j.back()["own_best"] = own[i];
-                }
-                return j;
-            };
-            list.push_back(
-                {{"method", toString(r.mb.method)},
-                 {"backend", toString(r.mb.backend)},
-                 {"knobs", knobsJson(r.mb.method, r.knobs, r.best.values, r.fixed, r.given)},
-                 {"defaults", knobsJson(r.mb.method, r.knobs, r.defaults.values, r.fixed, r.given)},
-                 {"searched", searched},
-                 {"improved", r.best.objective < r.defaults.objective},
-                 {"objective", {{"defaults", r.defaults.objective}, {"best", r.best.objective}}},
-                 {"training", perScene(training, r.defaults.errors, r.best.errors, r.ownBests)},
-                 {"validation", perScene(heldOut, r.heldOutDefault, r.heldOutBest, {})},
-                 {"renders", r.renders},
-                 {"own_renders", r.ownRenders},
-                 {"evaluations", r.evaluations},
-                 {"budget", args.budget},
-                 {"budget_spent", r.budgetSpent},
-                 {"held_out_renders", r.heldOutRenders},
-                 {"seconds", r.seconds}});
-        }
-        const nlohmann::json j = {{"version", version()},
-                                  {"command", shellCommandLine(args.argv)},
-                                  {"error", kErrorName},
-                                  {"objective", objectiveName(worst)},
-                                  {"against", toString(against)},
-                                  {"converged_frames", args.converged},
-                                  {"set", sets.set},
-                                  {"options",
-                                   [&] {
-                                       nlohmann::json o = toJson(frameOptions(base));
-                                       for (const char* key : {"method", "backend", "params", "validation"})
-                                           o.erase(key);
-                                       return o;
-                                   }()},
-                                  {"seconds", total.milliseconds() / 1000.0},
-                                  {"machine", machineJson(base.backend == Backend::Vulkan, base.device)},
-                                  {"methods", list}};
-        writeJson(args.json, j);
+        writeJson(args.json, tuneJson(args, results, training, heldOut, base, against, sets, worst,
+                                      total.milliseconds() / 1000.0));
         reportWritten(args.json, args.quiet);
     }
     return 0;

@@ -93,7 +93,7 @@ stsv_pattern_q(16 STSV_Q16)
 stsv_pattern_q(64 STSV_Q64)
 stsv_pattern_q(128 STSV_Q128)
 
-# The combinations render/vulkan/gpu_renderer.cpp and render/vulkan/gpu_opaque_passes.cpp build: SAMPLE_COUNT and
+# The combinations render/vulkan/gpu_renderer.cpp and render/vulkan/gpu_wedge_passes.cpp build: SAMPLE_COUNT and
 # LS_COUNTERS (--samples, --buffer) on the sample passes; the uniform-buffer layouts
 # (STSV_PATTERN_VEC4S, STSV_ALPHA_BIT_VEC4S) on every pass; FIXED_LIGHT_TYPE per light type on
 # stsv.frag and resolve.comp; the baked pattern (STSV_PATTERN_Q, ≤ 128 samples) and

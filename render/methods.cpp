@@ -15,7 +15,7 @@ namespace {
 
 /// The knobs a shadow-map method reads (shadowmaps/shadow_map.h: the one list, with the method's
 /// defaults).
-std::vector<MethodKnob> mapKnobs(ShadowFilter filter) {
+std::vector<MethodKnob> mapKnobs(ShadowMapMethod filter) {
     const ShadowMapSettings defaults = defaultShadowMapSettings(filter);
     std::vector<MethodKnob> knobs;
     for (const ShadowMapKnob& k : shadowMapKnobs())
@@ -57,7 +57,7 @@ std::vector<MethodInfo> buildTable() {
          .output = MethodOutput::Visibility,
          .backends = {B::Vulkan, B::Cpu},
          .knobs = {},
-         .opaque = OpaqueTechnique::Pw},
+         .wedges = WedgeVariant::Pw},
         {.id = Method::Dcs,
          .name = "dcs",
          .description = "Depth Complexity Sampling for opaque triangles: layer count at the light "
@@ -66,7 +66,7 @@ std::vector<MethodInfo> buildTable() {
          .output = MethodOutput::SampleCounters,
          .backends = {B::Vulkan, B::Cpu},
          .knobs = {},
-         .opaque = OpaqueTechnique::Dcs},
+         .wedges = WedgeVariant::Dcs},
         {.id = Method::PwStsv,
          .name = "pw+stsv",
          .description =
@@ -77,7 +77,7 @@ std::vector<MethodInfo> buildTable() {
          .backends = {B::Vulkan, B::Cpu},
          .knobs = {},
          .stsv = StsvTriangles::Perforated,
-         .opaque = OpaqueTechnique::Pw},
+         .wedges = WedgeVariant::Pw},
         {.id = Method::DcsStsv,
          .name = "dcs+stsv",
          .description =
@@ -88,7 +88,7 @@ std::vector<MethodInfo> buildTable() {
          .backends = {B::Vulkan, B::Cpu},
          .knobs = {},
          .stsv = StsvTriangles::Perforated,
-         .opaque = OpaqueTechnique::Dcs},
+         .wedges = WedgeVariant::Dcs},
     };
     // The image family: one row per variant, in its table's order.
     for (const ShadowMapVariant& v : shadowMapVariants())
@@ -147,9 +147,9 @@ const MethodInfo& methodInfo(Method method) {
 std::vector<TechniqueFamily> MethodInfo::techniques() const {
     std::vector<TechniqueFamily> families;
     if (traced) families.push_back(TechniqueFamily::Traced);
-    if (opaque != OpaqueTechnique::None) families.push_back(TechniqueFamily::OpaqueWedges);
-    if (stsv != StsvTriangles::None) families.push_back(TechniqueFamily::StsvVolumes);
-    if (shadowMap != ShadowFilter::None) families.push_back(TechniqueFamily::ShadowMap);
+    if (wedges != WedgeVariant::None) families.push_back(TechniqueFamily::Wedges);
+    if (stsv != StsvTriangles::None) families.push_back(TechniqueFamily::Stsv);
+    if (shadowMap != ShadowMapMethod::None) families.push_back(TechniqueFamily::ShadowMaps);
     return families;
 }
 
@@ -159,6 +159,10 @@ bool MethodInfo::implementedOn(Backend backend) const {
 
 bool MethodInfo::writesTransmittance() const {
     return traced || stsv != StsvTriangles::None;
+}
+
+bool MethodInfo::readsTransmittanceFunctions() const {
+    return stsv::readsTransmittanceFunctions(shadowMap);
 }
 
 BufferKind MethodInfo::bufferKind(BufferKind requested) const {

@@ -42,7 +42,7 @@ enum class Method : unsigned {
 };
 
 /// The method of an image-family variant.
-constexpr Method imageMethod(ShadowFilter filter) {
+constexpr Method imageMethod(ShadowMapMethod filter) {
     return Method(IMAGE_METHODS + unsigned(filter));
 }
 
@@ -61,7 +61,7 @@ enum class MethodOutput {
 enum class StsvTriangles { None, All, Perforated };
 
 /// How a method treats the opaque triangles besides STSV (DESIGN §4.5).
-enum class OpaqueTechnique {
+enum class WedgeVariant {
     None,
     Dcs, ///< layer count at the light centre plus signed silhouette crossings per sample
     Pw,  ///< hard shadow at the light centre plus analytic wedge coverage per pixel
@@ -70,10 +70,10 @@ enum class OpaqueTechnique {
 /// A family's work per light, with a CPU side (render/cpu/cpu_techniques.h) and a Vulkan side
 /// (render/vulkan/vulkan_techniques.h). A row composes one or two, in the order a frame runs them.
 enum class TechniqueFamily {
-    Traced,       ///< Embree shadow rays to every sample (MethodInfo::traced)
-    OpaqueWedges, ///< DCS or PW over the opaque triangles (MethodInfo::opaque), then the fold
-    StsvVolumes,  ///< STSV over all or the perforated triangles (MethodInfo::stsv)
-    ShadowMap,    ///< a light-centre map and its filter (MethodInfo::shadowMap)
+    Traced,     ///< Embree shadow rays to every sample (MethodInfo::traced)
+    Wedges,     ///< DCS or PW over the opaque triangles (MethodInfo::wedges), then the fold
+    Stsv,       ///< STSV over all or the perforated triangles (MethodInfo::stsv)
+    ShadowMaps, ///< a light-centre map and its filter (MethodInfo::shadowMap)
 };
 
 /// One knob of a method, set with `--param name=value`.
@@ -98,9 +98,9 @@ struct MethodInfo {
     // row, read by that family's technique; techniques() lists those the row uses.
     bool traced = false; ///< Embree shadow rays to every sample (the ground truth)
     StsvTriangles stsv = StsvTriangles::None;
-    OpaqueTechnique opaque = OpaqueTechnique::None;
+    WedgeVariant wedges = WedgeVariant::None;
     /// Image-based: a light-space map from the light centre, filtered per pixel (DESIGN §4.6).
-    ShadowFilter shadowMap = ShadowFilter::None;
+    ShadowMapMethod shadowMap = ShadowMapMethod::None;
 
     bool implementedOn(Backend backend) const;
     /// The families the row composes, in the order a frame runs them per light: rays, or the
@@ -113,6 +113,9 @@ struct MethodInfo {
     /// Whether the method writes a transmittance buffer (--buffer transmittance): the fraction of
     /// light through translucent triangles per sample.
     bool writesTransmittance() const;
+    /// Whether the method reads transmittance functions (`avsm`, `vpcss`): its light through
+    /// translucent triangles is fractional whatever the buffer.
+    bool readsTransmittanceFunctions() const;
     const MethodKnob* knob(std::string_view knobName) const;
 };
 

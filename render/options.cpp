@@ -120,8 +120,9 @@ nlohmann::json toJson(const RenderOptions& o) {
 }
 
 ShadowMapSettings shadowMapSettings(const RenderOptions& options) {
-    const ShadowFilter filter = methodInfo(options.method).shadowMap;
-    return filter == ShadowFilter::None ? ShadowMapSettings{} : shadowMapSettingsFrom(filter, options.params);
+    const ShadowMapMethod filter = methodInfo(options.method).shadowMap;
+    return filter == ShadowMapMethod::None ? ShadowMapSettings{}
+                                           : shadowMapSettingsFrom(filter, options.params);
 }
 
 } // namespace stsv

@@ -156,24 +156,22 @@ int LightSampleBuffer::count(int x, int y, int k) const {
 }
 
 float LightSampleBuffer::visibleFraction(int x, int y) const {
+    const uint samples = uint(m_samples);
     if (m_kind == BufferKind::Transmittance) {
         float sum = 0.0f;
         for (int k = 0; k < m_samples; ++k) sum += transmittance(x, y, k);
-        return sum / float(m_samples);
+        return lsMeanTransmittance(sum, samples);
     }
-    int occludedCount = 0;
+    uint occludedCount = 0u;
     if (m_kind == BufferKind::Bitmask) {
         const std::uint32_t* w = &m_words[pixelIndex(x, y) * std::size_t(wordsPerPixel())];
-        for (int i = 0; i < wordsPerPixel(); ++i) {
-            const int valid = std::min(32, m_samples - 32 * i);
-            const std::uint32_t mask = valid == 32 ? ~0u : ((1u << valid) - 1u);
-            occludedCount += std::popcount(w[i] & mask);
-        }
+        for (int i = 0; i < wordsPerPixel(); ++i)
+            occludedCount += lsMaskWordOccludedCount(w[i], uint(i), samples);
     } else {
         const std::uint16_t* c = &m_counters[counterSlot(x, y, 0)];
-        for (int k = 0; k < m_samples; ++k) occludedCount += c[k] != 0 ? 1 : 0;
+        for (int k = 0; k < m_samples; ++k) occludedCount += c[k] != 0 ? 1u : 0u;
     }
-    return float(m_samples - occludedCount) / float(m_samples);
+    return lsVisibleFraction(occludedCount, samples);
 }
 
 std::size_t LightSampleBuffer::payloadBytes(int width, int height, int samples, BufferKind kind) {

@@ -73,6 +73,24 @@ DH_FUNC uint lsCounterPairBits(uint word) {
     return ((word & 65535u) != 0u ? 1u : 0u) | ((word >> 16u) != 0u ? 2u : 0u);
 }
 
+/// Occluded samples among the bits of mask word w of a pixel with N samples: the bits of samples
+/// k < N only (the last word's high bits stand for no sample).
+DH_FUNC uint lsMaskWordOccludedCount(uint bits, uint w, uint sampleCount) {
+    uint valid = min(32u, sampleCount - 32u * w);
+    return uint(bitCount(valid == 32u ? bits : bits & ((1u << valid) - 1u)));
+}
+
+/// The visible fraction of a pixel's N samples, `occluded` of them occluded: what a bitmask or
+/// counter pixel passes to the lit image, and one minus the occluded fraction PW subtracts for its
+/// perforated triangles (pwVisibilityWithStsv). With transmittance the fraction is the samples'
+/// mean transmittance, Σ_k T_k / N (T_k = 0 where occluded), summed in sample order.
+DH_FUNC float lsVisibleFraction(uint occluded, uint sampleCount) {
+    return float(sampleCount - occluded) / float(sampleCount);
+}
+DH_FUNC float lsMeanTransmittance(float transmittanceSum, uint sampleCount) {
+    return transmittanceSum / float(sampleCount);
+}
+
 DH_END
 
 #endif // STSV_SAMPLING_LS_BUFFER_DH_H

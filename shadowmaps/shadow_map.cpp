@@ -234,7 +234,7 @@ std::vector<vec2> poissonDiskTaps(int count, std::uint32_t seed, float* minDista
 }
 
 std::vector<vec2> shadowFilterTaps(const ShadowMapSettings& settings) {
-    const bool vpcss = settings.filter == ShadowFilter::Vpcss;
+    const bool vpcss = settings.filter == ShadowMapMethod::Vpcss;
     std::vector<vec2> taps = poissonDiskTaps(vpcss ? settings.vpcssTaps : settings.blockerTaps, 0x5eed0001u);
     const std::vector<vec2> filter =
         poissonDiskTaps(vpcss ? settings.vpcssTaps : settings.filterTaps, 0x5eed0002u);
@@ -256,13 +256,13 @@ bool filteredUsesMip(const ShadowMapSettings& s) {
 }
 
 bool searchesBlockers(const ShadowMapSettings& s) {
-    if (s.filter == ShadowFilter::None) return false;
+    if (s.filter == ShadowMapMethod::None) return false;
     const BlockerSearch search = shadowMapVariant(s.filter).blockers;
     return search == BlockerSearch::Always || (search == BlockerSearch::WithSearchedKernel && s.kernel != 0);
 }
 
-bool ShadowMapKnob::readBy(ShadowFilter filter) const {
-    if (filter == ShadowFilter::None) return false;
+bool ShadowMapKnob::readBy(ShadowMapMethod filter) const {
+    if (filter == ShadowMapMethod::None) return false;
     const ShadowMapVariant& v = shadowMapVariant(filter);
     switch (readers) {
     case KnobReaders::Every:
@@ -460,15 +460,15 @@ const ShadowMapKnob& knobNamed(const char* name) {
 
 } // namespace
 
-ShadowMapSettings defaultShadowMapSettings(ShadowFilter filter) {
+ShadowMapSettings defaultShadowMapSettings(ShadowMapMethod filter) {
     ShadowMapSettings s;
     s.filter = filter;
-    if (filter == ShadowFilter::None) return s;
+    if (filter == ShadowMapMethod::None) return s;
     for (const auto& [knob, value] : shadowMapVariant(filter).defaults) knobNamed(knob).set(s, value);
     return s;
 }
 
-ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params) {
+ShadowMapSettings shadowMapSettingsFrom(ShadowMapMethod filter, const std::map<std::string, double>& params) {
     ShadowMapSettings s = defaultShadowMapSettings(filter);
     for (const auto& [key, value] : params) {
         const std::string& name = key; // a lambda may not capture a structured binding (clang 14)

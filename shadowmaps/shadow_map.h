@@ -61,13 +61,14 @@ struct ShadowMap {
 };
 
 /// Whether a variant reads transmittance functions (AVSM) instead of a depth map.
-inline bool readsTransmittanceFunctions(ShadowFilter f) {
-    return f != ShadowFilter::None && shadowMapVariant(f).representation == MapRepresentation::Transmittance;
+inline bool readsTransmittanceFunctions(ShadowMapMethod f) {
+    return f != ShadowMapMethod::None &&
+           shadowMapVariant(f).representation == MapRepresentation::Transmittance;
 }
 
 /// Whether a variant averages a representation of the depths (VSM, ESM, EVSM, MSM, CSM).
-inline bool isFilteredRepresentation(ShadowFilter f) {
-    return f != ShadowFilter::None && shadowMapVariant(f).representation == MapRepresentation::Filtered;
+inline bool isFilteredRepresentation(ShadowMapMethod f) {
+    return f != ShadowMapMethod::None && shadowMapVariant(f).representation == MapRepresentation::Filtered;
 }
 
 /// The knobs the shadow-map methods read (method knobs of render/methods.cpp).
@@ -78,7 +79,7 @@ struct ShadowMapSettings {
     /// along its normal, texels. Several methods start from other values (defaultShadowMapSettings).
     float bias = 1.0f;
     float normalOffset = 0.0f;
-    ShadowFilter filter = ShadowFilter::None;
+    ShadowMapMethod filter = ShadowMapMethod::None;
     /// pcf_world_radius: PCF's kernel half-width at the receiver, world units (metres), turned into
     /// texels per pixel through the receiver's texel size: the same penumbra at every map size and
     /// fit (it replaced pcf_radius, which counted texels). 6 cm is the fixed width nearest every
@@ -175,7 +176,7 @@ struct ShadowMapKnob {
         else
             s.*real = float(value);
     }
-    bool readBy(ShadowFilter filter) const;
+    bool readBy(ShadowMapMethod filter) const;
     /// What `tune` searches when told to: `search` for a tunable knob; else the knob's whole
     /// [min, max], in log steps where min > 0 and max/min ≥ 64 (sm_size, tap counts), linear
     /// otherwise.
@@ -198,17 +199,17 @@ const char* retiredShadowMapKnob(const std::string& name);
 /// best at once, docs/measurements.md "Fair defaults"): the filtered representations VSM, ESM,
 /// EVSM a smaller bias with a normal offset, VSM and EVSM a smaller variance floor, VSM mips;
 /// volumetric PCSS a larger bias and normal offset.
-ShadowMapSettings defaultShadowMapSettings(ShadowFilter filter);
+ShadowMapSettings defaultShadowMapSettings(ShadowMapMethod filter);
 
 /// The settings of a `filter` frame: defaultShadowMapSettings(filter), with each (name, value)
 /// of `params` set on its knob. UsageError for a name that is no knob of `filter` (naming the
 /// knob that replaced a retired one).
-ShadowMapSettings shadowMapSettingsFrom(ShadowFilter filter, const std::map<std::string, double>& params);
+ShadowMapSettings shadowMapSettingsFrom(ShadowMapMethod filter, const std::map<std::string, double>& params);
 
 /// Texels per face edge of the frame's map: sm_size, peel_size for the depth grid (`peel`),
 /// avsm_size for the transmittance functions (`avsm`, `vpcss`).
 inline int shadowMapSize(const ShadowMapSettings& s) {
-    if (s.filter == ShadowFilter::Peel) return s.peelSize;
+    if (s.filter == ShadowMapMethod::Peel) return s.peelSize;
     return readsTransmittanceFunctions(s.filter) ? s.avsmSize : s.size;
 }
 

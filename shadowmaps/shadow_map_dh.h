@@ -50,7 +50,7 @@ struct ShadowMapView {
 DH_STATIC_ASSERT(sizeof(ShadowMapView) == 96);
 #endif
 
-/// The image family's variants (ShadowFilterParams::method; the C++ names them ShadowFilter,
+/// The image family's variants (ShadowFilterParams::method; the C++ names them ShadowMapMethod,
 /// shadow_map.h, and describes each in the variant table, shadowmaps/variants.cpp). The filtered
 /// representations' selectors are in filtered_shadow_dh.h, each beside its math.
 DH_CONST uint SHADOW_FILTER_PCF = 1u;

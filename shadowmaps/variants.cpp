@@ -7,7 +7,7 @@ namespace stsv {
 
 namespace {
 
-using F = ShadowFilter;
+using F = ShadowMapMethod;
 using R = MapRepresentation;
 using B = BlockerSearch;
 
@@ -76,7 +76,7 @@ std::vector<ShadowMapVariant> buildVariants() {
          .representation = R::Filtered,
          .blockers = B::WithSearchedKernel,
          .knobs = {"msm_bias"}},
-        {.filter = ShadowFilter(SHADOW_FILTER_MSM_HAUSDORFF),
+        {.filter = ShadowMapMethod(SHADOW_FILTER_MSM_HAUSDORFF),
          .name = "msm-hausdorff",
          .description =
              "Moment shadow maps (Peters & Klein 2015): the four power moments of msm, the Hausdorff "
@@ -125,7 +125,7 @@ const std::vector<ShadowMapVariant>& shadowMapVariants() {
     return variants;
 }
 
-const ShadowMapVariant& shadowMapVariant(ShadowFilter filter) {
+const ShadowMapVariant& shadowMapVariant(ShadowMapMethod filter) {
     for (const ShadowMapVariant& v : shadowMapVariants())
         if (v.filter == filter) return v;
     throw std::logic_error("no shadow-map variant of selector " + std::to_string(uint(filter)));

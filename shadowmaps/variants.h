@@ -17,7 +17,7 @@ namespace stsv {
 
 /// A variant of the image family by its dh selector. The enumerators name the variants the code
 /// or the tests treat apart; any selector with a row in shadowMapVariants() is a variant.
-enum class ShadowFilter : uint {
+enum class ShadowMapMethod : uint {
     None = 0u,
     Pcf = SHADOW_FILTER_PCF,
     Pcss = SHADOW_FILTER_PCSS,
@@ -48,7 +48,7 @@ enum class BlockerSearch {
 
 /// One row of the image family.
 struct ShadowMapVariant {
-    ShadowFilter filter;     ///< its dh selector
+    ShadowMapMethod filter;  ///< its dh selector
     const char* name;        ///< the method's name (--method)
     const char* description; ///< one line: the method table's
     MapRepresentation representation;
@@ -69,6 +69,6 @@ struct ShadowMapVariant {
 /// Every variant, in the method table's order.
 const std::vector<ShadowMapVariant>& shadowMapVariants();
 /// The row of `filter`; std::logic_error (a bug) for None or a selector without a row.
-const ShadowMapVariant& shadowMapVariant(ShadowFilter filter);
+const ShadowMapVariant& shadowMapVariant(ShadowMapMethod filter);
 
 } // namespace stsv

@@ -113,11 +113,11 @@ void SilhouetteEdges::build(std::uint32_t c) const {
     const vec3 c0 = m_scene.positions[i.x], c1 = m_scene.positions[i.y], c2 = m_scene.positions[i.z];
     FaceBound& b = m_bounds[c];
     b.volumeCount = 0;
-    b.lightPlanes =
-        stsvTriangleLightPlanes(c0, c1, c2, m_lightSource, m_farDistance, m_sceneBounds.lo, m_sceneBounds.hi);
+    b.lightPlanes = stsvNoLightPlanes();
+    // Both sides share the face's light planes.
     for (uint side = 0; side < 2; ++side)
-        if (stsvSideVolume(c0, c1, c2, m_light, m_sceneBounds.lo, m_sceneBounds.hi, side, false,
-                           b.volumes[b.volumeCount]))
+        if (wedgeSideBound(c0, c1, c2, m_lightSource, m_light, m_farDistance, m_sceneBounds.lo,
+                           m_sceneBounds.hi, side, false, b.volumes[b.volumeCount], b.lightPlanes))
             ++b.volumeCount;
     m_volumes += b.volumeCount;
 }

@@ -11,6 +11,7 @@
 #include "wedges/adjacency.h"
 #include "wedges/dcs_dh.h"
 #include "wedges/edge_clusters.h"
+#include "wedges/wedge_bound_dh.h"
 
 #include <atomic>
 #include <cstddef>

@@ -178,7 +178,7 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
         if (!gbuffer.covered(i)) return;
         float& v = vcoef.at(x, y, 0);
         const ShadowReceiver r = receiver(x, y, i);
-        if (settings.filter == ShadowFilter::Pcf) {
+        if (settings.filter == ShadowMapMethod::Pcf) {
             v = pcfVisibility(view, src, r, settings.pcfWorldRadius, settings.pcfMaxRadius);
             if (shadowReceiverOnMap(view, r) &&
                 pcfKernelStrided(r, settings.pcfWorldRadius, settings.pcfMaxRadius))
@@ -233,7 +233,7 @@ void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const G
                               shadowTapRotation(uvec2(unsigned(x / supersample), unsigned(y / supersample)),
                                                 seed, decorrelate));
     };
-    const bool vpcss = settings.filter == ShadowFilter::Vpcss;
+    const bool vpcss = settings.filter == ShadowMapMethod::Vpcss;
     const uint n = uint(settings.vpcssTaps);
     Timer timer;
     // vpcss's blocker search leaves the kernel radius (uv) or −1 (no light lost: lit) in `vcoef`.

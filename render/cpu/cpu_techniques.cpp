@@ -8,6 +8,7 @@
 #include "render/cpu/cpu_wedges.h"
 #include "render/frame.h"
 #include "shadowmaps/shadow_fit.h"
+#include "shadowmaps/shadow_map_stats.h"
 #include "wedges/adjacency.h"
 
 #include <optional>
@@ -61,7 +62,7 @@ class WedgeTechnique final : public CpuTechnique {
     explicit WedgeTechnique(const CpuTechniqueContext& c) : m_c(c), m_occluders(c.scene) {}
     void run(CpuLightWork& work) override {
         Timer timer;
-        const bool pw = m_c.method.opaque == OpaqueTechnique::Pw;
+        const bool pw = m_c.method.wedges == WedgeVariant::Pw;
         const bool transmittance = work.samples.kind() == BufferKind::Transmittance;
         // With transmittance, DCS counts into counters of its own, and a sample it finds behind
         // at least one opaque layer is occluded (STSV adds the translucent depths after it).
@@ -83,7 +84,7 @@ class WedgeTechnique final : public CpuTechnique {
     }
     void combine(CpuLightWork& work) override {
         // DCS and STSV add to the same counters; PW's v_coef loses the fraction STSV occludes.
-        if (m_c.method.opaque != OpaqueTechnique::Pw || m_c.method.stsv == StsvTriangles::None) return;
+        if (m_c.method.wedges != WedgeVariant::Pw || m_c.method.stsv == StsvTriangles::None) return;
         Timer timer;
         pwFoldStsv(work.gbuffer, work.samples, work.vcoef);
         work.passes[work.pass("fold")] = timer.milliseconds();
@@ -94,23 +95,23 @@ class WedgeTechnique final : public CpuTechnique {
 
   private:
     const CpuTechniqueContext& m_c;
-    OpaqueOccluders m_occluders;
+    WedgeOccluders m_occluders;
     nlohmann::json m_stats = nlohmann::json::array();
 };
 
 /// The light-centre map and its filter (v_coef per pixel), or the depth grid marched per light
 /// sample (`peel`: the light's bits).
-class ShadowMapTechnique final : public CpuTechnique {
+class ShadowMapsTechnique final : public CpuTechnique {
   public:
-    explicit ShadowMapTechnique(const CpuTechniqueContext& c)
+    explicit ShadowMapsTechnique(const CpuTechniqueContext& c)
         : m_c(c), m_settings(shadowMapSettings(c.options)),
           m_receivers(
               shadowReceiverBounds(c.embree.scene(), float(c.options.width) / float(c.options.height))) {
-        if (m_settings.filter == ShadowFilter::Peel)
+        if (m_settings.filter == ShadowMapMethod::Peel)
             m_openEdges = buildEdgeAdjacency(c.embree.scene()).openEdges;
     }
     void run(CpuLightWork& work) override {
-        if (m_settings.filter == ShadowFilter::Peel) return runPeel(work);
+        if (m_settings.filter == ShadowMapMethod::Peel) return runPeel(work);
         if (readsTransmittanceFunctions(m_settings.filter)) return runAvsm(work);
         ShadowMap* keep = m_c.options.keepShadowMaps ? &work.frame.shadowMaps.emplace_back() : nullptr;
         const Scene& scene = m_c.embree.scene();
@@ -125,8 +126,9 @@ class ShadowMapTechnique final : public CpuTechnique {
         work.passes[work.pass("shadow_filter")] = s.filter_ms;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         if (filtered) map["representation_bytes"] = s.representationBytes;
-        map.update(m_settings.filter == ShadowFilter::Pcf ? kernelStrideStats(s.kernelClamped, work.gbuffer)
-                                                          : kernelClampStats(s.kernelClamped, work.gbuffer));
+        map.update(m_settings.filter == ShadowMapMethod::Pcf
+                       ? kernelStrideStats(s.kernelClamped, work.gbuffer)
+                       : kernelClampStats(s.kernelClamped, work.gbuffer));
         if (searchesBlockers(m_settings)) map.update(searchClampStats(s.searchClamped, work.gbuffer));
         m_stats.push_back(map);
     }
@@ -158,11 +160,12 @@ class ShadowMapTechnique final : public CpuTechnique {
             avsmCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
                               m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);
         work.passes[work.pass("avsm")] = s.map_ms;
-        if (m_settings.filter == ShadowFilter::Vpcss) work.passes[work.pass("vpcss_blocker")] = s.blocker_ms;
+        if (m_settings.filter == ShadowMapMethod::Vpcss)
+            work.passes[work.pass("vpcss_blocker")] = s.blocker_ms;
         work.passes[work.pass("shadow_filter")] = s.filter_ms;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         map["avsm"] = avsmStatsJson(s.map, s.bytes);
-        if (m_settings.filter == ShadowFilter::Vpcss) {
+        if (m_settings.filter == ShadowMapMethod::Vpcss) {
             map.update(kernelClampStats(s.kernelClamped, work.gbuffer));
             map.update(searchClampStats(s.searchClamped, work.gbuffer));
         }
@@ -186,14 +189,14 @@ std::vector<std::unique_ptr<CpuTechnique>> makeCpuTechniques(const CpuTechniqueC
         case TechniqueFamily::Traced:
             techniques.push_back(std::make_unique<TracedTechnique>(context));
             break;
-        case TechniqueFamily::OpaqueWedges:
+        case TechniqueFamily::Wedges:
             techniques.push_back(std::make_unique<WedgeTechnique>(context));
             break;
-        case TechniqueFamily::StsvVolumes:
+        case TechniqueFamily::Stsv:
             techniques.push_back(std::make_unique<StsvTechnique>(context));
             break;
-        case TechniqueFamily::ShadowMap:
-            techniques.push_back(std::make_unique<ShadowMapTechnique>(context));
+        case TechniqueFamily::ShadowMaps:
+            techniques.push_back(std::make_unique<ShadowMapsTechnique>(context));
             break;
         }
     }

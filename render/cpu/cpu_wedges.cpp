@@ -69,15 +69,15 @@ nlohmann::json toJson(const WedgeCpuStats& s) {
     return j;
 }
 
-OpaqueOccluders::OpaqueOccluders(const Scene& scene) : m_scene(scene), m_layers(buildLayerBvh(scene)) {
+WedgeOccluders::WedgeOccluders(const Scene& scene) : m_scene(scene), m_layers(buildLayerBvh(scene)) {
     for (std::size_t t = 0; t < scene.triangleCount(); ++t) m_opaqueCount += scene.opaqueOccluder(t) ? 1 : 0;
     m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
     m_carriers = edgeCarriers(m_adjacency, scene);
 }
 
-OpaqueOccluders::~OpaqueOccluders() = default;
+WedgeOccluders::~WedgeOccluders() = default;
 
-const SilhouetteEdges& OpaqueOccluders::silhouettes(const Light& light, float farDistance) const {
+const SilhouetteEdges& WedgeOccluders::silhouettes(const Light& light, float farDistance) const {
     const std::lock_guard<std::mutex> lock(m_silhouettesMutex);
     for (const auto& s : m_silhouettes)
         if (s->isFor(light, farDistance)) return *s;
@@ -90,7 +90,7 @@ const SilhouetteEdges& OpaqueOccluders::silhouettes(const Light& light, float fa
     return *m_silhouettes.back();
 }
 
-std::uint32_t OpaqueOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const {
+std::uint32_t WedgeOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const {
     // No loop limit on the CPU: the count runs to its end.
     LayerCountWork work{};
     return layerCount(m_layers, p, r, tMin, ignore, work, 0xffffffffu);
@@ -139,9 +139,9 @@ struct BlockEdges {
 /// edges visited. `ordered`: in item order (PW, which sums floats), edge by edge; else leaf by
 /// leaf, the silhouette test four edges at a time (silhouetteCandidates).
 template <class Visit>
-void forEachSilhouette(const OpaqueOccluders& occ, const SilhouetteEdges& sil, BlockEdges& block,
-                       bool ordered, const DcsPixel& px, std::uint32_t receiver, std::size_t& tests,
-                       std::size_t& visits, Visit&& visit) {
+void forEachSilhouette(const WedgeOccluders& occ, const SilhouetteEdges& sil, BlockEdges& block, bool ordered,
+                       const DcsPixel& px, std::uint32_t receiver, std::size_t& tests, std::size_t& visits,
+                       Visit&& visit) {
     const EdgeAdjacency& adj = occ.adjacency();
     const EdgeClusterTree& tree = sil.tree();
     const LightCone cone = lightCone(px.p, sil.light());
@@ -271,7 +271,7 @@ void forEachPixel(const GBuffer& gbuffer, const SilhouetteEdges& sil, bool order
 
 } // namespace
 
-WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
+WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, const Light& light,
                             const SamplePlan& plan, float farDistance, LightSampleBuffer& counters) {
     if (counters.kind() != BufferKind::Counters)
         throw UsageError("dcs needs a counter light-sample buffer (--buffer counters)");
@@ -342,7 +342,7 @@ WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, 
     return stats;
 }
 
-WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
+WedgeCpuStats pwCpuVisibility(const WedgeOccluders& occ, const GBuffer& gbuffer, const Light& light,
                               float farDistance, ImageF& visibility) {
     WedgeCpuStats stats;
     Timer timer;

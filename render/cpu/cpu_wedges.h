@@ -60,10 +60,10 @@ nlohmann::json toJson(const WedgeCpuStats& stats);
 /// The opaque triangles of a scene, prepared once (renderer start-up): their welded adjacency and
 /// the tree that gives the layer count D(r) at the light centre (wedges/layer_bvh.h, the function
 /// Vulkan's dcs_center.comp runs). `scene` must outlive it.
-class OpaqueOccluders {
+class WedgeOccluders {
   public:
-    explicit OpaqueOccluders(const Scene& scene);
-    ~OpaqueOccluders();
+    explicit WedgeOccluders(const Scene& scene);
+    ~WedgeOccluders();
 
     const Scene& scene() const { return m_scene; }
     const EdgeAdjacency& adjacency() const { return m_adjacency; }
@@ -93,13 +93,13 @@ class OpaqueOccluders {
 /// DCS: adds to `counters` (BufferKind::Counters) the exact per-sample depth complexity of the opaque
 /// triangles, D(x) = D(r) + Σ_e k_e·[r → x crosses e] (wedges/dcs_dh.h). Self-shadowing rule as
 /// STSV: the visible triangle never counts.
-WedgeCpuStats dcsCpuSamples(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occluders, const GBuffer& gbuffer, const Light& light,
                             const SamplePlan& plan, float farDistance, LightSampleBuffer& counters);
 
 /// PW: per-pixel visibility v_coef of the opaque triangles (one channel, 1 on background):
 /// 1 − clamp([D(r) > 0] + Σ_e sign(k_e)·coverage_e, 0, 1), coverage analytic over the light
 /// frame's square or disk (wedges/pw_dh.h).
-WedgeCpuStats pwCpuVisibility(const OpaqueOccluders& occluders, const GBuffer& gbuffer, const Light& light,
+WedgeCpuStats pwCpuVisibility(const WedgeOccluders& occluders, const GBuffer& gbuffer, const Light& light,
                               float farDistance, ImageF& visibility);
 
 /// The fold of pw+stsv (Algorithm 2, line 14) alone: v = clamp(v − occluded fraction of

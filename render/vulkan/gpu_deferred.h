@@ -9,6 +9,7 @@
 #include "gpu/descriptors.h"
 #include "render/options.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -18,6 +19,15 @@ class Device;
 
 /// The most fragments a list may hold (512 MiB of list).
 inline constexpr std::uint64_t kMaxDeferredFragments = std::uint64_t(1) << 26;
+/// Bytes of one listed fragment (a uvec2: pixel index, item).
+inline constexpr std::uint64_t kDeferredFragmentBytes = 8;
+
+/// The fragments a frame's list holds at first: two a pixel (foliage with 16 k S-triangles lists
+/// 1.5 a pixel), at most kMaxDeferredFragments; a frame that lists more grows the list and runs
+/// again (DeferredFragments::growFor). The memory estimate of a frame counts the same.
+inline std::uint64_t initialDeferredFragments(std::uint64_t pixels) {
+    return std::min<std::uint64_t>(2 * pixels, kMaxDeferredFragments);
+}
 
 /// The list's count and (pixel index, item) pairs, and in a bitmask frame with STSV the mask
 /// words stsv_samples.comp sets and stsv_merge.comp ORs into the images. Until a technique

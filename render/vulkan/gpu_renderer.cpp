@@ -9,13 +9,13 @@
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_gbuffer_pass.h"
 #include "render/vulkan/gpu_hulls.h"
-#include "render/vulkan/gpu_opaque_passes.h"
 #include "render/vulkan/gpu_readback.h"
 #include "render/vulkan/gpu_resolve_pass.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
 #include "render/vulkan/gpu_stsv_clusters.h"
 #include "render/vulkan/gpu_stsv_pass.h"
 #include "render/vulkan/gpu_wedge_clusters.h"
+#include "render/vulkan/gpu_wedge_passes.h"
 #include "render/vulkan/vulkan_techniques.h"
 #include "scene/camera.h"
 
@@ -53,7 +53,7 @@ ClearPass countClearPass(const FrameResources& resources, const RenderOptions& o
 /// deferred-fragment list, which a frame without them does not allocate.
 bool drawsVolumes(const MethodInfo& method) {
     for (const TechniqueFamily family : method.techniques())
-        if (family == TechniqueFamily::StsvVolumes || family == TechniqueFamily::OpaqueWedges) return true;
+        if (family == TechniqueFamily::Stsv || family == TechniqueFamily::Wedges) return true;
     return false;
 }
 
@@ -81,7 +81,7 @@ std::string extrusionLabel(const RenderOptions& options, const MethodInfo& metho
     const bool stsvWalks = method.stsv != StsvTriangles::None && usesStsvClusters(options);
     const bool dcsWalks = usesWedgeClusters(options);
     if (!stsvWalks && !dcsWalks) return toString(geometry);
-    const bool draws = method.opaque == OpaqueTechnique::Pw;
+    const bool draws = method.wedges == WedgeVariant::Pw;
     return draws ? std::string("cluster walk, pw: ") + toString(geometry) : std::string("cluster walk");
 }
 
@@ -336,14 +336,10 @@ struct VulkanRenderer::Impl {
         geometry = stage == ExtrusionStage::Mesh       ? VolumeGeometry::MeshShaderHull
                    : stage == ExtrusionStage::Geometry ? VolumeGeometry::GeometryShaderPrism
                                                        : VolumeGeometry::ComputeHull;
-        // Room for two listed fragments a pixel (foliage with 16 k S-triangles lists 1.5 a
-        // pixel), at most kMaxDeferredFragments; a frame that lists more grows the list and runs
-        // again.
         const std::uint64_t deferred =
             config.deferredCapacity > 0
                 ? config.deferredCapacity
-                : std::min<std::uint64_t>(2ull * std::uint64_t(options.width) * std::uint64_t(options.height),
-                                          kMaxDeferredFragments);
+                : initialDeferredFragments(std::uint64_t(options.width) * std::uint64_t(options.height));
         frame = std::make_unique<VulkanFrame>(*device, scene, options, geometry, deferred,
                                               config.clusterListLimit, config.deferredLimit);
         startupMs = startup.milliseconds();

@@ -24,9 +24,8 @@ std::vector<ShaderDefine> layoutDefines(const FrameTableLayout& tables) {
 }
 
 bool frameCountsLayers(const RenderOptions& options) {
-    return options.buffer == BufferKind::Counters ||
-           (options.buffer == BufferKind::Transmittance &&
-            methodInfo(options.method).opaque == OpaqueTechnique::Dcs);
+    return options.buffer == BufferKind::Counters || (options.buffer == BufferKind::Transmittance &&
+                                                      methodInfo(options.method).wedges == WedgeVariant::Dcs);
 }
 
 std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const FrameTableLayout& tables) {

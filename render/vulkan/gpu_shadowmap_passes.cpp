@@ -28,7 +28,7 @@ constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 
 } // namespace
 
-std::vector<DescriptorBinding> ShadowMapResources::bindings(ShadowFilter filter) {
+std::vector<DescriptorBinding> ShadowMapResources::bindings(ShadowMapMethod filter) {
     std::vector<DescriptorBinding> b = {
         {GPU_BINDING_SHADOW_MAP, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_SHADOW_VIEWS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
@@ -96,7 +96,7 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
     const Bounds receivers = m_settings.fit == 0
                                  ? Bounds{}
                                  : shadowReceiverBounds(scene, float(options.width) / float(options.height));
-    const ShadowFilter filter = m_settings.filter;
+    const ShadowMapMethod filter = m_settings.filter;
     const bool functions = readsTransmittanceFunctions(filter);
     std::size_t mostTexels = 0;
     for (const Light& light : scene.lights) {
@@ -106,9 +106,9 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
         const std::size_t texels = std::size_t(view.faces) * view.size * view.size;
         mostTexels = std::max(mostTexels, texels);
         // Rows that do not read the depth map bind a stand-in.
-        depth.emplace_back(device, filter == ShadowFilter::Peel || functions ? 16 : shadowMapBytes(view),
+        depth.emplace_back(device, filter == ShadowMapMethod::Peel || functions ? 16 : shadowMapBytes(view),
                            STORAGE, MemoryUsage::DeviceLocal);
-        if (filter == ShadowFilter::Peel) {
+        if (filter == ShadowMapMethod::Peel) {
             // A cube map's grid outgrows a storage buffer's range (512², 16 subintervals: 214 MB).
             grid.push_back(representationBuffer(device, depthGridBytes(view, m_settings),
                                                 "the depth grid of light " + std::to_string(l),
@@ -122,7 +122,7 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
                 device, filteredMapBytes(view, m_settings),
                 "the " + std::string(methodInfo(options.method).name) + " representation of light " +
                     std::to_string(l),
-                std::string("lower sm_size") + (filter == ShadowFilter::Csm ? " or csm_terms" : "") +
+                std::string("lower sm_size") + (filter == ShadowMapMethod::Csm ? " or csm_terms" : "") +
                     (filteredUsesMip(m_settings) ? "" : ", or use fm_mip=1 (4-byte mips)")));
             setRepresentationAddress(view, filtered.back());
         }
@@ -137,13 +137,12 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
                                                 "the transmittance functions of light " + std::to_string(l),
                                                 "lower avsm_size or avsm_nodes"));
             setRepresentationAddress(view, avsm.back());
-            avsmHeads.emplace_back(device, texels * 4, STORAGE, MemoryUsage::DeviceLocal);
+            avsmHeads.emplace_back(device, texels * kAvsmHeadBytes, STORAGE, MemoryUsage::DeviceLocal);
         }
     }
     if (functions) {
-        // Room for four listed fragments a texel of the largest map at first; a frame that lists
-        // more grows the list and runs again (growAvsmFragments).
-        allocateAvsmFragments(std::min<std::uint64_t>(4 * std::uint64_t(mostTexels), maxAvsmFragments()));
+        allocateAvsmFragments(std::min<std::uint64_t>(
+            kAvsmInitialFragmentsPerTexel * std::uint64_t(mostTexels), maxAvsmFragments()));
     }
     const std::vector<vec2> tapPoints = shadowFilterTaps(m_settings);
     std::vector<std::byte> table(sizeof(ShadowFilterParams) + sizeof(ShadowMapView) * m_views.size());
@@ -154,12 +153,13 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
 }
 
 std::uint64_t ShadowMapResources::maxAvsmFragments() const {
-    return std::min<std::uint64_t>(m_device->info().maxMemoryAllocationSize / 16, UINT32_MAX - 1);
+    return std::min<std::uint64_t>(m_device->info().maxMemoryAllocationSize / kAvsmFragmentBytes,
+                                   UINT32_MAX - 1);
 }
 
 void ShadowMapResources::allocateAvsmFragments(std::uint64_t capacity) {
     m_avsmCapacity = capacity;
-    avsmFragments = representationBuffer(*m_device, capacity * 16,
+    avsmFragments = representationBuffer(*m_device, capacity * kAvsmFragmentBytes,
                                          "the transmittance functions' fragment lists", "lower avsm_size");
     const VkDeviceAddress address = avsmFragments.deviceAddress();
     const GpuAvsmLists lists{uint(address & 0xffffffffu), uint(address >> 32), uint(capacity), 0u};

@@ -33,7 +33,7 @@ class ShadowMapResources {
     ShadowMapResources(const Device& device, const Scene& scene, const RenderOptions& options);
 
     /// The bindings of the shadow-map family's set for a row's filter (gpu_shadowmaps_dh.h).
-    static std::vector<DescriptorBinding> bindings(ShadowFilter filter);
+    static std::vector<DescriptorBinding> bindings(ShadowMapMethod filter);
     /// Light `light`'s map, the views and the taps into its family set.
     void writeDescriptors(DescriptorSet& set, std::size_t light) const;
 
@@ -73,7 +73,7 @@ class ShadowMapResources {
     Buffer taps;  ///< vec2: blocker taps, then filter taps
 
   private:
-    /// The most fragments the lists may hold: 16 bytes each within one allocation.
+    /// The most fragments the lists may hold: kAvsmFragmentBytes each within one allocation.
     std::uint64_t maxAvsmFragments() const;
     /// Room for `capacity` fragments (the old ones dropped) and its GpuAvsmLists.
     void allocateAvsmFragments(std::uint64_t capacity);
@@ -82,6 +82,17 @@ class ShadowMapResources {
     ShadowMapSettings m_settings;
     std::vector<ShadowMapView> m_views;
 };
+
+/// The transmittance functions' fragment lists (`avsm`, `vpcss`): a head a texel, 16 bytes a
+/// listed fragment, and room for four fragments a texel of the largest map at first; a frame that
+/// lists more grows the lists and runs again (ShadowMapResources::growAvsmFragments).
+inline constexpr std::uint64_t kAvsmHeadBytes = 4;
+inline constexpr std::uint64_t kAvsmFragmentBytes = 16;
+inline constexpr std::uint64_t kAvsmInitialFragmentsPerTexel = 4;
+/// What a map of `texels` texels adds to the lists at first (the frame memory estimate's term).
+inline std::uint64_t avsmInitialListBytes(std::uint64_t texels) {
+    return texels * (kAvsmHeadBytes + kAvsmInitialFragmentsPerTexel * kAvsmFragmentBytes);
+}
 
 /// The map of one light: every triangle drawn once per face, alpha-tested, nearest depth per
 /// texel centre by atomicMax into the light's (cleared) map buffer.

@@ -29,7 +29,7 @@ std::uint32_t dcsKeptPairsPerInvocation(std::uint32_t mostFaces, const std::stri
 }
 
 bool usesWedgeClusters(const RenderOptions& options) {
-    return methodInfo(options.method).opaque == OpaqueTechnique::Dcs &&
+    return methodInfo(options.method).wedges == WedgeVariant::Dcs &&
            options.extrusion == ExtrusionStage::Auto;
 }
 

@@ -1,12 +1,13 @@
 #include "render/vulkan/vulkan_techniques.h"
 
 #include "shadowmaps/filtered_map.h"
+#include "shadowmaps/shadow_map_stats.h"
 #include "wedges/adjacency.h"
 #include "wedges/layer_bvh_dh.h"
 
-#include "render/vulkan/gpu_opaque_passes.h"
 #include "render/vulkan/gpu_shadowmap_passes.h"
 #include "render/vulkan/gpu_stsv_clusters.h"
+#include "render/vulkan/gpu_wedge_passes.h"
 #include "shadowmaps/filtered_map.h"
 
 #include <algorithm>
@@ -222,13 +223,12 @@ class StsvTechnique final : public VulkanTechnique {
 class WedgeTechnique final : public VulkanTechnique {
   public:
     explicit WedgeTechnique(const VulkanTechniqueContext& c)
-        : VulkanTechnique(c, volumeFamilyBindings(OpaqueOccluderResources::bindings()),
-                          sizeof(GpuWedgeStats)),
-          m_c(c), m_pw(c.method.opaque == OpaqueTechnique::Pw), m_opaque(c.device, c.scene, c.options),
+        : VulkanTechnique(c, volumeFamilyBindings(WedgeResources::bindings()), sizeof(GpuWedgeStats)), m_c(c),
+          m_pw(c.method.wedges == WedgeVariant::Pw), m_resources(c.device, c.scene, c.options),
           m_clearHullDraw({}, {&c.hulls->draw}), m_clearDeferredCount({}, {&c.deferred->count}),
-          m_center(c.device, m_opaque, c.resources, m_family, c.defines,
+          m_center(c.device, m_resources, c.resources, m_family, c.defines,
                    static_cast<std::uint32_t>(c.options.width), static_cast<std::uint32_t>(c.options.height)),
-          m_fold(c.device, c.options, m_opaque, c.resources, m_family, c.defines) {
+          m_fold(c.device, c.options, m_resources, c.resources, m_family, c.defines) {
         if (!m_pw) {
             // The walk lists each pair with its edge term; the wedge draw lists the pair alone.
             const bool walks = usesWedgeClusters(c.options);
@@ -242,16 +242,17 @@ class WedgeTechnique final : public VulkanTechnique {
             c.clusterLists->use();
             std::vector<ShaderDefine> defines = c.defines;
             defines.push_back({"CLUSTER_KEPT_ENTRIES_PER_INVOCATION",
-                               std::to_string(m_opaque.clusters().keptPairsPerInvocation()) + "u"});
+                               std::to_string(m_resources.clusters().keptPairsPerInvocation()) + "u"});
             m_clusters.emplace(c.device, "wedges/dcs_clusters.comp", 5, c.resources, *c.deferred,
                                *c.clusterLists, m_family, defines);
             return;
         }
-        m_wedges.emplace(c.device, c.options, m_opaque, c.resources, m_family, c.defines, c.geometry,
+        m_wedges.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, c.geometry,
                          *c.hulls, *c.deferred);
-        if (c.geometry == VolumeGeometry::ComputeHull && m_opaque.carrierCount() > 0)
+        if (c.geometry == VolumeGeometry::ComputeHull && m_resources.carrierCount() > 0)
             m_hullPass.emplace(c.device, "wedges/wedge_hull.comp", layoutDefines(c.resources.tables.layout),
-                               static_cast<std::uint32_t>(m_opaque.carrierCount()), 0u, *c.hulls, m_family);
+                               static_cast<std::uint32_t>(m_resources.carrierCount()), 0u, *c.hulls,
+                               m_family);
     }
 
     void writeDescriptors() override {
@@ -259,7 +260,7 @@ class WedgeTechnique final : public VulkanTechnique {
             DescriptorSet& set = m_family.set(l);
             m_c.hulls->writeDescriptors(set);
             m_c.deferred->writeDescriptors(set);
-            m_opaque.writeDescriptors(set, l, *m_c.clusterLists);
+            m_resources.writeDescriptors(set, l, *m_c.clusterLists);
         }
     }
     /// The walk and the samples time each part.
@@ -279,7 +280,7 @@ class WedgeTechnique final : public VulkanTechnique {
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
         const std::string samples = technique + "wedge_samples";
         if (m_clusters) {
-            const auto& counts = m_opaque.clusters().counts();
+            const auto& counts = m_resources.clusters().counts();
             m_clusters->record(recorder, cmd, light, light < counts.size() ? counts[light].depth : 0,
                                technique + "clusters", *m_samples, samples);
         }
@@ -321,12 +322,12 @@ class WedgeTechnique final : public VulkanTechnique {
         nlohmann::json wedges = nlohmann::json::array();
         for (std::size_t l = 0; l < m_counts.size(); ++l) {
             const GpuWedgeStats& s = m_counts[l];
-            nlohmann::json wedge = {{"edges", m_opaque.edgeCount()}, {"silhouette_fragments", s.inside}};
+            nlohmann::json wedge = {{"edges", m_resources.edgeCount()}, {"silhouette_fragments", s.inside}};
             if (m_clusters) {
                 // The tree's tables and the walk's (block, node) and (block, edge) tests;
                 // "fragments": the bound tests of the (pixel, edge) pairs that reach them, as on
                 // the CPU.
-                const WedgeClusters::Counts& t = m_opaque.clusters().counts()[l];
+                const WedgeClusters::Counts& t = m_resources.clusters().counts()[l];
                 wedge["path"] = "clusters";
                 wedge["potential_silhouettes"] = t.potentialSilhouettes;
                 wedge["clusters"] = t.leaves;
@@ -348,7 +349,7 @@ class WedgeTechnique final : public VulkanTechnique {
             }
             // The layer count at the light centre (dcs_center.comp): the tree's nodes, the visits
             // and triangle tests of its segments (the CPU mirror does not count them).
-            wedge["center"] = {{"nodes", m_opaque.layerNodeCount()},
+            wedge["center"] = {{"nodes", m_resources.layerNodeCount()},
                                {"node_visits", s.centerVisits},
                                {"triangle_tests", s.centerTests}};
             wedges.push_back(wedge);
@@ -359,7 +360,7 @@ class WedgeTechnique final : public VulkanTechnique {
   private:
     const VulkanTechniqueContext& m_c;
     bool m_pw;
-    OpaqueOccluderResources m_opaque;
+    WedgeResources m_resources;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferredCount;
     CenterCountPass m_center;
@@ -372,14 +373,14 @@ class WedgeTechnique final : public VulkanTechnique {
 };
 
 /// The filter pass's step for a row's filter.
-ShadowFilterPass::Step filterStep(ShadowFilter f) {
-    if (f == ShadowFilter::Pcss) return ShadowFilterPass::PcssFilter;
+ShadowFilterPass::Step filterStep(ShadowMapMethod f) {
+    if (f == ShadowMapMethod::Pcss) return ShadowFilterPass::PcssFilter;
     return isFilteredRepresentation(f) ? ShadowFilterPass::FilteredLookup : ShadowFilterPass::Pcf;
 }
 
 /// What the image-based techniques share: each light's maps and views (ShadowMapResources) in
 /// their family set, their stats, and per light the view's stats with what the technique adds.
-class ShadowMapFamilyTechnique : public VulkanTechnique {
+class ShadowMapsTechnique : public VulkanTechnique {
   public:
     void writeDescriptors() override {
         for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
@@ -399,7 +400,7 @@ class ShadowMapFamilyTechnique : public VulkanTechnique {
     }
 
   protected:
-    explicit ShadowMapFamilyTechnique(const VulkanTechniqueContext& c)
+    explicit ShadowMapsTechnique(const VulkanTechniqueContext& c)
         : VulkanTechnique(c, ShadowMapResources::bindings(c.method.shadowMap), sizeof(GpuShadowMapStats)),
           m_c(c), m_maps(c.device, c.scene, c.options) {}
     /// Light `light`'s stats beyond its view's.
@@ -413,10 +414,10 @@ class ShadowMapFamilyTechnique : public VulkanTechnique {
 /// The image-based baselines: per light the cleared map, its raster, then PCF, PCSS's two steps,
 /// or a filtered representation (built, then looked up over a fixed kernel or one sized by PCSS's
 /// blocker search) into the v_coef image.
-class ShadowMapTechnique final : public ShadowMapFamilyTechnique {
+class DepthMapTechnique final : public ShadowMapsTechnique {
   public:
-    explicit ShadowMapTechnique(const VulkanTechniqueContext& c)
-        : ShadowMapFamilyTechnique(c), m_map(c.device, c.scene, m_maps, m_family, c.defines),
+    explicit DepthMapTechnique(const VulkanTechniqueContext& c)
+        : ShadowMapsTechnique(c), m_map(c.device, c.scene, m_maps, m_family, c.defines),
           m_filter(c.device, c.options, filterStep(c.method.shadowMap), m_maps, c.resources, m_family,
                    c.defines) {
         for (const Buffer& depth : m_maps.depth) m_clear.push_back(ClearPass({}, {&depth}));
@@ -446,8 +447,8 @@ class ShadowMapTechnique final : public ShadowMapFamilyTechnique {
   private:
     void addStats(std::size_t light, const GBuffer& gbuffer, nlohmann::json& map) const override {
         const std::uint64_t kernels = m_counts[light].kernelClamped;
-        map.update(m_c.method.shadowMap == ShadowFilter::Pcf ? kernelStrideStats(kernels, gbuffer)
-                                                             : kernelClampStats(kernels, gbuffer));
+        map.update(m_c.method.shadowMap == ShadowMapMethod::Pcf ? kernelStrideStats(kernels, gbuffer)
+                                                                : kernelClampStats(kernels, gbuffer));
         if (m_blocker) map.update(searchClampStats(m_counts[light].searchClamped, gbuffer));
         if (m_filtered) map["representation_bytes"] = filteredMapBytes(m_maps.view(light), m_maps.settings());
     }
@@ -461,10 +462,10 @@ class ShadowMapTechnique final : public ShadowMapFamilyTechnique {
 
 /// `peel`: per light the cleared depth grid, its two draws, and the march of every sample's ray
 /// into the light's bits (or counters).
-class DepthGridTechnique final : public ShadowMapFamilyTechnique {
+class DepthGridTechnique final : public ShadowMapsTechnique {
   public:
     explicit DepthGridTechnique(const VulkanTechniqueContext& c)
-        : ShadowMapFamilyTechnique(c), m_grid(c.device, c.scene, m_maps, m_family, c.defines),
+        : ShadowMapsTechnique(c), m_grid(c.device, c.scene, m_maps, m_family, c.defines),
           m_march(c.device, c.options, m_maps, c.resources, m_family, c.defines),
           m_openEdges(buildEdgeAdjacency(c.scene).openEdges) {
         for (const Buffer& grid : m_maps.grid) m_clear.push_back(ClearPass({}, {&grid}));
@@ -509,10 +510,10 @@ class DepthGridTechnique final : public ShadowMapFamilyTechnique {
 /// `avsm` and `vpcss`: per light the cleared list heads, the fragment lists, the transmittance
 /// functions built from them, then avsm's lookup, or vpcss's blocker search and filter, into the
 /// v_coef image.
-class AvsmTechnique final : public ShadowMapFamilyTechnique {
+class AvsmTechnique final : public ShadowMapsTechnique {
   public:
     explicit AvsmTechnique(const VulkanTechniqueContext& c)
-        : ShadowMapFamilyTechnique(c), m_lists(c.device, c.scene, m_maps, m_family, c.defines),
+        : ShadowMapsTechnique(c), m_lists(c.device, c.scene, m_maps, m_family, c.defines),
           m_build(c.device, m_maps, m_family, c.defines),
           m_filter(c.device, c.options,
                    vpcss() ? ShadowFilterPass::VpcssFilter : ShadowFilterPass::AvsmLookup, m_maps,
@@ -571,7 +572,7 @@ class AvsmTechnique final : public ShadowMapFamilyTechnique {
             map.update(searchClampStats(counts.searchClamped, gbuffer));
         }
     }
-    bool vpcss() const { return m_c.method.shadowMap == ShadowFilter::Vpcss; }
+    bool vpcss() const { return m_c.method.shadowMap == ShadowMapMethod::Vpcss; }
 
     std::vector<ClearPass> m_clear; ///< [light]: the list heads
     AvsmListPass m_lists;
@@ -588,20 +589,20 @@ std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanT
         switch (family) {
         case TechniqueFamily::Traced:
             throw UsageError(context.method.name + " has no Vulkan technique (its rays run on the CPU)");
-        case TechniqueFamily::OpaqueWedges:
+        case TechniqueFamily::Wedges:
             techniques.push_back(std::make_unique<WedgeTechnique>(context));
             break;
-        case TechniqueFamily::StsvVolumes:
+        case TechniqueFamily::Stsv:
             techniques.push_back(std::make_unique<StsvTechnique>(context));
             break;
-        case TechniqueFamily::ShadowMap:
+        case TechniqueFamily::ShadowMaps:
             if (context.scene.lights.empty()) break;
-            if (context.method.shadowMap == ShadowFilter::Peel)
+            if (context.method.shadowMap == ShadowMapMethod::Peel)
                 techniques.push_back(std::make_unique<DepthGridTechnique>(context));
             else if (readsTransmittanceFunctions(context.method.shadowMap))
                 techniques.push_back(std::make_unique<AvsmTechnique>(context));
             else
-                techniques.push_back(std::make_unique<ShadowMapTechnique>(context));
+                techniques.push_back(std::make_unique<DepthMapTechnique>(context));
             break;
         }
     }

@@ -1,6 +1,6 @@
 // Descriptor declarations of the opaque-occluder passes (dcs_center.comp, wedge.*, wedge_fold.comp) in
 // set GPU_SET_FAMILY (render/vulkan/gpu_wedges_dh.h): the welded edges of the opaque triangles and
-// their faces (render/vulkan/gpu_opaque_passes.cpp uploads them).
+// their faces (render/vulkan/gpu_wedge_passes.cpp uploads them).
 #ifndef STSV_SHADERS_WEDGE_BINDINGS_GLSL
 #define STSV_SHADERS_WEDGE_BINDINGS_GLSL
 
@@ -8,6 +8,7 @@
 #include "render/vulkan/gpu_wedges_dh.h"
 #include "volumes/extrusion_dh.h"
 #include "wedges/dcs_dh.h"
+#include "wedges/wedge_bound_dh.h"
 
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_EDGES) readonly buffer Edges { GpuEdge edges[]; };
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_EDGE_FACES) readonly buffer EdgeFaces { GpuEdgeFace edgeFaces[]; };
@@ -50,11 +51,10 @@ bool potentialSilhouette(GpuEdge edge, vec4 sphere) {
                                   edgeFaces[edge.firstFace + 1u].opposite, sphere);
 }
 
-/// The bound of the wedges of a carrier face's potential silhouette edges (DESIGN §4.5; the same
-/// dh calls as render/cpu/cpu_wedges.cpp, stsvSideVolume and stsvTriangleLightPlanes): the STSV volume of the face (a segment towards the light that touches
-/// an edge touches the closed face, which its STSV volume bounds conservatively), both sides when
-/// the light straddles the face's plane, and the face's light planes. One bound serves all the
-/// edges the face carries. `record` is what the wedge fragment reads (GpuWedgeRecord).
+/// The bound of the wedges of a carrier face's potential silhouette edges, one side of the face
+/// (wedgeSideBound, as the CPU mirror's SilhouetteEdges builds it; both sides when the light
+/// straddles the face's plane). One bound serves all the edges the face carries. `record` is what
+/// the wedge fragment reads (GpuWedgeRecord).
 struct WedgeBound {
     vec3 v0; ///< the carrier's corners, world units
     vec3 v1;
@@ -92,6 +92,7 @@ bool wedgeMayHaveBound(uint c, uint side, uint lightIndex, out uint silhouettes)
 /// potential silhouette of the light among its edges, an empty or unlit side).
 bool wedgeSetupBound(uint c, uint side, uint lightIndex, bool strip, out WedgeBound b) {
     b.vol.flags = STSV_VOLUME_EMPTY;
+    b.lp.count = 0u;
     uint silhouettes;
     if (!wedgeMayHaveBound(c, side, lightIndex, silhouettes)) return false;
     vec4 sphere = lights[lightIndex].sphere;
@@ -101,7 +102,9 @@ bool wedgeSetupBound(uint c, uint side, uint lightIndex, bool strip, out WedgeBo
     b.v2 = vec3(g.v2);
     vec3 lo = vec3(frame.boxLo);
     vec3 hi = vec3(frame.boxHi);
-    if (!stsvSideVolume(b.v0, b.v1, b.v2, sphere, lo, hi, side, strip, b.vol)) return false;
+    if (!wedgeSideBound(b.v0, b.v1, b.v2, lights[lightIndex].light, sphere, frame.farDistance, lo, hi, side, strip,
+                        b.vol, b.lp))
+        return false;
     // Side 1 hands the points of the side-0 volume to side 0, so that every point is visited
     // once (the CPU mirror tests "inside any of the face's volumes").
     StsvVolume vol0;
@@ -110,7 +113,6 @@ bool wedgeSetupBound(uint c, uint side, uint lightIndex, bool strip, out WedgeBo
     for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) vol0.planes[k] = vec4(0.0);
     if (side == 1u) vol0 = stsvBuildVolumePlanes(b.v0, b.v1, b.v2, sphere, lo, hi, 0u);
     uint side0 = (vol0.flags & STSV_VOLUME_EMPTY) == 0u ? WEDGE_SIDE0_PRESENT | vol0.planeCount : 0u;
-    b.lp = stsvTriangleLightPlanes(b.v0, b.v1, b.v2, lights[lightIndex].light, frame.farDistance, lo, hi);
     b.record.ids = uvec4(c, side | (b.lp.count << 8u) | (silhouettes << 16u), b.vol.planeCount, side0);
     for (uint k = 0u; k < STSV_VOLUME_MAX_PLANES; ++k) {
         b.record.planes[k] = b.vol.planes[k];

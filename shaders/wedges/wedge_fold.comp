@@ -34,34 +34,38 @@ layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_DEPTHS) readonly buffe
 #endif
 
 #if WEDGE_STSV
-/// Occluded fraction of the pixel's STSV samples (the perforated triangles, Algorithm 2 line 13);
-/// with transmittance one minus their mean transmittance (LightSampleBuffer::visibleFraction).
+/// Occluded fraction of the pixel's STSV samples (the perforated triangles, Algorithm 2 line 13):
+/// one minus their visible fraction, counted as LightSampleBuffer::visibleFraction counts it
+/// (sampling/ls_buffer_dh.h). Each mask image holds two words (.x, .y) and is loaded once.
 float stsvOccludedFraction(ivec2 pixel) {
+    const uint sampleCount = uint(SAMPLE_COUNT);
+    const uint wordCount = lsMaskWordCount(sampleCount);
 #if LS_TRANSMITTANCE
-    uint slot = lsCounterSlot(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT), 0u);
+    uint slot = lsCounterSlot(lsPixelIndex(uvec2(pixel), frame.width), sampleCount, 0u);
     float transmitted = 0.0;
-    for (uint i = 0u; i < uint((SAMPLE_COUNT + 63) / 64); ++i) {
-        uvec2 m = imageLoad(masks[i], pixel).xy;
-        for (uint b = 0u; b < 64u && 64u * i + b < uint(SAMPLE_COUNT); ++b) {
-            uint word = b < 32u ? m.x : m.y;
-            if ((word & (1u << (b & 31u))) == 0u) transmitted += transmittanceOfDepth(depths[slot + 64u * i + b]);
+    for (uint image = 0u; image < lsMaskAttachment(wordCount - 1u) + 1u; ++image) {
+        uvec2 m = imageLoad(masks[image], pixel).xy;
+        for (uint w = 2u * image; w < min(2u * image + 2u, wordCount); ++w) {
+            uint bits = lsMaskComponent(w) == 0u ? m.x : m.y;
+            for (uint k = 32u * w; k < min(32u * w + 32u, sampleCount); ++k) {
+                if ((bits & lsMaskBit(k)) == 0u) transmitted += transmittanceOfDepth(depths[slot + k]);
+            }
         }
     }
-    return 1.0 - transmitted / float(SAMPLE_COUNT);
+    return 1.0 - lsMeanTransmittance(transmitted, sampleCount);
 #else
     uint occluded = 0u;
 #if LS_COUNTERS
-    uint pixelBase = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), uint(SAMPLE_COUNT));
-    for (uint j = 0u; j < uint(SAMPLE_COUNT / 2); ++j) {
-        occluded += uint(bitCount(lsCounterPairBits(counters[pixelBase + j])));
-    }
+    uint pixelBase = lsPixelCounterWord(lsPixelIndex(uvec2(pixel), frame.width), sampleCount);
+    for (uint j = 0u; j < sampleCount / 2u; ++j) occluded += uint(bitCount(lsCounterPairBits(counters[pixelBase + j])));
 #else
-    for (uint i = 0u; i < uint((SAMPLE_COUNT + 63) / 64); ++i) {
-        uvec2 m = imageLoad(masks[i], pixel).xy;
-        occluded += uint(bitCount(m.x) + bitCount(m.y));
+    for (uint image = 0u; image < lsMaskAttachment(wordCount - 1u) + 1u; ++image) {
+        uvec2 m = imageLoad(masks[image], pixel).xy;
+        for (uint w = 2u * image; w < min(2u * image + 2u, wordCount); ++w)
+            occluded += lsMaskWordOccludedCount(lsMaskComponent(w) == 0u ? m.x : m.y, w, sampleCount);
     }
 #endif
-    return float(occluded) / float(SAMPLE_COUNT);
+    return 1.0 - lsVisibleFraction(occluded, sampleCount);
 #endif
 }
 #endif

@@ -1,7 +1,7 @@
-// The opaque edges as the Vulkan wedge passes read them (render/vulkan/gpu_opaque_passes.h): one
+// The opaque edges as the Vulkan wedge passes read them (render/vulkan/gpu_wedge_passes.h): one
 // table entry per welded edge, and one carrier record per carrier face listing the edges it
 // carries (wedges/adjacency.h edgeCarriers, the rule both backends use).
-#include "render/vulkan/gpu_opaque_passes.h"
+#include "render/vulkan/gpu_wedge_passes.h"
 #include "wedges/adjacency.h"
 
 #include <gtest/gtest.h>

@@ -168,7 +168,7 @@ TEST_F(GpuTransmittance, DcsStsvIsDcsBitsWithTheStsvDepthsOfTheRest) {
     for (NamedScene& c : translucentScenes()) {
         const RenderOptions o = transmittanceOptions(Method::DcsStsv);
         const Frame frame = renderGpu(c.scene, o);
-        const OpaqueOccluders occ(c.scene);
+        const WedgeOccluders occ(c.scene);
         const float far = farDistanceFor(c.scene.bounds());
         LightSampleBuffer counts(W, H, o.samples, BufferKind::Counters);
         dcsCpuSamples(occ, frame.gbuffer, c.scene.lights[0], planOf(o), far, counts);
@@ -195,7 +195,7 @@ TEST_F(GpuTransmittance, PwStsvSubtractsOneMinusTheMeanTransmittance) {
     for (NamedScene& c : translucentScenes()) {
         const RenderOptions o = transmittanceOptions(Method::PwStsv);
         const Frame frame = renderGpu(c.scene, o);
-        const OpaqueOccluders occ(c.scene);
+        const WedgeOccluders occ(c.scene);
         ImageF mirror;
         LightSampleBuffer stsvSamples(W, H, o.samples, BufferKind::Transmittance);
         pwStsvCpuVisibility(occ, frame.gbuffer, c.scene.lights[0], planOf(o),

@@ -33,7 +33,7 @@ class GpuWedges : public test::GpuRenderTest {
     /// differing pairs printed with the reason `why`. Returns the agreement.
     double expectDcsMatchesMirror(const Scene& scene, const Frame& frame, const RenderOptions& o,
                                   double minAgreement, const std::string& what, const std::string& why = {}) {
-        const OpaqueOccluders occ(scene);
+        const WedgeOccluders occ(scene);
         const float far = farDistanceFor(scene.bounds());
         double worst = 1.0;
         for (std::size_t l = 0; l < scene.lights.size(); ++l) {
@@ -94,7 +94,7 @@ class GpuWedges : public test::GpuRenderTest {
     void expectPwMatchesMirror(const Scene& scene, const Frame& frame, const RenderOptions& o,
                                const std::string& what) {
         ASSERT_EQ(scene.lights.size(), 1u);
-        const OpaqueOccluders occ(scene);
+        const WedgeOccluders occ(scene);
         const float far = farDistanceFor(scene.bounds());
         ImageF mirror;
         LightSampleBuffer bits(o.width, o.height, o.samples,
@@ -586,11 +586,11 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
             // default 2048² would need 6.4 GB.
             // peel's grid at 64² keeps the cube's six faces small.
             // The transmittance functions at 256² too.
-            if (method.shadowMap == ShadowFilter::Peel)
+            if (method.shadowMap == ShadowMapMethod::Peel)
                 o.params = parseMethodParams(method, {"peel_size=64"});
             else if (readsTransmittanceFunctions(method.shadowMap))
                 o.params = parseMethodParams(method, {"avsm_size=256"});
-            else if (method.shadowMap != ShadowFilter::None)
+            else if (method.shadowMap != ShadowMapMethod::None)
                 o.params = parseMethodParams(method, {"sm_size=256"});
             const std::string what = method.name + " " + toString(kind);
             VulkanRenderer renderer(scene, o, {&device()});
@@ -629,7 +629,7 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                     if (method.bufferKind(kind) == BufferKind::Bitmask)
                         expected.push_back(light + "stsv_merge");
                 }
-                if (method.shadowMap == ShadowFilter::Peel) {
+                if (method.shadowMap == ShadowMapMethod::Peel) {
                     // The depth grid's two draws, then the march.
                     expected.push_back(light + "depth_grid");
                     expected.push_back(light + "peel_march");
@@ -639,22 +639,24 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                     expected.push_back(light + "avsm_fragments");
                     expected.push_back(light + "avsm_build");
                     expected.push_back(light + "shadow_filter");
-                    if (method.shadowMap == ShadowFilter::Vpcss) expected.push_back(light + "vpcss_blocker");
-                } else if (method.shadowMap != ShadowFilter::None) {
+                    if (method.shadowMap == ShadowMapMethod::Vpcss)
+                        expected.push_back(light + "vpcss_blocker");
+                } else if (method.shadowMap != ShadowMapMethod::None) {
                     expected.push_back(light + "shadow_map");
                     expected.push_back(light + "shadow_filter");
                     // PCSS, and the filtered maps with their default kernel from the blocker search.
-                    if (method.shadowMap == ShadowFilter::Pcss || isFilteredRepresentation(method.shadowMap))
+                    if (method.shadowMap == ShadowMapMethod::Pcss ||
+                        isFilteredRepresentation(method.shadowMap))
                         expected.push_back(light + "pcss_blocker");
                     if (isFilteredRepresentation(method.shadowMap))
                         expected.push_back(light + "filtered_map");
                 }
-                if (method.opaque == OpaqueTechnique::None) continue;
-                const std::string technique = method.opaque == OpaqueTechnique::Pw ? "pw_" : "dcs_";
+                if (method.wedges == WedgeVariant::None) continue;
+                const std::string technique = method.wedges == WedgeVariant::Pw ? "pw_" : "dcs_";
                 expected.push_back(light + technique + "center");
                 // Auto extrusion: DCS walks the cluster tree and lists the (pixel, edge) pairs for
                 // their samples; PW builds the wedge hulls and draws them.
-                if (method.opaque == OpaqueTechnique::Dcs) {
+                if (method.wedges == WedgeVariant::Dcs) {
                     expected.push_back(light + "dcs_clusters");
                     expected.push_back(light + "dcs_wedge_samples");
                 } else {
@@ -666,7 +668,7 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
             EXPECT_EQ(passes.size(), expected.size()) << what << ": " << passes.dump();
             for (const std::string& name : expected)
                 EXPECT_TRUE(passes.contains(name)) << what << ": " << name;
-            EXPECT_EQ(frame0.stats.contains("wedges"), method.opaque != OpaqueTechnique::None) << what;
+            EXPECT_EQ(frame0.stats.contains("wedges"), method.wedges != WedgeVariant::None) << what;
         }
     }
 }

@@ -197,7 +197,8 @@ class LightFlushTest : public GpuRenderTest {
     void checkEveryMethod(Room room) {
         const Scene scene = makeRoom(room);
         for (const MethodInfo& row : methodTable()) {
-            const bool exact = row.output != MethodOutput::Visibility && row.shadowMap == ShadowFilter::None;
+            const bool exact =
+                row.output != MethodOutput::Visibility && row.shadowMap == ShadowMapMethod::None;
             for (Backend backend : row.backends) {
                 SCOPED_TRACE(std::string(roomName(room)) + ", " + row.name + "/" + toString(backend));
                 const Frame frame = render(scene, row, backend);

@@ -99,7 +99,7 @@ TEST_F(GpuMeshShader, MeshShaderHullsGiveTheBuffersOfTheHullAndGeometryPaths) {
                     }
                 expectSameCounts(mesh, hull, "stsv", what);
                 expectSameCounts(mesh, hull, "wedges", what);
-                const bool pw = methodInfo(method).opaque == OpaqueTechnique::Pw;
+                const bool pw = methodInfo(method).wedges == WedgeVariant::Pw;
                 ASSERT_EQ(mesh.visibility.pixels.size(), hull.visibility.pixels.size()) << what;
                 for (const Frame* other : {&hull, &prism})
                     for (std::size_t i = 0; i < mesh.visibility.pixels.size(); ++i) {

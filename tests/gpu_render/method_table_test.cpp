@@ -33,12 +33,12 @@ TEST(MethodTable, RowsHaveUniqueIdsNamesAndBackends) {
         // image-based one filters a shadow map into a visibility image, and nothing else — but
         // peel, which marches every light sample's ray through its depth grid into bits.
         EXPECT_EQ(m.traced, m.family == MethodFamily::GroundTruth) << m.name;
-        const bool volumes = m.stsv != StsvTriangles::None || m.opaque != OpaqueTechnique::None;
+        const bool volumes = m.stsv != StsvTriangles::None || m.wedges != WedgeVariant::None;
         EXPECT_EQ(volumes, m.family == MethodFamily::ObjectBased) << m.name;
-        EXPECT_EQ(m.shadowMap != ShadowFilter::None, m.family == MethodFamily::ImageBased) << m.name;
+        EXPECT_EQ(m.shadowMap != ShadowMapMethod::None, m.family == MethodFamily::ImageBased) << m.name;
         if (m.family == MethodFamily::ImageBased) {
-            EXPECT_EQ(m.output, m.shadowMap == ShadowFilter::Peel ? MethodOutput::SampleOcclusion
-                                                                  : MethodOutput::Visibility)
+            EXPECT_EQ(m.output, m.shadowMap == ShadowMapMethod::Peel ? MethodOutput::SampleOcclusion
+                                                                     : MethodOutput::Visibility)
                 << m.name;
         }
     }
@@ -132,8 +132,9 @@ TEST_F(MethodTableRender, EveryMethodRendersOnEveryBackendItClaims) {
                 EXPECT_TRUE(v >= 0.0f && v <= 1.0f + 1e-6f) << label << " v=" << v;
                 darkest = std::min(darkest, v);
             }
-            const bool shadows = m.traced || m.stsv != StsvTriangles::None ||
-                                 (m.shadowMap != ShadowFilter::None && m.shadowMap != ShadowFilter::Peel);
+            const bool shadows =
+                m.traced || m.stsv != StsvTriangles::None ||
+                (m.shadowMap != ShadowMapMethod::None && m.shadowMap != ShadowMapMethod::Peel);
             if (shadows) {
                 EXPECT_LT(darkest, 0.9f) << label;
             }
@@ -157,19 +158,19 @@ TEST_F(MethodTableRender, StatsNameTheSameFamiliesOnBothBackends) {
             stats[backend] =
                 (backend == Backend::Vulkan ? renderGpu(scene, o) : makeRenderer(scene, o)->render()).stats;
         }
-        const bool opaque = m.opaque != OpaqueTechnique::None;
+        const bool opaque = m.wedges != WedgeVariant::None;
         for (Backend backend : {Backend::Cpu, Backend::Vulkan}) {
             const nlohmann::json& j = stats[backend];
             const std::string label = m.name + "/" + toString(backend);
             EXPECT_EQ(j.contains("stsv"), m.stsv != StsvTriangles::None) << label;
             EXPECT_EQ(j.contains("wedges"), opaque) << label;
-            EXPECT_EQ(j.contains("shadow_maps"), m.shadowMap != ShadowFilter::None) << label;
+            EXPECT_EQ(j.contains("shadow_maps"), m.shadowMap != ShadowMapMethod::None) << label;
             EXPECT_FALSE(j.contains("center")) << label;
             if (opaque) {
                 EXPECT_EQ(j["wedges"][0].contains("center"), backend == Backend::Vulkan) << label;
             }
         }
-        if (m.shadowMap != ShadowFilter::None) {
+        if (m.shadowMap != ShadowMapMethod::None) {
             const nlohmann::json& cpu = stats[Backend::Cpu]["shadow_maps"][0];
             const nlohmann::json& gpu = stats[Backend::Vulkan]["shadow_maps"][0];
             EXPECT_EQ(cpu.size(), gpu.size()) << m.name << ": " << cpu.dump() << " vs " << gpu.dump();

@@ -148,7 +148,7 @@ TEST_F(ShadowMapGpu, FilteredMapsMatchTheCpuMirror) {
     // filtered_lookup_dh.h: with summed-area tables (exact integers), mips, both kernels.
     const Scene scene = loadScene("fence");
     for (const Method m : {Method::Vsm, Method::Esm, Method::Evsm, Method::Msm,
-                           imageMethod(ShadowFilter(SHADOW_FILTER_MSM_HAUSDORFF)), Method::Csm})
+                           imageMethod(ShadowMapMethod(SHADOW_FILTER_MSM_HAUSDORFF)), Method::Csm})
         for (const char* extra : {"fm_kernel=1", "fm_kernel=0"}) {
             RenderOptions o = gpuOptions(64, 64, 16);
             o.method = m;

@@ -203,7 +203,7 @@ TEST(AvsmRender, VpcssIsPcssWithoutTranslucentTriangles) {
         const Scene scene = loadScene(name, name == std::string("knot") ? SceneOptions{{{"segments", "120"}}}
                                                                         : SceneOptions{});
         // The depth test at volumetric PCSS's own bias and normal offset.
-        const ShadowMapSettings own = defaultShadowMapSettings(ShadowFilter::Vpcss);
+        const ShadowMapSettings own = defaultShadowMapSettings(ShadowMapMethod::Vpcss);
         const Frame pcss = render(scene, Method::Pcss, kW,
                                   {{"sm_size", 512},
                                    {"pcss_blocker_taps", 25},

@@ -16,7 +16,7 @@ namespace {
 
 using namespace test;
 
-const Method kMsmHausdorff = imageMethod(ShadowFilter(SHADOW_FILTER_MSM_HAUSDORFF));
+const Method kMsmHausdorff = imageMethod(ShadowMapMethod(SHADOW_FILTER_MSM_HAUSDORFF));
 const Method kFiltered[] = {Method::Vsm, Method::Esm, Method::Evsm, Method::Msm, kMsmHausdorff, Method::Csm};
 
 /// World size of a map texel on the ground: the map fitted to the scene box (sm_fit=0), whose

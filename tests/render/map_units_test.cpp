@@ -24,7 +24,7 @@ namespace {
 using namespace test;
 
 /// msm-hausdorff: an image-family variant with no name of its own in the Method enum.
-const Method kMsmHausdorff = imageMethod(ShadowFilter(SHADOW_FILTER_MSM_HAUSDORFF));
+const Method kMsmHausdorff = imageMethod(ShadowMapMethod(SHADOW_FILTER_MSM_HAUSDORFF));
 
 /// The frame's map texel on the visible receivers (the ground; its stats' median).
 double frameTexel(const Frame& f) {
@@ -171,7 +171,7 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
          {{-0.2 * kLightHeight / (kLightHeight - 0.5), penumbraWidth(0.5f)},
           {0.15 * kLightHeight / (kLightHeight - 1.0), penumbraWidth(1.0f)}}},
     };
-    const ShadowMapSettings defaults = defaultShadowMapSettings(ShadowFilter::Pcf);
+    const ShadowMapSettings defaults = defaultShadowMapSettings(ShadowMapMethod::Pcf);
     for (const Case& c : cases) {
         SCOPED_TRACE(c.name);
         // PCF's fixed kernel (pcf_world_radius either side) makes a ramp of its own width under

@@ -144,7 +144,7 @@ struct BiasSetup {
         return e;
     }
 
-    BiasErrors report(const char* what, ShadowFilter f, float bias = ShadowMapSettings{}.bias) const {
+    BiasErrors report(const char* what, ShadowMapMethod f, float bias = ShadowMapSettings{}.bias) const {
         ShadowMapSettings s;
         s.filter = f;
         s.bias = bias;
@@ -173,8 +173,8 @@ TEST(ShadowMapBias, DefaultsAvoidTheAcneOfZeroBiasAndThePeterPanningOfALargeOne)
     const BiasSetup setup;
     {
         SCOPED_TRACE("defaults");
-        const BiasErrors pcf = setup.report("pcf defaults", ShadowFilter::Pcf);
-        const BiasErrors pcss = setup.report("pcss defaults", ShadowFilter::Pcss);
+        const BiasErrors pcf = setup.report("pcf defaults", ShadowMapMethod::Pcf);
+        const BiasErrors pcss = setup.report("pcss defaults", ShadowMapMethod::Pcss);
         // Acne: the receiver-plane depth keeps the flat ground's taps on its own plane, so what
         // is left is the filters' reach past the reference's penumbra edge (measured 0.07 % and
         // 0.13 %).
@@ -198,16 +198,16 @@ TEST(ShadowMapBias, DefaultsAvoidTheAcneOfZeroBiasAndThePeterPanningOfALargeOne)
         // The ground's stored depth equals its plane depth up to float rounding, so half its taps
         // and more compare as blocked without a constant bias: acne even with the receiver-plane
         // depth.
-        const BiasErrors pcf = setup.report("pcf sm_bias=0", ShadowFilter::Pcf, 0.0f);
-        const BiasErrors pcss = setup.report("pcss sm_bias=0", ShadowFilter::Pcss, 0.0f);
+        const BiasErrors pcf = setup.report("pcf sm_bias=0", ShadowMapMethod::Pcf, 0.0f);
+        const BiasErrors pcss = setup.report("pcss sm_bias=0", ShadowMapMethod::Pcss, 0.0f);
         EXPECT_GT(pcf.acne, 0.1);  // measured 99.7 %
         EXPECT_GT(pcss.acne, 0.1); // measured 38 %
     }
     {
         SCOPED_TRACE("sm_bias=64");
         // 64 texels at the receiver (≈ 0.39 m): everything within ~0.2 m behind the fence is lit.
-        const BiasErrors pcf = setup.report("pcf sm_bias=64", ShadowFilter::Pcf, 64.0f);
-        const BiasErrors pcss = setup.report("pcss sm_bias=64", ShadowFilter::Pcss, 64.0f);
+        const BiasErrors pcf = setup.report("pcf sm_bias=64", ShadowMapMethod::Pcf, 64.0f);
+        const BiasErrors pcss = setup.report("pcss sm_bias=64", ShadowMapMethod::Pcss, 64.0f);
         EXPECT_GT(pcf.leak, 0.9); // measured 100 %
         EXPECT_GT(pcss.leak, 0.9);
         EXPECT_GT(pcf.excess, 0.2); // measured 0.37

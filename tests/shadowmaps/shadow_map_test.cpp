@@ -389,10 +389,10 @@ TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
     // member: read back through the knob, and every other knob keeps its default.
     for (const ShadowMapKnob& knob : shadowMapKnobs()) {
         // The first variant that reads it.
-        ShadowFilter filter = ShadowFilter::None;
+        ShadowMapMethod filter = ShadowMapMethod::None;
         for (const ShadowMapVariant& v : shadowMapVariants())
-            if (filter == ShadowFilter::None && knob.readBy(v.filter)) filter = v.filter;
-        ASSERT_NE(filter, ShadowFilter::None) << knob.name << " is read by no variant";
+            if (filter == ShadowMapMethod::None && knob.readBy(v.filter)) filter = v.filter;
+        ASSERT_NE(filter, ShadowMapMethod::None) << knob.name << " is read by no variant";
         const ShadowMapSettings defaults = defaultShadowMapSettings(filter);
         const double value = knob.get(defaults) == knob.max ? knob.min : knob.max;
         const ShadowMapSettings s = shadowMapSettingsFrom(filter, {{knob.name, value}});
@@ -410,10 +410,10 @@ TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
     // A method's own defaults move only knobs that method reads, inside their ranges, and are
     // what a frame without parameters renders with.
     const ShadowMapSettings shared;
-    for (const ShadowFilter filter :
-         {ShadowFilter::Pcf, ShadowFilter::Pcss, ShadowFilter::Vsm, ShadowFilter::Esm, ShadowFilter::Evsm,
-          ShadowFilter::Msm, ShadowFilter::Csm, ShadowFilter::Peel, ShadowFilter::Avsm,
-          ShadowFilter::Vpcss}) {
+    for (const ShadowMapMethod filter :
+         {ShadowMapMethod::Pcf, ShadowMapMethod::Pcss, ShadowMapMethod::Vsm, ShadowMapMethod::Esm,
+          ShadowMapMethod::Evsm, ShadowMapMethod::Msm, ShadowMapMethod::Csm, ShadowMapMethod::Peel,
+          ShadowMapMethod::Avsm, ShadowMapMethod::Vpcss}) {
         const ShadowMapSettings own = defaultShadowMapSettings(filter);
         const ShadowMapSettings unset = shadowMapSettingsFrom(filter, {});
         EXPECT_EQ(own.filter, filter);
@@ -429,19 +429,20 @@ TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
     }
     // The fairness sweep's choices (docs/measurements.md): VSM, ESM, EVSM bias less, volumetric
     // PCSS more, than the shared default; CSM and MSM keep it.
-    EXPECT_EQ(defaultShadowMapSettings(ShadowFilter::Vsm).bias, 0.125f);
-    EXPECT_EQ(defaultShadowMapSettings(ShadowFilter::Csm).bias, shared.bias);
-    EXPECT_EQ(defaultShadowMapSettings(ShadowFilter::Msm).mip, shared.mip);
-    EXPECT_EQ(defaultShadowMapSettings(ShadowFilter::Vpcss).normalOffset, 0.75f);
+    EXPECT_EQ(defaultShadowMapSettings(ShadowMapMethod::Vsm).bias, 0.125f);
+    EXPECT_EQ(defaultShadowMapSettings(ShadowMapMethod::Csm).bias, shared.bias);
+    EXPECT_EQ(defaultShadowMapSettings(ShadowMapMethod::Msm).mip, shared.mip);
+    EXPECT_EQ(defaultShadowMapSettings(ShadowMapMethod::Vpcss).normalOffset, 0.75f);
     // A misspelt name, and a PCSS knob given to PCF, are errors rather than silent defaults.
-    EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcss, {{"pcss_filter_tap", 8}}), UsageError);
-    EXPECT_THROW(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcss_filter_taps", 8}}), UsageError);
-    EXPECT_EQ(shadowMapSettingsFrom(ShadowFilter::Pcf, {{"pcf_world_radius", 0.25}}).pcfWorldRadius, 0.25f);
+    EXPECT_THROW(shadowMapSettingsFrom(ShadowMapMethod::Pcss, {{"pcss_filter_tap", 8}}), UsageError);
+    EXPECT_THROW(shadowMapSettingsFrom(ShadowMapMethod::Pcf, {{"pcss_filter_taps", 8}}), UsageError);
+    EXPECT_EQ(shadowMapSettingsFrom(ShadowMapMethod::Pcf, {{"pcf_world_radius", 0.25}}).pcfWorldRadius,
+              0.25f);
     // The knobs that counted texels are refused with the one that replaced them, never read as
     // metres: an old script's pcf_radius=5 would be a 5 m kernel.
     for (const auto& [filter, retired, replacement] :
-         {std::tuple{ShadowFilter::Pcf, "pcf_radius", "pcf_world_radius"},
-          std::tuple{ShadowFilter::Vsm, "fm_radius", "fm_world_radius"}}) {
+         {std::tuple{ShadowMapMethod::Pcf, "pcf_radius", "pcf_world_radius"},
+          std::tuple{ShadowMapMethod::Vsm, "fm_radius", "fm_world_radius"}}) {
         try {
             shadowMapSettingsFrom(filter, {{retired, 5}});
             ADD_FAILURE() << retired << " was accepted";

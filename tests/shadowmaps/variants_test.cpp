@@ -27,7 +27,7 @@ TEST(ShadowMapVariants, RowsAgreeWithTheDhDispatch) {
     std::set<std::string> names;
     for (const ShadowMapVariant& v : shadowMapVariants()) {
         SCOPED_TRACE(v.name);
-        EXPECT_NE(v.filter, ShadowFilter::None);
+        EXPECT_NE(v.filter, ShadowMapMethod::None);
         EXPECT_TRUE(selectors.insert(uint(v.filter)).second) << "two rows of one selector";
         EXPECT_TRUE(names.insert(v.name).second) << "two rows of one name";
         EXPECT_EQ(&shadowMapVariant(v.filter), &v);
@@ -48,8 +48,8 @@ TEST(ShadowMapVariants, RowsAgreeWithTheDhDispatch) {
         }
         EXPECT_TRUE(!v.alwaysMip || filtered) << "only a filtered representation averages through mips";
     }
-    EXPECT_THROW(shadowMapVariant(ShadowFilter::None), std::logic_error);
-    EXPECT_THROW(shadowMapVariant(ShadowFilter(99u)), std::logic_error);
+    EXPECT_THROW(shadowMapVariant(ShadowMapMethod::None), std::logic_error);
+    EXPECT_THROW(shadowMapVariant(ShadowMapMethod(99u)), std::logic_error);
 }
 
 TEST(ShadowMapVariants, OwnKnobsAndDefaultsNameKnobsTheVariantReads) {
@@ -81,7 +81,7 @@ TEST(ShadowMapVariants, OwnKnobsAndDefaultsNameKnobsTheVariantReads) {
 TEST(ShadowMapVariants, KnobKindsSelectTheVariantsTheyDid) {
     // The kinds, spelled out as the lists they replaced: a change to a row's representation or
     // search that moves a knob in or out of a method fails here.
-    using F = ShadowFilter;
+    using F = ShadowMapMethod;
     const F hausdorff = F(SHADOW_FILTER_MSM_HAUSDORFF);
     const auto readers = [](const char* name) {
         std::set<F> out;

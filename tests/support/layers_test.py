@@ -91,7 +91,7 @@ def self_test():
         "render/frame.cpp": '#include "render/cpu/cpu_renderer.h"\n',
         "reference/u.cpp": '#include "render/methods.h"\n',
         "render/cpu/cpu_wedges.h": '#include "render/cpu/cpu_stsv.h"\n',
-        "render/vulkan/gpu_stsv_pass.cpp": '#include "render/vulkan/gpu_opaque_passes.h"\n',
+        "render/vulkan/gpu_stsv_pass.cpp": '#include "render/vulkan/gpu_wedge_passes.h"\n',
     }
     found = list(violations(planted))
     for path in planted:

@@ -10,7 +10,7 @@ namespace stsv {
 
 /// DCS+STSV (Algorithm 2, lines 8–9): DCS for the opaque triangles, then the STSV increments of
 /// the perforated ones added to the same counters.
-inline WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occ, const GBuffer& gbuffer, const Light& light,
+inline WedgeCpuStats dcsStsvCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, const Light& light,
                                        const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
                                        StsvCpuStats* stsvStats = nullptr) {
     const WedgeCpuStats stats = dcsCpuSamples(occ, gbuffer, light, plan, farDistance, counters);
@@ -23,7 +23,7 @@ inline WedgeCpuStats dcsStsvCpuSamples(const OpaqueOccluders& occ, const GBuffer
 /// PW+STSV (Algorithm 2, lines 12–14): v = clamp(v_pw − occluded fraction of the STSV bitmask of
 /// the perforated triangles, 0, 1). `stsvBits` (BufferKind::Bitmask, cleared by the caller)
 /// receives the STSV bits.
-inline WedgeCpuStats pwStsvCpuVisibility(const OpaqueOccluders& occ, const GBuffer& gbuffer,
+inline WedgeCpuStats pwStsvCpuVisibility(const WedgeOccluders& occ, const GBuffer& gbuffer,
                                          const Light& light, const SamplePlan& plan, float farDistance,
                                          ImageF& visibility, LightSampleBuffer& stsvBits,
                                          StsvCpuStats* stsvStats = nullptr) {

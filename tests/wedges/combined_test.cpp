@@ -31,7 +31,7 @@ TEST(Combined, PerforatedOnlySceneReducesToStsv) {
     const GBuffer g = rt.traceGBuffer(size, size);
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 2);
     const float farDistance = farDistanceFor(scene.bounds());
-    const OpaqueOccluders occ(scene);
+    const WedgeOccluders occ(scene);
 
     LightSampleBuffer stsvOnly(size, size, samples, BufferKind::Counters);
     stsvCpuSamples(scene, g, scene.lights[0], plan, farDistance, stsvOnly);
@@ -65,7 +65,7 @@ TEST(Combined, NoOpaqueTriangleAtAll) {
     const std::uint32_t m = addMaterial(scene, fence);
     appendMesh(scene, makeQuad(vec2(2.0f), vec2(2.0f)), mat4(1.0f), "fence", int(m));
     scene.lights.push_back(makeSphereLight(vec3(0.0f, 0.0f, 3.0f), 0.5f, vec3(1.0f)));
-    const OpaqueOccluders occ(scene);
+    const WedgeOccluders occ(scene);
     EXPECT_EQ(occ.opaqueTriangles(), 0u);
     EXPECT_EQ(occ.adjacency().edges.size(), 0u);
     EXPECT_EQ(occ.centerCount(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), SHADOW_T_MIN, NO_TRIANGLE),
@@ -91,7 +91,7 @@ TEST(Combined, PwStsvWithOpaqueMeshMeasured) {
     const GBuffer g = rt.traceGBuffer(size, size);
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 4);
     const float farDistance = farDistanceFor(scene.bounds());
-    const OpaqueOccluders occ(scene);
+    const WedgeOccluders occ(scene);
     ImageF pw;
     LightSampleBuffer bits(size, size, samples, BufferKind::Bitmask);
     pwStsvCpuVisibility(occ, g, scene.lights[0], plan, farDistance, pw, bits);

@@ -68,7 +68,7 @@ Agreement compareWithReference(const Scene& scene, int size, int samples, bool w
     const GBuffer g = embree.traceGBuffer(size, size);
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 3);
     const float farDistance = farDistanceFor(scene.bounds());
-    const OpaqueOccluders occ(scene);
+    const WedgeOccluders occ(scene);
     Agreement a;
     for (const Light& light : scene.lights) {
         LightSampleBuffer dcs(size, size, samples, BufferKind::Counters);
@@ -153,8 +153,8 @@ Scene meshScene(const MeshData& mesh, const char* name, bool perforated) {
 }
 
 // The potential silhouettes, their cluster tree and their carriers' bounds are made by the first
-// frame of a light and reused by later ones (OpaqueOccluders::silhouettes): a second frame gives
-// the same counters, another light its own (those a fresh OpaqueOccluders gives it), and the
+// frame of a light and reused by later ones (WedgeOccluders::silhouettes): a second frame gives
+// the same counters, another light its own (those a fresh WedgeOccluders gives it), and the
 // first light again its first counters.
 TEST(DcsVsReference, LaterFramesReuseEachLightsSilhouettes) {
     Progress::setEnabled(false);
@@ -166,7 +166,7 @@ TEST(DcsVsReference, LaterFramesReuseEachLightsSilhouettes) {
     const GBuffer g = embree.traceGBuffer(size, size);
     const SamplePlan plan = makeSamplePlan(PatternKind::Poisson, samples, 3);
     const float farDistance = farDistanceFor(scene.bounds());
-    const auto frame = [&](const OpaqueOccluders& occ, const Light& light, WedgeCpuStats& stats) {
+    const auto frame = [&](const WedgeOccluders& occ, const Light& light, WedgeCpuStats& stats) {
         LightSampleBuffer counters(size, size, samples, BufferKind::Counters);
         stats = dcsCpuSamples(occ, g, light, plan, farDistance, counters);
         std::vector<int> out;
@@ -175,12 +175,12 @@ TEST(DcsVsReference, LaterFramesReuseEachLightsSilhouettes) {
                 for (int k = 0; k < samples; ++k) out.push_back(int(counters.count(x, y, k)));
         return out;
     };
-    const OpaqueOccluders occ(scene);
+    const WedgeOccluders occ(scene);
     WedgeCpuStats first, second, other, fresh, again;
     const std::vector<int> a = frame(occ, scene.lights[0], first);
     const std::vector<int> b = frame(occ, scene.lights[0], second);
     const std::vector<int> c = frame(occ, moved, other);
-    const std::vector<int> d = frame(OpaqueOccluders(scene), moved, fresh);
+    const std::vector<int> d = frame(WedgeOccluders(scene), moved, fresh);
     const std::vector<int> e = frame(occ, scene.lights[0], again);
     EXPECT_EQ(a, b);
     EXPECT_EQ(a, e);

@@ -286,7 +286,7 @@ TEST(EdgeClusterTests, SideLanesKeepExactlyTheEdgesWhoseWeightIsNotZero) {
     for (const bool fins : {false, true}) {
         const Scene plain = makeMeshScene(knot(), "knot");
         const Scene& scene = fins ? finned : plain;
-        const OpaqueOccluders occ(scene);
+        const WedgeOccluders occ(scene);
         ASSERT_FALSE(scene.lights.empty());
         const SilhouetteEdges& sil = occ.silhouettes(scene.lights[0], farDistanceFor(scene.bounds()));
         const EdgeSideLanes& lanes = sil.sideLanes();

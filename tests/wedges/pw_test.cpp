@@ -32,7 +32,7 @@ PwError comparePw(const Scene& scene, int size, int samples) {
     const GBuffer g = embree.traceGBuffer(size, size);
     const SamplePlan plan = makeSamplePlan(PatternKind::Stratified, samples, 5);
     const float farDistance = farDistanceFor(scene.bounds());
-    const OpaqueOccluders occ(scene);
+    const WedgeOccluders occ(scene);
     ImageF pw;
     pwCpuVisibility(occ, g, scene.lights[0], farDistance, pw);
     LightSampleBuffer ref(size, size, samples, BufferKind::Bitmask);

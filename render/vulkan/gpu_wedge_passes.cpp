@@ -1,4 +1,4 @@
-#include "render/vulkan/gpu_opaque_passes.h"
+#include "render/vulkan/gpu_wedge_passes.h"
 
 #include "wedges/layer_bvh.h"
 
@@ -23,7 +23,7 @@ constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT
 /// `defines` plus the technique (WEDGE_PW) and whether pw folds in the STSV part (WEDGE_STSV).
 std::vector<ShaderDefine> wedgeDefines(const RenderOptions& options, std::vector<ShaderDefine> defines) {
     const MethodInfo& method = methodInfo(options.method);
-    const bool pw = method.opaque == OpaqueTechnique::Pw;
+    const bool pw = method.wedges == WedgeVariant::Pw;
     defines.push_back({"WEDGE_PW", pw ? "1" : "0"});
     defines.push_back({"WEDGE_STSV", pw && method.stsv != StsvTriangles::None ? "1" : "0"});
     return defines;
@@ -79,7 +79,7 @@ GpuEdgeTables buildGpuEdgeTables(const EdgeAdjacency& adj, const std::vector<std
     return tables;
 }
 
-std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
+std::vector<DescriptorBinding> WedgeResources::bindings() {
     std::vector<DescriptorBinding> bindings = {
         {GPU_BINDING_EDGES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_EDGE_FACES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1},
@@ -93,8 +93,7 @@ std::vector<DescriptorBinding> OpaqueOccluderResources::bindings() {
     return bindings;
 }
 
-OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Scene& scene,
-                                                 const RenderOptions& options) {
+WedgeResources::WedgeResources(const Device& device, const Scene& scene, const RenderOptions& options) {
     const VkBufferUsageFlags storage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
     m_adjacency = buildEdgeAdjacency(scene, [&](std::size_t t) { return scene.opaqueOccluder(t); });
     m_carriers = edgeCarriers(m_adjacency, scene);
@@ -127,8 +126,8 @@ OpaqueOccluderResources::OpaqueOccluderResources(const Device& device, const Sce
     m_clusters.emplace(device, scene, m_adjacency, m_carriers, usesWedgeClusters(options));
 }
 
-void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t light,
-                                               const ClusterLists& lists) const {
+void WedgeResources::writeDescriptors(DescriptorSet& set, std::size_t light,
+                                      const ClusterLists& lists) const {
     set.writeBuffer(GPU_BINDING_EDGES, edges);
     set.writeBuffer(GPU_BINDING_EDGE_FACES, faces);
     set.writeTexelBuffer(GPU_BINDING_CARRIER_TEXELS, carrierTexels.handle());
@@ -140,11 +139,11 @@ void OpaqueOccluderResources::writeDescriptors(DescriptorSet& set, std::size_t l
     m_clusters->writeDescriptors(set, light, lists);
 }
 
-CenterCountPass::CenterCountPass(const Device& device, OpaqueOccluderResources& opaque, FrameResources& frame,
+CenterCountPass::CenterCountPass(const Device& device, WedgeResources& wedges, FrameResources& frame,
                                  const FamilyDescriptors& descriptors,
                                  const std::vector<ShaderDefine>& defines, std::uint32_t width,
                                  std::uint32_t height)
-    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_width(width), m_height(height) {
+    : m_wedges(&wedges), m_frame(&frame), m_descriptors(&descriptors), m_width(width), m_height(height) {
     const ShaderCompiler compiler;
     m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
                                        compiler.compileFile("wedges/dcs_center.comp", defines));
@@ -154,7 +153,7 @@ PassAccesses CenterCountPass::accesses(std::size_t) const {
     PassAccesses accesses;
     accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
-        .use(m_opaque->center, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_wedges->center, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
@@ -166,13 +165,13 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
     dispatchPerPixel(cmd, m_width, m_height);
 }
 
-WedgePass::WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+WedgePass::WedgePass(const Device& device, const RenderOptions& options, WedgeResources& wedges,
                      FrameResources& frame, const FamilyDescriptors& descriptors,
                      const std::vector<ShaderDefine>& defines, VolumeGeometry geometry,
                      const HullResources& hulls, DeferredFragments& deferred)
-    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors), m_device(&device),
+    : m_wedges(&wedges), m_frame(&frame), m_descriptors(&descriptors), m_device(&device),
       m_geometry(geometry), m_hulls(&hulls), m_deferred(&deferred),
-      m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw) {
+      m_pw(methodInfo(options.method).wedges == WedgeVariant::Pw) {
     VkFormatProperties coverageFormat{};
     vkGetPhysicalDeviceFormatProperties(device.physicalDevice(), VCOEF_FORMAT, &coverageFormat);
     if (m_pw && !(coverageFormat.optimalTilingFeatures & VK_FORMAT_FEATURE_COLOR_ATTACHMENT_BLEND_BIT))
@@ -235,7 +234,7 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_pipeline.bind(cmd);
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_GRAPHICS, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
-    const auto carriers = static_cast<uint32_t>(m_opaque->carrierCount());
+    const auto carriers = static_cast<uint32_t>(m_wedges->carrierCount());
     switch (m_geometry) {
     case VolumeGeometry::ComputeHull:
         m_hulls->recordDraw(cmd);
@@ -278,11 +277,11 @@ void WedgeSamplesPass::record(VkCommandBuffer cmd, std::size_t light) const {
     vkCmdDispatch(cmd, deferredSampleGroups(*m_device, m_deferred->capacity(), m_samples), 1, 1);
 }
 
-FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+FoldPass::FoldPass(const Device& device, const RenderOptions& options, WedgeResources& wedges,
                    FrameResources& frame, const FamilyDescriptors& descriptors,
                    const std::vector<ShaderDefine>& defines)
-    : m_opaque(&opaque), m_frame(&frame), m_descriptors(&descriptors),
-      m_pw(methodInfo(options.method).opaque == OpaqueTechnique::Pw), m_counters(frameCountsLayers(options)),
+    : m_wedges(&wedges), m_frame(&frame), m_descriptors(&descriptors),
+      m_pw(methodInfo(options.method).wedges == WedgeVariant::Pw), m_counters(frameCountsLayers(options)),
       m_stsvDepths(m_pw && methodInfo(options.method).stsv != StsvTriangles::None &&
                    options.buffer == BufferKind::Transmittance),
       m_width(static_cast<uint32_t>(options.width)), m_height(static_cast<uint32_t>(options.height)) {
@@ -295,7 +294,7 @@ FoldPass::FoldPass(const Device& device, const RenderOptions& options, OpaqueOcc
 PassAccesses FoldPass::accesses(std::size_t light) const {
     PassAccesses accesses;
     accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
-        .use(m_opaque->center, ResourceUse::storageRead(COMPUTE))
+        .use(m_wedges->center, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->samples.vcoef,
              m_pw ? ResourceUse::storageReadWrite(COMPUTE) : ResourceUse::storageRead(COMPUTE));
     // DCS folds into the counters; pw+stsv reads the STSV part from the light's sample buffer.

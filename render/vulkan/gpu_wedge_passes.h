@@ -1,7 +1,7 @@
-// The Vulkan passes of the opaque occluders (DESIGN §4.5, STSV paper Algorithm 2 lines 4–7 and
-// 11), per light: the layer count at the light centre (dcs_center.comp), the wedge
-// pass over the potential silhouette edges (wedge.*; DCS counters or PW coverage) and, after the
-// STSV pass of the perforated triangles, the fold that combines them (wedge_fold.comp).
+// The Vulkan passes of the wedge family (the opaque occluders) (DESIGN §4.5, STSV paper Algorithm 2 lines 4–7
+// and 11), per light: the layer count at the light centre (dcs_center.comp), the wedge pass over the
+// potential silhouette edges (wedge.*; DCS counters or PW coverage) and, after the STSV pass of the
+// perforated triangles, the fold that combines them (wedge_fold.comp).
 #pragma once
 
 #include "gpu/buffer.h"
@@ -45,12 +45,12 @@ GpuEdgeTables buildGpuEdgeTables(const Scene& scene);
 /// The tables of an adjacency and its edges' carriers (edgeCarriers).
 GpuEdgeTables buildGpuEdgeTables(const EdgeAdjacency& adjacency, const std::vector<std::uint32_t>& carriers);
 
-/// What the opaque passes share: the edge tables (uploaded once; 1-element stand-ins for a scene
+/// What the wedge passes share: the edge tables (uploaded once; 1-element stand-ins for a scene
 /// without opaque edges), for the cluster pass each light's silhouette tables, and the
 /// centre-count image. Only a frame with the wedge technique has them.
-class OpaqueOccluderResources {
+class WedgeResources {
   public:
-    OpaqueOccluderResources(const Device& device, const Scene& scene, const RenderOptions& options);
+    WedgeResources(const Device& device, const Scene& scene, const RenderOptions& options);
 
     /// The bindings these resources add to the wedge family's set (gpu_wedges_dh.h).
     static std::vector<DescriptorBinding> bindings();
@@ -89,7 +89,7 @@ class OpaqueOccluderResources {
 /// light centre crosses, counted through the tree of wedges/layer_bvh.h (dcs_center.comp).
 class CenterCountPass final : public GpuPass {
   public:
-    CenterCountPass(const Device& device, OpaqueOccluderResources& opaque, FrameResources& frame,
+    CenterCountPass(const Device& device, WedgeResources& wedges, FrameResources& frame,
                     const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines,
                     std::uint32_t width, std::uint32_t height);
 
@@ -97,7 +97,7 @@ class CenterCountPass final : public GpuPass {
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
-    OpaqueOccluderResources* m_opaque;
+    WedgeResources* m_wedges;
     FrameResources* m_frame;
     const FamilyDescriptors* m_descriptors;
     std::uint32_t m_width, m_height;
@@ -111,7 +111,7 @@ class CenterCountPass final : public GpuPass {
 /// from `hulls` (render/vulkan/gpu_hulls.h), or as the hulls wedge.task and wedge.mesh emit.
 class WedgePass final : public GpuPass {
   public:
-    WedgePass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+    WedgePass(const Device& device, const RenderOptions& options, WedgeResources& wedges,
               FrameResources& frame, const FamilyDescriptors& descriptors,
               const std::vector<ShaderDefine>& defines, VolumeGeometry geometry, const HullResources& hulls,
               DeferredFragments& deferred);
@@ -120,7 +120,7 @@ class WedgePass final : public GpuPass {
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
-    OpaqueOccluderResources* m_opaque;
+    WedgeResources* m_wedges;
     FrameResources* m_frame;
     const FamilyDescriptors* m_descriptors;
     const Device* m_device;
@@ -159,7 +159,7 @@ class WedgeSamplesPass final : public GpuPass {
 /// the PW v_coef in the v_coef image (minus the STSV occluded fraction for pw+stsv).
 class FoldPass final : public GpuPass {
   public:
-    FoldPass(const Device& device, const RenderOptions& options, OpaqueOccluderResources& opaque,
+    FoldPass(const Device& device, const RenderOptions& options, WedgeResources& wedges,
              FrameResources& frame, const FamilyDescriptors& descriptors,
              const std::vector<ShaderDefine>& defines);
 
@@ -167,7 +167,7 @@ class FoldPass final : public GpuPass {
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
-    OpaqueOccluderResources* m_opaque;
+    WedgeResources* m_wedges;
     FrameResources* m_frame;
     const FamilyDescriptors* m_descriptors;
     bool m_pw;
