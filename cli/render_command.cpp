@@ -96,22 +96,11 @@ std::size_t bufferBytes(const Frame& frame) {
 
 } // namespace
 
-int runRender(RenderArgs& args) {
-    if (args.quiet) Progress::setEnabled(false);
-    RenderOptions o = resolveFrameOptions(args);
-    o.method = parseMethod(args.method);
-    o.params = parseMethodParams(methodInfo(o.method), args.params);
-    if (args.backend.empty())
-        o.backend = defaultBackendFor(o.method, defaultBackend());
-    else
-        o.backend = parseBackend(args.backend);
-    checkBackendSupports(o.method, o.backend);
+namespace {
 
-    // Every output is checked before the (possibly long) render: its format is the one its
-    // extension names, no two outputs share a path, and a method writes only what it has.
-    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty())
-        args.output = std::filesystem::path(args.scene).stem().string() + ".png";
-    const MethodInfo& method = methodInfo(o.method);
+/// A method writes only the outputs it has: no light samples from a v_coef, no depth map from a
+/// method that keeps none.
+void checkMethodOutputs(const RenderArgs& args, const MethodInfo& method) {
     if (!args.dumpLs.empty() && method.output == MethodOutput::Visibility)
         throw UsageError("--dump-ls: method " + method.name +
                          " has no per-sample answer (it writes a v_coef per pixel); write that with "
@@ -127,6 +116,79 @@ int runRender(RenderArgs& args) {
         throw UsageError("--shadow-map: method " + method.name +
                          " keeps transmittance functions, not a depth map (their nodes and memory are in "
                          "--stats)");
+}
+
+/// --visibility: v_coef as an 8-bit PNG, a float EXR, or a float32 .npy with its metadata.
+void writeVisibility(const std::string& path, const ImageF& visibility, const RenderOptions& o,
+                     std::size_t lights, const std::string& madeBy, std::vector<std::string>& written) {
+    const std::string ext = lowerExtension(path);
+    if (ext == ".png") {
+        writePng(path, toImage8(visibility, false));
+    } else if (ext == ".exr") {
+        writeExr(path, visibility, false); // float32 Y: v_coef unquantised
+    } else {
+        writeNpy(path, visibility); // float32 v_coef, unquantised
+        try {
+            writeJson(npyInfoPath(path), {{"format", "stsv visibility"},
+                                          {"samples", o.samples},
+                                          {"width", o.width},
+                                          {"height", o.height},
+                                          {"lights", lights},
+                                          {"method", madeBy}});
+        } catch (const Error&) {
+            // The array and its metadata are one output: neither is left.
+            std::error_code ec;
+            std::filesystem::remove(path, ec);
+            throw;
+        }
+        written.push_back(path);
+        written.push_back(npyInfoPath(path));
+    }
+    if (ext != ".npy") written.push_back(path);
+}
+
+/// The frame's stats as --stats writes them: what the CLI adds to the renderer's (scene, load
+/// and call times, buffer bytes, the command, the outputs).
+void completeRenderStats(Frame& frame, const RenderArgs& args, const RenderOptions& o, const Scene& scene,
+                         const SceneOptions& sceneOptions, double loadMs, double renderMs,
+                         const nlohmann::json& mapViews, const std::vector<std::string>& npyFiles,
+                         const std::vector<std::string>& mapFiles) {
+    nlohmann::json& stats = frame.stats;
+    if (!mapViews.empty()) stats["shadow_map_views"] = mapViews;
+    if (!stats.contains("options")) stats["options"] = toJson(o);
+    if (!stats.contains("scene")) stats["scene"] = sceneStats(scene);
+    stats["scene"]["spec"] = args.scene;
+    stats["scene"]["set"] = sceneOptions.set;
+    stats["scene_load_ms"] = loadMs;
+    stats["render_call_ms"] = renderMs; // start-up + one frame
+    if (!stats.contains("light_sample_buffer_bytes")) stats["light_sample_buffer_bytes"] = bufferBytes(frame);
+    stats["light_sample_buffer_bytes_total"] = bufferBytes(frame);
+    stats["command"] = args.argv;
+    stats["version"] = version();
+    stats["outputs"] = {{"image", args.output},
+                        {"visibility", args.visibility},
+                        {"light_samples", npyFiles},
+                        {"shadow_maps", mapFiles}};
+}
+
+} // namespace
+
+int runRender(RenderArgs& args) {
+    if (args.quiet) Progress::setEnabled(false);
+    RenderOptions o = resolveFrameOptions(args);
+    o.method = parseMethod(args.method);
+    o.params = parseMethodParams(methodInfo(o.method), args.params);
+    if (args.backend.empty())
+        o.backend = defaultBackendFor(o.method, defaultBackend());
+    else
+        o.backend = parseBackend(args.backend);
+    checkBackendSupports(o.method, o.backend);
+
+    // Every output is checked before the (possibly long) render: its format is the one its
+    // extension names, no two outputs share a path, and a method writes only what it has.
+    if (args.output.empty() && args.visibility.empty() && args.dumpLs.empty() && args.stats.empty())
+        args.output = std::filesystem::path(args.scene).stem().string() + ".png";
+    checkMethodOutputs(args, methodInfo(o.method));
     // The scene file itself is checked now, its textures once it is loaded.
     std::vector<InputFile> inputs;
     if (std::error_code ec; std::filesystem::is_regular_file(args.scene, ec))
@@ -162,32 +224,8 @@ int runRender(RenderArgs& args) {
             writePng(args.output, toImage8(frame.color, true));
         written.push_back(args.output);
     }
-    if (!args.visibility.empty()) {
-        const std::string ext = lowerExtension(args.visibility);
-        if (ext == ".png") {
-            writePng(args.visibility, toImage8(frame.visibility, false));
-        } else if (ext == ".exr") {
-            writeExr(args.visibility, frame.visibility, false); // float32 Y: v_coef unquantised
-        } else {
-            writeNpy(args.visibility, frame.visibility); // float32 v_coef, unquantised
-            try {
-                writeJson(npyInfoPath(args.visibility), {{"format", "stsv visibility"},
-                                                         {"samples", o.samples},
-                                                         {"width", o.width},
-                                                         {"height", o.height},
-                                                         {"lights", scene.lights.size()},
-                                                         {"method", madeBy}});
-            } catch (const Error&) {
-                // The array and its metadata are one output: neither is left.
-                std::error_code ec;
-                std::filesystem::remove(args.visibility, ec);
-                throw;
-            }
-            written.push_back(args.visibility);
-            written.push_back(npyInfoPath(args.visibility));
-        }
-        if (ext != ".npy") written.push_back(args.visibility);
-    }
+    if (!args.visibility.empty())
+        writeVisibility(args.visibility, frame.visibility, o, scene.lights.size(), madeBy, written);
     std::vector<std::string> npyFiles;
     if (!args.dumpLs.empty())
         for (std::size_t l = 0; l < frame.lightSamples.size(); ++l) {
@@ -206,22 +244,8 @@ int runRender(RenderArgs& args) {
         mapViews.push_back(shadowMapViewJson(frame.shadowMaps[l].view));
     }
 
+    completeRenderStats(frame, args, o, scene, sceneOptions, loadMs, renderMs, mapViews, npyFiles, mapFiles);
     nlohmann::json& stats = frame.stats;
-    if (!mapViews.empty()) stats["shadow_map_views"] = mapViews;
-    if (!stats.contains("options")) stats["options"] = toJson(o);
-    if (!stats.contains("scene")) stats["scene"] = sceneStats(scene);
-    stats["scene"]["spec"] = args.scene;
-    stats["scene"]["set"] = sceneOptions.set;
-    stats["scene_load_ms"] = loadMs;
-    stats["render_call_ms"] = renderMs; // start-up + one frame
-    if (!stats.contains("light_sample_buffer_bytes")) stats["light_sample_buffer_bytes"] = bufferBytes(frame);
-    stats["light_sample_buffer_bytes_total"] = bufferBytes(frame);
-    stats["command"] = args.argv;
-    stats["version"] = version();
-    stats["outputs"] = {{"image", args.output},
-                        {"visibility", args.visibility},
-                        {"light_samples", npyFiles},
-                        {"shadow_maps", mapFiles}};
     if (!args.stats.empty()) {
         writeJson(args.stats, stats);
         written.push_back(args.stats);

@@ -5,6 +5,7 @@
 //  - include guards, not #pragma once (GLSL has none);
 //  - open with DH_BEGIN and close with DH_END; mark functions DH_FUNC;
 //  - parameters: DH_OUT(T) name / DH_INOUT(T) name for outputs, plain T for inputs;
+//  - DH_DEFAULT(v) after a struct member: its default value on the host (`= v`), nothing in GLSL;
 //  - DH_PRECISE on a variable whose rounding must not depend on where the expression is inlined
 //    (GLSL's precise: no fused multiply-adds; C++ builds as ISO C++, which does not contract);
 //  - no swizzles (GLM has no .xyz members): truncate with constructors, vec3(v4), vec2(v3);
@@ -34,6 +35,7 @@ using uint = glm::uint;
 #define DH_CONST inline constexpr
 #define DH_STATIC_ASSERT(cond) static_assert(cond, #cond)
 #define DH_PRECISE
+#define DH_DEFAULT(value) = value
 #else
 #define DH_BEGIN
 #define DH_END
@@ -43,6 +45,7 @@ using uint = glm::uint;
 #define DH_CONST const
 #define DH_STATIC_ASSERT(cond)
 #define DH_PRECISE precise
+#define DH_DEFAULT(value)
 #endif
 
 #endif // STSV_CORE_DH_H

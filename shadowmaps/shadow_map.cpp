@@ -286,32 +286,10 @@ bool ShadowMapKnob::readBy(ShadowMapMethod filter) const {
 }
 
 ShadowFilterParams shadowFilterParams(const ShadowMapSettings& settings) {
-    ShadowFilterParams params{};
-    params.bias = settings.bias;
-    params.normalOffset = settings.normalOffset;
-    params.maxKernel = settings.maxKernel;
-    params.maxSearch = settings.maxSearch;
-    params.pcfWorldRadius = settings.pcfWorldRadius;
-    params.pcfMaxRadius = settings.pcfMaxRadius;
-    params.blockerTaps = uint(settings.blockerTaps);
-    params.filterTaps = uint(settings.filterTaps);
+    ShadowFilterParams params = settings; // the knobs, as they are
     params.method = uint(settings.filter);
     params.channels = uint(filteredChannelCount(settings));
     params.mip = filteredUsesMip(settings) ? 1u : 0u;
-    params.kernel = uint(settings.kernel);
-    params.worldRadius = settings.worldRadius;
-    params.minVariance = settings.minVariance;
-    params.bleed = settings.bleed;
-    params.esmC = settings.esmC;
-    params.evsmPositive = settings.evsmPositive;
-    params.evsmNegative = settings.evsmNegative;
-    params.msmBias = settings.msmBias;
-    params.csmTerms = uint(settings.csmTerms);
-    params.csmDamp = uint(settings.csmDamp);
-    params.peelBins = uint(settings.peelBins);
-    params.peelMaxSteps = uint(settings.peelMaxSteps);
-    params.avsmNodes = uint(settings.avsmNodes);
-    params.vpcssTaps = uint(settings.vpcssTaps);
     return params;
 }
 
@@ -370,11 +348,11 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
     using S = ShadowMapSettings;
     static const std::vector<ShadowMapKnob> knobs = {
         {"sm_size", 256, 8192, true, "shadow map texels per face edge (32-bit linear depth)", K::DepthMaps,
-         nullptr, &S::size},
+         &S::size},
         {"sm_fit", 0, 1, true,
          "what the map is fitted to: 0 the scene box, 1 the receivers in view and the casters between "
          "them and the light",
-         K::Every, nullptr, &S::fit},
+         K::Every, &S::fit},
         {"sm_bias", 0, 64, false, "constant depth bias, in texels at the receiver", K::Every, &S::bias},
         {"sm_normal_offset", 0, 64, false, "receiver moved along its normal before the lookup, in texels",
          K::Every, &S::normalOffset},
@@ -384,20 +362,19 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
         {"pcf_max_radius", 1, 128, true,
          "taps either side at most, one texel apart; a wider kernel spreads them (the stats count the "
          "pixels where they are more than three texels apart)",
-         K::Own, nullptr, &S::pcfMaxRadius},
+         K::Own, &S::pcfMaxRadius},
         {"fm_kernel", 0, 1, true,
          "kernel size: 0 fm_world_radius everywhere, 1 per pixel from PCSS's blocker search", K::Filtered,
-         nullptr, &S::kernel},
+         &S::kernel},
         {"fm_world_radius", 0, 10, false,
          "fixed kernel half-width at the receiver, in world units (metres); converted to texels per pixel",
          K::Filtered, &S::worldRadius},
         {"fm_mip", 0, 1, true,
          "the average: 0 a summed-area table, 1 bilinear taps of a mip pyramid (ESM, EVSM: always mip)",
-         K::Filtered, nullptr, &S::mip},
+         K::Filtered, &S::mip},
         {"pcss_blocker_taps", 1, 256, true, "Poisson-disk taps of the blocker search", K::SearchedDepths,
-         nullptr, &S::blockerTaps},
-        {"pcss_filter_taps", 1, 256, true, "Poisson-disk taps of the filter", K::Own, nullptr,
-         &S::filterTaps},
+         &S::blockerTaps},
+        {"pcss_filter_taps", 1, 256, true, "Poisson-disk taps of the filter", K::Own, &S::filterTaps},
         {"pcss_max_kernel", 1, 8192, false,
          "largest filter radius, texels (the stats count the pixels it clamps)", K::Searched, &S::maxKernel},
         {"pcss_max_search", 1, 8192, false,
@@ -412,25 +389,23 @@ const std::vector<ShadowMapKnob>& shadowMapKnobs() {
          &S::evsmPositive},
         {"evsm_negative", 1, 42, false, "negative warp exponent", K::Own, &S::evsmNegative},
         {"msm_bias", 0, 0.01, false, "moment bias alpha towards (1/2, 1/2, 1/2, 1/2)", K::Own, &S::msmBias},
-        {"csm_terms", 1, 16, true, "Fourier terms M (2M values per texel)", K::Own, nullptr, &S::csmTerms},
-        {"csm_damp", 0, 1, true, "Lanczos sigma factors on the terms against ringing", K::Own, nullptr,
-         &S::csmDamp},
+        {"csm_terms", 1, 16, true, "Fourier terms M (2M values per texel)", K::Own, &S::csmTerms},
+        {"csm_damp", 0, 1, true, "Lanczos sigma factors on the terms against ringing", K::Own, &S::csmDamp},
         {"peel_size", 16, 4096, true, "depth grid texels per face edge (4 (2 + 2 peel_bins) bytes a texel)",
-         K::Own, nullptr, &S::peelSize},
-        {"peel_bins", 1, 32, true, "subintervals of each grid texel's depth range", K::Own, nullptr,
-         &S::peelBins},
+         K::Own, &S::peelSize},
+        {"peel_bins", 1, 32, true, "subintervals of each grid texel's depth range", K::Own, &S::peelBins},
         {"peel_max_steps", 1, 1024, true,
          "most march steps a light-sample ray takes (a texel a step; longer steps past it, counted in "
          "--stats)",
-         K::Own, nullptr, &S::peelMaxSteps},
+         K::Own, &S::peelMaxSteps},
         {"avsm_size", 16, 8192, true,
          "transmittance-function texels per face edge (4 + 8 avsm_nodes bytes a texel)", K::Transmittance,
-         nullptr, &S::avsmSize},
+         &S::avsmSize},
         {"avsm_nodes", 1, double(AVSM_MAX_NODES), true,
          "nodes of each texel's transmittance function (the least important is dropped beyond)",
-         K::Transmittance, nullptr, &S::avsmNodes},
+         K::Transmittance, &S::avsmNodes},
         {"vpcss_taps", 1, 256, true, "Poisson-disk taps of the blocker search and of the filter", K::Own,
-         nullptr, &S::vpcssTaps},
+         &S::vpcssTaps},
     };
     static const std::vector<ShadowMapKnob> tuned = withTunedKnobs(knobs);
     return tuned;

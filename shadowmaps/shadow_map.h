@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <type_traits>
+#include <variant>
 #include <vector>
 
 namespace stsv {
@@ -71,66 +73,18 @@ inline bool isFilteredRepresentation(ShadowMapMethod f) {
     return f != ShadowMapMethod::None && shadowMapVariant(f).representation == MapRepresentation::Filtered;
 }
 
-/// The knobs the shadow-map methods read (method knobs of render/methods.cpp).
-struct ShadowMapSettings {
+/// The knobs the shadow-map methods read (method knobs of render/methods.cpp): the filter's, which
+/// both backends read as they are (ShadowFilterParams, shadow_map_dh.h), and the map's.
+struct ShadowMapSettings : ShadowFilterParams {
     int size = 2048; ///< sm_size: texels per face edge
     int fit = 1;     ///< sm_fit: 0 the scene box, 1 the receivers in view and their casters
-    /// sm_bias: constant depth bias, texels at the receiver; sm_normal_offset: receiver moved
-    /// along its normal, texels. Several methods start from other values (defaultShadowMapSettings).
-    float bias = 1.0f;
-    float normalOffset = 0.0f;
     ShadowMapMethod filter = ShadowMapMethod::None;
-    /// pcf_world_radius: PCF's kernel half-width at the receiver, world units (metres), turned into
-    /// texels per pixel through the receiver's texel size: the same penumbra at every map size and
-    /// fit (it replaced pcf_radius, which counted texels). 6 cm is the fixed width nearest every
-    /// tuning scene's own best at once (docs/measurements.md, "Fair defaults").
-    float pcfWorldRadius = 0.06f;
-    /// pcf_max_radius: taps either side at most ((2·r + 1)² taps a pixel), a bound on the cost; a
-    /// wider kernel keeps its world width with its taps more than a texel apart (measured within
-    /// 1 % of the full kernel's error at 8 on fence, foliage, knot and particles). The stats
-    /// count the pixels whose taps are more than three texels apart.
-    int pcfMaxRadius = 12;
-    int blockerTaps = 32; ///< pcss_blocker_taps
-    /// pcss_filter_taps: 128 against 64 cut the tap noise (RMSE on fence 0.0169 → 0.0137,
-    /// particles 0.0146 → 0.0135) for a filter pass twice as long, still shorter than the search.
-    int filterTaps = 128;
-    /// pcss_max_kernel: largest filter radius, texels. PCSS's cost is its taps, not its radius,
-    /// so the default clips no plausible penumbra: a 1 m penumbra on a 2048² map spans about 256
-    /// texels, and 1024 is half the map.
-    float maxKernel = 1024.0f;
-    /// pcss_max_search: largest blocker-search radius, texels: a safety bound on the region of
-    /// Fernando 2005 (the light seen from the receiver through the map's near plane), whose cuts
-    /// the stats count. Half the default map, as pcss_max_kernel: on the maps fitted to the view
-    /// the region spans hundreds of texels (64 cut 70 % of fence's pixels and the hidden
-    /// parallel planes' penumbra); 32 taps spread that wide still find the fence's wires.
-    float maxSearch = 1024.0f;
-    // The filtered representations (VSM, ESM, EVSM, MSM, CSM).
-    int kernel = 1; ///< fm_kernel: 0 a fixed radius, 1 sized per pixel by PCSS's blocker search
-    /// fm_world_radius: the fixed kernel's half-width at the receiver (fm_kernel=0), world units
-    /// (metres), turned into texels per pixel (it replaced fm_radius, which counted texels)
-    float worldRadius = 0.02f;
-    int mip = 0;                ///< fm_mip: 0 summed-area table, 1 mip pyramid (filteredBoxTaps)
-    float minVariance = 1e-5f;  ///< vsm_min_variance: of the normalised depth (VSM, EVSM)
-    float bleed = 0.0f;         ///< vsm_bleed: light-bleeding reduction, 0 off (VSM, EVSM)
-    float esmC = 80.0f;         ///< esm_c: the exponent
-    float evsmPositive = 40.0f; ///< evsm_positive: c⁺
-    float evsmNegative = 5.0f;  ///< evsm_negative: c⁻
-    float msmBias = 6e-7f;      ///< msm_bias: α of the moment bias (the trade-off: docs/methods.md)
-    int csmTerms = 16;          ///< csm_terms: M
-    int csmDamp = 1;            ///< csm_damp: Lanczos σ factors on the terms
     // Depth-peeling soft shadows (the depth grid). The grid's texels per face edge replace
     // sm_size: at 512² and 16 subintervals a face holds 36 MB (the paper's grid is coarse).
     int peelSize = 512; ///< peel_size: grid texels per face edge
-    int peelBins = 16;  ///< peel_bins: subintervals of each texel's depth range
-    /// peel_max_steps: most march steps per light-sample ray. The march steps a texel at a time
-    /// across the grid (depth_grid_dh.h); this caps what a ray may cost, and the stats count the
-    /// rays it cuts short.
-    int peelMaxSteps = 1024;
     // Transmittance functions (AVSM, volumetric PCSS). Klein et al. used 1024² and 8 nodes: at
     // 8 nodes a texel holds 68 bytes, 68 MB a face at 1024².
     int avsmSize = 1024; ///< avsm_size: texels per face edge
-    int avsmNodes = 8;   ///< avsm_nodes: nodes of each texel's function
-    int vpcssTaps = 25;  ///< vpcss_taps: Poisson taps of the search and of the filter (the paper's 25)
 };
 
 /// How `stsv tune` spaces the values it tries of a knob: evenly, or evenly in log(value) (knobs
@@ -162,19 +116,23 @@ struct ShadowMapKnob {
     double min;
     double max;
     bool integer;
-    const char* help;                         ///< one line, with the unit
-    KnobReaders readers;                      ///< the variants that read it
-    float ShadowMapSettings::*real = nullptr; ///< the member, for a float knob
-    int ShadowMapSettings::*whole = nullptr;  ///< the member, for an integer knob
+    const char* help;    ///< one line, with the unit
+    KnobReaders readers; ///< the variants that read it
+    /// The member it sets: a float, an int or a count.
+    std::variant<float ShadowMapSettings::*, int ShadowMapSettings::*, uint ShadowMapSettings::*> member;
     /// How `stsv tune` searches it (set for the tunable knobs in shadowMapKnobs(), after the list).
     KnobSearch search{};
 
-    double get(const ShadowMapSettings& s) const { return whole ? double(s.*whole) : double(s.*real); }
+    double get(const ShadowMapSettings& s) const {
+        return std::visit([&](auto m) { return double(s.*m); }, member);
+    }
     void set(ShadowMapSettings& s, double value) const {
-        if (whole)
-            s.*whole = int(value);
-        else
-            s.*real = float(value);
+        std::visit(
+            [&](auto m) {
+                using T = std::remove_reference_t<decltype(s.*m)>;
+                s.*m = T(value);
+            },
+            member);
     }
     bool readBy(ShadowMapMethod filter) const;
     /// What `tune` searches when told to: `search` for a tunable knob; else the knob's whole

@@ -59,38 +59,68 @@ DH_CONST uint SHADOW_FILTER_PEEL = 8u;
 DH_CONST uint SHADOW_FILTER_AVSM = 9u;
 DH_CONST uint SHADOW_FILTER_VPCSS = 10u;
 
-/// The filter knobs of a frame as the shaders read them, ahead of the views in one buffer
-/// (ShadowMapSettings on the host, shadowFilterParams). std430: 7 × 16 bytes.
+/// The knobs of a frame's filter as both backends read them, with their defaults (the knob
+/// names after the colons; render/methods.cpp lists them). On the host they are the base of
+/// ShadowMapSettings (shadow_map.h), which adds what only the host reads; the shaders read them
+/// ahead of the views in one buffer (shadowFilterParams sets `method`, `channels` and the
+/// effective `mip`). Several methods start from other values (defaultShadowMapSettings).
+/// std430: 7 × 16 bytes.
 struct ShadowFilterParams {
-    float bias;           ///< texels at the receiver
-    float normalOffset;   ///< texels at the receiver
-    float maxKernel;      ///< texels: the filter's radius at most
-    float pcfWorldRadius; ///< world units: PCF's kernel half-width at the receiver
-    uint blockerTaps;
-    uint filterTaps;
-    float maxSearch; ///< texels: the blocker search's radius at most
-    uint method;     ///< SHADOW_FILTER_*
+    float bias DH_DEFAULT(1.0f);         ///< sm_bias: constant depth bias, texels at the receiver
+    float normalOffset DH_DEFAULT(0.0f); ///< sm_normal_offset: receiver moved along its normal, texels
+    /// pcss_max_kernel: largest filter radius, texels. PCSS's cost is its taps, not its radius,
+    /// so the default clips no plausible penumbra: a 1 m penumbra on a 2048² map spans about 256
+    /// texels, and 1024 is half the map.
+    float maxKernel DH_DEFAULT(1024.0f);
+    /// pcf_world_radius: PCF's kernel half-width at the receiver, world units (metres), turned into
+    /// texels per pixel through the receiver's texel size: the same penumbra at every map size and
+    /// fit (it replaced pcf_radius, which counted texels). 6 cm is the fixed width nearest every
+    /// tuning scene's own best at once (docs/measurements.md, "Fair defaults").
+    float pcfWorldRadius DH_DEFAULT(0.06f);
+    uint blockerTaps DH_DEFAULT(32u); ///< pcss_blocker_taps
+    /// pcss_filter_taps: 128 against 64 cut the tap noise (RMSE on fence 0.0169 → 0.0137,
+    /// particles 0.0146 → 0.0135) for a filter pass twice as long, still shorter than the search.
+    uint filterTaps DH_DEFAULT(128u);
+    /// pcss_max_search: largest blocker-search radius, texels: a safety bound on the region of
+    /// Fernando 2005 (the light seen from the receiver through the map's near plane), whose cuts
+    /// the stats count. Half the default map, as pcss_max_kernel: on the maps fitted to the view
+    /// the region spans hundreds of texels (64 cut 70 % of fence's pixels and the hidden
+    /// parallel planes' penumbra); 32 taps spread that wide still find the fence's wires.
+    float maxSearch DH_DEFAULT(1024.0f);
+    uint method DH_DEFAULT(0u); ///< SHADOW_FILTER_* (set by shadowFilterParams)
     // The filtered representations (filtered_shadow_dh.h).
-    uint channels;     ///< values per texel
-    uint mip;          ///< 1: mip pyramids, 0: summed-area tables
-    uint kernel;       ///< 1: radius from the blocker search, 0: `worldRadius`
-    float worldRadius; ///< world units: the fixed kernel's half-width at the receiver
-    float minVariance; ///< VSM, EVSM
-    float bleed;       ///< VSM, EVSM
-    float esmC;
-    float evsmPositive;
-    float evsmNegative;
-    float msmBias;
-    uint csmTerms;
-    uint csmDamp;
-    uint peelBins;     ///< depth grid: subintervals per texel
-    uint peelMaxSteps; ///< depth grid: most march steps per ray
-    uint avsmNodes;    ///< transmittance functions: nodes per texel at most
-    uint vpcssTaps;    ///< volumetric PCSS: Poisson taps of the blocker search and of the filter
-    int pcfMaxRadius;  ///< PCF's taps either side at most (one texel apart up to there)
-    uint pad0;
-    uint pad1;
-    uint pad2;
+    uint channels DH_DEFAULT(0u); ///< values per texel (set by shadowFilterParams)
+    /// fm_mip: 0 summed-area tables, 1 mip pyramids (filteredBoxTaps); to the shaders whether
+    /// mips are read (ESM and EVSM always: filteredUsesMip)
+    uint mip DH_DEFAULT(0u);
+    uint kernel DH_DEFAULT(1u); ///< fm_kernel: 0 `worldRadius`, 1 sized per pixel by PCSS's blocker search
+    /// fm_world_radius: the fixed kernel's half-width at the receiver (fm_kernel=0), world units
+    /// (metres), turned into texels per pixel (it replaced fm_radius, which counted texels)
+    float worldRadius DH_DEFAULT(0.02f);
+    float minVariance DH_DEFAULT(1e-5f);  ///< vsm_min_variance: of the normalised depth (VSM, EVSM)
+    float bleed DH_DEFAULT(0.0f);         ///< vsm_bleed: light-bleeding reduction, 0 off (VSM, EVSM)
+    float esmC DH_DEFAULT(80.0f);         ///< esm_c: the exponent
+    float evsmPositive DH_DEFAULT(40.0f); ///< evsm_positive: c⁺
+    float evsmNegative DH_DEFAULT(5.0f);  ///< evsm_negative: c⁻
+    float msmBias DH_DEFAULT(6e-7f); ///< msm_bias: α of the moment bias (the trade-off: docs/methods.md)
+    uint csmTerms DH_DEFAULT(16u);   ///< csm_terms: M
+    uint csmDamp DH_DEFAULT(1u);     ///< csm_damp: Lanczos σ factors on the terms
+    uint peelBins DH_DEFAULT(16u);   ///< peel_bins: subintervals of each grid texel's depth range
+    /// peel_max_steps: most march steps per light-sample ray. The march steps a texel at a time
+    /// across the grid (depth_grid_dh.h); this caps what a ray may cost, and the stats count the
+    /// rays it cuts short.
+    uint peelMaxSteps DH_DEFAULT(1024u);
+    uint avsmNodes DH_DEFAULT(8u); ///< avsm_nodes: nodes of each texel's transmittance function
+    uint vpcssTaps
+        DH_DEFAULT(25u); ///< vpcss_taps: Poisson taps of the search and of the filter (the paper's 25)
+    /// pcf_max_radius: taps either side at most ((2·r + 1)² taps a pixel), a bound on the cost; a
+    /// wider kernel keeps its world width with its taps more than a texel apart (measured within
+    /// 1 % of the full kernel's error at 8 on fence, foliage, knot and particles). The stats
+    /// count the pixels whose taps are more than three texels apart.
+    int pcfMaxRadius DH_DEFAULT(12);
+    uint pad0 DH_DEFAULT(0u);
+    uint pad1 DH_DEFAULT(0u);
+    uint pad2 DH_DEFAULT(0u);
 };
 
 #ifdef __cplusplus

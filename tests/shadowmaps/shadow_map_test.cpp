@@ -403,7 +403,8 @@ TEST(ShadowMapKnobs, EachNameSetsItsOwnMemberAndUnknownNamesAreErrors) {
             if (std::string(other.name) == knob.name) continue;
             EXPECT_EQ(other.get(s), other.get(defaults)) << knob.name << " also moved " << other.name;
         }
-        EXPECT_TRUE((knob.whole != nullptr) == knob.integer) << knob.name;
+        EXPECT_EQ(!std::holds_alternative<float ShadowMapSettings::*>(knob.member), knob.integer)
+            << knob.name;
         EXPECT_LE(knob.min, knob.get(defaults)) << knob.name;
         EXPECT_GE(knob.max, knob.get(defaults)) << knob.name;
     }
