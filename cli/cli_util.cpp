@@ -6,11 +6,11 @@
 #include "gpu/device.h"
 #include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_renderer.h"
-#include "render/vulkan/gpu_shadowmap_passes.h"
 #include "sampling/light_sampling.h"
 #include "shadowmaps/depth_grid_dh.h"
 #include "shadowmaps/filtered_map.h"
 #include "shadowmaps/shadow_fit.h"
+#include "shadowmaps/vulkan/gpu_shadowmap_passes.h"
 
 #include <algorithm>
 #include <cmath>

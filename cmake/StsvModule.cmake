@@ -18,9 +18,12 @@ include(GNUInstallDirs)
 
 # Static library stsv_NAME (stsv::NAME, in the build and in the installed CMake package) from
 # every .cpp in the calling folder (or SOURCES), with the folder's headers (or HEADERS) installed
-# to include/stsv/DIR (DIR defaults to NAME: "render/cpu" for the library render_cpu).
+# to include/stsv/DIR (DIR defaults to NAME: "render/cpu" for the library render_cpu). FAMILIES:
+# folders from the repository root ("wedges/cpu") whose .cpp join the library and whose headers
+# install to include/stsv/FOLDER: a backend's library holds each family's side of that backend,
+# which lives in the family's folder.
 function(stsv_module name)
-  cmake_parse_arguments(ARG "" "DIR" "DEPS;SOURCES;HEADERS" ${ARGN})
+  cmake_parse_arguments(ARG "" "DIR" "DEPS;SOURCES;HEADERS;FAMILIES" ${ARGN})
   if(ARG_SOURCES)
     list(TRANSFORM ARG_SOURCES PREPEND ${CMAKE_CURRENT_SOURCE_DIR}/ OUTPUT_VARIABLE sources)
   else()
@@ -34,6 +37,12 @@ function(stsv_module name)
   if(NOT ARG_DIR)
     set(ARG_DIR ${name})
   endif()
+  foreach(folder IN LISTS ARG_FAMILIES)
+    file(GLOB family_sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${folder}/*.cpp)
+    file(GLOB family_headers CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/${folder}/*.h)
+    list(APPEND sources ${family_sources})
+    install(FILES ${family_headers} DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/stsv/${folder} COMPONENT development)
+  endforeach()
   add_library(stsv_${name} STATIC ${sources})
   add_library(stsv::${name} ALIAS stsv_${name})
   set_target_properties(stsv_${name} PROPERTIES EXPORT_NAME ${name})

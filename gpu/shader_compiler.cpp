@@ -209,11 +209,7 @@ std::vector<uint32_t> ShaderCompiler::compileSource(const std::string& source, V
     const auto messages = EShMessages(EShMsgSpvRules | EShMsgVulkanRules);
 
     std::vector<fs::path> tops = {fs::path()};
-    if (!m_directory.empty()) {
-        fs::path folder = m_directory.lexically_normal();
-        if (!folder.has_filename()) folder = folder.parent_path(); // "a/shaders/" → "a/shaders"
-        tops = {folder, folder.parent_path()};
-    }
+    if (!m_directory.empty()) tops = {m_directory.lexically_normal()};
     Includer includer(std::move(tops), !m_directory.empty());
     if (!shader.parse(GetDefaultResources(), 450, false, messages, includer))
         throw ShaderError(virtualPath, shader.getInfoLog());

@@ -35,10 +35,9 @@ struct ShaderDefine {
     std::string value;
 };
 
-/// One file of the shader set: its name in the set and its text. The GLSL of the repository's
-/// shaders/ folder sits at the top in its family folder ("stsv/stsv.frag"); the headers it includes keep
-/// their folder
-/// ("volumes/stsv_dh.h"), which is also the layout installed to share/stsv/shaders.
+/// One file of the shader set: its name in the set and its text. A file's name is its path from
+/// the repository's root, GLSL ("volumes/shaders/stsv.frag") and headers ("volumes/stsv_dh.h")
+/// alike, which is also the layout installed to share/stsv/shaders.
 struct ShaderFile {
     std::string_view name;
     std::string_view text;
@@ -60,8 +59,7 @@ std::optional<std::filesystem::path> shaderDirectoryFromEnvironment();
 /// instance can serve the whole program; compile calls are not thread-safe.
 ///
 /// `#include "x/y.h"` resolves against the including file's folder, then against the top of the
-/// set. A folder on disk has two tops: the folder itself (an installed share/stsv/shaders holds
-/// the headers) and the folder above it (a checkout's shaders/, whose headers sit beside it).
+/// set: on disk, the folder read (a checkout's root, or an installed share/stsv/shaders).
 class ShaderCompiler {
   public:
     /// Reads the folder STSV_SHADER_DIR names when it is set (InputError when that is no
@@ -75,7 +73,7 @@ class ShaderCompiler {
     /// "embedded (N files)", or the folder.
     std::string describeSource() const;
 
-    /// Compiles `name`, a file of the set (or relative to the folder), e.g. "stsv/stsv.geom".
+    /// Compiles `name`, a file of the set (or relative to the folder), e.g. "volumes/shaders/stsv.geom".
     std::vector<uint32_t> compileFile(const std::filesystem::path& name,
                                       const std::vector<ShaderDefine>& defines = {}) const;
     /// Compiles in-memory source; `virtualPath` names it in error messages and is the base for

@@ -15,11 +15,11 @@ namespace stsv {
 /// Which stage builds the STSV volumes on Vulkan, and what it draws.
 enum class ExtrusionStage {
     Auto,     ///< Hull
-    Geometry, ///< shaders/stsv/stsv.geom, wedge.geom: the paper's ten-vertex prism
+    Geometry, ///< volumes/shaders/stsv.geom, wedge.geom: the paper's ten-vertex prism
     Mesh, ///< task and mesh shaders (stsv.task/.mesh, wedge.task/.mesh): the hulls built, clipped and drawn
           ///< in the draw; UsageError naming VK_EXT_mesh_shader when the device lacks it
-    Hull, ///< shaders/stsv/stsv_hull.comp, wedge_hull.comp: the box clipped by the volume's and the light's
-          ///< planes, drawn indirect
+    Hull, ///< volumes/shaders/stsv_hull.comp, wedge_hull.comp: the box clipped by the volume's and the
+          ///< light's planes, drawn indirect
 };
 
 ExtrusionStage parseExtrusionStage(const std::string& name); ///< auto | hull | geometry | mesh

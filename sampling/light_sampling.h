@@ -28,7 +28,7 @@ vec3 pixelLightSample(const SamplePlan& plan, int x, int y, int k, const LightFr
 
 /// Monte-Carlo direct lighting with a Lambertian BRDF (DESIGN §4.4, the paper's "Direct MC"):
 /// albedo/π · (1/N) Σ_k sampleContribution_k · V_k, with V_k from the buffer, times `scale`
-/// (PW's v_coef). Linear RGB. The functions of sampling/resolve_dh.h, as shaders/common/resolve.comp.
+/// (PW's v_coef). Linear RGB. The functions of sampling/resolve_dh.h, as render/shaders/resolve.comp.
 vec3 resolveDirect(const LightSampleBuffer& buffer, const SamplePlan& plan, int x, int y, const Light& light,
                    vec3 p, vec3 n, vec3 albedo, float farDistance, float scale = 1.0f);
 

@@ -1,7 +1,7 @@
 // The resolve of one light at one pixel (STSV paper Algorithm 2, last step; DESIGN §4.4): the
 // visible samples and the Monte-Carlo direct lighting
 //   Lo(p) = albedo/π · (1/N) Σ_k sampleContribution_k · V_k             ("Direct MC" of the paper)
-// as shaders/common/resolve.comp's main() and the CPU resolve (sampling/light_sampling.cpp resolveDirect,
+// as render/shaders/resolve.comp's main() and the CPU resolve (sampling/light_sampling.cpp resolveDirect,
 // render/cpu/cpu_renderer.cpp resolveLight) both run it. Compiles as C++ and GLSL (core/dh.h).
 //
 // Data access. The pixel's occlusion bits come from mask images or counters on the GPU and from a

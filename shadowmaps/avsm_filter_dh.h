@@ -1,5 +1,5 @@
 // Lookups of adaptive volumetric shadow maps (avsm_dh.h) and volumetric PCSS (Klein et al.), as
-// the CPU backend (render/cpu/cpu_shadowmaps.cpp) runs them per pixel. Compiles as C++ and GLSL
+// the CPU backend (shadowmaps/cpu/cpu_shadowmaps.cpp) runs them per pixel. Compiles as C++ and GLSL
 // (core/dh.h). The map is read through a source the includer defines, as shadow_filter_dh.h's:
 //   struct AvsmSource                                           what the map is read from
 //   uint avsmSourceCount(AvsmSource s, uint face, ivec2 texel)  nodes of the texel

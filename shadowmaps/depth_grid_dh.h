@@ -1,7 +1,7 @@
 // Depth-peeling soft shadows (Liu et al. 2009, the `peel` row of the shadow-map family): a coarse
 // depth grid from the light centre, marched per light sample. Compiles as C++ and GLSL
-// (core/dh.h); shaders/shadowmaps/depth_grid.frag writes the grid, peel_march.comp and the CPU
-// backend (render/cpu/cpu_shadowmaps.cpp) march it with the functions below.
+// (core/dh.h); shadowmaps/shaders/depth_grid.frag writes the grid, peel_march.comp and the CPU
+// backend (shadowmaps/cpu/cpu_shadowmaps.cpp) march it with the functions below.
 //
 // The grid has the texels of the light's fitted map (shadow_map_dh.h: one face, or six for a cube
 // map). Each texel's depth range [near_p, far_p] — the nearest and the farthest surface its

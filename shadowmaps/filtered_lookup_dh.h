@@ -1,5 +1,5 @@
 // The filtered representations' storage and lookup (DESIGN §4.6), as the CPU backend
-// (shadowmaps/filtered_map.cpp) and the Vulkan shaders (shaders/shadowmaps/filtered_map.comp,
+// (shadowmaps/filtered_map.cpp) and the Vulkan shaders (shadowmaps/shaders/filtered_map.comp,
 // shadow_filter.comp) both run them: per light, one plane per face and channel, each either a
 // summed-area table of 64-bit fixed-point values ((size + 1)² sums, row 0 and column 0 zero) or a
 // mip pyramid of floats (the levels one after another, ESM's in log space).

@@ -1,5 +1,5 @@
 // The filters of shadow_filter_dh.h on the host: their data access over a ShadowMap and its
-// Poisson-disk taps (the CPU backend and the tests; shaders/shadowmaps/shadow_filter.comp has its own).
+// Poisson-disk taps (the CPU backend and the tests; shadowmaps/shaders/shadow_filter.comp has its own).
 #pragma once
 
 #include "shadowmaps/shadow_map.h"

@@ -1,5 +1,5 @@
-// Percentage-closer filters of a light-space map (DESIGN §4.6), as shaders/shadowmaps/shadow_filter.comp
-// and the CPU backend (render/cpu/cpu_shadowmaps.cpp) both run them per pixel:
+// Percentage-closer filters of a light-space map (DESIGN §4.6), as shadowmaps/shaders/shadow_filter.comp
+// and the CPU backend (shadowmaps/cpu/cpu_shadowmaps.cpp) both run them per pixel:
 //  * PCF (Reeves, Salesin & Cook 1987): the fraction of map taps over a fixed kernel around the
 //    receiver's texel that do not block it; the kernel is a world half-width at the receiver,
 //    converted to texels per pixel.

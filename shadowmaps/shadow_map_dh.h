@@ -1,8 +1,8 @@
 // Light-space shadow maps (DESIGN §4.6): the projection of one light's map, the texel grid, the
 // ray through a texel centre (the CPU traces the map along it, the rasteriser samples it at the
 // same points), and the receiver-plane depth a texel is compared with. Compiles as C++ and
-// GLSL (core/dh.h); shaders/shadowmap.* and the CPU backend (render/cpu/cpu_shadowmaps.cpp) both
-// use it.
+// GLSL (core/dh.h); shadowmaps/shaders/shadowmap.* and the CPU backend (shadowmaps/cpu/cpu_shadowmaps.cpp)
+// both use it.
 //
 // A map holds, per texel, the linear depth of the nearest opaque surface along the texel-centre
 // ray from the light centre: the distance along the map's axis (perspective and orthographic
@@ -208,7 +208,7 @@ DH_FUNC ShadowMapCoord shadowMapProject(ShadowMapView v, vec3 p) {
     return c;
 }
 
-/// Vulkan clip coordinates of a world point in face `face` (shaders/shadowmaps/shadowmap.vert): x, y span
+/// Vulkan clip coordinates of a world point in face `face` (shadowmaps/shaders/shadowmap.vert): x, y span
 /// the window, z runs from near (0) to far (w); with perspective division the NDC point of a
 /// texel centre is 2·uv − 1, so the rasteriser samples the texel-centre rays.
 DH_FUNC vec4 shadowMapClip(ShadowMapView v, uint face, vec3 p) {

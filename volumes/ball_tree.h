@@ -11,8 +11,8 @@ namespace stsv {
 
 /// A binary tree over balls (centre, radius; world units): median splits of their centres along
 /// the widest axis, leaves of BALL_TREE_LEAF at most, every node's ball holding its children's.
-/// STSV's hierarchy over its triangles: a screen tile of the CPU pass (render/cpu/cpu_stsv.cpp)
-/// or of the Vulkan walk (render/vulkan/gpu_stsv_clusters.h) walks it with the ball of its
+/// STSV's hierarchy over its triangles: a screen tile of the CPU pass (volumes/cpu/cpu_stsv.cpp)
+/// or of the Vulkan walk (volumes/vulkan/gpu_stsv_clusters.h) walks it with the ball of its
 /// visible points and keeps the leaves whose ball meets the segments from there to the light
 /// (volumes/light_hull_dh.h).
 struct BallTree {

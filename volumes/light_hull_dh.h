@@ -1,7 +1,7 @@
 // Which balls the segments from a region of receiver points to the light can meet: the test the
 // CPU passes cull their hierarchies with (render/cpu: the STSV pass's tree of triangles, the
 // wedges' tree of edge clusters), and, for one receiver point, the cone both backends test a
-// pixel's leaves and wedge edges with (render/cpu/cpu_wedges.cpp, shaders/wedges). Both are
+// pixel's leaves and wedge edges with (wedges/cpu/cpu_wedges.cpp, wedges/shaders). Both are
 // conservative: a ball they reject holds nothing that occludes a light sample of the region, so
 // culling with them changes no result. Compiles as C++ and GLSL 4.50 (core/dh.h).
 #ifndef STSV_VOLUMES_LIGHT_HULL_DH_H

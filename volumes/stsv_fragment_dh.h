@@ -1,6 +1,6 @@
-// The STSV fragment (STSV paper Algorithm 2, §2.3–2.4; DESIGN §4.3): what shaders/stsv/stsv.frag's
+// The STSV fragment (STSV paper Algorithm 2, §2.3–2.4; DESIGN §4.3): what volumes/shaders/stsv.frag's
 // main() runs for a fragment whose volume covers the visible point p, and what the CPU mirror
-// (render/cpu/cpu_stsv.cpp) runs for each (pixel, covering volume) pair. Compiles as C++ and GLSL
+// (volumes/cpu/cpu_stsv.cpp) runs for each (pixel, covering volume) pair. Compiles as C++ and GLSL
 // (core/dh.h).
 //
 // Data access. The two sides read the pixel's sample pattern and the triangle's alpha texels

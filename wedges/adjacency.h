@@ -52,7 +52,7 @@ EdgeAdjacency buildEdgeAdjacency(const Scene& scene, const std::function<bool(st
 /// Indices of the edges that can be silhouettes for some point of a light inside `lightSphere`
 /// (centre xyz, radius w): open and non-manifold edges always; a manifold edge unless the whole
 /// sphere lies strictly on the same side (front or back) of both its faces' planes
-/// (dcsPotentialSilhouette of wedges/dcs_dh.h, the test shaders/wedges/wedge.geom runs).
+/// (dcsPotentialSilhouette of wedges/dcs_dh.h, the test wedges/shaders/wedge.geom runs).
 std::vector<std::uint32_t> potentialSilhouetteEdges(const EdgeAdjacency& adjacency, vec4 lightSphere);
 
 /// EdgeCarriers' value for an edge without a carrier.

@@ -1,7 +1,7 @@
 // The silhouette test of a cluster of potential silhouette edges (wedges/edge_clusters.h) against
 // a region of receiver points, beside the light-hull test of its ball (volumes/light_hull_dh.h):
 // the CPU mirror culls its clusters per screen tile, block and pixel with them
-// (render/cpu/cpu_wedges.cpp). A cluster either rejects holds no edge that adds anything to any
+// (wedges/cpu/cpu_wedges.cpp). A cluster either rejects holds no edge that adds anything to any
 // receiver point of the region, so culling with them changes no light sample. Compiles as C++
 // and GLSL 4.50 (core/dh.h).
 //
@@ -19,7 +19,7 @@ DH_BEGIN
 
 /// Pixels per side of the square blocks whose visible points the cluster walks bound together:
 /// the CPU passes' blocks within a tile (render/cpu/cpu_binning.h) and the Vulkan walk's
-/// (shaders/common/cluster_walk.glsl), 4 × 4 so a block's pixels fit a 16-bit lane mask.
+/// (render/shaders/cluster_walk.glsl), 4 × 4 so a block's pixels fit a 16-bit lane mask.
 DH_CONST uint CLUSTER_BLOCK = 4u;
 
 /// Blocks along an image side of `pixels` pixels (the last one clipped).

@@ -48,7 +48,7 @@ EdgeClusterTree buildEdgeClusters(const EdgeAdjacency& adj, const std::vector<st
 
 /// Adjacency edge `edge` as a cluster of its own: the leaf buildEdgeClusters makes of it alone
 /// (its ball, the cone of its deciding normals oriented by `turn`, its rounding allowance), for
-/// the per-edge culling of a block of pixels (shaders/wedges/dcs_clusters.comp).
+/// the per-edge culling of a block of pixels (wedges/shaders/dcs_clusters.comp).
 EdgeClusterNode edgeCluster(const EdgeAdjacency& adj, std::uint32_t edge, vec3 turn);
 
 } // namespace stsv

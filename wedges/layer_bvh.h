@@ -1,7 +1,7 @@
 // The hierarchy over the opaque triangles that D(r), the layer count at the light centre, is
 // counted through (wedges/layer_bvh_dh.h): one tree per scene, for every light and pixel. The
-// Vulkan renderer uploads its tables (shaders/wedges/dcs_center.comp); the CPU mirror runs the
-// same traversal (layerCount, render/cpu/cpu_wedges.cpp).
+// Vulkan renderer uploads its tables (wedges/shaders/dcs_center.comp); the CPU mirror runs the
+// same traversal (layerCount, wedges/cpu/cpu_wedges.cpp).
 #pragma once
 
 #include "core/dh.h"

@@ -1,8 +1,8 @@
 // The potential silhouette edges of one light, as both backends' DCS and PW passes read them
 // (DESIGN §4.5): the edges with a carrier face, in (carrier, edge) order, the tree of clusters
 // over them (wedges/edge_clusters.h), each edge packed with its faces, and per carrier face the
-// bound of its edges' wedges. The CPU mirror (render/cpu/cpu_wedges.cpp) walks them per screen
-// tile; the Vulkan renderer uploads them for its cluster pass (shaders/wedges/dcs_clusters.comp).
+// bound of its edges' wedges. The CPU mirror (wedges/cpu/cpu_wedges.cpp) walks them per screen
+// tile; the Vulkan renderer uploads them for its cluster pass (wedges/shaders/dcs_clusters.comp).
 #pragma once
 
 #include "scene/scene.h"

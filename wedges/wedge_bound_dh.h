@@ -2,7 +2,7 @@
 // edge the face carries may add a term — the face's STSV volume of a side (a segment towards the
 // light that touches an edge touches the closed face, which that volume bounds conservatively)
 // within the face's light planes. The one assembly of the CPU mirror's bounds
-// (wedges/silhouette_edges.cpp) and of the Vulkan wedge draws (shaders/wedges/wedge_bindings.glsl).
+// (wedges/silhouette_edges.cpp) and of the Vulkan wedge draws (wedges/shaders/wedge_bindings.glsl).
 // Compiles as C++ and GLSL (core/dh.h).
 #ifndef STSV_WEDGES_WEDGE_BOUND_DH_H
 #define STSV_WEDGES_WEDGE_BOUND_DH_H

@@ -1,6 +1,6 @@
-// The wedge fragment's edge term (DESIGN §4.5): what shaders/wedges/wedge.frag's main() runs for a
+// The wedge fragment's edge term (DESIGN §4.5): what wedges/shaders/wedge.frag's main() runs for a
 // visible point p inside the bound of a potential silhouette edge, and what the CPU mirror
-// (render/cpu/cpu_wedges.cpp) runs for each (pixel, edge) pair. Compiles as C++ and GLSL (core/dh.h).
+// (wedges/cpu/cpu_wedges.cpp) runs for each (pixel, edge) pair. Compiles as C++ and GLSL (core/dh.h).
 //
 // Data access. The faces of an edge come from a storage buffer on the GPU and from the
 // EdgeAdjacency on the CPU, so the includer defines, before including this header,

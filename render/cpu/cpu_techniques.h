@@ -60,6 +60,11 @@ class CpuTechnique {
     virtual void takeStats(nlohmann::json& stats) = 0;
 };
 
+/// Each family's technique, made by the family's CPU side (volumes/cpu, wedges/cpu, shadowmaps/cpu).
+std::unique_ptr<CpuTechnique> makeStsvCpuTechnique(const CpuTechniqueContext& context);
+std::unique_ptr<CpuTechnique> makeWedgesCpuTechnique(const CpuTechniqueContext& context);
+std::unique_ptr<CpuTechnique> makeShadowMapsCpuTechnique(const CpuTechniqueContext& context);
+
 /// The row's techniques, in its order (start-up work such as the opaque edge adjacency happens
 /// here). `context` must outlive them.
 std::vector<std::unique_ptr<CpuTechnique>> makeCpuTechniques(const CpuTechniqueContext& context);

@@ -211,7 +211,7 @@ PassAccesses ClusterWalkPasses::Stage::accesses(std::size_t) const {
     if (m_stage != 2)
         accesses.use(p.m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
             .use(p.m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE));
-    // Every stage that appends can write the deferred list (common/cluster_walk.glsl groupFlush),
+    // Every stage that appends can write the deferred list (render/shaders/cluster_walk.glsl groupFlush),
     // though only the last one does.
     if (m_stage >= 2)
         accesses.use(p.m_deferred->count, ResourceUse::storageReadWrite(COMPUTE))

@@ -1,4 +1,4 @@
-// The cluster walk of the volume families on Vulkan (DESIGN §4.5; shaders/common/cluster_walk.glsl):
+// The cluster walk of the volume families on Vulkan (DESIGN §4.5; render/shaders/cluster_walk.glsl):
 // a tree over a family's occluders, built on the CPU and uploaded as texel tables, walked per
 // 16 × 16 tile of pixels down to the leaves, then per 4 × 4 block, level by level over lists of
 // pairs; the family's pixel stages then list
@@ -117,7 +117,7 @@ class ClusterLists {
     bool m_used = false;
 };
 
-/// A family's walk (its shader's CLUSTER_STAGE 0 … stages − 1; common/cluster_walk.glsl): the
+/// A family's walk (its shader's CLUSTER_STAGE 0 … stages − 1; render/shaders/cluster_walk.glsl): the
 /// tiles' and blocks' boxes, a dispatch per level of the walk, then the family's stages over the
 /// kept pairs (3) and over the candidates (4, where it has one), each sized from its list by the
 /// args stage. The last stage lists (pixel, item) pairs in the deferred list.

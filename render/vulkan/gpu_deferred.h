@@ -1,4 +1,4 @@
-// The list of deferred fragments (shaders/common/deferred_list.glsl): a volume draw or a cluster
+// The list of deferred fragments (render/shaders/deferred_list.glsl): a volume draw or a cluster
 // walk lists the fragments whose per-pixel set-up and sample loop a compute pass then runs, one
 // thread a fragment — STSV's (stsv_samples.comp) and DCS's (wedge_samples.comp), one after the
 // other for each light; DCS's walk lists each with its edge term (`terms`), which the samples

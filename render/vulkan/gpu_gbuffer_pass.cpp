@@ -11,8 +11,8 @@ GBufferPass::GBufferPass(const Device& device, FrameResources& resources, const 
     const ShaderCompiler compiler;
     GraphicsPipelineDesc desc;
     desc.stages = {
-        {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("common/gbuffer.vert", layoutDefines)},
-        {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("common/gbuffer.frag", layoutDefines)}};
+        {VK_SHADER_STAGE_VERTEX_BIT, compiler.compileFile("render/shaders/gbuffer.vert", layoutDefines)},
+        {VK_SHADER_STAGE_FRAGMENT_BIT, compiler.compileFile("render/shaders/gbuffer.frag", layoutDefines)}};
     desc.colorFormats = {POSITION_FORMAT, TRIANGLE_FORMAT};
     desc.depthFormat = DEPTH_FORMAT;
     desc.depthTest = true;

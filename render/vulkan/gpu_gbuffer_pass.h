@@ -1,5 +1,5 @@
 // Pass 0 of the Vulkan frame (DESIGN §5): world position and triangle id of the visible surface
-// (shaders/gbuffer.*), perforated triangles alpha-tested, into the G-buffer and its depth.
+// (render/shaders/gbuffer.*), perforated triangles alpha-tested, into the G-buffer and its depth.
 #pragma once
 
 #include "gpu/pipeline.h"

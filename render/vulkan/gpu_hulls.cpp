@@ -47,7 +47,7 @@ constexpr std::uint32_t kTaskItems = 32;
 
 /// Volumes a mesh workgroup builds and emits (HULL_MESH_VOLUMES): 3 (the most whose corners fit the
 /// compiler's 256 output vertices), or fewer where the device's
-/// limits cannot hold that many hulls at their largest (common/hull_mesh.glsl: 6F − 12 corners
+/// limits cannot hold that many hulls at their largest (render/shaders/hull_mesh.glsl: 6F − 12 corners
 /// and 4F − 12 triangles of F = CLIP_MAX_FACES faces, each triangle with an 18-texel record and
 /// its indices) or their clipping in shared memory (as hullThreadsPerGroup).
 std::uint32_t meshVolumesPerGroup(const DeviceInfo& info) {

@@ -108,10 +108,10 @@ class HullPass final : public GpuPass {
     Pipeline m_pipeline;
 };
 
-/// The mesh path of a family's hulls (VK_EXT_mesh_shader; common/hull_mesh.glsl): the task and
-/// mesh stages of `shader` ("stsv/stsv", "wedges/wedge": its .task and .mesh), which cull, build,
-/// clip and emit the hulls within the volume pass's draw. A mesh workgroup takes as many volumes
-/// as the device's mesh output and shared-memory limits hold (HULL_MESH_VOLUMES).
+/// The mesh path of a family's hulls (VK_EXT_mesh_shader; render/shaders/hull_mesh.glsl): the task and
+/// mesh stages of `shader` ("volumes/shaders/stsv", "wedges/shaders/wedge": its .task and .mesh), which cull,
+/// build, clip and emit the hulls within the volume pass's draw. A mesh workgroup takes as many volumes as
+/// the device's mesh output and shared-memory limits hold (HULL_MESH_VOLUMES).
 std::vector<ShaderStage> meshHullStages(const Device& device, const std::string& shader,
                                         const std::vector<ShaderDefine>& defines);
 /// The draw of the mesh path over the sides of `items` items (triangles, carrier faces).

@@ -11,13 +11,10 @@
 #include "render/vulkan/gpu_hulls.h"
 #include "render/vulkan/gpu_readback.h"
 #include "render/vulkan/gpu_resolve_pass.h"
-#include "render/vulkan/gpu_shadowmap_passes.h"
-#include "render/vulkan/gpu_stsv_clusters.h"
-#include "render/vulkan/gpu_stsv_pass.h"
-#include "render/vulkan/gpu_wedge_clusters.h"
-#include "render/vulkan/gpu_wedge_passes.h"
 #include "render/vulkan/vulkan_techniques.h"
 #include "scene/camera.h"
+#include "volumes/vulkan/gpu_stsv_clusters.h"
+#include "wedges/vulkan/gpu_wedge_clusters.h"
 
 #include <algorithm>
 #include <memory>

@@ -16,8 +16,8 @@ ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderO
     // The ambient-only pass of a scene without lights binds the first type's.
     std::array<bool, 4> used = lightTypesIn(scene);
     if (scene.lights.empty()) used[0] = true;
-    m_pipelines =
-        lightTypeComputePipelines(device, descriptors.pipelineLayout(), used, "common/resolve.comp", defines);
+    m_pipelines = lightTypeComputePipelines(device, descriptors.pipelineLayout(), used,
+                                            "render/shaders/resolve.comp", defines);
 }
 
 PassAccesses ResolvePass::accesses(std::size_t light) const {

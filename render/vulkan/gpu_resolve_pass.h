@@ -1,6 +1,6 @@
 // The resolve of one light (STSV paper Algorithm 2 line 14; DESIGN §4.4): v_coef = visible
 // samples / N (or the v_coef image of a visibility-only method) and Monte-Carlo direct lighting, accumulated
-// into the colour and visibility images (shaders/common/resolve.comp). The first light's dispatch writes the
+// into the colour and visibility images (render/shaders/resolve.comp). The first light's dispatch writes the
 // ambient term (or the background) first; a scene without lights gets that dispatch alone.
 #pragma once
 

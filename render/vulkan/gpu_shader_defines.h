@@ -19,7 +19,7 @@ namespace stsv {
 
 /// The pattern and the alpha bits are uniform buffers when they fit the minimum
 /// maxUniformBufferRange every Vulkan device guarantees; else storage buffers
-/// (shaders/common/frame_bindings.glsl).
+/// (render/shaders/frame_bindings.glsl).
 constexpr std::size_t MAX_UNIFORM_TABLE_BYTES = 16384;
 
 /// How the scene tables are bound: vec4 counts of the uniform buffers, 0 = storage buffer.
@@ -47,7 +47,7 @@ std::vector<ShaderDefine> sampleDefines(const RenderOptions& options, const Fram
 
 /// `defines` plus STSV_PATTERN_Q when the plan has one sample set (no interleaving) whose points
 /// are all exact multiples of 2^-24 in [0,1): the set as 24-bit fixed-point integers baked into
-/// the resolve (shaders/common/frame_bindings.glsl). Otherwise the shader reads the pattern buffer.
+/// the resolve (render/shaders/frame_bindings.glsl). Otherwise the shader reads the pattern buffer.
 /// The resolve unrolls its sample loop with it (the constants need constant indices): 3x faster
 /// at 64 and 128 samples on lavapipe (fence 1024²), but at 256 samples llvmpipe's lazy compile
 /// of the unrolled shader made the first frame 4x slower, so not above 128 samples.

@@ -19,7 +19,7 @@ DH_CONST uint GPU_BINDING_HULL_RECORD_TEXELS = 4u; ///< the records as rgba32ui 
 DH_CONST uint GPU_BINDING_HULL_VERTEX_TEXELS = 5u; ///< the hull vertices as rgba32ui texels
 DH_CONST uint GPU_BINDING_DEFERRED_COUNT = 6u;     ///< uvec4, x: fragments deferred (SSBO)
 DH_CONST uint GPU_BINDING_DEFERRED = 7u;           ///< uvec2 per deferred fragment: pixel, item (SSBO)
-/// The cluster walk (render/vulkan/gpu_cluster_walk.h, shaders/common/cluster_walk.glsl): a tree
+/// The cluster walk (render/vulkan/gpu_cluster_walk.h, render/shaders/cluster_walk.glsl): a tree
 /// over a family's occluders — its nodes, GPU_CLUSTER_TEXELS rgba32ui each (ball, normal cone
 /// (w < 0: none), (first, count, and two family words)), and its items, GPU_CLUSTER_TEXELS each
 /// too — walked per 16 × 16 tile of pixels to the leaves, then per 4 × 4 block, level by level,
@@ -35,7 +35,7 @@ DH_CONST uint GPU_BINDING_CLUSTER_DISPATCH = 11u;
 DH_CONST uint GPU_BINDING_CLUSTER_NODES = 12u;
 DH_CONST uint GPU_BINDING_CLUSTER_ITEMS = 13u;
 /// GPU_DEFERRED_TERM_TEXELS uvec4 per deferred fragment, where the pass that lists a fragment also
-/// computes what its sample loop needs (DCS's walk: the edge term, shaders/wedges/wedge_term.glsl
+/// computes what its sample loop needs (DCS's walk: the edge term, wedges/shaders/wedge_term.glsl
 /// wedgeTermStore); else a stand-in (SSBO).
 DH_CONST uint GPU_BINDING_DEFERRED_TERMS = 14u;
 DH_CONST uint GPU_DEFERRED_TERM_TEXELS = 2u;
@@ -56,7 +56,7 @@ DH_CONST uint GPU_CLUSTER_COUNT_SLOTS = GPU_CLUSTER_MAX_DEPTH + 2u;
 /// GPU_CLUSTER_KEPT) or the one over the candidates (step = GPU_CLUSTER_CANDIDATES).
 DH_CONST uint GPU_CLUSTER_ENTRIES_PER_INVOCATION = 64u;
 /// Entries a workgroup of a cluster pass gathers in shared memory before it writes them to their
-/// lists (common/cluster_walk.glsl groupAppend): its invocations × the most one appends for an
+/// lists (render/shaders/cluster_walk.glsl groupAppend): its invocations × the most one appends for an
 /// entry it reads (a tile's 16 blocks, a leaf's items, a block's 16 pixels).
 DH_CONST uint GPU_CLUSTER_GROUP_ENTRIES = 1024u;
 /// Invocations of a workgroup of the STSV walk (leaves of BallTree::LEAF = 16 triangles, kept

@@ -13,13 +13,15 @@
 #include "render/vulkan/gpu_deferred.h"
 #include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_hulls.h"
-#include "render/vulkan/gpu_stsv_pass.h"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <memory>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -90,6 +92,42 @@ class VulkanTechnique {
 
     FamilyDescriptors m_family;
 };
+
+/// Each family's technique, made by the family's Vulkan side (volumes/vulkan, wedges/vulkan,
+/// shadowmaps/vulkan); the image family's is null in a scene without lights.
+std::unique_ptr<VulkanTechnique> makeStsvVulkanTechnique(const VulkanTechniqueContext& context);
+std::unique_ptr<VulkanTechnique> makeWedgesVulkanTechnique(const VulkanTechniqueContext& context);
+std::unique_ptr<VulkanTechnique> makeShadowMapsVulkanTechnique(const VulkanTechniqueContext& context);
+
+// What the families' techniques share.
+
+/// "light<i>/<name>": a pass's key in the frame's "passes".
+inline std::string passName(std::size_t light, const std::string& name) {
+    return "light" + std::to_string(light) + "/" + name;
+}
+
+/// The bindings a volume family's set shares with the other volume family (gpu_volumes_dh.h),
+/// then `own`.
+std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBinding> own);
+
+/// The most fragments one list held for a sample pass: one light's draw, or one part of its walk
+/// (a volume family's stats).
+template <class Stats> std::uint64_t mostListed(const std::vector<Stats>& counts) {
+    std::uint64_t listed = 0;
+    for (const Stats& s : counts) listed = std::max<std::uint64_t>(listed, s.listedPart);
+    return listed;
+}
+
+/// A family's stats per light, from the bytes of its stats buffer.
+template <class Stats> std::vector<Stats> stagedStats(const std::byte* staged, std::size_t lights) {
+    std::vector<Stats> stats(lights);
+    std::memcpy(stats.data(), staged, lights * sizeof(Stats));
+    return stats;
+}
+
+/// Whether the frame draws STSV volumes: the row sends triangles through STSV and the scene has
+/// some of them (Algorithm 2).
+bool drawsStsv(StsvTriangles which, const Scene& scene);
 
 /// The row's techniques, in its order. `context` must outlive them.
 std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanTechniqueContext& context);

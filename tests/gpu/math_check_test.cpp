@@ -56,16 +56,16 @@ std::vector<MathCheckCase> makeCases(uint32_t count, uint32_t seed) {
 /// MATH_CHECK_BINDING_CASES holds the cases, MATH_CHECK_BINDING_RESULTS gets one Result each.
 template <typename Result, typename Case>
 std::vector<Result> runOnGpu(Device& device, const std::string& shader, const std::vector<Case>& cases) {
-    // The checkout's shader folder: its headers are the ones the shipped set embeds, and the
-    // test's own shaders sit in tests/gpu/shaders beside this file.
-    const ShaderCompiler compiler(std::filesystem::path(STSV_SOURCE_DIR) / "shaders");
+    // The checkout: its headers are the ones the shipped set embeds, and the test's own shaders
+    // sit in tests/gpu/shaders beside this file.
+    const ShaderCompiler compiler{std::filesystem::path(STSV_SOURCE_DIR)};
     DescriptorSetLayout setLayout(
         device,
         {{MATH_CHECK_BINDING_CASES, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT},
          {MATH_CHECK_BINDING_RESULTS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_COMPUTE_BIT}});
     PipelineLayout layout(device, {setLayout.handle()}, sizeof(uint32_t), VK_SHADER_STAGE_COMPUTE_BIT);
     Pipeline pipeline =
-        createComputePipeline(device, layout, compiler.compileFile("../tests/gpu/shaders/" + shader));
+        createComputePipeline(device, layout, compiler.compileFile("tests/gpu/shaders/" + shader));
     Buffer caseBuffer =
         createBuffer(device, std::span<const Case>(cases), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     Buffer resultBuffer(device, cases.size() * sizeof(Result), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT,

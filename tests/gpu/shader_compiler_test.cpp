@@ -88,16 +88,16 @@ TEST(ShaderCompiler, ErrorInIncludedHeaderNamesTheHeader) {
     }
 }
 
-TEST(ShaderCompiler, FolderResolvesIncludesAgainstTheFileTheFolderAndTheFolderAbove) {
+TEST(ShaderCompiler, FolderResolvesIncludesAgainstTheFileAndTheFolder) {
     const ScratchDirectory scratch("includes");
     const fs::path shaders = scratch.path / "shaders";
-    // shaders/main.comp → "sub/a.glsl" (beside main), which → "b.glsl" (beside a) and
-    // "lib/c_dh.h" (the folder above, as a checkout's headers sit beside its shaders/), which →
-    // "top_dh.h" (the folder itself, as in an installed share/stsv/shaders).
+    // main.comp → "sub/a.glsl" (beside main), which → "b.glsl" (beside a) and "lib/c_dh.h" (from
+    // the folder's top, as a family's shader includes a module header), which → "top_dh.h" (from
+    // the top too, not beside c_dh.h). Nothing resolves against the folder above.
     writeFile(shaders / "sub" / "a.glsl", "#include \"b.glsl\"\n#include \"lib/c_dh.h\"\n"
                                           "uint fromA() { return fromB() + fromC(); }\n");
     writeFile(shaders / "sub" / "b.glsl", "uint fromB() { return 40u; }\n");
-    writeFile(scratch.path / "lib" / "c_dh.h", "#include \"top_dh.h\"\nuint fromC() { return TOP; }\n");
+    writeFile(shaders / "lib" / "c_dh.h", "#include \"top_dh.h\"\nuint fromC() { return TOP; }\n");
     writeFile(shaders / "top_dh.h", "#define TOP 1u\n");
     writeFile(shaders / "main.comp", "#version 450\n#extension GL_GOOGLE_include_directive : require\n"
                                      "#include \"sub/a.glsl\"\nlayout(local_size_x = 1) in;\n"
@@ -107,8 +107,9 @@ TEST(ShaderCompiler, FolderResolvesIncludesAgainstTheFileTheFolderAndTheFolderAb
     EXPECT_FALSE(compiler.compileFile("main.comp", {{"VALUE_FROM_DEFINE", "1u"}}).empty());
     // Without the define the shader does not compile: defines really reach the preprocessor.
     EXPECT_THROW(compiler.compileFile("main.comp"), ShaderError);
-    // Nor without the header of the folder above.
-    fs::remove(scratch.path / "lib" / "c_dh.h");
+    // Nor without the header at the folder's top, though a copy lies in the folder above.
+    writeFile(scratch.path / "lib" / "c_dh.h", "#include \"top_dh.h\"\nuint fromC() { return TOP; }\n");
+    fs::remove(shaders / "lib" / "c_dh.h");
     EXPECT_THROW(compiler.compileFile("main.comp", {{"VALUE_FROM_DEFINE", "1u"}}), ShaderError);
 }
 
@@ -138,30 +139,37 @@ TEST(ShaderCompiler, MissingIncludeIsAnError) {
 
 TEST(ShaderCompiler, MissingFileIsAnInputError) {
     EXPECT_THROW(sharedCompiler().compileFile("does_not_exist.comp"), InputError);
-    EXPECT_THROW(ShaderCompiler(fs::path(STSV_SOURCE_DIR) / "shaders").compileFile("does_not_exist.comp"),
-                 InputError);
+    EXPECT_THROW(ShaderCompiler(fs::path(STSV_SOURCE_DIR)).compileFile("does_not_exist.comp"), InputError);
 }
 
-/// The files the build embeds: shaders/ at the top (its family folders kept), core/dh.h and every
-/// module's *_dh.h (render's backends' too: render/vulkan/gpu_frame_dh.h).
+/// The files the build embeds, named by their paths from the repository's root: every file of the
+/// families' shaders/ folders (render/shaders, volumes/shaders, ...), core/dh.h and every module's
+/// *_dh.h (render's backends' too: render/vulkan/gpu_frame_dh.h, and each family's Vulkan side:
+/// wedges/vulkan/gpu_wedges_dh.h).
 std::map<std::string, fs::path> repositoryShaderSet() {
     const fs::path root = STSV_SOURCE_DIR;
     std::map<std::string, fs::path> files;
-    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(root / "shaders"))
-        if (entry.is_regular_file())
-            files[fs::relative(entry.path(), root / "shaders").generic_string()] = entry.path();
-    files["core/dh.h"] = root / "core" / "dh.h";
-    auto addHeaders = [&](const fs::path& folder) {
+    auto add = [&](const fs::path& folder, bool onlyHeaders) {
+        if (!fs::is_directory(folder)) return;
         for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
             const std::string name = entry.path().filename().string();
-            if (entry.is_regular_file() && name.ends_with("_dh.h"))
+            if (entry.is_regular_file() && (!onlyHeaders || name.ends_with("_dh.h")))
                 files[fs::relative(entry.path(), root).generic_string()] = entry.path();
         }
     };
-    for (const fs::directory_entry& folder : fs::directory_iterator(root))
-        if (folder.is_directory() && folder.path().filename() != "shaders") addHeaders(folder.path());
+    files["core/dh.h"] = root / "core" / "dh.h";
+    for (const fs::directory_entry& folder : fs::directory_iterator(root)) {
+        // Not the tests' own shaders, nor a build tree inside the checkout (its shaders/ holds SPIR-V).
+        if (!folder.is_directory() || folder.path().filename() == "tests" ||
+            fs::exists(folder.path() / "CMakeCache.txt"))
+            continue;
+        add(folder.path(), true);
+        add(folder.path() / "vulkan", true);
+        add(folder.path() / "shaders", false);
+    }
+    add(root / "render" / "shaders", false);
     for (const fs::directory_entry& folder : fs::directory_iterator(root / "render"))
-        if (folder.is_directory()) addHeaders(folder.path());
+        if (folder.is_directory() && folder.path().filename() != "shaders") add(folder.path(), true);
     return files;
 }
 
@@ -202,18 +210,19 @@ TEST(EmbeddedShaders, EveryEntryPointCompilesAtRunTime) {
 }
 
 TEST(EmbeddedShaders, CompileAsTheCheckoutFolderDoes) {
-    // STSV_SHADER_DIR pointed at the checkout's shaders/ gives the same SPIR-V as the embedded set.
-    const ShaderCompiler folder(fs::path(STSV_SOURCE_DIR) / "shaders");
+    // STSV_SHADER_DIR pointed at the checkout gives the same SPIR-V as the embedded set.
+    const ShaderCompiler folder{fs::path(STSV_SOURCE_DIR)};
     const std::vector<ShaderDefine> defines = {{"SAMPLE_COUNT", "64"}, {"FIXED_LIGHT_TYPE", "1u"}};
-    EXPECT_EQ(folder.compileFile("stsv/stsv.frag", defines),
-              sharedCompiler().compileFile("stsv/stsv.frag", defines));
-    EXPECT_EQ(folder.compileFile("wedges/wedge.geom"), sharedCompiler().compileFile("wedges/wedge.geom"));
+    EXPECT_EQ(folder.compileFile("volumes/shaders/stsv.frag", defines),
+              sharedCompiler().compileFile("volumes/shaders/stsv.frag", defines));
+    EXPECT_EQ(folder.compileFile("wedges/shaders/wedge.geom"),
+              sharedCompiler().compileFile("wedges/shaders/wedge.geom"));
 }
 
 TEST(ShaderCompiler, ShaderDirectoryFromEnvironment) {
     const char* old = std::getenv("STSV_SHADER_DIR");
     const std::string saved = old != nullptr ? old : "";
-    const fs::path checkout = fs::path(STSV_SOURCE_DIR) / "shaders";
+    const fs::path checkout = fs::path(STSV_SOURCE_DIR);
     setenv("STSV_SHADER_DIR", checkout.c_str(), 1);
     EXPECT_EQ(shaderDirectoryFromEnvironment(), checkout);
     EXPECT_EQ(ShaderCompiler().shaderDirectory(), checkout);

@@ -1,8 +1,8 @@
-// The opaque edges as the Vulkan wedge passes read them (render/vulkan/gpu_wedge_passes.h): one
+// The opaque edges as the Vulkan wedge passes read them (wedges/vulkan/gpu_wedge_passes.h): one
 // table entry per welded edge, and one carrier record per carrier face listing the edges it
 // carries (wedges/adjacency.h edgeCarriers, the rule both backends use).
-#include "render/vulkan/gpu_wedge_passes.h"
 #include "wedges/adjacency.h"
+#include "wedges/vulkan/gpu_wedge_passes.h"
 
 #include <gtest/gtest.h>
 

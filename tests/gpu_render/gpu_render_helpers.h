@@ -7,13 +7,13 @@
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu/cpu_renderer.h"
-#include "render/cpu/cpu_stsv.h"
 #include "render/renderer.h"
 #include "render/vulkan/gpu_renderer.h"
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/geometry.h"
 #include "tests/support/boundary.h"
+#include "volumes/cpu/cpu_stsv.h"
 #include "volumes/stsv_dh.h"
 
 #include <gtest/gtest.h>

@@ -11,11 +11,11 @@
 // Validation on (GpuRenderTest fails on any message).
 #include "gpu_render_helpers.h"
 #include "render/cpu/cpu_renderer.h"
-#include "render/cpu/cpu_wedges.h"
 #include "scene/load.h"
 #include "scene/occlusion_rules_dh.h"
 #include "tests/support/wedge_composition.h"
 #include "volumes/stsv.h"
+#include "wedges/cpu/cpu_wedges.h"
 
 #include <gtest/gtest.h>
 

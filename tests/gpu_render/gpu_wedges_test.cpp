@@ -1,16 +1,16 @@
-// The Vulkan DCS and PW passes against the CPU mirror (render/cpu/cpu_wedges.cpp) fed the
+// The Vulkan DCS and PW passes against the CPU mirror (wedges/cpu/cpu_wedges.cpp) fed the
 // GPU's own G-buffer, and DCS against Embree: fence and foliage with their perforated triangles
 // (dcs+stsv, pw+stsv), closed meshes, open and non-manifold soups, every light shape.
 // Validation on (GpuRenderTest fails on any message).
 #include "core/error.h"
 #include "gpu_render_helpers.h"
-#include "render/cpu/cpu_wedges.h"
-#include "render/vulkan/gpu_wedge_clusters.h"
 #include "scene/geometry.h"
 #include "scene/load.h"
 #include "scene/mesh_fence.h"
 #include "tests/support/wedge_composition.h"
 #include "tests/wedges/wedge_test_util.h"
+#include "wedges/cpu/cpu_wedges.h"
+#include "wedges/vulkan/gpu_wedge_clusters.h"
 
 #include "wedges/layer_bvh_dh.h"
 

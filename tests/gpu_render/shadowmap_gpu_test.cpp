@@ -3,11 +3,11 @@
 // map (perspective, cube, orthographic); and PCF/PCSS visibility.
 #include "gpu_render_helpers.h"
 
-#include "render/cpu/cpu_shadowmaps.h"
 #include "render/renderer.h"
 #include "render/vulkan/gpu_deferred.h"
-#include "render/vulkan/gpu_shadowmap_passes.h"
 #include "scene/load.h"
+#include "shadowmaps/cpu/cpu_shadowmaps.h"
+#include "shadowmaps/vulkan/gpu_shadowmap_passes.h"
 
 #include <bit>
 #include <cstdio>

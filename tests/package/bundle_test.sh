@@ -19,7 +19,7 @@ tar xzf "$work/dist/$name.tar.gz" -C "$work/fresh"
 root=$work/fresh/$name
 [[ -d $root ]] || fail "the archive holds no folder $name: $(ls "$work/fresh")"
 
-for f in bin/stsv README.md LICENSE docs/user-guide.md docs/demo.png share/stsv/shaders/stsv/stsv.frag share/stsv/shaders/volumes/stsv_dh.h \
+for f in bin/stsv README.md LICENSE docs/user-guide.md docs/demo.png share/stsv/shaders/volumes/shaders/stsv.frag share/stsv/shaders/volumes/stsv_dh.h \
     lib/libembree3.so.3 lib/libtbb.so.12 lib/libOpenMeshCore.so.9.0 lib/libstdc++.so.6 lib/libgcc_s.so.1; do
     [[ -e $root/$f ]] || fail "the bundle lacks $f"
 done

@@ -12,7 +12,7 @@ prefix=$work/prefix
 cmake --install "$build" --prefix "$prefix" >/dev/null
 for f in bin/stsv lib/libstsv_volumes.a lib/libstsv_render.a include/stsv/volumes/stsv_dh.h include/stsv/core/dh.h \
     include/stsv/render/methods.h lib/cmake/stsv/stsvConfig.cmake lib/cmake/stsv/stsvConfigVersion.cmake \
-    lib/cmake/stsv/stsvTargets.cmake share/stsv/shaders/stsv/stsv.frag share/stsv/shaders/common/frame_bindings.glsl \
+    lib/cmake/stsv/stsvTargets.cmake share/stsv/shaders/volumes/shaders/stsv.frag share/stsv/shaders/render/shaders/frame_bindings.glsl \
     share/stsv/shaders/volumes/stsv_dh.h share/stsv/shaders/core/dh.h share/doc/stsv/README.md \
     share/doc/stsv/LICENSE share/doc/stsv/docs/user-guide.md share/doc/stsv/docs/demo.png; do
     [[ -f $prefix/$f ]] || fail "cmake --install wrote no $f"
@@ -22,7 +22,7 @@ done
 # with it as the only include path, as in an engine that lifts it.
 shaders=$prefix/share/stsv/shaders
 count=0
-for s in "$shaders"/*/*.{vert,geom,frag,comp,mesh,task}; do
+for s in "$shaders"/*/shaders/*.{vert,geom,frag,comp,mesh,task}; do
     [[ -e $s ]] || continue
     glslangValidator -V --target-env vulkan1.3 -I"$shaders" -o "$work/s.spv" "$s" >"$work/glslang.log" 2>&1 ||
         fail "installed $s does not compile on its own: $(cat "$work/glslang.log")"

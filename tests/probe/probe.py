@@ -2497,15 +2497,17 @@ def env_surface(c: Cases, shader_src: Path | None):
     shader_cases = [("missing", {}, "shaders"), ("empty-dir", {"shaders": Dir()}, "shaders"),
                     ("a-file", {"shaders": "x"}, "shaders")]
     if shader_src and shader_src.is_dir():
+        # The checkout's shader set as STSV_SHADER_DIR reads it: every file named by its path from
+        # the root (volumes/shaders/stsv.frag, volumes/stsv_dh.h), in the case's shaders/ folder.
         tree = {}
-        for p in sorted(shader_src.parent.rglob("*")):
+        for p in sorted(shader_src.rglob("*")):
             if p.is_file() and (p.suffix in (".glsl", ".comp", ".frag", ".vert", ".geom", ".mesh", ".task", ".h")) and \
                     "build" not in p.parts and ".git" not in p.parts and p.stat().st_size < 2 * MiB:
-                rel = p.relative_to(shader_src.parent)
-                if rel.parts[0] in ("shaders", "volumes", "wedges", "shadowmaps", "sampling", "scene", "core", "render", "reference", "gpu"):
-                    tree[str(rel)] = p.read_bytes()
+                rel = p.relative_to(shader_src)
+                if rel.parts[0] in ("volumes", "wedges", "shadowmaps", "sampling", "scene", "core", "render", "reference", "gpu"):
+                    tree["shaders/" + rel.as_posix()] = p.read_bytes()
         broken = dict(tree)
-        frag = [k for k in tree if k.startswith("shaders/") and k.endswith(".frag")]
+        frag = [k for k in tree if "/shaders/" in k[len("shaders/"):] and k.endswith(".frag")]
         if frag:
             broken[frag[0]] = b"#version 450\nvoid main() { this is not glsl; }\n"
             shader_cases.append(("broken-" + Path(frag[0]).name, broken, Path(frag[0]).name))
@@ -2670,8 +2672,8 @@ def main():
         info = json.loads(info_run.stdout)
     except json.JSONDecodeError:
         sys.exit("probe: `stsv info --json` did not print JSON: " + info_run.stderr[:300])
-    shader_src = Path(__file__).resolve().parents[2] / "shaders"
-    cases = build_cases(info, shader_src if shader_src.is_dir() else None)
+    shader_src = Path(__file__).resolve().parents[2]  # the checkout's root: the shader set's top
+    cases = build_cases(info, shader_src if (shader_src / "volumes" / "shaders").is_dir() else None)
     if args.only:
         rx = re.compile(args.only)
         cases = [k for k in cases if rx.search(k.cid)]

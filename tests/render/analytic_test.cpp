@@ -2,9 +2,9 @@
 // finely perforated canopy whose light footprint spans many texture periods.
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu/cpu_stsv.h"
 #include "sampling/light_bounds.h"
 #include "scene/procedural.h"
+#include "volumes/cpu/cpu_stsv.h"
 
 #include <gtest/gtest.h>
 

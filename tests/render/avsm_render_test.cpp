@@ -1,4 +1,4 @@
-// `avsm` and `vpcss` on the CPU (render/cpu/cpu_shadowmaps.cpp): translucent veils over a ground
+// `avsm` and `vpcss` on the CPU (shadowmaps/cpu/cpu_shadowmaps.cpp): translucent veils over a ground
 // and the built-in scenes. The expected values come from elsewhere than the code under test: the
 // reference's optical depth along the segment to the light centre (the hard shadow AVSM looks
 // up), `pcss` on scenes without translucent triangles (volumetric PCSS reduces to it), and the

@@ -4,10 +4,10 @@
 // (volumes/stsv_dh.h) keeps the start within SHADOW_T_MIN·D of p in every method.
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu/cpu_stsv.h"
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/geometry.h"
+#include "volumes/cpu/cpu_stsv.h"
 #include "volumes/stsv_dh.h"
 
 #include <gtest/gtest.h>

@@ -3,11 +3,11 @@
 // triangle edge or an alpha-texel boundary (tests/support/boundary.h).
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu/cpu_stsv.h"
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/load.h"
 #include "tests/support/boundary.h"
+#include "volumes/cpu/cpu_stsv.h"
 #include "volumes/stsv_dh.h"
 
 #include <gtest/gtest.h>

@@ -4,8 +4,8 @@
 // parallel to the occluder's, its visibility is a linear ramp across it. PCSS estimates that width
 // from the blocker depth (contact hardening); PCF's kernel is fixed. Where a second occluder near
 // the light joins the blocker search, PCSS's average blocker depth gives the wrong penumbra.
-#include "render/cpu/cpu_shadowmaps.h"
 #include "scene/geometry.h"
+#include "shadowmaps/cpu/cpu_shadowmaps.h"
 #include "shadowmaps/shadow_map.h"
 #include "tests/render/parallel_planes.h"
 #include "tests/render/shadow_map_test_util.h"

@@ -3,8 +3,8 @@
 // against the two failures they trade, acne on lit ground and light leaking at the fence's foot
 // (peter-panning), measured against the reference.
 #include "reference/embree_scene.h"
-#include "render/cpu/cpu_shadowmaps.h"
 #include "scene/procedural.h"
+#include "shadowmaps/cpu/cpu_shadowmaps.h"
 #include "shadowmaps/shadow_map.h"
 #include "tests/render/shadow_map_test_util.h"
 

@@ -32,7 +32,7 @@ inline bool pointInAnyVolume(const std::vector<StsvVolume>& volumes, vec3 p) {
 }
 
 /// The hull of a volume (stsvVolumeHullSetup clipped by clipBox) in world space: what
-/// shaders/stsv/stsv_hull.comp draws.
+/// volumes/shaders/stsv_hull.comp draws.
 inline ClippedBox volumeHull(const StsvVolume& volume, const StsvLightPlanes& lightPlanes, vec3 v0, vec3 v1,
                              vec3 v2, const Bounds& bounds) {
     StsvHullSetup h = stsvVolumeHullSetup(volume, lightPlanes, v0, v1, v2, bounds.lo, bounds.hi);

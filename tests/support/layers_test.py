@@ -13,44 +13,53 @@ import re
 import sys
 
 # The folders of math and data that build on the CPU alone (no gpu/, render/, reference/, cli/).
-MATH = ("core/", "sampling/", "scene/", "volumes/", "wedges/", "shadowmaps/")
-BACKENDS = ("render/cpu/", "render/vulkan/", "gpu/")
+# A family's folder (volumes/ for STSV, wedges/, shadowmaps/) holds its math at the top and its
+# backends' sides in cpu/ and vulkan/, which build into render/cpu's and render/vulkan's libraries,
+# and its GLSL in shaders/ (render/shaders: what every family's passes share), part of the
+# Vulkan side.
+FAMILIES = ("volumes", "wedges", "shadowmaps")
+MATH = ("core/", "sampling/", "scene/") + tuple(f + "/" for f in FAMILIES)
+CPU = ("render/cpu/",) + tuple(f + "/cpu/" for f in FAMILIES)
+VULKAN = ("render/vulkan/", "render/shaders/", "gpu/") + tuple(f + side for f in FAMILIES for side in ("/vulkan/", "/shaders/"))
+BACKENDS = CPU + VULKAN
+FAMILY_SIDES = tuple(f + side for f in FAMILIES for side in ("/cpu/", "/vulkan/", "/shaders/"))
+
+
+def is_math(path):
+    return path.startswith(MATH) and not path.startswith(BACKENDS)
+
 
 # (rule, which files it governs, which includes it forbids)
 RULES = [
     ("math builds without a renderer, Vulkan or the ground truth",
-     lambda f: f.startswith(MATH), lambda inc: inc.startswith(("gpu/", "render/", "reference/", "cli/"))),
+     is_math, lambda inc: inc.startswith(("gpu/", "render/", "reference/", "cli/") + FAMILY_SIDES)),
     ("a device/host (*_dh.h) header includes only device/host headers",
      lambda f: f.endswith("_dh.h"), lambda inc: not (inc.endswith("_dh.h") or inc == "core/dh.h")),
     ("the Vulkan side reaches neither the ground truth nor the CPU renderer",
-     lambda f: f.startswith(("render/vulkan/", "gpu/")), lambda inc: inc.startswith(("reference/", "render/cpu/"))),
+     lambda f: f.startswith(VULKAN), lambda inc: inc.startswith(("reference/",) + CPU)),
     ("the CPU renderer reaches no Vulkan code",
-     lambda f: f.startswith("render/cpu/"), lambda inc: inc.startswith(("render/vulkan/", "gpu/"))),
+     lambda f: f.startswith(CPU), lambda inc: inc.startswith(VULKAN)),
     ("the Vulkan plumbing (gpu/) knows no renderer",
-     lambda f: f.startswith("gpu/"), lambda inc: inc.startswith("render/")),
+     lambda f: f.startswith("gpu/"), lambda inc: inc.startswith(("render/",) + FAMILY_SIDES)),
     ("the frame code both backends share reaches neither backend",
      lambda f: f.startswith("render/") and not f.startswith(BACKENDS) and f != "render/renderer.cpp",
      lambda inc: inc.startswith(BACKENDS)),
     ("the ground truth knows no renderer",
-     lambda f: f.startswith("reference/"), lambda inc: inc.startswith(("render/", "gpu/"))),
+     lambda f: f.startswith("reference/"), lambda inc: inc.startswith(("render/", "gpu/") + FAMILY_SIDES)),
 ]
 
-# A family's CPU side includes no other family's CPU side (render/cpu/cpu_<family>*): only the
-# techniques file, which composes the families a method row names, includes them all.
-CPU_FAMILY = re.compile(r"render/cpu/cpu_(stsv|wedges|shadowmaps)")
-VULKAN_FAMILY = re.compile(r"render/vulkan/gpu_(stsv|wedge|opaque|shadowmap)")
+# A family's backend side includes no other family's backend side: only the techniques files,
+# which compose the families a method row names, include them all.
+FAMILY_BACKEND = re.compile(r"(volumes|wedges|shadowmaps)/(cpu|vulkan|shaders)/")
 COMPOSERS = {"render/cpu/cpu_techniques.cpp", "render/vulkan/vulkan_techniques.cpp"}
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
 SOURCES = ("*.h", "*.cpp", "*.glsl", "*.comp", "*.frag", "*.vert", "*.geom", "*.mesh", "*.task")
 
 
-def family(path, pattern):
-    match = pattern.match(path)
-    if not match:
-        return None
-    name = match.group(1)
-    return {"wedge": "wedges", "opaque": "wedges", "shadowmap": "shadowmaps"}.get(name, name)
+def family(path):
+    match = FAMILY_BACKEND.match(path)
+    return match.group(1) if match else None
 
 
 def violations(files):
@@ -64,16 +73,15 @@ def violations(files):
             for rule, governs, forbids in RULES:
                 if governs(path) and forbids(inc):
                     yield f'{path}:{number}: include "{inc}": {rule}'
-            for pattern in (CPU_FAMILY, VULKAN_FAMILY):
-                own, other = family(path, pattern), family(inc, pattern)
-                if own and other and own != other and path not in COMPOSERS:
-                    yield f'{path}:{number}: include "{inc}": a family includes no other family\'s backend'
+            own, other = family(path), family(inc)
+            if own and other and own != other and path not in COMPOSERS:
+                yield f'{path}:{number}: include "{inc}": a family includes no other family\'s backend'
 
 
 def tree(root):
     files = {}
     for folder in ("core", "sampling", "scene", "volumes", "wedges", "shadowmaps", "reference", "render", "gpu",
-                   "shaders", "cli"):
+                   "cli"):
         for pattern in SOURCES:
             for path in (root / folder).rglob(pattern):
                 files[path.relative_to(root).as_posix()] = path.read_text(encoding="utf-8")
@@ -88,17 +96,18 @@ def self_test():
         "render/vulkan/z.cpp": '#include "reference/embree_scene.h"\n',
         "render/cpu/w.cpp": '#include "gpu/device.h"\n',
         "gpu/v.cpp": '#include "render/frame.h"\n',
+        "gpu/q.cpp": '#include "wedges/vulkan/gpu_wedge_passes.h"\n',
         "render/frame.cpp": '#include "render/cpu/cpu_renderer.h"\n',
         "reference/u.cpp": '#include "render/methods.h"\n',
-        "render/cpu/cpu_wedges.h": '#include "render/cpu/cpu_stsv.h"\n',
-        "render/vulkan/gpu_stsv_pass.cpp": '#include "render/vulkan/gpu_wedge_passes.h"\n',
+        "wedges/cpu/cpu_wedges.h": '#include "volumes/cpu/cpu_stsv.h"\n',
+        "volumes/vulkan/gpu_stsv_pass.cpp": '#include "wedges/vulkan/gpu_wedge_passes.h"\n',
     }
     found = list(violations(planted))
     for path in planted:
         if not any(v.startswith(path + ":") for v in found):
             print(f"self-test: the planted include in {path} was not caught", file=sys.stderr)
             return 1
-    if list(violations({"render/cpu/cpu_techniques.cpp": '#include "render/cpu/cpu_stsv.h"\n'})):
+    if list(violations({"render/cpu/cpu_techniques.cpp": '#include "volumes/cpu/cpu_stsv.h"\n'})):
         print("self-test: the techniques file may compose the families", file=sys.stderr)
         return 1
     return 0

@@ -3,8 +3,8 @@
 // through its techniques (render/cpu/cpu_techniques.cpp).
 #pragma once
 
-#include "render/cpu/cpu_stsv.h"
-#include "render/cpu/cpu_wedges.h"
+#include "volumes/cpu/cpu_stsv.h"
+#include "wedges/cpu/cpu_wedges.h"
 
 namespace stsv {
 

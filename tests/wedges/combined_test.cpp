@@ -5,7 +5,6 @@
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
 #include "render/cpu/cpu_renderer.h"
-#include "render/cpu/cpu_wedges.h"
 #include "render/methods.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
@@ -13,6 +12,7 @@
 #include "tests/support/wedge_composition.h"
 #include "volumes/stsv_dh.h"
 #include "wedge_test_util.h"
+#include "wedges/cpu/cpu_wedges.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The CPU DCS pass's per-sample culling (render/cpu/cpu_wedges.cpp): dcsSampleRegion, which
+// The CPU DCS pass's per-sample culling (wedges/cpu/cpu_wedges.cpp): dcsSampleRegion, which
 // bounds the samples an edge's crossing can count, must keep every sample the per-sample test
 // would accept, at the rounding limit too: samples on the region's boundary found by bisection.
 // (Its culling of edges and clusters is tested in edge_clusters_test.cpp.)

@@ -7,7 +7,6 @@
 #include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu/cpu_wedges.h"
 #include "sampling/light_bounds.h"
 #include "sampling/light_sampling.h"
 #include "scene/geometry.h"
@@ -17,6 +16,7 @@
 #include "tests/support/wedge_composition.h"
 #include "volumes/stsv_dh.h"
 #include "wedge_test_util.h"
+#include "wedges/cpu/cpu_wedges.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -3,11 +3,11 @@
 // rejects a ball that a segment from the region to the light meets, it is monotone (a point of a
 // region, a ball inside a ball), and a node the silhouette test rejects for a region holds no edge
 // that is a silhouette from any point of it — checked against brute force on real meshes.
-#include "render/cpu/cpu_wedges.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "wedge_test_util.h"
 #include "wedges/adjacency.h"
+#include "wedges/cpu/cpu_wedges.h"
 #include "wedges/dcs_dh.h"
 #include "wedges/edge_cluster_dh.h"
 #include "wedges/edge_clusters.h"
@@ -347,7 +347,7 @@ TEST(EdgeClusterTests, ALeafTheSilhouetteTestRejectsHoldsNoSilhouetteFromAnyPoin
         const vec4 region(u(rng), u(rng), u(rng), 0.3f * r(rng));
         for (const EdgeClusterNode& node : b.tree.nodes) {
             if (node.count == 0) continue;
-            // The rounding allowance the mirror passes (render/cpu/cpu_wedges.cpp nodeMayAdd).
+            // The rounding allowance the mirror passes (wedges/cpu/cpu_wedges.cpp nodeMayAdd).
             const float reach = length(vec3(region) - vec3(node.ball)) + region.w + node.ball.w;
             if (clusterMayHaveSilhouette(node.ball, node.cone, region,
                                          dcsSideRounding(reach, node.conditioning)))

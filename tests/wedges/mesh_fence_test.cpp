@@ -4,11 +4,11 @@
 #include "core/timer.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu/cpu_wedges.h"
 #include "sampling/light_bounds.h"
 #include "scene/load.h"
 #include "scene/mesh_fence.h"
 #include "wedges/adjacency.h"
+#include "wedges/cpu/cpu_wedges.h"
 
 #include <gtest/gtest.h>
 

@@ -4,10 +4,10 @@
 #include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
-#include "render/cpu/cpu_wedges.h"
 #include "sampling/light_bounds.h"
 #include "scene/geometry.h"
 #include "wedge_test_util.h"
+#include "wedges/cpu/cpu_wedges.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>

@@ -1,0 +1,55 @@
+#version 450
+// D(r), the layer count at the light centre r (DESIGN §4.5), per pixel: the opaque triangles the
+// segment from the visible point p to r crosses beyond the segments' start gap (shadowTMin),
+// the visible triangle itself left out (the self-shadowing rule), counted through the tree of
+// wedges/layer_bvh_dh.h — one reference ray a pixel (Laine et al. 2005; Lehtinen, Laine and
+// Aila 2008), as the CPU mirror counts it. A pixel without a surface gets 0.
+#extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#include "wedges/shaders/wedge_bindings.glsl"
+
+layout(local_size_x = 16, local_size_y = 16) in;
+
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
+layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CENTER, r32i) writeonly uniform iimage2D centerCount;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_LAYER_NODES) uniform usamplerBuffer layerNodes;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_LAYER_TRIANGLES) uniform usamplerBuffer layerTriangles;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
+
+// The tables as texels (a vector gather on lavapipe): the value layer_bvh_dh.h takes is empty.
+struct LayerBvh {
+    uint unused;
+};
+uvec4 layerBvhNode(LayerBvh bvh, uint texel) { return texelFetch(layerNodes, int(texel)); }
+uvec4 layerBvhTriangle(LayerBvh bvh, uint texel) { return texelFetch(layerTriangles, int(texel)); }
+#define LAYER_BVH
+#include "wedges/layer_bvh_dh.h"
+
+void main() {
+    ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
+    bool inside = pixel.x < int(frame.width) && pixel.y < int(frame.height);
+    uint receiver = inside ? imageLoad(gTriangle, pixel).x : GPU_NO_TRIANGLE;
+    LayerCountWork work = LayerCountWork(0u, 0u, 0u, 0u);
+    uint count = 0u;
+    if (receiver != GPU_NO_TRIANGLE) {
+        vec3 p = vec3(imageLoad(gPosition, pixel));
+        LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
+        float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
+        LayerBvh bvh = LayerBvh(0u);
+        // A scene without opaque triangles binds a one-texel stand-in: no node.
+        uint nodes = uint(textureSize(layerNodes)) / LAYER_BVH_NODE_TEXELS;
+        count = layerCount(bvh, nodes, p, lf.center, shadowTMin(p, lf.center, sceneDiameter), receiver,
+                           LAYER_BVH_MAX_VISITS, work);
+    }
+    if (inside) imageStore(centerCount, pixel, ivec4(int(count)));
+    uint visits = subgroupAdd(work.visits);
+    uint tests = subgroupAdd(work.tests);
+    uint cutShort = subgroupAdd(work.cutShort);
+    if (subgroupElect()) {
+        atomicAdd(stats[pc.light].centerVisits, visits);
+        atomicAdd(stats[pc.light].centerTests, tests);
+        if (cutShort > 0u) atomicAdd(stats[pc.light].centerCutShort, cutShort);
+    }
+}
