@@ -11,6 +11,7 @@
 #include "core/version.h"
 #include "render/renderer.h"
 #include "scene/load.h"
+#include "shadowmaps/kept_maps.h"
 #include "shadowmaps/shadow_map_dh.h"
 
 #include <algorithm>
@@ -237,11 +238,12 @@ int runRender(RenderArgs& args) {
 
     std::vector<std::string> mapFiles;
     nlohmann::json mapViews = nlohmann::json::array();
-    for (std::size_t l = 0; l < frame.shadowMaps.size(); ++l) {
+    const std::vector<ShadowMap>& maps = keptMaps(frame.keptMaps).shadowMaps;
+    for (std::size_t l = 0; l < maps.size(); ++l) {
         mapFiles.push_back(perLightPath(args.shadowMap, l));
-        writeShadowMapNpy(mapFiles.back(), frame.shadowMaps[l]);
+        writeShadowMapNpy(mapFiles.back(), maps[l]);
         written.push_back(mapFiles.back());
-        mapViews.push_back(shadowMapViewJson(frame.shadowMaps[l].view));
+        mapViews.push_back(shadowMapViewJson(maps[l].view));
     }
 
     completeRenderStats(frame, args, o, scene, sceneOptions, loadMs, renderMs, mapViews, npyFiles, mapFiles);

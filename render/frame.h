@@ -8,9 +8,6 @@
 #include "render/options.h"
 #include "sampling/ls_buffer.h"
 #include "scene/scene.h"
-#include "shadowmaps/avsm.h"
-#include "shadowmaps/depth_grid.h"
-#include "shadowmaps/shadow_map.h"
 
 #include <nlohmann/json.hpp>
 
@@ -20,6 +17,8 @@
 
 namespace stsv {
 
+struct KeptShadowMaps; // shadowmaps/kept_maps.h
+
 /// Linear RGB of the pixels no triangle covers (every backend).
 inline const vec3 BACKGROUND(0.02f, 0.02f, 0.03f);
 
@@ -28,13 +27,9 @@ struct Frame {
     std::vector<LightSampleBuffer> lightSamples; ///< one per scene light
     ImageF color;                                ///< linear RGB: ambient + Σ lights direct lighting
     ImageF visibility; ///< one channel: v_coef averaged over the lights (1 on background)
-    /// One per light for image-based methods rendered with RenderOptions::keepShadowMaps.
-    std::vector<ShadowMap> shadowMaps;
-    /// `peel`: one depth grid per light instead, with RenderOptions::keepShadowMaps.
-    std::vector<DepthGrid> depthGrids;
-    /// `avsm`, `vpcss`: one map of transmittance functions per light instead, with
-    /// RenderOptions::keepShadowMaps.
-    std::vector<AvsmMap> avsmMaps;
+    /// The image family's maps, one per light, with RenderOptions::keepShadowMaps (else null;
+    /// read them with keptMaps, shadowmaps/kept_maps.h). Copies of a frame share them.
+    std::shared_ptr<KeptShadowMaps> keptMaps;
     /// options, scene counts, "startup_ms" (acceleration structures, devices, shader
     /// compilation), "frame_ms" (one frame without start-up) and "passes" (name → ms).
     nlohmann::json stats;

@@ -41,7 +41,7 @@ struct CpuLightWork {
     std::size_t index;          ///< the light's index in the scene
     LightSampleBuffer& samples; ///< per-sample occlusion (MethodInfo::bufferKind), zeroed
     ImageF& vcoef;          ///< v_coef per pixel for MethodOutput::Visibility methods (1 channel), else empty
-    Frame& frame;           ///< kept shadow maps go to frame.shadowMaps
+    Frame& frame;           ///< kept shadow maps go to frame.keptMaps
     nlohmann::json& passes; ///< "light<i>/<pass>" → milliseconds
 
     /// The pass's key in "passes": "light<i>/<name>".

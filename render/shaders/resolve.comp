@@ -24,8 +24,8 @@ layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
-layout(set = GPU_SET_FRAME, binding = GPU_BINDING_COLOR, rgba32f) uniform image2D colorImage;
-layout(set = GPU_SET_FRAME, binding = GPU_BINDING_VISIBILITY, r32f) uniform image2D visibilityImage;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_RESOLVE_COLOR, rgba32f) uniform image2D colorImage;
+layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_RESOLVE_VISIBILITY, r32f) uniform image2D visibilityImage;
 #if LS_COUNTERS || LS_OPAQUE_COUNTERS
 layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) readonly buffer Counters { uint counters[]; };
 #endif

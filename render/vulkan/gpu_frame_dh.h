@@ -13,12 +13,13 @@
 
 DH_BEGIN
 
-// Descriptor sets. Set GPU_SET_FRAME holds what every pass shares (the scene tables, the
-// G-buffer, the light's sample buffers, the output images), one set per light (the light's sample
-// buffers differ). Set GPU_SET_FAMILY holds what only one family's passes bind, its stats first
-// (GPU_BINDING_FAMILY_STATS); each family declares the rest of its set in its own header
-// (gpu_volumes_dh.h with gpu_stsv_dh.h and gpu_wedges_dh.h, gpu_shadowmaps_dh.h), so a frame
-// allocates and binds nothing of a family it does not run.
+// Descriptor sets. Set GPU_SET_FRAME holds what the passes share (the scene tables, the G-buffer,
+// the light's sample buffers and the v_coef image the families write), one set per light (the
+// light's sample buffers differ). Set GPU_SET_FAMILY holds what only one family's passes bind,
+// its stats first (GPU_BINDING_FAMILY_STATS); each family declares the rest of its set in its own
+// header (gpu_volumes_dh.h with gpu_stsv_dh.h and gpu_wedges_dh.h, gpu_shadowmaps_dh.h), so a
+// frame allocates and binds nothing of a family it does not run. The resolve, which is no family,
+// binds the images only it writes in a set of its own in that place.
 DH_CONST uint GPU_SET_FRAME = 0u;
 DH_CONST uint GPU_SET_FAMILY = 1u;
 
@@ -32,18 +33,21 @@ DH_CONST uint GPU_BINDING_POSITION = 5u;    ///< G-buffer world position, rgba32
 DH_CONST uint GPU_BINDING_TRIANGLE_ID = 6u; ///< G-buffer triangle id, r32ui storage image
 DH_CONST uint GPU_BINDING_COUNTERS = 7u;    ///< packed 16-bit depth-complexity counters (SSBO)
 DH_CONST uint GPU_BINDING_MASKS = 8u;       ///< GPU_MAX_MASK_IMAGES rg32ui storage images (bitmask)
-DH_CONST uint GPU_BINDING_COLOR = 9u;       ///< rgba32f storage image, linear RGB
-DH_CONST uint GPU_BINDING_VISIBILITY = 10u; ///< r32f storage image, v_coef averaged over lights
-DH_CONST uint GPU_BINDING_VCOEF = 11u;      ///< r32f storage image: PW occlusion sum, then v_coef
+/// r32f storage image: v_coef per pixel of the methods that write one (PW's occlusion sum, then
+/// v_coef; the image family's filters), which the resolve reads
+DH_CONST uint GPU_BINDING_VCOEF = 9u;
 /// Transmittance frames: the optical-depth table of every material, 256 uints each
 /// (opticalDepthTable, scene/geometry.h), and the light's per-sample optical-depth sums, one
 /// uint per (pixel, sample) at lsCounterSlot (SSBOs; scene/occlusion_rules_dh.h).
-DH_CONST uint GPU_BINDING_DEPTH_TABLES = 12u;
-DH_CONST uint GPU_BINDING_DEPTHS = 13u;
+DH_CONST uint GPU_BINDING_DEPTH_TABLES = 10u;
+DH_CONST uint GPU_BINDING_DEPTHS = 11u;
 
 // Set GPU_SET_FAMILY: the family's stats, one struct per light (GpuStsvStats, GpuWedgeStats,
 // GpuShadowMapStats), atomic counters of its shaders.
 DH_CONST uint GPU_BINDING_FAMILY_STATS = 0u;
+// Set GPU_SET_FAMILY of the resolve pass, which keeps no stats: the images only it writes.
+DH_CONST uint GPU_BINDING_RESOLVE_COLOR = 1u;      ///< rgba32f storage image, linear RGB
+DH_CONST uint GPU_BINDING_RESOLVE_VISIBILITY = 2u; ///< r32f storage image, v_coef averaged over lights
 
 DH_CONST uint GPU_NO_TRIANGLE = 0xffffffffu; ///< G-buffer triangle id of the background (core/gbuffer.h)
 DH_CONST uint GPU_MAX_MASK_IMAGES = 4u;      ///< RG32UI images for N = 256 (64 samples each)

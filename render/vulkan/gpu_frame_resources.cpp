@@ -216,8 +216,7 @@ std::vector<DescriptorBinding> FrameResources::bindings() const {
     };
     bindings.push_back({GPU_BINDING_ALPHA, tableType(tables.layout.alphaBitVec4s), VK_SHADER_STAGE_ALL, 1});
     bindings.push_back({GPU_BINDING_PATTERN, tableType(tables.layout.patternVec4s), VK_SHADER_STAGE_ALL, 1});
-    for (uint32_t b : {GPU_BINDING_POSITION, GPU_BINDING_TRIANGLE_ID, GPU_BINDING_COLOR,
-                       GPU_BINDING_VISIBILITY, GPU_BINDING_VCOEF})
+    for (uint32_t b : {GPU_BINDING_POSITION, GPU_BINDING_TRIANGLE_ID, GPU_BINDING_VCOEF})
         bindings.push_back({b, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1});
     bindings.push_back(
         {GPU_BINDING_MASKS, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, GPU_MAX_MASK_IMAGES});
@@ -235,8 +234,6 @@ void FrameResources::writeDescriptors(DescriptorSet& set, std::size_t light) {
     set.writeBuffer(GPU_BINDING_DEPTHS, samples.depths[light]);
     set.writeStorageImage(GPU_BINDING_POSITION, gbuffer.position);
     set.writeStorageImage(GPU_BINDING_TRIANGLE_ID, gbuffer.triangleId);
-    set.writeStorageImage(GPU_BINDING_COLOR, color);
-    set.writeStorageImage(GPU_BINDING_VISIBILITY, visibility);
     set.writeStorageImage(GPU_BINDING_VCOEF, samples.vcoef);
     for (uint32_t i = 0; i < GPU_MAX_MASK_IMAGES; ++i)
         set.writeStorageImage(GPU_BINDING_MASKS, samples.mask(light, i), VK_IMAGE_LAYOUT_GENERAL, i);
@@ -260,8 +257,10 @@ void FrameDescriptors::push(VkCommandBuffer cmd, const GpuPush& constants) const
 
 namespace {
 
-std::vector<DescriptorBinding> withStats(std::vector<DescriptorBinding> bindings) {
-    bindings.push_back({GPU_BINDING_FAMILY_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
+std::vector<DescriptorBinding> withStats(std::vector<DescriptorBinding> bindings, std::size_t statsBytes) {
+    if (statsBytes > 0)
+        bindings.push_back(
+            {GPU_BINDING_FAMILY_STATS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1});
     return bindings;
 }
 
@@ -269,14 +268,15 @@ std::vector<DescriptorBinding> withStats(std::vector<DescriptorBinding> bindings
 
 FamilyDescriptors::FamilyDescriptors(const Device& device, const FrameDescriptors& frame,
                                      std::vector<DescriptorBinding> bindings, std::size_t statsBytes)
-    : m_frame(&frame), m_setLayout(device, withStats(std::move(bindings))),
+    : m_frame(&frame), m_setLayout(device, withStats(std::move(bindings), statsBytes)),
       m_pipelineLayout(device, {frame.setLayout().handle(), m_setLayout.handle()}, sizeof(GpuPush)),
-      m_statsStride(statsBytes),
-      m_stats(device, statsBytes * frame.setCount(), STORAGE, MemoryUsage::DeviceLocal) {
+      m_statsStride(statsBytes) {
     static_assert(GPU_SET_FRAME == 0 && GPU_SET_FAMILY == 1, "the pipeline layout lists the sets in order");
+    if (statsBytes > 0)
+        m_stats = Buffer(device, statsBytes * frame.setCount(), STORAGE, MemoryUsage::DeviceLocal);
     for (std::size_t l = 0; l < frame.setCount(); ++l) {
         m_sets.emplace_back(device, m_setLayout);
-        m_sets.back().writeBuffer(GPU_BINDING_FAMILY_STATS, m_stats);
+        if (statsBytes > 0) m_sets.back().writeBuffer(GPU_BINDING_FAMILY_STATS, m_stats);
     }
 }
 

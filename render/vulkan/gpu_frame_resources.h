@@ -133,14 +133,15 @@ class FrameDescriptors {
 /// frame clears before each frame and reads back after it.
 class FamilyDescriptors {
   public:
-    /// `bindings`: the family's, without its stats (this adds them).
+    /// `bindings`: the family's, without its stats (this adds them; none when `statsBytes` is 0,
+    /// as for the resolve's set).
     FamilyDescriptors(const Device& device, const FrameDescriptors& frame,
                       std::vector<DescriptorBinding> bindings, std::size_t statsBytes);
 
     const PipelineLayout& pipelineLayout() const { return m_pipelineLayout; }
     DescriptorSet& set(std::size_t light) { return m_sets.at(light); }
     std::size_t setCount() const { return m_sets.size(); }
-    /// The family's stats, `statsStride()` bytes per light.
+    /// The family's stats, `statsStride()` bytes per light (an empty buffer without stats).
     const Buffer& stats() const { return m_stats; }
     std::size_t statsStride() const { return m_statsStride; }
 

@@ -161,7 +161,7 @@ VulkanFrame::VulkanFrame(const Device& device, const Scene& scene, const RenderO
     writeDescriptors();
     std::vector<const HullPass*> hullPasses;
     for (const auto& technique : m_techniques)
-        for (const HullPass* pass : technique->hullPasses()) hullPasses.push_back(pass);
+        hullPasses.insert(hullPasses.end(), technique->hullPasses().begin(), technique->hullPasses().end());
     if (!hullPasses.empty()) {
         m_hulls->size(m_recorder, m_commands, scene.lights.size(), hullPasses);
         writeDescriptors();
@@ -179,6 +179,7 @@ void VulkanFrame::writeDescriptors() {
     for (std::size_t l = 0; l < m_descriptors.setCount(); ++l)
         m_resources.writeDescriptors(m_descriptors.set(l), l);
     for (const auto& technique : m_techniques) technique->writeDescriptors();
+    m_resolve.writeDescriptors();
 }
 
 void VulkanFrame::record(VkCommandBuffer cmd) {
@@ -223,11 +224,14 @@ Frame VulkanFrame::render(double startupMs) {
             passes[t.name] = passes.value(t.name, 0.0) + t.milliseconds;
         readback = Timer();
         m_readback.unpack(frame);
-        for (std::size_t i = 0; i < m_techniques.size(); ++i)
-            m_techniques[i]->takeStats(m_readback.stagedStats(i));
+        ListNeeds needs;
+        for (std::size_t i = 0; i < m_techniques.size(); ++i) {
+            const ListNeeds n = m_techniques[i]->takeStats(m_readback.stagedStats(i));
+            needs.listedFragments = std::max(needs.listedFragments, n.listedFragments);
+            needs.clusterPairs = std::max(needs.clusterPairs, n.clusterPairs);
+        }
         // A fragment a list had no room for is lost: the list grows and the frame runs again.
-        std::uint64_t listed = 0;
-        for (const auto& technique : m_techniques) listed = std::max(listed, technique->listedFragments());
+        const std::uint64_t listed = needs.listedFragments;
         // Past what the list holds, a walk takes its tiles in more parts, each part's fragments
         // sampled before the next lists its own (the walks list every deferred fragment when one
         // does: the auto extrusion).
@@ -241,9 +245,7 @@ Frame VulkanFrame::render(double startupMs) {
         }
         // The cluster lists are shared: they grow once, for the most any walk needed (after a
         // split, the next frame's parts tell anew).
-        std::uint64_t pairs = 0;
-        for (const auto& technique : m_techniques) pairs = std::max(pairs, technique->clusterPairsNeeded());
-        grown = (!split && m_clusterLists && m_clusterLists->growFor(pairs)) || grown;
+        grown = (!split && m_clusterLists && m_clusterLists->growFor(needs.clusterPairs)) || grown;
         for (const auto& technique : m_techniques) grown = technique->growLists() || grown;
         if (!grown) break;
         writeDescriptors();

@@ -5,7 +5,11 @@ namespace stsv {
 ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderOptions& options,
                          const SamplePlan& plan, FrameResources& resources,
                          const FrameDescriptors& descriptors)
-    : m_scene(&scene), m_resources(&resources), m_descriptors(&descriptors),
+    : m_scene(&scene), m_resources(&resources),
+      m_set(device, descriptors,
+            {{GPU_BINDING_RESOLVE_COLOR, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1},
+             {GPU_BINDING_RESOLVE_VISIBILITY, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1}},
+            0),
       m_counters(options.buffer == BufferKind::Counters), m_countsLayers(frameCountsLayers(options)),
       m_vcoef(methodInfo(options.method).output == MethodOutput::Visibility),
       m_depths(options.buffer == BufferKind::Transmittance && !m_vcoef),
@@ -16,8 +20,15 @@ ResolvePass::ResolvePass(const Device& device, const Scene& scene, const RenderO
     // The ambient-only pass of a scene without lights binds the first type's.
     std::array<bool, 4> used = lightTypesIn(scene);
     if (scene.lights.empty()) used[0] = true;
-    m_pipelines = lightTypeComputePipelines(device, descriptors.pipelineLayout(), used,
+    m_pipelines = lightTypeComputePipelines(device, m_set.pipelineLayout(), used,
                                             "render/shaders/resolve.comp", defines);
+}
+
+void ResolvePass::writeDescriptors() {
+    for (std::size_t l = 0; l < m_set.setCount(); ++l) {
+        m_set.set(l).writeStorageImage(GPU_BINDING_RESOLVE_COLOR, m_resources->color);
+        m_set.set(l).writeStorageImage(GPU_BINDING_RESOLVE_VISIBILITY, m_resources->visibility);
+    }
 }
 
 PassAccesses ResolvePass::accesses(std::size_t light) const {
@@ -41,8 +52,8 @@ void ResolvePass::record(VkCommandBuffer cmd, std::size_t light) const {
     const bool ambientOnly = light == AMBIENT_ONLY;
     const std::size_t set = ambientOnly ? 0 : light;
     m_pipelines.at(ambientOnly ? 0u : m_scene->lights[light].type).bind(cmd);
-    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set);
-    m_descriptors->push(cmd, GpuPush{ambientOnly ? 0xffffffffu : uint(light), set == 0 ? 1u : 0u, 0u, 0u});
+    m_set.bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, set);
+    m_set.push(cmd, GpuPush{ambientOnly ? 0xffffffffu : uint(light), set == 0 ? 1u : 0u, 0u, 0u});
     // resolve.comp works on 16 × 16 tiles (fewer, larger workgroups: lavapipe pays per workgroup).
     dispatchPerPixel(cmd, m_width, m_height);
 }

@@ -23,13 +23,16 @@ class ResolvePass final : public GpuPass {
     ResolvePass(const Device& device, const Scene& scene, const RenderOptions& options,
                 const SamplePlan& plan, FrameResources& resources, const FrameDescriptors& descriptors);
 
+    /// Its set (GPU_SET_FAMILY): the colour and visibility images it alone writes.
+    void writeDescriptors();
+
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
 
   private:
     const Scene* m_scene;
     FrameResources* m_resources;
-    const FrameDescriptors* m_descriptors;
+    FamilyDescriptors m_set;
     bool m_counters;     ///< counters buffer only, else bitmask images
     bool m_countsLayers; ///< counters too (frameCountsLayers)
     bool m_vcoef;        ///< MethodOutput::Visibility: v_coef from the v_coef image

@@ -47,39 +47,49 @@ struct VulkanTechniqueContext {
     std::vector<ShaderDefine> patternDefines;
 };
 
+/// What a technique's lists needed in the frame just run: the frame grows the lists the volume
+/// families share (DeferredFragments, ClusterLists) for the most any technique needed.
+struct ListNeeds {
+    /// The most fragments one list for its sample passes held: one light's draw, or one part of
+    /// its walk, past the end too.
+    std::uint64_t listedFragments = 0;
+    /// The most pairs one of the frame's cluster lists needed in its walk, when more than it held
+    /// (else 0).
+    std::uint64_t clusterPairs = 0;
+};
+
+/// One family's passes on Vulkan: set up once (its set written, its hull passes sized), recorded per
+/// light, then after each run of the frame its stats taken and its own lists grown; after the
+/// last run, what it reads back and its stats.
 class VulkanTechnique {
   public:
     virtual ~VulkanTechnique() = default;
     /// Its set GPU_SET_FAMILY (one per light), pipeline layout and stats buffer.
     const FamilyDescriptors& family() const { return m_family; }
+    /// Whether its passes set the light's sample masks whole (else the frame clears them first:
+    /// all lit, and passes that OR bits into them see cleared masks).
+    bool writesSampleMasks() const { return m_writesSampleMasks; }
+    /// Its hull passes, which HullResources::size runs once at start-up.
+    const std::vector<const HullPass*>& hullPasses() const { return m_hullPasses; }
+
     /// Its family sets written for every light: what it owns and the shared buffers it binds
     /// (written again whenever the frame replaces those).
     virtual void writeDescriptors() = 0;
-    /// Whether its passes set the light's sample masks whole (else the frame clears them first:
-    /// all lit, and passes that OR bits into them see cleared masks).
-    virtual bool writesSampleMasks() const { return false; }
     /// The timed passes it records per light, at most (the frame sizes its timestamp pool, and
     /// sizes it again when the walk takes more parts: the walk and its sample pass time each).
     virtual std::uint32_t timedPassesPerLight() const = 0;
-    /// Its hull passes, which HullResources::size runs once at start-up.
-    virtual std::vector<const HullPass*> hullPasses() const { return {}; }
     /// The family's passes for one light.
     virtual void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) = 0;
     /// After every technique of the row has recorded the light: the passes that combine them.
     virtual void recordCombine(PassRecorder&, VkCommandBuffer, std::size_t /*light*/) {}
-    /// After the frame's fence: its stats buffer as the frame left it (family().stats()'s bytes).
-    virtual void takeStats(const std::byte* staged) = 0;
-    /// The most fragments one list for its sample passes (DeferredFragments) held: one light's
-    /// draw, or one part of its walk, past the end too, as the last takeStats says.
-    virtual std::uint64_t listedFragments() const { return 0; }
-    /// After takeStats: the most pairs one of the frame's cluster lists (ClusterLists, shared by
-    /// the walking families) needed in its walk, when more than it held (else 0).
-    virtual std::uint64_t clusterPairsNeeded() const { return 0; }
+    /// After the frame's fence: its stats buffer as the frame left it (family().stats()'s bytes),
+    /// and what its lists needed.
+    virtual ListNeeds takeStats(const std::byte* staged) = 0;
     /// After takeStats: when lists of its own had too little room for the frame (fragments were
     /// lost), it grows them and returns true; the frame then writes the descriptors again and
     /// runs again.
     virtual bool growLists() { return false; }
-    /// After the frame's fence: what it reads back itself (the kept shadow maps).
+    /// After the frame's last run: what it reads back itself (the kept shadow maps).
     virtual void readBack(Frame&) const {}
     /// Its stats over the frame's lights under its family's keys (render/cpu writes the same).
     virtual void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const = 0;
@@ -91,6 +101,8 @@ class VulkanTechnique {
         : m_family(context.device, context.descriptors, std::move(bindings), statsBytes) {}
 
     FamilyDescriptors m_family;
+    bool m_writesSampleMasks = false;          ///< set by the constructor of a technique whose passes do
+    std::vector<const HullPass*> m_hullPasses; ///< set by the constructor of a technique with hulls
 };
 
 /// Each family's technique, made by the family's Vulkan side (volumes/vulkan, wedges/vulkan,
@@ -110,12 +122,16 @@ inline std::string passName(std::size_t light, const std::string& name) {
 /// then `own`.
 std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBinding> own);
 
-/// The most fragments one list held for a sample pass: one light's draw, or one part of its walk
-/// (a volume family's stats).
-template <class Stats> std::uint64_t mostListed(const std::vector<Stats>& counts) {
-    std::uint64_t listed = 0;
-    for (const Stats& s : counts) listed = std::max<std::uint64_t>(listed, s.listedPart);
-    return listed;
+/// What a volume family's lists needed, from its stats per light: the most fragments one list held
+/// for its sample passes (when it has them) and the most pairs one walk needed.
+template <class Stats> ListNeeds volumeListNeeds(const std::vector<Stats>& counts, bool samplePasses) {
+    ListNeeds needs;
+    for (const Stats& s : counts) {
+        if (samplePasses)
+            needs.listedFragments = std::max<std::uint64_t>(needs.listedFragments, s.listedPart);
+        needs.clusterPairs = std::max<std::uint64_t>(needs.clusterPairs, s.walk.pairsNeeded);
+    }
+    return needs;
 }
 
 /// A family's stats per light, from the bytes of its stats buffer.

@@ -8,6 +8,7 @@
 #include "render/cpu/cpu_techniques.h"
 #include "shadowmaps/filtered_lookup.h"
 #include "shadowmaps/filtered_map.h"
+#include "shadowmaps/kept_maps.h"
 #include "shadowmaps/shadow_filter.h"
 #include "shadowmaps/shadow_fit.h"
 #include "shadowmaps/shadow_map_stats.h"
@@ -320,7 +321,8 @@ class ShadowMapsTechnique final : public CpuTechnique {
     void run(CpuLightWork& work) override {
         if (m_settings.filter == ShadowMapMethod::Peel) return runPeel(work);
         if (readsTransmittanceFunctions(m_settings.filter)) return runAvsm(work);
-        ShadowMap* keep = m_c.options.keepShadowMaps ? &work.frame.shadowMaps.emplace_back() : nullptr;
+        ShadowMap* keep =
+            m_c.options.keepShadowMaps ? &keepMapsIn(work.frame.keptMaps).shadowMaps.emplace_back() : nullptr;
         const Scene& scene = m_c.embree.scene();
         const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
         const ShadowMapCpuStats s =
@@ -347,7 +349,8 @@ class ShadowMapsTechnique final : public CpuTechnique {
     void runPeel(CpuLightWork& work) {
         const Scene& scene = m_c.embree.scene();
         const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
-        DepthGrid* keep = m_c.options.keepShadowMaps ? &work.frame.depthGrids.emplace_back() : nullptr;
+        DepthGrid* keep =
+            m_c.options.keepShadowMaps ? &keepMapsIn(work.frame.keptMaps).depthGrids.emplace_back() : nullptr;
         const PeelCpuStats s = peelCpuSamples(m_c.embree, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
                                               view, m_settings, work.samples, keep);
         work.passes[work.pass("depth_grid")] = s.grid_ms;
@@ -362,7 +365,8 @@ class ShadowMapsTechnique final : public CpuTechnique {
     void runAvsm(CpuLightWork& work) {
         const Scene& scene = m_c.embree.scene();
         const ShadowMapView view = fitFrameShadowMap(scene, work.light, m_receivers, m_settings);
-        AvsmMap* keep = m_c.options.keepShadowMaps ? &work.frame.avsmMaps.emplace_back() : nullptr;
+        AvsmMap* keep =
+            m_c.options.keepShadowMaps ? &keepMapsIn(work.frame.keptMaps).avsmMaps.emplace_back() : nullptr;
         const AvsmCpuStats s =
             avsmCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
                               m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);

@@ -3,6 +3,7 @@
 #include "render/vulkan/vulkan_techniques.h"
 
 #include "shadowmaps/filtered_map.h"
+#include "shadowmaps/kept_maps.h"
 #include "shadowmaps/shadow_map_stats.h"
 #include "shadowmaps/vulkan/gpu_shadowmap_passes.h"
 #include "wedges/adjacency.h"
@@ -24,8 +25,9 @@ class ShadowMapsTechnique : public VulkanTechnique {
     void writeDescriptors() override {
         for (std::size_t l = 0; l < m_family.setCount(); ++l) m_maps.writeDescriptors(m_family.set(l), l);
     }
-    void takeStats(const std::byte* staged) override {
+    ListNeeds takeStats(const std::byte* staged) override {
         m_counts = stagedStats<GpuShadowMapStats>(staged, m_c.scene.lights.size());
+        return {}; // its lists (AVSM's fragments) are its own: growLists
     }
     void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
         nlohmann::json maps = nlohmann::json::array();
@@ -80,7 +82,7 @@ class DepthMapTechnique final : public ShadowMapsTechnique {
     void readBack(Frame& frame) const override {
         if (!m_c.options.keepShadowMaps) return;
         for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l)
-            frame.shadowMaps.push_back(m_maps.download(l));
+            keepMapsIn(frame.keptMaps).shadowMaps.push_back(m_maps.download(l));
     }
 
   private:
@@ -121,7 +123,7 @@ class DepthGridTechnique final : public ShadowMapsTechnique {
     void readBack(Frame& frame) const override {
         if (!m_c.options.keepShadowMaps) return;
         for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l)
-            frame.depthGrids.push_back(m_maps.downloadGrid(l));
+            keepMapsIn(frame.keptMaps).depthGrids.push_back(m_maps.downloadGrid(l));
     }
 
   private:
@@ -189,7 +191,7 @@ class AvsmTechnique final : public ShadowMapsTechnique {
     void readBack(Frame& frame) const override {
         if (!m_c.options.keepShadowMaps) return;
         for (std::size_t l = 0; l < m_c.scene.lights.size(); ++l)
-            frame.avsmMaps.push_back(m_maps.downloadAvsm(l));
+            keepMapsIn(frame.keptMaps).avsmMaps.push_back(m_maps.downloadAvsm(l));
     }
 
   private:

@@ -7,6 +7,7 @@
 
 #include "render/renderer.h"
 #include "scene/load.h"
+#include "shadowmaps/kept_maps.h"
 #include "tests/support/translucent_scene.h"
 
 #include <cstdio>
@@ -108,9 +109,10 @@ TEST_F(AvsmGpu, VeilStackFunctionsAreTheCpuMirrorsAndTheListsGrow) {
         const RenderOptions o =
             avsmOptions(Method::Avsm, 48, {"avsm_size=128", "avsm_nodes=" + std::to_string(nodes)});
         const Renders r = renderBoth(scene, o);
-        ASSERT_EQ(r.gpu.avsmMaps.size(), 1u);
-        ASSERT_EQ(r.cpu.avsmMaps.size(), 1u);
-        const FunctionDiff d = compareFunctions(r.gpu.avsmMaps[0], r.cpu.avsmMaps[0]);
+        ASSERT_EQ(keptMaps(r.gpu.keptMaps).avsmMaps.size(), 1u);
+        ASSERT_EQ(keptMaps(r.cpu.keptMaps).avsmMaps.size(), 1u);
+        const FunctionDiff d =
+            compareFunctions(keptMaps(r.gpu.keptMaps).avsmMaps[0], keptMaps(r.cpu.keptMaps).avsmMaps[0]);
         const nlohmann::json& a = r.gpu.stats["shadow_maps"][0]["avsm"];
         std::printf(
             "%d veils, %d nodes: %zu of %zu texels differ, %zu with nodes, %zu overflowed; max relative "
@@ -147,12 +149,12 @@ TEST_F(AvsmGpu, ShuffledTrianglesGiveTheSameFunctions) {
     o.keepShadowMaps = true;
     const Frame a = renderGpu(scene, o);
     const Frame b = renderGpu(shuffled, o);
-    ASSERT_EQ(a.avsmMaps.size(), 1u);
-    ASSERT_EQ(b.avsmMaps.size(), 1u);
-    EXPECT_EQ(a.avsmMaps[0].counts, b.avsmMaps[0].counts);
-    EXPECT_EQ(a.avsmMaps[0].overflowed, b.avsmMaps[0].overflowed);
-    EXPECT_EQ(a.avsmMaps[0].units, b.avsmMaps[0].units);
-    EXPECT_EQ(a.avsmMaps[0].depth, b.avsmMaps[0].depth);
+    ASSERT_EQ(keptMaps(a.keptMaps).avsmMaps.size(), 1u);
+    ASSERT_EQ(keptMaps(b.keptMaps).avsmMaps.size(), 1u);
+    EXPECT_EQ(keptMaps(a.keptMaps).avsmMaps[0].counts, keptMaps(b.keptMaps).avsmMaps[0].counts);
+    EXPECT_EQ(keptMaps(a.keptMaps).avsmMaps[0].overflowed, keptMaps(b.keptMaps).avsmMaps[0].overflowed);
+    EXPECT_EQ(keptMaps(a.keptMaps).avsmMaps[0].units, keptMaps(b.keptMaps).avsmMaps[0].units);
+    EXPECT_EQ(keptMaps(a.keptMaps).avsmMaps[0].depth, keptMaps(b.keptMaps).avsmMaps[0].depth);
     EXPECT_EQ(a.visibility.pixels, b.visibility.pixels);
 }
 
@@ -165,9 +167,10 @@ TEST_F(AvsmGpu, ParticlesMatchTheCpuMirror) {
     for (const Method method : {Method::Avsm, Method::Vpcss}) {
         const RenderOptions o = avsmOptions(method, 64, {"avsm_size=256"});
         const Renders r = renderBoth(scene, o);
-        ASSERT_EQ(r.gpu.avsmMaps.size(), 1u);
-        ASSERT_EQ(r.cpu.avsmMaps.size(), 1u);
-        const FunctionDiff d = compareFunctions(r.gpu.avsmMaps[0], r.cpu.avsmMaps[0]);
+        ASSERT_EQ(keptMaps(r.gpu.keptMaps).avsmMaps.size(), 1u);
+        ASSERT_EQ(keptMaps(r.cpu.keptMaps).avsmMaps.size(), 1u);
+        const FunctionDiff d =
+            compareFunctions(keptMaps(r.gpu.keptMaps).avsmMaps[0], keptMaps(r.cpu.keptMaps).avsmMaps[0]);
         const VisibilityDiff v = compareVisibility(r.gpu, r.cpu);
         std::printf("%s: %zu of %zu texels differ (%zu with nodes, %zu overflowed), max relative depth "
                     "difference %.2g; visibility mean |dv| %.5f, %zu of %zu pixels off by more than 1/16\n",

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "render/vulkan/gpu_deferred.h"
+#include "render/vulkan/gpu_frame_resources.h"
 #include "render/vulkan/gpu_volumes_dh.h"
 #include "scene/camera.h"
 #include "scene/geometry.h"
@@ -15,6 +16,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <gtest/gtest.h>
+#include <set>
 
 namespace stsv::test {
 namespace {
@@ -23,6 +25,26 @@ using GpuRenderer = GpuRenderTest;
 
 // Small frames: lavapipe runs on two CPU cores and the mirror and Embree run beside it.
 constexpr int W = 96, H = 72;
+
+TEST_F(GpuRenderer, TheFrameSetHoldsTwelveBindingsAtMostEachOnce) {
+    // Set 0 is what every pass binds: the scene tables, the frame and its lights, the G-buffer,
+    // the light-sample buffers of each kind and the v_coef image the families write; what one
+    // pass alone writes (the resolve's colour and visibility) lives in that pass's own set.
+    const Scene scene = loadScene("fence");
+    for (const BufferKind kind : {BufferKind::Bitmask, BufferKind::Counters, BufferKind::Transmittance}) {
+        RenderOptions o = gpuOptions(W, H, 16);
+        o.buffer = kind;
+        const FrameResources resources(device(), scene, o, samplePlanOf(o));
+        const std::vector<DescriptorBinding> bindings = resources.bindings();
+        std::set<uint32_t> numbers;
+        for (const DescriptorBinding& b : bindings) {
+            EXPECT_LT(b.binding, 12u) << toString(kind);
+            numbers.insert(b.binding);
+        }
+        EXPECT_EQ(numbers.size(), bindings.size()) << toString(kind) << ": a binding number twice";
+        EXPECT_LE(bindings.size(), 12u) << toString(kind);
+    }
+}
 
 TEST_F(GpuRenderer, GBufferAgreesWithEmbreePrimaryRays) {
     const Scene scene = loadScene("fence");

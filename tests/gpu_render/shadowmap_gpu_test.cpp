@@ -7,6 +7,7 @@
 #include "render/vulkan/gpu_deferred.h"
 #include "scene/load.h"
 #include "shadowmaps/cpu/cpu_shadowmaps.h"
+#include "shadowmaps/kept_maps.h"
 #include "shadowmaps/vulkan/gpu_shadowmap_passes.h"
 
 #include <bit>
@@ -76,11 +77,11 @@ void expectMapsAgree(const Scene& scene, const RenderOptions& gpuOptions, const 
     RenderOptions cpuOptions = gpuOptions;
     cpuOptions.backend = Backend::Cpu;
     const Frame cpuFrame = makeRenderer(scene, cpuOptions)->render();
-    ASSERT_EQ(gpuFrame.shadowMaps.size(), scene.lights.size()) << label;
-    ASSERT_EQ(cpuFrame.shadowMaps.size(), scene.lights.size()) << label;
+    ASSERT_EQ(keptMaps(gpuFrame.keptMaps).shadowMaps.size(), scene.lights.size()) << label;
+    ASSERT_EQ(keptMaps(cpuFrame.keptMaps).shadowMaps.size(), scene.lights.size()) << label;
     for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-        const ShadowMap& g = gpuFrame.shadowMaps[l];
-        const ShadowMap& c = cpuFrame.shadowMaps[l];
+        const ShadowMap& g = keptMaps(gpuFrame.keptMaps).shadowMaps[l];
+        const ShadowMap& c = keptMaps(cpuFrame.keptMaps).shadowMaps[l];
         ASSERT_EQ(g.view.projection, c.view.projection);
         ASSERT_EQ(g.depth.size(), c.depth.size());
         const MapDiff d = compareMaps(g, c);
@@ -127,8 +128,9 @@ TEST_F(ShadowMapGpu, FenceCubeMapMatchesTracedMap) {
     const Scene scene = loadScene("fence");
     const RenderOptions o = mapOptions(Method::Pcss, 64, 512, 0);
     const Frame frame = renderGpu(scene, o);
-    ASSERT_EQ(frame.shadowMaps.size(), 1u);
-    EXPECT_EQ(frame.shadowMaps[0].view.projection, SHADOW_MAP_CUBE); // the ground needs more than 120°
+    ASSERT_EQ(keptMaps(frame.keptMaps).shadowMaps.size(), 1u);
+    EXPECT_EQ(keptMaps(frame.keptMaps).shadowMaps[0].view.projection,
+              SHADOW_MAP_CUBE); // the ground needs more than 120°
     expectMapsAgree(scene, o, "fence pcss", frame);
 }
 
@@ -137,8 +139,8 @@ TEST_F(ShadowMapGpu, FenceViewFitMapMatchesTracedMap) {
     const Scene scene = loadScene("fence");
     const RenderOptions o = mapOptions(Method::Pcss, 64, 512);
     const Frame frame = renderGpu(scene, o);
-    ASSERT_EQ(frame.shadowMaps.size(), 1u);
-    EXPECT_EQ(frame.shadowMaps[0].view.projection, SHADOW_MAP_PERSPECTIVE);
+    ASSERT_EQ(keptMaps(frame.keptMaps).shadowMaps.size(), 1u);
+    EXPECT_EQ(keptMaps(frame.keptMaps).shadowMaps[0].view.projection, SHADOW_MAP_PERSPECTIVE);
     expectMapsAgree(scene, o, "fence pcss, view fit", frame);
 }
 
@@ -173,10 +175,10 @@ TEST_F(ShadowMapGpu, EveryLightShapeMapMatchesTracedMap) {
     for (Method method : {Method::Pcf, Method::Pcss}) {
         const RenderOptions o = mapOptions(method, 48, 256);
         const Frame frame = renderGpu(scene, o);
-        ASSERT_EQ(frame.shadowMaps.size(), 3u);
-        EXPECT_EQ(frame.shadowMaps[0].view.projection, SHADOW_MAP_PERSPECTIVE);
-        EXPECT_EQ(frame.shadowMaps[1].view.projection, SHADOW_MAP_CUBE);
-        EXPECT_EQ(frame.shadowMaps[2].view.projection, SHADOW_MAP_ORTHOGRAPHIC);
+        ASSERT_EQ(keptMaps(frame.keptMaps).shadowMaps.size(), 3u);
+        EXPECT_EQ(keptMaps(frame.keptMaps).shadowMaps[0].view.projection, SHADOW_MAP_PERSPECTIVE);
+        EXPECT_EQ(keptMaps(frame.keptMaps).shadowMaps[1].view.projection, SHADOW_MAP_CUBE);
+        EXPECT_EQ(keptMaps(frame.keptMaps).shadowMaps[2].view.projection, SHADOW_MAP_ORTHOGRAPHIC);
         expectMapsAgree(scene, o, toString(method) + " three lights", frame);
     }
 }
@@ -225,11 +227,11 @@ TEST_F(ShadowMapGpu, PeelGridsAndBitsMatchTheCpuMirror) {
         RenderOptions cpuOptions = o;
         cpuOptions.backend = Backend::Cpu;
         const Frame cpu = makeRenderer(scene, cpuOptions)->render();
-        ASSERT_EQ(gpu.depthGrids.size(), scene.lights.size()) << label;
-        ASSERT_EQ(cpu.depthGrids.size(), scene.lights.size()) << label;
+        ASSERT_EQ(keptMaps(gpu.keptMaps).depthGrids.size(), scene.lights.size()) << label;
+        ASSERT_EQ(keptMaps(cpu.keptMaps).depthGrids.size(), scene.lights.size()) << label;
         for (std::size_t l = 0; l < scene.lights.size(); ++l) {
-            const DepthGrid& g = gpu.depthGrids[l];
-            const DepthGrid& c = cpu.depthGrids[l];
+            const DepthGrid& g = keptMaps(gpu.keptMaps).depthGrids[l];
+            const DepthGrid& c = keptMaps(cpu.keptMaps).depthGrids[l];
             ASSERT_EQ(g.words.size(), c.words.size()) << label;
             const std::size_t texels = c.words.size() / peelTexelWords(c.bins);
             const std::size_t differing = differingGridTexels(g, c);
@@ -344,10 +346,10 @@ TEST_F(ShadowMapGpu, MsmOnTheKnotDiffersFromTheCpuOnlyByItsMapsRounding) {
     RenderOptions cpuOptions = o;
     cpuOptions.backend = Backend::Cpu;
     const Frame cpu = makeRenderer(scene, cpuOptions)->render();
-    ASSERT_EQ(gpu.shadowMaps.size(), 1u);
-    ASSERT_EQ(cpu.shadowMaps.size(), 1u);
-    const ShadowMap& gm = gpu.shadowMaps[0];
-    const ShadowMap& cm = cpu.shadowMaps[0];
+    ASSERT_EQ(keptMaps(gpu.keptMaps).shadowMaps.size(), 1u);
+    ASSERT_EQ(keptMaps(cpu.keptMaps).shadowMaps.size(), 1u);
+    const ShadowMap& gm = keptMaps(gpu.keptMaps).shadowMaps[0];
+    const ShadowMap& cm = keptMaps(cpu.keptMaps).shadowMaps[0];
     ASSERT_EQ(gm.depth.size(), cm.depth.size());
     std::size_t apart = 0;
     for (std::size_t i = 0; i < gm.depth.size(); ++i)

@@ -42,6 +42,7 @@ class StsvTechnique final : public VulkanTechnique {
             hullDefines.push_back({"STSV_HULL_RECORDS_ONLY", "1"});
             m_hullPass.emplace(c.device, "volumes/shaders/stsv_hull.comp", hullDefines, triangles, pushFlags,
                                *c.hulls, m_family, std::vector<const Buffer*>{&m_clusters->itemRecords});
+            m_hullPasses = {&*m_hullPass};
             m_walk.emplace(
                 c.device, "volumes/shaders/stsv_clusters.comp", 5, c.resources, *c.deferred, *c.clusterLists,
                 m_family, c.defines,
@@ -53,9 +54,13 @@ class StsvTechnique final : public VulkanTechnique {
             if (c.geometry == VolumeGeometry::ComputeHull) c.deferred->use(bitmask);
             m_stsv.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family,
                            c.geometry);
+            // The volumes' draw sets the masks whole (its attachments are cleared as it begins);
+            // the walk's merge ORs its bits into masks the frame cleared.
+            m_writesSampleMasks = true;
             if (c.geometry != VolumeGeometry::ComputeHull) return;
             m_hullPass.emplace(c.device, "volumes/shaders/stsv_hull.comp", hullDefines, triangles, pushFlags,
                                *c.hulls, m_family);
+            m_hullPasses = {&*m_hullPass};
         }
         m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.hulls, *c.deferred, m_family);
         if (bitmask) m_merge.emplace(c.device, c.options, c.resources, *c.deferred, m_family);
@@ -76,15 +81,8 @@ class StsvTechnique final : public VulkanTechnique {
         }
     }
 
-    /// The volumes' draw sets the masks whole (its attachments are cleared as it begins); the
-    /// walk's merge ORs its bits into masks the frame cleared.
-    bool writesSampleMasks() const override { return m_stsv.has_value(); }
     /// The walk and the samples time each part.
     std::uint32_t timedPassesPerLight() const override { return 4 + 2 * (m_c.clusterLists->parts() - 1); }
-    std::vector<const HullPass*> hullPasses() const override {
-        if (!m_hullPass) return {};
-        return {&*m_hullPass};
-    }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
         if (!m_stsv && !m_walk) return;
@@ -104,16 +102,9 @@ class StsvTechnique final : public VulkanTechnique {
         if (m_merge) runPass(recorder, cmd, passName(light, "stsv_merge"), *m_merge, light);
     }
 
-    void takeStats(const std::byte* staged) override {
+    ListNeeds takeStats(const std::byte* staged) override {
         m_counts = stagedStats<GpuStsvStats>(staged, m_c.scene.lights.size());
-    }
-
-    std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
-
-    std::uint64_t clusterPairsNeeded() const override {
-        std::uint64_t needed = 0;
-        for (const GpuStsvStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.walk.pairsNeeded);
-        return needed;
+        return volumeListNeeds(m_counts, m_samples.has_value());
     }
 
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {

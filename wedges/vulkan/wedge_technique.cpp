@@ -44,10 +44,12 @@ class WedgeTechnique final : public VulkanTechnique {
         }
         m_wedges.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, c.geometry,
                          *c.hulls, *c.deferred);
-        if (c.geometry == VolumeGeometry::ComputeHull && m_resources.carrierCount() > 0)
+        if (c.geometry == VolumeGeometry::ComputeHull && m_resources.carrierCount() > 0) {
             m_hullPass.emplace(
                 c.device, "wedges/shaders/wedge_hull.comp", layoutDefines(c.resources.tables.layout),
                 static_cast<std::uint32_t>(m_resources.carrierCount()), 0u, *c.hulls, m_family);
+            m_hullPasses = {&*m_hullPass};
+        }
     }
 
     void writeDescriptors() override {
@@ -60,10 +62,6 @@ class WedgeTechnique final : public VulkanTechnique {
     }
     /// The walk and the samples time each part.
     std::uint32_t timedPassesPerLight() const override { return 5 + 2 * (m_c.clusterLists->parts() - 1); }
-    std::vector<const HullPass*> hullPasses() const override {
-        if (!m_hullPass) return {};
-        return {&*m_hullPass};
-    }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
         const std::string technique = passName(light, m_pw ? "pw_" : "dcs_");
@@ -91,7 +89,7 @@ class WedgeTechnique final : public VulkanTechnique {
         if (m_pw) runPass(recorder, cmd, passName(light, "fold"), m_fold, light);
     }
 
-    void takeStats(const std::byte* staged) override {
+    ListNeeds takeStats(const std::byte* staged) override {
         m_counts = stagedStats<GpuWedgeStats>(staged, m_c.scene.lights.size());
         // A segment whose count stopped short would leave D(r) too low: no picture then.
         for (std::size_t l = 0; l < m_counts.size(); ++l)
@@ -101,14 +99,7 @@ class WedgeTechnique final : public VulkanTechnique {
                             std::to_string(LAYER_BVH_MAX_VISITS) + " tree nodes on " +
                             std::to_string(m_counts[l].centerCutShort) +
                             " pixels' segments (lavapipe's loop limit); render with --backend cpu");
-    }
-
-    std::uint64_t listedFragments() const override { return m_samples ? mostListed(m_counts) : 0; }
-
-    std::uint64_t clusterPairsNeeded() const override {
-        std::uint64_t needed = 0;
-        for (const GpuWedgeStats& s : m_counts) needed = std::max<std::uint64_t>(needed, s.walk.pairsNeeded);
-        return needed;
+        return volumeListNeeds(m_counts, m_samples.has_value());
     }
 
     void writeStats(const GBuffer&, nlohmann::json& stats) const override {
