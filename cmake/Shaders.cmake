@@ -16,7 +16,8 @@
 find_program(GLSLANG_VALIDATOR glslangValidator REQUIRED)
 find_program(SPIRV_VAL spirv-val REQUIRED)
 
-set(STSV_SHADER_FOLDERS render/shaders volumes/shaders wedges/shaders shadowmaps/shaders)
+list(TRANSFORM STSV_FAMILIES APPEND /shaders OUTPUT_VARIABLE STSV_SHADER_FOLDERS)
+list(PREPEND STSV_SHADER_FOLDERS render/shaders)
 set(STSV_SHADER_SOURCES)
 set(STSV_SHADER_FOLDER_FILES)
 foreach(folder ${STSV_SHADER_FOLDERS})

@@ -444,34 +444,116 @@ const char* const kIgnoredObjStatements[] = {
     "end",        "con",       "mg",    "bevel", "c_interp", "d_interp", "lod",    "usemap", "maplib",
     "shadow_obj", "trace_obj", "ctech", "stech", "call",     "csh"};
 
+/// Pass 1 of scanObj: the materials of every `mtllib` into `out`, by name, so that `usemtl` can be
+/// checked wherever `mtllib` appears.
+struct ObjMaterials {
+    std::map<std::string, std::uint32_t> byName;
+    bool anyLibrary = false;
+};
+
+ObjMaterials loadObjMaterialLibraries(const std::string& path, const std::string& text, MeshData& out) {
+    const fs::path dir = fs::path(path).parent_path();
+    ObjMaterials materials;
+    Lines lines(text, "OBJ: material libraries");
+    std::string_view line;
+    std::size_t number = 0;
+    while (lines.next(line, number)) {
+        const auto tokens = splitTokens(line);
+        if (tokens.empty() || tokens[0] != "mtllib") continue;
+        if (tokens.size() < 2) throw InputError(path, number, "'mtllib' names no file");
+        materials.anyLibrary = true;
+        for (std::size_t k = 1; k < tokens.size(); ++k) {
+            const fs::path mtl = dir / std::string(tokens[k]);
+            if (const std::string reason = notAFileReason(mtl.string()); !reason.empty())
+                throw InputError(path, number, "material library '" + mtl.string() + "' " + reason);
+            const std::size_t before = out.materials.size();
+            loadMtl(mtl.string(), out);
+            for (std::size_t m = before; m < out.materials.size(); ++m)
+                materials.byName.try_emplace(out.materials[m].name, static_cast<std::uint32_t>(m));
+        }
+    }
+    return materials;
+}
+
+/// One face corner ("v", "v/vt", "v//vn" or "v/vt/vn", indices from 1 or negative from the end):
+/// its vertex and texture coordinate (−1: none), 0-based, appended to `scan`.
+void scanObjCorner(std::string_view corner, const std::string& path, std::size_t number, ObjScan& scan) {
+    std::string_view parts[3];
+    int partCount = 0;
+    std::size_t start = 0;
+    for (std::size_t i = 0; i <= corner.size(); ++i) {
+        if (i == corner.size() || corner[i] == '/') {
+            if (partCount == 3)
+                throw InputError(path, number, "malformed face corner '" + std::string(corner) + "'");
+            parts[partCount++] = corner.substr(start, i - start);
+            start = i + 1;
+        }
+    }
+    auto index = [&](std::string_view token, std::size_t count, const char* what) -> std::int64_t {
+        long long value = 0;
+        if (!parseLong(token, value))
+            throw InputError(path, number,
+                             "malformed " + std::string(what) + " index '" + std::string(token) +
+                                 "' in face corner '" + std::string(corner) + "'");
+        if (value == 0)
+            throw InputError(path, number, std::string(what) + " index 0 (OBJ indices start at 1)");
+        const long long resolved = value > 0 ? value - 1 : static_cast<long long>(count) + value;
+        if (resolved < 0 || resolved >= static_cast<long long>(count))
+            throw InputError(path, number,
+                             std::string(what) + " index " + std::to_string(value) +
+                                 " is out of range: " + std::to_string(count) + " defined before this line");
+        return resolved;
+    };
+    scan.cornerVertex.push_back(index(parts[0], scan.vertexCount, "vertex"));
+    if (partCount >= 2 && !parts[1].empty())
+        scan.cornerTexcoord.push_back(index(parts[1], scan.texcoords.size(), "texture coordinate"));
+    else if (partCount >= 2 && parts[1].empty() && partCount == 2)
+        throw InputError(path, number, "malformed face corner '" + std::string(corner) + "'");
+    else
+        scan.cornerTexcoord.push_back(-1);
+    if (partCount == 3) {
+        long long dummy = 0;
+        if (!parseLong(parts[2], dummy) || dummy == 0)
+            throw InputError(path, number,
+                             "malformed normal index in face corner '" + std::string(corner) + "'");
+    }
+}
+
+/// An `f` statement: its corners appended to `scan`, whether it repeats a vertex, and its line of
+/// the canonical file (none for a face that repeats a vertex; texture coordinates only where every
+/// corner has one). The caller adds its material and line.
+void scanObjFace(const std::vector<std::string_view>& tokens, const std::string& path, std::size_t number,
+                 ObjScan& scan) {
+    if (tokens.size() < 4)
+        throw InputError(path, number,
+                         "face needs at least 3 vertices, got " + std::to_string(tokens.size() - 1));
+    for (std::size_t k = 1; k < tokens.size(); ++k) scanObjCorner(tokens[k], path, number, scan);
+    const std::size_t first = scan.faceStart.back();
+    scan.faceStart.push_back(static_cast<std::uint32_t>(scan.cornerVertex.size()));
+    const std::int64_t repeated =
+        repeatedVertex({scan.cornerVertex.begin() + std::ptrdiff_t(first), scan.cornerVertex.end()});
+    scan.faceRepeats.push_back(repeated >= 0);
+    if (repeated >= 0 && scan.firstRepeatLine == 0) {
+        scan.firstRepeatLine = number;
+        scan.firstRepeatVertex = repeated;
+    }
+    bool allTexcoords = true;
+    for (std::size_t c = first; c < scan.cornerVertex.size(); ++c)
+        allTexcoords &= scan.cornerTexcoord[c] >= 0;
+    if (repeated >= 0) return;
+    scan.canonical.push_back('f');
+    for (std::size_t c = first; c < scan.cornerVertex.size(); ++c) {
+        scan.canonical += " " + std::to_string(scan.cornerVertex[c] + 1);
+        if (allTexcoords) scan.canonical += "/" + std::to_string(scan.cornerTexcoord[c] + 1);
+    }
+    scan.canonical.push_back('\n');
+}
+
 ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out) {
     ObjScan scan;
     scan.faceStart.push_back(0);
-    const fs::path dir = fs::path(path).parent_path();
-
-    // Pass 1: material libraries, so `usemtl` can be checked wherever `mtllib` appears.
-    std::map<std::string, std::uint32_t> materialByName;
-    bool anyMtllib = false;
-    {
-        Lines lines(text, "OBJ: material libraries");
-        std::string_view line;
-        std::size_t number = 0;
-        while (lines.next(line, number)) {
-            const auto tokens = splitTokens(line);
-            if (tokens.empty() || tokens[0] != "mtllib") continue;
-            if (tokens.size() < 2) throw InputError(path, number, "'mtllib' names no file");
-            anyMtllib = true;
-            for (std::size_t k = 1; k < tokens.size(); ++k) {
-                const fs::path mtl = dir / std::string(tokens[k]);
-                if (const std::string reason = notAFileReason(mtl.string()); !reason.empty())
-                    throw InputError(path, number, "material library '" + mtl.string() + "' " + reason);
-                const std::size_t before = out.materials.size();
-                loadMtl(mtl.string(), out);
-                for (std::size_t m = before; m < out.materials.size(); ++m)
-                    materialByName.try_emplace(out.materials[m].name, static_cast<std::uint32_t>(m));
-            }
-        }
-    }
+    ObjMaterials materials = loadObjMaterialLibraries(path, text, out);
+    std::map<std::string, std::uint32_t>& materialByName = materials.byName;
 
     int currentMaterial = -1; // −1: the default material, created on first use
     auto defaultMaterial = [&]() -> std::uint32_t {
@@ -518,77 +600,7 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
             if (tokens.size() < 4) throw InputError(path, number, "normal needs 3 numbers");
             for (std::size_t k = 1; k < tokens.size(); ++k) finiteNumber(tokens[k], path, number, "normal");
         } else if (key == "f") {
-            if (tokens.size() < 4)
-                throw InputError(path, number,
-                                 "face needs at least 3 vertices, got " + std::to_string(tokens.size() - 1));
-            for (std::size_t k = 1; k < tokens.size(); ++k) {
-                const std::string_view corner = tokens[k];
-                std::string_view parts[3];
-                int partCount = 0;
-                std::size_t start = 0;
-                for (std::size_t i = 0; i <= corner.size(); ++i) {
-                    if (i == corner.size() || corner[i] == '/') {
-                        if (partCount == 3)
-                            throw InputError(path, number,
-                                             "malformed face corner '" + std::string(corner) + "'");
-                        parts[partCount++] = corner.substr(start, i - start);
-                        start = i + 1;
-                    }
-                }
-                auto index = [&](std::string_view token, std::size_t count,
-                                 const char* what) -> std::int64_t {
-                    long long value = 0;
-                    if (!parseLong(token, value))
-                        throw InputError(path, number,
-                                         "malformed " + std::string(what) + " index '" + std::string(token) +
-                                             "' in face corner '" + std::string(corner) + "'");
-                    if (value == 0)
-                        throw InputError(path, number,
-                                         std::string(what) + " index 0 (OBJ indices start at 1)");
-                    const long long resolved = value > 0 ? value - 1 : static_cast<long long>(count) + value;
-                    if (resolved < 0 || resolved >= static_cast<long long>(count))
-                        throw InputError(path, number,
-                                         std::string(what) + " index " + std::to_string(value) +
-                                             " is out of range: " + std::to_string(count) +
-                                             " defined before this line");
-                    return resolved;
-                };
-                scan.cornerVertex.push_back(index(parts[0], scan.vertexCount, "vertex"));
-                if (partCount >= 2 && !parts[1].empty())
-                    scan.cornerTexcoord.push_back(
-                        index(parts[1], scan.texcoords.size(), "texture coordinate"));
-                else if (partCount >= 2 && parts[1].empty() && partCount == 2)
-                    throw InputError(path, number, "malformed face corner '" + std::string(corner) + "'");
-                else
-                    scan.cornerTexcoord.push_back(-1);
-                if (partCount == 3) {
-                    long long dummy = 0;
-                    if (!parseLong(parts[2], dummy) || dummy == 0)
-                        throw InputError(path, number,
-                                         "malformed normal index in face corner '" + std::string(corner) +
-                                             "'");
-                }
-            }
-            const std::size_t first = scan.faceStart.back();
-            scan.faceStart.push_back(static_cast<std::uint32_t>(scan.cornerVertex.size()));
-            const std::int64_t repeated =
-                repeatedVertex({scan.cornerVertex.begin() + std::ptrdiff_t(first), scan.cornerVertex.end()});
-            scan.faceRepeats.push_back(repeated >= 0);
-            if (repeated >= 0 && scan.firstRepeatLine == 0) {
-                scan.firstRepeatLine = number;
-                scan.firstRepeatVertex = repeated;
-            }
-            bool allTexcoords = true;
-            for (std::size_t c = first; c < scan.cornerVertex.size(); ++c)
-                allTexcoords &= scan.cornerTexcoord[c] >= 0;
-            if (repeated < 0) {
-                scan.canonical.push_back('f');
-                for (std::size_t c = first; c < scan.cornerVertex.size(); ++c) {
-                    scan.canonical += " " + std::to_string(scan.cornerVertex[c] + 1);
-                    if (allTexcoords) scan.canonical += "/" + std::to_string(scan.cornerTexcoord[c] + 1);
-                }
-                scan.canonical.push_back('\n');
-            }
+            scanObjFace(tokens, path, number, scan);
             if (currentMaterial < 0) currentMaterial = static_cast<int>(defaultMaterial());
             scan.faceMaterial.push_back(static_cast<std::uint32_t>(currentMaterial));
             scan.faceLine.push_back(number);
@@ -600,7 +612,7 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
             const auto it = materialByName.find(name);
             if (it != materialByName.end()) {
                 currentMaterial = static_cast<int>(it->second);
-            } else if (!anyMtllib) {
+            } else if (!materials.anyLibrary) {
                 // No library to look in: usemtl only groups faces; each name gets a default material.
                 Material m;
                 m.name = name;
@@ -721,137 +733,178 @@ MeshData loadObj(const std::string& path) {
 
 // ---------------------------------------------------------------- OFF
 
-MeshData loadOff(const std::string& path) {
-    const std::string text = readText(path, "OFF file");
-    Lines lines(text, "OFF: reading");
-    std::string_view line;
-    std::size_t number = 0;
-    std::vector<std::string_view> tokens;
-    auto nextTokens = [&]() -> bool {
-        while (lines.next(line, number)) {
-            tokens = splitTokens(line);
-            if (!tokens.empty()) return true;
+namespace {
+
+/// An OFF file's non-blank lines, as tokens (comments cut).
+class OffTokens {
+  public:
+    explicit OffTokens(const std::string& text) : m_lines(text, "OFF: reading") {}
+    /// The next line with a token; false at the end of the file.
+    bool next() {
+        std::string_view line;
+        while (m_lines.next(line, m_number)) {
+            m_tokens = splitTokens(line);
+            if (!m_tokens.empty()) return true;
         }
         return false;
-    };
+    }
+    const std::vector<std::string_view>& tokens() const { return m_tokens; }
+    std::size_t line() const { return m_number; }
+    std::size_t lastLine() const { return m_lines.lastLine(); }
 
-    if (!nextTokens()) throw InputError(path, "empty file (expected an 'OFF' header)");
-    const std::string header(tokens[0]);
-    const std::size_t offAt = header.rfind("OFF");
-    if (offAt == std::string::npos || offAt + 3 != header.size())
-        throw InputError(path, number, "not an OFF file: header is '" + header + "', expected [ST][C][N]OFF");
-    std::string prefix = header.substr(0, offAt);
-    bool hasTexcoords = false, hasColors = false, hasNormals = false;
-    if (prefix.rfind("ST", 0) == 0) hasTexcoords = true, prefix.erase(0, 2);
-    if (!prefix.empty() && prefix[0] == 'C') hasColors = true, prefix.erase(0, 1);
-    if (!prefix.empty() && prefix[0] == 'N') hasNormals = true, prefix.erase(0, 1);
+  private:
+    Lines m_lines;
+    std::size_t m_number = 0;
+    std::vector<std::string_view> m_tokens;
+};
+
+/// The header ([ST][C][N]OFF) and the counts line of an OFF file.
+struct OffHeader {
+    std::string header;
+    bool texcoords = false, colors = false, normals = false;
+    long long vertexCount = 0, faceCount = 0;
+};
+
+OffHeader readOffHeader(OffTokens& in, const std::string& path) {
+    if (!in.next()) throw InputError(path, "empty file (expected an 'OFF' header)");
+    OffHeader h;
+    h.header = std::string(in.tokens()[0]);
+    const std::size_t offAt = h.header.rfind("OFF");
+    if (offAt == std::string::npos || offAt + 3 != h.header.size())
+        throw InputError(path, in.line(),
+                         "not an OFF file: header is '" + h.header + "', expected [ST][C][N]OFF");
+    std::string prefix = h.header.substr(0, offAt);
+    if (prefix.rfind("ST", 0) == 0) h.texcoords = true, prefix.erase(0, 2);
+    if (!prefix.empty() && prefix[0] == 'C') h.colors = true, prefix.erase(0, 1);
+    if (!prefix.empty() && prefix[0] == 'N') h.normals = true, prefix.erase(0, 1);
     if (!prefix.empty())
-        throw InputError(path, number, "unsupported OFF header '" + header + "' (4D or nD OFF)");
+        throw InputError(path, in.line(), "unsupported OFF header '" + h.header + "' (4D or nD OFF)");
     std::size_t t = 1;
-    if (t < tokens.size() && tokens[t] == "BINARY")
-        throw InputError(path, number, "binary OFF is not supported");
-    if (t >= tokens.size()) {
-        if (!nextTokens()) throw InputError(path, number, "file ends before the vertex/face counts");
+    if (t < in.tokens().size() && in.tokens()[t] == "BINARY")
+        throw InputError(path, in.line(), "binary OFF is not supported");
+    if (t >= in.tokens().size()) {
+        if (!in.next()) throw InputError(path, in.line(), "file ends before the vertex/face counts");
         t = 0;
     }
     long long counts[2] = {0, 0};
     for (int k = 0; k < 2; ++k) {
-        if (t + std::size_t(k) >= tokens.size())
-            throw InputError(path, number, "expected 'vertexCount faceCount edgeCount'");
-        if (!parseLong(tokens[t + std::size_t(k)], counts[k]) || counts[k] < 0)
-            throw InputError(path, number,
-                             "malformed count '" + std::string(tokens[t + std::size_t(k)]) + "'");
+        if (t + std::size_t(k) >= in.tokens().size())
+            throw InputError(path, in.line(), "expected 'vertexCount faceCount edgeCount'");
+        if (!parseLong(in.tokens()[t + std::size_t(k)], counts[k]) || counts[k] < 0)
+            throw InputError(path, in.line(),
+                             "malformed count '" + std::string(in.tokens()[t + std::size_t(k)]) + "'");
     }
-    const long long vertexCount = counts[0], faceCount = counts[1];
-    if (vertexCount < 3) throw InputError(path, number, "fewer than 3 vertices");
-    if (faceCount < 1) throw InputError(path, number, "no faces");
-    // OpenMesh 9.0's OFF reader silently reads nothing when the counts share the header line and
-    // misreads comment or blank lines, so it is fed a canonical copy of the validated tokens:
-    // header line, counts line, one vertex or face per line, and only the faces without a
-    // repeated vertex (the counts line is written once they are known).
+    h.vertexCount = counts[0];
+    h.faceCount = counts[1];
+    if (h.vertexCount < 3) throw InputError(path, in.line(), "fewer than 3 vertices");
+    if (h.faceCount < 1) throw InputError(path, in.line(), "no faces");
+    return h;
+}
+
+/// The validated vertices and faces of an OFF file as OpenMesh reads them. OpenMesh 9.0's OFF
+/// reader silently reads nothing when the counts share the header line and misreads comment or
+/// blank lines, so it is fed a canonical copy of the validated tokens: header line, counts line,
+/// one vertex or face per line, and only the faces without a repeated vertex.
+struct OffScan {
     std::string canonical;
-    auto appendLine = [&canonical](const std::vector<std::string_view>& items) {
-        for (std::size_t k = 0; k < items.size(); ++k) {
-            if (k) canonical += ' ';
-            canonical += items[k];
-        }
-        canonical += '\n';
-    };
-    const std::size_t minVertexNumbers =
-        3 + (hasNormals ? 3 : 0) + (hasColors ? 3 : 0) + (hasTexcoords ? 2 : 0);
-    std::vector<std::int64_t> corners;
-    std::vector<std::uint32_t> faceStart{0};
-    for (long long v = 0; v < vertexCount; ++v) {
-        if (!nextTokens())
-            throw InputError(path, lines.lastLine(),
-                             "file ends after " + std::to_string(v) + " of " + std::to_string(vertexCount) +
+    std::size_t repeated = 0;        ///< faces that name a vertex twice, skipped
+    std::size_t firstRepeatLine = 0; ///< the first such face's line
+    std::int64_t firstRepeatVertex = -1;
+};
+
+/// Appends `items` to `text` as one line.
+void appendLine(std::string& text, const std::vector<std::string_view>& items) {
+    for (std::size_t k = 0; k < items.size(); ++k) {
+        if (k) text += ' ';
+        text += items[k];
+    }
+    text += '\n';
+}
+
+OffScan scanOffBody(OffTokens& in, const OffHeader& h, const std::string& path) {
+    OffScan scan;
+    std::string body;
+    const std::size_t minVertexNumbers = 3 + (h.normals ? 3 : 0) + (h.colors ? 3 : 0) + (h.texcoords ? 2 : 0);
+    for (long long v = 0; v < h.vertexCount; ++v) {
+        if (!in.next())
+            throw InputError(path, in.lastLine(),
+                             "file ends after " + std::to_string(v) + " of " + std::to_string(h.vertexCount) +
                                  " vertices");
-        if (tokens.size() < minVertexNumbers)
-            throw InputError(path, number,
+        if (in.tokens().size() < minVertexNumbers)
+            throw InputError(path, in.line(),
                              "vertex needs " + std::to_string(minVertexNumbers) + " numbers, got " +
-                                 std::to_string(tokens.size()));
+                                 std::to_string(in.tokens().size()));
         std::vector<std::string> numbers;
-        for (const auto token : tokens) {
-            finiteNumber(token, path, number, "vertex");
+        for (const auto token : in.tokens()) {
+            finiteNumber(token, path, in.line(), "vertex");
             numbers.push_back(canonicalFloat(token));
         }
-        appendLine(std::vector<std::string_view>(numbers.begin(), numbers.end()));
+        appendLine(body, std::vector<std::string_view>(numbers.begin(), numbers.end()));
     }
-    std::size_t repeated = 0, firstRepeatLine = 0;
-    std::int64_t firstRepeatVertex = -1;
-    for (long long f = 0; f < faceCount; ++f) {
-        if (!nextTokens())
-            throw InputError(path, lines.lastLine(),
-                             "file ends after " + std::to_string(f) + " of " + std::to_string(faceCount) +
+    std::vector<std::int64_t> corners;
+    for (long long f = 0; f < h.faceCount; ++f) {
+        if (!in.next())
+            throw InputError(path, in.lastLine(),
+                             "file ends after " + std::to_string(f) + " of " + std::to_string(h.faceCount) +
                                  " faces");
+        const std::vector<std::string_view>& tokens = in.tokens();
         long long n = 0;
         if (!parseLong(tokens[0], n) || n < 3)
-            throw InputError(path, number,
+            throw InputError(path, in.line(),
                              "face must start with its vertex count (≥ 3), got '" + std::string(tokens[0]) +
                                  "'");
         if (tokens.size() < std::size_t(n) + 1)
-            throw InputError(path, number,
+            throw InputError(path, in.line(),
                              "face lists " + std::to_string(tokens.size() - 1) + " of its " +
                                  std::to_string(n) + " vertex indices");
+        corners.clear();
         for (long long k = 1; k <= n; ++k) {
             long long index = 0;
             if (!parseLong(tokens[std::size_t(k)], index))
-                throw InputError(path, number,
+                throw InputError(path, in.line(),
                                  "malformed vertex index '" + std::string(tokens[std::size_t(k)]) + "'");
-            if (index < 0 || index >= vertexCount)
-                throw InputError(path, number,
+            if (index < 0 || index >= h.vertexCount)
+                throw InputError(path, in.line(),
                                  "vertex index " + std::to_string(index) + " is out of range [0, " +
-                                     std::to_string(vertexCount - 1) + "]");
+                                     std::to_string(h.vertexCount - 1) + "]");
             corners.push_back(index);
         }
         for (std::size_t k = std::size_t(n) + 1; k < tokens.size(); ++k)
-            finiteNumber(tokens[k], path, number, "face colour");
-        const std::int64_t twice =
-            repeatedVertex({corners.begin() + std::ptrdiff_t(faceStart.back()), corners.end()});
-        faceStart.push_back(static_cast<std::uint32_t>(corners.size()));
-        if (twice >= 0) {
-            if (repeated++ == 0) firstRepeatLine = number, firstRepeatVertex = twice;
+            finiteNumber(tokens[k], path, in.line(), "face colour");
+        if (const std::int64_t twice = repeatedVertex(corners); twice >= 0) {
+            if (scan.repeated++ == 0) scan.firstRepeatLine = in.line(), scan.firstRepeatVertex = twice;
             continue;
         }
         // Face colours are validated but not used: OpenMesh reads a huge one as a colour count
         // and allocates without bound (found by fuzzing), so it gets the indices only.
-        appendLine({tokens.begin(), tokens.begin() + std::ptrdiff_t(n + 1)});
+        appendLine(body, {tokens.begin(), tokens.begin() + std::ptrdiff_t(n + 1)});
     }
-    if (repeated == static_cast<std::size_t>(faceCount))
-        throwNoValidFace(path, firstRepeatLine, firstRepeatVertex, repeated, "0");
-    canonical = header + "\n" + std::to_string(vertexCount) + " " +
-                std::to_string(static_cast<std::size_t>(faceCount) - repeated) + " 0\n" + canonical;
+    if (scan.repeated == static_cast<std::size_t>(h.faceCount))
+        throwNoValidFace(path, scan.firstRepeatLine, scan.firstRepeatVertex, scan.repeated, "0");
+    // The counts line, written once the faces without a repeated vertex are known.
+    scan.canonical = h.header + "\n" + std::to_string(h.vertexCount) + " " +
+                     std::to_string(static_cast<std::size_t>(h.faceCount) - scan.repeated) + " 0\n" + body;
+    return scan;
+}
+
+} // namespace
+
+MeshData loadOff(const std::string& path) {
+    const std::string text = readText(path, "OFF file");
+    OffTokens in(text);
+    const OffHeader h = readOffHeader(in, path);
+    const OffScan scan = scanOffBody(in, h, path);
 
     PolyMesh mesh;
-    readThroughOpenMesh(path, mesh, hasTexcoords, &canonical, ".off");
-    const std::size_t expectedFaces = static_cast<std::size_t>(faceCount) - repeated;
+    readThroughOpenMesh(path, mesh, h.texcoords, &scan.canonical, ".off");
+    const std::size_t expectedFaces = static_cast<std::size_t>(h.faceCount) - scan.repeated;
     if (mesh.n_faces() != expectedFaces)
         throw InputError(path, "OpenMesh read " + std::to_string(mesh.n_faces()) +
                                    " faces where the file has " + std::to_string(expectedFaces) +
                                    " valid faces");
 
     MeshData out;
-    out.skippedFaces = repeated;
+    out.skippedFaces = scan.repeated;
     Material m;
     m.name = "default";
     out.materials.push_back(m);
@@ -862,7 +915,7 @@ MeshData loadOff(const std::string& path) {
         for (const auto vh : mesh.fv_range(fh)) {
             const auto p = mesh.point(vh);
             vec2 uv(0.0f);
-            if (hasTexcoords) {
+            if (h.texcoords) {
                 const auto tc = mesh.texcoord2D(vh);
                 uv = vec2(tc[0], 1.0f - tc[1]); // same convention as OBJ: v = 0 at the bottom
             }

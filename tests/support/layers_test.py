@@ -5,8 +5,10 @@ without Vulkan and without a renderer; no Vulkan code reaches the ground truth (
 CPU renderer; the CPU renderer reaches no Vulkan code; the frame code that both backends share
 reaches neither backend. A violation is printed as FILE:LINE: the include and the rule it breaks.
 
-    layers_test.py SOURCE_DIR        # exit 0: every rule holds
-    layers_test.py SOURCE_DIR --self-test
+    layers_test.py SOURCE_DIR [--families volumes,wedges,shadowmaps]   # exit 0: every rule holds
+
+--families is the build's list of family folders (STSV_FAMILIES in CMakeLists.txt); without it,
+the folders that have a cpu/ or vulkan/ side.
 """
 import pathlib
 import re
@@ -17,12 +19,24 @@ import sys
 # backends' sides in cpu/ and vulkan/, which build into render/cpu's and render/vulkan's libraries,
 # and its GLSL in shaders/ (render/shaders: what every family's passes share), part of the
 # Vulkan side.
-FAMILIES = ("volumes", "wedges", "shadowmaps")
-MATH = ("core/", "sampling/", "scene/") + tuple(f + "/" for f in FAMILIES)
-CPU = ("render/cpu/",) + tuple(f + "/cpu/" for f in FAMILIES)
-VULKAN = ("render/vulkan/", "render/shaders/", "gpu/") + tuple(f + side for f in FAMILIES for side in ("/vulkan/", "/shaders/"))
-BACKENDS = CPU + VULKAN
-FAMILY_SIDES = tuple(f + side for f in FAMILIES for side in ("/cpu/", "/vulkan/", "/shaders/"))
+DEFAULT_FAMILIES = ("volumes", "wedges", "shadowmaps")
+
+
+def configure(families):
+    """The folder lists the rules read, for the given family folders."""
+    global FAMILIES, MATH, CPU, VULKAN, BACKENDS, FAMILY_SIDES, FAMILY_BACKEND
+    FAMILIES = tuple(families)
+    MATH = ("core/", "sampling/", "scene/") + tuple(f + "/" for f in FAMILIES)
+    CPU = ("render/cpu/",) + tuple(f + "/cpu/" for f in FAMILIES)
+    VULKAN = ("render/vulkan/", "render/shaders/", "gpu/") + tuple(
+        f + side for f in FAMILIES for side in ("/vulkan/", "/shaders/"))
+    BACKENDS = CPU + VULKAN
+    FAMILY_SIDES = tuple(f + side for f in FAMILIES for side in ("/cpu/", "/vulkan/", "/shaders/"))
+    # A family's backend side includes no other family's backend side.
+    FAMILY_BACKEND = re.compile("(" + "|".join(map(re.escape, FAMILIES)) + ")/(cpu|vulkan|shaders)/")
+
+
+configure(DEFAULT_FAMILIES)
 
 
 def is_math(path):
@@ -48,9 +62,8 @@ RULES = [
      lambda f: f.startswith("reference/"), lambda inc: inc.startswith(("render/", "gpu/") + FAMILY_SIDES)),
 ]
 
-# A family's backend side includes no other family's backend side: only the techniques files,
-# which compose the families a method row names, include them all.
-FAMILY_BACKEND = re.compile(r"(volumes|wedges|shadowmaps)/(cpu|vulkan|shaders)/")
+# Only the techniques files, which compose the families a method row names, may include every
+# family's backend side.
 COMPOSERS = {"render/cpu/cpu_techniques.cpp", "render/vulkan/vulkan_techniques.cpp"}
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"')
@@ -80,8 +93,7 @@ def violations(files):
 
 def tree(root):
     files = {}
-    for folder in ("core", "sampling", "scene", "volumes", "wedges", "shadowmaps", "reference", "render", "gpu",
-                   "cli"):
+    for folder in ("core", "sampling", "scene") + FAMILIES + ("reference", "render", "gpu", "cli"):
         for pattern in SOURCES:
             for path in (root / folder).rglob(pattern):
                 files[path.relative_to(root).as_posix()] = path.read_text(encoding="utf-8")
@@ -117,6 +129,11 @@ def main():
     root = pathlib.Path(sys.argv[1])
     if self_test():
         return 1
+    if "--families" in sys.argv:
+        configure(sys.argv[sys.argv.index("--families") + 1].split(","))
+    else:
+        configure(sorted(p.name for p in root.iterdir()
+                         if p.name != "render" and ((p / "cpu").is_dir() or (p / "vulkan").is_dir())))
     files = tree(root)
     if len(files) < 100:
         print(f"found only {len(files)} sources under {root}: wrong folder?", file=sys.stderr)
