@@ -31,8 +31,7 @@ endforeach()
 
 set(STSV_SHADER_OUTPUTS)
 
-file(GLOB STSV_SHADER_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/*/*_dh.h ${PROJECT_SOURCE_DIR}/render/*/*_dh.h
-     ${PROJECT_SOURCE_DIR}/*/vulkan/*_dh.h)
+file(GLOB STSV_SHADER_HEADERS CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/*/*_dh.h ${PROJECT_SOURCE_DIR}/*/vulkan/*_dh.h)
 list(APPEND STSV_SHADER_HEADERS ${PROJECT_SOURCE_DIR}/core/dh.h)
 set(STSV_SHADER_SET_NAMES) # names inside the set, sorted
 set(STSV_SHADER_SET_PATHS) # the source file of each name, in the same order

@@ -553,17 +553,16 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
     ObjScan scan;
     scan.faceStart.push_back(0);
     ObjMaterials materials = loadObjMaterialLibraries(path, text, out);
-    std::map<std::string, std::uint32_t>& materialByName = materials.byName;
 
     int currentMaterial = -1; // −1: the default material, created on first use
     auto defaultMaterial = [&]() -> std::uint32_t {
-        const auto it = materialByName.find("");
-        if (it != materialByName.end()) return it->second;
+        const auto it = materials.byName.find("");
+        if (it != materials.byName.end()) return it->second;
         Material m;
         m.name = "default";
         out.materials.push_back(m);
         const auto index = static_cast<std::uint32_t>(out.materials.size() - 1);
-        materialByName[""] = index;
+        materials.byName[""] = index;
         return index;
     };
 
@@ -609,8 +608,8 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
             std::string name(line.substr(line.find("usemtl") + 6));
             name.erase(0, name.find_first_not_of(" \t"));
             name.erase(name.find_last_not_of(" \t") + 1);
-            const auto it = materialByName.find(name);
-            if (it != materialByName.end()) {
+            const auto it = materials.byName.find(name);
+            if (it != materials.byName.end()) {
                 currentMaterial = static_cast<int>(it->second);
             } else if (!materials.anyLibrary) {
                 // No library to look in: usemtl only groups faces; each name gets a default material.
@@ -618,7 +617,7 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
                 m.name = name;
                 out.materials.push_back(m);
                 currentMaterial = static_cast<int>(out.materials.size() - 1);
-                materialByName[name] = static_cast<std::uint32_t>(currentMaterial);
+                materials.byName[name] = static_cast<std::uint32_t>(currentMaterial);
             } else {
                 throw InputError(path, number,
                                  "material '" + name + "' is not defined by any 'mtllib' of this file");

@@ -127,10 +127,10 @@ class FrameDescriptors {
     std::vector<DescriptorSet> m_sets;
 };
 
-/// One family's GPU interface: set GPU_SET_FAMILY with the bindings only its passes declare, one
-/// per light; the pipeline layout of its passes (the frame's set, then this one, and the GpuPush
-/// constants); and its stats buffer, `statsBytes` per light at GPU_BINDING_FAMILY_STATS, which the
-/// frame clears before each frame and reads back after it.
+/// One family's GPU interface (or the resolve's, which keeps no stats): set GPU_SET_FAMILY with
+/// the bindings only its passes declare, one per light; the pipeline layout of its passes (the frame's set,
+/// then this one, and the GpuPush constants); and its stats buffer, `statsBytes` per light at
+/// GPU_BINDING_FAMILY_STATS, which the frame clears before each frame and reads back after it.
 class FamilyDescriptors {
   public:
     /// `bindings`: the family's, without its stats (this adds them; none when `statsBytes` is 0,

@@ -12,14 +12,6 @@ std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBindin
     return bindings;
 }
 
-bool drawsStsv(StsvTriangles which, const Scene& scene) {
-    if (which == StsvTriangles::All) return true;
-    if (which == StsvTriangles::None) return false;
-    for (std::size_t t = 0; t < scene.triangleCount(); ++t)
-        if (!scene.opaqueOccluder(t)) return true;
-    return false;
-}
-
 std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanTechniqueContext& context) {
     std::vector<std::unique_ptr<VulkanTechnique>> techniques;
     for (const TechniqueFamily family : context.method.techniques()) {

@@ -141,10 +141,6 @@ template <class Stats> std::vector<Stats> stagedStats(const std::byte* staged, s
     return stats;
 }
 
-/// Whether the frame draws STSV volumes: the row sends triangles through STSV and the scene has
-/// some of them (Algorithm 2).
-bool drawsStsv(StsvTriangles which, const Scene& scene);
-
 /// The row's techniques, in its order. `context` must outlive them.
 std::vector<std::unique_ptr<VulkanTechnique>> makeVulkanTechniques(const VulkanTechniqueContext& context);
 

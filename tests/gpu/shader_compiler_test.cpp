@@ -167,9 +167,6 @@ std::map<std::string, fs::path> repositoryShaderSet() {
         add(folder.path() / "vulkan", true);
         add(folder.path() / "shaders", false);
     }
-    add(root / "render" / "shaders", false);
-    for (const fs::directory_entry& folder : fs::directory_iterator(root / "render"))
-        if (folder.is_directory() && folder.path().filename() != "shaders") add(folder.path(), true);
     return files;
 }
 

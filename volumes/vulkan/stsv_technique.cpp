@@ -8,6 +8,16 @@ namespace stsv {
 
 namespace {
 
+/// Whether the frame draws STSV volumes: the row sends triangles through STSV and the scene has
+/// some of them (Algorithm 2).
+bool drawsStsv(StsvTriangles which, const Scene& scene) {
+    if (which == StsvTriangles::All) return true;
+    if (which == StsvTriangles::None) return false;
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t)
+        if (!scene.opaqueOccluder(t)) return true;
+    return false;
+}
+
 /// STSV over the row's triangles (Algorithm 2 lines 8–10): with the auto extrusion the volumes'
 /// records built by a compute pass and the cluster walk over the triangles' tree
 /// (stsv_clusters.comp), else the volumes' hulls built by a compute pass and drawn; their listed
