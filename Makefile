@@ -17,7 +17,9 @@ FUZZ_SECONDS  ?= 60
 FUZZ_TARGETS  := json obj off png npy exr gltf
 # make sanitize: everything that runs on the CPU under AddressSanitizer and UBSan, with GCC's
 # float-cast-overflow check (a NaN or an infinity converted to an integer), which its `undefined`
-# group leaves out.
+# group leaves out. Debug information is line tables only (-g1): the reports' stacks keep their
+# files and lines, and the build takes a third less time than with -g (measured on
+# cli/bench_command.cpp: 47 s against 29 s).
 SANITIZE_BUILD ?= build-asan
 SANITIZE_FLAGS := -O1 -fsanitize=address,undefined,float-cast-overflow -fno-sanitize=vptr \
                   -fno-sanitize-recover=undefined,float-cast-overflow -fno-omit-frame-pointer
@@ -29,9 +31,16 @@ SANITIZE_GPU_TESTS := gpu gpu_render cli
 # suite's own tests run the same commands' code), and the one that runs stsv out of address space
 # to see it refuse: ASan's own allocator, which reserves its shadow memory up front, aborts there.
 SANITIZE_EXCLUDE := ^DocsCommands\.|^TrustValues\.OutOfMemoryWhileReadingTheArguments
+# make lint: clang-tidy (.clang-tidy; tests/.clang-tidy for the tests) over every translation
+# unit of the build that is part of the checkout, and through them every project header; the
+# sources the build generates are left out. LINT_FILES narrows it (a regular expression over the
+# files' absolute paths).
+LINT_PACKAGES := clang-tidy-14
+LINT_FILES    ?= ^$(CURDIR)/(?!$(BUILD)/)
 SUDO     := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 
-.PHONY: all deps test-deps configure build demo test bundle clean format format-check fuzz fuzz-deps sanitize
+.PHONY: all deps test-deps configure build demo test bundle clean format format-check fuzz fuzz-deps sanitize \
+        lint lint-deps
 
 all: build
 
@@ -89,7 +98,8 @@ fuzz: deps fuzz-deps
 # it needs the RTTI of glslang's classes, which Debian builds without. Each label must select a
 # test: `ctest -L` with a label that matches nothing passes, so a renamed suite would empty a stage.
 sanitize: deps test-deps
-	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=Debug -DSTSV_WERROR=OFF -DCMAKE_CXX_FLAGS="$(SANITIZE_FLAGS)"
+	cmake -S . -B $(SANITIZE_BUILD) -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG=-g1 -DSTSV_WERROR=OFF \
+	  -DCMAKE_CXX_FLAGS="$(SANITIZE_FLAGS)"
 	cmake --build $(SANITIZE_BUILD) -j $(JOBS) --target $(addprefix test_,$(SANITIZE_TESTS) $(SANITIZE_GPU_TESTS))
 	@cd $(SANITIZE_BUILD) && for label in $(SANITIZE_TESTS) $(SANITIZE_GPU_TESTS); do \
 	  ctest -N -L "^$$label$$" | grep -q 'Total Tests: [1-9]' || { echo "make sanitize: label $$label selects no test" >&2; exit 1; }; \
@@ -110,6 +120,13 @@ format:
 # Fails on any tracked C++ file that `make format` would change (CI runs it).
 format-check: deps
 	git ls-files '*.cpp' '*.h' | xargs clang-format --dry-run -Werror
+
+lint-deps:
+	$(call install_missing,$(LINT_PACKAGES))
+
+# Fails on any finding (warnings are errors); about 15 minutes on two cores for the whole tree.
+lint: configure lint-deps
+	run-clang-tidy-14 -p $(BUILD) -j $(JOBS) -quiet -extra-arg=-Wno-unknown-warning-option '$(LINT_FILES)'
 
 clean:
 	rm -rf $(BUILD) $(FUZZ_BUILD) $(SANITIZE_BUILD) out dist

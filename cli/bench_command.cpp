@@ -289,17 +289,17 @@ void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std:
         if (key == "description") continue;
         const std::string option = key == "scene" ? "scene" : "--" + key;
         if (given(option)) continue;
-        const auto text =
-            std::find_if(texts.begin(), texts.end(), [&](const auto& t) { return key == t.first; });
+        const auto text = std::find_if(texts.begin(), texts.end(),
+                                       [&name = key](const auto& t) { return name == t.first; });
         if (text != texts.end()) {
             if (!value.is_string())
                 throw UsageError(where + ": \"" + key + "\" must be a string, as " + option +
                                  " takes it, not " + jsonTypeName(value));
             *text->second = value.get<std::string>();
         } else if (key == "repeat") {
-            args.repeat = int(presetInteger(where, key, value, kMinRepeat, kMaxRepeat));
+            args.repeat = int(presetInteger(where, key, value, MIN_REPEAT, MAX_REPEAT));
         } else if (key == "warmup") {
-            args.warmup = int(presetInteger(where, key, value, kMinWarmup, kMaxWarmup));
+            args.warmup = int(presetInteger(where, key, value, MIN_WARMUP, MAX_WARMUP));
         } else if (key == "seed") {
             args.options.seed =
                 std::uint32_t(presetInteger(where, key, value, 0, std::numeric_limits<std::uint32_t>::max()));
@@ -335,12 +335,12 @@ void printPresets(const nlohmann::json& presets) {
 void checkBenchArgs(const BenchArgs& args) {
     if (args.scene.empty() && args.vary.rfind("scene=", 0) != 0)
         throw UsageError("bench needs a SCENE, --vary scene=A,B or --preset NAME (see --list-presets)");
-    if (args.repeat < kMinRepeat || args.repeat > kMaxRepeat)
+    if (args.repeat < MIN_REPEAT || args.repeat > MAX_REPEAT)
         throw UsageError("--repeat " + std::to_string(args.repeat) + " is out of range (" +
-                         std::to_string(kMinRepeat) + " to " + std::to_string(kMaxRepeat) + ")");
-    if (args.warmup < kMinWarmup || args.warmup > kMaxWarmup)
+                         std::to_string(MIN_REPEAT) + " to " + std::to_string(MAX_REPEAT) + ")");
+    if (args.warmup < MIN_WARMUP || args.warmup > MAX_WARMUP)
         throw UsageError("--warmup " + std::to_string(args.warmup) + " is out of range (" +
-                         std::to_string(kMinWarmup) + " to " + std::to_string(kMaxWarmup) + ")");
+                         std::to_string(MIN_WARMUP) + " to " + std::to_string(MAX_WARMUP) + ")");
 }
 
 bool isGroundTruth(Method m) {

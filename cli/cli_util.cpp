@@ -329,7 +329,7 @@ double estimateFrameBytes(const RenderOptions& o, const Scene& scene) {
     const bool vulkan = o.backend == Backend::Vulkan;
     const bool stsv = method.stsv != StsvTriangles::None;
     if (vulkan && (stsv || method.wedges == WedgeVariant::Dcs))
-        shared += double(initialDeferredFragments(std::uint64_t(pixels)) * kDeferredFragmentBytes);
+        shared += double(initialDeferredFragments(std::uint64_t(pixels)) * DEFERRED_FRAGMENT_BYTES);
     if (vulkan && stsv && kind != BufferKind::Counters)
         shared += double(LightSampleBuffer::storageBytes(o.width, o.height, o.samples, BufferKind::Bitmask));
     return gbuffer + images + shared + maps + perLight * double(std::max<std::size_t>(lights, 1));
@@ -601,17 +601,17 @@ Image8 heatLegend(float scale, int width, const std::string& caption, int textSc
     out.height = pad + line + barHeight + gap + line + pad;
     out.channels = 3;
     out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 3, 0);
-    fillRect(out, 0, 0, out.width, out.height, kSheetBackground);
-    drawText(out, pad, pad, caption, s, kSheetText);
+    fillRect(out, 0, 0, out.width, out.height, SHEET_BACKGROUND);
+    drawText(out, pad, pad, caption, s, SHEET_TEXT);
     const int x0 = pad, x1 = out.width - pad; // the bar covers [x0, x1)
     const int barY = pad + line;
     for (int x = x0; x < x1; ++x)
         fillRect(out, x, barY, 1, barHeight, heatColour(float(x - x0) / float(std::max(1, x1 - x0 - 1))));
     const int labelY = barY + barHeight + gap;
     const std::string mid = tickText(scale / 2.0f), top = tickText(scale) + "+";
-    drawText(out, x0, labelY, "0", s, kSheetText);
-    drawText(out, (x0 + x1) / 2 - textWidth(mid, s) / 2, labelY, mid, s, kSheetText);
-    drawText(out, x1 - textWidth(top, s), labelY, top, s, kSheetText);
+    drawText(out, x0, labelY, "0", s, SHEET_TEXT);
+    drawText(out, (x0 + x1) / 2 - textWidth(mid, s) / 2, labelY, mid, s, SHEET_TEXT);
+    drawText(out, x1 - textWidth(top, s), labelY, top, s, SHEET_TEXT);
     return out;
 }
 
@@ -624,7 +624,7 @@ Image8 heatMapWithLegend(const ImageF& values, float scale, const std::string& c
     out.height = heat.height + legend.height;
     out.channels = 3;
     out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 3, 0);
-    fillRect(out, 0, 0, out.width, heat.height, kSheetBackground);
+    fillRect(out, 0, 0, out.width, heat.height, SHEET_BACKGROUND);
     pasteScaled(out, heat, 0, 0, 1);
     pasteScaled(out, legend, 0, heat.height, 1);
     return out;

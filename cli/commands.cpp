@@ -59,10 +59,10 @@ std::string methodHelp() {
 }
 
 /// What an option given an empty value ("", '') says: the value is never the option left out.
-constexpr const char* kEmptyValue = "the value is empty; give one, or leave the option out";
+constexpr const char* EMPTY_VALUE = "the value is empty; give one, or leave the option out";
 
 /// The check every option that takes a value runs: an empty value is refused, naming the option.
-CLI::Validator nonEmpty(const std::string& message = kEmptyValue) {
+CLI::Validator nonEmpty(const std::string& message = EMPTY_VALUE) {
     return CLI::Validator([message](std::string& value) { return value.empty() ? message : std::string(); },
                           "", "non-empty");
 }
@@ -74,7 +74,7 @@ CLI::Validator integerIn(long long lo, long long hi, const std::string& accepted
     const std::string range = accepted.empty() ? std::to_string(lo) + " to " + std::to_string(hi) : accepted;
     return CLI::Validator(
         [lo, hi, range](std::string& value) -> std::string {
-            if (value.empty()) return kEmptyValue;
+            if (value.empty()) return EMPTY_VALUE;
             const std::size_t digits = value.find_first_not_of("+-") == 1 ? 1 : 0;
             const bool whole = !value.empty() && value.size() > digits &&
                                value.find_first_of("+-", digits) == std::string::npos &&
@@ -94,7 +94,7 @@ CLI::Validator integerIn(long long lo, long long hi, const std::string& accepted
 CLI::Validator finiteNumber() {
     return CLI::Validator(
         [](std::string& value) -> std::string {
-            if (value.empty()) return kEmptyValue;
+            if (value.empty()) return EMPTY_VALUE;
             char* end = nullptr;
             errno = 0;
             const double number = std::strtod(value.c_str(), &end);
@@ -106,7 +106,7 @@ CLI::Validator finiteNumber() {
 }
 
 /// The sample counts --samples takes (render/options.cpp validate checks each value).
-const char* const kSampleCounts = "16, 32, 64, 128, 256";
+const char* const SAMPLE_COUNTS = "16, 32, 64, 128, 256";
 
 /// Options shared by render, bench and compare.
 void addFrameOptions(CLI::App* command, FrameArgs& a) {
@@ -197,7 +197,7 @@ void refuseEmptyValues(CLI::App& app) {
 /// repeatable option (--set, --param, --light, --add-light) as a list, splitting it one level at a
 /// time and copying the rest at each (60,000 levels took 3 GiB in 3 s); the JSON options nest two
 /// or three levels, and their reader refuses past 64 (scene/json_scene.cpp), as this does.
-constexpr int kMaxArgumentNesting = 64;
+constexpr int MAX_ARGUMENT_NESTING = 64;
 
 /// The option an argument of `command` is the value of: "--light" for "--light=..." or the value
 /// after "--light" (an option that takes one), else "the scene" (a positional argument).
@@ -206,7 +206,7 @@ std::string optionOfArgument(const CLI::App* command, char** argv, int k) {
     if (arg.starts_with("--")) return std::string(arg.substr(0, arg.find('=')));
     if (command != nullptr && k > 1) {
         const std::string_view previous = argv[k - 1];
-        const std::string name(previous.substr(0, previous.find('=')));
+        std::string name(previous.substr(0, previous.find('=')));
         const CLI::Option* option =
             name.size() > 1 && name[0] == '-' ? command->get_option_no_throw(name) : nullptr;
         if (option != nullptr && option->get_type_size() != 0) return name;
@@ -215,7 +215,7 @@ std::string optionOfArgument(const CLI::App* command, char** argv, int k) {
 }
 
 /// UsageError, naming the option, for an argument whose brackets ([ ] and { }) nest deeper than
-/// kMaxArgumentNesting; run before CLI11 parses.
+/// MAX_ARGUMENT_NESTING; run before CLI11 parses.
 void refuseDeeplyNestedArguments(CLI::App& app, int argc, char** argv) {
     const CLI::App* command = nullptr;
     for (const CLI::App* c : app.get_subcommands({}))
@@ -226,10 +226,10 @@ void refuseDeeplyNestedArguments(CLI::App& app, int argc, char** argv) {
             if (*c == '[' || *c == '{') deepest = std::max(deepest, ++depth);
             if ((*c == ']' || *c == '}') && depth > 0) --depth;
         }
-        if (deepest > kMaxArgumentNesting)
+        if (deepest > MAX_ARGUMENT_NESTING)
             throw UsageError(optionOfArgument(command, argv, k) + ": the value nests brackets " +
                              std::to_string(deepest) + " levels deep, more than the " +
-                             std::to_string(kMaxArgumentNesting) + " accepted (a light or camera nests 2)");
+                             std::to_string(MAX_ARGUMENT_NESTING) + " accepted (a light or camera nests 2)");
     }
 }
 
@@ -293,7 +293,7 @@ CLI::App* addRenderCommand(CLI::App& app, RenderArgs& r) {
                         "vulkan | cpu (default " + toString(defaultBackend()) +
                             ", or the method's own backend where it lacks that one)");
     command->add_option("--samples", r.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
-        ->transform(integerIn(16, 256, kSampleCounts))
+        ->transform(integerIn(16, 256, SAMPLE_COUNTS))
         ->capture_default_str();
     addFrameOptions(command, r);
     command->add_option(
@@ -323,7 +323,7 @@ CLI::App* addInfoCommand(CLI::App& app, InfoArgs& i) {
         ->capture_default_str();
     command->add_option("--backend", i.backend, "vulkan | cpu");
     command->add_option("--samples", i.options.samples, "light samples per pixel")
-        ->transform(integerIn(16, 256, kSampleCounts))
+        ->transform(integerIn(16, 256, SAMPLE_COUNTS))
         ->capture_default_str();
     addFrameOptions(command, i);
     command->add_flag("--methods", i.methodPairs,
@@ -350,10 +350,10 @@ CLI::App* addBenchCommand(CLI::App& app, BenchArgs& b) {
         "--vary", b.vary,
         "one scene per value of a knob, e.g. count=250,1000,4000, or per scene, e.g. scene=fence,fence-mesh");
     command->add_option("--repeat", b.repeat, "timed frames per configuration")
-        ->transform(integerIn(kMinRepeat, kMaxRepeat))
+        ->transform(integerIn(MIN_REPEAT, MAX_REPEAT))
         ->capture_default_str();
     command->add_option("--warmup", b.warmup, "untimed frames before them")
-        ->transform(integerIn(kMinWarmup, kMaxWarmup))
+        ->transform(integerIn(MIN_WARMUP, MAX_WARMUP))
         ->capture_default_str();
     command->add_flag("--check", b.check,
                       "compare each configuration's light-sample bits with the reference's");
@@ -387,7 +387,7 @@ CLI::App* addCompareCommand(CLI::App& app, CompareArgs& c) {
         ->add_option(
             "--samples", c.options.samples,
             "light samples per pixel: 16, 32, 64, 128, 256 (two .npy files: the count they must hold)")
-        ->transform(integerIn(16, 256, kSampleCounts))
+        ->transform(integerIn(16, 256, SAMPLE_COUNTS))
         ->capture_default_str();
     command->add_option("--out", c.out,
                         "directory for the images (visibility, |difference| heat map, lit image)");
@@ -399,7 +399,7 @@ CLI::App* addCompareCommand(CLI::App& app, CompareArgs& c) {
         ->add_option("--converged", c.converged,
                      "K: also compare with the converged reference, the mean of K renders of --against "
                      "with seeds SEED … SEED+K-1 (cached, see --no-cache)")
-        ->transform(integerIn(1, kMaxConvergedFrames));
+        ->transform(integerIn(1, MAX_CONVERGED_FRAMES));
     command->add_option("--kind", c.kind,
                         "two .npy light-sample files without their .npy.json metadata (from an older stsv "
                         "or NumPy): what they hold, bitmask | counters | transmittance");
@@ -439,7 +439,7 @@ CLI::App* addTuneCommand(CLI::App& app, TuneArgs& t) {
     command
         ->add_option("--budget", t.budget,
                      "the most renders of each method's search (one per training scene per point tried)")
-        ->transform(integerIn(1, kMaxTuneBudget))
+        ->transform(integerIn(1, MAX_TUNE_BUDGET))
         ->capture_default_str();
     command
         ->add_option("--objective", t.objective,
@@ -451,14 +451,14 @@ CLI::App* addTuneCommand(CLI::App& app, TuneArgs& t) {
     command
         ->add_option("--converged", t.converged,
                      "K: each scene's reference is the mean of K renders of --against (cached as compare's)")
-        ->transform(integerIn(1, kMaxConvergedFrames))
+        ->transform(integerIn(1, MAX_CONVERGED_FRAMES))
         ->capture_default_str();
     command->add_option("--against", t.against, "method[/backend] of the converged references")
         ->capture_default_str();
     command->add_option("--backend", t.backend, "backend of the methods tuned: cpu | vulkan")
         ->capture_default_str();
     command->add_option("--samples", t.options.samples, "light samples per pixel: 16, 32, 64, 128, 256")
-        ->transform(integerIn(16, 256, kSampleCounts))
+        ->transform(integerIn(16, 256, SAMPLE_COUNTS))
         ->capture_default_str();
     command->add_flag("--no-cache", t.noCache,
                       "render the converged references even when the cache holds them");

@@ -31,8 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 
 /// Captions of the colour scales under the heat maps written to --out.
-constexpr const char* kVisibilityCaption = "|visibility difference|";
-constexpr const char* kSampleCaption = "fraction of light samples that differ";
+constexpr const char* VISIBILITY_CAPTION = "|visibility difference|";
+constexpr const char* SAMPLE_CAPTION = "fraction of light samples that differ";
 
 bool isNpy(const std::string& path) {
     return lowerExtension(path) == ".npy";
@@ -80,7 +80,7 @@ int compareVisibilityFiles(const CompareArgs& args) {
         "error over the pixels that face a light)\n");
     if (!args.out.empty()) {
         const std::string path = (fs::path(args.out) / "difference.png").string();
-        writePng(path, heatMapWithLegend(e.absDifference, args.heatScale, kVisibilityCaption));
+        writePng(path, heatMapWithLegend(e.absDifference, args.heatScale, VISIBILITY_CAPTION));
         std::printf("wrote %s (|difference| per pixel, yellow at %.3g)\n", printable(path).c_str(),
                     double(args.heatScale));
     }
@@ -94,8 +94,8 @@ struct Row {
     std::size_t differingPixels = 0;
     ImageError visibility;          ///< against the equal-sample reference; fractionAbove at 1/255
     ImageError lit;                 ///< against the equal-sample reference; fractionAbove at 1/255
-    ImageError visibilityCoarse;    ///< the same, fractionAbove at |Δ| > kCoarseError
-    ImageError convergedVisibility; ///< against the converged reference; fractionAbove at kCoarseError
+    ImageError visibilityCoarse;    ///< the same, fractionAbove at |Δ| > COARSE_ERROR
+    ImageError convergedVisibility; ///< against the converged reference; fractionAbove at COARSE_ERROR
     ImageError convergedLit;        ///< against the converged reference; fractionAbove at 1/255
     /// The visibility error over the light-facing pixels (lightFacingOf), against the equal-sample
     /// and the converged reference: the figure the ranking uses.
@@ -116,7 +116,7 @@ struct Row {
 };
 
 /// Visibility errors above this count as visible ones (the "|dv|>0.1" column).
-constexpr float kCoarseError = 0.1f;
+constexpr float COARSE_ERROR = 0.1f;
 
 std::string fileStem(const MethodBackend& mb) {
     return toString(mb.method) + "_" + toString(mb.backend);
@@ -175,7 +175,7 @@ Row compareFrames(const MethodBackend& mb, const Frame& frame, const MethodBacke
     row.litDisplay = toDisplay(frame.color, true);
     const ImageF againstVisibility = toDisplay(against.visibility, false);
     row.visibility = compareImages(row.visibilityDisplay, againstVisibility);
-    row.visibilityCoarse = compareImages(row.visibilityDisplay, againstVisibility, kCoarseError);
+    row.visibilityCoarse = compareImages(row.visibilityDisplay, againstVisibility, COARSE_ERROR);
     row.visibilityFacing = compareImagesWhere(row.visibilityDisplay, againstVisibility, facing.selected);
     row.lit = compareImages(row.litDisplay, toDisplay(against.color, true));
     return row;
@@ -188,11 +188,11 @@ void writeImages(const std::string& dir, const MethodBackend& mb, const Frame& f
     writePng(base.string() + "_lit.png", toImage8(frame.color, true));
     if (!row || !against) return;
     writePng(base.string() + "_diff.png",
-             heatMapWithLegend(row->visibility.absDifference, heatScale, kVisibilityCaption));
+             heatMapWithLegend(row->visibility.absDifference, heatScale, VISIBILITY_CAPTION));
     if (row->perSample && !frame.lightSamples.empty())
         writePng(base.string() + "_bitdiff.png",
                  heatMapWithLegend(sampleDisagreement(frame.lightSamples[0], against->lightSamples[0]),
-                                   heatScale, kSampleCaption));
+                                   heatScale, SAMPLE_CAPTION));
 }
 
 /// "a bitmask of 128 samples", "counters of 16 samples".
@@ -268,7 +268,7 @@ int compareNpy(const CompareArgs& args, const NpyArray& arrayA, const NpyArray& 
     }
     if (!args.out.empty()) {
         const std::string path = (fs::path(args.out) / "difference.png").string();
-        writePng(path, heatMapWithLegend(sampleDisagreement(a, b), args.heatScale, kSampleCaption));
+        writePng(path, heatMapWithLegend(sampleDisagreement(a, b), args.heatScale, SAMPLE_CAPTION));
         std::printf("wrote %s (fraction of differing samples per pixel, yellow at %.3g)\n",
                     printable(path).c_str(), double(args.heatScale));
     }
@@ -286,7 +286,7 @@ std::string formatPercent(double fraction) {
 }
 
 /// The columns of the bias tables (against the equal-sample and the converged reference).
-const std::vector<std::string> kErrorHeader = {"method",   "vis RMSE", "vis bias", "vis max",
+const std::vector<std::string> ERROR_HEADER = {"method",   "vis RMSE", "vis bias", "vis max",
                                                "|dv|>0.1", "lit RMSE", "lit bias"};
 
 std::vector<std::string> errorCells(const std::string& name, const ImageError& visibility,
@@ -323,13 +323,13 @@ nlohmann::json errorJson(const ImageError& visibility, const RegionError& visibi
               {"fraction_above_1_255", lit.fractionAbove}}}};
 }
 
-const char* const kBiasNote =
+const char* const BIAS_NOTE =
     "errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; bias = mean of method - "
     "reference over the pixels (negative: darker than the reference); |dv|>0.1 = pixels whose visibility "
     "is off by more than 0.1";
 
 /// What the ranking says of itself, under its table and in the report (docs/user-guide.md).
-const char* const kRankingNote =
+const char* const RANKING_NOTE =
     "ranked by the visibility error over the light-facing pixels: those whose visible point has N.L > 0 "
     "for some point of some light (part of a light is in front of its surface). On pixels facing away "
     "from every light visibility changes nothing in the lit image, so their error ranks no method; "
@@ -385,7 +385,7 @@ ReportTable rankingTable(const std::vector<Row>& rows, const std::vector<std::si
     if (converged) t.rows.push_back(cells("-", "noise floor", rows.front()));
     for (std::size_t i : order)
         t.rows.push_back(cells(std::to_string(*rows[i].rank), toString(rows[i].mb), rows[i]));
-    t.note = "(" + std::string(kRankingNote) +
+    t.note = "(" + std::string(RANKING_NOTE) +
              (facing.facing ? "" : "; no pixel faces a light here, so the order is the command's") +
              (converged ? "; noise floor = the equal-sample reference against the converged one)" : ")");
     return t;
@@ -552,6 +552,7 @@ void writeReport(const std::string& dir, const Report& base, const std::vector<I
 void writeSheet(const std::string& path, const std::vector<ImageSet>& sets, const std::string& heatTitle,
                 float heatScale) {
     std::vector<SheetRow> rows;
+    rows.reserve(sets.size());
     for (const ImageSet& set : sets) rows.push_back({set.name, {set.lit, set.visibility, set.heat}});
     const SheetLayout layout =
         sheetLayout(sets.front().lit.width, sets.front().lit.height, 3, int(rows.size()));
@@ -562,7 +563,7 @@ void writeSheet(const std::string& path, const std::vector<ImageSet>& sets, cons
     out.height = sheet.height + legend.height;
     out.channels = 3;
     out.pixels.assign(std::size_t(out.width) * std::size_t(out.height) * 3, 0);
-    fillRect(out, 0, 0, out.width, out.height, kSheetBackground);
+    fillRect(out, 0, 0, out.width, out.height, SHEET_BACKGROUND);
     pasteScaled(out, sheet, 0, 0, 1);
     pasteScaled(out, legend, 0, sheet.height, 1);
     writePng(path, out);
@@ -612,10 +613,10 @@ std::vector<OutputFile> sceneCompareOutputs(const CompareArgs& args, const std::
 void checkCompareOptions(const CompareArgs& args) {
     if (!(args.heatScale > 0.0f && args.heatScale <= 1.0f))
         throw UsageError("--heat-scale must lie in (0, 1]");
-    if (args.converged && (*args.converged < 1 || *args.converged > kMaxConvergedFrames))
+    if (args.converged && (*args.converged < 1 || *args.converged > MAX_CONVERGED_FRAMES))
         throw UsageError("--converged " + std::to_string(*args.converged) +
                          ": K, the number of seeds averaged, " + "must lie in 1 to " +
-                         std::to_string(kMaxConvergedFrames));
+                         std::to_string(MAX_CONVERGED_FRAMES));
     if (args.noCache && !args.converged) throw UsageError("--no-cache applies to --converged only");
 }
 
@@ -756,7 +757,7 @@ void measureComparison(SceneComparison& c, const Scene& scene, const SceneOption
     }
     auto addRow = [&](Row row, const Frame& frame) {
         if (c.converged) {
-            row.convergedVisibility = compareImages(row.visibilityDisplay, convergedVisibility, kCoarseError);
+            row.convergedVisibility = compareImages(row.visibilityDisplay, convergedVisibility, COARSE_ERROR);
             row.convergedLit = compareImages(row.litDisplay, convergedLit);
             row.convergedVisibilityFacing =
                 compareImagesWhere(row.visibilityDisplay, convergedVisibility, c.facing.selected);
@@ -826,7 +827,7 @@ std::string printEqualSampleTable(const SceneComparison& c, const Scene& scene) 
     for (Method m : naMethods) visibilityOnly += (visibilityOnly.empty() ? "" : ", ") + toString(m);
     if (methodInfo(c.against.method).output == MethodOutput::Visibility)
         visibilityOnly = "every method: " + toString(c.against.method) + ", the method compared with,";
-    const std::string equalNote =
+    std::string equalNote =
         std::string("(errors in display units [0, 1]: visibility linear, lit image sRGB-encoded; lit SSIM = "
                     "structural "
                     "similarity of the lit images' luma, 1 when equal; >1/255 px = pixels of the lit image "
@@ -855,11 +856,11 @@ BiasTables biasTables(const SceneComparison& c) {
     t.equalSamples.caption = "against the equal-sample reference (" + toString(c.against) + ", " +
                              std::to_string(base.samples) + " samples, seed " + std::to_string(base.seed) +
                              "):";
-    t.equalSamples.header = kErrorHeader;
+    t.equalSamples.header = ERROR_HEADER;
     for (const Row& r : c.rows)
         t.equalSamples.rows.push_back(errorCells(toString(r.mb), r.visibilityCoarse, r.lit));
     if (!c.converged) {
-        t.equalSamples.note = "(" + std::string(kBiasNote) + ")";
+        t.equalSamples.note = "(" + std::string(BIAS_NOTE) + ")";
         return t;
     }
     const int frames = c.frames;
@@ -872,13 +873,13 @@ BiasTables biasTables(const SceneComparison& c) {
                          (c.converged->entry.empty() ? std::string() : ": " + c.converged->entry);
     t.converged.caption =
         "against the converged reference (" + std::to_string(frames * base.samples) + " samples per pixel):";
-    t.converged.header = kErrorHeader;
+    t.converged.header = ERROR_HEADER;
     t.converged.rows.push_back(
         errorCells("noise floor", c.rows.front().convergedVisibility, c.rows.front().convergedLit));
     for (std::size_t i = 1; i < c.rows.size(); ++i)
         t.converged.rows.push_back(
             errorCells(toString(c.rows[i].mb), c.rows[i].convergedVisibility, c.rows[i].convergedLit));
-    t.converged.note = "(" + std::string(kBiasNote) + "; noise floor = the equal-sample " +
+    t.converged.note = "(" + std::string(BIAS_NOTE) + "; noise floor = the equal-sample " +
                        toString(c.against) + " against the converged one)";
     return t;
 }

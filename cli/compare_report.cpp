@@ -89,7 +89,7 @@ std::string urlPath(const std::string& path) {
     return out;
 }
 
-const char* const kStyle = R"(
+const char* const REPORT_STYLE = R"(
 body { font-family: sans-serif; margin: 16px 24px; color: #111; background: #fff; }
 h1 { font-size: 22px; margin: 0 0 8px; }
 h2 { font-size: 18px; margin: 20px 0 6px; }
@@ -134,16 +134,16 @@ std::string chartSvg(const ReportChart& chart) {
     if (points.empty()) return "";
     constexpr double W = 720, H = 400, left = 64, right = 170, top = 16, bottom = 48;
     const double plotW = W - left - right, plotH = H - top - bottom;
-    double lo = 1e300, hi = 0.0, top_error = 0.0;
+    double lo = 1e300, hi = 0.0, topError = 0.0;
     for (const ReportPoint& p : points) {
         lo = std::min(lo, p.ms);
         hi = std::max(hi, p.ms);
-        top_error = std::max(top_error, p.error);
+        topError = std::max(topError, p.error);
     }
     // Decades around the times; errors from 0 to a round value above the largest.
     const double x0 = std::floor(std::log10(lo)), x1 = std::max(std::ceil(std::log10(hi)), x0 + 1.0);
-    const double step = std::pow(10.0, std::floor(std::log10(std::max(top_error, 1e-6))));
-    double y1 = std::ceil(std::max(top_error, 1e-6) * 1.05 / step) * step;
+    const double step = std::pow(10.0, std::floor(std::log10(std::max(topError, 1e-6))));
+    double y1 = std::ceil(std::max(topError, 1e-6) * 1.05 / step) * step;
     const auto X = [&](double ms) { return left + (std::log10(ms) - x0) / (x1 - x0) * plotW; };
     const auto Y = [&](double e) { return top + (1.0 - e / y1) * plotH; };
     std::ostringstream out;
@@ -209,7 +209,7 @@ std::string chartSvg(const ReportChart& chart) {
 std::string reportHtml(const Report& r) {
     std::ostringstream out;
     out << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>"
-        << escapeHtml(r.title) << "</title>\n<style>" << kStyle << "</style>\n</head>\n<body>\n";
+        << escapeHtml(r.title) << "</title>\n<style>" << REPORT_STYLE << "</style>\n</head>\n<body>\n";
     out << "<h1>" << escapeHtml(r.title) << "</h1>\n";
     out << "<p>command: <code>" << escapeHtml(r.commandLine) << "</code></p>\n";
     out << "<table class=\"settings\">\n";

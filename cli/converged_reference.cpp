@@ -86,31 +86,31 @@ ImageF readImageNpy(const std::string& path, int width, int height, int channels
     return image;
 }
 
-const char* const kKeyFile = "key.json";
-const char* const kVisibilityFile = "visibility.npy";
-const char* const kLitFile = "lit.npy";
+const char* const KEY_FILE = "key.json";
+const char* const VISIBILITY_FILE = "visibility.npy";
+const char* const LIT_FILE = "lit.npy";
 
 /// The entry's images when `dir` holds `key` and well-formed images; otherwise a reason in
 /// `why` (empty when the entry does not exist).
 bool readEntry(const fs::path& dir, const nlohmann::json& key, const RenderOptions& o,
                ConvergedImages& images, std::string& why) {
     std::error_code ec;
-    if (!fs::exists(dir / kKeyFile, ec)) {
-        if (fs::exists(dir, ec)) why = "it has no " + std::string(kKeyFile);
+    if (!fs::exists(dir / KEY_FILE, ec)) {
+        if (fs::exists(dir, ec)) why = "it has no " + std::string(KEY_FILE);
         return false;
     }
     try {
-        std::ifstream in(dir / kKeyFile);
+        std::ifstream in(dir / KEY_FILE);
         const nlohmann::json stored = nlohmann::json::parse(in);
         if (!stored.is_object() || !stored.contains("key") || stored["key"] != key) {
             why = "its key differs from this compare's";
             return false;
         }
-        images.visibility = readImageNpy((dir / kVisibilityFile).string(), o.width, o.height, 1);
-        images.color = readImageNpy((dir / kLitFile).string(), o.width, o.height, 3);
+        images.visibility = readImageNpy((dir / VISIBILITY_FILE).string(), o.width, o.height, 1);
+        images.color = readImageNpy((dir / LIT_FILE).string(), o.width, o.height, 3);
         return true;
     } catch (const nlohmann::json::exception& e) {
-        why = std::string(kKeyFile) + " is not valid JSON (" + e.what() + ")";
+        why = std::string(KEY_FILE) + " is not valid JSON (" + e.what() + ")";
     } catch (const Error& e) {
         why = e.message();
     }
@@ -126,10 +126,10 @@ void writeEntry(const fs::path& dir, const nlohmann::json& description, const Co
     fs::remove_all(staging);
     fs::create_directories(staging);
     try {
-        writeNpy((staging / kVisibilityFile).string(), images.visibility);
-        writeNpy((staging / kLitFile).string(), images.color);
+        writeNpy((staging / VISIBILITY_FILE).string(), images.visibility);
+        writeNpy((staging / LIT_FILE).string(), images.color);
         const std::string key = description.dump(2) + "\n";
-        writeFileBytes((staging / kKeyFile).string(), key.data(), key.size());
+        writeFileBytes((staging / KEY_FILE).string(), key.data(), key.size());
     } catch (const Error&) {
         std::error_code ec; // a half-written entry is not left in the cache either
         fs::remove_all(staging, ec);
@@ -219,7 +219,7 @@ std::uint64_t sceneContentHash(const Scene& scene) {
 }
 
 std::string convergedCacheDirectory() {
-    if (const std::string dir = envOr("STSV_CACHE_DIR"); !dir.empty()) return dir;
+    if (std::string dir = envOr("STSV_CACHE_DIR"); !dir.empty()) return dir;
     if (const std::string xdg = envOr("XDG_CACHE_HOME"); !xdg.empty())
         return (fs::path(xdg) / "stsv").string();
     if (const std::string home = envOr("HOME"); !home.empty())
@@ -302,7 +302,7 @@ ConvergedReference convergedReference(const ConvergedRequest& request) {
                                           {"set", request.sceneSets.set},
                                           {"seeds", seeds},
                                           {"samples_per_pixel", request.frames * o.samples},
-                                          {"files", {{"visibility", kVisibilityFile}, {"lit", kLitFile}}}}}};
+                                          {"files", {{"visibility", VISIBILITY_FILE}, {"lit", LIT_FILE}}}}}};
     try {
         writeEntry(entry, description, result.images);
         result.cache = ConvergedReference::Cache::Written;

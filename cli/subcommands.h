@@ -62,10 +62,10 @@ struct InfoArgs : FrameArgs {
 int runInfo(const InfoArgs& args);
 
 /// The ranges of bench's --repeat (timed frames) and --warmup (untimed frames before them).
-constexpr int kMinRepeat = 1;
-constexpr int kMaxRepeat = 10000;
-constexpr int kMinWarmup = 0;
-constexpr int kMaxWarmup = 1000;
+constexpr int MIN_REPEAT = 1;
+constexpr int MAX_REPEAT = 10000;
+constexpr int MIN_WARMUP = 0;
+constexpr int MAX_WARMUP = 1000;
 
 /// Bench arguments; `given` lists the options given on the command line, which override a
 /// preset's values.
@@ -97,7 +97,7 @@ void applyBenchPreset(BenchArgs& args, const nlohmann::json& presets, const std:
 
 /// The most seeds compare --converged averages (a bound against typing mistakes, not a limit of
 /// the math).
-constexpr int kMaxConvergedFrames = 4096;
+constexpr int MAX_CONVERGED_FRAMES = 4096;
 
 struct CompareArgs : FrameArgs {
     std::vector<std::string> inputs; ///< SCENE, or two .npy files
@@ -119,7 +119,7 @@ struct CompareArgs : FrameArgs {
 int runCompare(CompareArgs& args);
 
 /// The most renders `tune --budget` may allow a method's search (a bound against typing mistakes).
-constexpr int kMaxTuneBudget = 100000;
+constexpr int MAX_TUNE_BUDGET = 100000;
 
 struct TuneArgs : FrameArgs {
     std::string methods;               ///< METHOD: one image-based method, or several comma-separated

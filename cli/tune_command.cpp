@@ -6,19 +6,19 @@
 // The search, per method (deterministic: the same arguments try the same knobs in the same order):
 //  1. the defaults (with the --param values) are rendered first; their errors are the unit of
 //     the objective, which is then 1;
-//  2. coarse grid, one knob at a time in the order of the knob list: kGridPoints values evenly
+//  2. coarse grid, one knob at a time in the order of the knob list: GRID_POINTS values evenly
 //     spaced over its search range (in log(value) for a log-scale knob; every value of an integer
 //     knob with no more), the other knobs at the best point so far; the best of them is kept
 //     when it beats the best point so far;
 //  3. refinement: rounds of, per knob not exhausted by its grid, the values half a grid step on
 //     either side of the best point's, kept when they beat it; the step halves after each round,
-//     kRefineRounds rounds.
+//     REFINE_ROUNDS rounds.
 // A point beats another only with a strictly lower objective, so the defaults are reported
 // unless a point does better on the training scenes. Every render counts against --budget
 // (the defaults' too); the search ends where the next point would pass it.
 //
 // The objective is the mean over the training scenes of each scene's error divided by the
-// defaults' error on that scene (plus kErrorFloor on both sides, for a scene the defaults get
+// defaults' error on that scene (plus ERROR_FLOOR on both sides, for a scene the defaults get
 // exactly right). Ratios rather than the errors' plain mean: the scenes' errors differ in scale
 // (a scene of wide penumbrae or many pixels in shadow has a larger RMSE at any knob), and a plain
 // mean would tune for the worst scene alone; the ratio weighs each scene by its relative gain.
@@ -26,7 +26,7 @@
 // --objective worst asks for the knobs nearest every scene's own best at once, the measure of
 // fair defaults: each training scene is searched alone first (the search above, its own budget),
 // then the scenes together for the least worst ratio of a scene's error to its own best (plus
-// kErrorFloor on both sides). The defaults' objective is then their worst ratio, not 1. A ratio
+// ERROR_FLOOR on both sides). The defaults' objective is then their worst ratio, not 1. A ratio
 // below 1 on some scene means the joint search found a better point there than that scene's own.
 #include "cli/cli_util.h"
 #include "cli/compare_report.h"
@@ -56,15 +56,15 @@ namespace stsv {
 namespace {
 
 /// Values per knob of the coarse grid.
-constexpr int kGridPoints = 5;
+constexpr int GRID_POINTS = 5;
 /// Halvings of the refinement's step (from half a grid step: 1/8 of the range, down to 1/64).
-constexpr int kRefineRounds = 4;
+constexpr int REFINE_ROUNDS = 4;
 /// Added to a scene's error and to the defaults' before their ratio (visibility RMSE units:
 /// far below any converged reference's own noise).
-constexpr double kErrorFloor = 1e-6;
+constexpr double ERROR_FLOOR = 1e-6;
 /// Significant digits of the values tried of a continuous knob (the printed and written values
 /// are the values rendered).
-constexpr int kSignificantDigits = 4;
+constexpr int SIGNIFICANT_DIGITS = 4;
 
 std::string formatNumber(double value) {
     char text[32];
@@ -76,11 +76,11 @@ std::string toString(KnobScale scale) {
     return scale == KnobScale::Log ? "log" : "linear";
 }
 
-/// `value` rounded to kSignificantDigits significant digits.
+/// `value` rounded to SIGNIFICANT_DIGITS significant digits.
 double roundSignificant(double value) {
     if (value == 0.0 || !std::isfinite(value)) return value;
     const double magnitude = std::floor(std::log10(std::abs(value)));
-    const double scale = std::pow(10.0, double(kSignificantDigits - 1) - magnitude);
+    const double scale = std::pow(10.0, double(SIGNIFICANT_DIGITS - 1) - magnitude);
     return std::round(value * scale) / scale;
 }
 
@@ -114,8 +114,8 @@ struct SearchedKnob {
             for (double v = range.lo; v <= range.hi; v += 1.0) values.push_back(v);
             return values;
         }
-        for (int i = 0; i < kGridPoints; ++i) {
-            const double v = valueAt(double(i) / double(kGridPoints - 1));
+        for (int i = 0; i < GRID_POINTS; ++i) {
+            const double v = valueAt(double(i) / double(GRID_POINTS - 1));
             if (std::find(values.begin(), values.end(), v) == values.end()) values.push_back(v);
         }
         return values;
@@ -145,7 +145,7 @@ double tuneError(const Frame& frame, const TuneScene& s) {
     if (s.facing->facing == 0) return compareImages(visibility, s.converged).rmse;
     return compareImagesWhere(visibility, s.converged, s.facing->selected).rmse;
 }
-constexpr const char* kErrorName =
+constexpr const char* ERROR_NAME =
     "visibility RMSE over the light-facing pixels against the converged reference";
 
 const char* objectiveName(bool worst) {
@@ -226,7 +226,7 @@ std::vector<SearchedKnob> searchedKnobs(const MethodInfo& method, const MethodPa
         s.range = range;
         s.integer = k.integer;
         s.defaultValue = fixed.at(k.name);
-        s.exhaustive = k.integer && range.hi - range.lo + 1.0 <= double(kGridPoints);
+        s.exhaustive = k.integer && range.hi - range.lo + 1.0 <= double(GRID_POINTS);
         knobs.push_back(s);
     };
     if (!requests.empty()) {
@@ -282,7 +282,7 @@ struct Evaluation {
 
 /// (error + floor) / (unit + floor): a scene's error in the objective's unit.
 double errorRatio(double error, double unit) {
-    return (error + kErrorFloor) / (unit + kErrorFloor);
+    return (error + ERROR_FLOOR) / (unit + ERROR_FLOOR);
 }
 
 /// Without `ownBests`, the mean over the scenes of each error over the defaults'; with them, the
@@ -375,8 +375,8 @@ class Search {
                 if (!tryValue(k, v)) break;
             }
         // 3. refinement around the best point, the step halving each round.
-        double step = 0.5 / double(kGridPoints - 1);
-        for (int round = 0; round < kRefineRounds && !m_r.budgetSpent; ++round, step *= 0.5)
+        double step = 0.5 / double(GRID_POINTS - 1);
+        for (int round = 0; round < REFINE_ROUNDS && !m_r.budgetSpent; ++round, step *= 0.5)
             for (std::size_t k = 0; k < m_r.knobs.size() && !m_r.budgetSpent; ++k) {
                 const SearchedKnob& knob = m_r.knobs[k];
                 if (knob.exhaustive) continue;
@@ -507,7 +507,7 @@ void printResult(const MethodResult& r, const std::vector<TuneScene>& training,
     if (!fixed.empty()) knobs.note = "fixed by --param: " + fixed;
     std::printf("%s", formatTextTable(knobs).c_str());
     ReportTable errors;
-    errors.caption = std::string(kErrorName) + ":";
+    errors.caption = std::string(ERROR_NAME) + ":";
     const bool worst = !r.ownBests.empty();
     errors.header = {"scene", "set", "defaults", "best", "best/defaults"};
     if (worst) errors.header.insert(errors.header.end(), {"own best", "defaults/own", "best/own"});
@@ -665,7 +665,7 @@ nlohmann::json tuneJson(const TuneArgs& args, const std::vector<MethodResult>& r
     }
     return {{"version", version()},
             {"command", shellCommandLine(args.argv)},
-            {"error", kErrorName},
+            {"error", ERROR_NAME},
             {"objective", objectiveName(worst)},
             {"against", toString(against)},
             {"converged_frames", args.converged},
@@ -686,12 +686,12 @@ nlohmann::json tuneJson(const TuneArgs& args, const std::vector<MethodResult>& r
 int runTune(TuneArgs& args) {
     Timer total;
     if (args.quiet) Progress::setEnabled(false);
-    if (args.budget < 1 || args.budget > kMaxTuneBudget)
+    if (args.budget < 1 || args.budget > MAX_TUNE_BUDGET)
         throw UsageError("--budget " + std::to_string(args.budget) + " is out of range (1 to " +
-                         std::to_string(kMaxTuneBudget) + ")");
-    if (args.converged < 1 || args.converged > kMaxConvergedFrames)
+                         std::to_string(MAX_TUNE_BUDGET) + ")");
+    if (args.converged < 1 || args.converged > MAX_CONVERGED_FRAMES)
         throw UsageError("--converged " + std::to_string(args.converged) + " is out of range (1 to " +
-                         std::to_string(kMaxConvergedFrames) + ")");
+                         std::to_string(MAX_CONVERGED_FRAMES) + ")");
     const RenderOptions base = resolveFrameOptions(args);
     const Backend backend = parseBackend(args.backend);
     const MethodBackend against = parseMethodBackend(args.against, Backend::Cpu);
@@ -770,7 +770,7 @@ int runTune(TuneArgs& args) {
         "pixel); objective: %s\n",
         printable(trainingNames).c_str(),
         heldOut.empty() ? "" : (", " + printable(heldOutNames) + " (held out)").c_str(), base.width,
-        base.height, base.samples, toString(base.pattern).c_str(), base.seed, kErrorName,
+        base.height, base.samples, toString(base.pattern).c_str(), base.seed, ERROR_NAME,
         toString(against).c_str(), args.converged, base.samples, objectiveName(worst));
 
     // The search's lines say where it is; a frame's own bar (peel's march) would interleave with them.

@@ -96,15 +96,15 @@ Image8 contactSheet(const SheetLayout& layout, const std::vector<std::string>& c
     sheet.height = layout.height();
     sheet.channels = 3;
     sheet.pixels.resize(std::size_t(sheet.width) * std::size_t(sheet.height) * 3);
-    fillRect(sheet, 0, 0, sheet.width, sheet.height, kSheetBackground);
+    fillRect(sheet, 0, 0, sheet.width, sheet.height, SHEET_BACKGROUND);
     const int textInset = layout.padding / 2; // the text's top within its band
     for (int c = 0; c < layout.columns && c < int(columnTitles.size()); ++c)
         drawText(sheet, layout.tileX(c), layout.padding + textInset, columnTitles[std::size_t(c)],
-                 layout.textScale, kSheetText, layout.tileX(c) + layout.tileWidth);
+                 layout.textScale, SHEET_TEXT, layout.tileX(c) + layout.tileWidth);
     for (int r = 0; r < layout.rows && r < int(rows.size()); ++r) {
         const SheetRow& row = rows[std::size_t(r)];
         drawText(sheet, layout.tileX(0), layout.labelY(r) + textInset, row.label, layout.textScale,
-                 kSheetText);
+                 SHEET_TEXT);
         for (int c = 0; c < layout.columns && c < int(row.tiles.size()); ++c) {
             const Image8& tile = row.tiles[std::size_t(c)];
             if (tile.width == 0) continue;

@@ -66,8 +66,8 @@ int tileScaleFor(int sourceWidth, int sourceHeight, int targetSide = 256);
 SheetLayout sheetLayout(int sourceWidth, int sourceHeight, int columns, int rows);
 
 /// Colours of the sheet: text on a dark background, so the labels stand out from light tiles.
-inline constexpr Rgb8 kSheetBackground{32, 32, 32};
-inline constexpr Rgb8 kSheetText{255, 255, 255};
+inline constexpr Rgb8 SHEET_BACKGROUND{32, 32, 32};
+inline constexpr Rgb8 SHEET_TEXT{255, 255, 255};
 
 /// The sheet as an RGB image of layout.width() × layout.height(): the column titles in the top
 /// band, each row's label above its tiles. Tiles larger than the layout's cell are clipped.

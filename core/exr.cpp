@@ -70,7 +70,7 @@ class MemoryIStream final : public Imf::IStream {
     std::size_t m_pos = 0;
 };
 
-const char* const kRgb[] = {"R", "G", "B"};
+const char* const RGB_CHANNELS[] = {"R", "G", "B"};
 
 } // namespace
 
@@ -93,7 +93,7 @@ void writeExr(const std::string& path, const ImageF& image, bool halfFloat) {
         char* base = halfFloat ? reinterpret_cast<char*>(halves.data())
                                : reinterpret_cast<char*>(const_cast<float*>(image.pixels.data()));
         for (int c = 0; c < image.channels; ++c) {
-            const char* name = image.channels == 1 ? "Y" : kRgb[c];
+            const char* name = image.channels == 1 ? "Y" : RGB_CHANNELS[c];
             header.channels().insert(name, Imf::Channel(type));
             frame.insert(name,
                          Imf::Slice(type, base + std::size_t(c) * valueBytes,

@@ -18,7 +18,7 @@
 namespace stsv {
 namespace {
 
-constexpr const char* kValidationLayer = "VK_LAYER_KHRONOS_validation";
+constexpr const char* VALIDATION_LAYER = "VK_LAYER_KHRONOS_validation";
 
 bool envFlag(const char* name) {
     const char* value = std::getenv(name);
@@ -69,7 +69,7 @@ VkDebugUtilsMessengerCreateInfoEXT messengerInfo(ValidationLog* log) {
 }
 
 /// What a user without a Vulkan driver reads, and can act on.
-constexpr const char* kNoDriver =
+constexpr const char* NO_DRIVER =
     "no Vulkan driver was found: install one (on Debian: apt install mesa-vulkan-drivers for lavapipe, "
     "the CPU driver; or your GPU vendor's driver), or render without Vulkan with --backend cpu";
 
@@ -169,7 +169,7 @@ std::string driverFilesMessage(const char* call, VkResult result) {
     const std::string failed = std::string(call) + ": " + toString(result);
     bool missing = false;
     const std::string problem = driverFilesProblem(missing);
-    if (missing) return std::string(kNoDriver) + " (" + problem + "; " + failed + ")";
+    if (missing) return std::string(NO_DRIVER) + " (" + problem + "; " + failed + ")";
     if (!problem.empty())
         return problem + ": fix it or unset " + files.variable +
                " (the loader then reads the system's drivers), or render without Vulkan with --backend cpu "
@@ -232,7 +232,7 @@ VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
 
     info.sType = VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO;
     info.pApplicationInfo = &app;
-    const char* layers[] = {kValidationLayer};
+    const char* layers[] = {VALIDATION_LAYER};
     const char* extensions[] = {VK_EXT_DEBUG_UTILS_EXTENSION_NAME, VK_EXT_VALIDATION_FEATURES_EXTENSION_NAME};
     VkDebugUtilsMessengerCreateInfoEXT messenger{};
     // VkValidationFeaturesEXT needs VK_EXT_validation_features, which the layer provides.
@@ -243,7 +243,7 @@ VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
     features.enabledValidationFeatureCount = 1;
     features.pEnabledValidationFeatures = enables;
     if (log != nullptr) {
-        if (!hasLayer(kValidationLayer))
+        if (!hasLayer(VALIDATION_LAYER))
             throw Error("validation requested but VK_LAYER_KHRONOS_validation is not installed "
                         "(Debian package vulkan-validationlayers)");
         info.enabledLayerCount = 1;
@@ -263,7 +263,7 @@ VkInstance createInstance(ValidationLog* log, bool synchronizationValidation) {
         if (const std::string message = driverFilesMessage("vkCreateInstance", result); !message.empty())
             throw Error(message);
     if (result == VK_ERROR_INCOMPATIBLE_DRIVER)
-        throw Error(std::string(kNoDriver) + " (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER)");
+        throw Error(std::string(NO_DRIVER) + " (vkCreateInstance: VK_ERROR_INCOMPATIBLE_DRIVER)");
     STSV_VK_CHECK(result);
     return instance;
 }
@@ -405,7 +405,7 @@ std::size_t selectDevice(const std::vector<DeviceInfo>& infos, const std::string
         }
         if (infos.empty()) {
             const DriverFiles files = driverFiles();
-            throw Error(std::string(kNoDriver) + " (the Vulkan loader lists no device" +
+            throw Error(std::string(NO_DRIVER) + " (the Vulkan loader lists no device" +
                         (files.variable.empty()
                              ? std::string()
                              : " of the drivers " + files.variable + "=" + files.value + " names") +

@@ -29,11 +29,13 @@ void openLoader() {
             "): install it (on Debian: apt install libvulkan1 mesa-vulkan-drivers), or render without "
             "Vulkan with --backend cpu");
     }
+// NOLINTBEGIN(bugprone-macro-parentheses): fn is a name, pasted and stringised, not an expression
 #define STSV_LOAD_VULKAN_FUNCTION(fn)                                                                        \
     fn = reinterpret_cast<PFN_##fn>(dlsym(library, #fn));                                                    \
     if (!fn) throw Error("the Vulkan loader " + name + " lacks " #fn ": stsv needs a Vulkan 1.3 loader");
     STSV_VULKAN_FUNCTIONS(STSV_LOAD_VULKAN_FUNCTION)
 #undef STSV_LOAD_VULKAN_FUNCTION
+    // NOLINTEND(bugprone-macro-parentheses)
     // The library stays open for the life of the process: the pointers point into it.
 }
 

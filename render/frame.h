@@ -22,6 +22,7 @@ struct KeptShadowMaps; // shadowmaps/kept_maps.h
 /// Linear RGB of the pixels no triangle covers (every backend).
 inline const vec3 BACKGROUND(0.02f, 0.02f, 0.03f);
 
+// NOLINTNEXTLINE(bugprone-exception-escape): json's move cannot throw (its invariant check is unmarked)
 struct Frame {
     GBuffer gbuffer;
     std::vector<LightSampleBuffer> lightSamples; ///< one per scene light

@@ -16,10 +16,10 @@ namespace stsv {
 namespace {
 
 /// The "format" value of a light-sample file's metadata.
-constexpr const char* kLightSampleFormat = "stsv light samples";
+constexpr const char* LIGHT_SAMPLE_FORMAT = "stsv light samples";
 
 /// The longest metadata file read: a few hundred bytes are written.
-constexpr std::size_t kMaxInfoBytes = 1 << 16;
+constexpr std::size_t MAX_INFO_BYTES = 1 << 16;
 
 } // namespace
 
@@ -45,14 +45,14 @@ std::optional<LightSampleFileInfo> readLightSampleInfo(const std::string& npyPat
     if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return std::nullopt;
     nlohmann::json j;
     try {
-        j = nlohmann::json::parse(readFileBytes(path, "light-sample metadata", kMaxInfoBytes));
+        j = nlohmann::json::parse(readFileBytes(path, "light-sample metadata", MAX_INFO_BYTES));
     } catch (const nlohmann::json::parse_error& e) {
         throw InputError(path, std::string("the light-sample metadata is not valid JSON (") + e.what() + ")");
     }
-    if (!j.is_object() || j.value("format", nlohmann::json()) != kLightSampleFormat)
+    if (!j.is_object() || j.value("format", nlohmann::json()) != LIGHT_SAMPLE_FORMAT)
         throw InputError(path,
                          std::string("is not light-sample metadata (a JSON object whose \"format\" is \"") +
-                             kLightSampleFormat + "\")");
+                             LIGHT_SAMPLE_FORMAT + "\")");
     auto integer = [&](const char* key, int lo, int hi) {
         const nlohmann::json& v = j.contains(key) ? j[key] : nlohmann::json();
         if (!v.is_number_integer() || v.get<std::int64_t>() < lo || v.get<std::int64_t>() > hi)
@@ -189,7 +189,7 @@ std::size_t LightSampleBuffer::storageBytes(int width, int height, int samples, 
 
 void LightSampleBuffer::writeNpy(const std::string& path, const std::string& method) const {
     writeArray(path);
-    nlohmann::json info = {{"format", kLightSampleFormat},
+    nlohmann::json info = {{"format", LIGHT_SAMPLE_FORMAT},
                            {"kind", bufferKindName(m_kind)},
                            {"samples", m_samples},
                            {"width", m_width},

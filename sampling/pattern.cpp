@@ -9,11 +9,11 @@ namespace stsv {
 
 namespace {
 
-constexpr std::uint32_t kFixedOne = 1u << 24; ///< 1.0 in the 24-bit fixed point of pattern points
-constexpr float kFixedToFloat = 1.0f / 16777216.0f;
+constexpr std::uint32_t FIXED_ONE = 1u << 24; ///< 1.0 in the 24-bit fixed point of pattern points
+constexpr float FIXED_TO_FLOAT = 1.0f / 16777216.0f;
 
 vec2 fromFixed(std::uint32_t x, std::uint32_t y) {
-    return vec2(float(x) * kFixedToFloat, float(y) * kFixedToFloat);
+    return vec2(float(x) * FIXED_TO_FLOAT, float(y) * FIXED_TO_FLOAT);
 }
 
 /// PCG32 (O'Neill 2014): a small, portable generator (std distributions are not portable).
@@ -93,8 +93,8 @@ void checkCount(int count) {
 /// Uniform grid with every point at the same offset inside its cell (in units of 2⁻²⁴).
 std::vector<vec2> makeGrid(int count, std::uint32_t offsetX, std::uint32_t offsetY) {
     const ivec2 grid = patternGrid(count);
-    const std::uint32_t cellW = kFixedOne / std::uint32_t(grid.x);
-    const std::uint32_t cellH = kFixedOne / std::uint32_t(grid.y);
+    const std::uint32_t cellW = FIXED_ONE / std::uint32_t(grid.x);
+    const std::uint32_t cellH = FIXED_ONE / std::uint32_t(grid.y);
     std::vector<vec2> points;
     points.reserve(std::size_t(count));
     for (int j = 0; j < grid.y; ++j)
@@ -106,8 +106,8 @@ std::vector<vec2> makeGrid(int count, std::uint32_t offsetX, std::uint32_t offse
 
 std::vector<vec2> makeStratified(int count, std::uint32_t seed) {
     const ivec2 grid = patternGrid(count);
-    const std::uint32_t cellW = kFixedOne / std::uint32_t(grid.x);
-    const std::uint32_t cellH = kFixedOne / std::uint32_t(grid.y);
+    const std::uint32_t cellW = FIXED_ONE / std::uint32_t(grid.x);
+    const std::uint32_t cellH = FIXED_ONE / std::uint32_t(grid.y);
     Pcg32 rng(seed, 0x5747u);
     std::vector<vec2> points;
     points.reserve(std::size_t(count));
@@ -238,7 +238,7 @@ std::vector<vec2> makePattern(PatternKind kind, int count, std::uint32_t seed) {
     switch (kind) {
     case PatternKind::Uniform: {
         const ivec2 grid = patternGrid(count);
-        return makeGrid(count, kFixedOne / std::uint32_t(2 * grid.x), kFixedOne / std::uint32_t(2 * grid.y));
+        return makeGrid(count, FIXED_ONE / std::uint32_t(2 * grid.x), FIXED_ONE / std::uint32_t(2 * grid.y));
     }
     case PatternKind::Stratified:
         return makeStratified(count, seed);
@@ -266,8 +266,8 @@ SamplePlan makeSamplePlan(PatternKind kind, int count, std::uint32_t seed, int i
     }
     const ivec2 grid = patternGrid(count);
     const auto k = std::uint32_t(interleave);
-    const std::uint32_t cellW = kFixedOne / std::uint32_t(grid.x);
-    const std::uint32_t cellH = kFixedOne / std::uint32_t(grid.y);
+    const std::uint32_t cellW = FIXED_ONE / std::uint32_t(grid.x);
+    const std::uint32_t cellH = FIXED_ONE / std::uint32_t(grid.y);
     plan.points.reserve(std::size_t(count) * std::size_t(plan.setCount()));
     for (int set = 0; set < plan.setCount(); ++set) {
         std::vector<vec2> points;

@@ -438,7 +438,7 @@ std::int64_t repeatedVertex(std::vector<std::int64_t> corners) {
                          " faces of the file: it has no valid face");
 }
 
-const char* const kIgnoredObjStatements[] = {
+const char* const IGNORED_OBJ_STATEMENTS[] = {
     "o",          "g",         "s",     "l",     "p",        "vp",       "cstype", "deg",    "bmat",
     "step",       "curv",      "curv2", "surf",  "parm",     "trim",     "hole",   "scrv",   "sp",
     "end",        "con",       "mg",    "bevel", "c_interp", "d_interp", "lod",    "usemap", "maplib",
@@ -624,8 +624,8 @@ ObjScan scanObj(const std::string& path, const std::string& text, MeshData& out)
             }
         } else if (key == "mtllib") {
             // handled in pass 1
-        } else if (std::find(std::begin(kIgnoredObjStatements), std::end(kIgnoredObjStatements), key) ==
-                   std::end(kIgnoredObjStatements)) {
+        } else if (std::find(std::begin(IGNORED_OBJ_STATEMENTS), std::end(IGNORED_OBJ_STATEMENTS), key) ==
+                   std::end(IGNORED_OBJ_STATEMENTS)) {
             throw InputError(path, number, "unknown OBJ statement '" + std::string(key) + "'");
         }
     }

@@ -15,7 +15,7 @@ namespace stsv {
 
 namespace {
 
-constexpr float kPi = 3.14159265358979f;
+constexpr float PI = 3.14159265358979f;
 
 /// splitmix64: tiny, portable (std distributions differ between standard libraries).
 class Rng {
@@ -127,10 +127,10 @@ Texture makeLeafTexture(int size) {
     constexpr int kLeafPairs = 4;
     for (int i = 0; i < 2 * kLeafPairs; ++i) {
         const float side = (i % 2 == 0) ? -1.0f : 1.0f;
-        const float attachV = 0.30f + 0.08f * float(i);               // top leaves first
-        const float length = 0.22f + 0.025f * float(i);               // lower leaves are longer
-        const float angle = (35.0f + 2.0f * float(i)) * kPi / 180.0f; // above horizontal
-        const vec2 dir(side * std::cos(angle), -std::sin(angle));     // v points down
+        const float attachV = 0.30f + 0.08f * float(i);              // top leaves first
+        const float length = 0.22f + 0.025f * float(i);              // lower leaves are longer
+        const float angle = (35.0f + 2.0f * float(i)) * PI / 180.0f; // above horizontal
+        const vec2 dir(side * std::cos(angle), -std::sin(angle));    // v points down
         const vec2 c = vec2(0.5f, attachV) + 0.5f * length * dir;
         leaves.push_back({c.x, c.y, dir.x, dir.y, 0.5f * length, 0.17f * length});
     }
@@ -264,15 +264,15 @@ Scene makeFoliageScene(const FoliageParams& params) {
     for (int i = 0; i < params.count; ++i) {
         const int cell = cells[std::size_t(i)];
         const float cx = (float(cell % g) + 0.5f) * params.spacing - 0.5f * side;
-        const float cz = (float(cell / g) + 0.5f) * params.spacing -
-                         0.5f * side; // NOLINT(bugprone-integer-division): row index
+        const int row = cell / g;
+        const float cz = (float(row) + 0.5f) * params.spacing - 0.5f * side;
         const vec3 base(cx + rng.uniform(-0.3f, 0.3f) * params.spacing, 0.0f,
                         cz + rng.uniform(-0.3f, 0.3f) * params.spacing);
         const float height = rng.uniform(0.7f, 1.2f) * std::min(1.0f, params.spacing / 0.75f);
         const float halfWidth = 0.45f * height;
-        const float yaw = rng.uniform(0.0f, kPi);
+        const float yaw = rng.uniform(0.0f, PI);
         for (int q = 0; q < 2; ++q) { // two crossed quads
-            const float a = yaw + float(q) * 0.5f * kPi;
+            const float a = yaw + float(q) * 0.5f * PI;
             const vec3 dir(std::cos(a) * halfWidth, 0.0f, std::sin(a) * halfWidth);
             const vec3 top(0.0f, height, 0.0f);
             // u left → right, v top (0) → bottom (1).

@@ -86,6 +86,17 @@ DH_FUNC float pcfVisibility(ShadowMapView v, ShadowMapSource src, ShadowReceiver
     return lit / total;
 }
 
+/// The filters of the depth map over a kernel of fixed world width at the receiver, by their
+/// selector (p.method): the variants whose row reads the depths and searches no blockers
+/// (filtersFixedDepthKernel), one per-pixel step on both backends. `strided` says whether the
+/// receiver, on the map, has its taps spread more than three texels apart (the stats count it).
+/// pcf is the only one so far; another kernel is its selector, its row and a branch here.
+DH_FUNC float depthKernelVisibility(ShadowMapView v, ShadowMapSource src, ShadowReceiver r,
+                                    ShadowFilterParams p, DH_OUT(bool) strided) {
+    strided = shadowReceiverOnMap(v, r) && pcfKernelStrided(r, p.pcfWorldRadius, p.pcfMaxRadius);
+    return pcfVisibility(v, src, r, p.pcfWorldRadius, p.pcfMaxRadius);
+}
+
 /// Steps 1 and 2: the average depth, along the axis of the receiver's face, of the blockers the
 /// first `taps` Poisson taps find within the search radius; −1 when there is none (the receiver is
 /// lit).

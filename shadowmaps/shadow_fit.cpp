@@ -55,6 +55,7 @@ std::vector<vec3> lightPoints(const Light& light) {
         return {c - u - v, c + u - v, c + u + v, c - u + v};
     }
     std::vector<vec3> points;
+    points.reserve(8);
     for (int i = 0; i < 8; ++i)
         points.push_back(c + light.radius *
                                  vec3(i & 1 ? 1.0f : -1.0f, i & 2 ? 1.0f : -1.0f, i & 4 ? 1.0f : -1.0f));

@@ -309,7 +309,7 @@ struct TunedKnob {
     double lo;
     double hi;
 };
-constexpr TunedKnob kTunedKnobs[] = {
+constexpr TunedKnob TUNED_KNOBS[] = {
     {"sm_bias", KnobScale::Linear, 0.0, 8.0},          // texels at the receiver
     {"sm_normal_offset", KnobScale::Linear, 0.0, 4.0}, // texels
     {"pcf_world_radius", KnobScale::Log, 0.002, 0.3},  // metres at the receiver: the penumbra's width
@@ -327,10 +327,10 @@ constexpr TunedKnob kTunedKnobs[] = {
     {"csm_damp", KnobScale::Linear, 0.0, 1.0},
 };
 
-/// `knobs` with kTunedKnobs' search set on theirs; std::logic_error (a bug) for a name that is
+/// `knobs` with TUNED_KNOBS' search set on theirs; std::logic_error (a bug) for a name that is
 /// no knob or a range outside the knob's.
 std::vector<ShadowMapKnob> withTunedKnobs(std::vector<ShadowMapKnob> knobs) {
-    for (const TunedKnob& t : kTunedKnobs) {
+    for (const TunedKnob& t : TUNED_KNOBS) {
         const auto knob = std::find_if(knobs.begin(), knobs.end(),
                                        [&](const ShadowMapKnob& k) { return std::string(k.name) == t.name; });
         if (knob == knobs.end() || t.lo < knob->min || t.hi > knob->max || !(t.lo < t.hi) ||

@@ -73,6 +73,14 @@ inline bool isFilteredRepresentation(ShadowMapMethod f) {
     return f != ShadowMapMethod::None && shadowMapVariant(f).representation == MapRepresentation::Filtered;
 }
 
+/// Whether a variant filters the depth map over a kernel of fixed world width (pcf:
+/// depthKernelVisibility), not one that a blocker search sizes (pcss).
+inline bool filtersFixedDepthKernel(ShadowMapMethod f) {
+    if (f == ShadowMapMethod::None) return false;
+    const ShadowMapVariant& row = shadowMapVariant(f);
+    return row.representation == MapRepresentation::Depths && row.blockers == BlockerSearch::Never;
+}
+
 /// The knobs the shadow-map methods read (method knobs of render/methods.cpp): the filter's, which
 /// both backends read as they are (ShadowFilterParams, shadow_map_dh.h), and the map's.
 struct ShadowMapSettings : ShadowFilterParams {

@@ -18,7 +18,7 @@ using B = BlockerSearch;
 /// CSM and MSM keep the shared values: the filtered set gains CSM 1 % and costs it 25 % on the
 /// planes; MSM's gain is the mips', whose bilinear taps (8-bit weights on lavapipe) the moment
 /// reconstruction amplifies into CPU/Vulkan differences of 0.08 on the knot.
-const std::vector<std::pair<const char*, double>> kFilteredBias = {{"sm_bias", 0.125},
+const std::vector<std::pair<const char*, double>> FILTERED_BIAS = {{"sm_bias", 0.125},
                                                                    {"sm_normal_offset", 0.25}};
 
 std::vector<std::pair<const char*, double>> with(std::vector<std::pair<const char*, double>> a,
@@ -50,7 +50,7 @@ std::vector<ShadowMapVariant> buildVariants() {
          .representation = R::Filtered,
          .blockers = B::WithSearchedKernel,
          .knobs = {"vsm_min_variance", "vsm_bleed"},
-         .defaults = with(kFilteredBias, {{"fm_mip", 1}, {"vsm_min_variance", 1e-8}})},
+         .defaults = with(FILTERED_BIAS, {{"fm_mip", 1}, {"vsm_min_variance", 1e-8}})},
         {.filter = F::Esm,
          .name = "esm",
          .description = "Exponential shadow maps (Annen et al. 2008): exp(c z) averaged in log space, exp(-c "
@@ -59,7 +59,7 @@ std::vector<ShadowMapVariant> buildVariants() {
          .blockers = B::WithSearchedKernel,
          .alwaysMip = true,
          .knobs = {"esm_c"},
-         .defaults = kFilteredBias},
+         .defaults = FILTERED_BIAS},
         {.filter = F::Evsm,
          .name = "evsm",
          .description = "Exponential variance shadow maps: Chebyshev on a positive and a negative "
@@ -68,7 +68,7 @@ std::vector<ShadowMapVariant> buildVariants() {
          .blockers = B::WithSearchedKernel,
          .alwaysMip = true,
          .knobs = {"vsm_min_variance", "vsm_bleed", "evsm_positive", "evsm_negative"},
-         .defaults = with(kFilteredBias, {{"vsm_min_variance", 1e-8}})},
+         .defaults = with(FILTERED_BIAS, {{"vsm_min_variance", 1e-8}})},
         {.filter = F::Msm,
          .name = "msm",
          .description =

@@ -511,6 +511,78 @@ DH_FUNC StsvVolume stsvBuildVolumePlanes(vec3 v0, vec3 v1, vec3 v2, vec4 lightSp
     return vol;
 }
 
+/// Step 4 where the side planes s0, s1, s2 lean both ways across the caps (light grazing the
+/// plane, an edge pointing at it): the prism closed across the whole box along the axis of their
+/// cone; false where that axis or the prism degenerates.
+DH_FUNC bool stsvConeStripPrism(vec4 s0, vec4 s1, vec4 s2, vec3 toLight, vec3 boxLo, vec3 boxHi, float margin,
+                                DH_OUT(vec3) f0, DH_OUT(vec3) f1, DH_OUT(vec3) f2, DH_OUT(vec3) b0,
+                                DH_OUT(vec3) b1, DH_OUT(vec3) b2) {
+    vec3 axis = vec3(0.0f);
+    vec3 apex;
+    vec3 n0 = vec3(s0);
+    vec3 n1 = vec3(s1);
+    vec3 n2 = vec3(s2);
+    if (stsvIntersectPlanes(s0, s1, s2, apex)) {
+        // Opposite of the mean edge direction (edges oriented into the cone).
+        vec3 r0 = cross(n2, n0);
+        vec3 r1 = cross(n0, n1);
+        vec3 r2 = cross(n1, n2);
+        if (dot(r0, n1) < 0.0f) r0 = -r0;
+        if (dot(r1, n2) < 0.0f) r1 = -r1;
+        if (dot(r2, n0) < 0.0f) r2 = -r2;
+        axis = -(normalize(r0) + normalize(r1) + normalize(r2));
+    } else {
+        // Parallel edges: along them (either way).
+        vec3 r0 = cross(n2, n0);
+        vec3 r1 = cross(n0, n1);
+        axis = length(r0) > length(r1) ? r0 : r1;
+    }
+    float axisLength = length(axis);
+    bool ok = axisLength > 1e-6f;
+    axis = ok ? axis / axisLength : toLight;
+    float hi = dot(axis, stsvBoxCorner(boxLo, boxHi, 0u));
+    float lo = hi;
+    for (uint k = 1u; k < 8u; ++k) {
+        hi = max(hi, dot(axis, stsvBoxCorner(boxLo, boxHi, k)));
+        lo = min(lo, dot(axis, stsvBoxCorner(boxLo, boxHi, k)));
+    }
+    return ok && stsvClosePrism(s0, s1, s2, axis, hi + margin, lo - margin, f0, f1, f2, b0, b1, b2);
+}
+
+/// Step 4's last resort: a prism around the whole box behind the triangle's plane (normal n, in
+/// the volume's frame: the triangle's corners at the origin, p1 and p2), its front cap
+/// `depthFront` in front of that plane.
+DH_FUNC void stsvBoxPrism(vec3 n, vec3 p1, vec3 p2, vec3 boxLo, vec3 boxHi, float depthFront, float margin,
+                          DH_OUT(vec3) f0, DH_OUT(vec3) f1, DH_OUT(vec3) f2, DH_OUT(vec3) b0, DH_OUT(vec3) b1,
+                          DH_OUT(vec3) b2) {
+    vec3 u = normalize(cross(n, abs(n.x) < 0.6f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
+    vec3 w = cross(n, u);
+    vec2 lo2 = vec2(min(min(dot(u, p1), dot(u, p2)), 0.0f), min(min(dot(w, p1), dot(w, p2)), 0.0f));
+    vec2 hi2 = vec2(max(max(dot(u, p1), dot(u, p2)), 0.0f), max(max(dot(w, p1), dot(w, p2)), 0.0f));
+    float depthBack = depthFront - 0.01f;
+    for (uint k = 0u; k < 8u; ++k) {
+        vec3 corner = stsvBoxCorner(boxLo, boxHi, k);
+        vec2 uw = vec2(dot(u, corner), dot(w, corner));
+        lo2 = min(lo2, uw);
+        hi2 = max(hi2, uw);
+        depthBack = min(depthBack, dot(n, corner));
+    }
+    lo2 -= vec2(margin);
+    hi2 += vec2(margin);
+    depthBack -= margin;
+    vec2 span = 2.0f * (hi2 - lo2); // triangle (0,0), (2W,0), (0,2H) holds the rectangle W×H
+    vec3 base = lo2.x * u + lo2.y * w;
+    vec3 c0 = base;
+    vec3 c1 = base + span.x * u;
+    vec3 c2 = base + span.y * w;
+    f0 = c0 + depthFront * n;
+    f1 = c1 + depthFront * n;
+    f2 = c2 + depthFront * n;
+    b0 = c0 + depthBack * n;
+    b1 = c1 + depthBack * n;
+    b2 = c2 + depthBack * n;
+}
+
 /// Builds the volume of one side of triangle (v0, v1, v2): side 0 faces the light centre, side 1
 /// is the opposite face (only meaningful when stsvSideCount is 2; otherwise it is empty). The box
 /// [boundsLo, boundsHi] (the scene's bounds; grown to hold the triangle) limits the extrusion.
@@ -590,71 +662,14 @@ DH_FUNC StsvVolume stsvBuildVolume(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere, 
                                        f[0], f[1], f[2], b[0], b[1], b[2]);
     }
     if (!ok && hasLateral) {
-        // The side planes lean both ways across the caps (light grazing the plane, an edge pointing
-        // at it): close them across the whole box along the axis of their cone instead.
+        // The side planes lean both ways across the caps: the cone strip.
         vol.flags |= STSV_VOLUME_CONE_STRIP;
-        vec3 axis = vec3(0.0f);
-        vec3 apex;
-        vec3 n0 = vec3(lateral[0]);
-        vec3 n1 = vec3(lateral[1]);
-        vec3 n2 = vec3(lateral[2]);
-        if (stsvIntersectPlanes(lateral[0], lateral[1], lateral[2], apex)) {
-            // Opposite of the mean edge direction (edges oriented into the cone).
-            vec3 r0 = cross(n2, n0);
-            vec3 r1 = cross(n0, n1);
-            vec3 r2 = cross(n1, n2);
-            if (dot(r0, n1) < 0.0f) r0 = -r0;
-            if (dot(r1, n2) < 0.0f) r1 = -r1;
-            if (dot(r2, n0) < 0.0f) r2 = -r2;
-            axis = -(normalize(r0) + normalize(r1) + normalize(r2));
-        } else {
-            // Parallel edges: along them (either way).
-            vec3 r0 = cross(n2, n0);
-            vec3 r1 = cross(n0, n1);
-            axis = length(r0) > length(r1) ? r0 : r1;
-        }
-        float axisLength = length(axis);
-        ok = axisLength > 1e-6f;
-        axis = ok ? axis / axisLength : toLight;
-        float hi = dot(axis, stsvBoxCorner(boxLo, boxHi, 0u));
-        float lo = hi;
-        for (uint k = 1u; k < 8u; ++k) {
-            hi = max(hi, dot(axis, stsvBoxCorner(boxLo, boxHi, k)));
-            lo = min(lo, dot(axis, stsvBoxCorner(boxLo, boxHi, k)));
-        }
-        ok = ok && stsvClosePrism(lateral[0], lateral[1], lateral[2], axis, hi + margin, lo - margin, f[0],
-                                  f[1], f[2], b[0], b[1], b[2]);
+        ok = stsvConeStripPrism(lateral[0], lateral[1], lateral[2], toLight, boxLo, boxHi, margin, f[0], f[1],
+                                f[2], b[0], b[1], b[2]);
     }
     if (!ok) {
-        // Fallback: a prism around the whole box behind the triangle's plane.
         vol.flags = (vol.flags & ~STSV_VOLUME_CONE_STRIP) | STSV_VOLUME_BOX;
-        vec3 u = normalize(cross(n, abs(n.x) < 0.6f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f)));
-        vec3 w = cross(n, u);
-        vec2 lo2 = vec2(min(min(dot(u, p1), dot(u, p2)), 0.0f), min(min(dot(w, p1), dot(w, p2)), 0.0f));
-        vec2 hi2 = vec2(max(max(dot(u, p1), dot(u, p2)), 0.0f), max(max(dot(w, p1), dot(w, p2)), 0.0f));
-        float depthFront = stripExpansion;
-        float depthBack = depthFront - 0.01f;
-        for (uint k = 0u; k < 8u; ++k) {
-            vec3 corner = stsvBoxCorner(boxLo, boxHi, k);
-            vec2 uw = vec2(dot(u, corner), dot(w, corner));
-            lo2 = min(lo2, uw);
-            hi2 = max(hi2, uw);
-            depthBack = min(depthBack, dot(n, corner));
-        }
-        lo2 -= vec2(margin);
-        hi2 += vec2(margin);
-        depthBack -= margin;
-        vec2 span = 2.0f * (hi2 - lo2); // triangle (0,0), (2W,0), (0,2H) holds the rectangle W×H
-        vec3 base = lo2.x * u + lo2.y * w;
-        vec3 c0 = base;
-        vec3 c1 = base + span.x * u;
-        vec3 c2 = base + span.y * w;
-        f[0] = c0 + depthFront * n;
-        f[1] = c1 + depthFront * n;
-        f[2] = c2 + depthFront * n;
-        b[0] = c0 + depthBack * n;
-        b[1] = c1 + depthBack * n;
-        b[2] = c2 + depthBack * n;
+        stsvBoxPrism(n, p1, p2, boxLo, boxHi, stripExpansion, margin, f[0], f[1], f[2], b[0], b[1], b[2]);
     }
     // Both ends no farther than the box: the back cap (and, for the cone strip and the box
     // fallback, the front cap too) on the face where the prism leaves the box.

@@ -55,8 +55,8 @@ ClusterLists::ClusterLists(const Device& device, const RenderOptions& options, s
     blocks = Buffer(device, 2 * sizeof(vec4), storage, MemoryUsage::DeviceLocal);
     // One buffer holds the lists: each at most what a storage buffer binding may address.
     m_maxCapacity =
-        std::min<std::uint64_t>(kMaxDeferredFragments, device.limits().maxStorageBufferRange /
-                                                           (GPU_CLUSTER_LISTS * 2 * sizeof(uint)));
+        std::min<std::uint64_t>(MAX_DEFERRED_FRAGMENTS, device.limits().maxStorageBufferRange /
+                                                            (GPU_CLUSTER_LISTS * 2 * sizeof(uint)));
     if (listLimit > 0) m_maxCapacity = std::min(m_maxCapacity, listLimit);
     resize(1);
     uploadTexels(device, {}, m_empty.nodes, m_empty.nodeTexels);

@@ -19,7 +19,7 @@ DeferredFragments::DeferredFragments(const Device& device, const RenderOptions& 
                                      std::uint64_t initialCapacity, std::uint64_t maxCapacity)
     : m_device(&device),
       // No more than one storage buffer binding addresses (128 MiB, 16.8 M pairs, on lavapipe).
-      m_maxCapacity(std::min<std::uint64_t>(maxCapacity > 0 ? maxCapacity : kMaxDeferredFragments,
+      m_maxCapacity(std::min<std::uint64_t>(maxCapacity > 0 ? maxCapacity : MAX_DEFERRED_FRAGMENTS,
                                             device.limits().maxStorageBufferRange / 8)),
       m_initialCapacity(std::min(initialCapacity, m_maxCapacity)),
       m_maskWordCount(std::uint64_t(options.width) * std::uint64_t(options.height) *
@@ -57,7 +57,7 @@ bool DeferredFragments::growFor(std::uint64_t listed) {
 std::uint32_t deferredSampleGroups(const Device& device, std::uint64_t capacity, int samples) {
     if (device.info().type != VK_PHYSICAL_DEVICE_TYPE_CPU) return 8192;
     const std::uint64_t perThread =
-        std::max<std::uint64_t>(kSampleLoopBudget / (2 * std::uint64_t(samples) + 16), 1);
+        std::max<std::uint64_t>(SAMPLE_LOOP_BUDGET / (2 * std::uint64_t(samples) + 16), 1);
     const std::uint64_t groups = (capacity + 64 * perThread - 1) / (64 * perThread);
     return static_cast<std::uint32_t>(std::clamp<std::uint64_t>(groups, 256, 65535));
 }

@@ -18,15 +18,15 @@ namespace stsv {
 class Device;
 
 /// The most fragments a list may hold (512 MiB of list).
-inline constexpr std::uint64_t kMaxDeferredFragments = std::uint64_t(1) << 26;
+inline constexpr std::uint64_t MAX_DEFERRED_FRAGMENTS = std::uint64_t(1) << 26;
 /// Bytes of one listed fragment (a uvec2: pixel index, item).
-inline constexpr std::uint64_t kDeferredFragmentBytes = 8;
+inline constexpr std::uint64_t DEFERRED_FRAGMENT_BYTES = 8;
 
 /// The fragments a frame's list holds at first: two a pixel (foliage with 16 k S-triangles lists
-/// 1.5 a pixel), at most kMaxDeferredFragments; a frame that lists more grows the list and runs
+/// 1.5 a pixel), at most MAX_DEFERRED_FRAGMENTS; a frame that lists more grows the list and runs
 /// again (DeferredFragments::growFor). The memory estimate of a frame counts the same.
 inline std::uint64_t initialDeferredFragments(std::uint64_t pixels) {
-    return std::min<std::uint64_t>(2 * pixels, kMaxDeferredFragments);
+    return std::min<std::uint64_t>(2 * pixels, MAX_DEFERRED_FRAGMENTS);
 }
 
 /// The list's count and (pixel index, item) pairs, and in a bitmask frame with STSV the mask
@@ -35,7 +35,7 @@ inline std::uint64_t initialDeferredFragments(std::uint64_t pixels) {
 class DeferredFragments {
   public:
     /// `initialCapacity`: the fragments the list holds once a technique uses it; `maxCapacity`
-    /// the most it may grow to (0: kMaxDeferredFragments), never more than a storage buffer
+    /// the most it may grow to (0: MAX_DEFERRED_FRAGMENTS), never more than a storage buffer
     /// binding of the device addresses.
     DeferredFragments(const Device& device, const RenderOptions& options, std::uint64_t initialCapacity,
                       std::uint64_t maxCapacity = 0);
@@ -78,13 +78,13 @@ class DeferredFragments {
 /// device every group is a task with its own start-up, and a few hundred keep its cores busy
 /// (foliage 1000 plants at 512² on lavapipe: 4096 groups took 200-240 ms where 256 took
 /// 130-180), but lavapipe also ends an invocation's loops after 65 535 iterations in all, so
-/// there are enough groups that no thread takes more than kSampleLoopBudget / (2·samples + 16)
+/// there are enough groups that no thread takes more than SAMPLE_LOOP_BUDGET / (2·samples + 16)
 /// fragments (a fragment loops up to about twice a sample: STSV's counters add a word's bits one
 /// by one); a GPU needs some 10⁵ threads in flight.
 std::uint32_t deferredSampleGroups(const Device& device, std::uint64_t capacity, int samples);
 
 /// The loop iterations a thread of a pass over the deferred fragments may spend on them: half of
 /// lavapipe's limit, the rest left to the shader's other loops.
-inline constexpr std::uint64_t kSampleLoopBudget = 32768;
+inline constexpr std::uint64_t SAMPLE_LOOP_BUDGET = 32768;
 
 } // namespace stsv

@@ -43,7 +43,7 @@ std::uint32_t hullItemsPerThread(const Device& device) {
 }
 
 /// The items a task workgroup culls (HULL_TASK_ITEMS).
-constexpr std::uint32_t kTaskItems = 32;
+constexpr std::uint32_t TASK_ITEMS = 32;
 
 /// Volumes a mesh workgroup builds and emits (HULL_MESH_VOLUMES): 3 (the most whose corners fit the
 /// compiler's 256 output vertices), or fewer where the device's
@@ -85,7 +85,7 @@ const char* toString(VolumeGeometry geometry) {
 std::vector<ShaderStage> meshHullStages(const Device& device, const std::string& shader,
                                         const std::vector<ShaderDefine>& defines) {
     std::vector<ShaderDefine> sized = defines;
-    sized.push_back({"HULL_TASK_ITEMS", std::to_string(kTaskItems)});
+    sized.push_back({"HULL_TASK_ITEMS", std::to_string(TASK_ITEMS)});
     sized.push_back({"HULL_MESH_VOLUMES", std::to_string(meshVolumesPerGroup(device.info()))});
     const ShaderCompiler compiler;
     return {{VK_SHADER_STAGE_TASK_BIT_EXT, compiler.compileFile(shader + ".task", sized)},
@@ -93,9 +93,9 @@ std::vector<ShaderStage> meshHullStages(const Device& device, const std::string&
 }
 
 void recordMeshHullDraw(const Device& device, VkCommandBuffer cmd, std::uint32_t items) {
-    // A task workgroup a kTaskItems sides, in rows of at most 65535 workgroups (the minimum
+    // A task workgroup a TASK_ITEMS sides, in rows of at most 65535 workgroups (the minimum
     // maxTaskWorkGroupCount[0]); hull_mesh.glsl numbers them row by row.
-    const std::uint64_t groups = (2ull * items + kTaskItems - 1) / kTaskItems;
+    const std::uint64_t groups = (2ull * items + TASK_ITEMS - 1) / TASK_ITEMS;
     if (groups == 0) return;
     const auto rowLength = static_cast<std::uint32_t>(std::min<std::uint64_t>(
         {groups, 65535, std::max<std::uint32_t>(device.info().maxTaskWorkGroupCountX, 1)}));
@@ -145,6 +145,7 @@ void HullResources::resize(std::uint64_t recordCount, std::uint64_t triangles) {
 void HullResources::size(PassRecorder& recorder, CommandBuffer& commands, std::size_t lights,
                          const std::vector<const HullPass*>& passes) {
     std::vector<const Buffer*> stats;
+    stats.reserve(passes.size());
     for (const HullPass* pass : passes) stats.push_back(&pass->family().stats());
     const ClearPass clearStats({}, stats);
     const ClearPass clearDraw({}, {&draw});

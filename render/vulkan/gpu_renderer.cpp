@@ -29,6 +29,7 @@ namespace {
 /// The families' stats buffers, in the row's order.
 std::vector<const Buffer*> statsBuffers(const std::vector<std::unique_ptr<VulkanTechnique>>& techniques) {
     std::vector<const Buffer*> buffers;
+    buffers.reserve(techniques.size());
     for (const auto& technique : techniques) buffers.push_back(&technique->family().stats());
     return buffers;
 }

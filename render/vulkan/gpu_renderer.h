@@ -27,7 +27,7 @@ struct VulkanRendererConfig {
     /// binding of the device addresses); past it the walk takes the tiles in parts. Tests make
     /// it small.
     std::uint64_t clusterListLimit = 0;
-    /// The fragments the list for the sample passes may hold at most (0: kMaxDeferredFragments);
+    /// The fragments the list for the sample passes may hold at most (0: MAX_DEFERRED_FRAGMENTS);
     /// past it the walk takes the tiles in parts (the hull and geometry paths stop with an
     /// error). Tests make it small.
     std::uint64_t deferredLimit = 0;

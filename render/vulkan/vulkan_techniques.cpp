@@ -4,7 +4,7 @@
 
 namespace stsv {
 
-std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBinding> own) {
+std::vector<DescriptorBinding> volumeFamilyBindings(const std::vector<DescriptorBinding>& own) {
     std::vector<DescriptorBinding> bindings = HullResources::bindings();
     for (const DescriptorBinding& b : DeferredFragments::bindings()) bindings.push_back(b);
     for (const DescriptorBinding& b : ClusterLists::bindings()) bindings.push_back(b);

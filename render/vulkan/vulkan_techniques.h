@@ -120,7 +120,7 @@ inline std::string passName(std::size_t light, const std::string& name) {
 
 /// The bindings a volume family's set shares with the other volume family (gpu_volumes_dh.h),
 /// then `own`.
-std::vector<DescriptorBinding> volumeFamilyBindings(std::vector<DescriptorBinding> own);
+std::vector<DescriptorBinding> volumeFamilyBindings(const std::vector<DescriptorBinding>& own);
 
 /// What a volume family's lists needed, from its stats per light: the most fragments one list held
 /// for its sample passes (when it has them) and the most pairs one walk needed.

@@ -128,11 +128,11 @@ PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, c
     PeelCpuStats stats;
     Timer timer;
     DepthGrid grid = traceDepthGrid(embree, view, uint(settings.peelBins));
-    stats.grid_ms = timer.milliseconds();
+    stats.gridMs = timer.milliseconds();
     stats.gridBytes = depthGridBytes(view, settings);
     timer.reset();
     stats.march = peelMarchSamples(grid, gbuffer, light, plan, farDistance, settings, out);
-    stats.march_ms = timer.milliseconds();
+    stats.marchMs = timer.milliseconds();
     if (keep) *keep = std::move(grid);
     return stats;
 }
@@ -154,7 +154,7 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
     if (isFilteredRepresentation(settings.filter)) {
         filtered.emplace(map, settings);
         if (stats) {
-            stats->build_ms = timer.milliseconds();
+            stats->buildMs = timer.milliseconds();
             stats->representationBytes = filteredMapBytes(view, settings);
         }
         timer.reset();
@@ -177,19 +177,20 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
             if (step.searchClamped != 0u) searchClamped.fetch_add(1, std::memory_order_relaxed);
             if (step.kernelClamped != 0u) kernelClamped.fetch_add(1, std::memory_order_relaxed);
         });
-        if (stats) stats->blocker_ms = timer.milliseconds();
+        if (stats) stats->blockerMs = timer.milliseconds();
         timer.reset();
     }
+    const bool fixedKernel = filtersFixedDepthKernel(settings.filter);
+    const ShadowFilterParams params = shadowFilterParams(settings);
     parallelForPixels(gbuffer.width, gbuffer.height, [&](int x, int y) {
         const std::size_t i = gbuffer.index(x, y);
         if (!gbuffer.covered(i)) return;
         float& v = vcoef.at(x, y, 0);
         const ShadowReceiver r = receiver(x, y, i);
-        if (settings.filter == ShadowMapMethod::Pcf) {
-            v = pcfVisibility(view, src, r, settings.pcfWorldRadius, settings.pcfMaxRadius);
-            if (shadowReceiverOnMap(view, r) &&
-                pcfKernelStrided(r, settings.pcfWorldRadius, settings.pcfMaxRadius))
-                kernelClamped.fetch_add(1, std::memory_order_relaxed);
+        if (fixedKernel) {
+            bool strided = false;
+            v = depthKernelVisibility(view, src, r, params, strided);
+            if (strided) kernelClamped.fetch_add(1, std::memory_order_relaxed);
         } else if (!filtered) {
             v = v < 0.0f ? 1.0f : pcssFilter(view, src, r, v, blockerTaps, filterTaps);
         } else {
@@ -199,7 +200,7 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
         }
     });
     if (stats) {
-        stats->filter_ms = timer.milliseconds();
+        stats->filterMs = timer.milliseconds();
         stats->kernelClamped = kernelClamped.load();
         stats->searchClamped = searchClamped.load();
     }
@@ -260,7 +261,7 @@ void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const G
         if (stats) {
             stats->kernelClamped = clamped.load();
             stats->searchClamped = searchClamped.load();
-            stats->blocker_ms = timer.milliseconds();
+            stats->blockerMs = timer.milliseconds();
         }
         timer.reset();
     }
@@ -273,7 +274,7 @@ void avsmFilterPixels(const AvsmMap& map, const std::vector<vec2>& taps, const G
         else
             v = v < 0.0f ? 1.0f : vpcssFilter(view, src, receiver(x, y, i), v, n, n);
     });
-    if (stats) stats->filter_ms = timer.milliseconds();
+    if (stats) stats->filterMs = timer.milliseconds();
 }
 
 AvsmCpuStats avsmCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer, const ShadowMapView& view,
@@ -282,7 +283,7 @@ AvsmCpuStats avsmCpuVisibility(const EmbreeScene& embree, const GBuffer& gbuffer
     AvsmCpuStats stats;
     Timer timer;
     AvsmMap map = traceAvsm(embree, view, uint(settings.avsmNodes));
-    stats.map_ms = timer.milliseconds();
+    stats.mapMs = timer.milliseconds();
     stats.map = avsmStats(map);
     stats.bytes = avsmBytes(view, settings);
     avsmFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, vcoef, &stats,
@@ -298,7 +299,7 @@ ShadowMapCpuStats shadowMapCpuVisibility(const EmbreeScene& embree, const GBuffe
     ShadowMapCpuStats stats;
     Timer timer;
     ShadowMap map = traceShadowMap(embree, view);
-    stats.map_ms = timer.milliseconds();
+    stats.mapMs = timer.milliseconds();
     shadowMapFilterPixels(map, shadowFilterTaps(settings), gbuffer, settings, seed, decorrelate, vcoef,
                           &stats, supersample);
     if (keep) *keep = std::move(map);
@@ -328,14 +329,14 @@ class ShadowMapsTechnique final : public CpuTechnique {
         const ShadowMapCpuStats s =
             shadowMapCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
                                    m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);
-        work.passes[work.pass("shadow_map")] = s.map_ms;
+        work.passes[work.pass("shadow_map")] = s.mapMs;
         const bool filtered = isFilteredRepresentation(m_settings.filter);
-        if (filtered) work.passes[work.pass("filtered_map")] = s.build_ms;
-        if (searchesBlockers(m_settings)) work.passes[work.pass("pcss_blocker")] = s.blocker_ms;
-        work.passes[work.pass("shadow_filter")] = s.filter_ms;
+        if (filtered) work.passes[work.pass("filtered_map")] = s.buildMs;
+        if (searchesBlockers(m_settings)) work.passes[work.pass("pcss_blocker")] = s.blockerMs;
+        work.passes[work.pass("shadow_filter")] = s.filterMs;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         if (filtered) map["representation_bytes"] = s.representationBytes;
-        map.update(m_settings.filter == ShadowMapMethod::Pcf
+        map.update(filtersFixedDepthKernel(m_settings.filter)
                        ? kernelStrideStats(s.kernelClamped, work.gbuffer)
                        : kernelClampStats(s.kernelClamped, work.gbuffer));
         if (searchesBlockers(m_settings)) map.update(searchClampStats(s.searchClamped, work.gbuffer));
@@ -353,8 +354,8 @@ class ShadowMapsTechnique final : public CpuTechnique {
             m_c.options.keepShadowMaps ? &keepMapsIn(work.frame.keptMaps).depthGrids.emplace_back() : nullptr;
         const PeelCpuStats s = peelCpuSamples(m_c.embree, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
                                               view, m_settings, work.samples, keep);
-        work.passes[work.pass("depth_grid")] = s.grid_ms;
-        work.passes[work.pass("peel_march")] = s.march_ms;
+        work.passes[work.pass("depth_grid")] = s.gridMs;
+        work.passes[work.pass("peel_march")] = s.marchMs;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         map["grid_bytes"] = s.gridBytes;
         map["open_edges"] = m_openEdges;
@@ -370,10 +371,10 @@ class ShadowMapsTechnique final : public CpuTechnique {
         const AvsmCpuStats s =
             avsmCpuVisibility(m_c.embree, work.gbuffer, view, m_settings, m_c.options.seed,
                               m_c.options.decorrelate, work.vcoef, keep, m_c.options.supersample);
-        work.passes[work.pass("avsm")] = s.map_ms;
+        work.passes[work.pass("avsm")] = s.mapMs;
         if (m_settings.filter == ShadowMapMethod::Vpcss)
-            work.passes[work.pass("vpcss_blocker")] = s.blocker_ms;
-        work.passes[work.pass("shadow_filter")] = s.filter_ms;
+            work.passes[work.pass("vpcss_blocker")] = s.blockerMs;
+        work.passes[work.pass("shadow_filter")] = s.filterMs;
         nlohmann::json map = shadowMapViewStats(view, m_settings, scene.camera, work.gbuffer);
         map["avsm"] = avsmStatsJson(s.map, s.bytes);
         if (m_settings.filter == ShadowMapMethod::Vpcss) {

@@ -25,10 +25,10 @@ class EmbreeScene;
 ShadowMap traceShadowMap(const EmbreeScene& embree, const ShadowMapView& view);
 
 struct ShadowMapCpuStats {
-    double map_ms = 0.0;     ///< tracing the map
-    double build_ms = 0.0;   ///< filtered representations: channels and summed-area tables or mips
-    double blocker_ms = 0.0; ///< the blocker search (PCSS; filtered maps with fm_kernel=1)
-    double filter_ms = 0.0;  ///< PCF, or PCSS's filter
+    double mapMs = 0.0;     ///< tracing the map
+    double buildMs = 0.0;   ///< filtered representations: channels and summed-area tables or mips
+    double blockerMs = 0.0; ///< the blocker search (PCSS; filtered maps with fm_kernel=1)
+    double filterMs = 0.0;  ///< PCF, or PCSS's filter
     /// pixels whose kernel pcss_max_kernel cut; PCF: whose taps pcf_max_radius spread more than three
     /// texels apart
     std::uint64_t kernelClamped = 0;
@@ -55,8 +55,8 @@ void shadowMapFilterPixels(const ShadowMap& map, const std::vector<vec2>& taps, 
 DepthGrid traceDepthGrid(const EmbreeScene& embree, const ShadowMapView& view, uint bins);
 
 struct PeelCpuStats {
-    double grid_ms = 0.0;  ///< tracing the grid
-    double march_ms = 0.0; ///< marching every sample's ray
+    double gridMs = 0.0;  ///< tracing the grid
+    double marchMs = 0.0; ///< marching every sample's ray
     std::size_t gridBytes = 0;
     PeelMarchCounts march;
 };
@@ -80,9 +80,9 @@ PeelCpuStats peelCpuSamples(const EmbreeScene& embree, const GBuffer& gbuffer, c
 AvsmMap traceAvsm(const EmbreeScene& embree, const ShadowMapView& view, uint maxNodes);
 
 struct AvsmCpuStats {
-    double map_ms = 0.0;             ///< tracing and building the functions
-    double blocker_ms = 0.0;         ///< vpcss: the blocker search
-    double filter_ms = 0.0;          ///< the lookups (avsm), the filter (vpcss)
+    double mapMs = 0.0;              ///< tracing and building the functions
+    double blockerMs = 0.0;          ///< vpcss: the blocker search
+    double filterMs = 0.0;           ///< the lookups (avsm), the filter (vpcss)
     std::uint64_t kernelClamped = 0; ///< vpcss: pixels whose filter radius pcss_max_kernel clamped
     std::uint64_t searchClamped = 0; ///< vpcss: pixels whose blocker search pcss_max_search cut
     AvsmStats map;

@@ -2,7 +2,8 @@
 // Image-based visibility per pixel (DESIGN §4.6): PCF, a step of PCSS, a filtered lookup, or avsm and
 // vpcss on the transmittance functions (shadowmaps/avsm_filter_dh.h), with the
 // functions of shadowmaps/shadow_filter_dh.h that the CPU backend runs (shadowmaps/cpu/cpu_shadowmaps.cpp).
-//   SHADOW_FILTER_STEP 0: PCF → v_coef in the v_coef image
+//   SHADOW_FILTER_STEP 0: a fixed kernel over the depth map (pcf: depthKernelVisibility) → v_coef in the
+//                         v_coef image
 //                      1: PCSS blocker search → the filter radius (uv), −1 when no blocker
 //                      2: PCSS filter of that radius → v_coef
 //                      3: a filtered representation (shadowmaps/filtered_lookup_dh.h) over a kernel
@@ -50,9 +51,9 @@ void main() {
     ShadowReceiver r = shadowReceiver(v, p, n, shadowParams.bias, shadowParams.normalOffset,
                                       shadowTapRotation(samplePixelOf(uvec2(pixel)), frame.seed, frame.decorrelate != 0u));
 #if SHADOW_FILTER_STEP == 0
-    float result = pcfVisibility(v, src, r, shadowParams.pcfWorldRadius, shadowParams.pcfMaxRadius);
-    if (shadowReceiverOnMap(v, r) && pcfKernelStrided(r, shadowParams.pcfWorldRadius, shadowParams.pcfMaxRadius))
-        atomicAdd(stats[pc.light].kernelClamped, 1u);
+    bool strided;
+    float result = depthKernelVisibility(v, src, r, shadowParams, strided);
+    if (strided) atomicAdd(stats[pc.light].kernelClamped, 1u);
 #elif SHADOW_FILTER_STEP == 1
     PcssBlockerStep step = pcssBlockerStep(v, r, pcssAverageBlocker(v, src, r, shadowParams.blockerTaps, shadowParams.maxSearch),
                                            shadowParams.maxSearch, shadowParams.maxKernel);

@@ -138,12 +138,12 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
                                                 "the transmittance functions of light " + std::to_string(l),
                                                 "lower avsm_size or avsm_nodes"));
             setRepresentationAddress(view, avsm.back());
-            avsmHeads.emplace_back(device, texels * kAvsmHeadBytes, STORAGE, MemoryUsage::DeviceLocal);
+            avsmHeads.emplace_back(device, texels * AVSM_HEAD_BYTES, STORAGE, MemoryUsage::DeviceLocal);
         }
     }
     if (functions) {
         allocateAvsmFragments(std::min<std::uint64_t>(
-            kAvsmInitialFragmentsPerTexel * std::uint64_t(mostTexels), maxAvsmFragments()));
+            AVSM_INITIAL_FRAGMENTS_PER_TEXEL * std::uint64_t(mostTexels), maxAvsmFragments()));
     }
     const std::vector<vec2> tapPoints = shadowFilterTaps(m_settings);
     std::vector<std::byte> table(sizeof(ShadowFilterParams) + sizeof(ShadowMapView) * m_views.size());
@@ -154,13 +154,13 @@ ShadowMapResources::ShadowMapResources(const Device& device, const Scene& scene,
 }
 
 std::uint64_t ShadowMapResources::maxAvsmFragments() const {
-    return std::min<std::uint64_t>(m_device->info().maxMemoryAllocationSize / kAvsmFragmentBytes,
+    return std::min<std::uint64_t>(m_device->info().maxMemoryAllocationSize / AVSM_FRAGMENT_BYTES,
                                    UINT32_MAX - 1);
 }
 
 void ShadowMapResources::allocateAvsmFragments(std::uint64_t capacity) {
     m_avsmCapacity = capacity;
-    avsmFragments = representationBuffer(*m_device, capacity * kAvsmFragmentBytes,
+    avsmFragments = representationBuffer(*m_device, capacity * AVSM_FRAGMENT_BYTES,
                                          "the transmittance functions' fragment lists", "lower avsm_size");
     const VkDeviceAddress address = avsmFragments.deviceAddress();
     const GpuAvsmLists lists{uint(address & 0xffffffffu), uint(address >> 32), uint(capacity), 0u};
@@ -326,7 +326,7 @@ void DepthGridPass::record(VkCommandBuffer cmd, std::size_t light) const {
 std::uint32_t peelMarchLanes(int samples, int steps, int bins) {
     const std::uint64_t perSample =
         std::uint64_t(std::max(steps, 1)) * std::uint64_t(std::max(bins, 0) + 1) + 1;
-    const std::uint64_t perLane = std::max<std::uint64_t>(kSampleLoopBudget / perSample, 1);
+    const std::uint64_t perLane = std::max<std::uint64_t>(SAMPLE_LOOP_BUDGET / perSample, 1);
     const std::uint64_t lanes = (std::uint64_t(std::max(samples, 1)) + perLane - 1) / perLane;
     return static_cast<std::uint32_t>(std::bit_ceil(lanes));
 }

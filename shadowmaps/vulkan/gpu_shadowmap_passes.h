@@ -73,7 +73,7 @@ class ShadowMapResources {
     Buffer taps;  ///< vec2: blocker taps, then filter taps
 
   private:
-    /// The most fragments the lists may hold: kAvsmFragmentBytes each within one allocation.
+    /// The most fragments the lists may hold: AVSM_FRAGMENT_BYTES each within one allocation.
     std::uint64_t maxAvsmFragments() const;
     /// Room for `capacity` fragments (the old ones dropped) and its GpuAvsmLists.
     void allocateAvsmFragments(std::uint64_t capacity);
@@ -86,12 +86,12 @@ class ShadowMapResources {
 /// The transmittance functions' fragment lists (`avsm`, `vpcss`): a head a texel, 16 bytes a
 /// listed fragment, and room for four fragments a texel of the largest map at first; a frame that
 /// lists more grows the lists and runs again (ShadowMapResources::growAvsmFragments).
-inline constexpr std::uint64_t kAvsmHeadBytes = 4;
-inline constexpr std::uint64_t kAvsmFragmentBytes = 16;
-inline constexpr std::uint64_t kAvsmInitialFragmentsPerTexel = 4;
+inline constexpr std::uint64_t AVSM_HEAD_BYTES = 4;
+inline constexpr std::uint64_t AVSM_FRAGMENT_BYTES = 16;
+inline constexpr std::uint64_t AVSM_INITIAL_FRAGMENTS_PER_TEXEL = 4;
 /// What a map of `texels` texels adds to the lists at first (the frame memory estimate's term).
 inline std::uint64_t avsmInitialListBytes(std::uint64_t texels) {
-    return texels * (kAvsmHeadBytes + kAvsmInitialFragmentsPerTexel * kAvsmFragmentBytes);
+    return texels * (AVSM_HEAD_BYTES + AVSM_INITIAL_FRAGMENTS_PER_TEXEL * AVSM_FRAGMENT_BYTES);
 }
 
 /// The map of one light: every triangle drawn once per face, alpha-tested, nearest depth per
@@ -148,7 +148,7 @@ class DepthGridPass final : public GpuPass {
 };
 
 /// Invocations of peel_march.comp that share a pixel, a power of two: enough that none marches
-/// more samples than kSampleLoopBudget allows at up to peel_max_steps·(peel_bins + 1) + 1 loop
+/// more samples than SAMPLE_LOOP_BUDGET allows at up to peel_max_steps·(peel_bins + 1) + 1 loop
 /// iterations a sample (lavapipe ends an invocation's loops after 65 535; one sample's march
 /// stays under that at every peel_max_steps and peel_bins the parameters accept).
 std::uint32_t peelMarchLanes(int samples, int steps, int bins);
@@ -209,13 +209,13 @@ class AvsmBuildPass final : public GpuPass {
     Pipeline m_pipeline;
 };
 
-/// One filter step per pixel into the v_coef image: PCF, PCSS's blocker search (the kernel
-/// radius), PCSS's filter (v_coef), a filtered representation's lookup (v_coef), or on the
+/// One filter step per pixel into the v_coef image: a fixed kernel over the depth map (PCF), PCSS's blocker
+/// search (the kernel radius), PCSS's filter (v_coef), a filtered representation's lookup (v_coef), or on the
 /// transmittance functions `avsm`'s lookup, `vpcss`'s blocker search and its filter.
 class ShadowFilterPass final : public GpuPass {
   public:
     enum Step {
-        Pcf = 0,
+        DepthKernel = 0,
         PcssBlocker = 1,
         PcssFilter = 2,
         FilteredLookup = 3,

@@ -14,8 +14,8 @@ namespace {
 
 /// The filter pass's step for a row's filter.
 ShadowFilterPass::Step filterStep(ShadowMapMethod f) {
-    if (f == ShadowMapMethod::Pcss) return ShadowFilterPass::PcssFilter;
-    return isFilteredRepresentation(f) ? ShadowFilterPass::FilteredLookup : ShadowFilterPass::Pcf;
+    if (isFilteredRepresentation(f)) return ShadowFilterPass::FilteredLookup;
+    return filtersFixedDepthKernel(f) ? ShadowFilterPass::DepthKernel : ShadowFilterPass::PcssFilter;
 }
 
 /// What the image-based techniques share: each light's maps and views (ShadowMapResources) in
@@ -88,8 +88,8 @@ class DepthMapTechnique final : public ShadowMapsTechnique {
   private:
     void addStats(std::size_t light, const GBuffer& gbuffer, nlohmann::json& map) const override {
         const std::uint64_t kernels = m_counts[light].kernelClamped;
-        map.update(m_c.method.shadowMap == ShadowMapMethod::Pcf ? kernelStrideStats(kernels, gbuffer)
-                                                                : kernelClampStats(kernels, gbuffer));
+        map.update(filtersFixedDepthKernel(m_c.method.shadowMap) ? kernelStrideStats(kernels, gbuffer)
+                                                                 : kernelClampStats(kernels, gbuffer));
         if (m_blocker) map.update(searchClampStats(m_counts[light].searchClamped, gbuffer));
         if (m_filtered) map["representation_bytes"] = filteredMapBytes(m_maps.view(light), m_maps.settings());
     }

@@ -210,8 +210,8 @@ TEST(HeatMap, LegendShowsTheScaleAndItsNumbers) {
         expected.height = legend.height;
         expected.channels = 3;
         expected.pixels.assign(std::size_t(expected.width) * expected.height * 3, 0);
-        fillRect(expected, 0, 0, expected.width, expected.height, kSheetBackground);
-        drawText(expected, x, labelY, text, s, kSheetText);
+        fillRect(expected, 0, 0, expected.width, expected.height, SHEET_BACKGROUND);
+        drawText(expected, x, labelY, text, s, SHEET_TEXT);
         int lit = 0, differing = 0;
         for (int y = labelY; y < labelY + line; ++y)
             for (int u = x; u < x + textWidth(text, s); ++u) {

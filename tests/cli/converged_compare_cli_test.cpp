@@ -43,7 +43,7 @@ std::vector<std::string> compareArgs(const ScratchDir& dir, const std::string& j
 }
 
 CliResult runOk(const std::vector<std::string>& args) {
-    const CliResult r = runStsv(args);
+    CliResult r = runStsv(args);
     EXPECT_EQ(r.code, 0) << test::describe(args, r);
     return r;
 }
@@ -570,7 +570,7 @@ TEST(ConvergedCache, KeyFollowsTheSceneContentAndTheImageOptionsOnly) {
     RenderOptions validated = o;
     validated.validation = true;
     EXPECT_EQ(convergedCacheKey(fence, validated, 4), key) << "validation layers change no pixel";
-    for (auto change : std::vector<std::function<void(RenderOptions&)>>{
+    for (const auto& change : std::vector<std::function<void(RenderOptions&)>>{
              [](RenderOptions& x) { x.seed = 2; }, [](RenderOptions& x) { x.samples = 32; },
              [](RenderOptions& x) { x.width = 256; },
              [](RenderOptions& x) { x.pattern = PatternKind::Uniform; },

@@ -24,7 +24,7 @@ namespace {
 // up = −z, so the top of the view is −z). Lights: 2 cm squares at (0, 4, 0) and (0.5, 4, 0), facing
 // down, radiance (300, 300, 300) and (0, 600, 0). The roof shadows the ground where the segment to
 // either light crosses y = 1 at z < −0.2: z_p + (0 − z_p)/4 < −0.2, i.e. z_p < −0.8/3.
-constexpr const char* kScene = R"({
+constexpr const char* SCENE_JSON = R"({
   "materials": [{ "name": "ground", "albedo": [0.5, 0.4, 0.3] }, { "name": "roof", "albedo": [0.9, 0.9, 0.9] }],
   "meshes": [
     { "name": "ground", "material": "ground",
@@ -46,9 +46,9 @@ constexpr const char* kScene = R"({
 })";
 
 constexpr int W = 48, H = 36;
-constexpr double kAmbient = 0.05;
-const double kAlbedo[3] = {0.5, 0.4, 0.3};
-const double kBackground[3] = {0.02, 0.02, 0.03}; // the documented background colour
+constexpr double AMBIENT = 0.05;
+const double ALBEDO[3] = {0.5, 0.4, 0.3};
+const double EXPECTED_BACKGROUND[3] = {0.02, 0.02, 0.03}; // the documented background colour
 
 struct Expected {
     enum { Background, Shadow, Lit, Unsure } kind = Unsure;
@@ -71,23 +71,23 @@ Expected expected(int x, int y) {
         return e; // borders
     if (edge > 1.0) {
         e.kind = Expected::Background;
-        for (int c = 0; c < 3; ++c) e.rgb[c] = kBackground[c];
+        for (int c = 0; c < 3; ++c) e.rgb[c] = EXPECTED_BACKGROUND[c];
         return e;
     }
     if (pz < -0.8 / 3.0) {
         e.kind = Expected::Shadow;
         e.visibility = 0.0;
-        for (int c = 0; c < 3; ++c) e.rgb[c] = kAmbient * kAlbedo[c];
+        for (int c = 0; c < 3; ++c) e.rgb[c] = AMBIENT * ALBEDO[c];
         return e;
     }
     // Small lights: E = L·A·cosP·cosL/d² with cosP = cosL = 4/d; outgoing radiance albedo/π · E.
     e.kind = Expected::Lit;
     const double lights[2][4] = {{0.0, 300, 300, 300}, {0.5, 0, 600, 0}}; // x, radiance
-    for (int c = 0; c < 3; ++c) e.rgb[c] = kAmbient * kAlbedo[c];
+    for (int c = 0; c < 3; ++c) e.rgb[c] = AMBIENT * ALBEDO[c];
     for (const auto& l : lights) {
         const double dx = l[0] - px, dz = -pz, d2 = dx * dx + 16.0 + dz * dz;
         const double geometry = 0.02 * 0.02 * 16.0 / (d2 * d2);
-        for (int c = 0; c < 3; ++c) e.rgb[c] += kAlbedo[c] / M_PI * l[1 + c] * geometry;
+        for (int c = 0; c < 3; ++c) e.rgb[c] += ALBEDO[c] / M_PI * l[1 + c] * geometry;
     }
     return e;
 }
@@ -95,7 +95,7 @@ Expected expected(int x, int y) {
 void checkImages(const std::string& backend) {
     SCOPED_TRACE(backend);
     ScratchDir dir;
-    std::ofstream(dir.file("roof.json")) << kScene;
+    std::ofstream(dir.file("roof.json")) << SCENE_JSON;
     const std::vector<std::string> args = {"render",
                                            dir.file("roof.json"),
                                            "--method",

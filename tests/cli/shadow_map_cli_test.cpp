@@ -22,7 +22,7 @@ namespace {
 /// A 2 m square ground at y = 0 around the origin, a 0.5 m square occluder at y = 2 over
 /// x, z in [0.2, 0.7] (off centre, so a flipped or transposed map fails), a tiny triangle at
 /// (3, 0, 3) that only widens the scene box, and a rectangle light at (0, 4, 0) facing down.
-constexpr const char* kScene = R"({
+constexpr const char* SCENE_JSON = R"({
   "materials": [{ "name": "grey", "albedo": [0.5, 0.5, 0.5] }],
   "meshes": [
     { "name": "ground", "material": "grey",
@@ -53,7 +53,7 @@ Vec vecOf(const nlohmann::json& j) {
 void checkMap(const std::string& backend) {
     SCOPED_TRACE(backend);
     ScratchDir dir;
-    std::ofstream(dir.file("planes.json")) << kScene;
+    std::ofstream(dir.file("planes.json")) << SCENE_JSON;
     const std::vector<std::string> args = {"render",
                                            dir.file("planes.json"),
                                            "--method",

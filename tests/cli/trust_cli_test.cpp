@@ -56,13 +56,13 @@ std::string corruptZlib() {
     return std::string("\x78\x9c", 2) + std::string(50, '\xff');
 }
 
-const char* const kLight =
+const char* const LIGHT_JSON =
     R"({"type": "rectangle", "position": [0, 3, 0], "normal": [0, -1, 0], "size": [1, 1], "radiance": [1, 1, 1]})";
 
 /// A one-quad JSON scene whose material and camera are `material` and `camera` (JSON text).
 std::string jsonScene(const std::string& material, const std::string& extraTop = "") {
     return R"({"materials": [)" + material +
-           R"(], "meshes": [{"quad": {"size": [1, 1]}, "material": "m"}], "lights": [)" + kLight + "]" +
+           R"(], "meshes": [{"quad": {"size": [1, 1]}, "material": "m"}], "lights": [)" + LIGHT_JSON + "]" +
            extraTop + "}";
 }
 
@@ -128,12 +128,12 @@ TEST(TrustCli, MalformedAndHostileInputsGiveOneClearLine) {
     writeText(dir.file("far_camera.json"),
               jsonScene(R"({"name": "m"})", R"(, "camera": {"eye": [1e25, 0, 0], "target": [0, 0, 0]})"));
     std::string lights;
-    for (int i = 0; i < 1500; ++i) lights += std::string(i ? "," : "") + kLight;
+    for (int i = 0; i < 1500; ++i) lights += std::string(i ? "," : "") + LIGHT_JSON;
     writeText(
         dir.file("many_lights.json"),
         R"({"materials": [{"name": "m"}], "meshes": [{"quad": {"size": [1, 1]}, "material": "m"}], "lights": [)" +
             lights + "]}");
-    writeText(dir.file("garbage.obj"), std::string("\x01\x02\x03\xff\xfe garbage\n", 15));
+    writeText(dir.file("garbage.obj"), std::string("\x01\x02\x03\xff\xfe garbage\n\0", 15));
     fs::create_directories(dir.file("folder.json"));
     writeText(dir.file("long_token.obj"), "v " + std::string(1000000, '1') + " 0 0\n");
     std::string utf16 = "\xff\xfe";

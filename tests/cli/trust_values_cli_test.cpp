@@ -39,7 +39,7 @@ std::vector<std::pair<std::string, std::string>> valueOptions(const std::string&
     return options;
 }
 
-const std::vector<std::string> kCommands = {"render", "info", "bench", "compare"};
+const std::vector<std::string> COMMANDS = {"render", "info", "bench", "compare"};
 
 // `-o ""` wrote fence.png in the current directory, `--camera ''` and `--backend ""` were
 // ignored, and `stsv render ""` blamed -o: every option that takes a value refuses an empty one,
@@ -48,7 +48,7 @@ TEST(TrustValues, EveryOptionRefusesAnEmptyValue) {
     ScratchDir dir;
     const fs::path before = fs::current_path();
     fs::current_path(dir.path());
-    for (const std::string& command : kCommands) {
+    for (const std::string& command : COMMANDS) {
         const std::vector<std::pair<std::string, std::string>> options = valueOptions(command);
         EXPECT_GT(options.size(), 10u) << command << " --help lists no options";
         for (const auto& [option, type] : options) {
@@ -76,7 +76,7 @@ TEST(TrustValues, AnIntegerOutOfRangeNamesTheOptionTheValueAndTheRange) {
     EXPECT_EQ(seed.code, 1);
     EXPECT_NE(seed.err.find("--seed: 4294967296 is out of range (0 to 4294967295)"), std::string::npos)
         << seed.err;
-    for (const std::string& command : kCommands)
+    for (const std::string& command : COMMANDS)
         for (const auto& [option, type] : valueOptions(command)) {
             if (type != "INT" && type != "UINT") continue;
             for (const std::string value : {"99999999999999999999", "-99999999999999999999", "1.5", "ten"}) {

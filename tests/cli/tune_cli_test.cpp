@@ -27,7 +27,7 @@ using test::runStsv;
 using test::ScratchDir;
 
 CliResult runOk(const std::vector<std::string>& args) {
-    const CliResult r = runStsv(args);
+    CliResult r = runStsv(args);
     EXPECT_EQ(r.code, 0) << test::describe(args, r);
     return r;
 }
@@ -67,7 +67,7 @@ std::string writeRampScene(const ScratchDir& dir, const std::string& name, doubl
            {"size", {edge, edge}},
            {"tangent", {1, 0, 0}},
            {"radiance", 300}}}}};
-    const std::string path = dir.file(name);
+    std::string path = dir.file(name);
     test::writeText(path, scene.dump(1));
     return path;
 }

@@ -94,11 +94,11 @@ TEST(ContactSheet, LayoutSizesAndLabelledRows) {
                           layout.tileY(0) + 192),
               256 * 192);
     for (int row = 0; row < 2; ++row)
-        EXPECT_GT(countColour(sheet, kSheetText, 0, layout.labelY(row), sheet.width, layout.tileY(row)), 50)
+        EXPECT_GT(countColour(sheet, SHEET_TEXT, 0, layout.labelY(row), sheet.width, layout.tileY(row)), 50)
             << "row " << row;
-    EXPECT_GT(countColour(sheet, kSheetText, 0, 0, sheet.width, layout.labelY(0)), 50) << "column titles";
+    EXPECT_GT(countColour(sheet, SHEET_TEXT, 0, 0, sheet.width, layout.labelY(0)), 50) << "column titles";
     // The empty cell stays background.
-    EXPECT_EQ(countColour(sheet, kSheetBackground, layout.tileX(2), layout.tileY(0), layout.tileX(2) + 256,
+    EXPECT_EQ(countColour(sheet, SHEET_BACKGROUND, layout.tileX(2), layout.tileY(0), layout.tileX(2) + 256,
                           layout.tileY(0) + 192),
               256 * 192);
 }

@@ -9,21 +9,21 @@
 namespace stsv {
 namespace {
 
-const std::string kWithNul("a\0b.png: does not exist", 23);
+const std::string WITH_NUL("a\0b.png: does not exist", 23);
 
 TEST(Error, MessageKeepsTheTextPastANulByte) {
-    const InputError e(std::string("scene/", 6) + kWithNul, "cannot open");
-    EXPECT_EQ(e.message(), "scene/" + kWithNul + ": cannot open");
+    const InputError e(std::string("scene/", 6) + WITH_NUL, "cannot open");
+    EXPECT_EQ(e.message(), "scene/" + WITH_NUL + ": cannot open");
     EXPECT_EQ(std::string(e.what()), "scene/a") << "what() is a C string: it ends at the NUL";
     // Copies share the message (copying an exception must not throw).
-    const Error copy = e;
+    const Error copy = e; // NOLINT(performance-unnecessary-copy-initialization): the copy is the test
     EXPECT_EQ(copy.message(), e.message());
-    const UsageError usage("--set '" + kWithNul + "'");
-    EXPECT_EQ(usage.message().size(), 8u + kWithNul.size());
+    const UsageError usage("--set '" + WITH_NUL + "'");
+    EXPECT_EQ(usage.message().size(), 8u + WITH_NUL.size());
 }
 
 TEST(Printable, EscapesControlBytesAndInvalidUtf8) {
-    EXPECT_EQ(printable(kWithNul), "a\\x00b.png: does not exist");
+    EXPECT_EQ(printable(WITH_NUL), "a\\x00b.png: does not exist");
     EXPECT_EQ(printable("tab\there\nnew"), "tab\\x09here\\x0anew");
     EXPECT_EQ(printable("caf\xc3\xa9 \xff"), "caf\xc3\xa9 \\xff"); // é kept, a lone 0xff escaped
     EXPECT_EQ(printable("\x7f"), "\\x7f");

@@ -23,7 +23,7 @@ namespace {
 /// (grate.png, crate.obj, crate.mtl).
 const fs::path& workDirectory() {
     static const fs::path dir = [] {
-        const fs::path d = fs::temp_directory_path() / ("stsv_fuzz_" + std::to_string(::getpid()));
+        fs::path d = fs::temp_directory_path() / ("stsv_fuzz_" + std::to_string(::getpid()));
         fs::create_directories(d);
         for (const char* name : {"grate.png", "crate.obj", "crate.mtl"})
             fs::copy_file(fs::path(STSV_TEST_DATA) / "scene" / name, d / name,
@@ -37,7 +37,7 @@ const fs::path& workDirectory() {
 }
 
 std::string write(const std::string& name, const char* data, std::size_t size) {
-    const std::string path = (workDirectory() / name).string();
+    std::string path = (workDirectory() / name).string();
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(data, static_cast<std::streamsize>(size));
     if (!out) throw std::runtime_error("fuzz harness: cannot write " + path);

@@ -24,7 +24,7 @@
 namespace stsv::test {
 namespace {
 
-constexpr uint32_t kCaseCount = 1u << 17;
+constexpr uint32_t CASE_COUNT = 1u << 17;
 
 /// Random configurations around a triangle near z = 0: points below it (one in ten above), the
 /// light frame above, so about a third of the segments cross the triangle; every 97th
@@ -166,7 +166,7 @@ TEST_F(MathCheckTest, GpuPicksTheCpusTexelForEveryFloat) {
 }
 
 TEST_F(MathCheckTest, GpuAgreesWithCpuOnStsvHeader) {
-    const std::vector<MathCheckCase> cases = makeCases(kCaseCount, 20240611u);
+    const std::vector<MathCheckCase> cases = makeCases(CASE_COUNT, 20240611u);
     const std::vector<MathCheckResult> gpu = runOnGpu(device(), cases);
     ASSERT_EQ(gpu.size(), cases.size());
 

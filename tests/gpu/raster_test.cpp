@@ -16,7 +16,7 @@
 namespace stsv::test {
 namespace {
 
-constexpr uint32_t kSize = 16; // attachment width and height, pixels
+constexpr uint32_t SIDE = 16; // attachment width and height, pixels
 
 /// A rectangle in pixels [x0, x1) × [y0, y1) (y down, as the Vulkan viewport) and the bits
 /// its fragments write. Edges lie on pixel boundaries, so coverage of the pixel centres is
@@ -26,7 +26,7 @@ struct Rect {
     std::array<uint32_t, 2> bits;
     bool covers(uint32_t x, uint32_t y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
     std::array<float, 4> ndc() const {
-        auto toNdc = [](uint32_t v) { return -1.0f + 2.0f * float(v) / float(kSize); };
+        auto toNdc = [](uint32_t v) { return -1.0f + 2.0f * float(v) / float(SIDE); };
         return {toNdc(x0), toNdc(y0), toNdc(x1), toNdc(y1)};
     }
 };
@@ -38,7 +38,7 @@ struct RectPush {
     uint32_t pad = 0;
 };
 
-const char* kRectVert = R"(#version 450
+const char* const RECT_VERT = R"(#version 450
 layout(push_constant) uniform Push { vec4 rect; uvec2 bits; float z; } pc;
 void main() {
     // Triangle strip over the rectangle: (x0,y0) (x1,y0) (x0,y1) (x1,y1).
@@ -48,7 +48,7 @@ void main() {
 }
 )";
 
-const char* kBitsFrag = R"(#version 450
+const char* const BITS_FRAG = R"(#version 450
 layout(push_constant) uniform Push { vec4 rect; uvec2 bits; } pc;
 layout(location = 0) out uvec2 outBits;
 void main() { outBits = pc.bits; }
@@ -56,13 +56,13 @@ void main() { outBits = pc.bits; }
 
 /// Expected OR of the bits of every rect covering each pixel, computed on the CPU.
 std::vector<uint32_t> expectedBits(const std::vector<Rect>& rects) {
-    std::vector<uint32_t> expected(std::size_t(kSize) * kSize * 2, 0u);
-    for (uint32_t y = 0; y < kSize; ++y)
-        for (uint32_t x = 0; x < kSize; ++x)
+    std::vector<uint32_t> expected(std::size_t(SIDE) * SIDE * 2, 0u);
+    for (uint32_t y = 0; y < SIDE; ++y)
+        for (uint32_t x = 0; x < SIDE; ++x)
             for (const Rect& r : rects)
                 if (r.covers(x, y)) {
-                    expected[(y * kSize + x) * 2 + 0] |= r.bits[0];
-                    expected[(y * kSize + x) * 2 + 1] |= r.bits[1];
+                    expected[(y * SIDE + x) * 2 + 0] |= r.bits[0];
+                    expected[(y * SIDE + x) * 2 + 1] |= r.bits[1];
                 }
     return expected;
 }
@@ -73,7 +73,7 @@ void expectSameBits(const std::vector<uint32_t>& actual, const std::vector<uint3
     for (std::size_t i = 0; i < actual.size(); ++i) {
         if (actual[i] == expected[i]) continue;
         if (++wrong <= 5)
-            ADD_FAILURE() << "pixel (" << (i / 2) % kSize << ", " << (i / 2) / kSize << ") word " << i % 2
+            ADD_FAILURE() << "pixel (" << (i / 2) % SIDE << ", " << (i / 2) / SIDE << ") word " << i % 2
                           << ": got 0x" << std::hex << actual[i] << " expected 0x" << expected[i];
     }
     EXPECT_EQ(wrong, 0u);
@@ -85,16 +85,16 @@ TEST_F(RasterTest, LogicOpOrAccumulatesBitsInRG32UintAttachment) {
     PipelineLayout layout(device(), {}, sizeof(RectPush));
     GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT,
-                    compiler().compileSource(kRectVert, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert")},
+                    compiler().compileSource(RECT_VERT, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert")},
                    {VK_SHADER_STAGE_FRAGMENT_BIT,
-                    compiler().compileSource(kBitsFrag, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag")}};
+                    compiler().compileSource(BITS_FRAG, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag")}};
     desc.colorFormats = {VK_FORMAT_R32G32_UINT};
     desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
     desc.logicOpEnable = true;
     desc.logicOp = VK_LOGIC_OP_OR;
     Pipeline pipeline = createGraphicsPipeline(device(), layout, desc);
 
-    Image bits(device(), {kSize, kSize, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
+    Image bits(device(), {SIDE, SIDE, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
     // Overlapping rects with disjoint and shared bits (bit 31 in both), and A drawn twice:
     // OR is idempotent, so the repeat must change nothing.
     const Rect a{0, 0, 10, 16, {0x00000001u, 0x80000000u}};
@@ -120,15 +120,15 @@ TEST_F(RasterTest, LoadKeepsBitsOfAnEarlierPass) {
     PipelineLayout layout(device(), {}, sizeof(RectPush));
     GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT,
-                    compiler().compileSource(kRectVert, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert")},
+                    compiler().compileSource(RECT_VERT, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert")},
                    {VK_SHADER_STAGE_FRAGMENT_BIT,
-                    compiler().compileSource(kBitsFrag, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag")}};
+                    compiler().compileSource(BITS_FRAG, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag")}};
     desc.colorFormats = {VK_FORMAT_R32G32_UINT};
     desc.topology = VK_PRIMITIVE_TOPOLOGY_TRIANGLE_STRIP;
     desc.logicOpEnable = true;
     desc.logicOp = VK_LOGIC_OP_OR;
     Pipeline pipeline = createGraphicsPipeline(device(), layout, desc);
-    Image bits(device(), {kSize, kSize, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
+    Image bits(device(), {SIDE, SIDE, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
     const Rect a{0, 0, 8, 8, {0x2u, 0x0u}};
     const Rect b{4, 4, 12, 12, {0x0u, 0x4u}};
     CommandBuffer cmdBuffer(device());
@@ -153,9 +153,9 @@ TEST_F(RasterTest, DepthClampedVolumeBehindVisiblePointPassesOnlyThere) {
     // with depth clamp, test GREATER ("behind the visible point") and no depth write.
     ASSERT_TRUE(device().info().depthClamp);
     const std::vector<uint32_t> vert =
-        compiler().compileSource(kRectVert, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert");
+        compiler().compileSource(RECT_VERT, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert");
     const std::vector<uint32_t> frag =
-        compiler().compileSource(kBitsFrag, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag");
+        compiler().compileSource(BITS_FRAG, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag");
     PipelineLayout layout(device(), {}, sizeof(RectPush));
     GraphicsPipelineDesc gbufferDesc;
     gbufferDesc.stages = {{VK_SHADER_STAGE_VERTEX_BIT, vert}, {VK_SHADER_STAGE_FRAGMENT_BIT, frag}};
@@ -174,10 +174,10 @@ TEST_F(RasterTest, DepthClampedVolumeBehindVisiblePointPassesOnlyThere) {
     volumeDesc.logicOp = VK_LOGIC_OP_OR;
     Pipeline volume = createGraphicsPipeline(device(), layout, volumeDesc);
 
-    Image bits(device(), {kSize, kSize, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
-    Image depth(device(), {kSize, kSize, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT});
-    const Rect surface{0, 0, 9, kSize, {0x0u, 0x0u}}; // visible points at depth 0.25 on the left
-    const Rect far{2, 3, 14, 12, {0x8u, 0x100u}};     // the volume's far face, z = 1.5 → clamped to 1
+    Image bits(device(), {SIDE, SIDE, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
+    Image depth(device(), {SIDE, SIDE, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT});
+    const Rect surface{0, 0, 9, SIDE, {0x0u, 0x0u}}; // visible points at depth 0.25 on the left
+    const Rect far{2, 3, 14, 12, {0x8u, 0x100u}};    // the volume's far face, z = 1.5 → clamped to 1
     submitOnce(device(), [&](VkCommandBuffer cmd) {
         const ColorTarget target{&bits, true, {}};
         beginRendering(cmd, std::span(&target, 1), DepthTarget{&depth, true, 1.0f, false});
@@ -200,9 +200,9 @@ TEST_F(RasterTest, DepthClampedVolumeBehindVisiblePointPassesOnlyThere) {
     const Rect expectedArea{2, 3, 9, 12, far.bits};
     expectSameBits(bits.readback<uint32_t>(), expectedBits({expectedArea}));
     const std::vector<float> depths = depth.readback<float>();
-    for (uint32_t y = 0; y < kSize; ++y)
-        for (uint32_t x = 0; x < kSize; ++x)
-            ASSERT_EQ(depths[y * kSize + x], surface.covers(x, y) ? 0.25f : 1.0f)
+    for (uint32_t y = 0; y < SIDE; ++y)
+        for (uint32_t x = 0; x < SIDE; ++x)
+            ASSERT_EQ(depths[y * SIDE + x], surface.covers(x, y) ? 0.25f : 1.0f)
                 << "depth at " << x << "," << y;
 }
 
@@ -224,7 +224,7 @@ void main() {
     PipelineLayout layout(device(), {setLayout.handle()}, sizeof(RectPush));
     GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_VERTEX_BIT,
-                    compiler().compileSource(kRectVert, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert")},
+                    compiler().compileSource(RECT_VERT, VK_SHADER_STAGE_VERTEX_BIT, "rect.vert")},
                    {VK_SHADER_STAGE_FRAGMENT_BIT,
                     compiler().compileSource(frag, VK_SHADER_STAGE_FRAGMENT_BIT, "count.frag")}};
     desc.depthFormat = VK_FORMAT_D32_SFLOAT;
@@ -233,12 +233,12 @@ void main() {
     desc.depthCompare = VK_COMPARE_OP_GREATER;
     Pipeline pipeline = createGraphicsPipeline(device(), layout, desc);
 
-    const std::vector<uint32_t> zeros(std::size_t(kSize) * kSize, 0u);
+    const std::vector<uint32_t> zeros(std::size_t(SIDE) * SIDE, 0u);
     Buffer counters =
         createBuffer(device(), std::span<const uint32_t>(zeros), VK_BUFFER_USAGE_STORAGE_BUFFER_BIT);
     DescriptorSet set(device(), setLayout);
     set.writeBuffer(0, counters);
-    Image depth(device(), {kSize, kSize, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT});
+    Image depth(device(), {SIDE, SIDE, VK_FORMAT_D32_SFLOAT, VK_IMAGE_USAGE_DEPTH_STENCIL_ATTACHMENT_BIT});
     // Depth cleared to 0.5; rects at z 0.75 pass GREATER, rects at z 0.25 fail it. The
     // "count" of each rect goes in bits.x: 1 for passing rects, 100 for failing ones, so any
     // failing fragment that counted shows up as ≥ 100.
@@ -260,12 +260,12 @@ void main() {
         endRendering(cmd);
     });
     const std::vector<uint32_t> counts = counters.download<uint32_t>();
-    for (uint32_t y = 0; y < kSize; ++y)
-        for (uint32_t x = 0; x < kSize; ++x) {
+    for (uint32_t y = 0; y < SIDE; ++y)
+        for (uint32_t x = 0; x < SIDE; ++x) {
             uint32_t expected = 0;
             for (const auto& [rect, z] : rects)
                 if (z > 0.5f && rect.covers(x, y)) expected += rect.bits[0];
-            ASSERT_EQ(counts[y * kSize + x], expected) << "pixel " << x << "," << y;
+            ASSERT_EQ(counts[y * SIDE + x], expected) << "pixel " << x << "," << y;
         }
 }
 
@@ -318,7 +318,7 @@ void main() { outBits = uvec2(rectBit, rectBit << 16); }
     }
     Buffer vertexBuffer =
         createBuffer(device(), std::span<const float>(vertices), VK_BUFFER_USAGE_VERTEX_BUFFER_BIT);
-    Image bits(device(), {kSize, kSize, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
+    Image bits(device(), {SIDE, SIDE, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
     submitOnce(device(), [&](VkCommandBuffer cmd) {
         const ColorTarget target{&bits, true, {}};
         beginRendering(cmd, std::span(&target, 1));
@@ -365,12 +365,12 @@ void main() {
     GraphicsPipelineDesc desc;
     desc.stages = {{VK_SHADER_STAGE_MESH_BIT_EXT, std::move(meshSpirv)},
                    {VK_SHADER_STAGE_FRAGMENT_BIT,
-                    compiler().compileSource(kBitsFrag, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag")}};
+                    compiler().compileSource(BITS_FRAG, VK_SHADER_STAGE_FRAGMENT_BIT, "bits.frag")}};
     desc.colorFormats = {VK_FORMAT_R32G32_UINT};
     desc.logicOpEnable = true;
     desc.logicOp = VK_LOGIC_OP_OR;
     Pipeline pipeline = createGraphicsPipeline(device(), layout, desc);
-    Image bits(device(), {kSize, kSize, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
+    Image bits(device(), {SIDE, SIDE, VK_FORMAT_R32G32_UINT, VK_IMAGE_USAGE_COLOR_ATTACHMENT_BIT});
     const std::vector<Rect> rects = {{3, 1, 11, 9, {0x5u, 0x6u}}, {7, 5, 14, 15, {0x10u, 0x0u}}};
     submitOnce(device(), [&](VkCommandBuffer cmd) {
         const ColorTarget target{&bits, true, {}};

@@ -42,6 +42,7 @@ FunctionDiff compareFunctions(const AvsmMap& gpu, const AvsmMap& cpu) {
     return d;
 }
 
+// NOLINTNEXTLINE(bugprone-exception-escape): json's move cannot throw (its invariant check is unmarked)
 struct Renders {
     Frame gpu, cpu;
 };
@@ -60,7 +61,7 @@ class AvsmGpu : public GpuRenderTest {
     }
 };
 
-RenderOptions avsmOptions(Method method, int size, std::vector<std::string> params) {
+RenderOptions avsmOptions(Method method, int size, const std::vector<std::string>& params) {
     RenderOptions o = gpuOptions(size, size, 16);
     o.method = method;
     o.params = parseMethodParams(methodInfo(method), params);

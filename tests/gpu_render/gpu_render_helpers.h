@@ -190,7 +190,7 @@ inline void expectMatchesEmbree(const Scene& scene, const Frame& frame, const Re
                 const double nearest = std::min(sample.nearest(), centre.nearest());
                 if (centreToo && sample.startGap <= 2.0) {
                     ++inStartGap;
-                } else if (nearest <= (centreToo ? test::kDcsRoundOffUnits : test::kRoundOffUnits)) {
+                } else if (nearest <= (centreToo ? test::DCS_ROUND_OFF_UNITS : test::ROUND_OFF_UNITS)) {
                     worst = std::max(worst, nearest);
                 } else if (++unexplained <= 10) {
                     where << "\n  pixel (" << x << "," << y << ") sample " << k

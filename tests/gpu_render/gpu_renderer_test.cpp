@@ -350,7 +350,7 @@ TEST_F(GpuRenderer, TheSamplePassesGiveNoThreadMoreFragmentsThanLavapipesLoopsAl
     // lavapipe ends an invocation's loops after 65 535 iterations in all and skips the rest
     // silently: a sample pass over the deferred fragments must spread a full list over enough
     // threads (64 a workgroup, at most 65 535 workgroups) that none takes more than
-    // kSampleLoopBudget / (2N + 16) fragments of N samples. A fixed 256 workgroups lost samples
+    // SAMPLE_LOOP_BUDGET / (2N + 16) fragments of N samples. A fixed 256 workgroups lost samples
     // of fence-mesh at 128×96 (15 M fragments listed at 64 samples; one 4×4 block's bits varied
     // from run to run).
     if (device().info().type != VK_PHYSICAL_DEVICE_TYPE_CPU) {
@@ -361,10 +361,10 @@ TEST_F(GpuRenderer, TheSamplePassesGiveNoThreadMoreFragmentsThanLavapipesLoopsAl
     for (const int samples : {16, 32, 64, 128, 256})
         for (const std::uint64_t capacity :
              {std::uint64_t(1), std::uint64_t(1) << 20, std::uint64_t(15'000'000), std::uint64_t(1) << 24,
-              kMaxDeferredFragments}) {
+              MAX_DEFERRED_FRAGMENTS}) {
             const std::uint64_t groups = deferredSampleGroups(device(), capacity, samples);
             const std::uint64_t perThread = (capacity + 64 * groups - 1) / (64 * groups);
-            EXPECT_LE(perThread * std::uint64_t(2 * samples + 16), kSampleLoopBudget)
+            EXPECT_LE(perThread * std::uint64_t(2 * samples + 16), SAMPLE_LOOP_BUDGET)
                 << samples << " " << capacity;
             EXPECT_LE(groups, 65535u);
             // A short list keeps the few hundred workgroups that keep the cores busy.
@@ -384,12 +384,12 @@ TEST_F(GpuRenderer, AListWithEdgeTermsHoldsNoMoreThanItsTermsBindingAddresses) {
     ASSERT_EQ(termBytes, 32u);
     const RenderOptions o = gpuOptions(64, 48, 64);
     DeferredFragments list(device(), o, std::uint64_t(1) << 40);
-    EXPECT_EQ(list.maxCapacity(), std::min(kMaxDeferredFragments, range / 8));
+    EXPECT_EQ(list.maxCapacity(), std::min(MAX_DEFERRED_FRAGMENTS, range / 8));
     list.use(true);
     EXPECT_EQ(list.capacity(), list.maxCapacity());
     EXPECT_EQ(list.terms.size(), termBytes); // a stand-in
     list.use(false, true);
-    EXPECT_EQ(list.maxCapacity(), std::min(kMaxDeferredFragments, range / termBytes));
+    EXPECT_EQ(list.maxCapacity(), std::min(MAX_DEFERRED_FRAGMENTS, range / termBytes));
     EXPECT_EQ(list.capacity(), list.maxCapacity());
     EXPECT_EQ(list.fragments.size(), 8 * list.capacity());
     EXPECT_EQ(list.terms.size(), termBytes * list.capacity());

@@ -15,13 +15,13 @@
 namespace stsv::test {
 namespace {
 
-constexpr float kRoomHalf = 2.0f;    ///< the room spans [−2, 2] in x and z
-constexpr float kCeiling = 2.5f;     ///< y of the ceiling
-constexpr float kLightHalf = 0.3f;   ///< half the edge of the square light
-constexpr float kHoleHalf = 0.5f;    ///< the recess: a hole of [−0.5, 0.5]² in the ceiling …
-constexpr float kRecessDepth = 0.3f; ///< … under a box 0.3 high, the light flush with its top
-constexpr float kShelfBottom = 1.6f; ///< the shelf: [−0.5, 0.5]² × [1.6, 1.8], the light under it
-constexpr float kShelfTop = 1.8f;
+constexpr float ROOM_HALF = 2.0f;    ///< the room spans [−2, 2] in x and z
+constexpr float CEILING = 2.5f;      ///< y of the ceiling
+constexpr float LIGHT_HALF = 0.3f;   ///< half the edge of the square light
+constexpr float HOLE_HALF = 0.5f;    ///< the recess: a hole of [−0.5, 0.5]² in the ceiling …
+constexpr float RECESS_DEPTH = 0.3f; ///< … under a box 0.3 high, the light flush with its top
+constexpr float SHELF_BOTTOM = 1.6f; ///< the shelf: [−0.5, 0.5]² × [1.6, 1.8], the light under it
+constexpr float SHELF_TOP = 1.8f;
 
 enum class Room { Flush, Shelf, Recess };
 
@@ -56,31 +56,31 @@ Scene makeRoom(Room room) {
     Scene s;
     s.source = roomName(room);
     s.materials.push_back({"wall", vec3(0.7f), -1, WrapMode::Repeat, true});
-    const float h = kRoomHalf;
+    const float h = ROOM_HALF;
     addHorizontal(s, 0.0f, -h, h, -h, h, false);
-    addSides(s, -h, h, 0.0f, kCeiling, -h, h);
-    float lightY = kCeiling;
+    addSides(s, -h, h, 0.0f, CEILING, -h, h);
+    float lightY = CEILING;
     if (room == Room::Recess) {
         // The ceiling around the hole, the recess's sides and its top.
-        const float k = kHoleHalf;
-        addHorizontal(s, kCeiling, -h, -k, -h, h, true);
-        addHorizontal(s, kCeiling, k, h, -h, h, true);
-        addHorizontal(s, kCeiling, -k, k, -h, -k, true);
-        addHorizontal(s, kCeiling, -k, k, k, h, true);
-        addSides(s, -k, k, kCeiling, kCeiling + kRecessDepth, -k, k);
-        addHorizontal(s, kCeiling + kRecessDepth, -k, k, -k, k, true);
-        lightY = kCeiling + kRecessDepth;
+        const float k = HOLE_HALF;
+        addHorizontal(s, CEILING, -h, -k, -h, h, true);
+        addHorizontal(s, CEILING, k, h, -h, h, true);
+        addHorizontal(s, CEILING, -k, k, -h, -k, true);
+        addHorizontal(s, CEILING, -k, k, k, h, true);
+        addSides(s, -k, k, CEILING, CEILING + RECESS_DEPTH, -k, k);
+        addHorizontal(s, CEILING + RECESS_DEPTH, -k, k, -k, k, true);
+        lightY = CEILING + RECESS_DEPTH;
     } else {
-        addHorizontal(s, kCeiling, -h, h, -h, h, true);
+        addHorizontal(s, CEILING, -h, h, -h, h, true);
     }
     if (room == Room::Shelf) {
-        addSides(s, -0.5f, 0.5f, kShelfBottom, kShelfTop, -0.5f, 0.5f);
-        addHorizontal(s, kShelfBottom, -0.5f, 0.5f, -0.5f, 0.5f, true);
-        addHorizontal(s, kShelfTop, -0.5f, 0.5f, -0.5f, 0.5f, false);
-        lightY = kShelfBottom;
+        addSides(s, -0.5f, 0.5f, SHELF_BOTTOM, SHELF_TOP, -0.5f, 0.5f);
+        addHorizontal(s, SHELF_BOTTOM, -0.5f, 0.5f, -0.5f, 0.5f, true);
+        addHorizontal(s, SHELF_TOP, -0.5f, 0.5f, -0.5f, 0.5f, false);
+        lightY = SHELF_BOTTOM;
     }
     s.lights.push_back(makeRectangleLight(vec3(0.0f, lightY, 0.0f), vec3(0.0f, -1.0f, 0.0f),
-                                          vec2(2.0f * kLightHalf), vec3(10.0f), vec3(1.0f, 0.0f, 0.0f)));
+                                          vec2(2.0f * LIGHT_HALF), vec3(10.0f), vec3(1.0f, 0.0f, 0.0f)));
     // From a corner, below the shelf, seeing the floor, three walls and the ceiling.
     s.camera.eye = vec3(1.8f, 1.4f, 1.8f);
     s.camera.target = vec3(-0.6f, 0.6f, -0.8f);
@@ -97,16 +97,16 @@ int expectedVisible(Room room, dvec3 p, dvec3 s) {
     constexpr double tie = 1e-3;
     if (room == Room::Shelf) {
         // Below the shelf every segment to its underside stays in the room and below the shelf.
-        return p.y < kShelfBottom - tie ? 1 : -1;
+        return p.y < SHELF_BOTTOM - tie ? 1 : -1;
     }
-    if (p.y > kCeiling - tie) return -1; // the ceiling itself, the recess
-    if (room == Room::Flush) return 1;   // the room is convex: nothing lies between p and s
+    if (p.y > CEILING - tie) return -1; // the ceiling itself, the recess
+    if (room == Room::Flush) return 1;  // the room is convex: nothing lies between p and s
     // Recess: the segment leaves the room through the plane of the ceiling at t = (H − p.y)/(s.y − p.y);
     // inside the hole it reaches the light (the recess's sides lie outside the segment's span,
     // which stays within the hole's column: both ends do), elsewhere the ceiling blocks it.
-    const double t = (double(kCeiling) - p.y) / (s.y - p.y);
+    const double t = (double(CEILING) - p.y) / (s.y - p.y);
     const dvec3 q = p + t * (s - p);
-    const double inside = kHoleHalf - std::max(std::abs(q.x), std::abs(q.z));
+    const double inside = HOLE_HALF - std::max(std::abs(q.x), std::abs(q.z));
     if (std::abs(inside) < tie) return -1;
     return inside > 0.0 ? 1 : 0;
 }

@@ -276,7 +276,7 @@ TEST(PeelMarchLanes, KeepEveryInvocationsMarchWithinTheLoopBudget) {
                 const std::uint64_t perLane = (std::uint64_t(samples) + lanes - 1) / lanes;
                 EXPECT_TRUE(std::has_single_bit(lanes)) << samples << " " << steps << " " << bins;
                 EXPECT_LE(lanes, std::uint64_t(samples)) << samples << " " << steps << " " << bins;
-                EXPECT_TRUE(perLane == 1 || perLane * perSample <= kSampleLoopBudget)
+                EXPECT_TRUE(perLane == 1 || perLane * perSample <= SAMPLE_LOOP_BUDGET)
                     << samples << " " << steps << " " << bins;
                 EXPECT_LT(perLane * perSample, 65535u) << samples << " " << steps << " " << bins;
             }

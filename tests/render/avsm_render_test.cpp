@@ -21,7 +21,7 @@
 namespace stsv {
 namespace {
 
-constexpr int kW = 48, kH = 48;
+constexpr int WIDTH = 48, HEIGHT = 48;
 
 Frame render(const Scene& scene, Method method, int size, std::map<std::string, double> params = {},
              int samples = 64, BufferKind buffer = BufferKind::Bitmask) {
@@ -55,14 +55,14 @@ TEST(AvsmRender, WithAsManyNodesAsSurfacesItIsTheReferencesHardShadow) {
     // ray and the segment cross the same triangles: away from the veils' and the tile's edges by
     // more than a texel's footprint (4 m / 1024 texels of the fitted map at most).
     const Scene scene = test::veilsAndTile();
-    const Frame f = render(scene, Method::Avsm, kW);
+    const Frame f = render(scene, Method::Avsm, WIDTH);
     const EmbreeScene embree(scene);
     const float far = farDistanceFor(scene.bounds());
     std::vector<std::pair<std::uint32_t, std::uint32_t>> scratch;
-    std::size_t compared = 0, fractional = 0;
+    std::size_t compared = 0;
     std::vector<int> seen(4, 0); // T = 1, 0.5, 0.35, 0
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
+    for (int y = 0; y < HEIGHT; ++y)
+        for (int x = 0; x < WIDTH; ++x) {
             const std::size_t i = f.gbuffer.index(x, y);
             if (!f.gbuffer.covered(i)) continue;
             const vec3 p = f.gbuffer.position[i];
@@ -73,10 +73,9 @@ TEST(AvsmRender, WithAsManyNodesAsSurfacesItIsTheReferencesHardShadow) {
             const float expected = units == OPTICAL_DEPTH_OPAQUE ? 0.0f : transmittanceOfDepth(units);
             ASSERT_EQ(f.visibility.at(x, y, 0), expected) << "pixel " << x << "," << y;
             ++compared;
-            fractional += expected > 0.0f && expected < 1.0f ? 1 : 0;
             seen[expected == 1.0f ? 0 : expected > 0.4f ? 1 : expected > 0.0f ? 2 : 3] += 1;
         }
-    EXPECT_GT(compared, std::size_t(kW * kH / 2));
+    EXPECT_GT(compared, std::size_t(WIDTH * HEIGHT / 2));
     for (int k = 0; k < 4; ++k) EXPECT_GT(seen[std::size_t(k)], 10) << "transmittance class " << k;
     // The stats: the most nodes a texel holds — veil, veil, then tile or ground: 3, but 5 where
     // a texel's ray runs through the diagonal both veils' triangles share (the inclusive rule
@@ -99,11 +98,11 @@ TEST(AvsmRender, FewerNodesThanSurfacesDropTheLeastAreaAndTheErrorShrinksWithThe
     std::vector<std::pair<std::uint32_t, std::uint32_t>> scratch;
     double previous = -1.0;
     for (int nodes : {16, 8, 4, 2, 1}) {
-        const Frame f = render(scene, Method::Avsm, kW, {{"avsm_nodes", nodes}});
+        const Frame f = render(scene, Method::Avsm, WIDTH, {{"avsm_nodes", nodes}});
         double sum = 0.0;
         std::size_t covered = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
+        for (int y = 0; y < HEIGHT; ++y)
+            for (int x = 0; x < WIDTH; ++x) {
                 const std::size_t i = f.gbuffer.index(x, y);
                 if (!f.gbuffer.covered(i)) continue;
                 const vec3 p = f.gbuffer.position[i];
@@ -189,8 +188,8 @@ TEST(AvsmRender, ShuffledTrianglesGiveTheSameFunctions) {
     const Scene scene = test::veilsAndTile();
     const Scene shuffled = test::shuffledTriangles(scene, 5u);
     for (Method m : {Method::Avsm, Method::Vpcss}) {
-        const Frame a = render(scene, m, kW);
-        const Frame b = render(shuffled, m, kW);
+        const Frame a = render(scene, m, WIDTH);
+        const Frame b = render(shuffled, m, WIDTH);
         EXPECT_EQ(a.visibility.pixels, b.visibility.pixels) << toString(m);
     }
 }
@@ -204,13 +203,13 @@ TEST(AvsmRender, VpcssIsPcssWithoutTranslucentTriangles) {
                                                                         : SceneOptions{});
         // The depth test at volumetric PCSS's own bias and normal offset.
         const ShadowMapSettings own = defaultShadowMapSettings(ShadowMapMethod::Vpcss);
-        const Frame pcss = render(scene, Method::Pcss, kW,
+        const Frame pcss = render(scene, Method::Pcss, WIDTH,
                                   {{"sm_size", 512},
                                    {"pcss_blocker_taps", 25},
                                    {"pcss_filter_taps", 25},
                                    {"sm_bias", own.bias},
                                    {"sm_normal_offset", own.normalOffset}});
-        const Frame vpcss = render(scene, Method::Vpcss, kW, {{"avsm_size", 512}});
+        const Frame vpcss = render(scene, Method::Vpcss, WIDTH, {{"avsm_size", 512}});
         std::size_t penumbra = 0;
         for (float v : pcss.visibility.pixels) penumbra += v > 0.02f && v < 0.98f ? 1 : 0;
         EXPECT_GT(penumbra, 20u) << name << ": no penumbra to compare";
@@ -225,12 +224,12 @@ TEST(AvsmRender, VpcssOnParticlesIsCloseToTheConvergedReference) {
     // (measured 0.024 when this was written), and a third of pcss's at most, which takes the
     // particles by their binary stand-in. `avsm` (hard shadows) lies in between.
     const Scene scene = loadScene("particles", SceneOptions{{{"count", "300"}}});
-    const Frame reference = render(scene, Method::Reference, kW, {}, 256, BufferKind::Transmittance);
+    const Frame reference = render(scene, Method::Reference, WIDTH, {}, 256, BufferKind::Transmittance);
     auto rmse = [&](const Frame& f) {
         double sum = 0.0;
         std::size_t n = 0;
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
+        for (int y = 0; y < HEIGHT; ++y)
+            for (int x = 0; x < WIDTH; ++x) {
                 if (!reference.gbuffer.covered(reference.gbuffer.index(x, y))) continue;
                 const double d = double(f.visibility.at(x, y, 0)) - double(reference.visibility.at(x, y, 0));
                 sum += d * d;
@@ -238,9 +237,9 @@ TEST(AvsmRender, VpcssOnParticlesIsCloseToTheConvergedReference) {
             }
         return std::sqrt(sum / double(n));
     };
-    const double vpcss = rmse(render(scene, Method::Vpcss, kW));
-    const double avsm = rmse(render(scene, Method::Avsm, kW));
-    const double pcss = rmse(render(scene, Method::Pcss, kW));
+    const double vpcss = rmse(render(scene, Method::Vpcss, WIDTH));
+    const double avsm = rmse(render(scene, Method::Avsm, WIDTH));
+    const double pcss = rmse(render(scene, Method::Pcss, WIDTH));
     std::cout << "visibility RMSE against the 256-sample reference: vpcss " << vpcss << ", avsm " << avsm
               << ", pcss " << pcss << "\n";
     EXPECT_LT(vpcss, 0.06);
@@ -265,14 +264,14 @@ TEST(AvsmRender, VpcssTransitionsAreLinearWhereTheReferencesAreSmooth) {
         scene.addTriangle(a, c, d, vec2(0, 0), vec2(1, 1), vec2(0, 1), m);
     }
     scene.validate();
-    constexpr int kSize = 96;
-    const Frame reference = render(scene, Method::Reference, kSize, {}, 256, BufferKind::Transmittance);
-    const Frame vpcss = render(scene, Method::Vpcss, kSize, {{"avsm_size", 1024}});
+    constexpr int SIDE = 96;
+    const Frame reference = render(scene, Method::Reference, SIDE, {}, 256, BufferKind::Transmittance);
+    const Frame vpcss = render(scene, Method::Vpcss, SIDE, {{"avsm_size", 1024}});
     auto profile = [&](const Frame& f) {
-        std::vector<double> p(kSize, 0.0);
-        for (int x = 0; x < kSize; ++x) {
-            for (int y = 0; y < kSize; ++y) p[std::size_t(x)] += double(f.visibility.at(x, y, 0));
-            p[std::size_t(x)] /= double(kSize);
+        std::vector<double> p(SIDE, 0.0);
+        for (int x = 0; x < SIDE; ++x) {
+            for (int y = 0; y < SIDE; ++y) p[std::size_t(x)] += double(f.visibility.at(x, y, 0));
+            p[std::size_t(x)] /= double(SIDE);
         }
         return p;
     };
@@ -284,8 +283,8 @@ TEST(AvsmRender, VpcssTransitionsAreLinearWhereTheReferencesAreSmooth) {
     std::printf("column (every third, from shadow to light): reference vpcss\n");
     double middleError = 1.0, cornerError = 0.0;
     int corners = 0;
-    for (int i = 0; i < kSize; ++i) {
-        const std::size_t x = std::size_t(shadowFirst ? i : kSize - 1 - i);
+    for (int i = 0; i < SIDE; ++i) {
+        const std::size_t x = std::size_t(shadowFirst ? i : SIDE - 1 - i);
         if (i % 3 == 0) std::printf("%2d: %.4f %.4f\n", i, r[x], v[x]);
         // Where the reference crosses the middle of the range.
         if (std::abs(r[x] - 0.5 * (1.0 + shadow)) < 0.05)

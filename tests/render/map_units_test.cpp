@@ -24,7 +24,7 @@ namespace {
 using namespace test;
 
 /// msm-hausdorff: an image-family variant with no name of its own in the Method enum.
-const Method kMsmHausdorff = imageMethod(ShadowMapMethod(SHADOW_FILTER_MSM_HAUSDORFF));
+const Method MSM_HAUSDORFF = imageMethod(ShadowMapMethod(SHADOW_FILTER_MSM_HAUSDORFF));
 
 /// The frame's map texel on the visible receivers (the ground; its stats' median).
 double frameTexel(const Frame& f) {
@@ -47,11 +47,11 @@ TEST(ShadowMapUnits, PcfAndPcssPenumbraeKeepTheirWorldWidthAcrossMapSizes) {
         MethodParams coarse = base, fine = base;
         coarse["sm_size"] = 1024.0;
         fine["sm_size"] = 2048.0;
-        const Frame fc = renderCpu(scene, m, kW, kH, coarse, 64, 3u);
-        const Frame ff = renderCpu(scene, m, kW, kH, fine, 64, 3u);
+        const Frame fc = renderCpu(scene, m, WIDTH, HEIGHT, coarse, 64, 3u);
+        const Frame ff = renderCpu(scene, m, WIDTH, HEIGHT, fine, 64, 3u);
         const double texel = frameTexel(fc);
         const double wc = measuredWidth(columnProfile(fc)), wf = measuredWidth(columnProfile(ff));
-        const double expected = m == Method::Pcf ? (kHigh - kLow) * 2.0 * 0.02 : diskLevelWidth(W);
+        const double expected = m == Method::Pcf ? (HIGH - LOW) * 2.0 * 0.02 : diskLevelWidth(W);
         std::printf("%s: 5-95 %% width %.4f m at 1024^2 (texel %.5f m), %.4f m at 2048^2 (texel %.5f m); "
                     "expected %.4f\n",
                     name, wc, texel, wf, frameTexel(ff), expected);
@@ -122,8 +122,8 @@ Scene closedTwoOccluders() {
 /// The analytic visibility of twoOccluders(): the square light's linear ramp under each edge
 /// (the shadows hide disjoint parts of the light, and the penumbrae do not meet).
 double twoOccludersRamp(double x) {
-    const double low = linearRamp(x - (-0.2 * kLightHeight / (kLightHeight - 0.5)), penumbraWidth(0.5f));
-    const double high = linearRamp(0.15 * kLightHeight / (kLightHeight - 1.0) - x, penumbraWidth(1.0f));
+    const double low = linearRamp(x - (-0.2 * LIGHT_HEIGHT / (LIGHT_HEIGHT - 0.5)), penumbraWidth(0.5f));
+    const double high = linearRamp(0.15 * LIGHT_HEIGHT / (LIGHT_HEIGHT - 1.0) - x, penumbraWidth(1.0f));
     return std::clamp(low + high - 1.0, 0.0, 1.0);
 }
 
@@ -150,7 +150,7 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
     // over a gigabyte; the kernels are in world units, and the test above holds the widths
     // across map sizes).
     const MethodParams params = {{"sm_size", 1024.0}};
-    const double Wone = penumbraWidth(1.5f);
+    const double widthOne = penumbraWidth(1.5f);
     struct Case {
         const char* name;
         Scene scene;
@@ -162,14 +162,14 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
         {"one occluder at 1.5 m",
          parallelPlanes(1.5f),
          closedParallelPlanes(1.5f),
-         [&](double x) { return linearRamp(x, Wone); },
-         {{0.0, Wone}}},
+         [&](double x) { return linearRamp(x, widthOne); },
+         {{0.0, widthOne}}},
         {"two occluders at 0.5 m and 1 m",
          twoOccluders(),
          closedTwoOccluders(),
          twoOccludersRamp,
-         {{-0.2 * kLightHeight / (kLightHeight - 0.5), penumbraWidth(0.5f)},
-          {0.15 * kLightHeight / (kLightHeight - 1.0), penumbraWidth(1.0f)}}},
+         {{-0.2 * LIGHT_HEIGHT / (LIGHT_HEIGHT - 0.5), penumbraWidth(0.5f)},
+          {0.15 * LIGHT_HEIGHT / (LIGHT_HEIGHT - 1.0), penumbraWidth(1.0f)}}},
     };
     const ShadowMapSettings defaults = defaultShadowMapSettings(ShadowMapMethod::Pcf);
     for (const Case& c : cases) {
@@ -188,8 +188,8 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
         };
         std::map<Method, double> error;
         for (const Method m : {Method::Pcf, Method::Pcss, Method::Vsm, Method::Esm, Method::Evsm, Method::Msm,
-                               kMsmHausdorff, Method::Csm}) {
-            const Frame f = renderCpu(c.scene, m, kW, kH, params, 64, 3u);
+                               MSM_HAUSDORFF, Method::Csm}) {
+            const Frame f = renderCpu(c.scene, m, WIDTH, HEIGHT, params, 64, 3u);
             const Profile p = columnProfile(f);
             error[m] = penumbraRmse(p, c.truth, c.penumbrae);
             std::printf("%s, %s: penumbra RMSE %.4f against the analytic ramp\n", c.name,
@@ -223,7 +223,7 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
         EXPECT_LT(error[Method::Vsm], 0.02);
         EXPECT_LT(error[Method::Msm], 0.02);
         // The Hausdorff reconstruction of the same moments: two depths inside [0, 1], the same bound.
-        EXPECT_LT(error[kMsmHausdorff], 0.02);
+        EXPECT_LT(error[MSM_HAUSDORFF], 0.02);
         EXPECT_LT(error[Method::Csm], 0.03);
         EXPECT_LT(error[Method::Esm], 0.04);
         EXPECT_LT(error[Method::Evsm], 0.04);
@@ -234,8 +234,8 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
         // The grid and the transmittance functions, every knob at its default (their own sizes).
         for (const Method m : {Method::Peel, Method::Avsm, Method::Vpcss}) {
             const Scene& scene = m == Method::Peel ? c.closed : c.scene;
-            error[m] =
-                penumbraRmse(columnProfile(renderCpu(scene, m, kW, kH, {}, 64, 3u)), c.truth, c.penumbrae);
+            error[m] = penumbraRmse(columnProfile(renderCpu(scene, m, WIDTH, HEIGHT, {}, 64, 3u)), c.truth,
+                                    c.penumbrae);
             std::printf("%s, %s: penumbra RMSE %.4f against the analytic ramp\n", c.name,
                         methodInfo(m).name.c_str(), error[m]);
         }
@@ -245,8 +245,8 @@ TEST(ShadowMapDefaults, EveryImageBasedMethodMakesTheParallelPlanesPenumbraAtIts
         EXPECT_LT(error[Method::Peel], 0.02);
         // The lone quads: every ray under an occluder in the light centre's view counts as blocked
         // (the documented limitation), a penumbra cut on its lit side: far beyond the slabs'.
-        const double open = penumbraRmse(columnProfile(renderCpu(c.scene, Method::Peel, kW, kH, {}, 64, 3u)),
-                                         c.truth, c.penumbrae);
+        const double open = penumbraRmse(
+            columnProfile(renderCpu(c.scene, Method::Peel, WIDTH, HEIGHT, {}, 64, 3u)), c.truth, c.penumbrae);
         std::printf("%s, peel on the lone quads: penumbra RMSE %.4f\n", c.name, open);
         EXPECT_GT(open, 3.0 * error[Method::Peel]);
         // AVSM looks its functions up from the light's centre: a hard shadow. Against a linear

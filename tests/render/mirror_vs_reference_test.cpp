@@ -51,8 +51,8 @@ void compareOnScene(const std::string& name, int samples, const std::vector<std:
                     ++differing;
                     const vec3 s = lightSamplePosition(frame, pixelSamplePoint(plan, x, y, k, frame.domain));
                     const double units = test::boundaryDistanceAt(scene, g, x, y, s, frame.center).nearest();
-                    if (units <= test::kRoundOffUnits) worst = std::max(worst, units);
-                    if (units > test::kRoundOffUnits) {
+                    if (units <= test::ROUND_OFF_UNITS) worst = std::max(worst, units);
+                    if (units > test::ROUND_OFF_UNITS) {
                         if (++unexplained <= 10)
                             where << "\n  pixel (" << x << "," << y << ") sample " << k
                                   << " reference=" << reference.occluded(x, y, k) << ", " << units

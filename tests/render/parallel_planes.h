@@ -16,14 +16,14 @@
 
 namespace stsv::test {
 
-inline constexpr float kLightHeight = 4.0f; ///< h_l, world units
-inline constexpr float kLightWidth = 1.0f;  ///< w, world units
-inline constexpr int kW = 256, kH = 32;     ///< columns across the edge, rows along it
-inline constexpr int kMapSize = 1024;
+inline constexpr float LIGHT_HEIGHT = 4.0f;    ///< h_l, world units
+inline constexpr float LIGHT_WIDTH = 1.0f;     ///< w, world units
+inline constexpr int WIDTH = 256, HEIGHT = 32; ///< columns across the edge, rows along it
+inline constexpr int MAP_SIZE = 1024;
 
 /// The penumbra width of DESIGN §6 under a straight edge at height h_o.
 inline float penumbraWidth(float occluderHeight) {
-    return kLightWidth * occluderHeight / (kLightHeight - occluderHeight);
+    return LIGHT_WIDTH * occluderHeight / (LIGHT_HEIGHT - occluderHeight);
 }
 
 /// Horizontal opaque quad at height y over [x0, x1] × [z0, z1], facing up.
@@ -46,13 +46,13 @@ inline Scene parallelPlanes(float occluderHeight, float groundHalf = 2.0f) {
     s.materials.push_back({"occluder", vec3(0.5f), -1, WrapMode::Repeat, false});
     addHorizontalQuad(s, 0.0f, -groundHalf, groundHalf, -groundHalf, groundHalf, 0);
     addHorizontalQuad(s, occluderHeight, -1.0f, 0.0f, -1.0f, 1.0f, 1);
-    s.lights.push_back(makeRectangleLight(vec3(0.0f, kLightHeight, 0.0f), vec3(0.0f, -1.0f, 0.0f),
-                                          vec2(kLightWidth), vec3(1.0f), vec3(1.0f, 0.0f, 0.0f)));
+    s.lights.push_back(makeRectangleLight(vec3(0.0f, LIGHT_HEIGHT, 0.0f), vec3(0.0f, -1.0f, 0.0f),
+                                          vec2(LIGHT_WIDTH), vec3(1.0f), vec3(1.0f, 0.0f, 0.0f)));
     s.camera.eye = vec3(0.0f, 0.3f, 0.0f);
     s.camera.target = vec3(0.0f);
     s.camera.up = vec3(0.0f, 0.0f, -1.0f);
     // 0.3·tan(fovY/2)·(256/32) = 0.45: the row spans ±0.45 m, 3.5 mm a column.
-    s.camera.fovY = 2.0f * glm::degrees(std::atan(0.45f / (0.3f * float(kW) / float(kH))));
+    s.camera.fovY = 2.0f * glm::degrees(std::atan(0.45f / (0.3f * float(WIDTH) / float(HEIGHT))));
     return s;
 }
 
@@ -88,15 +88,15 @@ inline double crossing(const Profile& p, double level) {
     return std::nan("");
 }
 
-inline constexpr double kLow = 0.05, kHigh = 0.95;
+inline constexpr double LOW = 0.05, HIGH = 0.95;
 
-/// Distance between the kLow and kHigh crossings.
+/// Distance between the LOW and HIGH crossings.
 inline double measuredWidth(const Profile& p) {
-    return crossing(p, kHigh) - crossing(p, kLow);
+    return crossing(p, HIGH) - crossing(p, LOW);
 }
 
 /// The analytic visibility under the edge: a linear ramp of width W centred on x = 0, so its
-/// kLow…kHigh crossings are (kHigh − kLow)·W = 0.9·W apart.
+/// LOW…HIGH crossings are (HIGH − LOW)·W = 0.9·W apart.
 inline double linearRamp(double x, double width) {
     return std::clamp(0.5 + x / width, 0.0, 1.0);
 }
@@ -108,14 +108,14 @@ inline double diskSegment(double a) {
 }
 
 /// PCSS filters the hard shadow of the light centre (its edge at x = 0) over a disk of diameter
-/// W: the lit fraction of the disk around x. Not a linear ramp: its kLow…kHigh crossings are
-/// 2·a·W/2 apart, where the disk's segment beyond a chord at a is kLow (a ≈ 0.805).
+/// W: the lit fraction of the disk around x. Not a linear ramp: its LOW…HIGH crossings are
+/// 2·a·W/2 apart, where the disk's segment beyond a chord at a is LOW (a ≈ 0.805).
 inline double diskRamp(double x, double width) {
     return 1.0 - diskSegment(x / (0.5 * width));
 }
 inline double diskLevelWidth(double width) {
     double lo = 0.0, hi = 1.0;
-    for (int k = 0; k < 60; ++k) ((diskSegment(0.5 * (lo + hi)) > kLow) ? lo : hi) = 0.5 * (lo + hi);
+    for (int k = 0; k < 60; ++k) ((diskSegment(0.5 * (lo + hi)) > LOW) ? lo : hi) = 0.5 * (lo + hi);
     return 0.5 * (lo + hi) * width;
 }
 

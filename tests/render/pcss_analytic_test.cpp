@@ -23,19 +23,19 @@ using namespace test;
 
 /// World size of a map texel on the ground (the unit of the width tolerances).
 float groundTexel(const Scene& scene) {
-    const ShadowMapView view = fitShadowMap(scene.lights[0], scene.bounds(), kMapSize);
+    const ShadowMapView view = fitShadowMap(scene.lights[0], scene.bounds(), MAP_SIZE);
     EXPECT_EQ(view.projection, SHADOW_MAP_PERSPECTIVE);
-    return shadowMapTexelWorld(view, kLightHeight);
+    return shadowMapTexelWorld(view, LIGHT_HEIGHT);
 }
 
 /// PCSS at 1024 texels; pcss_max_kernel and pcss_max_search 128 so that the widest penumbra here (0.6 m = 154
 /// texels on the ground, a 79-texel search radius) is not clipped by the kernel limit. The map fitted to
 /// the scene box (sm_fit=0): the texel sizes and limits here are worked out for that map (groundTexel).
-const MethodParams kPcssParams = {
-    {"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
+const MethodParams PCSS_PARAMS = {
+    {"sm_size", double(MAP_SIZE)}, {"sm_fit", 0.0}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
 /// PCF with a kernel of 1.5 cm either side: about the 5 × 5 texels around the receiver's on the
 /// ground of this 1024² scene-box map (texels of 5 to 6 mm).
-const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcf_world_radius", 0.015}};
+const MethodParams PCF_PARAMS = {{"sm_size", double(MAP_SIZE)}, {"sm_fit", 0.0}, {"pcf_world_radius", 0.015}};
 
 struct Measured {
     double width = 0.0;
@@ -43,7 +43,7 @@ struct Measured {
 };
 
 Measured measure(const Scene& scene, Method method, const MethodParams& params, int samples = 64) {
-    const Frame f = renderCpu(scene, method, kW, kH, params, samples, 3u);
+    const Frame f = renderCpu(scene, method, WIDTH, HEIGHT, params, samples, 3u);
     Measured m;
     m.profile = columnProfile(f);
     m.width = measuredWidth(m.profile);
@@ -59,11 +59,11 @@ TEST(PcssParallelPlanes, TheDefaultKernelLimitKeepsAWidePenumbraAndTheStatsCount
     const double W = penumbraWidth(1.5f);
     const double texel = groundTexel(scene);
     const MethodParams defaults = {
-        {"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcss_max_search", 128.0}};
+        {"sm_size", double(MAP_SIZE)}, {"sm_fit", 0.0}, {"pcss_max_search", 128.0}};
     MethodParams clamped = defaults;
     clamped["pcss_max_kernel"] = 32.0;
-    const Frame fDefault = renderCpu(scene, Method::Pcss, kW, kH, defaults, 64, 3u);
-    const Frame fClamped = renderCpu(scene, Method::Pcss, kW, kH, clamped, 64, 3u);
+    const Frame fDefault = renderCpu(scene, Method::Pcss, WIDTH, HEIGHT, defaults, 64, 3u);
+    const Frame fClamped = renderCpu(scene, Method::Pcss, WIDTH, HEIGHT, clamped, 64, 3u);
     const double widthDefault = measuredWidth(columnProfile(fDefault));
     const double widthClamped = measuredWidth(columnProfile(fClamped));
     const double fractionDefault = fDefault.stats["shadow_maps"][0]["kernel_clamped_fraction"].get<double>();
@@ -95,14 +95,14 @@ TEST(PcssParallelPlanes, PenumbraWidthAndRampMatchTheAnalyticPenumbra) {
         const double refRamp = maxDeviation(ref.profile, [&](double x) { return linearRamp(x, W); });
         EXPECT_LT(refRamp, 0.02);
         // Its 5 %…95 % width: 0.9·W within a column (3.5 mm) and the same 2 %.
-        EXPECT_NEAR(ref.width, (kHigh - kLow) * W, 0.0035 + 0.02 * W);
+        EXPECT_NEAR(ref.width, (HIGH - LOW) * W, 0.0035 + 0.02 * W);
 
-        const Measured pcss = measure(scene, Method::Pcss, kPcssParams);
+        const Measured pcss = measure(scene, Method::Pcss, PCSS_PARAMS);
         const double expectedPcss = diskLevelWidth(W);
         std::printf(
             "h_o=%.2f: W=%.4f m, texel %.4f m; reference 5-95 %% width %.4f (0.9 W = %.4f, ramp dev %.4f); "
             "pcss %.4f (disk kernel of diameter W: %.4f)\n",
-            ho, W, texel, ref.width, (kHigh - kLow) * W, refRamp, pcss.width, expectedPcss);
+            ho, W, texel, ref.width, (HIGH - LOW) * W, refRamp, pcss.width, expectedPcss);
         ::testing::Test::RecordProperty("pcss_width_h" + std::to_string(int(ho * 10)),
                                         std::to_string(pcss.width));
         // PCSS's kernel has the analytic width W (blocker depth h_l − h_o exactly, similar
@@ -131,8 +131,8 @@ TEST(PcssParallelPlanes, PenumbraWidthAndRampMatchTheAnalyticPenumbra) {
 
 TEST(PcssParallelPlanes, ContactHardeningWidthRatioMatchesTheFormula) {
     const float lowH = 0.5f, highH = 1.5f;
-    const Measured low = measure(parallelPlanes(lowH), Method::Pcss, kPcssParams);
-    const Measured high = measure(parallelPlanes(highH), Method::Pcss, kPcssParams);
+    const Measured low = measure(parallelPlanes(lowH), Method::Pcss, PCSS_PARAMS);
+    const Measured high = measure(parallelPlanes(highH), Method::Pcss, PCSS_PARAMS);
     const double expected = penumbraWidth(highH) / penumbraWidth(lowH); // 0.6 / (1/7) = 4.2
     const double ratio = high.width / low.width;
     std::printf("pcss widths %.4f (h_o=%.1f), %.4f (h_o=%.1f): ratio %.3f, formula %.3f\n", low.width, lowH,
@@ -149,18 +149,18 @@ TEST(PcfParallelPlanes, FixedKernelDoesNotHardenWithContact) {
     // The map holds the scene box, whose top is the occluder's height: the higher occluder's map
     // has the coarser texels on the ground.
     const double texel = std::max(groundTexel(lowScene), groundTexel(highScene));
-    const Measured low = measure(lowScene, Method::Pcf, kPcfParams);
-    const Measured high = measure(highScene, Method::Pcf, kPcfParams);
+    const Measured low = measure(lowScene, Method::Pcf, PCF_PARAMS);
+    const Measured high = measure(highScene, Method::Pcf, PCF_PARAMS);
     std::printf("pcf widths %.4f (h_o=%.1f), %.4f (h_o=%.1f); texel %.4f; formula 0.9 W = %.4f, %.4f\n",
-                low.width, lowH, high.width, highH, texel, (kHigh - kLow) * penumbraWidth(lowH),
-                (kHigh - kLow) * penumbraWidth(highH));
+                low.width, lowH, high.width, highH, texel, (HIGH - LOW) * penumbraWidth(lowH),
+                (HIGH - LOW) * penumbraWidth(highH));
     ASSERT_FALSE(std::isnan(low.width) || std::isnan(high.width));
     // The fixed world kernel (1.5 cm either side, 5 to 6 texels across) makes the same ramp at
     // both heights: equal within two texels (the staircase of a texel grid sampled by 3.5 mm
     // columns).
     EXPECT_NEAR(high.width, low.width, 2.0 * texel);
     // … and misses the analytic width at h_o = 1.5 by far more than two texels.
-    EXPECT_GT(std::abs(high.width - (kHigh - kLow) * penumbraWidth(highH)), 20.0 * texel);
+    EXPECT_GT(std::abs(high.width - (HIGH - LOW) * penumbraWidth(highH)), 20.0 * texel);
 }
 
 TEST(PcssParallelPlanes, CubeMapOfALightInsideTheBoxKeepsThePenumbraWidthOffAxis) {
@@ -174,25 +174,25 @@ TEST(PcssParallelPlanes, CubeMapOfALightInsideTheBoxKeepsThePenumbraWidthOffAxis
     s.materials.push_back({"ground", vec3(0.8f), -1, WrapMode::Repeat, false});
     s.materials.push_back({"occluder", vec3(0.5f), -1, WrapMode::Repeat, false});
     addHorizontalQuad(s, 0.0f, -5.0f, 5.0f, -5.0f, 5.0f, 0);
-    const float ho = 1.5f, edge = 3.0f * (kLightHeight - ho) / kLightHeight;
+    const float ho = 1.5f, edge = 3.0f * (LIGHT_HEIGHT - ho) / LIGHT_HEIGHT;
     addHorizontalQuad(s, ho, edge - 1.0f, edge, -1.0f, 1.0f, 1);
     const vec3 a(-4.5f, 0.0f, -0.1f), b(-4.5f, 0.0f, 0.1f), c(-4.5f, 5.0f, 0.1f), d(-4.5f, 5.0f, -0.1f);
     s.addTriangle(a, b, c, vec2(0), vec2(1, 0), vec2(1), 1);
     s.addTriangle(a, c, d, vec2(0), vec2(1), vec2(0, 1), 1);
-    s.lights.push_back(makeRectangleLight(vec3(0.0f, kLightHeight, 0.0f), vec3(0.0f, -1.0f, 0.0f),
-                                          vec2(kLightWidth), vec3(1.0f), vec3(1.0f, 0.0f, 0.0f)));
+    s.lights.push_back(makeRectangleLight(vec3(0.0f, LIGHT_HEIGHT, 0.0f), vec3(0.0f, -1.0f, 0.0f),
+                                          vec2(LIGHT_WIDTH), vec3(1.0f), vec3(1.0f, 0.0f, 0.0f)));
     s.camera = parallelPlanes(ho).camera;
     s.camera.eye = vec3(3.0f, 0.3f, 0.0f);
     s.camera.target = vec3(3.0f, 0.0f, 0.0f);
-    const ShadowMapView view = fitShadowMap(s.lights[0], s.bounds(), kMapSize);
+    const ShadowMapView view = fitShadowMap(s.lights[0], s.bounds(), MAP_SIZE);
     ASSERT_EQ(view.projection, SHADOW_MAP_CUBE);
-    const double texel = shadowMapTexelWorld(view, kLightHeight);
+    const double texel = shadowMapTexelWorld(view, LIGHT_HEIGHT);
     const double W = penumbraWidth(ho);
 
-    const Frame pcssFrame = renderCpu(s, Method::Pcss, kW, kH, kPcssParams, 64, 3u);
+    const Frame pcssFrame = renderCpu(s, Method::Pcss, WIDTH, HEIGHT, PCSS_PARAMS, 64, 3u);
     Profile pcss = columnProfile(pcssFrame);
     for (double& x : pcss.x) x -= 3.0;
-    const Frame refFrame = renderCpu(s, Method::Reference, kW, kH, {}, 256, 3u);
+    const Frame refFrame = renderCpu(s, Method::Reference, WIDTH, HEIGHT, {}, 256, 3u);
     Profile ref = columnProfile(refFrame);
     for (double& x : ref.x) x -= 3.0;
     const double pcssWidth = measuredWidth(pcss), refWidth = measuredWidth(ref);
@@ -201,9 +201,9 @@ TEST(PcssParallelPlanes, CubeMapOfALightInsideTheBoxKeepsThePenumbraWidthOffAxis
     std::printf(
         "cube map, penumbra 37° off axis: pcss 5-95 %% width %.4f (disk kernel of W: %.4f), reference %.4f "
         "(0.9 W = %.4f); texel %.4f; visibility RMSE against the reference %.4f\n",
-        pcssWidth, diskLevelWidth(W), refWidth, (kHigh - kLow) * W, texel, rmse.rmse);
-    EXPECT_NEAR(refWidth, (kHigh - kLow) * W, 0.0035 + 0.02 * W); // as on the axis
-    EXPECT_NEAR(pcssWidth, diskLevelWidth(W), 2.0 * texel);       // as on the axis
+        pcssWidth, diskLevelWidth(W), refWidth, (HIGH - LOW) * W, texel, rmse.rmse);
+    EXPECT_NEAR(refWidth, (HIGH - LOW) * W, 0.0035 + 0.02 * W); // as on the axis
+    EXPECT_NEAR(pcssWidth, diskLevelWidth(W), 2.0 * texel);     // as on the axis
     // Over the whole view: the disk kernel's shape differs from the ramp by 0.042 RMS over the
     // penumbra, two thirds of the view, and the reference carries Monte-Carlo noise of at most
     // √(1/6/256) = 0.026 RMS there: together 0.040. (Before PCSS took axial depths on cube
@@ -223,13 +223,13 @@ TEST(PcssOverlappingOccluders, AveragedBlockerDepthWidensTheLowPenumbraWhereDcsS
     const Scene without = parallelPlanes(0.5f, 1.2f);
     Scene with = without;
     addHorizontalQuad(with, 3.0f, -0.15f, -0.05f, -0.1f, 0.1f, 1);
-    const MethodParams params = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}}; // the texels above
+    const MethodParams params = {{"sm_size", double(MAP_SIZE)}, {"sm_fit", 0.0}}; // the texels above
     // Reference and dcs+stsv at equal samples and seed: per-sample bits comparable one for one.
-    const Frame refWith = renderCpu(with, Method::Reference, kW, kH, {}, 256, 101u);
-    const Frame refWithout = renderCpu(without, Method::Reference, kW, kH, {}, 256, 101u);
-    const Frame pcssWith = renderCpu(with, Method::Pcss, kW, kH, params, 64, 3u);
-    const Frame pcssWithout = renderCpu(without, Method::Pcss, kW, kH, params, 64, 3u);
-    const Frame dcsWith = renderCpu(with, Method::DcsStsv, kW, kH, {}, 256, 101u);
+    const Frame refWith = renderCpu(with, Method::Reference, WIDTH, HEIGHT, {}, 256, 101u);
+    const Frame refWithout = renderCpu(without, Method::Reference, WIDTH, HEIGHT, {}, 256, 101u);
+    const Frame pcssWith = renderCpu(with, Method::Pcss, WIDTH, HEIGHT, params, 64, 3u);
+    const Frame pcssWithout = renderCpu(without, Method::Pcss, WIDTH, HEIGHT, params, 64, 3u);
+    const Frame dcsWith = renderCpu(with, Method::DcsStsv, WIDTH, HEIGHT, {}, 256, 101u);
     const GBuffer& g = refWith.gbuffer;
     // The low penumbra (|x| < W/2 = 0.071) and 8 cm of its umbra and lit side.
     auto region = [&](int x, int y) { return std::abs(g.position[g.index(x, y)].x) < 0.15f; };
@@ -246,7 +246,7 @@ TEST(PcssOverlappingOccluders, AveragedBlockerDepthWidensTheLowPenumbraWhereDcsS
         "  5-95 %% widths: pcss %.4f (alone %.4f, disk kernel of W %.4f), reference %.4f (0.9 W = %.4f)\n",
         pcssOverlap.pixels, pcssOverlap.rmse, pcssOverlap.maxAbs, pcssAlone.rmse, truthShift.rmse, dcs.rmse,
         widthWith, widthWithout, diskLevelWidth(penumbraWidth(0.5f)), widthRef,
-        (kHigh - kLow) * penumbraWidth(0.5f));
+        (HIGH - LOW) * penumbraWidth(0.5f));
     ::testing::Test::RecordProperty("pcss_overlap_rmse", std::to_string(pcssOverlap.rmse));
     ::testing::Test::RecordProperty("dcs_stsv_overlap_rmse", std::to_string(dcs.rmse));
     ASSERT_GT(pcssOverlap.pixels, 2000u);

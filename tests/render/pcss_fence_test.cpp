@@ -87,12 +87,12 @@ struct BiasErrors {
 /// map at the default size serves both views and every setting (the bias is applied in the
 /// filter).
 struct BiasSetup {
-    static constexpr int kSize = 256;
+    static constexpr int SIDE = 256;
     Scene scene = makeFenceScene();
     EmbreeScene embree{scene};
     ShadowMap map =
         traceShadowMap(embree, fitShadowMap(scene.lights[0], scene.bounds(), ShadowMapSettings{}.size));
-    Frame wide = renderCpu(scene, Method::Reference, kSize, kSize, {}, 64, 1u);
+    Frame wide = renderCpu(scene, Method::Reference, SIDE, SIDE, {}, 64, 1u);
     Frame foot = renderFoot();
 
     Frame renderFoot() const {
@@ -100,11 +100,11 @@ struct BiasSetup {
         close.camera.eye = vec3(0.5f, 0.5f, 1.0f);
         close.camera.target = vec3(0.5f, 0.0f, 0.05f);
         close.camera.fovY = 30.0f;
-        return renderCpu(close, Method::Reference, kSize, kSize, {}, 64, 1u);
+        return renderCpu(close, Method::Reference, SIDE, SIDE, {}, 64, 1u);
     }
 
     ImageF filter(const Frame& ref, const ShadowMapSettings& s) const {
-        ImageF v(kSize, kSize, 1);
+        ImageF v(SIDE, SIDE, 1);
         shadowMapFilterPixels(map, shadowFilterTaps(s), ref.gbuffer, s, 1u, true, v);
         return v;
     }
@@ -113,16 +113,16 @@ struct BiasSetup {
         BiasErrors e;
         const ImageF wideV = filter(wide, s), footV = filter(foot, s);
         std::size_t lit = 0, acne = 0, dark = 0, leak = 0;
-        for (int y = 0; y < kSize; ++y)
-            for (int x = 0; x < kSize; ++x) {
+        for (int y = 0; y < SIDE; ++y)
+            for (int x = 0; x < SIDE; ++x) {
                 if (!isGround(wide.gbuffer, wide.gbuffer.index(x, y)) || wide.visibility.at(x, y, 0) < 1.0f)
                     continue;
                 ++lit;
                 acne += wideV.at(x, y, 0) < 0.98f;
             }
         double excess = 0.0;
-        for (int y = 0; y < kSize; ++y)
-            for (int x = 0; x < kSize; ++x) {
+        for (int y = 0; y < SIDE; ++y)
+            for (int x = 0; x < SIDE; ++x) {
                 const std::size_t i = foot.gbuffer.index(x, y);
                 if (!isGround(foot.gbuffer, i)) continue;
                 const vec3 p = foot.gbuffer.position[i];

@@ -19,16 +19,16 @@ namespace {
 using namespace test;
 
 // The map fitted to the scene box (sm_fit=0): the tolerances below are worked out from its texels.
-const MethodParams kPcssParams = {
-    {"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
+const MethodParams PCSS_PARAMS = {
+    {"sm_size", double(MAP_SIZE)}, {"sm_fit", 0.0}, {"pcss_max_kernel", 128.0}, {"pcss_max_search", 128.0}};
 /// PCF with a kernel of 1.5 cm either side: about the 5 × 5 texels around the receiver's on the
 /// ground of this 1024² scene-box map (texels of 5 to 6 mm).
-const MethodParams kPcfParams = {{"sm_size", double(kMapSize)}, {"sm_fit", 0.0}, {"pcf_world_radius", 0.015}};
+const MethodParams PCF_PARAMS = {{"sm_size", double(MAP_SIZE)}, {"sm_fit", 0.0}, {"pcf_world_radius", 0.015}};
 const MethodParams& paramsFor(Method m) {
-    return m == Method::Pcss ? kPcssParams : kPcfParams;
+    return m == Method::Pcss ? PCSS_PARAMS : PCF_PARAMS;
 }
 
-const PixelMask kAll = [](int, int) { return true; };
+const PixelMask ALL = [](int, int) { return true; };
 
 /// No pixel of the frame's visibility is NaN or outside [0, 1].
 void expectValidVisibility(const Frame& f, const char* what) {
@@ -39,16 +39,16 @@ void expectValidVisibility(const Frame& f, const char* what) {
 
 /// A light of disk-shaped silhouette (diameter w, seen from under the edge) over the parallel
 /// planes: the true penumbra and PCSS's kernel are both the disk segment of width W, so the two
-/// profiles have the same shape and kLow…kHigh width.
+/// profiles have the same shape and LOW…HIGH width.
 void checkDiskPenumbra(const Scene& scene, double W, unsigned projection, const char* what) {
-    const ShadowMapView view = fitShadowMap(scene.lights[0], scene.bounds(), kMapSize);
+    const ShadowMapView view = fitShadowMap(scene.lights[0], scene.bounds(), MAP_SIZE);
     ASSERT_EQ(view.projection, projection) << what;
-    const double texel = shadowMapTexelWorld(view, kLightHeight);
-    const Frame ref = renderCpu(scene, Method::Reference, kW, kH, {}, 256, 3u);
-    const Frame pcss = renderCpu(scene, Method::Pcss, kW, kH, kPcssParams, 64, 3u);
+    const double texel = shadowMapTexelWorld(view, LIGHT_HEIGHT);
+    const Frame ref = renderCpu(scene, Method::Reference, WIDTH, HEIGHT, {}, 256, 3u);
+    const Frame pcss = renderCpu(scene, Method::Pcss, WIDTH, HEIGHT, PCSS_PARAMS, 64, 3u);
     expectValidVisibility(pcss, what);
     const double refWidth = measuredWidth(columnProfile(ref)), pcssWidth = measuredWidth(columnProfile(pcss));
-    const auto d = compareVisibility(pcss.visibility, ref.visibility, kAll);
+    const auto d = compareVisibility(pcss.visibility, ref.visibility, ALL);
     std::printf(
         "%s: W=%.4f, disk 5-95 %% width %.4f; reference %.4f, pcss %.4f (texel %.4f); visibility RMSE %.4f\n",
         what, W, diskLevelWidth(W), refWidth, pcssWidth, texel, d.rmse);
@@ -65,7 +65,7 @@ void checkDiskPenumbra(const Scene& scene, double W, unsigned projection, const 
 TEST(ShadowMapLights, SphereLightCubeMapGivesTheDiskPenumbra) {
     // Sphere of diameter 1 at h_l = 4, occluder at h_o = 1: W = 1/3 m.
     Scene scene = parallelPlanes(1.0f);
-    scene.lights[0] = makeSphereLight(vec3(0.0f, kLightHeight, 0.0f), 0.5f, vec3(1.0f));
+    scene.lights[0] = makeSphereLight(vec3(0.0f, LIGHT_HEIGHT, 0.0f), 0.5f, vec3(1.0f));
     checkDiskPenumbra(scene, penumbraWidth(1.0f), SHADOW_MAP_CUBE, "sphere_light");
 }
 
@@ -82,14 +82,14 @@ TEST(ShadowMapLights, RectangleLightFacingAwayFromTheSceneShadowsAsTheReferenceD
     // front of it and falls back to a cube map, which still sees the occluder; visibility is
     // geometric in every method (the lighting is zero there anyway).
     Scene scene = parallelPlanes(1.0f);
-    scene.lights[0] = makeRectangleLight(vec3(0.0f, kLightHeight, 0.0f), vec3(0.0f, 1.0f, 0.0f),
-                                         vec2(kLightWidth), vec3(1.0f), vec3(1.0f, 0.0f, 0.0f));
-    EXPECT_EQ(fitShadowMap(scene.lights[0], scene.bounds(), kMapSize).projection, SHADOW_MAP_CUBE);
-    const Frame ref = renderCpu(scene, Method::Reference, kW, kH, {}, 256, 3u);
+    scene.lights[0] = makeRectangleLight(vec3(0.0f, LIGHT_HEIGHT, 0.0f), vec3(0.0f, 1.0f, 0.0f),
+                                         vec2(LIGHT_WIDTH), vec3(1.0f), vec3(1.0f, 0.0f, 0.0f));
+    EXPECT_EQ(fitShadowMap(scene.lights[0], scene.bounds(), MAP_SIZE).projection, SHADOW_MAP_CUBE);
+    const Frame ref = renderCpu(scene, Method::Reference, WIDTH, HEIGHT, {}, 256, 3u);
     for (const Method m : {Method::Pcss, Method::Pcf}) {
-        const Frame f = renderCpu(scene, m, kW, kH, paramsFor(m), 64, 3u);
+        const Frame f = renderCpu(scene, m, WIDTH, HEIGHT, paramsFor(m), 64, 3u);
         expectValidVisibility(f, "facing away");
-        const auto d = compareVisibility(f.visibility, ref.visibility, kAll);
+        const auto d = compareVisibility(f.visibility, ref.visibility, ALL);
         std::printf("facing away, %s: visibility RMSE %.4f against the reference\n",
                     methodInfo(m).name.c_str(), d.rmse);
         // The square light's linear ramp against PCSS's disk kernel: 0.042 RMS over the penumbra
@@ -112,7 +112,7 @@ TEST(ShadowMapLights, DirectionalLightFromBelowTheGroundLeavesTheGroundLitAndThe
     scene.camera.target = vec3(0.0f, 0.5f, 0.0f);
     scene.camera.up = vec3(0.0f, 1.0f, 0.0f);
     scene.camera.fovY = 60.0f;
-    EXPECT_EQ(fitShadowMap(scene.lights[0], scene.bounds(), kMapSize).projection, SHADOW_MAP_ORTHOGRAPHIC);
+    EXPECT_EQ(fitShadowMap(scene.lights[0], scene.bounds(), MAP_SIZE).projection, SHADOW_MAP_ORTHOGRAPHIC);
     constexpr int W = 96, H = 64;
     const Frame ref = renderCpu(scene, Method::Reference, W, H, {}, 64, 3u);
     for (const Method m : {Method::Pcss, Method::Pcf}) {
@@ -128,7 +128,7 @@ TEST(ShadowMapLights, DirectionalLightFromBelowTheGroundLeavesTheGroundLitAndThe
                 (onGround ? groundLit : occluderDark) +=
                     onGround ? f.visibility.at(x, y, 0) == 1.0f : f.visibility.at(x, y, 0) == 0.0f;
             }
-        const auto d = compareVisibility(f.visibility, ref.visibility, kAll);
+        const auto d = compareVisibility(f.visibility, ref.visibility, ALL);
         std::printf(
             "from below, %s: ground %zu/%zu lit, occluder %zu/%zu dark; RMSE %.4f against the reference\n",
             methodInfo(m).name.c_str(), groundLit, ground, occluderDark, occluder, d.rmse);
@@ -171,9 +171,9 @@ TEST(ShadowMapScenes, OnlyPerforatedTrianglesRenderLikeTheReference) {
     const ImageF ref = convergedReference(scene, W, H, 2, 128);
     // PCSS also on the map fitted to the view (sm_fit=1): the canopy alone, its texels 2.4 times
     // finer, must shadow the floor as well as the scene fit does.
-    MethodParams viewFit = kPcssParams;
+    MethodParams viewFit = PCSS_PARAMS;
     viewFit["sm_fit"] = 1.0;
-    for (const auto& [m, params] : {std::pair{Method::Pcss, kPcssParams}, std::pair{Method::Pcf, kPcfParams},
+    for (const auto& [m, params] : {std::pair{Method::Pcss, PCSS_PARAMS}, std::pair{Method::Pcf, PCF_PARAMS},
                                     std::pair{Method::Pcss, viewFit}}) {
         const Frame f = renderCpu(scene, m, W, H, params, 64, 3u);
         expectValidVisibility(f, "perforated only");

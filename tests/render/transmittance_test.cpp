@@ -27,14 +27,14 @@ using test::addBlend;
 using test::addVeil;
 using test::groundScene;
 
-constexpr int kW = 48, kH = 48;
+constexpr int WIDTH = 48, HEIGHT = 48;
 
 Frame render(const Scene& scene, Method method, BufferKind buffer = BufferKind::Transmittance) {
     RenderOptions o;
     o.method = method;
     o.backend = Backend::Cpu;
-    o.width = kW;
-    o.height = kH;
+    o.width = WIDTH;
+    o.height = HEIGHT;
     o.samples = 64;
     o.buffer = buffer;
     return makeCpuRenderer(scene, o)->render();
@@ -57,8 +57,8 @@ void expectUmbra(const Frame& f, float quadY, float h, float lightSize, float ex
     const LightSampleBuffer& b = f.lightSamples[0];
     ASSERT_EQ(b.kind(), BufferKind::Transmittance);
     int pixels = 0;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
+    for (int y = 0; y < HEIGHT; ++y)
+        for (int x = 0; x < WIDTH; ++x) {
             if (!inUmbra(f, x, y, quadY, h, lightSize)) continue;
             ++pixels;
             for (int k = 0; k < b.samples(); ++k)
@@ -109,7 +109,7 @@ TEST(Transmittance, OneHalfTransparentQuadLetsHalfThrough) {
         expectUmbra(f, 1.0f, 0.6f, 0.2f, 0.5f);
         // v_coef is the mean transmittance: 0.5 in the umbra (float16 rounding of exp(−depth)
         // is below 1e-6 here: the depth of α = 0.5 is ln 2 to 2^−17).
-        const int c = kW / 2;
+        const int c = WIDTH / 2;
         EXPECT_NEAR(f.visibility.at(c, c, 0), 0.5f, 1e-5f);
     }
     expectSameDepths(s, render(s, Method::Reference), render(s, Method::Stsv), true);
@@ -146,8 +146,8 @@ TEST(Transmittance, GradientTextureGivesEachTexelsValue) {
         const Frame f = render(s, m);
         const LightSampleBuffer& b = f.lightSamples[0];
         std::vector<int> seen(8, 0);
-        for (int y = 0; y < kH; ++y)
-            for (int x = 0; x < kW; ++x) {
+        for (int y = 0; y < HEIGHT; ++y)
+            for (int x = 0; x < WIDTH; ++x) {
                 const std::size_t i = f.gbuffer.index(x, y);
                 if (!f.gbuffer.covered(i)) continue;
                 const vec3 p = f.gbuffer.position[i];
@@ -220,14 +220,14 @@ TEST(Transmittance, OpaqueMeshesThroughTheWedgesTranslucentOnesThroughStsv) {
     ASSERT_EQ(dcs.lightSamples[0].kind(), BufferKind::Transmittance);
     expectSameDepths(s, reference, dcs, true);
     std::size_t opaque = 0;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x)
+    for (int y = 0; y < HEIGHT; ++y)
+        for (int x = 0; x < WIDTH; ++x)
             for (int k = 0; k < 64; ++k) opaque += reference.lightSamples[0].occluded(x, y, k) ? 1 : 0;
     EXPECT_GT(opaque, 1000u) << "the box shadows part of the frame";
     const Frame pw = render(s, Method::PwStsv);
     int checked = 0;
-    for (int y = 0; y < kH; ++y)
-        for (int x = 0; x < kW; ++x) {
+    for (int y = 0; y < HEIGHT; ++y)
+        for (int x = 0; x < WIDTH; ++x) {
             const std::size_t i = pw.gbuffer.index(x, y);
             const vec3 p = pw.gbuffer.position[i];
             if (!inUmbra(pw, x, y, 1.0f, 0.6f, 0.2f) || p.x > -0.1f) continue;
@@ -246,7 +246,7 @@ TEST(Transmittance, BinaryBuffersSeeTheStandInAndTheGBufferSeesThrough) {
         s.validate();
         const Frame f = render(s, Method::Stsv, BufferKind::Bitmask);
         const Frame r = render(s, Method::Reference, BufferKind::Bitmask);
-        const int c = kW / 2;
+        const int c = WIDTH / 2;
         EXPECT_EQ(f.lightSamples[0].occluded(c, c, 0), factor >= 0.5f);
         EXPECT_EQ(compareLightSamples(f.lightSamples[0], r.lightSamples[0]).differingSamples, 0u);
         for (std::size_t i = 0; i < f.gbuffer.triangle.size(); ++i)

@@ -6,7 +6,7 @@
 
 namespace {
 
-const char* kShader = R"(#version 450
+const char* const SHADER = R"(#version 450
 #extension GL_GOOGLE_include_directive : require
 #include "sampling/light_sampling_dh.h"
 layout(location = 0) out vec4 color;
@@ -33,7 +33,7 @@ void main() {
 )";
 
 TEST(LightSamplingGlsl, HeaderCompilesWithGlslang) {
-    EXPECT_EQ(stsv::test::glslCompileErrors("light_sampling.frag", kShader), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("light_sampling.frag", SHADER), "");
 }
 
 } // namespace

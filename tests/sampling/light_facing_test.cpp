@@ -55,15 +55,15 @@ Light makeDirectional(vec3 towardsLight, float angularRadius) {
     return l;
 }
 
-constexpr float kFar = 1000.0f;
+constexpr float FAR = 1000.0f;
 
 bool faces(const Light& light, vec3 p, vec3 n) {
-    return receiverFacesLight(light, lightFrame(light, p, kFar), p, n);
+    return receiverFacesLight(light, lightFrame(light, p, FAR), p, n);
 }
 
 /// Light reaching p through frame point (a, b) of its frame (sampleContribution, red channel).
 float contributionAt(const Light& light, vec3 p, vec3 n, vec2 ab) {
-    const LightFrame f = lightFrame(light, p, kFar);
+    const LightFrame f = lightFrame(light, p, FAR);
     return sampleContribution(light, f, p, n, lightSamplePosition(f, ab)).x;
 }
 
@@ -88,31 +88,31 @@ std::vector<vec2> densePoints(uint domain) {
 
 /// Some frame point lights the receiver (sampleContribution > 0).
 bool someSampleLights(const Light& light, vec3 p, vec3 n) {
-    for (const vec2 ab : densePoints(lightFrame(light, p, kFar).domain))
+    for (const vec2 ab : densePoints(lightFrame(light, p, FAR).domain))
         if (contributionAt(light, p, n, ab) > 0.0f) return true;
     return false;
 }
 
 // The rectangle faces down (normal −y) at height 1: its corners (±0.5, 1, ±0.5).
-const Light kRect = makeRect(vec3(0, 1, 0), vec3(0.5f, 0, 0), vec3(0, 0, 0.5f));
+const Light RECT = makeRect(vec3(0, 1, 0), vec3(0.5f, 0, 0), vec3(0, 0, 0.5f));
 
 TEST(LightFacing, RectangleHasTheNormalItEmitsAlong) {
-    ASSERT_EQ(kRect.normal, vec3(0, -1, 0)); // the cases below rely on it
+    ASSERT_EQ(RECT.normal, vec3(0, -1, 0)); // the cases below rely on it
 }
 
 TEST(LightFacing, ReceiverBehindOrEdgeOnToARectanglesPlaneDoesNotFaceIt) {
     // Under the light, turned up to it: faces.
-    EXPECT_TRUE(faces(kRect, vec3(0, 0, 0), vec3(0, 1, 0)));
+    EXPECT_TRUE(faces(RECT, vec3(0, 0, 0), vec3(0, 1, 0)));
     // Above it (behind its emitting side), turned down to it: the light emits downwards only.
-    EXPECT_FALSE(faces(kRect, vec3(0, 2, 0), vec3(0, -1, 0)));
-    EXPECT_EQ(contributionAt(kRect, vec3(0, 2, 0), vec3(0, -1, 0), vec2(0.0f)), 0.0f);
+    EXPECT_FALSE(faces(RECT, vec3(0, 2, 0), vec3(0, -1, 0)));
+    EXPECT_EQ(contributionAt(RECT, vec3(0, 2, 0), vec3(0, -1, 0), vec2(0.0f)), 0.0f);
     // In the light's plane beside it, turned towards it (edge-on): cosθl = 0 for every point.
-    EXPECT_FALSE(faces(kRect, vec3(3, 1, 0), vec3(-1, 0, 0)));
-    EXPECT_FALSE(faces(kRect, vec3(3, 1, 0), normalize(vec3(-1, -1, 0))));
+    EXPECT_FALSE(faces(RECT, vec3(3, 1, 0), vec3(-1, 0, 0)));
+    EXPECT_FALSE(faces(RECT, vec3(3, 1, 0), normalize(vec3(-1, -1, 0))));
     // A little below the plane, turned towards it: the whole light is in front.
-    EXPECT_TRUE(faces(kRect, vec3(3, 0.999f, 0), vec3(-1, 0, 0)));
+    EXPECT_TRUE(faces(RECT, vec3(3, 0.999f, 0), vec3(-1, 0, 0)));
     // Under the light, turned away from it.
-    EXPECT_FALSE(faces(kRect, vec3(0, 0, 0), vec3(0, -1, 0)));
+    EXPECT_FALSE(faces(RECT, vec3(0, 0, 0), vec3(0, -1, 0)));
 }
 
 TEST(LightFacing, RectangleCountsWhereOnlyACornerIsInFront) {
@@ -120,13 +120,13 @@ TEST(LightFacing, RectangleCountsWhereOnlyACornerIsInFront) {
     // (0.5, 1, 0.5), and < 0 for the other corners (−0.9, −0.9, −1.9 before scaling) and the centre.
     const vec3 p(0.0f);
     const vec3 tilted = normalize(vec3(1.0f, -0.9f, 1.0f));
-    EXPECT_TRUE(faces(kRect, p, tilted));
-    EXPECT_GT(contributionAt(kRect, p, tilted, vec2(1, 1)), 0.0f);
+    EXPECT_TRUE(faces(RECT, p, tilted));
+    EXPECT_GT(contributionAt(RECT, p, tilted, vec2(1, 1)), 0.0f);
     for (const vec2 ab : {vec2(-1, 1), vec2(1, -1), vec2(-1, -1), vec2(0, 0)})
-        EXPECT_EQ(contributionAt(kRect, p, tilted, ab), 0.0f) << ab;
+        EXPECT_EQ(contributionAt(RECT, p, tilted, ab), 0.0f) << ab;
     // n = (1, −1, 1)/√3: that corner lies in the receiver's plane (n·s = 0 exactly: the terms are
     // ±1/√3 and 1/√3 · 0.5 twice, all exact in float), so no point is strictly in front.
-    EXPECT_FALSE(faces(kRect, p, normalize(vec3(1.0f, -1.0f, 1.0f))));
+    EXPECT_FALSE(faces(RECT, p, normalize(vec3(1.0f, -1.0f, 1.0f))));
 }
 
 TEST(LightFacing, DiskCountsItsRimNotTheSquareAroundIt) {
@@ -209,7 +209,7 @@ TEST(LightFacing, AgreesWithSomeSampleLightingTheReceiver) {
             vec3 n(u(rng), u(rng), u(rng));
             if (length(n) < 0.1f) continue;
             n = normalize(n);
-            const LightFrame f = lightFrame(light, p, kFar);
+            const LightFrame f = lightFrame(light, p, FAR);
             const float scale = length(f.center - p) + length(f.T) + length(f.B);
             const float nt = dot(n, f.T), nb = dot(n, f.B);
             const float reach =
@@ -249,7 +249,7 @@ TEST(LightFacingPixels, APixelFacesWhereOneOfItsPointsFacesSomeLight) {
     setPoint(g, 2, 2, vec3(0.0f), down); // pixel (1, 1): one away, one facing
     setPoint(g, 3, 3, vec3(0.0f), up);
     // pixel (1, 0): background only
-    const std::vector<PixelFacing> pixels = lightFacingPixels(g, {kRect}, kFar, 2, 2);
+    const std::vector<PixelFacing> pixels = lightFacingPixels(g, {RECT}, FAR, 2, 2);
     EXPECT_EQ(pixels, (std::vector<PixelFacing>{PixelFacing::Facing, PixelFacing::Background,
                                                 PixelFacing::Away, PixelFacing::Facing}));
     // Without supersampling: one point per pixel; a point facing only the second light faces.
@@ -257,17 +257,17 @@ TEST(LightFacingPixels, APixelFacesWhereOneOfItsPointsFacesSomeLight) {
     setPoint(one, 0, 0, vec3(0.0f), down);
     setPoint(one, 1, 0, vec3(0.0f), up);
     const Light below = makeDisk(vec3(0, -1, 0), vec3(0, 1, 0), 0.5f); // emits upwards, under the origin
-    EXPECT_EQ(lightFacingPixels(one, {kRect}, kFar, 3, 1),
+    EXPECT_EQ(lightFacingPixels(one, {RECT}, FAR, 3, 1),
               (std::vector<PixelFacing>{PixelFacing::Away, PixelFacing::Facing, PixelFacing::Background}));
-    EXPECT_EQ(lightFacingPixels(one, {kRect, below}, kFar, 3, 1),
+    EXPECT_EQ(lightFacingPixels(one, {RECT, below}, FAR, 3, 1),
               (std::vector<PixelFacing>{PixelFacing::Facing, PixelFacing::Facing, PixelFacing::Background}));
     // No light: nothing faces.
-    EXPECT_EQ(lightFacingPixels(one, {}, kFar, 3, 1),
+    EXPECT_EQ(lightFacingPixels(one, {}, FAR, 3, 1),
               (std::vector<PixelFacing>{PixelFacing::Away, PixelFacing::Away, PixelFacing::Background}));
     // A G-buffer that is not the image's point grid.
-    EXPECT_THROW(lightFacingPixels(g, {kRect}, kFar, 3, 2), Error);
-    EXPECT_THROW(lightFacingPixels(one, {kRect}, kFar, 2, 1), Error);
-    EXPECT_THROW(lightFacingPixels(one, {kRect}, kFar, 0, 1), Error);
+    EXPECT_THROW(lightFacingPixels(g, {RECT}, FAR, 3, 2), Error);
+    EXPECT_THROW(lightFacingPixels(one, {RECT}, FAR, 2, 1), Error);
+    EXPECT_THROW(lightFacingPixels(one, {RECT}, FAR, 0, 1), Error);
 }
 
 } // namespace

@@ -14,9 +14,9 @@
 namespace stsv {
 namespace {
 
-const int kCounts[] = {16, 32, 64, 128, 256};
-const PatternKind kKinds[] = {PatternKind::Uniform, PatternKind::Stratified, PatternKind::Poisson,
-                              PatternKind::LowDiscrepancy};
+const int COUNTS[] = {16, 32, 64, 128, 256};
+const PatternKind KINDS[] = {PatternKind::Uniform, PatternKind::Stratified, PatternKind::Poisson,
+                             PatternKind::LowDiscrepancy};
 
 std::uint32_t toFixed(float u) {
     return std::uint32_t(double(u) * 16777216.0);
@@ -74,8 +74,8 @@ Light makeDirectional(vec3 towardsLight, float angularRadius, float irradiance) 
 }
 
 TEST(Decorrelation, IsAnExactToroidalShiftPerPixel) {
-    for (PatternKind kind : kKinds)
-        for (int n : kCounts) {
+    for (PatternKind kind : KINDS)
+        for (int n : COUNTS) {
             const auto points = makePattern(kind, n, 3u);
             for (uvec2 pixel : {uvec2(0, 0), uvec2(1, 0), uvec2(0, 1), uvec2(511, 300), uvec2(4095, 4095)}) {
                 const uvec2 offset = decorrelationOffset(pixel, 3u);
@@ -101,7 +101,7 @@ TEST(Decorrelation, IsAnExactToroidalShiftPerPixel) {
 }
 
 TEST(Decorrelation, KeepsOnePointPerShiftedStratumAndPerShiftedElementaryInterval) {
-    for (int n : kCounts) {
+    for (int n : COUNTS) {
         const ivec2 grid = patternGrid(n);
         const auto strat = makePattern(PatternKind::Stratified, n, 11u);
         const auto lowdisc = makePattern(PatternKind::LowDiscrepancy, n, 11u);

@@ -12,9 +12,9 @@
 namespace stsv {
 namespace {
 
-const int kCounts[] = {16, 32, 64, 128, 256};
-const PatternKind kKinds[] = {PatternKind::Uniform, PatternKind::Stratified, PatternKind::Poisson,
-                              PatternKind::LowDiscrepancy};
+const int COUNTS[] = {16, 32, 64, 128, 256};
+const PatternKind KINDS[] = {PatternKind::Uniform, PatternKind::Stratified, PatternKind::Poisson,
+                             PatternKind::LowDiscrepancy};
 
 int log2i(int n) {
     int m = 0;
@@ -66,7 +66,7 @@ double minDistance(const vec2* points, int n) {
 }
 
 TEST(Pattern, ParsesNamesAndRejectsOthers) {
-    for (PatternKind kind : kKinds) EXPECT_EQ(parsePatternKind(toString(kind)), kind);
+    for (PatternKind kind : KINDS) EXPECT_EQ(parsePatternKind(toString(kind)), kind);
     EXPECT_EQ(parsePatternKind("lowdisc"), PatternKind::LowDiscrepancy);
     EXPECT_EQ(parsePatternKind("poisson"), PatternKind::Poisson);
     EXPECT_THROW(parsePatternKind("halton"), UsageError);
@@ -76,15 +76,15 @@ TEST(Pattern, ParsesNamesAndRejectsOthers) {
 
 TEST(Pattern, RejectsUnsupportedCounts) {
     for (int n : {0, -16, 1, 8, 15, 48, 100, 512})
-        for (PatternKind kind : kKinds) EXPECT_THROW(makePattern(kind, n, 1u), UsageError) << "n=" << n;
+        for (PatternKind kind : KINDS) EXPECT_THROW(makePattern(kind, n, 1u), UsageError) << "n=" << n;
     EXPECT_THROW(poissonMinDistance(24), UsageError);
     EXPECT_THROW(makeSamplePlan(PatternKind::Stratified, 64, 1u, 0), UsageError);
     EXPECT_THROW(makeSamplePlan(PatternKind::Stratified, 64, 1u, 17), UsageError);
 }
 
 TEST(Pattern, DeterministicPerSeedAndInUnitSquareOnTheFixedPointGrid) {
-    for (PatternKind kind : kKinds)
-        for (int n : kCounts) {
+    for (PatternKind kind : KINDS)
+        for (int n : COUNTS) {
             const auto a = makePattern(kind, n, 12345u);
             const auto b = makePattern(kind, n, 12345u);
             const auto c = makePattern(kind, n, 12346u);
@@ -123,7 +123,7 @@ TEST(Pattern, UniformIsTheGridOfCellCentres) {
 }
 
 TEST(Pattern, StratifiedHasExactlyOnePointPerStratum) {
-    for (int n : kCounts) {
+    for (int n : COUNTS) {
         const ivec2 grid = patternGrid(n);
         for (std::uint32_t seed = 0; seed < 8; ++seed) {
             const auto points = makePattern(PatternKind::Stratified, n, seed);
@@ -152,7 +152,7 @@ TEST(Pattern, PoissonDistancesArePapersAndHoldForEverySeed) {
         EXPECT_GE(phi(n), phi(64) - 1e-6) << "n=" << n;
         EXPECT_LE(phi(n), phi(16) + 1e-6) << "n=" << n;
     }
-    for (int n : kCounts)
+    for (int n : COUNTS)
         for (std::uint32_t seed : {0u, 1u, 2u, 3u, 42u, 0xdeadbeefu}) {
             const auto points = makePattern(PatternKind::Poisson, n, seed);
             ASSERT_EQ(int(points.size()), n);
@@ -162,7 +162,7 @@ TEST(Pattern, PoissonDistancesArePapersAndHoldForEverySeed) {
 }
 
 TEST(Pattern, LowDiscrepancyIsAZeroTwoNetForEverySeed) {
-    for (int n : kCounts)
+    for (int n : COUNTS)
         for (std::uint32_t seed : {0u, 1u, 2u, 3u, 99u, 0xffffffffu}) {
             const auto points = makePattern(PatternKind::LowDiscrepancy, n, seed);
             EXPECT_EQ(netViolation(points.data(), n), "") << "n=" << n << " seed=" << seed;
@@ -173,7 +173,7 @@ TEST(Pattern, LowDiscrepancyIsAZeroTwoNetForEverySeed) {
 }
 
 TEST(Pattern, InterleavedSetsDifferAndMapToPixels) {
-    for (PatternKind kind : kKinds)
+    for (PatternKind kind : KINDS)
         for (int k : {2, 3, 4}) {
             const SamplePlan plan = makeSamplePlan(kind, 32, 77u, k);
             ASSERT_EQ(plan.setCount(), k * k);
@@ -193,7 +193,7 @@ TEST(Pattern, InterleavedSetsDifferAndMapToPixels) {
         }
     EXPECT_EQ(makeSamplePlan(PatternKind::Stratified, 64, 3u, 4).setIndex(5, 2), 9);
     // K = 1 is the plain pattern.
-    for (PatternKind kind : kKinds)
+    for (PatternKind kind : KINDS)
         EXPECT_TRUE(sameBits(makeSamplePlan(kind, 64, 9u).points, makePattern(kind, 64, 9u)))
             << toString(kind);
 }

@@ -785,7 +785,7 @@ TEST(Gltf, GlbContainersAreRefusedBySayingWhatIsWrong) {
         SCOPED_TRACE(name);
         std::vector<std::string> all = parts;
         all.push_back(name);
-        expectError<InputError>([&] { loadGltf(dir.write(name, bytes)); }, all);
+        expectError<InputError>([&, &glb = bytes] { loadGltf(dir.write(name, glb)); }, all);
     }
     // A buffer longer than the BIN chunk, and a second buffer without a uri.
     const auto withBuffers = [&](const std::string& name, const Json& buffers) {
@@ -952,7 +952,7 @@ TEST(Gltf, DeeplyNestedJsonIsRefusedBeforeTinygltfRecursesIntoIt) {
 /// Khronos's glTF sample and generator models as Debian's assimp-testmodels ships them (one of
 /// the test packages `make test` installs); a failure names the package when it is missing.
 std::string khronosModel(const std::string& name) {
-    const std::string path = "/usr/share/assimp/models/" + name;
+    std::string path = "/usr/share/assimp/models/" + name;
     if (!std::filesystem::exists(path))
         ADD_FAILURE() << path << " is missing: it comes with Debian's assimp-testmodels package "
                       << "(`make test-deps` installs it, or apt-get install assimp-testmodels)";

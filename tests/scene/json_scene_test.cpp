@@ -308,12 +308,13 @@ TEST(JsonScene, TexcoordsOfTexturedMeshesMustNameTexels) {
             R"(, "meshes": [{"quad": {"size": [1, 1], "uvRepeat": [1, 262143.984375]}, "material": "chain"}], )" LIGHT
             "}")));
     // Inline texcoords: the vertex's own place.
-    const std::string inline_ = dir.write(
+    const std::string inlineCoordinates = dir.write(
         "inline.json",
         std::string("{") + chain +
             R"(, "meshes": [{"vertices": [[0,0,0],[1,0,0],[0,1,0]], "texcoords": [[0,0],[0,-3e20],[1,1]],)"
             R"( "triangles": [[0,1,2]], "material": "chain"}], )" LIGHT "}");
-    expectError<InputError>([&] { loadScene(inline_); }, {"meshes[0].texcoords[1]: v = -3e+20", "2^24"});
+    expectError<InputError>([&] { loadScene(inlineCoordinates); },
+                            {"meshes[0].texcoords[1]: v = -3e+20", "2^24"});
     // An untextured mesh's texture coordinates are never read.
     EXPECT_NO_THROW(loadScene(dir.write(
         "plain.json",

@@ -45,13 +45,13 @@ Image8 makeImage(int w, int h, const std::function<void(int, int, std::uint8_t*)
     return image;
 }
 
-const char* kQuadObj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
-                       "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
-                       "f 1/1 2/2 3/3 4/4\n";
+const char* const QUAD_OBJ = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\n"
+                             "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                             "f 1/1 2/2 3/3 4/4\n";
 
 TEST(Obj, QuadTexcoordsAreFlippedToRowZeroAtTop) {
     TempDir dir;
-    const MeshData mesh = loadObj(dir.write("quad.obj", kQuadObj));
+    const MeshData mesh = loadObj(dir.write("quad.obj", QUAD_OBJ));
     ASSERT_EQ(mesh.triangles.size(), 2u);
     // OBJ (u, v) → stsv (u, 1 − v): the OBJ's bottom-left vt (0, 0) is texture row H−1.
     const std::pair<vec3, vec2> expected[] = {
@@ -109,7 +109,7 @@ TEST(Obj, MapDUsesLuminanceOfAnOpaqueImageAndHonoursClamp) {
                  t[3] = 255;
              }));
     dir.write("a.mtl", "newmtl leaf\nKd 0.2 0.6 0.1\nmap_d -clamp on ramp.png\n");
-    const MeshData mesh = loadObj(dir.write("a.obj", std::string("mtllib a.mtl\nusemtl leaf\n") + kQuadObj));
+    const MeshData mesh = loadObj(dir.write("a.obj", std::string("mtllib a.mtl\nusemtl leaf\n") + QUAD_OBJ));
     ASSERT_EQ(mesh.materials.size(), 1u);
     const Material& m = mesh.materials[0];
     ASSERT_TRUE(m.perforated());
@@ -128,7 +128,7 @@ TEST(Obj, MapDUsesTheAlphaChannelWhenPresent) {
                  t[3] = std::uint8_t((x + 2 * y) * 80);
              }));
     dir.write("a.mtl", "newmtl grate\nmap_d mask.png\n");
-    const MeshData mesh = loadObj(dir.write("a.obj", std::string("mtllib a.mtl\nusemtl grate\n") + kQuadObj));
+    const MeshData mesh = loadObj(dir.write("a.obj", std::string("mtllib a.mtl\nusemtl grate\n") + QUAD_OBJ));
     const Material& m = mesh.materials[0];
     ASSERT_TRUE(m.perforated());
     EXPECT_EQ(m.wrap, WrapMode::Repeat);
@@ -248,7 +248,7 @@ TEST(Obj, UndefinedMaterialNamesObjLine) {
 TEST(Obj, MissingTextureNamesMtlLine) {
     TempDir dir;
     const std::string mtl = dir.write("a.mtl", "newmtl m\nKd 1 1 1\nmap_d holes.png\n");
-    const std::string obj = dir.write("a.obj", std::string("mtllib a.mtl\nusemtl m\n") + kQuadObj);
+    const std::string obj = dir.write("a.obj", std::string("mtllib a.mtl\nusemtl m\n") + QUAD_OBJ);
     expectError<InputError>([&] { loadObj(obj); }, {mtl + ":3:", "holes.png", "does not exist"});
 }
 
@@ -256,14 +256,14 @@ TEST(Obj, UnreadableTextureNamesMtlLine) {
     TempDir dir;
     dir.write("fake.png", "this is not a PNG");
     const std::string mtl = dir.write("a.mtl", "newmtl m\nmap_Kd fake.png\n");
-    const std::string obj = dir.write("a.obj", std::string("mtllib a.mtl\nusemtl m\n") + kQuadObj);
+    const std::string obj = dir.write("a.obj", std::string("mtllib a.mtl\nusemtl m\n") + QUAD_OBJ);
     expectError<InputError>([&] { loadObj(obj); }, {mtl + ":2:", "fake.png"});
 }
 
 TEST(Obj, MalformedKdNamesMtlLine) {
     TempDir dir;
     const std::string mtl = dir.write("a.mtl", "newmtl m\nKd 1 nan 1\n");
-    const std::string obj = dir.write("a.obj", std::string("mtllib a.mtl\nusemtl m\n") + kQuadObj);
+    const std::string obj = dir.write("a.obj", std::string("mtllib a.mtl\nusemtl m\n") + QUAD_OBJ);
     expectError<InputError>([&] { loadObj(obj); }, {mtl + ":2:", "non-finite"});
 }
 

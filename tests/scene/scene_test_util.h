@@ -28,7 +28,7 @@ class TempDir {
         std::filesystem::remove_all(m_path, ec);
     }
     std::string write(const std::string& name, const std::string& text) const {
-        const std::string p = path(name);
+        std::string p = path(name);
         std::ofstream(p, std::ios::binary) << text;
         return p;
     }

@@ -96,7 +96,7 @@ TEST(Avsm, FunctionsNeverIncreaseWithDepthAndStartAtOne) {
     }
 }
 
-const char* kCompute = R"(#version 450
+const char* const COMPUTE_SHADER = R"(#version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shadowmaps/shadow_map_dh.h"
 #include "shadowmaps/avsm_dh.h"
@@ -132,7 +132,7 @@ void main() {
 )";
 
 TEST(Avsm, HeadersCompileInAComputeShader) {
-    EXPECT_EQ(test::glslCompileErrors("avsm.comp", kCompute), "");
+    EXPECT_EQ(test::glslCompileErrors("avsm.comp", COMPUTE_SHADER), "");
 }
 
 } // namespace

@@ -27,25 +27,25 @@ struct Averages {
     std::vector<float> csmCos, csmSin;
 };
 
-constexpr float kEsmC = 80.0f, kPos = 40.0f, kNeg = 5.0f;
-constexpr int kTerms = 16;
+constexpr float ESM_C = 80.0f, POS = 40.0f, NEG = 5.0f;
+constexpr int TERMS = 16;
 
 /// The methods' filtered values of a depth set, averaged in double precision.
 Averages average(const std::vector<float>& z) {
     Averages a;
     const double n = double(z.size());
     double top = -1e300;
-    for (float d : z) top = std::max(top, double(kEsmC) * d);
+    for (float d : z) top = std::max(top, double(ESM_C) * d);
     double esm = 0.0;
-    std::vector<double> c(kTerms, 0.0), s(kTerms, 0.0);
+    std::vector<double> c(TERMS, 0.0), s(TERMS, 0.0);
     dvec2 vsm(0.0);
     dvec4 evsm(0.0), msm(0.0);
     for (float d : z) {
         vsm += dvec2(vsmMoments(d)) / n;
-        evsm += dvec4(evsmMoments(d, kPos, kNeg)) / n;
+        evsm += dvec4(evsmMoments(d, POS, NEG)) / n;
         msm += dvec4(msmMoments(d)) / n;
-        esm += std::exp(double(kEsmC) * d - top) / n;
-        for (int k = 1; k <= kTerms; ++k) {
+        esm += std::exp(double(ESM_C) * d - top) / n;
+        for (int k = 1; k <= TERMS; ++k) {
             c[std::size_t(k - 1)] += std::cos(double(csmFrequency(k)) * d) / n;
             s[std::size_t(k - 1)] += std::sin(double(csmFrequency(k)) * d) / n;
         }
@@ -54,7 +54,7 @@ Averages average(const std::vector<float>& z) {
     a.evsm = vec4(evsm);
     a.msm = vec4(msm);
     a.esmLog = float(top + std::log(esm));
-    for (int k = 0; k < kTerms; ++k) {
+    for (int k = 0; k < TERMS; ++k) {
         a.csmCos.push_back(float(c[std::size_t(k)]));
         a.csmSin.push_back(float(s[std::size_t(k)]));
     }
@@ -63,8 +63,8 @@ Averages average(const std::vector<float>& z) {
 
 float csm(const Averages& a, float t, bool damp = true) {
     float series = 0.5f;
-    for (int k = 1; k <= kTerms; ++k)
-        series += csmTerm(a.csmCos[std::size_t(k - 1)], a.csmSin[std::size_t(k - 1)], t, k, kTerms, damp);
+    for (int k = 1; k <= TERMS; ++k)
+        series += csmTerm(a.csmCos[std::size_t(k - 1)], a.csmSin[std::size_t(k - 1)], t, k, TERMS, damp);
     return csmVisibility(series);
 }
 
@@ -96,7 +96,7 @@ TEST(FilteredShadows, ChebyshevBoundsNeverFallBelowTheExactLitFraction) {
         const float exact = litFraction(z, t);
         // Float evaluation of a bound of a double average: a few ulps of the values.
         EXPECT_GE(vsmVisibility(avg.vsm, t, 0.0f, 0.0f), exact - 1e-5f) << "trial " << trial;
-        EXPECT_GE(evsmVisibility(avg.evsm, t, kPos, kNeg, 0.0f, 0.0f), exact - 1e-5f) << "trial " << trial;
+        EXPECT_GE(evsmVisibility(avg.evsm, t, POS, NEG, 0.0f, 0.0f), exact - 1e-5f) << "trial " << trial;
         const float msm = msmVisibility(avg.msm, t, msmBias);
         const float hausdorff = msmHausdorffVisibility(avg.msm, t, msmBias);
         worstMsm = std::max(worstMsm, exact - msm);
@@ -131,14 +131,14 @@ TEST(FilteredShadows, EveryMethodIsLitWhereTheReceiverIsNearerThanEveryDepth) {
         const Averages avg = average(z);
         const float t = nearest * u(rng);
         EXPECT_EQ(vsmVisibility(avg.vsm, t, 1e-6f, 0.3f), 1.0f);
-        EXPECT_EQ(evsmVisibility(avg.evsm, t, kPos, kNeg, 1e-6f, 0.3f), 1.0f);
-        EXPECT_EQ(esmVisibility(avg.esmLog, kEsmC, t), 1.0f);
+        EXPECT_EQ(evsmVisibility(avg.evsm, t, POS, NEG, 1e-6f, 0.3f), 1.0f);
+        EXPECT_EQ(esmVisibility(avg.esmLog, ESM_C, t), 1.0f);
         // MSM's bias moves α of the mass to depths 0 and 1: a lower bound on the shadow of α/2.
         EXPECT_GE(msmVisibility(avg.msm, t, 3e-5f), 1.0f - 3e-5f);
         EXPECT_GE(msmHausdorffVisibility(avg.msm, t, 3e-5f), 1.0f - 3e-5f);
         // CSM: the truncated square wave is above ½ on (0, 1), so 2·rec ≥ 1, but round-off near
         // x = 0: receivers at least 1/(2M) in front.
-        if (nearest - t > 0.5f / float(kTerms)) {
+        if (nearest - t > 0.5f / float(TERMS)) {
             EXPECT_EQ(csm(avg, t), 1.0f) << nearest << " " << t;
         }
     }
@@ -174,11 +174,11 @@ TEST(FilteredShadows, AClearedMapFiltersToLit) {
     const Averages avg = average(std::vector<float>(16, 1.0f));
     for (float t = 0.0f; t <= 1.0f; t += 0.0625f) {
         EXPECT_EQ(vsmVisibility(avg.vsm, t, 1e-6f, 0.0f), 1.0f) << t;
-        EXPECT_EQ(evsmVisibility(avg.evsm, t, kPos, kNeg, 1e-6f, 0.0f), 1.0f) << t;
-        EXPECT_EQ(esmVisibility(avg.esmLog, kEsmC, t), 1.0f) << t;
+        EXPECT_EQ(evsmVisibility(avg.evsm, t, POS, NEG, 1e-6f, 0.0f), 1.0f) << t;
+        EXPECT_EQ(esmVisibility(avg.esmLog, ESM_C, t), 1.0f) << t;
         // CSM's square wave has period 2: at z − t = 1 (a receiver on the near plane) it jumps,
         // and the series gives ½ there; from 1/(2M) on it is above ½.
-        if (t >= 0.5f / float(kTerms)) {
+        if (t >= 0.5f / float(TERMS)) {
             EXPECT_EQ(csm(avg, t), 1.0f) << t;
         }
         EXPECT_GE(msmVisibility(avg.msm, t, 3e-5f), 1.0f - 3e-5f) << t;
@@ -211,10 +211,10 @@ TEST(FilteredShadows, LightBleedingOfTwoOccludersGoesTheWayTheLectureSays) {
     const float vsm = vsmVisibility(avg.vsm, t, 1e-6f, 0.0f);
     const float reduced = vsmVisibility(avg.vsm, t, 1e-6f, 0.4f);
     const float msm = msmVisibility(avg.msm, t, 3e-5f);
-    const float evsm = evsmVisibility(avg.evsm, t, kPos, kNeg, 1e-6f, 0.0f);
+    const float evsm = evsmVisibility(avg.evsm, t, POS, NEG, 1e-6f, 0.0f);
     const Averages single = average(std::vector<float>(25, 0.5f));
-    const float esmContact = esmVisibility(single.esmLog, kEsmC, 0.51f);
-    const float esmFar = esmVisibility(single.esmLog, kEsmC, 0.8f);
+    const float esmContact = esmVisibility(single.esmLog, ESM_C, 0.51f);
+    const float esmFar = esmVisibility(single.esmLog, ESM_C, 0.8f);
     std::printf("light bleeding (truth 0): vsm %.4f, vsm with reduction 0.4 %.4f, evsm %.4f, msm %.4f; "
                 "esm 0.01 behind an occluder %.4f, 0.3 behind %.6f\n",
                 double(vsm), double(reduced), double(evsm), double(msm), double(esmContact), double(esmFar));
@@ -230,10 +230,10 @@ TEST(FilteredShadows, LightBleedingOfTwoOccludersGoesTheWayTheLectureSays) {
 
 using MomentReconstruction = float (*)(vec4, float, float);
 
-constexpr float kMsmAlphas[] = {6e-7f, 3e-6f, 1e-5f, 3e-5f, 1e-4f, 3e-4f};
+constexpr float MSM_ALPHAS[] = {6e-7f, 3e-6f, 1e-5f, 3e-5f, 1e-4f, 3e-4f};
 
 /// Self-shadowing and light leaking of one reconstruction of the four moments per moment bias α
-/// (kMsmAlphas) and offset (1e-4, 1e-3). The moment bias α smooths the reconstruction over a depth
+/// (MSM_ALPHAS) and offset (1e-4, 1e-3). The moment bias α smooths the reconstruction over a depth
 /// scale of about √α, which works both ways. Acne: a receiver's own surface (a 5 × 5 kernel on a
 /// slope) stored a little in front of where the receiver looks it up (t = z₀ + e, as rasterisation
 /// and interpolation leave it): the truth is lit, a sharp bound darkens it. Leaking: a receiver at
@@ -260,14 +260,14 @@ BiasTrade msmBiasTrade(MomentReconstruction visibility, const char* name) {
             const Averages occluder = average(std::vector<float>(25, 0.9f * z0));
             for (int k = 0; k < 2; ++k) {
                 r.acne[ai][k] +=
-                    (1.0f - visibility(own.msm, z0 + offsets[k], kMsmAlphas[ai])) / float(trials);
+                    (1.0f - visibility(own.msm, z0 + offsets[k], MSM_ALPHAS[ai])) / float(trials);
                 r.leak[ai][k] +=
-                    visibility(occluder.msm, 0.9f * z0 + offsets[k], kMsmAlphas[ai]) / float(trials);
+                    visibility(occluder.msm, 0.9f * z0 + offsets[k], MSM_ALPHAS[ai]) / float(trials);
             }
         }
         std::printf("%s msm_bias %-6g: self-shadowing at e = 1e-4 %.4f, 1e-3 %.4f; leaking at d = 1e-4 %.4f, "
                     "1e-3 %.4f\n",
-                    name, double(kMsmAlphas[ai]), double(r.acne[ai][0]), double(r.acne[ai][1]),
+                    name, double(MSM_ALPHAS[ai]), double(r.acne[ai][0]), double(r.acne[ai][1]),
                     double(r.leak[ai][0]), double(r.leak[ai][1]));
     }
     return r;
@@ -277,8 +277,8 @@ TEST(FilteredShadows, MsmBiasTradesLightLeakingForSelfShadowing) {
     const BiasTrade r = msmBiasTrade(msmVisibility, "msm");
     for (int ai = 1; ai < 6; ++ai) {
         for (int k = 0; k < 2; ++k) {
-            EXPECT_LT(r.acne[ai][k], r.acne[ai - 1][k]) << "alpha " << kMsmAlphas[ai];
-            EXPECT_GT(r.leak[ai][k], r.leak[ai - 1][k]) << "alpha " << kMsmAlphas[ai];
+            EXPECT_LT(r.acne[ai][k], r.acne[ai - 1][k]) << "alpha " << MSM_ALPHAS[ai];
+            EXPECT_GT(r.leak[ai][k], r.leak[ai - 1][k]) << "alpha " << MSM_ALPHAS[ai];
         }
     }
     // At the ends of the published range the trade is large: 50× the bias, several times the
@@ -296,13 +296,13 @@ TEST(FilteredShadows, MsmHausdorffLeaksLessThanHamburgerAndSelfShadowsMore) {
     const BiasTrade hausdorff = msmBiasTrade(msmHausdorffVisibility, "msm-hausdorff");
     for (int ai = 0; ai < 6; ++ai) {
         for (int k = 0; k < 2; ++k) {
-            EXPECT_LE(hausdorff.leak[ai][k], hamburger.leak[ai][k]) << "alpha " << kMsmAlphas[ai];
-            EXPECT_GE(hausdorff.acne[ai][k], hamburger.acne[ai][k]) << "alpha " << kMsmAlphas[ai];
+            EXPECT_LE(hausdorff.leak[ai][k], hamburger.leak[ai][k]) << "alpha " << MSM_ALPHAS[ai];
+            EXPECT_GE(hausdorff.acne[ai][k], hamburger.acne[ai][k]) << "alpha " << MSM_ALPHAS[ai];
         }
         // One normalised millidepth behind an occluder, from the 16-bit end of the published
         // range on (measured 0.49 to 0.59 of Hamburger's leak).
-        if (kMsmAlphas[ai] >= 1e-5f) {
-            EXPECT_LT(hausdorff.leak[ai][1], 0.7f * hamburger.leak[ai][1]) << "alpha " << kMsmAlphas[ai];
+        if (MSM_ALPHAS[ai] >= 1e-5f) {
+            EXPECT_LT(hausdorff.leak[ai][1], 0.7f * hamburger.leak[ai][1]) << "alpha " << MSM_ALPHAS[ai];
         }
     }
 }
@@ -317,16 +317,16 @@ TEST(FilteredShadows, CsmDampingReducesTheRingingOfTheTruncatedSeries) {
         // Receivers behind the occluder by more than 1/(2M): the truth is 0 (shadow) there; before
         // the offset clamp, the series should be 0.
         float raw = 0.5f, damped = 0.5f;
-        for (int k = 1; k <= kTerms; ++k) {
+        for (int k = 1; k <= TERMS; ++k) {
             raw +=
-                csmTerm(avg.csmCos[std::size_t(k - 1)], avg.csmSin[std::size_t(k - 1)], t, k, kTerms, false);
+                csmTerm(avg.csmCos[std::size_t(k - 1)], avg.csmSin[std::size_t(k - 1)], t, k, TERMS, false);
             damped +=
-                csmTerm(avg.csmCos[std::size_t(k - 1)], avg.csmSin[std::size_t(k - 1)], t, k, kTerms, true);
+                csmTerm(avg.csmCos[std::size_t(k - 1)], avg.csmSin[std::size_t(k - 1)], t, k, TERMS, true);
         }
         rawRipple = std::max(rawRipple, std::abs(raw));
         dampedRipple = std::max(dampedRipple, std::abs(damped));
     }
-    std::printf("CSM, M = %d: largest |series| in the shadow: %.4f undamped, %.4f damped\n", kTerms,
+    std::printf("CSM, M = %d: largest |series| in the shadow: %.4f undamped, %.4f damped\n", TERMS,
                 double(rawRipple), double(dampedRipple));
     EXPECT_GT(rawRipple, 0.03f); // measured 0.049
     EXPECT_LT(dampedRipple, 0.5f * rawRipple);
@@ -438,7 +438,8 @@ TEST(FilteredShadows, MsmMovesWithTheRoundingOfItsDepths) {
         const float slope = 2e-4f * u(rng);
         std::vector<float> a, b;
         for (int i = 0; i < 25; ++i) {
-            const float z = z0 + slope * float(i % 5 - 2) + slope * 0.7f * float(i / 5 - 2);
+            const int column = i % 5, row = i / 5;
+            const float z = z0 + slope * float(column - 2) + slope * 0.7f * float(row - 2);
             a.push_back(z);
             const float r = u(rng);
             b.push_back(r < 1.0f / 3.0f   ? std::nextafter(z, 0.0f)

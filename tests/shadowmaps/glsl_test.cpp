@@ -7,7 +7,7 @@
 
 namespace {
 
-const char* kCompute = R"(#version 450
+const char* const COMPUTE_SHADER = R"(#version 450
 #extension GL_GOOGLE_include_directive : require
 #include "shadowmaps/shadow_map_dh.h"
 layout(local_size_x = 8, local_size_y = 8) in;
@@ -47,7 +47,7 @@ void main() {
 )";
 
 TEST(ShadowMapsGlsl, MapAndFilterHeadersCompileInAComputeShader) {
-    EXPECT_EQ(stsv::test::glslCompileErrors("shadow_filter.comp", kCompute), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("shadow_filter.comp", COMPUTE_SHADER), "");
 }
 
 } // namespace

@@ -56,22 +56,22 @@ std::vector<ivec2> someTexels(int size) {
             ivec2(1, m - 1), ivec2(m - 2, 5)};
 }
 
-const Bounds kBox = box(vec3(-1.0f, 0.0f, -1.5f), vec3(1.5f, 1.0f, 1.0f));
+const Bounds BOX = box(vec3(-1.0f, 0.0f, -1.5f), vec3(1.5f, 1.0f, 1.0f));
 
 ShadowMapView perspectiveView() {
     return fitShadowMap(
-        makeRectangleLight(vec3(0.2f, 5.0f, 0.1f), vec3(0.0f, -1.0f, 0.0f), vec2(1.0f), vec3(1.0f)), kBox,
+        makeRectangleLight(vec3(0.2f, 5.0f, 0.1f), vec3(0.0f, -1.0f, 0.0f), vec2(1.0f), vec3(1.0f)), BOX,
         512);
 }
 ShadowMapView orthographicView() {
-    return fitShadowMap(makeDirectionalLight(vec3(0.3f, 1.0f, -0.2f), 0.02f, vec3(1.0f)), kBox, 512);
+    return fitShadowMap(makeDirectionalLight(vec3(0.3f, 1.0f, -0.2f), 0.02f, vec3(1.0f)), BOX, 512);
 }
 /// A sphere light inside the box (near is then 1e-5 of the box's diameter), and one outside it.
 ShadowMapView cubeView() {
-    return fitShadowMap(makeSphereLight(vec3(0.3f, 0.5f, -0.2f), 0.1f, vec3(1.0f)), kBox, 256);
+    return fitShadowMap(makeSphereLight(vec3(0.3f, 0.5f, -0.2f), 0.1f, vec3(1.0f)), BOX, 256);
 }
 ShadowMapView outsideCubeView() {
-    return fitShadowMap(makeSphereLight(vec3(4.0f, 3.0f, 2.0f), 0.1f, vec3(1.0f)), kBox, 256);
+    return fitShadowMap(makeSphereLight(vec3(4.0f, 3.0f, 2.0f), 0.1f, vec3(1.0f)), BOX, 256);
 }
 
 /// Checks a point at ray parameter t along the centre ray of texel `texel` of `face`.
@@ -256,7 +256,7 @@ TEST(FitShadowMap, RectangleLightAboveASmallBoxGetsOnePerspectiveFaceHoldingTheB
     EXPECT_FLOAT_EQ(v.window.z - v.window.x, v.window.w - v.window.y) << "the window must be square";
     EXPECT_FLOAT_EQ(v.lightWidth, 1.0f);
     EXPECT_GT(v.near, 0.0f);
-    for (const vec3 p : boxPoints(kBox, 5)) {
+    for (const vec3 p : boxPoints(BOX, 5)) {
         const ShadowMapCoord c = shadowMapProject(v, p);
         EXPECT_EQ(c.valid, 1.0f) << "p=" << str(p);
         EXPECT_GE(c.uv.x, 0.0f) << "p=" << str(p);
@@ -276,24 +276,24 @@ TEST(FitShadowMap, RectangleLightAboveASmallBoxGetsOnePerspectiveFaceHoldingTheB
 TEST(FitShadowMap, LightInsideTheBoxFallsBackToACubeMap) {
     const Light light =
         makeRectangleLight(vec3(0.0f, 0.5f, 0.0f), vec3(0.0f, -1.0f, 0.0f), vec2(0.2f), vec3(1.0f));
-    const ShadowMapView v = fitShadowMap(light, kBox, 256);
+    const ShadowMapView v = fitShadowMap(light, BOX, 256);
     EXPECT_EQ(v.projection, SHADOW_MAP_CUBE);
     EXPECT_EQ(v.faces, 6u);
     EXPECT_FLOAT_EQ(v.lightWidth, 0.2f);
     // A disk beside a tall box: the box needs more than 120° of its view.
     const ShadowMapView beside = fitShadowMap(
-        makeDiskLight(vec3(1.6f, 0.5f, 0.0f), vec3(-1.0f, -0.1f, 0.0f), 0.1f, vec3(1.0f)), kBox, 256);
+        makeDiskLight(vec3(1.6f, 0.5f, 0.0f), vec3(-1.0f, -0.1f, 0.0f), 0.1f, vec3(1.0f)), BOX, 256);
     EXPECT_EQ(beside.projection, SHADOW_MAP_CUBE);
 }
 
 TEST(FitShadowMap, SphereLightGetsACubeMapWhoseDepthRangeHoldsTheBox) {
     for (const vec3 centre : {vec3(0.3f, 0.5f, -0.2f), vec3(4.0f, 3.0f, 2.0f)}) {
-        const ShadowMapView v = fitShadowMap(makeSphereLight(centre, 0.1f, vec3(1.0f)), kBox, 256);
+        const ShadowMapView v = fitShadowMap(makeSphereLight(centre, 0.1f, vec3(1.0f)), BOX, 256);
         ASSERT_EQ(v.projection, SHADOW_MAP_CUBE) << "centre " << str(centre);
         EXPECT_EQ(v.faces, 6u);
         EXPECT_FLOAT_EQ(v.lightWidth, 0.2f);
         EXPECT_GT(v.near, 0.0f);
-        for (const vec3 p : boxPoints(kBox, 7)) {
+        for (const vec3 p : boxPoints(BOX, 7)) {
             if (length(p - centre) < 1e-3f) continue;
             const ShadowMapCoord c = shadowMapProject(v, p);
             EXPECT_EQ(c.valid, 1.0f);
@@ -315,7 +315,7 @@ TEST(FitShadowMap, DirectionalLightGetsAnOrthographicFaceHoldingTheBox) {
     EXPECT_NEAR(v.lightWidth, 2.0f * std::tan(0.02f), 1e-6f);
     // The map looks along the light's travel: away from the direction towards the light.
     EXPECT_NEAR(dot(v.axisZ, normalize(vec3(0.3f, 1.0f, -0.2f))), -1.0f, 1e-6f);
-    for (const vec3 p : boxPoints(kBox, 5)) {
+    for (const vec3 p : boxPoints(BOX, 5)) {
         const ShadowMapCoord c = shadowMapProject(v, p);
         EXPECT_GE(c.uv.x, 0.0f) << "p=" << str(p);
         EXPECT_GE(c.uv.y, 0.0f) << "p=" << str(p);
@@ -329,8 +329,8 @@ TEST(FitShadowMap, DirectionalLightGetsAnOrthographicFaceHoldingTheBox) {
 TEST(FitShadowMap, RejectsAnEmptyBoxAndSizesOutOfRange) {
     const Light light = makeSphereLight(vec3(0.0f, 3.0f, 0.0f), 0.1f, vec3(1.0f));
     EXPECT_THROW(fitShadowMap(light, Bounds{}, 256), UsageError);
-    EXPECT_THROW(fitShadowMap(light, kBox, 0), UsageError);
-    EXPECT_THROW(fitShadowMap(light, kBox, 16385), UsageError);
+    EXPECT_THROW(fitShadowMap(light, BOX, 0), UsageError);
+    EXPECT_THROW(fitShadowMap(light, BOX, 16385), UsageError);
 }
 
 TEST(PoissonDiskTaps, CountUnitDiskMinimumDistanceAndDeterminism) {

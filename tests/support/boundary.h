@@ -10,7 +10,7 @@
 // products (1 for a right isosceles triangle, large for a sliver); so two correct implementations
 // can disagree only where the exact answer is within a small multiple of u·M·(κ + 1) of the
 // boundary. The rule below computes that exact distance in double precision and explains a bit
-// when it is at most kRoundOffUnits such units (texel distances are first converted to world units
+// when it is at most ROUND_OFF_UNITS such units (texel distances are first converted to world units
 // by the texture's scale on the triangle). A real fault moves samples whose distance to every
 // boundary is many orders of magnitude larger.
 #pragma once
@@ -38,7 +38,7 @@ constexpr std::size_t allowedDifferingBits(std::size_t measured) {
 }
 
 /// Float's unit round-off, 2^−24.
-constexpr double kUnitRoundOff = 0x1p-24;
+constexpr double UNIT_ROUND_OFF = 0x1p-24;
 
 /// How many units of round-off two float implementations of one decision may differ by.
 /// Measured: the worst differing bit of STSV (CPU mirror and Vulkan, fence and foliage) lies 0.25
@@ -46,7 +46,7 @@ constexpr double kUnitRoundOff = 0x1p-24;
 /// for other instruction sets' Embree kernels and compilers' contractions, and is 12 µm at
 /// fence's coordinates (M ≈ 6 m, κ ≈ 1), a ten-thousandth of the light sample spacing, where a
 /// fault moves samples by millimetres to metres.
-constexpr double kRoundOffUnits = 16.0;
+constexpr double ROUND_OFF_UNITS = 16.0;
 
 /// The same for depth complexity sampling (Forest et al.): a DCS sample's count is the centre's
 /// plus the wedges its segment passes, each decided by the side of a line through points projected
@@ -55,7 +55,7 @@ constexpr double kRoundOffUnits = 16.0;
 /// differing DCS bit lies 666 units from its edge on the CPU (dcs+stsv, the sphere of
 /// tests/wedges/dcs_vs_reference_test.cpp) and 79 on Vulkan (the sphere of gpu_wedges_test.cpp);
 /// 2 048 leaves a factor three, a quarter of a millimetre at M = 1 for a well-shaped triangle.
-constexpr double kDcsRoundOffUnits = 2048.0;
+constexpr double DCS_ROUND_OFF_UNITS = 2048.0;
 
 struct Crossing {
     std::uint32_t triangle;
@@ -142,7 +142,7 @@ struct BoundaryDistance {
     /// within twice the gap (for the start point's own round-off) a DCS bit is explained.
     double startGap = std::numeric_limits<double>::infinity();
     double nearest() const { return std::min({edge, texel, gap}); }
-    bool explained(double units = kRoundOffUnits) const { return nearest() <= units; }
+    bool explained(double units = ROUND_OFF_UNITS) const { return nearest() <= units; }
 };
 
 /// The distance from x to the triangle (a, b, c): to its plane where the foot of the
@@ -186,14 +186,14 @@ inline BoundaryDistance boundaryDistance(const Scene& scene, vec3 pf, vec3 sf, v
         const double magnitude = std::max({ends, maxAbs(v[0]), maxAbs(v[1]), maxAbs(v[2])});
         // A triangle's planes are cross products of its edges: their round-off grows with its
         // conditioning.
-        const double unit = kUnitRoundOff * magnitude * (conditioning(v[0], v[1], v[2]) + 1.0);
+        const double unit = UNIT_ROUND_OFF * magnitude * (conditioning(v[0], v[1], v[2]) + 1.0);
         for (int e = 0; e < 3; ++e) {
             // The side of an edge is a plane through it and p (wedges, shadow-volume sides) or s
             // (STSV's projection): the worse of those two triangles' conditioning and its own.
             const dvec3 w0 = v[e], w1 = v[(e + 1) % 3];
             const double edgeUnit =
-                std::max({unit, kUnitRoundOff * magnitude * (conditioning(p, w0, w1) + 1.0),
-                          kUnitRoundOff * magnitude * (conditioning(s, w0, w1) + 1.0)});
+                std::max({unit, UNIT_ROUND_OFF * magnitude * (conditioning(p, w0, w1) + 1.0),
+                          UNIT_ROUND_OFF * magnitude * (conditioning(s, w0, w1) + 1.0)});
             out.edge = std::min(out.edge, segmentDistance(a0, a1, w0, w1) / edgeUnit);
         }
         out.startGap = std::min(out.startGap, pointTriangleDistance(p, v[0], v[1], v[2]) / (tMin * segment));
@@ -230,7 +230,7 @@ inline BoundaryDistance boundaryDistance(const Scene& scene, vec3 pf, vec3 sf, v
         // One unit of round-off, in texels: the position's, carried through the map, and the
         // texel coordinate's own (|texel| of magnitude).
         const double texelUnit =
-            unit * texelsPerUnit + kUnitRoundOff * std::max(std::abs(texel.x), std::abs(texel.y));
+            unit * texelsPerUnit + UNIT_ROUND_OFF * std::max(std::abs(texel.x), std::abs(texel.y));
         const uint wrap = m.wrap == WrapMode::Clamp ? WRAP_CLAMP : WRAP_REPEAT;
         const ivec2 dims(tex.width, tex.height);
         const dvec2 cell = glm::floor(texel);
@@ -262,7 +262,7 @@ inline BoundaryDistance boundaryDistanceAt(const Scene& scene, const GBuffer& g,
     return boundaryDistance(scene, g.position[i], s, centre, g.triangle[i], transmittance);
 }
 
-/// True iff the differing bit of pixel (x, y), sample s is within kRoundOffUnits of round-off of
+/// True iff the differing bit of pixel (x, y), sample s is within ROUND_OFF_UNITS of round-off of
 /// a boundary (boundaryDistance).
 inline bool atBoundary(const Scene& scene, const GBuffer& g, int x, int y, vec3 s, vec3 centre,
                        bool transmittance = false) {

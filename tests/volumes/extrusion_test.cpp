@@ -103,7 +103,7 @@ enum Family : int {
     Directional, ///< a directional light's bounding sphere (sampling/light_bounds.h): 100 box diagonals away
     FamilyCount
 };
-const char* const kFamilyNames[] = {"far light",   "near light",        "straddling", "centre in plane",
+const char* const FAMILY_NAMES[] = {"far light",   "near light",        "straddling", "centre in plane",
                                     "point light", "edge toward light", "scaled",     "directional"};
 
 struct Config {
@@ -115,7 +115,7 @@ struct Config {
 };
 
 std::ostream& operator<<(std::ostream& os, const Config& c) {
-    return os << "family=" << kFamilyNames[c.family] << " v0=" << str(c.v0) << " v1=" << str(c.v1)
+    return os << "family=" << FAMILY_NAMES[c.family] << " v0=" << str(c.v0) << " v1=" << str(c.v1)
               << " v2=" << str(c.v2) << " light=" << str(c.light) << " box=" << str(c.bounds.lo) << ".."
               << str(c.bounds.hi);
 }
@@ -292,7 +292,7 @@ TEST(Extrusion, ConservativeAgainstEmbree) {
             "%3ld, "
             "box %2ld)  pairs %6ld, occluded %5ld, misses %ld; tightness: %4ld/%4ld = %.2f of uniform p in a "
             "volume are shadowed\n",
-            kFamilyNames[f], s.configs, s.volumes, s.noTangent, s.triangleCap, s.cone, s.box, s.pairs,
+            FAMILY_NAMES[f], s.configs, s.volumes, s.noTangent, s.triangleCap, s.cone, s.box, s.pairs,
             s.occludedPairs, s.misses, s.uniformInVolumeShadowed, s.uniformInVolume,
             s.uniformInVolume ? double(s.uniformInVolumeShadowed) / double(s.uniformInVolume) : 0.0);
         total.occludedPairs += s.occludedPairs;
@@ -894,7 +894,7 @@ TEST(LightPlanes, ConservativeAgainstEmbreeAndTighterThanTheSphere) {
         std::printf(
             "[light planes] %-17s uniform p in the sphere's volume %5ld, in the light planes too %5ld, "
             "shadowed %5ld\n",
-            kFamilyNames[f], inVolume[f], inBoth[f], shadowed[f]);
+            FAMILY_NAMES[f], inVolume[f], inBoth[f], shadowed[f]);
     EXPECT_GE(occluded, 50'000);
     EXPECT_EQ(misses, 0);
     // Far lights: the light planes keep at most half of the sphere volume's points, and at least
@@ -1034,6 +1034,8 @@ TEST(ExtrusionSides, ASideHasAVolumeExactlyWhenTheLightSeesIt) {
                       side == 0 || has1);
             if (side == 1 && !has1) continue;
             ASSERT_EQ(planes.planeCount, vol[side].planeCount);
+            // Bit for bit (NaN payloads and signed zeros included); a vec4 has no padding.
+            // NOLINTNEXTLINE(bugprone-suspicious-memory-comparison)
             EXPECT_EQ(std::memcmp(planes.planes, vol[side].planes, sizeof planes.planes), 0)
                 << "trial " << trial << " side " << side;
         }

@@ -9,7 +9,7 @@
 
 namespace {
 
-const char* kGeometry = R"(#version 450
+const char* const GEOMETRY = R"(#version 450
 #extension GL_GOOGLE_include_directive : require
 #include "volumes/extrusion_dh.h"
 layout(triangles) in;
@@ -33,7 +33,7 @@ void main() {
 }
 )";
 
-const char* kFragment = R"(#version 450
+const char* const FRAGMENT_SHADER = R"(#version 450
 #extension GL_GOOGLE_include_directive : require
 #include "volumes/extrusion_dh.h"
 #include "volumes/stsv_dh.h"
@@ -55,11 +55,11 @@ void main() {
 )";
 
 TEST(VolumesGlsl, ExtrusionStripGeometryShaderCompiles) {
-    EXPECT_EQ(stsv::test::glslCompileErrors("stsv_strip.geom", kGeometry), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("stsv_strip.geom", GEOMETRY), "");
 }
 
 TEST(VolumesGlsl, PointInVolumeAndTransmittanceFragmentShaderCompiles) {
-    EXPECT_EQ(stsv::test::glslCompileErrors("stsv_volume.frag", kFragment), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("stsv_volume.frag", FRAGMENT_SHADER), "");
 }
 
 } // namespace

@@ -17,7 +17,7 @@ using test::Rng;
 using test::str;
 
 enum Family : int { General, Occluded, OnPlane, Straddling, NearlyParallel, FamilyCount };
-const char* const kFamilyNames[] = {"general", "occluded", "p on plane", "light straddles plane",
+const char* const FAMILY_NAMES[] = {"general", "occluded", "p on plane", "light straddles plane",
                                     "nearly parallel"};
 
 struct Case {
@@ -30,7 +30,7 @@ struct Case {
 };
 
 std::ostream& operator<<(std::ostream& os, const Case& k) {
-    return os << "family=" << kFamilyNames[k.family] << " v0=" << str(k.v0) << " v1=" << str(k.v1)
+    return os << "family=" << FAMILY_NAMES[k.family] << " v0=" << str(k.v0) << " v1=" << str(k.v1)
               << " v2=" << str(k.v2) << " c=" << str(k.c) << " T=" << str(k.T) << " B=" << str(k.B)
               << " ab=" << glm::to_string(k.ab) << " p=" << str(k.p);
 }
@@ -127,9 +127,9 @@ struct Reference {
 //    e and pu carry errors ∝ M, and dividing by h.z = n·(s − p) amplifies by 1/sinθ.
 // Measured: the mismatches at ties came within 0.1–0.9 of these thresholds (printed below), i.e. the
 // thresholds are the smallest round values that cover the float evaluation's rounding.
-constexpr double kTauT = 2e-7;
-constexpr double kTauB = 1e-7;
-constexpr double kTauUv = 1e-6;
+constexpr double TAU_T = 2e-7;
+constexpr double TAU_B = 1e-7;
+constexpr double TAU_UV = 1e-6;
 
 Reference mollerTrumbore(const Case& k) {
     Reference r;
@@ -150,7 +150,7 @@ Reference mollerTrumbore(const Case& k) {
     r.kappa = (M * L / area2) / std::max(sinTheta, 1e-300);
     const double tMax = 1.0 - double(SHADOW_T_MIN);
     r.tMargin = std::min(std::abs(ep + SHADOW_T_MIN * (es - ep)), std::abs(ep + tMax * (es - ep))) / M;
-    const bool tTie = r.tMargin < kTauT;
+    const bool tTie = r.tMargin < TAU_T;
 
     const dvec3 pvec = cross(d, e2);
     const double det = dot(e1, pvec);
@@ -168,7 +168,7 @@ Reference mollerTrumbore(const Case& k) {
     r.hit = inT && inside;
     const double margin = std::min({std::abs(r.u), std::abs(r.v), std::abs(1.0 - r.u - r.v)});
     r.baryMargin = margin / r.kappa;
-    r.tie = tTie || (inT && margin < kTauB * r.kappa);
+    r.tie = tTie || (inT && margin < TAU_B * r.kappa);
     r.uv = dvec2(k.t0) + r.u * (dvec2(k.t1) - dvec2(k.t0)) + r.v * (dvec2(k.t2) - dvec2(k.t0));
     return r;
 }
@@ -222,7 +222,7 @@ template <typename Pick> Tally runCases(std::uint64_t seed, int count, Pick pick
                 ++t.tieMismatches;
                 // How close to the tie threshold the closer of the two margins came (1 = at τ).
                 t.worstTieMismatch =
-                    std::max(t.worstTieMismatch, std::min(ref.tMargin / kTauT, ref.baryMargin / kTauB));
+                    std::max(t.worstTieMismatch, std::min(ref.tMargin / TAU_T, ref.baryMargin / TAU_B));
             } else {
                 ++t.nonTieMismatches;
                 if (printed++ < 10)
@@ -237,7 +237,7 @@ template <typename Pick> Tally runCases(std::uint64_t seed, int count, Pick pick
             // where the inside decision (their sum and signs) is still sharp; times the texture-space
             // edge lengths, plus float rounding of uv itself (1e-6 relative).
             const double span = length(dvec2(k.t1 - k.t0)) + length(dvec2(k.t2 - k.t0));
-            const double tol = kTauUv * ref.kappa * span + 1e-6 * (1.0 + length(ref.uv));
+            const double tol = TAU_UV * ref.kappa * span + 1e-6 * (1.0 + length(ref.uv));
             const double err = length(dvec2(got.uv) - ref.uv);
             ++t.uvChecked;
             t.worstUvRatio = std::max(t.worstUvRatio, err / tol);
@@ -254,7 +254,7 @@ template <typename Pick> Tally runCases(std::uint64_t seed, int count, Pick pick
         if (t.cases == 0) continue;
         std::printf("[projective] %-22s cases %8ld  MT hits %7ld  ties %5ld  mismatches: at ties %3ld "
                     "(closest to τ: %.2f), elsewhere %ld  uv checked %7ld, worst err/tol %.3g\n",
-                    kFamilyNames[f], t.cases, t.hits, t.ties, t.tieMismatches, t.worstTieMismatch,
+                    FAMILY_NAMES[f], t.cases, t.hits, t.ties, t.tieMismatches, t.worstTieMismatch,
                     t.nonTieMismatches, t.uvChecked, t.worstUvRatio);
         total.cases += t.cases;
         total.hits += t.hits;

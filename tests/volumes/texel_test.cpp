@@ -21,11 +21,11 @@ std::int64_t clampIndex(std::int64_t k, std::int64_t size) {
     return std::min(std::max<std::int64_t>(k, 0), size - 1);
 }
 
-const int kSizes[] = {1, 2, 3, 4, 5, 7, 8, 16, 100, 255, 256, 1000, 1024, 4096};
+const int SIZES[] = {1, 2, 3, 4, 5, 7, 8, 16, 100, 255, 256, 1000, 1024, 4096};
 
 TEST(Texel, CentresMapToTheirTexel) {
     // uv at texel centres (k + ½)/size, k over three periods either side of 0: far from any rounding.
-    for (int sx : kSizes) {
+    for (int sx : SIZES) {
         const int sy = 3 * sx + 1; // a different size on the other axis
         for (int k = -3 * sx; k < 3 * sx; ++k) {
             const int ky = (k * 7) % (3 * sy);

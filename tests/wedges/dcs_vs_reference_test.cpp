@@ -98,7 +98,7 @@ Agreement compareWithReference(const Scene& scene, int size, int samples, bool w
                             test::boundaryDistance(scene, p, frame.center, frame.center, g.triangle[i]);
                         centreKnown = true;
                     }
-                    constexpr double units = test::kDcsRoundOffUnits;
+                    constexpr double units = test::DCS_ROUND_OFF_UNITS;
                     const double sampleDistance = std::min(sample.edge, sample.gap);
                     const bool grazes = sampleDistance <= units, centre = centreDistance.nearest() <= units;
                     const bool gap = sample.startGap <= 2.0;

@@ -8,7 +8,7 @@
 
 namespace {
 
-const char* kFragment = R"(#version 450
+const char* const FRAGMENT_SHADER = R"(#version 450
 #extension GL_GOOGLE_include_directive : require
 #include "wedges/dcs_dh.h"
 #include "wedges/pw_dh.h"
@@ -38,7 +38,7 @@ void main() {
 )";
 
 TEST(WedgesGlsl, DcsAndPwFragmentShaderCompiles) {
-    EXPECT_EQ(stsv::test::glslCompileErrors("wedges.frag", kFragment), "");
+    EXPECT_EQ(stsv::test::glslCompileErrors("wedges.frag", FRAGMENT_SHADER), "");
 }
 
 } // namespace

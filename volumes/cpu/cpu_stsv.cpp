@@ -293,8 +293,8 @@ nlohmann::json toJson(const StsvCpuStats& s) {
             {"fragments", s.pixelVolumeTests},
             {"inside_fragments", s.pixelVolumeHits},
             {"samples_tested", s.samplesTested},
-            {"bin_ms", s.bin_ms},
-            {"shade_ms", s.shade_ms}};
+            {"bin_ms", s.binMs},
+            {"shade_ms", s.shadeMs}};
 }
 
 StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Light& light,
@@ -312,7 +312,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
         buildLightVolumes(scene, bounds, light, sphere, farDistance, transmittance, include);
     stats.degenerateSkipped = lv.degenerate;
     stats.volumes = lv.volumes.size();
-    stats.bin_ms = timer.milliseconds();
+    stats.binMs = timer.milliseconds();
     timer.reset();
 
     // The fragment shader's work, per tile and pixel.
@@ -374,7 +374,7 @@ StsvCpuStats stsvCpuSamples(const Scene& scene, const GBuffer& gbuffer, const Li
     stats.pixelVolumeHits = hits;
     stats.tileEntriesCulled = culled;
     stats.samplesTested = samples;
-    stats.shade_ms = timer.milliseconds();
+    stats.shadeMs = timer.milliseconds();
     return stats;
 }
 
@@ -395,8 +395,8 @@ class StsvTechnique final : public CpuTechnique {
     void run(CpuLightWork& work) override {
         const StsvCpuStats s = stsvCpuSamples(m_c.scene, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
                                               work.samples, m_include);
-        work.passes[work.pass("stsv_bin")] = s.bin_ms;
-        work.passes[work.pass("stsv_shade")] = s.shade_ms;
+        work.passes[work.pass("stsv_bin")] = s.binMs;
+        work.passes[work.pass("stsv_shade")] = s.shadeMs;
         m_stats.push_back(toJson(s));
     }
     void takeStats(nlohmann::json& stats) override {

@@ -36,8 +36,8 @@ struct StsvCpuStats {
     std::size_t pixelVolumeTests = 0;  ///< point-in-volume tests run ("fragments", as the GPU counts them)
     std::size_t pixelVolumeHits = 0;   ///< of those, points inside ("inside_fragments")
     std::size_t samplesTested = 0;     ///< light samples tested by the fragments that own the pixel
-    double bin_ms = 0.0;
-    double shade_ms = 0.0;
+    double binMs = 0.0;
+    double shadeMs = 0.0;
 };
 
 nlohmann::json toJson(const StsvCpuStats& stats);

@@ -14,7 +14,6 @@ namespace {
 
 constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
 constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
-constexpr VkBufferUsageFlags STORAGE = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT;
 } // namespace
 
 StsvSamplesPass::StsvSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,

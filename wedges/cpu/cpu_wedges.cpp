@@ -66,8 +66,8 @@ nlohmann::json toJson(const WedgeCpuStats& s) {
                         {"fragments", s.pixelVolumeTests},
                         {"silhouette_fragments", s.pixelEdgeVisits},
                         {"negative_counts", s.negativeCounts},
-                        {"setup_ms", s.setup_ms},
-                        {"shade_ms", s.shade_ms}};
+                        {"setup_ms", s.setupMs},
+                        {"shade_ms", s.shadeMs}};
     if (s.samplesTested) j["samples_tested"] = *s.samplesTested;
     return j;
 }
@@ -283,7 +283,7 @@ WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, c
     const SilhouetteEdges& sil = occ.silhouettes(light, farDistance);
     reportSetup(sil, stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
-    stats.setup_ms = timer.milliseconds();
+    stats.setupMs = timer.milliseconds();
     timer.reset();
     std::atomic<std::size_t> tests{0}, visits{0}, negative{0}, samples{0};
     forEachPixel(
@@ -341,7 +341,7 @@ WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, c
     stats.negativeCounts = negative;
     stats.samplesTested = samples.load();
     stats.volumes = sil.volumesBuilt();
-    stats.shade_ms = timer.milliseconds();
+    stats.shadeMs = timer.milliseconds();
     return stats;
 }
 
@@ -352,7 +352,7 @@ WedgeCpuStats pwCpuVisibility(const WedgeOccluders& occ, const GBuffer& gbuffer,
     const SilhouetteEdges& sil = occ.silhouettes(light, farDistance);
     reportSetup(sil, stats);
     const float sceneDiameter = occ.scene().bounds().diameter();
-    stats.setup_ms = timer.milliseconds();
+    stats.setupMs = timer.milliseconds();
     timer.reset();
     visibility = ImageF(gbuffer.width, gbuffer.height, 1);
     std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
@@ -377,7 +377,7 @@ WedgeCpuStats pwCpuVisibility(const WedgeOccluders& occ, const GBuffer& gbuffer,
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.volumes = sil.volumesBuilt();
-    stats.shade_ms = timer.milliseconds();
+    stats.shadeMs = timer.milliseconds();
     return stats;
 }
 

@@ -51,8 +51,8 @@ struct WedgeCpuStats {
     /// DCS: samples whose crossing with a silhouette edge was tested ("samples_tested"; only
     /// those in the cells of the edge's dcsSampleRegion). Empty for PW, which tests no samples.
     std::optional<std::size_t> samplesTested;
-    double setup_ms = 0.0; ///< potential silhouettes and their tree (the light's first frame)
-    double shade_ms = 0.0; ///< per-pixel centre count and edge loop
+    double setupMs = 0.0; ///< potential silhouettes and their tree (the light's first frame)
+    double shadeMs = 0.0; ///< per-pixel centre count and edge loop
 };
 
 nlohmann::json toJson(const WedgeCpuStats& stats);
