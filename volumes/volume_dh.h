@@ -352,6 +352,28 @@ DH_FUNC uint stsvSideCount(vec3 v0, vec3 v1, vec3 v2, vec4 lightSphere) {
     return d < lightSphere.w + slack ? 2u : 1u;
 }
 
+/// The plane of t' (q0, q1, q2) as the front cap (STSV §2.2), facing away from the light's disk
+/// (centre ch, radius rh, in the volume's frame) and `slack` outwards, when the whole disk lies in
+/// front of it; false where it does not, or where t' is thin (two corners on nearly one ray from
+/// ĉ, an edge pointing at the light: a plane dominated by rounding, still a valid bound but a
+/// useless one), and the triangle's plane stays the cap.
+DH_FUNC bool stsvTPrimeCap(vec3 q0, vec3 q1, vec3 q2, vec3 ch, float rh, float slack, DH_OUT(vec4) cap) {
+    cap = vec4(0.0f);
+    vec3 nT = cross(q1 - q0, q2 - q0);
+    float nTLength = length(nT);
+    float qScale = max(length(q1 - q0), length(q2 - q0));
+    if (!(nTLength > 1e-3f * qScale * qScale)) return false;
+    nT = nT / nTLength;
+    float dT = dot(nT, ch - q0);
+    if (dT < 0.0f) {
+        nT = -nT;
+        dT = -dT;
+    }
+    if (!(dT > rh)) return false;
+    cap = vec4(-nT, dot(nT, q0) + slack);
+    return true;
+}
+
 /// Steps 1–3 of stsvBuildVolume: the volume's planes in its frame (StsvVolumeFrame), and what
 /// the strip is built from.
 struct StsvVolumeCore {
@@ -452,27 +474,15 @@ DH_FUNC StsvVolumeCore stsvVolumeCore(vec3 v0, vec3 v1, vec3 v2, vec4 lightSpher
 
     // Front cap: the plane of t' if the whole sphere is in front of it, else the triangle's plane.
     vec4 front = triPlane;
-    vec3 nT = cross(q[1] - q[0], q[2] - q[0]);
-    float nTLength = length(nT);
-    float qScale = max(length(q[1] - q[0]), length(q[2] - q[0]));
-    bool capTPrime = false;
-    // (A thin t' — two vertices on nearly one ray from ĉ, an edge pointing at the light — has a
-    // plane dominated by rounding: still a valid bound, but a useless one; keep the triangle's.)
-    if (tPrimeOk && nTLength > 1e-3f * qScale * qScale) {
-        nT = nT / nTLength;
-        float dT = dot(nT, ch - q[0]);
-        if (dT < 0.0f) {
-            nT = -nT;
-            dT = -dT;
-        }
-        if (dT > rh) {
-            front = vec4(-nT, dot(nT, q[0]) + slack);
-            capTPrime = true;
-            vol.planes[count] = front;
-            count += 1u;
-        }
+    vec4 tPrimePlane = vec4(0.0f);
+    bool capTPrime = tPrimeOk && stsvTPrimeCap(q[0], q[1], q[2], ch, rh, slack, tPrimePlane);
+    if (capTPrime) {
+        front = tPrimePlane;
+        vol.planes[count] = front;
+        count += 1u;
+    } else {
+        vol.flags |= STSV_VOLUME_TRIANGLE_CAP;
     }
-    if (!capTPrime) vol.flags |= STSV_VOLUME_TRIANGLE_CAP;
     for (uint i = 0u; i < 3u; ++i) {
         if (hasOuter[i]) {
             vol.planes[count] = outer[i] + vec4(0.0f, 0.0f, 0.0f, slack);
