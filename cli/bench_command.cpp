@@ -31,7 +31,7 @@
 namespace stsv {
 
 // bench/presets.json, compiled in by cli/CMakeLists.txt.
-extern const char* const benchPresetsJson;
+extern const char* const BENCH_PRESETS_JSON;
 
 namespace {
 
@@ -241,7 +241,7 @@ long long presetInteger(const std::string& where, const std::string& key, const 
 } // namespace
 
 nlohmann::json loadBenchPresets(const std::string& file) {
-    std::string text = benchPresetsJson;
+    std::string text = BENCH_PRESETS_JSON;
     const std::string source = presetsSource(file);
     if (!file.empty()) text = readFileBytes(file, "presets file", std::size_t(1) << 24);
     nlohmann::json presets;

@@ -40,8 +40,8 @@ void renderFence(const std::vector<std::string>& extra) {
 
 /// A python3 with NumPy ("python3", else Debian's /usr/bin/python3); empty when there is none.
 std::string pythonWithNumpy() {
-    for (const std::string python : {"python3", "/usr/bin/python3"})
-        if (runShell(python + " -c 'import numpy'").code == 0) return python;
+    for (const char* python : {"python3", "/usr/bin/python3"})
+        if (runShell(std::string(python) + " -c 'import numpy'").code == 0) return python;
     return {};
 }
 
