@@ -620,6 +620,14 @@ int runBench(BenchArgs& args) {
         applyBenchPreset(args, presets, args.preset);
     }
     checkBenchArgs(args);
+    if (namesAutoMethod(args.methods, "--methods")) {
+        // auto: the method each variant's scene calls for, each scene loaded for it (and again to run).
+        std::vector<Method> chosen;
+        for (const Variant& v : makeVariants(args, args.vary))
+            chosen.push_back(autoMethod(loadScene(v.scene, v.sceneOptions)));
+        args.methods = resolveAutoMethods(args.methods, "--methods", chosen);
+        if (!args.quiet) std::fprintf(stderr, "--methods auto: %s\n", printable(args.methods).c_str());
+    }
     const BenchPlan plan = planBench(args);
 
     std::vector<Result> results;

@@ -136,6 +136,32 @@ MethodBackend parseMethodBackend(const std::string& text, Backend fallback) {
     return mb;
 }
 
+bool namesAutoMethod(const std::string& list, const std::string& option) {
+    const std::vector<std::string> items = splitList(list, option);
+    return std::any_of(items.begin(), items.end(),
+                       [](const std::string& item) { return item.substr(0, item.find('/')) == AUTO_METHOD; });
+}
+
+std::string resolveAutoMethods(const std::string& list, const std::string& option,
+                               const std::vector<Method>& chosen) {
+    std::vector<std::string> resolved;
+    const auto add = [&](const std::string& item) {
+        if (std::find(resolved.begin(), resolved.end(), item) == resolved.end()) resolved.push_back(item);
+    };
+    for (const std::string& item : splitList(list, option)) {
+        const auto slash = item.find('/');
+        if (item.substr(0, slash) != AUTO_METHOD) {
+            add(item);
+            continue;
+        }
+        const std::string backend = slash == std::string::npos ? "" : item.substr(slash);
+        for (Method method : chosen) add(toString(method) + backend);
+    }
+    std::string text;
+    for (const std::string& item : resolved) text += (text.empty() ? "" : ",") + item;
+    return text;
+}
+
 std::string toString(const MethodBackend& mb) {
     return toString(mb.method) + "/" + toString(mb.backend);
 }

@@ -47,6 +47,13 @@ struct MethodBackend {
 MethodBackend parseMethodBackend(const std::string& text, Backend fallback);
 std::string toString(const MethodBackend& mb);
 
+/// Whether a method list (`--method`, `--methods`: "method[/backend]" items) names `auto`.
+bool namesAutoMethod(const std::string& list, const std::string& option);
+/// The list with each `auto` item replaced by `chosen` (autoMethod, render/frame.h, of each scene
+/// the list is for), its backend kept; a method the list already names is not repeated.
+std::string resolveAutoMethods(const std::string& list, const std::string& option,
+                               const std::vector<Method>& chosen);
+
 /// `value` with `decimals` digits after the point ("%.*f"): the tables' figures.
 std::string formatFixed(double value, int decimals);
 

@@ -53,7 +53,8 @@ std::string sceneHelp() {
 
 /// --method's help: every row of the method table.
 std::string methodHelp() {
-    std::string text = "one of:";
+    std::string text =
+        "one of:\n  auto: dcs+stsv where the scene has opaque triangles, else stsv (the default)";
     for (const MethodInfo& m : methodTable()) text += "\n  " + m.name + ": " + m.description;
     return text;
 }
@@ -319,7 +320,8 @@ CLI::App* addInfoCommand(CLI::App& app, InfoArgs& i) {
         "info", "list methods, built-in scenes and the machine's capabilities; with a SCENE, what it holds "
                 "and the memory a frame of the given options would take, without rendering");
     command->add_option("scene", i.scene, sceneHelp());
-    command->add_option("--method", i.method, "method whose frame memory is estimated")
+    command
+        ->add_option("--method", i.method, "method whose frame memory is estimated (auto: the scene's own)")
         ->capture_default_str();
     command->add_option("--backend", i.backend, "vulkan | cpu");
     command->add_option("--samples", i.options.samples, "light samples per pixel")
@@ -338,7 +340,11 @@ CLI::App* addInfoCommand(CLI::App& app, InfoArgs& i) {
 CLI::App* addBenchCommand(CLI::App& app, BenchArgs& b) {
     CLI::App* command = app.add_subcommand("bench", "time frames per method, backend and sample count");
     command->add_option("scene", b.scene, sceneHelp());
-    command->add_option("--methods", b.methods, "comma-separated, of: " + methodNameList("and"))
+    command
+        ->add_option(
+            "--methods", b.methods,
+            "comma-separated, of: auto (the scene's own: dcs+stsv, or stsv without opaque triangles), " +
+                methodNameList("and"))
         ->capture_default_str();
     command->add_option("--backends", b.backends,
                         "comma-separated: vulkan,cpu (default: " +
@@ -377,7 +383,10 @@ CLI::App* addCompareCommand(CLI::App& app, CompareArgs& c) {
         app.add_subcommand("compare", "error tables and images of methods against the reference, "
                                       "or of two --dump-ls .npy files");
     command->add_option("inputs", c.inputs, "SCENE, or A.npy B.npy")->required()->expected(1, 2);
-    command->add_option("--methods", c.methods, "comma-separated, each method[/backend], e.g. stsv,stsv/cpu")
+    command
+        ->add_option("--methods", c.methods,
+                     "comma-separated, each method[/backend], e.g. stsv,stsv/cpu; auto: the scene's own "
+                     "(dcs+stsv, or stsv without opaque triangles)")
         ->capture_default_str();
     command->add_option("--backend", c.backend,
                         "backend of methods without one (default " + toString(defaultBackend()) + ")");

@@ -986,6 +986,14 @@ int runCompare(CompareArgs& args) {
     if (args.inputs.size() != 1) throw UsageError("compare takes one SCENE, or two .npy light-sample files");
     if (isNpy(args.inputs[0])) throw UsageError("compare of light-sample files needs two .npy files");
 
+    // auto: the method the scene calls for, so the scene is loaded before the methods are planned.
+    const SceneOptions sceneSets = sceneOptionsOf(args);
+    std::optional<Scene> loaded;
+    if (namesAutoMethod(args.methods, "--methods")) {
+        loaded.emplace(loadScene(args.inputs[0], sceneSets));
+        args.methods = resolveAutoMethods(args.methods, "--methods", {autoMethod(*loaded)});
+        if (!args.quiet) std::fprintf(stderr, "--methods auto: %s\n", printable(args.methods).c_str());
+    }
     SceneComparison c = planComparison(args);
     if (!args.out.empty()) prepareOutputDirectory(args.out, "--out");
     if (!args.report.empty()) prepareOutputDirectory(args.report, "--report");
@@ -995,8 +1003,8 @@ int runCompare(CompareArgs& args) {
     if (!args.knobs.empty()) inputs.push_back({"--knobs", args.knobs});
     checkOutputFiles(outputs, inputs);
 
-    const SceneOptions sceneSets = sceneOptionsOf(args);
-    const Scene scene = loadScene(c.spec, sceneSets);
+    if (!loaded) loaded.emplace(loadScene(c.spec, sceneSets));
+    const Scene& scene = *loaded;
     printSceneWarnings(scene, args.quiet);
     checkOutputFiles(outputs, sceneInputFiles(c.spec, scene));
 

@@ -114,12 +114,14 @@ double sceneBytes(const Scene& scene) {
 /// or as it is with --json).
 nlohmann::json sceneInfo(const InfoArgs& args) {
     RenderOptions o = resolveFrameOptions(args);
-    o.method = parseMethod(args.method);
+    const bool automatic = args.method == AUTO_METHOD;
+    if (!automatic) o.method = parseMethod(args.method);
+    const Scene scene = loadScene(args.scene, sceneOptionsOf(args));
+    if (automatic) o.method = autoMethod(scene);
     o.params = parseMethodParams(methodInfo(o.method), args.params);
     o.backend =
         args.backend.empty() ? defaultBackendFor(o.method, defaultBackend()) : parseBackend(args.backend);
     checkBackendSupports(o.method, o.backend);
-    const Scene scene = loadScene(args.scene, sceneOptionsOf(args));
     printSceneWarnings(scene, args.quiet);
 
     nlohmann::json j = sceneStats(scene);

@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <optional>
 
 namespace stsv {
 
@@ -177,7 +178,23 @@ void completeRenderStats(Frame& frame, const RenderArgs& args, const RenderOptio
 int runRender(RenderArgs& args) {
     if (args.quiet) Progress::setEnabled(false);
     RenderOptions o = resolveFrameOptions(args);
-    o.method = parseMethod(args.method);
+    const SceneOptions sceneOptions = sceneOptionsOf(args);
+    // `auto` is chosen by the scene's triangles, so the scene is loaded before the method's checks;
+    // a named method's are made first, before a possibly long load.
+    std::optional<Scene> loaded;
+    double loadMs = 0.0;
+    const auto load = [&] {
+        Timer loadTimer;
+        loaded.emplace(loadScene(args.scene, sceneOptions));
+        loadMs = loadTimer.milliseconds();
+    };
+    const bool automatic = args.method == AUTO_METHOD;
+    if (automatic) {
+        load();
+        o.method = autoMethod(*loaded);
+    } else {
+        o.method = parseMethod(args.method);
+    }
     o.params = parseMethodParams(methodInfo(o.method), args.params);
     if (args.backend.empty())
         o.backend = defaultBackendFor(o.method, defaultBackend());
@@ -199,10 +216,8 @@ int runRender(RenderArgs& args) {
         throw UsageError("--dump-ls of a bitmask needs a sample count that is a multiple of 8");
     if (!args.shadowMap.empty()) o.keepShadowMaps = true;
 
-    const SceneOptions sceneOptions = sceneOptionsOf(args);
-    Timer loadTimer;
-    const Scene scene = loadScene(args.scene, sceneOptions);
-    const double loadMs = loadTimer.milliseconds();
+    if (!loaded) load();
+    const Scene& scene = *loaded;
     printSceneWarnings(scene, args.quiet);
     checkFrameMemory(o, scene);
     // Now that the lights are known: every file the frame will write, the other lights' and the
@@ -248,6 +263,7 @@ int runRender(RenderArgs& args) {
 
     completeRenderStats(frame, args, o, scene, sceneOptions, loadMs, renderMs, mapViews, npyFiles, mapFiles);
     nlohmann::json& stats = frame.stats;
+    stats["method_requested"] = args.method;
     if (!args.stats.empty()) {
         writeJson(args.stats, stats);
         written.push_back(args.stats);
@@ -257,9 +273,10 @@ int runRender(RenderArgs& args) {
         const double frameMs = stats.contains("frame_ms") && stats["frame_ms"].is_number()
                                    ? stats["frame_ms"].get<double>()
                                    : renderMs;
-        std::fprintf(stderr, "%s: %s on %s, %d samples, %dx%d: frame %.1f ms (start-up %.1f ms)\n",
-                     printable(scene.source).c_str(), toString(o.method).c_str(), toString(o.backend).c_str(),
-                     o.samples, o.width, o.height, frameMs, stats.value("startup_ms", 0.0));
+        std::fprintf(stderr, "%s: %s%s on %s, %d samples, %dx%d: frame %.1f ms (start-up %.1f ms)\n",
+                     printable(scene.source).c_str(), toString(o.method).c_str(), automatic ? " (auto)" : "",
+                     toString(o.backend).c_str(), o.samples, o.width, o.height, frameMs,
+                     stats.value("startup_ms", 0.0));
     }
     for (const std::string& path : written) reportWritten(path, args.quiet);
     return 0;

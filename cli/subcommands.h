@@ -40,8 +40,8 @@ RenderOptions resolveFrameOptions(const FrameArgs& args);
 
 struct RenderArgs : FrameArgs {
     std::string scene;
-    std::string method = "stsv";
-    std::string backend; ///< empty: defaultBackend() (cpu for the reference)
+    std::string method{AUTO_METHOD}; ///< a method, or auto: the one the scene calls for (autoMethod)
+    std::string backend;             ///< empty: defaultBackend() (cpu for the reference)
     std::string output;
     std::string visibility;
     std::string dumpLs;
@@ -56,7 +56,7 @@ struct InfoArgs : FrameArgs {
     bool markdown = false;    ///< the method table in Markdown only
     bool json = false;        ///< methods and scenes as JSON
     std::string scene;        ///< when given: that scene's contents and a frame's memory, nothing else
-    std::string method = "stsv";
+    std::string method{AUTO_METHOD};
     std::string backend;
 };
 int runInfo(const InfoArgs& args);
@@ -71,7 +71,7 @@ constexpr int MAX_WARMUP = 1000;
 /// preset's values.
 struct BenchArgs : FrameArgs {
     std::string scene;
-    std::string methods = "stsv,reference";
+    std::string methods = "auto,reference";
     std::string backends; ///< empty: "vulkan,cpu" (or "cpu" while render/ lacks vulkan)
     std::string samples = "64";
     std::string vary; ///< "key=v1,v2,…": one scene per value
@@ -101,7 +101,7 @@ constexpr int MAX_CONVERGED_FRAMES = 4096;
 
 struct CompareArgs : FrameArgs {
     std::vector<std::string> inputs; ///< SCENE, or two .npy files
-    std::string methods = "stsv";
+    std::string methods{AUTO_METHOD};
     std::string backend; ///< empty: defaultBackend()
     std::string against = "reference";
     std::string out; ///< directory for the error images (none when empty)

@@ -108,7 +108,7 @@ stsv_pattern_q(128 STSV_Q128)
 # WEDGE_MESH_PATH on wedge.frag behind wedge.mesh, HULL_MESH_VOLUMES on the task and mesh shaders;
 # STSV_HULL_PATH and WEDGE_HULL_PATH on the fragments behind hull.vert, CLIP_SHARED_INVOCATIONS
 # and HULL_ITEMS_PER_THREAD (render/vulkan/gpu_hulls.cpp) on the hull passes; the sample defines and FIXED_LIGHT_TYPE on
-# stsv_samples.comp, the sample defines on stsv_merge.comp and wedge_samples.comp; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
+# stsv_samples.comp, the sample defines on stsv_merge.comp and wedge_samples.comp; DCS_RAYS_STAGE and DCS_RAY_EDGES on dcs_rays.comp; WEDGE_PW and WEDGE_STSV on the wedge passes; SHADOW_FILTER_STEP on the image-based filter. Each value of each define appears at least once,
 # and each sample count with each buffer kind, without the full product (two cores).
 set(UBO STSV_PATTERN_VEC4S=128 STSV_ALPHA_BIT_VEC4S=256)
 set(S ${PROJECT_SOURCE_DIR}) # the repository, for the lines below
@@ -164,6 +164,8 @@ stsv_check_shader(${S}/wedges/shaders/wedge.frag mesh_dcs_s64 WEDGE_MESH_PATH=1 
 stsv_check_shader(${S}/wedges/shaders/wedge.frag mesh_pw_ubo WEDGE_MESH_PATH=1 WEDGE_PW=1 ${UBO})
 stsv_check_shader(${S}/wedges/shaders/wedge_samples.comp s16 SAMPLE_COUNT=16 LS_COUNTERS=1)
 stsv_check_shader(${S}/wedges/shaders/wedge_samples.comp s256_ubo SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO})
+stsv_check_shader(${S}/wedges/shaders/dcs_rays.comp list_s16 DCS_RAYS_STAGE=0 SAMPLE_COUNT=16 DCS_RAY_EDGES=0.5)
+stsv_check_shader(${S}/wedges/shaders/dcs_rays.comp rays_s256_ubo DCS_RAYS_STAGE=1 SAMPLE_COUNT=256 DCS_RAY_EDGES=1e+09 ${UBO})
 stsv_check_shader(${S}/wedges/shaders/wedge_fold.comp dcs_s16 WEDGE_PW=0 SAMPLE_COUNT=16 LS_COUNTERS=1)
 stsv_check_shader(${S}/wedges/shaders/wedge_fold.comp dcs_s256_ubo WEDGE_PW=0 SAMPLE_COUNT=256 LS_COUNTERS=1 ${UBO})
 stsv_check_shader(${S}/wedges/shaders/wedge_fold.comp pw WEDGE_PW=1 WEDGE_STSV=0 SAMPLE_COUNT=64)

@@ -34,6 +34,12 @@ nlohmann::json sceneStats(const Scene& scene) {
             {"lights", scene.lights.size()}};
 }
 
+Method autoMethod(const Scene& scene) {
+    for (std::size_t t = 0; t < scene.triangleCount(); ++t)
+        if (scene.opaqueOccluder(t)) return Method::DcsStsv;
+    return Method::Stsv;
+}
+
 nlohmann::json methodSceneNotes(const Scene& scene, const MethodInfo& method) {
     nlohmann::json notes = nlohmann::json::object();
     // pw and dcs shade opaque triangles only; the traced reference and the shadow maps

@@ -49,6 +49,11 @@ class FrameRenderer {
 /// "ignored_perforated_triangles_use", the method that draws them).
 nlohmann::json methodSceneNotes(const Scene& scene, const MethodInfo& method);
 
+/// `--method auto`: the object-based method a scene's triangles call for — dcs+stsv where the scene has an
+/// opaque triangle (depth complexity sampling over the opaque meshes, STSV over the perforated and
+/// translucent triangles), stsv where every triangle is perforated or translucent (or there is none).
+Method autoMethod(const Scene& scene);
+
 /// Sentences a user should read about a frame's result, from its stats: perforated triangles a
 /// method left out ("ignored_perforated_triangles"), translucent ones taken as binary, and what
 /// the image family says of its maps (shadowMapWarnings). The CLI prints them on stderr.

@@ -1,6 +1,7 @@
 #include "render/methods.h"
 
 #include "core/error.h"
+#include "wedges/dcs_dh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -27,6 +28,18 @@ std::vector<MethodKnob> mapKnobs(ShadowMapMethod filter) {
                              .integer = k.integer,
                              .help = k.help});
     return knobs;
+}
+
+/// DCS's knob, in the dcs rows.
+std::vector<MethodKnob> dcsKnobs() {
+    return {{.name = "ray_edges",
+             .defaultValue = DCS_RAY_EDGES_PER_SAMPLE,
+             .min = 0.0,
+             .max = 1e9,
+             .integer = false,
+             .help =
+                 "silhouette edges per light sample above which a 4x4 block counts its samples by rays "
+                 "through the layer tree instead of crossings (0: every block with an edge; 1e9: never)"}};
 }
 
 std::vector<MethodInfo> buildTable() {
@@ -65,7 +78,7 @@ std::vector<MethodInfo> buildTable() {
          .family = MethodFamily::ObjectBased,
          .output = MethodOutput::SampleCounters,
          .backends = {B::Vulkan, B::Cpu},
-         .knobs = {},
+         .knobs = dcsKnobs(),
          .wedges = WedgeVariant::Dcs},
         {.id = Method::PwStsv,
          .name = "pw+stsv",
@@ -86,7 +99,7 @@ std::vector<MethodInfo> buildTable() {
          .family = MethodFamily::ObjectBased,
          .output = MethodOutput::SampleCounters,
          .backends = {B::Vulkan, B::Cpu},
-         .knobs = {},
+         .knobs = dcsKnobs(),
          .stsv = StsvTriangles::Perforated,
          .wedges = WedgeVariant::Dcs},
     };
@@ -189,6 +202,11 @@ std::string methodNameList(std::string_view conjunction) {
 const MethodInfo& findMethod(std::string_view name) {
     for (const MethodInfo& m : methodTable())
         if (m.name == name) return m;
+    if (name == AUTO_METHOD)
+        throw UsageError(
+            "method 'auto' is chosen per scene, where the scene is known (render, bench, compare); "
+            "here name one of " +
+            methodNameList());
     throw UsageError("unknown method '" + std::string(name) + "' (expected " + methodNameList() + ")");
 }
 

@@ -119,6 +119,10 @@ struct MethodInfo {
     const MethodKnob* knob(std::string_view knobName) const;
 };
 
+/// The name `render`, `bench` and `compare` take for the method a scene calls for (autoMethod,
+/// render/frame.h): a choice made once the scene is loaded, not a row of the table.
+inline constexpr std::string_view AUTO_METHOD = "auto";
+
 /// Every method, in table order.
 const std::vector<MethodInfo>& methodTable();
 const MethodInfo& methodInfo(Method method);

@@ -119,6 +119,14 @@ nlohmann::json toJson(const RenderOptions& o) {
             {"params", withDefaults(o)}};
 }
 
+double methodKnob(const RenderOptions& options, std::string_view name) {
+    const MethodInfo& method = methodInfo(options.method);
+    const MethodKnob* knob = method.knob(name);
+    if (!knob) throw UsageError("method " + method.name + " has no parameter '" + std::string(name) + "'");
+    const auto given = options.params.find(std::string(name));
+    return given != options.params.end() ? given->second : knob->defaultValue;
+}
+
 ShadowMapSettings shadowMapSettings(const RenderOptions& options) {
     const ShadowMapMethod filter = methodInfo(options.method).shadowMap;
     return filter == ShadowMapMethod::None ? ShadowMapSettings{}

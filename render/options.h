@@ -71,6 +71,9 @@ SamplePlan samplePlanOf(const RenderOptions& options);
 /// The shadow-map settings of a frame of `options` (shadowmaps/shadow_map.h), read from its
 /// method's parameters on both backends; the defaults for a method without shadow maps.
 ShadowMapSettings shadowMapSettings(const RenderOptions& options);
+/// Knob `name` of the options' method: the value given, else its default; UsageError when the method
+/// has no such knob.
+double methodKnob(const RenderOptions& options, std::string_view name);
 
 nlohmann::json toJson(const RenderOptions& options);
 

@@ -192,6 +192,21 @@ DH_FUNC int dcsSampleCrossing(vec3 l, vec3 a, vec3 b, vec2 ab) {
     return sideX ? 1 : -1;
 }
 
+/// Per block of CLUSTER_BLOCK × CLUSTER_BLOCK pixels, the cheaper of two exact ways to count its samples
+/// (Lehtinen, Laine & Aila 2008, hierarchical penumbra casting, choose per region of receivers
+/// the cheaper exact method): D(r) plus the silhouette crossings, whose cost grows with the edges
+/// the block's pixels test, or each sample's segment counted through the layer tree
+/// (layer_bvh_dh.h layerCount, the reference's robust crossing test), whose cost is the N rays.
+/// True, rays, when the edges the walk kept for the block exceed `edgesPerSample` per sample.
+/// The default, 1e9, never casts them: measured on the 2CylinderEngine, armadillo and fandisk
+/// meshes, a segment counted through the layer tree (every layer, a binary tree read as texels)
+/// costs more than the crossings it saves at every threshold, on the CPU and on lavapipe
+/// (docs/methods.md).
+DH_CONST float DCS_RAY_EDGES_PER_SAMPLE = 1e9f; ///< the default of the dcs rows' knob ray_edges
+DH_FUNC bool dcsBlockCastsRays(uint blockEdges, uint samples, float edgesPerSample) {
+    return float(blockEdges) > edgesPerSample * float(samples);
+}
+
 /// The frame points (a, b) of [lo, hi] that dcsSampleCrossing can count for the clipped edge
 /// a → b on the line l, bounded (sampleRegionOfHalfPlanes): x must end on the far side of l
 /// from r, l·X having the other sign than l.z, and lie in the cone from r between the directions

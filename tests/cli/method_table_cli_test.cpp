@@ -175,9 +175,18 @@ TEST(MethodTableCli, RenderHelpListsEveryMethod) {
 }
 
 TEST(MethodTableCli, UnknownParamIsOneLineNamingTheMethodsKnobs) {
-    const test::CliResult r = runStsv({"render", "fence", "--size", "8x8", "--param", "sm_size=512", "-q"});
+    const test::CliResult r =
+        runStsv({"render", "fence", "--method", "stsv", "--size", "8x8", "--param", "sm_size=512", "-q"});
     EXPECT_EQ(r.code, 1);
     EXPECT_NE(r.err.find("--param sm_size: method stsv has no such parameter"), std::string::npos) << r.err;
+    // With the default method, the one the scene calls for is named, with its knobs.
+    const test::CliResult automatic =
+        runStsv({"render", "fence", "--size", "8x8", "--param", "sm_size=512", "-q"});
+    EXPECT_EQ(automatic.code, 1);
+    EXPECT_NE(automatic.err.find(
+                  "--param sm_size: method dcs+stsv has no such parameter (its parameters: ray_edges"),
+              std::string::npos)
+        << automatic.err;
     const test::CliResult bad = runStsv({"render", "fence", "--size", "8x8", "--param", "nonsense", "-q"});
     EXPECT_EQ(bad.code, 1);
     EXPECT_NE(bad.err.find("name=value"), std::string::npos) << bad.err;

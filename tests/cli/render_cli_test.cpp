@@ -70,9 +70,9 @@ TEST(RenderCli, DumpLsBitmaskLayoutMatchesTheRendererAndIsDeterministic) {
     ScratchDir dir;
     const int w = 48, h = 32, n = 32;
     auto render = [&](const std::string& file) {
-        const std::vector<std::string> args = {"render",    "fence",        "--backend", "cpu",
-                                               "--size",    "48x32",        "--samples", "32",
-                                               "--dump-ls", dir.file(file), "-q"};
+        const std::vector<std::string> args = {
+            "render", "fence",     "--method", "stsv",      "--backend",    "cpu", "--size",
+            "48x32",  "--samples", "32",       "--dump-ls", dir.file(file), "-q"};
         const CliResult r = runStsv(args);
         EXPECT_EQ(r.code, 0) << test::describe(args, r);
         return readNpy(dir.file(file));
@@ -125,6 +125,7 @@ TEST(RenderCli, DumpLsCountersShape) {
 TEST(RenderCli, DumpLsWritesOneFilePerLight) {
     ScratchDir dir;
     const std::vector<std::string> args = {"render",    std::string(STSV_TEST_DATA) + "/scene/example.json",
+                                           "--method",  "stsv",
                                            "--backend", "cpu",
                                            "--size",    "16x12",
                                            "--samples", "16",
@@ -141,9 +142,9 @@ TEST(RenderCli, DumpLsWritesOneFilePerLight) {
 
 TEST(RenderCli, StatsHaveEveryOptionTimingsCountsAndMemory) {
     ScratchDir dir;
-    const std::vector<std::string> args = {"render", "foliage", "--set",   "count=3",          "--backend",
-                                           "cpu",    "--size",  "32x16",   "--samples",        "64",
-                                           "--seed", "7",       "--stats", dir.file("s.json"), "-q"};
+    const std::vector<std::string> args = {
+        "render", "foliage",   "--method", "stsv",   "--set", "count=3", "--backend",        "cpu", "--size",
+        "32x16",  "--samples", "64",       "--seed", "7",     "--stats", dir.file("s.json"), "-q"};
     const CliResult r = runStsv(args);
     ASSERT_EQ(r.code, 0) << test::describe(args, r);
     const nlohmann::json s = readJson(dir.file("s.json"));
@@ -211,6 +212,106 @@ TEST(RenderCli, BadInputGivesOneLineAndNonZeroExit) {
         EXPECT_EQ(lineCount(r.err), 1u) << test::describe(args, r);
         EXPECT_EQ(r.err.rfind("stsv: error: ", 0), 0u) << test::describe(args, r);
     }
+}
+
+/// A scene of one ground quad under a light, whose material is `material` (JSON), and, with
+/// `occluder`, a quad of material "occluder" above it.
+std::string autoScene(const std::string& groundMaterial, const std::string& occluderMaterial) {
+    return R"({"camera": {"eye": [0, 3, 4], "target": [0, 0, 0], "up": [0, 1, 0], "fovY": 50},
+  "materials": [)" +
+           groundMaterial + ", " + occluderMaterial + R"(],
+  "meshes": [
+    {"name": "ground", "quad": {"size": [4, 4]}, "material": "ground",
+     "transform": {"rotate": {"axis": [1, 0, 0], "degrees": -90}}},
+    {"name": "occluder", "quad": {"size": [1, 1]}, "material": "occluder",
+     "transform": {"translate": [0, 1, 0], "rotate": {"axis": [1, 0, 0], "degrees": -90}}}],
+  "lights": [{"type": "sphere", "position": [0, 3, 0], "radius": 0.3, "radiance": [10, 10, 10]}]})";
+}
+
+TEST(RenderCli, AutoIsTheDefaultAndPicksTheMethodTheSceneCallsFor) {
+    ScratchDir dir;
+    const std::string opaque = R"({"name": "ground", "albedo": 0.7})";
+    const std::string opaqueOccluder = R"({"name": "occluder", "albedo": 0.5})";
+    const std::string perforatedGround =
+        R"({"name": "ground", "albedo": 0.7, "alphaTexture": {"generator": "chainlink", "size": 64}})";
+    const std::string perforatedOccluder =
+        R"({"name": "occluder", "albedo": 0.5, "alphaTexture": {"generator": "chainlink", "size": 64}})";
+    const std::string translucentGround =
+        R"({"name": "ground", "albedo": 0.7, "alphaMode": "blend", "alphaFactor": 0.5})";
+    const std::string translucentOccluder =
+        R"({"name": "occluder", "albedo": 0.5, "alphaMode": "blend", "alphaFactor": 0.5})";
+    struct Case {
+        std::string name, ground, occluder, expected;
+    };
+    // dcs+stsv wherever a triangle is opaque; stsv where every one is perforated or translucent.
+    const std::vector<Case> cases = {
+        {"opaque-only", opaque, opaqueOccluder, "dcs+stsv"},
+        {"mixed", opaque, perforatedOccluder, "dcs+stsv"},
+        {"perforated-only", perforatedGround, perforatedOccluder, "stsv"},
+        {"translucent-only", translucentGround, translucentOccluder, "stsv"},
+        {"perforated-and-translucent", perforatedGround, translucentOccluder, "stsv"}};
+    for (const Case& c : cases) {
+        const std::string scene = dir.file(c.name + ".json");
+        test::writeText(scene, autoScene(c.ground, c.occluder));
+        for (const std::string backend : {"cpu", "vulkan"}) {
+            const std::string stats = dir.file(c.name + "-" + backend + ".json");
+            const std::vector<std::string> args = {
+                "render",    scene, "--backend", backend, "--size", "24x16",
+                "--samples", "16",  "--stats",   stats,   "-o",     dir.file(c.name + ".png")};
+            const CliResult r = runStsv(args);
+            ASSERT_EQ(r.code, 0) << test::describe(args, r);
+            const nlohmann::json s = readJson(stats);
+            EXPECT_EQ(s["options"]["method"], c.expected) << c.name << " on " << backend;
+            EXPECT_EQ(s["method_requested"], "auto") << c.name;
+            // The summary line names the method that ran.
+            EXPECT_NE(r.err.find(": " + c.expected + " (auto) on " + backend), std::string::npos)
+                << c.name << ": " << r.err;
+        }
+    }
+    // The built-in scenes: the fence's ground is opaque; a method named is the one that runs.
+    const std::vector<std::string> args = {
+        "render", "fence",     "--backend", "cpu",     "--size",
+        "16x16",  "--samples", "16",        "--stats", dir.file("fence.json"),
+        "-q"};
+    ASSERT_EQ(runStsv(args).code, 0);
+    EXPECT_EQ(readJson(dir.file("fence.json"))["options"]["method"], "dcs+stsv");
+    const std::vector<std::string> named = {"render",    "fence", "--method", "stsv",
+                                            "--backend", "cpu",   "--size",   "16x16",
+                                            "--samples", "16",    "--stats",  dir.file("named.json"),
+                                            "-q"};
+    ASSERT_EQ(runStsv(named).code, 0);
+    EXPECT_EQ(readJson(dir.file("named.json"))["options"]["method"], "stsv");
+    EXPECT_EQ(readJson(dir.file("named.json"))["method_requested"], "stsv");
+}
+
+TEST(RenderCli, AutoInBenchAndCompareListsIsTheSceneMethod) {
+    ScratchDir dir;
+    const std::vector<std::string> bench = {"bench",      "fence", "--methods", "auto,reference",
+                                            "--backends", "cpu",   "--size",    "16x16",
+                                            "--samples",  "16",    "--repeat",  "1",
+                                            "--warmup",   "0",     "--json",    dir.file("bench.json"),
+                                            "-q"};
+    const CliResult b = runStsv(bench);
+    ASSERT_EQ(b.code, 0) << test::describe(bench, b);
+    std::vector<std::string> methods;
+    const nlohmann::json benchJson = readJson(dir.file("bench.json"));
+    for (const auto& c : benchJson["configurations"]) methods.push_back(c["method"]);
+    EXPECT_EQ(methods, (std::vector<std::string>{"reference", "dcs+stsv"}));
+    // A method the list names already is not run twice; a backend after auto is kept.
+    const std::vector<std::string> compare = {
+        "compare",   "fence", "--methods", "auto/cpu,dcs+stsv/cpu,stsv/cpu", "--size", "16x16",
+        "--samples", "16",    "--json",    dir.file("compare.json"),         "-q"};
+    const CliResult c = runStsv(compare);
+    ASSERT_EQ(c.code, 0) << test::describe(compare, c);
+    std::vector<std::string> rows;
+    const nlohmann::json compareJson = readJson(dir.file("compare.json"));
+    for (const auto& row : compareJson["rows"]) rows.push_back(row["method"]);
+    EXPECT_EQ(rows, (std::vector<std::string>{"reference", "dcs+stsv", "stsv"}));
+    // Where no scene is known, auto is refused with the reason.
+    const std::vector<std::string> tune = {"tune", "auto", "--scenes", "fence", "-q"};
+    const CliResult t = runStsv(tune);
+    EXPECT_NE(t.code, 0);
+    EXPECT_NE(t.err.find("chosen per scene"), std::string::npos) << t.err;
 }
 
 TEST(InfoCli, ListsScenesKnobsAndBackends) {

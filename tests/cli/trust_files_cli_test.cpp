@@ -34,6 +34,9 @@ namespace fs = std::filesystem;
 void renderFence(const std::vector<std::string>& extra) {
     std::vector<std::string> args = {"render", "fence", "--backend", "cpu", "--size", "24x16", "-q"};
     args.insert(args.end(), extra.begin(), extra.end());
+    // STSV unless another method is named: its bitmask follows --buffer.
+    if (std::find(extra.begin(), extra.end(), "--method") == extra.end())
+        args.insert(args.end(), {"--method", "stsv"});
     const CliResult r = runStsv(args);
     ASSERT_EQ(r.code, 0) << describe(args, r);
 }

@@ -171,7 +171,8 @@ TEST_F(GpuTransmittance, DcsStsvIsDcsBitsWithTheStsvDepthsOfTheRest) {
         const WedgeOccluders occ(c.scene);
         const float far = farDistanceFor(c.scene.bounds());
         LightSampleBuffer counts(W, H, o.samples, BufferKind::Counters);
-        dcsCpuSamples(occ, frame.gbuffer, c.scene.lights[0], planOf(o), far, counts);
+        dcsCpuSamples(occ, frame.gbuffer, c.scene.lights[0], planOf(o), far, counts,
+                      float(methodKnob(o, "ray_edges")));
         LightSampleBuffer mirror(W, H, o.samples, BufferKind::Transmittance);
         for (int y = 0; y < H; ++y)
             for (int x = 0; x < W; ++x)

@@ -17,6 +17,8 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <optional>
+#include <string>
 #include <utility>
 
 namespace stsv {
@@ -25,6 +27,11 @@ namespace {
 using test::expectMatchesEmbree;
 using test::gpuOptions;
 using test::planOf;
+
+/// The frame's ray_edges knob, as the mirror takes it.
+float rayEdges(const RenderOptions& o) {
+    return float(methodKnob(o, "ray_edges"));
+}
 
 class GpuWedges : public test::GpuRenderTest {
   protected:
@@ -40,8 +47,9 @@ class GpuWedges : public test::GpuRenderTest {
             LightSampleBuffer mirror(o.width, o.height, o.samples, BufferKind::Counters);
             const WedgeCpuStats mirrorStats =
                 o.method == Method::DcsStsv
-                    ? dcsStsvCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror)
-                    : dcsCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror);
+                    ? dcsStsvCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror, nullptr,
+                                        rayEdges(o))
+                    : dcsCpuSamples(occ, frame.gbuffer, scene.lights[l], planOf(o), far, mirror, rayEdges(o));
             // Both count the (pixel, edge) pairs that pass the bound and silhouette tests of
             // wedges/wedge_fragment_dh.h on the same points: the GPU per fragment, the mirror
             // per loop step (a tie at a bound's plane may tip one pair).
@@ -430,6 +438,97 @@ TEST_F(GpuWedges, TheClusterWalkListsThePairsTheWedgeDrawAccepts) {
     EXPECT_EQ(renderer.device().validationMessageCount(), 0u);
 }
 
+/// A tilted square of two opaque triangles: open edges, two of them silhouettes for any pixel.
+MeshData squareMesh() {
+    MeshData m;
+    m.positions = {{-0.5f, 0.6f, -0.5f}, {0.5f, 0.7f, -0.5f}, {0.5f, 0.8f, 0.5f}, {-0.5f, 0.7f, 0.5f}};
+    m.texcoords = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    m.triangles = {{0, 2, 1}, {0, 3, 2}};
+    m.triangleMaterial = {0, 0};
+    Material opaque;
+    opaque.name = "square";
+    m.materials = {opaque};
+    return m;
+}
+
+TEST_F(GpuWedges, BlocksThatCastRaysCountAsTheReference) {
+    // A block whose kept edges exceed ray_edges per sample counts its samples' segments through
+    // the layer tree (dcsBlockCastsRays; dcs_rays.comp on Vulkan) instead of D(r) and the
+    // crossings: the reference's count, with the reference's robust crossing test. ray_edges = 0:
+    // every block with an edge casts rays; 1e9 (the default): none does. On a square above the
+    // ground, whose blocks keep at most their nine edges, the two ways give the same counters.
+    // On the fine knot, whose blocks keep about 1 100 edges each, the rays give Embree's bits
+    // exactly and the crossings differ from them on 13 samples of one pixel on its own tube's
+    // terminator, where the rays agree with Embree: the ways differ only where the crossings are
+    // wrong. Each way is the mirror's bit for bit, with the same pixels casting rays, on both
+    // backends.
+    const Scene knot = makeMeshScene(test::makeTorusKnotMesh(4096, 16, 0.12f), "fine torus knot");
+    const Scene square = makeMeshScene(squareMesh(), "square");
+    struct Case {
+        const char* name;
+        const Scene* scene;
+        std::size_t crossingsDiffering; ///< samples whose bit the crossings get wrong (measured)
+        std::size_t leastBlockEdges;    ///< edges the blocks keep in all: measured 1 120 (knot) and 6.9
+        std::size_t mostBlockEdges;     ///< (square) a block, within a factor of 2 (square: the most)
+    };
+    const std::size_t blocks = (96u / 4u) * (72u / 4u);
+    for (const Case& c : {Case{"knot", &knot, 13, 550 * blocks, 2250 * blocks},
+                          Case{"square", &square, 0, 3 * blocks, 9 * blocks}}) {
+        RenderOptions o = wedgeOptions(Method::Dcs, 96, 72, 32);
+        const EmbreeScene embree(*c.scene);
+        LightSampleBuffer reference(o.width, o.height, o.samples, BufferKind::Bitmask);
+        const float far = farDistanceFor(c.scene->bounds());
+        const Frame crossings = renderGpu(*c.scene, o);
+        traceReferenceSamples(embree, crossings.gbuffer, c.scene->lights[0], planOf(o), far, reference);
+        for (double rayEdges : {1e9, 0.0}) {
+            o.params["ray_edges"] = rayEdges;
+            const Frame frame = renderGpu(*c.scene, o);
+            const std::string what = std::string(c.name) + " ray_edges=" + std::to_string(rayEdges);
+            expectDcsMatchesMirror(*c.scene, frame, o, 1.0, what);
+            LightSampleBuffer mirror(o.width, o.height, o.samples, BufferKind::Counters);
+            const WedgeCpuStats cpu =
+                dcsCpuSamples(WedgeOccluders(*c.scene), frame.gbuffer, c.scene->lights[0], planOf(o), far,
+                              mirror, float(rayEdges));
+            const nlohmann::json& w = frame.stats["wedges"][0];
+            EXPECT_EQ(w["ray_pixels"].get<std::size_t>(), cpu.rayPixels) << what;
+            EXPECT_EQ(w["crossing_pixels"].get<std::size_t>(), cpu.crossingPixels) << what;
+            std::cout << what << ": " << cpu.blockEdges << " block edges, " << cpu.rayPixels
+                      << " ray pixels\n";
+            EXPECT_GE(cpu.blockEdges, c.leastBlockEdges) << what;
+            EXPECT_LE(cpu.blockEdges, c.mostBlockEdges) << what;
+            const LightSampleBuffer& counts = frame.lightSamples[0];
+            std::size_t differing = 0, waysDiffer = 0;
+            for (int y = 0; y < o.height; ++y)
+                for (int x = 0; x < o.width; ++x)
+                    for (int k = 0; k < o.samples; ++k) {
+                        const bool wrong = reference.occluded(x, y, k) != (counts.count(x, y, k) != 0);
+                        differing += wrong ? 1 : 0;
+                        const bool crossed = crossings.lightSamples[0].count(x, y, k) != 0;
+                        // Where the two ways differ, the rays have the reference's bit.
+                        if (rayEdges == 0.0 && crossed != (counts.count(x, y, k) != 0)) {
+                            ++waysDiffer;
+                            EXPECT_FALSE(wrong) << what << " at " << x << "," << y << " sample " << k;
+                        }
+                    }
+            if (rayEdges > 0.0) {
+                EXPECT_EQ(cpu.rayPixels, 0u) << what;
+                EXPECT_GT(cpu.pixelEdgeVisits, 0u) << what;
+                EXPECT_EQ(counts.counters(), crossings.lightSamples[0].counters()) << what;
+                EXPECT_EQ(differing, c.crossingsDiffering) << what;
+            } else {
+                // Every covered pixel whose block kept an edge casts rays: most of the frame's.
+                EXPECT_GT(cpu.rayPixels, cpu.crossingPixels) << what;
+                EXPECT_EQ(cpu.pixelEdgeVisits, 0u) << what;
+                EXPECT_EQ(differing, 0u) << what;
+                EXPECT_EQ(waysDiffer, c.crossingsDiffering) << what;
+                if (c.crossingsDiffering == 0) {
+                    EXPECT_EQ(counts.counters(), crossings.lightSamples[0].counters()) << what;
+                }
+            }
+        }
+    }
+}
+
 TEST(DcsPixelStage, KeepsAnInvocationsLoopsWithinHalfOfLavapipesLimit) {
     // A kept (block, leaf) pair loops up to 1105 + 512·max(F, 1) times in dcs_clusters.comp's
     // pixel stage for edges of at most F faces; an invocation's pairs must stay within 32 768
@@ -655,10 +754,12 @@ TEST_F(GpuWedges, RepeatedFramesOfEveryMethodAreIdenticalAndNamedPerPass) {
                 const std::string technique = method.wedges == WedgeVariant::Pw ? "pw_" : "dcs_";
                 expected.push_back(light + technique + "center");
                 // Auto extrusion: DCS walks the cluster tree and lists the (pixel, edge) pairs for
-                // their samples; PW builds the wedge hulls and draws them.
+                // their samples, and lists the blocks that cast rays (none at the default) for
+                // theirs; PW builds the wedge hulls and draws them.
                 if (method.wedges == WedgeVariant::Dcs) {
                     expected.push_back(light + "dcs_clusters");
                     expected.push_back(light + "dcs_wedge_samples");
+                    expected.push_back(light + "dcs_rays");
                 } else {
                     expected.push_back(light + "pw_wedge_hulls");
                     expected.push_back(light + "pw_wedges");

@@ -12,8 +12,10 @@ namespace stsv {
 /// the perforated ones added to the same counters.
 inline WedgeCpuStats dcsStsvCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, const Light& light,
                                        const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
-                                       StsvCpuStats* stsvStats = nullptr) {
-    const WedgeCpuStats stats = dcsCpuSamples(occ, gbuffer, light, plan, farDistance, counters);
+                                       StsvCpuStats* stsvStats = nullptr,
+                                       float rayEdgesPerSample = DCS_RAY_EDGES_PER_SAMPLE) {
+    const WedgeCpuStats stats =
+        dcsCpuSamples(occ, gbuffer, light, plan, farDistance, counters, rayEdgesPerSample);
     const StsvCpuStats s = stsvCpuSamples(occ.scene(), gbuffer, light, plan, farDistance, counters,
                                           stsvFilter(occ.scene(), StsvTriangles::Perforated));
     if (stsvStats) *stsvStats = s;

@@ -68,7 +68,7 @@ TEST(Combined, NoOpaqueTriangleAtAll) {
     const WedgeOccluders occ(scene);
     EXPECT_EQ(occ.opaqueTriangles(), 0u);
     EXPECT_EQ(occ.adjacency().edges.size(), 0u);
-    EXPECT_EQ(occ.centerCount(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), SHADOW_T_MIN, NO_TRIANGLE),
+    EXPECT_EQ(occ.layersCrossed(vec3(0.0f, 0.0f, -1.0f), vec3(0.0f, 0.0f, 3.0f), SHADOW_T_MIN, NO_TRIANGLE),
               0u);
 }
 

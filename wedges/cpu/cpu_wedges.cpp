@@ -66,6 +66,8 @@ nlohmann::json toJson(const WedgeCpuStats& s) {
                         {"fragments", s.pixelVolumeTests},
                         {"silhouette_fragments", s.pixelEdgeVisits},
                         {"negative_counts", s.negativeCounts},
+                        {"ray_pixels", s.rayPixels},
+                        {"crossing_pixels", s.crossingPixels},
                         {"setup_ms", s.setupMs},
                         {"shade_ms", s.shadeMs}};
     if (s.samplesTested) j["samples_tested"] = *s.samplesTested;
@@ -93,7 +95,7 @@ const SilhouetteEdges& WedgeOccluders::silhouettes(const Light& light, float far
     return *m_silhouettes.back();
 }
 
-std::uint32_t WedgeOccluders::centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const {
+std::uint32_t WedgeOccluders::layersCrossed(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const {
     // No loop limit on the CPU: the count runs to its end.
     LayerCountWork work{};
     return layerCount(m_layers, p, r, tMin, ignore, work, 0xffffffffu);
@@ -130,6 +132,7 @@ struct BlockEdges {
     std::vector<std::uint32_t> leaves; ///< node indices
     std::vector<BlockItem> items;      ///< ordered only
     std::vector<char> leafKept;        ///< per slot, for the current pixel
+    std::uint32_t edgeCount = 0;       ///< the edges of `leaves` (dcsBlockCastsRays)
 };
 
 /// The fragment work of one pixel: calls visit(l, a, b, k) for every edge of the block that is a
@@ -241,6 +244,7 @@ void forEachPixel(const GBuffer& gbuffer, const SilhouetteEdges& sil, bool order
                 const Region region(blockBox, sil.light());
                 block.leaves.clear();
                 block.items.clear();
+                block.edgeCount = 0;
                 for (std::uint32_t index : tileLeaves) {
                     ++tests;
                     if (!nodeMayAdd(tree.nodes[index], region)) {
@@ -249,6 +253,7 @@ void forEachPixel(const GBuffer& gbuffer, const SilhouetteEdges& sil, bool order
                     }
                     const EdgeClusterNode& leaf = tree.nodes[index];
                     entries += leaf.count;
+                    block.edgeCount += leaf.count;
                     if (ordered)
                         for (std::uint32_t k = leaf.first; k < leaf.first + leaf.count; ++k)
                             block.items.push_back({tree.items[k], k, std::uint32_t(block.leaves.size())});
@@ -275,7 +280,8 @@ void forEachPixel(const GBuffer& gbuffer, const SilhouetteEdges& sil, bool order
 } // namespace
 
 WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, const Light& light,
-                            const SamplePlan& plan, float farDistance, LightSampleBuffer& counters) {
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
+                            float rayEdgesPerSample) {
     if (counters.kind() != BufferKind::Counters)
         throw UsageError("dcs needs a counter light-sample buffer (--buffer counters)");
     WedgeCpuStats stats;
@@ -285,19 +291,32 @@ WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, c
     const float sceneDiameter = occ.scene().bounds().diameter();
     stats.setupMs = timer.milliseconds();
     timer.reset();
-    std::atomic<std::size_t> tests{0}, visits{0}, negative{0}, samples{0};
+    std::atomic<std::size_t> tests{0}, visits{0}, negative{0}, samples{0}, rayPixels{0}, crossingPixels{0};
     forEachPixel(
         gbuffer, sil, false, "dcs (cpu)", stats, [&](int x, int y, std::size_t i, BlockEdges& block) {
             thread_local std::vector<vec2> ab;
             thread_local std::vector<int> count;
             const vec3 p = gbuffer.position[i];
+            const std::uint32_t receiver = gbuffer.triangle[i];
             const LightFrame frame = lightFrame(light, p, farDistance);
             const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+            ab.resize(std::size_t(plan.count));
+            if (dcsBlockCastsRays(block.edgeCount, uint(plan.count), rayEdgesPerSample)) {
+                // Each sample's segment through the layer tree: N rays cost less than the crossings.
+                pixelSamplePoints(plan, x, y, frame.domain, ab.data());
+                for (int k = 0; k < plan.count; ++k) {
+                    const vec3 s = lightSamplePosition(frame, ab[std::size_t(k)]);
+                    if (const std::uint32_t c = occ.layersCrossed(p, s, tMin, receiver))
+                        counters.addCount(x, y, k, int(c));
+                }
+                ++rayPixels;
+                return;
+            }
+            ++crossingPixels;
             const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
             // D(r): the layer count at the light centre (DESIGN §4.5).
-            const int base = static_cast<int>(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i]));
+            const int base = static_cast<int>(occ.layersCrossed(p, frame.center, tMin, receiver));
             count.assign(std::size_t(plan.count), base);
-            ab.resize(std::size_t(plan.count));
             // The samples in a grid of cells, made when the first edge needs them: an edge tests
             // only those of the cells its crossing region (dcsSampleRegion) touches.
             SampleCells cells;
@@ -305,7 +324,7 @@ WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, c
             const uint wordCount = uint(plan.count + 31) / 32u;
             std::size_t localTests = 0, localVisits = 0, localNegative = 0, localSamples = 0;
             if (px.valid != 0.0f)
-                forEachSilhouette(occ, sil, block, false, px, gbuffer.triangle[i], localTests, localVisits,
+                forEachSilhouette(occ, sil, block, false, px, receiver, localTests, localVisits,
                                   [&](vec3 l, vec3 a, vec3 b, int k) {
                                       vec2 lo, hi;
                                       if (!dcsSampleRegion(l, a, b, vec2(-1.0f), vec2(1.0f), lo, hi)) return;
@@ -340,6 +359,8 @@ WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, c
     stats.pixelEdgeVisits = visits;
     stats.negativeCounts = negative;
     stats.samplesTested = samples.load();
+    stats.rayPixels = rayPixels;
+    stats.crossingPixels = crossingPixels;
     stats.volumes = sil.volumesBuilt();
     stats.shadeMs = timer.milliseconds();
     return stats;
@@ -363,7 +384,8 @@ WedgeCpuStats pwCpuVisibility(const WedgeOccluders& occ, const GBuffer& gbuffer,
         const float tMin = shadowTMin(p, frame.center, sceneDiameter);
         const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
         // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
-        float occlusion = pwCenterOcclusion(int(occ.centerCount(p, frame.center, tMin, gbuffer.triangle[i])));
+        float occlusion =
+            pwCenterOcclusion(int(occ.layersCrossed(p, frame.center, tMin, gbuffer.triangle[i])));
         std::size_t localTests = 0, localVisits = 0;
         if (px.valid != 0.0f)
             forEachSilhouette(occ, sil, block, true, px, gbuffer.triangle[i], localTests, localVisits,
@@ -410,7 +432,7 @@ class WedgeTechnique final : public CpuTechnique {
         const WedgeCpuStats s =
             pw ? pwCpuVisibility(m_occluders, work.gbuffer, work.light, m_c.farDistance, work.vcoef)
                : dcsCpuSamples(m_occluders, work.gbuffer, work.light, m_c.plan, m_c.farDistance,
-                               counts ? *counts : work.samples);
+                               counts ? *counts : work.samples, float(methodKnob(m_c.options, "ray_edges")));
         if (counts)
             for (int y = 0; y < counts->height(); ++y)
                 for (int x = 0; x < counts->width(); ++x)

@@ -14,6 +14,7 @@
 #include "sampling/pattern.h"
 #include "scene/scene.h"
 #include "wedges/adjacency.h"
+#include "wedges/dcs_dh.h"
 #include "wedges/layer_bvh.h"
 #include "wedges/silhouette_edges.h"
 
@@ -48,6 +49,10 @@ struct WedgeCpuStats {
     /// ("silhouette_fragments", as the GPU counts them; DCS tests every sample of each).
     std::size_t pixelEdgeVisits = 0;
     std::size_t negativeCounts = 0; ///< DCS counts that came out < 0 (round-off at ties), clamped to 0
+    /// DCS: covered pixels whose block counted its samples through the layer tree (dcsBlockCastsRays),
+    /// and those that counted D(r) and the crossings.
+    std::size_t rayPixels = 0;
+    std::size_t crossingPixels = 0;
     /// DCS: samples whose crossing with a silhouette edge was tested ("samples_tested"; only
     /// those in the cells of the edge's dcsSampleRegion). Empty for PW, which tests no samples.
     std::optional<std::size_t> samplesTested;
@@ -72,8 +77,8 @@ class WedgeOccluders {
     std::size_t opaqueTriangles() const { return m_opaqueCount; }
 
     /// Opaque triangles crossed by p → r (t ∈ [tMin, 1]), scene triangle `ignore` excluded
-    /// (layer_bvh_dh.h layerCount).
-    std::uint32_t centerCount(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const;
+    /// (layer_bvh_dh.h layerCount): D(r) at the light centre, or a sample's count.
+    std::uint32_t layersCrossed(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const;
 
     /// The potential silhouettes of a light with their cluster tree and their carriers' bounds:
     /// they depend on the scene and the light alone, so the first frame that asks for a light
@@ -91,10 +96,12 @@ class WedgeOccluders {
 };
 
 /// DCS: adds to `counters` (BufferKind::Counters) the exact per-sample depth complexity of the opaque
-/// triangles, D(x) = D(r) + Σ_e k_e·[r → x crosses e] (wedges/dcs_dh.h). Self-shadowing rule as
-/// STSV: the visible triangle never counts.
+/// triangles, D(x) = D(r) + Σ_e k_e·[r → x crosses e] (wedges/dcs_dh.h), or, in a block whose edges
+/// exceed `rayEdgesPerSample` per sample (dcsBlockCastsRays), each sample's segment counted through
+/// the layer tree. Self-shadowing rule as STSV: the visible triangle never counts.
 WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occluders, const GBuffer& gbuffer, const Light& light,
-                            const SamplePlan& plan, float farDistance, LightSampleBuffer& counters);
+                            const SamplePlan& plan, float farDistance, LightSampleBuffer& counters,
+                            float rayEdgesPerSample = DCS_RAY_EDGES_PER_SAMPLE);
 
 /// PW: per-pixel visibility v_coef of the opaque triangles (one channel, 1 on background):
 /// 1 − clamp([D(r) > 0] + Σ_e sign(k_e)·coverage_e, 0, 1), coverage analytic over the light

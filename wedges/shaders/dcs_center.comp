@@ -14,18 +14,8 @@ layout(local_size_x = 16, local_size_y = 16) in;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly uniform image2D gPosition;
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CENTER, r32i) writeonly uniform iimage2D centerCount;
-layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_LAYER_NODES) uniform usamplerBuffer layerNodes;
-layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_LAYER_TRIANGLES) uniform usamplerBuffer layerTriangles;
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
-
-// The tables as texels (a vector gather on lavapipe): the value layer_bvh_dh.h takes is empty.
-struct LayerBvh {
-    uint unused;
-};
-uvec4 layerBvhNode(LayerBvh bvh, uint texel) { return texelFetch(layerNodes, int(texel)); }
-uvec4 layerBvhTriangle(LayerBvh bvh, uint texel) { return texelFetch(layerTriangles, int(texel)); }
-#define LAYER_BVH
-#include "wedges/layer_bvh_dh.h"
+#include "wedges/shaders/layer_bvh.glsl"
 
 void main() {
     ivec2 pixel = ivec2(gl_GlobalInvocationID.xy);
@@ -37,10 +27,7 @@ void main() {
         vec3 p = vec3(imageLoad(gPosition, pixel));
         LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
         float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
-        LayerBvh bvh = LayerBvh(0u);
-        // A scene without opaque triangles binds a one-texel stand-in: no node.
-        uint nodes = uint(textureSize(layerNodes)) / LAYER_BVH_NODE_TEXELS;
-        count = layerCount(bvh, nodes, p, lf.center, shadowTMin(p, lf.center, sceneDiameter), receiver,
+        count = layerCount(LayerBvh(0u), layerNodeCount(), p, lf.center, shadowTMin(p, lf.center, sceneDiameter), receiver,
                            LAYER_BVH_MAX_VISITS, work);
     }
     if (inside) imageStore(centerCount, pixel, ivec4(int(count)));

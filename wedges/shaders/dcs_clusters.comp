@@ -9,6 +9,8 @@
 //     pixel left, an edge that is a silhouette seen from the pixel's p (most are not) and whose
 //     ball meets the segments from p to the light makes a (pixel, item) candidate, appended with
 //     one atomic an edge;
+//   A block whose kept edges exceed DCS_RAY_EDGES per sample (dcsBlockCastsRays) lists nothing in
+//     stage 3: dcs_rays.comp counts its samples through the layer tree instead.
 //   4 (candidates): a candidate whose edge clipped between p and the light is not empty and
 //     whose carrier's bound holds p is listed for wedge_samples.comp, which adds
 //     k_e·[r → x crosses the edge] to each light sample x's counter. (Lavapipe runs a batch's
@@ -32,10 +34,16 @@ layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer 
 #include "render/shaders/cluster_walk.glsl"
 
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CLUSTER_BOUNDS) uniform usamplerBuffer clusterBounds;
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DCS_BLOCKS) buffer DcsBlocks { uint dcsBlocks[]; };
+#ifndef DCS_RAY_EDGES
+#define DCS_RAY_EDGES DCS_RAY_EDGES_PER_SAMPLE
+#endif
 
 /// A leaf that may add to a block is kept as (block, leaf): stage 3 tests its edges, each a
-/// cluster of its own (ball and cone of its two faces), and the block's pixels.
+/// cluster of its own (ball and cone of its two faces), and the block's pixels. Its edges count
+/// toward the block's choice between crossings and rays (the mirror's BlockEdges::edgeCount).
 void clusterKeep(uint block, uint leaf, uvec4 range, vec4 region, LightHull hull, inout uint tests, inout uint rejected) {
+    atomicAdd(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], range.y);
     groupAppend(GROUP_KEPT, uvec2(block, leaf));
 }
 
@@ -88,6 +96,8 @@ void main() {
     uint rejected = 0u;
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
+        // The block's samples are counted by rays (dcs_rays.comp): no pair is listed.
+        if (dcsBlockCastsRays(dcsBlocks[GPU_DCS_BLOCK_EDGES + pair.x], uint(SAMPLE_COUNT), DCS_RAY_EDGES)) continue;
         uvec4 range = clusterData(clusterNodes, pair.y);
         // The block's pixels whose cones to the light's ball meet the leaf's ball (the mirror's
         // per-point leaf test: the ball holds each edge's, and a ball inside one that fails fails),

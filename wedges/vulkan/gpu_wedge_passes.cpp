@@ -8,8 +8,11 @@
 #include "gpu/shader_compiler.h"
 #include "volumes/extrusion_dh.h"
 #include "wedges/adjacency.h"
+#include "wedges/dcs_dh.h"
+#include "wedges/edge_cluster_dh.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <unordered_map>
 
 namespace stsv {
@@ -19,6 +22,8 @@ namespace {
 constexpr VkFormat CENTER_FORMAT = VK_FORMAT_R32_SINT;
 constexpr VkPipelineStageFlags2 FRAGMENT = VK_PIPELINE_STAGE_2_FRAGMENT_SHADER_BIT;
 constexpr VkPipelineStageFlags2 COMPUTE = VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT;
+/// dcs_rays.comp's workgroup size.
+constexpr std::uint32_t RAY_GROUP = 16u * GPU_DCS_RAY_SAMPLES_PER_GROUP;
 
 /// `defines` plus the technique (WEDGE_PW) and whether pw folds in the STSV part (WEDGE_STSV).
 std::vector<ShaderDefine> wedgeDefines(const RenderOptions& options, std::vector<ShaderDefine> defines) {
@@ -88,7 +93,8 @@ std::vector<DescriptorBinding> WedgeResources::bindings() {
         {GPU_BINDING_EDGE_FACE_TEXELS, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_CENTER, VK_DESCRIPTOR_TYPE_STORAGE_IMAGE, VK_SHADER_STAGE_ALL, 1},
         {GPU_BINDING_LAYER_NODES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
-        {GPU_BINDING_LAYER_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1}};
+        {GPU_BINDING_LAYER_TRIANGLES, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_SHADER_STAGE_ALL, 1},
+        {GPU_BINDING_DCS_BLOCKS, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_SHADER_STAGE_ALL, 1}};
     for (const DescriptorBinding& b : WedgeClusters::bindings()) bindings.push_back(b);
     return bindings;
 }
@@ -114,6 +120,12 @@ WedgeResources::WedgeResources(const Device& device, const Scene& scene, const R
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
+    // Per block of the walk its kept edges, and the list of those that cast rays (dcs_rays.comp).
+    const std::uint32_t blocks =
+        clusterBlocksAlong(std::uint32_t(options.width)) * clusterBlocksAlong(std::uint32_t(options.height));
+    dcsBlocks = Buffer(device, (GPU_DCS_BLOCK_EDGES + 2u * VkDeviceSize(blocks)) * sizeof(uint),
+                       storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
+                       MemoryUsage::DeviceLocal);
     // The tree D(r) is counted through, one for every light.
     LayerBvhTables layers = buildLayerBvh(scene);
     m_layerNodeCount = layers.nodeCount();
@@ -136,6 +148,7 @@ void WedgeResources::writeDescriptors(DescriptorSet& set, std::size_t light,
     set.writeStorageImage(GPU_BINDING_CENTER, center);
     set.writeTexelBuffer(GPU_BINDING_LAYER_NODES, layerNodeTexels.handle());
     set.writeTexelBuffer(GPU_BINDING_LAYER_TRIANGLES, layerTriangleTexels.handle());
+    set.writeBuffer(GPU_BINDING_DCS_BLOCKS, dcsBlocks);
     m_clusters->writeDescriptors(set, light, lists);
 }
 
@@ -163,6 +176,52 @@ void CenterCountPass::record(VkCommandBuffer cmd, std::size_t light) const {
     m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
     m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
     dispatchPerPixel(cmd, m_width, m_height);
+}
+
+ShaderDefine dcsRayEdgesDefine(const RenderOptions& options) {
+    // A float literal of the knob's float value, as the CPU mirror compares with (9 digits: exact).
+    std::array<char, 32> text{};
+    std::snprintf(text.data(), text.size(), "%.9g", double(float(methodKnob(options, "ray_edges"))));
+    std::string literal = text.data();
+    if (literal.find_first_of(".e") == std::string::npos) literal += ".0";
+    return {"DCS_RAY_EDGES", literal};
+}
+
+DcsRaysPass::DcsRaysPass(const Device& device, const RenderOptions& options, WedgeResources& wedges,
+                         FrameResources& frame, const FamilyDescriptors& descriptors,
+                         const std::vector<ShaderDefine>& defines, std::uint32_t stage)
+    : m_wedges(&wedges), m_frame(&frame), m_descriptors(&descriptors), m_stage(stage),
+      m_blocks(clusterBlocksAlong(std::uint32_t(options.width)) *
+               clusterBlocksAlong(std::uint32_t(options.height))) {
+    std::vector<ShaderDefine> stageDefines = defines;
+    stageDefines.push_back(dcsRayEdgesDefine(options));
+    stageDefines.push_back({"DCS_RAYS_STAGE", std::to_string(stage)});
+    const ShaderCompiler compiler;
+    m_pipeline = createComputePipeline(device, descriptors.pipelineLayout(),
+                                       compiler.compileFile("wedges/shaders/dcs_rays.comp", stageDefines));
+}
+
+PassAccesses DcsRaysPass::accesses(std::size_t light) const {
+    PassAccesses accesses;
+    accesses.use(m_wedges->dcsBlocks, ResourceUse::storageReadWrite(COMPUTE));
+    if (m_stage == 0) return accesses;
+    accesses.use(m_wedges->dcsBlocks, ResourceUse::indirectRead())
+        .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
+        .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
+        .use(m_wedges->center, ResourceUse::storageRead(COMPUTE))
+        .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_frame->samples.counters[light], ResourceUse::storageReadWrite(COMPUTE));
+    return accesses;
+}
+
+void DcsRaysPass::record(VkCommandBuffer cmd, std::size_t light) const {
+    m_pipeline.bind(cmd);
+    m_descriptors->bind(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, light);
+    m_descriptors->push(cmd, GpuPush{uint(light), 0u, 0u, 0u});
+    if (m_stage == 0)
+        vkCmdDispatch(cmd, (m_blocks + RAY_GROUP - 1u) / RAY_GROUP, 1, 1); // a block an invocation
+    else
+        vkCmdDispatchIndirect(cmd, m_wedges->dcsBlocks.handle(), GPU_DCS_RAY_DISPATCH * sizeof(uint));
 }
 
 WedgePass::WedgePass(const Device& device, const RenderOptions& options, WedgeResources& wedges,

@@ -71,6 +71,7 @@ class WedgeResources {
     BufferView faceTexels;
     BufferView carrierTexels;
     Image center;          ///< r32i layer count D(r) at the light centre
+    Buffer dcsBlocks;      ///< DCS's choice per block of the walk (GPU_BINDING_DCS_BLOCKS)
     Buffer layerNodes;     ///< the tree's nodes (wedges/layer_bvh_dh.h), read as texels
     Buffer layerTriangles; ///< its triangles, read as texels
     BufferView layerNodeTexels;
@@ -103,6 +104,31 @@ class CenterCountPass final : public GpuPass {
     std::uint32_t m_width, m_height;
     Pipeline m_pipeline;
 };
+
+/// DCS's blocks that cast rays (dcs_rays.comp), after the walk has added up each block's kept
+/// edges: stage 0 lists the blocks whose edges exceed the ray_edges knob per sample
+/// (dcsBlockCastsRays) and sets the indirect dispatch of stage 1, which counts each of their
+/// (pixel, sample) segments through the layer tree into the light's counters.
+class DcsRaysPass final : public GpuPass {
+  public:
+    DcsRaysPass(const Device& device, const RenderOptions& options, WedgeResources& wedges,
+                FrameResources& frame, const FamilyDescriptors& descriptors,
+                const std::vector<ShaderDefine>& defines, std::uint32_t stage);
+
+    PassAccesses accesses(std::size_t light) const override;
+    void record(VkCommandBuffer cmd, std::size_t light) const override;
+
+  private:
+    WedgeResources* m_wedges;
+    FrameResources* m_frame;
+    const FamilyDescriptors* m_descriptors;
+    std::uint32_t m_stage;
+    std::uint32_t m_blocks; ///< of the frame
+    Pipeline m_pipeline;
+};
+
+/// The define that carries the ray_edges knob of a DCS frame into its shaders (DCS_RAY_EDGES).
+ShaderDefine dcsRayEdgesDefine(const RenderOptions& options);
 
 /// Per potential silhouette edge, the wedge bounded by its carrier's STSV volume and light
 /// planes: DCS lists the fragments with the edge a silhouette seen from p in `deferred` (for

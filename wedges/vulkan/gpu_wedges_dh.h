@@ -34,6 +34,18 @@ DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 6u;
 DH_CONST uint GPU_BINDING_LAYER_NODES = GPU_BINDING_EDGES + 7u;
 DH_CONST uint GPU_BINDING_LAYER_TRIANGLES = GPU_BINDING_EDGES + 8u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
+/// uint[] (SSBO), DCS's choice per block of the walk (dcsBlockCastsRays; dcs_clusters.comp,
+/// dcs_rays.comp): the indirect dispatch of the rays (GPU_DCS_RAY_DISPATCH), the count of the
+/// blocks that cast rays (GPU_DCS_RAY_BLOCK_COUNT), then per block of the frame the edges the walk
+/// kept for it (GPU_DCS_BLOCK_EDGES + block), then the list of the blocks that cast rays.
+DH_CONST uint GPU_BINDING_DCS_BLOCKS = GPU_BINDING_EDGES + 9u;
+DH_CONST uint GPU_DCS_RAY_DISPATCH = 0u; ///< x, y, z of vkCmdDispatchIndirect
+DH_CONST uint GPU_DCS_RAY_BLOCK_COUNT = 3u;
+DH_CONST uint GPU_DCS_BLOCK_EDGES = 4u;
+/// A workgroup of dcs_rays.comp's rays: each of a block's 16 pixels with 4 of its samples.
+DH_CONST uint GPU_DCS_RAY_SAMPLES_PER_GROUP = 4u;
+/// The most workgroups along x of the rays' dispatch (the least maxComputeWorkGroupCount[0] a device has).
+DH_CONST uint GPU_DCS_RAY_GROUPS_MAX = 65535u;
 
 DH_CONST uint GPU_NO_EDGE = 0xffffffffu; ///< an empty slot of a carrier's edges
 
@@ -48,7 +60,7 @@ struct GpuWedgeStats {
     uint centerTests;    ///< triangles they were tested with
     uint listedPart;     ///< the most one list held (past the end too): the walk's worst part's
     uint centerCutShort; ///< segments whose count stopped at LAYER_BVH_MAX_VISITS
-    uint pad;
+    uint rayPixels;      ///< covered pixels whose block cast rays (dcs_rays.comp)
 };
 
 /// What a wedge fragment needs about its carrier's bound (wedge.geom's flat varyings, or a

@@ -21,6 +21,7 @@ class WedgeTechnique final : public VulkanTechnique {
         : VulkanTechnique(c, volumeFamilyBindings(WedgeResources::bindings()), sizeof(GpuWedgeStats)), m_c(c),
           m_pw(c.method.wedges == WedgeVariant::Pw), m_resources(c.device, c.scene, c.options),
           m_clearHullDraw({}, {&c.hulls->draw}), m_clearDeferredCount({}, {&c.deferred->count}),
+          m_clearDcsBlocks({}, {&m_resources.dcsBlocks}),
           m_center(c.device, m_resources, c.resources, m_family, c.defines,
                    static_cast<std::uint32_t>(c.options.width), static_cast<std::uint32_t>(c.options.height)),
           m_fold(c.device, c.options, m_resources, c.resources, m_family, c.defines) {
@@ -38,8 +39,15 @@ class WedgeTechnique final : public VulkanTechnique {
             std::vector<ShaderDefine> defines = c.defines;
             defines.push_back({"CLUSTER_KEPT_ENTRIES_PER_INVOCATION",
                                std::to_string(m_resources.clusters().keptPairsPerInvocation()) + "u"});
+            defines.push_back(dcsRayEdgesDefine(c.options));
+            // Stage 2 adds up each block's kept edges, stage 3 reads them (the blocks that cast rays).
             m_clusters.emplace(c.device, "wedges/shaders/dcs_clusters.comp", 5, c.resources, *c.deferred,
-                               *c.clusterLists, m_family, defines);
+                               *c.clusterLists, m_family, defines,
+                               std::vector<std::pair<const Buffer*, ResourceUse>>{
+                                   {&m_resources.dcsBlocks,
+                                    ResourceUse::storageReadWrite(VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT)}});
+            m_rayBlocks.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, 0u);
+            m_rays.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, 1u);
             return;
         }
         m_wedges.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, c.geometry,
@@ -60,8 +68,8 @@ class WedgeTechnique final : public VulkanTechnique {
             m_resources.writeDescriptors(set, l, *m_c.clusterLists);
         }
     }
-    /// The walk and the samples time each part.
-    std::uint32_t timedPassesPerLight() const override { return 5 + 2 * (m_c.clusterLists->parts() - 1); }
+    /// The walk and the samples time each part, the rays' two passes once.
+    std::uint32_t timedPassesPerLight() const override { return 7 + 2 * (m_c.clusterLists->parts() - 1); }
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
         const std::string technique = passName(light, m_pw ? "pw_" : "dcs_");
@@ -73,9 +81,13 @@ class WedgeTechnique final : public VulkanTechnique {
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
         const std::string samples = technique + "wedge_samples";
         if (m_clusters) {
+            runPass(recorder, cmd, "", m_clearDcsBlocks, light);
             const auto& counts = m_resources.clusters().counts();
             m_clusters->record(recorder, cmd, light, light < counts.size() ? counts[light].depth : 0,
                                technique + "clusters", *m_samples, samples);
+            // The blocks whose edges outnumber their rays count their samples through the layer tree.
+            runPass(recorder, cmd, technique + "rays", *m_rayBlocks, light);
+            runPass(recorder, cmd, technique + "rays", *m_rays, light);
         }
         if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
         if (m_samples && !m_clusters) runPass(recorder, cmd, samples, *m_samples, light);
@@ -95,14 +107,16 @@ class WedgeTechnique final : public VulkanTechnique {
         for (std::size_t l = 0; l < m_counts.size(); ++l)
             if (m_counts[l].centerCutShort > 0)
                 throw Error(m_c.scene.source + ": light " + std::to_string(l) +
-                            ": the layer count at the light centre stopped after " +
+                            ": the layer count at the light centre or at a sample stopped after " +
                             std::to_string(LAYER_BVH_MAX_VISITS) + " tree nodes on " +
                             std::to_string(m_counts[l].centerCutShort) +
-                            " pixels' segments (lavapipe's loop limit); render with --backend cpu");
+                            " segments (lavapipe's loop limit); render with --backend cpu");
         return volumeListNeeds(m_counts, m_samples.has_value());
     }
 
-    void writeStats(const GBuffer&, nlohmann::json& stats) const override {
+    void writeStats(const GBuffer& gbuffer, nlohmann::json& stats) const override {
+        std::size_t covered = 0;
+        for (std::size_t i = 0; i < gbuffer.triangle.size(); ++i) covered += gbuffer.covered(i) ? 1 : 0;
         // wedge_samples.comp (DCS) tests every sample of a listed silhouette fragment.
         const std::uint64_t n = std::uint64_t(m_c.options.samples);
         nlohmann::json wedges = nlohmann::json::array();
@@ -132,6 +146,9 @@ class WedgeTechnique final : public VulkanTechnique {
             if (!m_pw) {
                 wedge["listed_fragments"] = s.listed;
                 wedge["samples_tested"] = n * s.inside;
+                // The walk's blocks that counted their samples through the layer tree (dcs_rays.comp).
+                wedge["ray_pixels"] = s.rayPixels;
+                wedge["crossing_pixels"] = covered - s.rayPixels;
             }
             // The layer count at the light centre (dcs_center.comp): the tree's nodes, the visits
             // and triangle tests of its segments (the CPU mirror does not count them).
@@ -149,12 +166,15 @@ class WedgeTechnique final : public VulkanTechnique {
     WedgeResources m_resources;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferredCount;
+    ClearPass m_clearDcsBlocks; ///< the walk's blocks' edges, before each light
     CenterCountPass m_center;
     FoldPass m_fold;
     std::optional<ClusterWalkPasses> m_clusters; ///< DCS with the auto extrusion: lists the pairs
     std::optional<WedgePass> m_wedges;           ///< else the wedge bounds drawn
     std::optional<WedgeSamplesPass> m_samples;   ///< DCS: the listed (pixel, edge) pairs
     std::optional<HullPass> m_hullPass;          ///< with hulls, when the scene has carriers
+    std::optional<DcsRaysPass> m_rayBlocks;      ///< DCS's walk: the blocks that cast rays
+    std::optional<DcsRaysPass> m_rays;           ///< and their samples' segments
     std::vector<GpuWedgeStats> m_counts;         ///< per light, after the frame
 };
 
