@@ -204,6 +204,140 @@ DH_FUNC uint layerCount(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, ui
     return crossed;
 }
 
+/// Whether triangle (a, b, c) crosses the plane w = w0 of a pixel's projection (dcs_dh.h: H(q) =
+/// (dot(row0, q − p), dot(row1, q − p), dot(row2, q − p)), w the parameter along every segment
+/// p → s) where the segments pass: its clip line there, at frame coordinates H.xy / w0, meets
+/// the square [−1, 1]² that holds every light sample (a disk's too). The planes of the segments'
+/// gaps, w0 = tMin and shadowTMax(tMin), are where a triangle enters or leaves the counted set as
+/// the sample moves without an edge of it being crossed: there the crossings of DCS's identity
+/// miss a change of D. Conservative: the clip points' rounding, divided by w0, widens the square
+/// (a triangle lying in the plane meets it), so a true meeting is never missed.
+DH_FUNC bool layerTriangleMeetsGap(vec3 a, vec3 b, vec3 c, vec3 p, vec3 row0, vec3 row1, vec3 row2,
+                                   float w0) {
+    vec3 h[3];
+    h[0] = vec3(dot(row0, a - p), dot(row1, a - p), dot(row2, a - p));
+    h[1] = vec3(dot(row0, b - p), dot(row1, b - p), dot(row2, b - p));
+    h[2] = vec3(dot(row0, c - p), dot(row1, c - p), dot(row2, c - p));
+    // The clip points (H.xy at w = w0: the frame point times w0), their box, and whether an edge
+    // lies in the plane (then the triangle's part there is not a segment: the box alone decides).
+    vec2 lo = vec2(3.0e38f);
+    vec2 hi = vec2(-3.0e38f);
+    vec2 q0 = vec2(0.0f);
+    vec2 q1 = vec2(0.0f);
+    uint found = 0u;
+    bool inPlane = false;
+    float magnitude = 0.0f;
+    for (uint i = 0u; i < 3u; ++i) {
+        vec3 u = h[i];
+        vec3 v = h[(i + 1u) % 3u];
+        magnitude = max(magnitude, max(abs(u.x), abs(u.y)));
+        if ((u.z < w0 && v.z < w0) || (u.z > w0 && v.z > w0)) continue;
+        if (u.z == v.z) {
+            inPlane = true;
+            lo = min(lo, min(vec2(u), vec2(v)));
+            hi = max(hi, max(vec2(u), vec2(v)));
+            continue;
+        }
+        vec2 q = vec2(u + (v - u) * ((w0 - u.z) / (v.z - u.z)));
+        lo = min(lo, q);
+        hi = max(hi, q);
+        if (found == 0u)
+            q0 = q;
+        else
+            q1 = q;
+        ++found;
+    }
+    if (found == 0u && !inPlane) return false;
+    // The square [−1, 1]² times w0, widened by its thousandth and the points' rounding (a few
+    // units of round-off of the vertices' coordinates, 10⁻⁶ of them).
+    float reach = w0 * (1.0f + 1e-3f) + 1e-6f * magnitude;
+    if (!(lo.x <= reach && lo.y <= reach && hi.x >= -reach && hi.y >= -reach)) return false;
+    if (inPlane || found < 2u) return true;
+    // The segment q0 q1 misses the square when its line has every corner strictly on one side.
+    vec2 d = q1 - q0;
+    float s0 = d.x * (reach - q0.y) - d.y * (reach - q0.x);
+    float s1 = d.x * (reach - q0.y) - d.y * (-reach - q0.x);
+    float s2 = d.x * (-reach - q0.y) - d.y * (reach - q0.x);
+    float s3 = d.x * (-reach - q0.y) - d.y * (-reach - q0.x);
+    bool above = s0 > 0.0f && s1 > 0.0f && s2 > 0.0f && s3 > 0.0f;
+    bool below = s0 < 0.0f && s1 < 0.0f && s2 < 0.0f && s3 < 0.0f;
+    return !above && !below;
+}
+
+/// Whether a triangle of the tree other than `ignore` meets the gap plane w = w0 where the pixel's
+/// segments pass (layerTriangleMeetsGap): a box query of the plane's part inside the cone from p
+/// to the light frame (c, T, B) — centre p + w0·(c − p), half extents w0·(|T| + |B|), widened as
+/// the triangle test's square. `maxVisits` and `work` as layerCount; a query cut short answers true.
+DH_FUNC bool layerGapMet(LayerBvh bvh, uint nodes, vec3 p, vec3 c, vec3 T, vec3 B, vec3 row0, vec3 row1,
+                         vec3 row2, float w0, uint ignore, uint maxVisits, DH_INOUT(LayerCountWork) work) {
+    vec3 centre = p + w0 * (c - p);
+    vec3 extent = w0 * (1.0f + 2e-3f) * (abs(T) + abs(B)) + 1e-6f * (abs(centre) + abs(p) + abs(c));
+    vec3 qlo = centre - extent;
+    vec3 qhi = centre + extent;
+    uint stack[LAYER_BVH_STACK];
+    uint top = 0u;
+    uint node = 0u;
+    bool more = nodes > 0u;
+    bool met = false;
+    uint visits = 0u;
+    for (; more && !met && visits < maxVisits; ++visits) {
+        uint base = LAYER_BVH_NODE_TEXELS * node;
+        vec4 ba = uintBitsToFloat(layerBvhNode(bvh, base));
+        vec4 bb = uintBitsToFloat(layerBvhNode(bvh, base + 1u));
+        vec4 bc = uintBitsToFloat(layerBvhNode(bvh, base + 2u));
+        uvec4 children = layerBvhNode(bvh, base + 3u);
+        uint next = LAYER_BVH_EMPTY;
+        for (uint k = 0u; k < 2u; ++k) {
+            vec3 lo = k == 0u ? vec3(ba) : vec3(bb.z, bb.w, bc.x);
+            vec3 hi = k == 0u ? vec3(ba.w, bb.x, bb.y) : vec3(bc.y, bc.z, bc.w);
+            uint child = k == 0u ? children.x : children.y;
+            if (!(lo.x <= qhi.x && lo.y <= qhi.y && lo.z <= qhi.z && hi.x >= qlo.x && hi.y >= qlo.y &&
+                  hi.z >= qlo.z))
+                continue;
+            if ((child & LAYER_BVH_LEAF) != 0u) {
+                uint first = (child & ~LAYER_BVH_LEAF) >> 3u;
+                uint count = (child & 7u) + 1u;
+                work.tests += count;
+                for (uint i = first; i < first + count; ++i) {
+                    uvec4 t0 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i);
+                    if (t0.w == ignore) continue;
+                    uvec4 t1 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 1u);
+                    uvec4 t2 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 2u);
+                    if (layerTriangleMeetsGap(uintBitsToFloat(uvec3(t0)), uintBitsToFloat(uvec3(t1)),
+                                              uintBitsToFloat(uvec3(t2)), p, row0, row1, row2, w0))
+                        met = true;
+                }
+            } else if (next == LAYER_BVH_EMPTY) {
+                next = child;
+            } else {
+                stack[top] = child;
+                ++top;
+            }
+        }
+        if (next == LAYER_BVH_EMPTY) {
+            if (top == 0u) {
+                more = false;
+            } else {
+                --top;
+                next = stack[top];
+            }
+        }
+        node = next;
+    }
+    work.visits += visits;
+    return met || more;
+}
+
+/// Whether a triangle other than `ignore` meets either gap of the pixel's segments, w = tMin or
+/// w = shadowTMax(tMin) (layerGapMet): where one does, DCS's crossings do not carry D(r) to
+/// every sample, and the pixel's block counts its samples' segments instead (dcs_dh.h
+/// dcsBlockCastsRays).
+DH_FUNC bool layerGapsMet(LayerBvh bvh, uint nodes, vec3 p, vec3 c, vec3 T, vec3 B, vec3 row0, vec3 row1,
+                          vec3 row2, float tMin, uint ignore, uint maxVisits, DH_INOUT(LayerCountWork) work) {
+    return layerGapMet(bvh, nodes, p, c, T, B, row0, row1, row2, tMin, ignore, maxVisits, work) ||
+           layerGapMet(bvh, nodes, p, c, T, B, row0, row1, row2, shadowTMax(tMin), ignore, maxVisits, work);
+}
+
 DH_END
 
 #endif // the traversal

@@ -2,8 +2,9 @@
 // meshes (sphere, torus, torus knot, a loaded 10k+ triangle OBJ) with and without perforated
 // triangles. The bits may differ only at a boundary, and every differing bit is checked to be at
 // one: the sample's segment, or the light centre's segment (the count every sample of the pixel
-// starts from), passes within round-off of a triangle edge, or a triangle lies within the
-// segments' start gap of the visible point. The differing bits are printed with their class.
+// starts from), passes within round-off of a triangle edge. (A triangle within the segments' start
+// gap of the visible point no longer explains one: such a pixel's block counts its samples'
+// segments, layer_bvh_dh.h layerGapsMet.) The differing bits are printed with their class.
 #include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
@@ -52,7 +53,7 @@ struct Agreement {
     // Where the differing bits lie (a bit may be in more than one class).
     std::size_t sampleGrazes = 0;  ///< the sample's segment within round-off of an edge
     std::size_t centreGrazes = 0;  ///< the centre's segment within round-off of an edge
-    std::size_t inStartGap = 0;    ///< a triangle within the start gap of the visible point
+    std::size_t inStartGap = 0;    ///< a triangle within the start gap of the visible point (printed only)
     std::size_t texelBoundary = 0; ///< the sample's segment crosses a perforated triangle at a texel boundary
     std::size_t unexplained = 0;   ///< none of these: a fault
     double worstDistance = 0.0;    ///< largest distance (units of round-off) that explained a bit
@@ -109,7 +110,7 @@ Agreement compareWithReference(const Scene& scene, int size, int samples, bool w
                     a.inStartGap += gap ? 1 : 0;
                     if (grazes) a.worstDistance = std::max(a.worstDistance, sampleDistance);
                     if (centre) a.worstDistance = std::max(a.worstDistance, centreDistance.nearest());
-                    if (!grazes && !centre && !gap && !texel) {
+                    if (!grazes && !centre && !texel) {
                         ++a.unexplained;
                         std::printf(
                             "  unexplained: pixel (%d, %d) sample %d: reference %d, dcs %d; sample's segment "
@@ -196,10 +197,10 @@ TEST(DcsVsReference, LaterFramesReuseEachLightsSilhouettes) {
 }
 
 TEST(DcsVsReference, Sphere) {
-    // Measured 18 of 162 016 (dcs) and 10 of 165 504 (dcs+stsv).
+    // Measured 18 of 162 016 (dcs) and 9 of 165 504 (dcs+stsv).
     for (bool perforated : {false, true})
         expectAgreement("sphere 32x16", meshScene(test::makeSphereMesh(32, 16), "sphere", perforated),
-                        perforated, perforated ? 10 : 18);
+                        perforated, perforated ? 9 : 18);
 }
 
 TEST(DcsVsReference, Torus) {
@@ -210,10 +211,29 @@ TEST(DcsVsReference, Torus) {
 }
 
 TEST(DcsVsReference, TorusKnot) {
-    for (bool perforated : {false, true}) // measured 3 of 169 376 and 3 of 174 848
+    for (bool perforated : {false, true}) // measured 0 of 169 376 and 0 of 174 848
         expectAgreement("torus knot 256x12",
                         meshScene(test::makeTorusKnotMesh(256, 12, 0.12f), "knot", perforated), perforated,
-                        3);
+                        0);
+}
+
+// A finely tessellated knot (184 320 triangles): where the light grazes the surface, the visible
+// triangle's neighbours cross the segments' start gap, and a triangle enters or leaves a segment's
+// count as the sample moves without any edge of it being crossed — D(r) plus the crossings then
+// gave counts below zero (the clamp's negative counts) and wrong bits. Such a pixel's block counts
+// its samples' segments (layer_bvh_dh.h layerGapsMet): no count goes below zero, the bits agree.
+TEST(DcsVsReference, FineKnotWhoseNeighboursCrossTheStartGap) {
+    const Scene scene = meshScene(test::makeTorusKnotMesh(7680, 12, 0.12f), "knot", false);
+    WedgeCpuStats stats;
+    const Agreement a = compareWithReference(scene, 96, 32, false, &stats);
+    std::printf(
+        "fine knot: %zu of %zu samples differ, %zu with a triangle in the start gap; %zu negative counts, "
+        "%zu ray pixels\n",
+        a.differing, a.compared, a.inStartGap, stats.negativeCounts, stats.rayPixels);
+    EXPECT_EQ(stats.negativeCounts, 0u);
+    EXPECT_GT(stats.rayPixels, 0u); // the gaps are met: the test is not vacuous
+    EXPECT_EQ(a.unexplained, 0u);
+    EXPECT_LE(a.differing, test::allowedDifferingBits(0)); // measured 0
 }
 
 TEST(DcsVsReference, OtherLightShapes) {
@@ -224,8 +244,8 @@ TEST(DcsVsReference, OtherLightShapes) {
         if (shape == 1) scene.lights[0] = makeSphereLight(rect.position, 0.5f, rect.radiance);
         if (shape == 2) scene.lights[0] = makeDirectionalLight(-rect.normal, 0.1f, vec3(1.0f));
         const char* names[] = {"torus, disk light", "torus+fence, sphere light", "torus, directional"};
-        // Measured 0, 0 and 16 differing bits of about 175 000.
-        expectAgreement(names[shape], scene, shape == 1, shape == 2 ? 16 : 0);
+        // Measured 0, 0 and 0 differing bits of about 175 000.
+        expectAgreement(names[shape], scene, shape == 1, 0);
     }
 }
 
@@ -243,9 +263,9 @@ TEST(DcsVsReference, LoadedObjOver10kTriangles) {
     Scene scene = loadScene(path);
     std::filesystem::remove_all(dir);
     ASSERT_GE(scene.triangleCount(), 10000u);
-    expectAgreement("loaded knot.obj (11.5k)", scene, false, 6); // measured 6 of 169 952
+    expectAgreement("loaded knot.obj (11.5k)", scene, false, 0); // measured 0 of 169 952
     addPerforatedQuad(scene);
-    expectAgreement("loaded knot.obj + fence", scene, true, 6); // measured 6 of 175 232
+    expectAgreement("loaded knot.obj + fence", scene, true, 0); // measured 0 of 175 232
 }
 
 } // namespace

@@ -10,6 +10,7 @@
 #include "core/gbuffer.h"
 #include "core/image.h"
 #include "render/cpu/cpu_binning.h"
+#include "sampling/light_sampling_dh.h"
 #include "sampling/ls_buffer.h"
 #include "sampling/pattern.h"
 #include "scene/scene.h"
@@ -79,6 +80,11 @@ class WedgeOccluders {
     /// Opaque triangles crossed by p → r (t ∈ [tMin, 1]), scene triangle `ignore` excluded
     /// (layer_bvh_dh.h layerCount): D(r) at the light centre, or a sample's count.
     std::uint32_t layersCrossed(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const;
+
+    /// Whether an opaque triangle other than `ignore` meets a gap plane of the segments from px.p to
+    /// the light frame (layer_bvh_dh.h layerGapsMet): there D(r) and the crossings do not give
+    /// every sample's count.
+    bool gapsMet(const DcsPixel& px, const LightFrame& frame, std::uint32_t ignore) const;
 
     /// The potential silhouettes of a light with their cluster tree and their carriers' bounds:
     /// they depend on the scene and the light alone, so the first frame that asks for a light

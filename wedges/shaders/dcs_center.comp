@@ -4,10 +4,17 @@
 // the visible triangle itself left out (the self-shadowing rule), counted through the tree of
 // wedges/layer_bvh_dh.h — one reference ray a pixel (Laine et al. 2005; Lehtinen, Laine and
 // Aila 2008), as the CPU mirror counts it. A pixel without a surface gets 0.
+// With DCS_GAP_BLOCKS (DCS; PW has no other way), a pixel whose segments' gaps meet a triangle
+// (layerGapsMet: there the crossings miss a change of D) marks its block with GPU_DCS_BLOCK_GAP:
+// the block counts its samples' segments instead (dcs_rays.comp), as the mirror's does.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
+#ifndef DCS_GAP_BLOCKS
+#define DCS_GAP_BLOCKS 0
+#endif
 #include "wedges/shaders/wedge_bindings.glsl"
+#include "wedges/edge_cluster_dh.h"
 
 layout(local_size_x = 16, local_size_y = 16) in;
 
@@ -15,6 +22,7 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly un
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(set = GPU_SET_FAMILY, binding = GPU_BINDING_CENTER, r32i) writeonly uniform iimage2D centerCount;
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DCS_BLOCKS) buffer DcsBlocks { uint dcsBlocks[]; };
 #include "wedges/shaders/layer_bvh.glsl"
 
 void main() {
@@ -27,8 +35,16 @@ void main() {
         vec3 p = vec3(imageLoad(gPosition, pixel));
         LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
         float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
-        count = layerCount(LayerBvh(0u), layerNodeCount(), p, lf.center, shadowTMin(p, lf.center, sceneDiameter), receiver,
-                           LAYER_BVH_MAX_VISITS, work);
+        float tMin = shadowTMin(p, lf.center, sceneDiameter);
+        count = layerCount(LayerBvh(0u), layerNodeCount(), p, lf.center, tMin, receiver, LAYER_BVH_MAX_VISITS, work);
+#if DCS_GAP_BLOCKS
+        DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, tMin);
+        if (px.valid != 0.0 && layerGapsMet(LayerBvh(0u), layerNodeCount(), p, lf.center, lf.T, lf.B, px.row0, px.row1,
+                                            px.row2, tMin, receiver, LAYER_BVH_MAX_VISITS, work)) {
+            uint block = clusterBlocksAlong(frame.width) * (uint(pixel.y) / CLUSTER_BLOCK) + uint(pixel.x) / CLUSTER_BLOCK;
+            atomicOr(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], GPU_DCS_BLOCK_GAP);
+        }
+#endif
     }
     if (inside) imageStore(centerCount, pixel, ivec4(int(count)));
     uint visits = subgroupAdd(work.visits);

@@ -97,7 +97,7 @@ void main() {
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 pair = pairs[listBase(GPU_CLUSTER_KEPT) + e];
         // The block's samples are counted by rays (dcs_rays.comp): no pair is listed.
-        if (dcsBlockCastsRays(dcsBlocks[GPU_DCS_BLOCK_EDGES + pair.x], uint(SAMPLE_COUNT), DCS_RAY_EDGES)) continue;
+        if (dcsBlockWordCastsRays(dcsBlocks[GPU_DCS_BLOCK_EDGES + pair.x], uint(SAMPLE_COUNT), DCS_RAY_EDGES)) continue;
         uvec4 range = clusterData(clusterNodes, pair.y);
         // The block's pixels whose cones to the light's ball meet the leaf's ball (the mirror's
         // per-point leaf test: the ball holds each edge's, and a ball inside one that fails fails),

@@ -41,7 +41,7 @@ void main() {
         dcsBlocks[GPU_DCS_RAY_DISPATCH + 2u] = uint(SAMPLE_COUNT) / GPU_DCS_RAY_SAMPLES_PER_GROUP;
     }
     if (block >= blockCount()) return;
-    if (!dcsBlockCastsRays(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], uint(SAMPLE_COUNT), DCS_RAY_EDGES)) return;
+    if (!dcsBlockWordCastsRays(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], uint(SAMPLE_COUNT), DCS_RAY_EDGES)) return;
     uint at = atomicAdd(dcsBlocks[GPU_DCS_RAY_BLOCK_COUNT], 1u);
     dcsBlocks[GPU_DCS_BLOCK_EDGES + blockCount() + at] = block;
     atomicMax(dcsBlocks[GPU_DCS_RAY_DISPATCH], min(at + 1u, GPU_DCS_RAY_GROUPS_MAX));

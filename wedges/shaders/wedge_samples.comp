@@ -23,6 +23,10 @@ layout(set = GPU_SET_FRAME, binding = GPU_BINDING_POSITION, rgba32f) readonly un
 layout(set = GPU_SET_FRAME, binding = GPU_BINDING_TRIANGLE_ID, r32ui) readonly uniform uimage2D gTriangle;
 layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_FAMILY_STATS) buffer Stats { GpuWedgeStats stats[]; };
 layout(std430, set = GPU_SET_FRAME, binding = GPU_BINDING_COUNTERS) buffer Counters { uint counters[]; };
+#if !WEDGE_LISTED_TERMS
+#include "wedges/edge_cluster_dh.h"
+layout(std430, set = GPU_SET_FAMILY, binding = GPU_BINDING_DCS_BLOCKS) readonly buffer DcsBlocks { uint dcsBlocks[]; };
+#endif
 
 void main() {
     // Everything the draw or this part of the walk tried to list, past the end too: the host
@@ -47,6 +51,10 @@ void main() {
         wedgeTermLoad(i, l, h0, h1, k);
         domain = lightDomain(lights[pc.light].light);
 #else
+        // A block whose gaps meet a triangle counts its samples' segments (dcs_rays.comp); the
+        // walk lists no pair of such a block.
+        uint block = clusterBlocksAlong(frame.width) * (pixel.y / CLUSTER_BLOCK) + pixel.x / CLUSTER_BLOCK;
+        if ((dcsBlocks[GPU_DCS_BLOCK_EDGES + block] & GPU_DCS_BLOCK_GAP) != 0u) continue;
         vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
         uint receiver = imageLoad(gTriangle, ivec2(pixel)).x;
         LightFrame lf;

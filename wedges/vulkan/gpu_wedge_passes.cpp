@@ -167,6 +167,7 @@ PassAccesses CenterCountPass::accesses(std::size_t) const {
     accesses.use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_wedges->center, ResourceUse::storageReadWrite(COMPUTE))
+        .use(m_wedges->dcsBlocks, ResourceUse::storageReadWrite(COMPUTE))
         .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE));
     return accesses;
 }
@@ -311,11 +312,11 @@ void WedgePass::record(VkCommandBuffer cmd, std::size_t light) const {
 }
 
 WedgeSamplesPass::WedgeSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
-                                   FrameResources& frame, DeferredFragments& deferred,
+                                   WedgeResources& wedges, FrameResources& frame, DeferredFragments& deferred,
                                    const FamilyDescriptors& descriptors,
                                    const std::vector<ShaderDefine>& defines)
-    : m_device(&device), m_scene(&scene), m_frame(&frame), m_deferred(&deferred), m_descriptors(&descriptors),
-      m_samples(options.samples),
+    : m_device(&device), m_scene(&scene), m_wedges(&wedges), m_frame(&frame), m_deferred(&deferred),
+      m_descriptors(&descriptors), m_samples(options.samples),
       m_pipelines(lightTypeComputePipelines(device, descriptors.pipelineLayout(), lightTypesIn(scene),
                                             "wedges/shaders/wedge_samples.comp", defines)) {}
 
@@ -324,6 +325,7 @@ PassAccesses WedgeSamplesPass::accesses(std::size_t light) const {
     accesses.use(m_deferred->count, ResourceUse::storageRead(COMPUTE))
         .use(m_deferred->fragments, ResourceUse::storageRead(COMPUTE))
         .use(m_deferred->terms, ResourceUse::storageRead(COMPUTE))
+        .use(m_wedges->dcsBlocks, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.position, ResourceUse::storageRead(COMPUTE))
         .use(m_frame->gbuffer.triangleId, ResourceUse::storageRead(COMPUTE))
         .use(m_descriptors->stats(), ResourceUse::storageReadWrite(COMPUTE))

@@ -164,9 +164,10 @@ class WedgeSamplesPass final : public GpuPass {
   public:
     /// One pipeline per light type of the scene (FIXED_LIGHT_TYPE): the sample loop's domain map
     /// folds at compile time.
+    /// Reads `wedges.dcsBlocks`: the pairs of a block that casts rays add nothing.
     WedgeSamplesPass(const Device& device, const Scene& scene, const RenderOptions& options,
-                     FrameResources& frame, DeferredFragments& deferred, const FamilyDescriptors& descriptors,
-                     const std::vector<ShaderDefine>& defines);
+                     WedgeResources& wedges, FrameResources& frame, DeferredFragments& deferred,
+                     const FamilyDescriptors& descriptors, const std::vector<ShaderDefine>& defines);
 
     PassAccesses accesses(std::size_t light) const override;
     void record(VkCommandBuffer cmd, std::size_t light) const override;
@@ -174,6 +175,7 @@ class WedgeSamplesPass final : public GpuPass {
   private:
     const Device* m_device;
     const Scene* m_scene;
+    WedgeResources* m_wedges;
     FrameResources* m_frame;
     DeferredFragments* m_deferred;
     const FamilyDescriptors* m_descriptors;

@@ -7,6 +7,7 @@
 #include "core/dh.h"
 #include "render/vulkan/gpu_volumes_dh.h"
 #include "volumes/extrusion_dh.h"
+#include "wedges/dcs_dh.h"
 
 DH_BEGIN
 
@@ -37,11 +38,23 @@ DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV
 /// uint[] (SSBO), DCS's choice per block of the walk (dcsBlockCastsRays; dcs_clusters.comp,
 /// dcs_rays.comp): the indirect dispatch of the rays (GPU_DCS_RAY_DISPATCH), the count of the
 /// blocks that cast rays (GPU_DCS_RAY_BLOCK_COUNT), then per block of the frame the edges the walk
-/// kept for it (GPU_DCS_BLOCK_EDGES + block), then the list of the blocks that cast rays.
+/// kept for it (GPU_DCS_BLOCK_EDGES + block; 0 without the walk) with GPU_DCS_BLOCK_GAP, then the
+/// list of the blocks that cast rays.
 DH_CONST uint GPU_BINDING_DCS_BLOCKS = GPU_BINDING_EDGES + 9u;
 DH_CONST uint GPU_DCS_RAY_DISPATCH = 0u; ///< x, y, z of vkCmdDispatchIndirect
 DH_CONST uint GPU_DCS_RAY_BLOCK_COUNT = 3u;
 DH_CONST uint GPU_DCS_BLOCK_EDGES = 4u;
+/// The top bit of a block's word: a pixel of the block has a segment gap that meets a triangle
+/// (wedges/layer_bvh_dh.h layerGapsMet, set by dcs_center.comp), so the block casts rays whatever
+/// its edges. The walk's sum of edges stays below it (a block keeps fewer than 2^31 edges).
+DH_CONST uint GPU_DCS_BLOCK_GAP = 0x80000000u;
+
+/// Whether the block whose word is `word` counts its samples through the layer tree (dcsBlockCastsRays or a
+/// gap met): the mirror's BlockEdges::castsRays.
+DH_FUNC bool dcsBlockWordCastsRays(uint word, uint samples, float edgesPerSample) {
+    return (word & GPU_DCS_BLOCK_GAP) != 0u ||
+           dcsBlockCastsRays(word & ~GPU_DCS_BLOCK_GAP, samples, edgesPerSample);
+}
 /// A workgroup of dcs_rays.comp's rays: each of a block's 16 pixels with 4 of its samples.
 DH_CONST uint GPU_DCS_RAY_SAMPLES_PER_GROUP = 4u;
 /// The most workgroups along x of the rays' dispatch (the least maxComputeWorkGroupCount[0] a device has).

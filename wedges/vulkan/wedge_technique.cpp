@@ -10,6 +10,13 @@ namespace stsv {
 
 namespace {
 
+/// D(r)'s pass: for DCS it also marks the blocks whose pixels' segment gaps meet a triangle.
+std::vector<ShaderDefine> centerDefines(const VulkanTechniqueContext& c) {
+    std::vector<ShaderDefine> defines = c.defines;
+    defines.push_back({"DCS_GAP_BLOCKS", c.method.wedges == WedgeVariant::Pw ? "0" : "1"});
+    return defines;
+}
+
 /// The opaque triangles through DCS or PW (Algorithm 2 lines 4–7): the layer count at the light
 /// centre (dcs_center.comp); for DCS with the auto extrusion the cluster pass (dcs_clusters.comp), else the
 /// wedge bounds (hulls, mesh-shader hulls or wedge.geom prisms) drawn; for DCS the samples of the
@@ -22,7 +29,7 @@ class WedgeTechnique final : public VulkanTechnique {
           m_pw(c.method.wedges == WedgeVariant::Pw), m_resources(c.device, c.scene, c.options),
           m_clearHullDraw({}, {&c.hulls->draw}), m_clearDeferredCount({}, {&c.deferred->count}),
           m_clearDcsBlocks({}, {&m_resources.dcsBlocks}),
-          m_center(c.device, m_resources, c.resources, m_family, c.defines,
+          m_center(c.device, m_resources, c.resources, m_family, centerDefines(c),
                    static_cast<std::uint32_t>(c.options.width), static_cast<std::uint32_t>(c.options.height)),
           m_fold(c.device, c.options, m_resources, c.resources, m_family, c.defines) {
         if (!m_pw) {
@@ -32,7 +39,12 @@ class WedgeTechnique final : public VulkanTechnique {
             // The sample loop over listed terms unrolls on the baked sample set (measured there).
             std::vector<ShaderDefine> defines = walks ? c.patternDefines : c.defines;
             defines.push_back({"WEDGE_LISTED_TERMS", walks ? "1" : "0"});
-            m_samples.emplace(c.device, c.scene, c.options, c.resources, *c.deferred, m_family, defines);
+            m_samples.emplace(c.device, c.scene, c.options, m_resources, c.resources, *c.deferred, m_family,
+                              defines);
+            // The blocks that cast rays: those whose pixels' gaps meet a triangle (dcs_center.comp) and,
+            // after the walk, those whose edges outnumber their rays.
+            m_rayBlocks.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, 0u);
+            m_rays.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, 1u);
         }
         if (usesWedgeClusters(c.options)) {
             c.clusterLists->use();
@@ -46,8 +58,6 @@ class WedgeTechnique final : public VulkanTechnique {
                                std::vector<std::pair<const Buffer*, ResourceUse>>{
                                    {&m_resources.dcsBlocks,
                                     ResourceUse::storageReadWrite(VK_PIPELINE_STAGE_2_COMPUTE_SHADER_BIT)}});
-            m_rayBlocks.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, 0u);
-            m_rays.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, 1u);
             return;
         }
         m_wedges.emplace(c.device, c.options, m_resources, c.resources, m_family, c.defines, c.geometry,
@@ -73,6 +83,7 @@ class WedgeTechnique final : public VulkanTechnique {
 
     void record(PassRecorder& recorder, VkCommandBuffer cmd, std::size_t light) override {
         const std::string technique = passName(light, m_pw ? "pw_" : "dcs_");
+        if (!m_pw) runPass(recorder, cmd, "", m_clearDcsBlocks, light);
         runPass(recorder, cmd, technique + "center", m_center, light);
         if (m_hullPass) {
             runPass(recorder, cmd, "", m_clearHullDraw, light);
@@ -81,16 +92,17 @@ class WedgeTechnique final : public VulkanTechnique {
         if (m_samples) runPass(recorder, cmd, "", m_clearDeferredCount, light);
         const std::string samples = technique + "wedge_samples";
         if (m_clusters) {
-            runPass(recorder, cmd, "", m_clearDcsBlocks, light);
             const auto& counts = m_resources.clusters().counts();
             m_clusters->record(recorder, cmd, light, light < counts.size() ? counts[light].depth : 0,
                                technique + "clusters", *m_samples, samples);
-            // The blocks whose edges outnumber their rays count their samples through the layer tree.
-            runPass(recorder, cmd, technique + "rays", *m_rayBlocks, light);
-            runPass(recorder, cmd, technique + "rays", *m_rays, light);
         }
         if (m_wedges) runPass(recorder, cmd, technique + "wedges", *m_wedges, light);
         if (m_samples && !m_clusters) runPass(recorder, cmd, samples, *m_samples, light);
+        if (m_rays) {
+            // The blocks that cast rays count their samples through the layer tree.
+            runPass(recorder, cmd, technique + "rays", *m_rayBlocks, light);
+            runPass(recorder, cmd, technique + "rays", *m_rays, light);
+        }
         // DCS's count is clamped at 0 before another technique adds its layers (dcs+stsv), as
         // on the CPU (wedges/cpu/cpu_wedges.cpp dcsCpuSamples).
         if (!m_pw) runPass(recorder, cmd, passName(light, "fold"), m_fold, light);
@@ -166,14 +178,14 @@ class WedgeTechnique final : public VulkanTechnique {
     WedgeResources m_resources;
     ClearPass m_clearHullDraw;
     ClearPass m_clearDeferredCount;
-    ClearPass m_clearDcsBlocks; ///< the walk's blocks' edges, before each light
+    ClearPass m_clearDcsBlocks; ///< DCS's blocks' words, before each light
     CenterCountPass m_center;
     FoldPass m_fold;
     std::optional<ClusterWalkPasses> m_clusters; ///< DCS with the auto extrusion: lists the pairs
     std::optional<WedgePass> m_wedges;           ///< else the wedge bounds drawn
     std::optional<WedgeSamplesPass> m_samples;   ///< DCS: the listed (pixel, edge) pairs
     std::optional<HullPass> m_hullPass;          ///< with hulls, when the scene has carriers
-    std::optional<DcsRaysPass> m_rayBlocks;      ///< DCS's walk: the blocks that cast rays
+    std::optional<DcsRaysPass> m_rayBlocks;      ///< DCS: the blocks that cast rays
     std::optional<DcsRaysPass> m_rays;           ///< and their samples' segments
     std::vector<GpuWedgeStats> m_counts;         ///< per light, after the frame
 };
