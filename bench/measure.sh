@@ -62,6 +62,8 @@ measurement() {
     bench-foliage-count) echo bench foliage --methods stsv,reference --backends vulkan,cpu \
       --vary count=250,1000,4000 --size 512x512 --samples 64 --repeat 3 --check ;;
     bench-knot-scale) echo bench --preset knot-scale ;;
+    bench-real-meshes) echo bench --preset real-meshes ;;
+    bench-real-meshes-1024) echo bench --preset real-meshes --size 1024x768 --repeat 2 ;;
     bench-foliage-dense) echo bench foliage --methods stsv,reference --backends vulkan,cpu --vary count=4000,16000 \
       --size 1024x1024 --samples 64 --repeat 2 --check ;;
     compare-particles) echo compare particles --buffer transmittance --methods "$every_method" --size 256x192 \
@@ -100,7 +102,7 @@ measurement() {
 }
 all=(compare-fence compare-foliage compare-example compare-knot bench-fence-1024 bench-knot-methods
      bench-baselines converged-fence converged-foliage converged-knot converged-example sheet-fence
-     bench-fence-vs-mesh bench-foliage-count bench-knot-scale bench-foliage-dense compare-particles sheet-particles bench-particles
+     bench-fence-vs-mesh bench-foliage-count bench-knot-scale bench-real-meshes bench-real-meshes-1024 bench-foliage-dense compare-particles sheet-particles bench-particles
      bench-particles-maps sheet-fabric facing-knot extrusion-hull-mesa22 extrusion-foliage-mesa25 extrusion-knot-mesa25
      "${tune_all[@]}" "${worst_all[@]}")
 
