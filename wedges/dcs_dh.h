@@ -198,7 +198,7 @@ DH_FUNC int dcsSampleCrossing(vec3 l, vec3 a, vec3 b, vec2 ab) {
 /// the block's pixels test, or each sample's segment counted through the layer tree
 /// (layer_bvh_dh.h layerCount, the reference's robust crossing test), whose cost is the N rays.
 /// True, rays, when the edges the walk kept for the block exceed `edgesPerSample` per sample. (A
-/// block also casts rays where a pixel's segment gaps meet a triangle: layer_bvh_dh.h layerGapsMet.)
+/// pixel also casts rays where its segments' gaps meet a triangle: layer_bvh_dh.h layerCountGaps.)
 /// The default, 1e9, never casts them: measured on the 2CylinderEngine, armadillo and fandisk
 /// meshes, a segment counted through the layer tree (every layer, a binary tree read as texels)
 /// costs more than the crossings it saves at every threshold, on the CPU and on lavapipe

@@ -195,11 +195,11 @@ std::uint32_t layerCount(const LayerBvhTables& tables, vec3 p, vec3 r, float tMi
     return layerCount(bvh, tables.nodeCount(), p, r, tMin, ignore, maxVisits, work);
 }
 
-bool layerGapsMet(const LayerBvhTables& tables, vec3 p, vec3 c, vec3 T, vec3 B, vec3 row0, vec3 row1,
-                  vec3 row2, float tMin, std::uint32_t ignore, LayerCountWork& work,
-                  std::uint32_t maxVisits) {
+std::uint32_t layerCountGaps(const LayerBvhTables& tables, vec3 p, vec3 r, float tMin, std::uint32_t ignore,
+                             const LayerGaps& gaps, LayerCountWork& work, bool& gapMet,
+                             std::uint32_t maxVisits) {
     const LayerBvh bvh{tables.nodes.data(), tables.triangles.data()};
-    return layerGapsMet(bvh, tables.nodeCount(), p, c, T, B, row0, row1, row2, tMin, ignore, maxVisits, work);
+    return layerCountGaps(bvh, tables.nodeCount(), p, r, tMin, ignore, maxVisits, gaps, work, gapMet);
 }
 
 } // namespace stsv

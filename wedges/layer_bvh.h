@@ -36,11 +36,10 @@ LayerBvhTables buildLayerBvh(const Scene& scene);
 std::uint32_t layerCount(const LayerBvhTables& tables, vec3 p, vec3 r, float tMin, std::uint32_t ignore,
                          LayerCountWork& work, std::uint32_t maxVisits = LAYER_BVH_MAX_VISITS);
 
-/// layer_bvh_dh.h layerGapsMet on the CPU: whether an opaque triangle other than `ignore` crosses
-/// a gap plane (w = tMin or shadowTMax(tMin)) of the projection (row0, row1, row2) from p where
-/// the segments to the light frame (c, T, B) pass.
-bool layerGapsMet(const LayerBvhTables& tables, vec3 p, vec3 c, vec3 T, vec3 B, vec3 row0, vec3 row1,
-                  vec3 row2, float tMin, std::uint32_t ignore, LayerCountWork& work,
-                  std::uint32_t maxVisits = LAYER_BVH_MAX_VISITS);
+/// layer_bvh_dh.h layerCountGaps on the CPU: layerCount, and whether an opaque triangle other
+/// than `ignore` meets a gap of `gaps` (gapMet).
+std::uint32_t layerCountGaps(const LayerBvhTables& tables, vec3 p, vec3 r, float tMin, std::uint32_t ignore,
+                             const LayerGaps& gaps, LayerCountWork& work, bool& gapMet,
+                             std::uint32_t maxVisits = LAYER_BVH_MAX_VISITS);
 
 } // namespace stsv

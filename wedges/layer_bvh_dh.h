@@ -109,101 +109,6 @@ DH_FUNC bool layerSegmentCrosses(vec3 o, vec3 d, float tMin, vec3 a, vec3 b, vec
     return t >= tMin && t <= shadowTMax(tMin);
 }
 
-DH_END
-
-#endif // STSV_WEDGES_LAYER_BVH_DH_H
-
-#if defined(LAYER_BVH) && !defined(STSV_WEDGES_LAYER_BVH_TRAVERSAL)
-#define STSV_WEDGES_LAYER_BVH_TRAVERSAL
-// The includer defines, before it includes this file (a value passed in, as WEDGE_FACES):
-//   struct LayerBvh { ... };                          the tables
-//   uvec4 layerBvhNode(LayerBvh bvh, uint texel)      texel of the nodes
-//   uvec4 layerBvhTriangle(LayerBvh bvh, uint texel)  texel of the triangles
-// and the macro LAYER_BVH.
-
-DH_BEGIN
-
-/// Leaf triangle i: 1 when o + t·d crosses it at t in [tMin, 1] and it is not `ignore`.
-DH_FUNC uint layerLeafTriangle(LayerBvh bvh, uint i, vec3 o, vec3 d, float tMin, uint ignore) {
-    uvec4 t0 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i);
-    if (t0.w == ignore) return 0u;
-    uvec4 t1 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 1u);
-    uvec4 t2 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 2u);
-    return layerSegmentCrosses(o, d, tMin, uintBitsToFloat(uvec3(t0)), uintBitsToFloat(uvec3(t1)),
-                               uintBitsToFloat(uvec3(t2)))
-               ? 1u
-               : 0u;
-}
-
-/// The triangles of leaf `child` o + t·d crosses at t in [tMin, 1], but `ignore` (unrolled:
-/// no loop iterations on lavapipe's budget).
-#ifdef __cplusplus
-DH_STATIC_ASSERT(LAYER_BVH_LEAF_MAX <= 4u);
-#endif
-DH_FUNC uint layerLeaf(LayerBvh bvh, uint child, vec3 o, vec3 d, float tMin, uint ignore,
-                       DH_INOUT(LayerCountWork) work) {
-    uint first = (child & ~LAYER_BVH_LEAF) >> 3u;
-    uint count = (child & 7u) + 1u;
-    work.tests += count;
-    uint crossed = layerLeafTriangle(bvh, first, o, d, tMin, ignore);
-    if (count > 1u) crossed += layerLeafTriangle(bvh, first + 1u, o, d, tMin, ignore);
-    if (count > 2u) crossed += layerLeafTriangle(bvh, first + 2u, o, d, tMin, ignore);
-    if (count > 3u) crossed += layerLeafTriangle(bvh, first + 3u, o, d, tMin, ignore);
-    return crossed;
-}
-
-/// The number of triangles of the tree the segment p → r crosses at t in [tMin, 1] of r − p,
-/// `ignore` (the receiver's scene triangle: the self-shadowing rule) left out — Embree's
-/// countLayers on the same triangles. `nodes`: the tree's node count (0: empty); `maxVisits`:
-/// the node visits it may take before it stops (work.cutShort).
-DH_FUNC uint layerCount(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, uint ignore, uint maxVisits,
-                        DH_INOUT(LayerCountWork) work) {
-    vec3 d = r - p;
-    vec3 inverse = layerInverseDirection(d);
-    uint crossed = 0u;
-    uint stack[LAYER_BVH_STACK];
-    uint top = 0u;
-    uint node = 0u;
-    bool more = nodes > 0u;
-    uint visits = 0u;
-    for (; more && visits < maxVisits; ++visits) {
-        uint base = LAYER_BVH_NODE_TEXELS * node;
-        vec4 a = uintBitsToFloat(layerBvhNode(bvh, base));
-        vec4 b = uintBitsToFloat(layerBvhNode(bvh, base + 1u));
-        vec4 c = uintBitsToFloat(layerBvhNode(bvh, base + 2u));
-        uvec4 children = layerBvhNode(bvh, base + 3u);
-        uint next = LAYER_BVH_EMPTY;
-        if (layerSegmentMeetsBox(p, inverse, vec3(a), vec3(a.w, b.x, b.y))) {
-            if ((children.x & LAYER_BVH_LEAF) != 0u)
-                crossed += layerLeaf(bvh, children.x, p, d, tMin, ignore, work);
-            else
-                next = children.x;
-        }
-        if (layerSegmentMeetsBox(p, inverse, vec3(b.z, b.w, c.x), vec3(c.y, c.z, c.w))) {
-            if ((children.y & LAYER_BVH_LEAF) != 0u) {
-                crossed += layerLeaf(bvh, children.y, p, d, tMin, ignore, work);
-            } else if (next == LAYER_BVH_EMPTY) {
-                next = children.y;
-            } else {
-                stack[top] = children.y;
-                ++top;
-            }
-        }
-        if (next == LAYER_BVH_EMPTY) {
-            if (top == 0u) {
-                more = false;
-            } else {
-                --top;
-                next = stack[top];
-            }
-        }
-        node = next;
-    }
-    work.visits += visits;
-    if (more) ++work.cutShort;
-    return crossed;
-}
-
 /// Whether triangle (a, b, c) crosses the plane w = w0 of a pixel's projection (dcs_dh.h: H(q) =
 /// (dot(row0, q − p), dot(row1, q − p), dot(row2, q − p)), w the parameter along every segment
 /// p → s) where the segments pass: its clip line there, at frame coordinates H.xy / w0, meets
@@ -264,53 +169,185 @@ DH_FUNC bool layerTriangleMeetsGap(vec3 a, vec3 b, vec3 c, vec3 p, vec3 row0, ve
     return !above && !below;
 }
 
-/// Whether a triangle of the tree other than `ignore` meets the gap plane w = w0 where the pixel's
-/// segments pass (layerTriangleMeetsGap): a box query of the plane's part inside the cone from p
-/// to the light frame (c, T, B) — centre p + w0·(c − p), half extents w0·(|T| + |B|), widened as
-/// the triangle test's square. `maxVisits` and `work` as layerCount; a query cut short answers true.
-DH_FUNC bool layerGapMet(LayerBvh bvh, uint nodes, vec3 p, vec3 c, vec3 T, vec3 B, vec3 row0, vec3 row1,
-                         vec3 row2, float w0, uint ignore, uint maxVisits, DH_INOUT(LayerCountWork) work) {
+/// What a layer count also asks (layerCountGaps): whether a triangle meets a gap of the pixel's
+/// segments — the planes w = tMin and w = shadowTMax(tMin) of its projection (row0, row1, row2)
+/// where the segments pass (layerTriangleMeetsGap) — through the boxes of those planes' parts
+/// inside the cone to the light frame (c, T, B): centre p + w0·(c − p), half extents
+/// w0·(|T| + |B|), widened as the triangle test's square. `asked` 0: nothing asked.
+struct LayerGaps {
+    vec3 row0;
+    float tMin;
+    vec3 row1;
+    uint asked;
+    vec3 row2;
+    float pad;
+    vec3 startLo;
+    vec3 startHi;
+    vec3 endLo;
+    vec3 endHi;
+};
+
+/// The box of the plane w = w0's part inside the cone from p to the light frame (c, T, B).
+DH_FUNC void layerGapBox(vec3 p, vec3 c, vec3 T, vec3 B, float w0, DH_OUT(vec3) lo, DH_OUT(vec3) hi) {
     vec3 centre = p + w0 * (c - p);
     vec3 extent = w0 * (1.0f + 2e-3f) * (abs(T) + abs(B)) + 1e-6f * (abs(centre) + abs(p) + abs(c));
-    vec3 qlo = centre - extent;
-    vec3 qhi = centre + extent;
+    lo = centre - extent;
+    hi = centre + extent;
+}
+
+DH_FUNC LayerGaps layerGapsOf(vec3 p, vec3 c, vec3 T, vec3 B, vec3 row0, vec3 row1, vec3 row2, float tMin) {
+    LayerGaps g;
+    g.row0 = row0;
+    g.row1 = row1;
+    g.row2 = row2;
+    g.tMin = tMin;
+    g.asked = 1u;
+    g.pad = 0.0f;
+    layerGapBox(p, c, T, B, tMin, g.startLo, g.startHi);
+    layerGapBox(p, c, T, B, shadowTMax(tMin), g.endLo, g.endHi);
+    return g;
+}
+
+DH_FUNC LayerGaps layerNoGaps() {
+    LayerGaps g;
+    g.row0 = vec3(0.0f);
+    g.row1 = vec3(0.0f);
+    g.row2 = vec3(0.0f);
+    g.tMin = 0.0f;
+    g.asked = 0u;
+    g.pad = 0.0f;
+    g.startLo = vec3(0.0f);
+    g.startHi = vec3(-1.0f);
+    g.endLo = vec3(0.0f);
+    g.endHi = vec3(-1.0f);
+    return g;
+}
+
+DH_FUNC bool layerBoxesOverlap(vec3 lo, vec3 hi, vec3 qlo, vec3 qhi) {
+    return lo.x <= qhi.x && lo.y <= qhi.y && lo.z <= qhi.z && hi.x >= qlo.x && hi.y >= qlo.y && hi.z >= qlo.z;
+}
+
+/// Whether a child box [lo, hi] may hold a triangle that meets a gap still unanswered.
+DH_FUNC bool layerGapsMayMeet(LayerGaps gaps, bool met, vec3 lo, vec3 hi) {
+    return gaps.asked != 0u && !met &&
+           (layerBoxesOverlap(lo, hi, gaps.startLo, gaps.startHi) ||
+            layerBoxesOverlap(lo, hi, gaps.endLo, gaps.endHi));
+}
+
+DH_END
+
+#endif // STSV_WEDGES_LAYER_BVH_DH_H
+
+#if defined(LAYER_BVH) && !defined(STSV_WEDGES_LAYER_BVH_TRAVERSAL)
+#define STSV_WEDGES_LAYER_BVH_TRAVERSAL
+// The includer defines, before it includes this file (a value passed in, as WEDGE_FACES):
+//   struct LayerBvh { ... };                          the tables
+//   uvec4 layerBvhNode(LayerBvh bvh, uint texel)      texel of the nodes
+//   uvec4 layerBvhTriangle(LayerBvh bvh, uint texel)  texel of the triangles
+// and the macro LAYER_BVH.
+
+DH_BEGIN
+
+/// Leaf triangle i: 1 when o + t·d crosses it at t in [tMin, 1] and it is not `ignore`.
+DH_FUNC uint layerLeafTriangle(LayerBvh bvh, uint i, vec3 o, vec3 d, float tMin, uint ignore) {
+    uvec4 t0 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i);
+    if (t0.w == ignore) return 0u;
+    uvec4 t1 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 1u);
+    uvec4 t2 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 2u);
+    return layerSegmentCrosses(o, d, tMin, uintBitsToFloat(uvec3(t0)), uintBitsToFloat(uvec3(t1)),
+                               uintBitsToFloat(uvec3(t2)))
+               ? 1u
+               : 0u;
+}
+
+/// The triangles of leaf `child` o + t·d crosses at t in [tMin, 1], but `ignore` (unrolled:
+/// no loop iterations on lavapipe's budget).
+#ifdef __cplusplus
+DH_STATIC_ASSERT(LAYER_BVH_LEAF_MAX <= 4u);
+#endif
+DH_FUNC uint layerLeaf(LayerBvh bvh, uint child, vec3 o, vec3 d, float tMin, uint ignore,
+                       DH_INOUT(LayerCountWork) work) {
+    uint first = (child & ~LAYER_BVH_LEAF) >> 3u;
+    uint count = (child & 7u) + 1u;
+    work.tests += count;
+    uint crossed = layerLeafTriangle(bvh, first, o, d, tMin, ignore);
+    if (count > 1u) crossed += layerLeafTriangle(bvh, first + 1u, o, d, tMin, ignore);
+    if (count > 2u) crossed += layerLeafTriangle(bvh, first + 2u, o, d, tMin, ignore);
+    if (count > 3u) crossed += layerLeafTriangle(bvh, first + 3u, o, d, tMin, ignore);
+    return crossed;
+}
+
+/// Whether a triangle of leaf `child` other than `ignore` meets either gap plane.
+DH_FUNC bool layerLeafMeetsGaps(LayerBvh bvh, uint child, vec3 p, LayerGaps gaps, uint ignore,
+                                DH_INOUT(LayerCountWork) work) {
+    uint first = (child & ~LAYER_BVH_LEAF) >> 3u;
+    uint count = (child & 7u) + 1u;
+    work.tests += count;
+    bool met = false;
+    for (uint i = first; i < first + count; ++i) {
+        uvec4 t0 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i);
+        if (t0.w == ignore) continue;
+        vec3 a = uintBitsToFloat(uvec3(t0));
+        vec3 b = uintBitsToFloat(uvec3(layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 1u)));
+        vec3 c = uintBitsToFloat(uvec3(layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 2u)));
+        met = met || layerTriangleMeetsGap(a, b, c, p, gaps.row0, gaps.row1, gaps.row2, gaps.tMin) ||
+              layerTriangleMeetsGap(a, b, c, p, gaps.row0, gaps.row1, gaps.row2, shadowTMax(gaps.tMin));
+    }
+    return met;
+}
+
+/// The number of triangles of the tree the segment p → r crosses at t in [tMin, 1] of r − p,
+/// `ignore` (the receiver's scene triangle: the self-shadowing rule) left out — Embree's
+/// countLayers on the same triangles — and, in the same traversal, whether a triangle but
+/// `ignore` meets a gap of `gaps` (gapMet; false when gaps.asked is 0): the boxes near p and
+/// near the light lie along the segment, so asking costs few more node visits. There DCS's
+/// crossings do not carry D(r) to every sample, and the pixel counts its samples' segments
+/// instead (dcs_dh.h dcsBlockCastsRays). `nodes`: the tree's node count (0: empty);
+/// `maxVisits`: the node visits it may take before it stops (work.cutShort; a gap then counts
+/// as met).
+DH_FUNC uint layerCountGaps(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, uint ignore, uint maxVisits,
+                            LayerGaps gaps, DH_INOUT(LayerCountWork) work, DH_OUT(bool) gapMet) {
+    vec3 d = r - p;
+    vec3 inverse = layerInverseDirection(d);
+    uint crossed = 0u;
     uint stack[LAYER_BVH_STACK];
     uint top = 0u;
     uint node = 0u;
     bool more = nodes > 0u;
     bool met = false;
     uint visits = 0u;
-    for (; more && !met && visits < maxVisits; ++visits) {
+    for (; more && visits < maxVisits; ++visits) {
         uint base = LAYER_BVH_NODE_TEXELS * node;
-        vec4 ba = uintBitsToFloat(layerBvhNode(bvh, base));
-        vec4 bb = uintBitsToFloat(layerBvhNode(bvh, base + 1u));
-        vec4 bc = uintBitsToFloat(layerBvhNode(bvh, base + 2u));
+        vec4 a = uintBitsToFloat(layerBvhNode(bvh, base));
+        vec4 b = uintBitsToFloat(layerBvhNode(bvh, base + 1u));
+        vec4 c = uintBitsToFloat(layerBvhNode(bvh, base + 2u));
         uvec4 children = layerBvhNode(bvh, base + 3u);
         uint next = LAYER_BVH_EMPTY;
-        for (uint k = 0u; k < 2u; ++k) {
-            vec3 lo = k == 0u ? vec3(ba) : vec3(bb.z, bb.w, bc.x);
-            vec3 hi = k == 0u ? vec3(ba.w, bb.x, bb.y) : vec3(bc.y, bc.z, bc.w);
-            uint child = k == 0u ? children.x : children.y;
-            if (!(lo.x <= qhi.x && lo.y <= qhi.y && lo.z <= qhi.z && hi.x >= qlo.x && hi.y >= qlo.y &&
-                  hi.z >= qlo.z))
-                continue;
-            if ((child & LAYER_BVH_LEAF) != 0u) {
-                uint first = (child & ~LAYER_BVH_LEAF) >> 3u;
-                uint count = (child & 7u) + 1u;
-                work.tests += count;
-                for (uint i = first; i < first + count; ++i) {
-                    uvec4 t0 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i);
-                    if (t0.w == ignore) continue;
-                    uvec4 t1 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 1u);
-                    uvec4 t2 = layerBvhTriangle(bvh, LAYER_BVH_TRIANGLE_TEXELS * i + 2u);
-                    if (layerTriangleMeetsGap(uintBitsToFloat(uvec3(t0)), uintBitsToFloat(uvec3(t1)),
-                                              uintBitsToFloat(uvec3(t2)), p, row0, row1, row2, w0))
-                        met = true;
-                }
-            } else if (next == LAYER_BVH_EMPTY) {
-                next = child;
+        // The two children written out (a loop over them runs slower on lavapipe).
+        vec3 lo0 = vec3(a);
+        vec3 hi0 = vec3(a.w, b.x, b.y);
+        bool segment0 = layerSegmentMeetsBox(p, inverse, lo0, hi0);
+        bool gap0 = layerGapsMayMeet(gaps, met, lo0, hi0);
+        if (segment0 || gap0) {
+            if ((children.x & LAYER_BVH_LEAF) != 0u) {
+                if (segment0) crossed += layerLeaf(bvh, children.x, p, d, tMin, ignore, work);
+                if (gap0 && layerLeafMeetsGaps(bvh, children.x, p, gaps, ignore, work)) met = true;
             } else {
-                stack[top] = child;
+                next = children.x;
+            }
+        }
+        vec3 lo1 = vec3(b.z, b.w, c.x);
+        vec3 hi1 = vec3(c.y, c.z, c.w);
+        bool segment1 = layerSegmentMeetsBox(p, inverse, lo1, hi1);
+        bool gap1 = layerGapsMayMeet(gaps, met, lo1, hi1);
+        if (segment1 || gap1) {
+            if ((children.y & LAYER_BVH_LEAF) != 0u) {
+                if (segment1) crossed += layerLeaf(bvh, children.y, p, d, tMin, ignore, work);
+                if (gap1 && layerLeafMeetsGaps(bvh, children.y, p, gaps, ignore, work)) met = true;
+            } else if (next == LAYER_BVH_EMPTY) {
+                next = children.y;
+            } else {
+                stack[top] = children.y;
                 ++top;
             }
         }
@@ -325,17 +362,16 @@ DH_FUNC bool layerGapMet(LayerBvh bvh, uint nodes, vec3 p, vec3 c, vec3 T, vec3 
         node = next;
     }
     work.visits += visits;
-    return met || more;
+    if (more) ++work.cutShort;
+    gapMet = gaps.asked != 0u && (met || more);
+    return crossed;
 }
 
-/// Whether a triangle other than `ignore` meets either gap of the pixel's segments, w = tMin or
-/// w = shadowTMax(tMin) (layerGapMet): where one does, DCS's crossings do not carry D(r) to
-/// every sample, and the pixel's block counts its samples' segments instead (dcs_dh.h
-/// dcsBlockCastsRays).
-DH_FUNC bool layerGapsMet(LayerBvh bvh, uint nodes, vec3 p, vec3 c, vec3 T, vec3 B, vec3 row0, vec3 row1,
-                          vec3 row2, float tMin, uint ignore, uint maxVisits, DH_INOUT(LayerCountWork) work) {
-    return layerGapMet(bvh, nodes, p, c, T, B, row0, row1, row2, tMin, ignore, maxVisits, work) ||
-           layerGapMet(bvh, nodes, p, c, T, B, row0, row1, row2, shadowTMax(tMin), ignore, maxVisits, work);
+/// layerCountGaps without the gaps: the segment's count alone.
+DH_FUNC uint layerCount(LayerBvh bvh, uint nodes, vec3 p, vec3 r, float tMin, uint ignore, uint maxVisits,
+                        DH_INOUT(LayerCountWork) work) {
+    bool unused;
+    return layerCountGaps(bvh, nodes, p, r, tMin, ignore, maxVisits, layerNoGaps(), work, unused);
 }
 
 DH_END

@@ -3,8 +3,8 @@
 // triangles. The bits may differ only at a boundary, and every differing bit is checked to be at
 // one: the sample's segment, or the light centre's segment (the count every sample of the pixel
 // starts from), passes within round-off of a triangle edge. (A triangle within the segments' start
-// gap of the visible point no longer explains one: such a pixel's block counts its samples'
-// segments, layer_bvh_dh.h layerGapsMet.) The differing bits are printed with their class.
+// gap of the visible point no longer explains one: such a pixel counts its samples' segments,
+// layer_bvh_dh.h layerCountGaps.) The differing bits are printed with their class.
 #include "core/progress.h"
 #include "reference/embree_scene.h"
 #include "reference/reference_visibility.h"
@@ -220,8 +220,8 @@ TEST(DcsVsReference, TorusKnot) {
 // A finely tessellated knot (184 320 triangles): where the light grazes the surface, the visible
 // triangle's neighbours cross the segments' start gap, and a triangle enters or leaves a segment's
 // count as the sample moves without any edge of it being crossed — D(r) plus the crossings then
-// gave counts below zero (the clamp's negative counts) and wrong bits. Such a pixel's block counts
-// its samples' segments (layer_bvh_dh.h layerGapsMet): no count goes below zero, the bits agree.
+// gave counts below zero (the clamp's negative counts) and wrong bits. Such a pixel counts its
+// samples' segments (layer_bvh_dh.h layerCountGaps): no count goes below zero, the bits agree.
 TEST(DcsVsReference, FineKnotWhoseNeighboursCrossTheStartGap) {
     const Scene scene = meshScene(test::makeTorusKnotMesh(7680, 12, 0.12f), "knot", false);
     WedgeCpuStats stats;

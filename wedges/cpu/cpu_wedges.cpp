@@ -101,10 +101,13 @@ std::uint32_t WedgeOccluders::layersCrossed(vec3 p, vec3 r, float tMin, std::uin
     return layerCount(m_layers, p, r, tMin, ignore, work, 0xffffffffu);
 }
 
-bool WedgeOccluders::gapsMet(const DcsPixel& px, const LightFrame& frame, std::uint32_t ignore) const {
+std::uint32_t WedgeOccluders::centreLayers(const DcsPixel& px, const LightFrame& frame, std::uint32_t ignore,
+                                           bool& gapMet) const {
     LayerCountWork work{};
-    return layerGapsMet(m_layers, px.p, frame.center, frame.T, frame.B, px.row0, px.row1, px.row2, px.tMin,
-                        ignore, work, 0xffffffffu);
+    const LayerGaps gaps = px.valid != 0.0f ? layerGapsOf(px.p, frame.center, frame.T, frame.B, px.row0,
+                                                          px.row1, px.row2, px.tMin)
+                                            : layerNoGaps();
+    return layerCountGaps(m_layers, px.p, frame.center, px.tMin, ignore, gaps, work, gapMet, 0xffffffffu);
 }
 
 namespace {
@@ -139,7 +142,6 @@ struct BlockEdges {
     std::vector<BlockItem> items;      ///< ordered only
     std::vector<char> leafKept;        ///< per slot, for the current pixel
     std::uint32_t edgeCount = 0;       ///< the edges of `leaves` (dcsBlockCastsRays)
-    bool castsRays = false;            ///< DCS: the block counts its samples' segments
 };
 
 /// The fragment work of one pixel: calls visit(l, a, b, k) for every edge of the block that is a
@@ -206,10 +208,9 @@ void forEachSilhouette(const WedgeOccluders& occ, const SilhouetteEdges& sil, Bl
 /// leaves that pass for its own region, and forEachSilhouette those that pass for the pixel's
 /// point. The tests are conservative, so they change no result; `stats` counts the tile and
 /// block ones. `ordered`: the block lists its edges in item order too (forEachSilhouette).
-/// `blockSetUp(sub, block)` runs once a block's edges are kept, before its pixels.
-template <class BlockFn, class PixelFn>
+template <class PixelFn>
 void forEachPixel(const GBuffer& gbuffer, const SilhouetteEdges& sil, bool ordered, const char* label,
-                  WedgeCpuStats& stats, BlockFn&& blockSetUp, PixelFn&& pixel) {
+                  WedgeCpuStats& stats, PixelFn&& pixel) {
     Progress progress(label,
                       std::size_t(tilesAcross(gbuffer.width)) * std::size_t(tilesAcross(gbuffer.height)));
     std::atomic<std::size_t> testCount{0}, rejectedCount{0}, entryCount{0};
@@ -269,7 +270,6 @@ void forEachPixel(const GBuffer& gbuffer, const SilhouetteEdges& sil, bool order
                 }
                 if (ordered) std::sort(block.items.begin(), block.items.end());
                 block.leafKept.resize(block.leaves.size());
-                blockSetUp(sub, block);
                 for (int y = sub.y0; y < sub.y1; ++y)
                     for (int x = sub.x0; x < sub.x1; ++x) {
                         const std::size_t i = gbuffer.index(x, y);
@@ -301,39 +301,21 @@ WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, c
     stats.setupMs = timer.milliseconds();
     timer.reset();
     std::atomic<std::size_t> tests{0}, visits{0}, negative{0}, samples{0}, rayPixels{0}, crossingPixels{0};
-    // The pixel's projection (dcs_dh.h), and whether its segments' gaps meet a triangle.
-    const auto pixelSetUp = [&](std::size_t i, LightFrame& frame, DcsPixel& px) {
-        const vec3 p = gbuffer.position[i];
-        frame = lightFrame(light, p, farDistance);
-        px = dcsSetupPixel(p, frame.center, frame.T, frame.B, shadowTMin(p, frame.center, sceneDiameter));
-    };
     forEachPixel(
-        gbuffer, sil, false, "dcs (cpu)", stats,
-        [&](const PixelTile& sub, BlockEdges& block) {
-            // A block casts rays when its edges cost more than its rays, or when a pixel's segment
-            // gaps meet a triangle (layerGapsMet): the crossings would miss a change of D there.
-            block.castsRays = dcsBlockCastsRays(block.edgeCount, uint(plan.count), rayEdgesPerSample);
-            for (int y = sub.y0; y < sub.y1 && !block.castsRays; ++y)
-                for (int x = sub.x0; x < sub.x1 && !block.castsRays; ++x) {
-                    const std::size_t i = gbuffer.index(x, y);
-                    if (!gbuffer.covered(i)) continue;
-                    LightFrame frame;
-                    DcsPixel px;
-                    pixelSetUp(i, frame, px);
-                    block.castsRays = px.valid != 0.0f && occ.gapsMet(px, frame, gbuffer.triangle[i]);
-                }
-        },
-        [&](int x, int y, std::size_t i, BlockEdges& block) {
+        gbuffer, sil, false, "dcs (cpu)", stats, [&](int x, int y, std::size_t i, BlockEdges& block) {
             thread_local std::vector<vec2> ab;
             thread_local std::vector<int> count;
+            const vec3 p = gbuffer.position[i];
             const std::uint32_t receiver = gbuffer.triangle[i];
-            LightFrame frame;
-            DcsPixel px;
-            pixelSetUp(i, frame, px);
-            const vec3 p = px.p;
-            const float tMin = px.tMin;
+            const LightFrame frame = lightFrame(light, p, farDistance);
+            const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
+            // D(r), the layer count at the light centre (DESIGN §4.5), and whether a triangle meets the
+            // segments' gaps, where the crossings would miss a change of D: then the samples' segments.
+            bool gapMet = false;
+            const int base = static_cast<int>(occ.centreLayers(px, frame, receiver, gapMet));
             ab.resize(std::size_t(plan.count));
-            if (block.castsRays) {
+            if (gapMet || dcsBlockCastsRays(block.edgeCount, uint(plan.count), rayEdgesPerSample)) {
                 // Each sample's segment through the layer tree: N rays cost less than the crossings.
                 pixelSamplePoints(plan, x, y, frame.domain, ab.data());
                 for (int k = 0; k < plan.count; ++k) {
@@ -345,8 +327,6 @@ WedgeCpuStats dcsCpuSamples(const WedgeOccluders& occ, const GBuffer& gbuffer, c
                 return;
             }
             ++crossingPixels;
-            // D(r): the layer count at the light centre (DESIGN §4.5).
-            const int base = static_cast<int>(occ.layersCrossed(p, frame.center, tMin, receiver));
             count.assign(std::size_t(plan.count), base);
             // The samples in a grid of cells, made when the first edge needs them: an edge tests
             // only those of the cells its crossing region (dcsSampleRegion) touches.
@@ -409,26 +389,24 @@ WedgeCpuStats pwCpuVisibility(const WedgeOccluders& occ, const GBuffer& gbuffer,
     visibility = ImageF(gbuffer.width, gbuffer.height, 1);
     std::fill(visibility.pixels.begin(), visibility.pixels.end(), 1.0f);
     std::atomic<std::size_t> tests{0}, visits{0};
-    forEachPixel(
-        gbuffer, sil, true, "pw (cpu)", stats, [](const PixelTile&, BlockEdges&) {},
-        [&](int x, int y, std::size_t i, BlockEdges& block) {
-            const vec3 p = gbuffer.position[i];
-            const LightFrame frame = lightFrame(light, p, farDistance);
-            const float tMin = shadowTMin(p, frame.center, sceneDiameter);
-            const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
-            // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
-            float occlusion =
-                pwCenterOcclusion(int(occ.layersCrossed(p, frame.center, tMin, gbuffer.triangle[i])));
-            std::size_t localTests = 0, localVisits = 0;
-            if (px.valid != 0.0f)
-                forEachSilhouette(occ, sil, block, true, px, gbuffer.triangle[i], localTests, localVisits,
-                                  [&](vec3 l, vec3 a, vec3 b, int k) {
-                                      occlusion += pwWedgeTerm(k, pwEdgeCoverage(l, a, b, frame.domain));
-                                  });
-            visibility.at(x, y, 0) = pwVisibility(occlusion);
-            tests += localTests;
-            visits += localVisits;
-        });
+    forEachPixel(gbuffer, sil, true, "pw (cpu)", stats, [&](int x, int y, std::size_t i, BlockEdges& block) {
+        const vec3 p = gbuffer.position[i];
+        const LightFrame frame = lightFrame(light, p, farDistance);
+        const float tMin = shadowTMin(p, frame.center, sceneDiameter);
+        const DcsPixel px = dcsSetupPixel(p, frame.center, frame.T, frame.B, tMin);
+        // Hard shadow from the light centre, then one signed wedge term per silhouette edge.
+        float occlusion =
+            pwCenterOcclusion(int(occ.layersCrossed(p, frame.center, tMin, gbuffer.triangle[i])));
+        std::size_t localTests = 0, localVisits = 0;
+        if (px.valid != 0.0f)
+            forEachSilhouette(occ, sil, block, true, px, gbuffer.triangle[i], localTests, localVisits,
+                              [&](vec3 l, vec3 a, vec3 b, int k) {
+                                  occlusion += pwWedgeTerm(k, pwEdgeCoverage(l, a, b, frame.domain));
+                              });
+        visibility.at(x, y, 0) = pwVisibility(occlusion);
+        tests += localTests;
+        visits += localVisits;
+    });
     stats.pixelVolumeTests = tests;
     stats.pixelEdgeVisits = visits;
     stats.volumes = sil.volumesBuilt();

@@ -81,10 +81,11 @@ class WedgeOccluders {
     /// (layer_bvh_dh.h layerCount): D(r) at the light centre, or a sample's count.
     std::uint32_t layersCrossed(vec3 p, vec3 r, float tMin, std::uint32_t ignore) const;
 
-    /// Whether an opaque triangle other than `ignore` meets a gap plane of the segments from px.p to
-    /// the light frame (layer_bvh_dh.h layerGapsMet): there D(r) and the crossings do not give
-    /// every sample's count.
-    bool gapsMet(const DcsPixel& px, const LightFrame& frame, std::uint32_t ignore) const;
+    /// layersCrossed(px.p, frame.center, px.tMin, ignore), D(r), and whether an opaque triangle other
+    /// than `ignore` meets a gap of the segments from px.p to the light frame (layer_bvh_dh.h
+    /// layerCountGaps): there D(r) and the crossings do not give every sample's count.
+    std::uint32_t centreLayers(const DcsPixel& px, const LightFrame& frame, std::uint32_t ignore,
+                               bool& gapMet) const;
 
     /// The potential silhouettes of a light with their cluster tree and their carriers' bounds:
     /// they depend on the scene and the light alone, so the first frame that asks for a light

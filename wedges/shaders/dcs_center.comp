@@ -4,9 +4,10 @@
 // the visible triangle itself left out (the self-shadowing rule), counted through the tree of
 // wedges/layer_bvh_dh.h — one reference ray a pixel (Laine et al. 2005; Lehtinen, Laine and
 // Aila 2008), as the CPU mirror counts it. A pixel without a surface gets 0.
-// With DCS_GAP_BLOCKS (DCS; PW has no other way), a pixel whose segments' gaps meet a triangle
-// (layerGapsMet: there the crossings miss a change of D) marks its block with GPU_DCS_BLOCK_GAP:
-// the block counts its samples' segments instead (dcs_rays.comp), as the mirror's does.
+// With DCS_GAP_BLOCKS (DCS; PW has no other way), the same traversal asks whether a triangle
+// meets the pixel's segment gaps (layerCountGaps: there the crossings miss a change of D); such a
+// pixel sets its bit and its block's GPU_DCS_BLOCK_GAP: it counts its samples' segments instead
+// (dcs_rays.comp), as the mirror's does, and its pairs add nothing.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -36,15 +37,21 @@ void main() {
         LightFrame lf = lightFrame(lights[pc.light].light, p, frame.farDistance);
         float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
         float tMin = shadowTMin(p, lf.center, sceneDiameter);
-        count = layerCount(LayerBvh(0u), layerNodeCount(), p, lf.center, tMin, receiver, LAYER_BVH_MAX_VISITS, work);
+        LayerGaps gaps = layerNoGaps();
 #if DCS_GAP_BLOCKS
         DcsPixel px = dcsSetupPixel(p, lf.center, lf.T, lf.B, tMin);
-        if (px.valid != 0.0 && layerGapsMet(LayerBvh(0u), layerNodeCount(), p, lf.center, lf.T, lf.B, px.row0, px.row1,
-                                            px.row2, tMin, receiver, LAYER_BVH_MAX_VISITS, work)) {
-            uint block = clusterBlocksAlong(frame.width) * (uint(pixel.y) / CLUSTER_BLOCK) + uint(pixel.x) / CLUSTER_BLOCK;
-            atomicOr(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], GPU_DCS_BLOCK_GAP);
-        }
+        if (px.valid != 0.0) gaps = layerGapsOf(p, lf.center, lf.T, lf.B, px.row0, px.row1, px.row2, tMin);
 #endif
+        bool gapMet;
+        count = layerCountGaps(LayerBvh(0u), layerNodeCount(), p, lf.center, tMin, receiver, LAYER_BVH_MAX_VISITS, gaps,
+                               work, gapMet);
+        if (gapMet) {
+            uint blocks = clusterBlocksAlong(frame.width) * clusterBlocksAlong(frame.height);
+            uint block = clusterBlocksAlong(frame.width) * (uint(pixel.y) / CLUSTER_BLOCK) + uint(pixel.x) / CLUSTER_BLOCK;
+            uint index = uint(pixel.y) * frame.width + uint(pixel.x);
+            atomicOr(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], GPU_DCS_BLOCK_GAP);
+            atomicOr(dcsBlocks[dcsPixelGapWord(blocks, index)], 1u << (index % 32u));
+        }
     }
     if (inside) imageStore(centerCount, pixel, ivec4(int(count)));
     uint visits = subgroupAdd(work.visits);

@@ -10,7 +10,8 @@
 //     ball meets the segments from p to the light makes a (pixel, item) candidate, appended with
 //     one atomic an edge;
 //   A block whose kept edges exceed DCS_RAY_EDGES per sample (dcsBlockCastsRays) lists nothing in
-//     stage 3: dcs_rays.comp counts its samples through the layer tree instead.
+//     stage 3, nor stage 4 a pixel whose segments' gaps meet a triangle (dcs_center.comp):
+//     dcs_rays.comp counts their samples through the layer tree instead.
 //   4 (candidates): a candidate whose edge clipped between p and the light is not empty and
 //     whose carrier's bound holds p is listed for wedge_samples.comp, which adds
 //     k_e·[r → x crosses the edge] to each light sample x's counter. (Lavapipe runs a batch's
@@ -164,8 +165,11 @@ void main() {
     Light light = lights[pc.light].light;
     float sceneDiameter = length(vec3(frame.boxHi) - vec3(frame.boxLo));
     uint boundTests = 0u;
+    uint blocks = clusterBlocksAlong(frame.width) * clusterBlocksAlong(frame.height);
     for (uint e = gl_GlobalInvocationID.x; e < entries; e += stride) {
         uvec2 candidate = pairs[listBase(GPU_CLUSTER_CANDIDATES) + e];
+        // A pixel whose segments' gaps meet a triangle counts its samples' segments (dcs_rays.comp).
+        if ((dcsBlocks[dcsPixelGapWord(blocks, candidate.x)] & (1u << (candidate.x % 32u))) != 0u) continue;
         ivec2 pixel = ivec2(candidate.x % frame.width, candidate.x / frame.width);
         uint receiver = imageLoad(gTriangle, pixel).x;
         vec3 p = vec3(imageLoad(gPosition, pixel));

@@ -2,12 +2,15 @@
 // DCS's blocks that cast rays (wedges/dcs_dh.h dcsBlockCastsRays; the CPU mirror's dcsCpuSamples),
 // after the cluster walk (dcs_clusters.comp) has added up each block's kept edges:
 //   DCS_RAYS_STAGE 0: an invocation a block of the frame; a block whose edges exceed
-//     DCS_RAY_EDGES per sample is listed, and the listing sets the indirect dispatch of stage 1;
+//     DCS_RAY_EDGES per sample, or with a pixel whose segments' gaps meet a triangle
+//     (dcs_center.comp), is listed, and the listing sets the indirect dispatch of stage 1;
 //   1: a workgroup a listed block and GPU_DCS_RAY_SAMPLES_PER_GROUP of its samples, an invocation
 //     one (pixel, sample): the segment from the visible point p to the sample counted through the
 //     tree of wedges/layer_bvh_dh.h (layerCount, as the CPU mirror and the reference count it),
-//     one traversal an invocation (lavapipe's loop budget). The walk listed no pair of the block,
-//     so its counters hold 0: the count minus D(r) is added, and wedge_fold.comp adds D(r) back.
+//     one traversal an invocation (lavapipe's loop budget), for every pixel of a block of many
+//     edges and for the pixels of the others whose gaps meet a triangle. The walk listed no pair
+//     of those pixels, so their counters hold 0: the count minus D(r) is added, and
+//     wedge_fold.comp adds D(r) back.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -41,7 +44,8 @@ void main() {
         dcsBlocks[GPU_DCS_RAY_DISPATCH + 2u] = uint(SAMPLE_COUNT) / GPU_DCS_RAY_SAMPLES_PER_GROUP;
     }
     if (block >= blockCount()) return;
-    if (!dcsBlockWordCastsRays(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], uint(SAMPLE_COUNT), DCS_RAY_EDGES)) return;
+    uint word = dcsBlocks[GPU_DCS_BLOCK_EDGES + block];
+    if (!dcsBlockWordCastsRays(word, uint(SAMPLE_COUNT), DCS_RAY_EDGES) && (word & GPU_DCS_BLOCK_GAP) == 0u) return;
     uint at = atomicAdd(dcsBlocks[GPU_DCS_RAY_BLOCK_COUNT], 1u);
     dcsBlocks[GPU_DCS_BLOCK_EDGES + blockCount() + at] = block;
     atomicMax(dcsBlocks[GPU_DCS_RAY_DISPATCH], min(at + 1u, GPU_DCS_RAY_GROUPS_MAX));
@@ -58,6 +62,11 @@ void main() {
         ivec2 pixel = ivec2(CLUSTER_BLOCK * (block % blocksAcross()) + lane % CLUSTER_BLOCK,
                             CLUSTER_BLOCK * (block / blocksAcross()) + lane / CLUSTER_BLOCK);
         if (pixel.x >= int(frame.width) || pixel.y >= int(frame.height)) continue;
+        // Every pixel of a block whose edges outnumber its rays; else those whose gaps meet a triangle.
+        uint index = uint(pixel.y) * frame.width + uint(pixel.x);
+        if (!dcsBlockWordCastsRays(dcsBlocks[GPU_DCS_BLOCK_EDGES + block], uint(SAMPLE_COUNT), DCS_RAY_EDGES) &&
+            (dcsBlocks[dcsPixelGapWord(blockCount(), index)] & (1u << (index % 32u))) == 0u)
+            continue;
         uint receiver = imageLoad(gTriangle, pixel).x;
         if (receiver == GPU_NO_TRIANGLE) continue;
         vec3 p = vec3(imageLoad(gPosition, pixel));

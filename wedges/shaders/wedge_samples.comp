@@ -51,10 +51,10 @@ void main() {
         wedgeTermLoad(i, l, h0, h1, k);
         domain = lightDomain(lights[pc.light].light);
 #else
-        // A block whose gaps meet a triangle counts its samples' segments (dcs_rays.comp); the
-        // walk lists no pair of such a block.
-        uint block = clusterBlocksAlong(frame.width) * (pixel.y / CLUSTER_BLOCK) + pixel.x / CLUSTER_BLOCK;
-        if ((dcsBlocks[GPU_DCS_BLOCK_EDGES + block] & GPU_DCS_BLOCK_GAP) != 0u) continue;
+        // A pixel whose segments' gaps meet a triangle counts its samples' segments (dcs_rays.comp);
+        // the walk lists no pair of such a pixel.
+        uint blocks = clusterBlocksAlong(frame.width) * clusterBlocksAlong(frame.height);
+        if ((dcsBlocks[dcsPixelGapWord(blocks, entry.x)] & (1u << (entry.x % 32u))) != 0u) continue;
         vec3 p = vec3(imageLoad(gPosition, ivec2(pixel)));
         uint receiver = imageLoad(gTriangle, ivec2(pixel)).x;
         LightFrame lf;

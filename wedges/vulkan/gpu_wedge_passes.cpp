@@ -120,10 +120,12 @@ WedgeResources::WedgeResources(const Device& device, const Scene& scene, const R
     carrierTexels = BufferView(device, carriers, VK_FORMAT_R32G32B32A32_UINT, 16);
     center = Image(device, {static_cast<uint32_t>(options.width), static_cast<uint32_t>(options.height),
                             CENTER_FORMAT, VK_IMAGE_USAGE_STORAGE_BIT});
-    // Per block of the walk its kept edges, and the list of those that cast rays (dcs_rays.comp).
+    // Per block of the walk its kept edges, the list of those with rays to cast (dcs_rays.comp), and
+    // a bit a pixel whose segments' gaps meet a triangle (dcs_center.comp).
     const std::uint32_t blocks =
         clusterBlocksAlong(std::uint32_t(options.width)) * clusterBlocksAlong(std::uint32_t(options.height));
-    dcsBlocks = Buffer(device, (GPU_DCS_BLOCK_EDGES + 2u * VkDeviceSize(blocks)) * sizeof(uint),
+    const VkDeviceSize pixelWords = (VkDeviceSize(options.width) * VkDeviceSize(options.height) + 31u) / 32u;
+    dcsBlocks = Buffer(device, (GPU_DCS_BLOCK_EDGES + 2u * VkDeviceSize(blocks) + pixelWords) * sizeof(uint),
                        storage | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT,
                        MemoryUsage::DeviceLocal);
     // The tree D(r) is counted through, one for every light.

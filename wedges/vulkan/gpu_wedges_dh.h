@@ -35,26 +35,33 @@ DH_CONST uint GPU_BINDING_CLUSTER_BOUNDS = GPU_BINDING_EDGES + 6u;
 DH_CONST uint GPU_BINDING_LAYER_NODES = GPU_BINDING_EDGES + 7u;
 DH_CONST uint GPU_BINDING_LAYER_TRIANGLES = GPU_BINDING_EDGES + 8u;
 DH_CONST uint GPU_CLUSTER_BOUND_TEXELS = 1u + 2u * STSV_VOLUME_MAX_PLANES + STSV_LIGHT_PLANES_MAX;
-/// uint[] (SSBO), DCS's choice per block of the walk (dcsBlockCastsRays; dcs_clusters.comp,
-/// dcs_rays.comp): the indirect dispatch of the rays (GPU_DCS_RAY_DISPATCH), the count of the
-/// blocks that cast rays (GPU_DCS_RAY_BLOCK_COUNT), then per block of the frame the edges the walk
-/// kept for it (GPU_DCS_BLOCK_EDGES + block; 0 without the walk) with GPU_DCS_BLOCK_GAP, then the
-/// list of the blocks that cast rays.
+/// uint[] (SSBO), DCS's choice between crossings and rays (dcsBlockCastsRays, layerCountGaps;
+/// dcs_center.comp, dcs_clusters.comp, dcs_rays.comp): the indirect dispatch of the rays
+/// (GPU_DCS_RAY_DISPATCH), the count of the blocks listed for rays (GPU_DCS_RAY_BLOCK_COUNT), then
+/// per block of the frame the edges the walk kept for it (GPU_DCS_BLOCK_EDGES + block; 0 without
+/// the walk) with GPU_DCS_BLOCK_GAP, then the list of the blocks with rays to cast, then a bit a
+/// pixel (dcsPixelGapWord): its segments' gaps meet a triangle.
 DH_CONST uint GPU_BINDING_DCS_BLOCKS = GPU_BINDING_EDGES + 9u;
 DH_CONST uint GPU_DCS_RAY_DISPATCH = 0u; ///< x, y, z of vkCmdDispatchIndirect
 DH_CONST uint GPU_DCS_RAY_BLOCK_COUNT = 3u;
 DH_CONST uint GPU_DCS_BLOCK_EDGES = 4u;
-/// The top bit of a block's word: a pixel of the block has a segment gap that meets a triangle
-/// (wedges/layer_bvh_dh.h layerGapsMet, set by dcs_center.comp), so the block casts rays whatever
-/// its edges. The walk's sum of edges stays below it (a block keeps fewer than 2^31 edges).
+/// The top bit of a block's word: a pixel of the block has segment gaps that meet a triangle
+/// (set by dcs_center.comp), so the block is listed for rays whatever its edges. The walk's sum of
+/// edges stays below it (a block keeps fewer than 2^31 edges).
 DH_CONST uint GPU_DCS_BLOCK_GAP = 0x80000000u;
 
-/// Whether the block whose word is `word` counts its samples through the layer tree (dcsBlockCastsRays or a
-/// gap met): the mirror's BlockEdges::castsRays.
+/// Whether all the pixels of the block whose word is `word` count their samples through the layer
+/// tree: its kept edges exceed `edgesPerSample` per sample (dcsBlockCastsRays).
 DH_FUNC bool dcsBlockWordCastsRays(uint word, uint samples, float edgesPerSample) {
-    return (word & GPU_DCS_BLOCK_GAP) != 0u ||
-           dcsBlockCastsRays(word & ~GPU_DCS_BLOCK_GAP, samples, edgesPerSample);
+    return dcsBlockCastsRays(word & ~GPU_DCS_BLOCK_GAP, samples, edgesPerSample);
 }
+
+/// The word of the buffer that holds pixel `pixelIndex`'s gap bit (1u << pixelIndex % 32), for a
+/// frame of `blocks` blocks.
+DH_FUNC uint dcsPixelGapWord(uint blocks, uint pixelIndex) {
+    return GPU_DCS_BLOCK_EDGES + 2u * blocks + pixelIndex / 32u;
+}
+
 /// A workgroup of dcs_rays.comp's rays: each of a block's 16 pixels with 4 of its samples.
 DH_CONST uint GPU_DCS_RAY_SAMPLES_PER_GROUP = 4u;
 /// The most workgroups along x of the rays' dispatch (the least maxComputeWorkGroupCount[0] a device has).

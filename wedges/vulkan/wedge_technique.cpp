@@ -10,7 +10,7 @@ namespace stsv {
 
 namespace {
 
-/// D(r)'s pass: for DCS it also marks the blocks whose pixels' segment gaps meet a triangle.
+/// D(r)'s pass: for DCS it also marks the pixels whose segments' gaps meet a triangle.
 std::vector<ShaderDefine> centerDefines(const VulkanTechniqueContext& c) {
     std::vector<ShaderDefine> defines = c.defines;
     defines.push_back({"DCS_GAP_BLOCKS", c.method.wedges == WedgeVariant::Pw ? "0" : "1"});
