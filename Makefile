@@ -63,6 +63,8 @@ test-deps:
 	$(call install_missing,$(TEST_PACKAGES))
 	@bash tests/drivers/fetch_lavapipe.sh $(BUILD)/drivers/lavapipe-backports || \
 	  echo "warning: the second lavapipe could not be fetched; mesh_shaders.lavapipe_backports will fail"
+	@bash bench/fetch_meshes.sh build/meshes || \
+	  echo "warning: the real meshes could not be fetched; the docs' real-meshes commands will fail"
 
 $(BUILD)/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=RelWithDebInfo
